@@ -1,0 +1,22 @@
+#pragma once
+/// \file commands.hpp
+/// \brief The nhc subcommands. Each add_*_command registers its flags on the CLI11 app and
+/// returns the function that runs it after parsing; the function returns the exit code and
+/// may throw nhc::InputError (exit 2) or nhc::MathError (exit 3).
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+
+#include "nhc/scene/scene.hpp"
+
+namespace nhc::cli {
+
+using CommandRunner = std::function<int()>;
+
+CommandRunner add_derive_command(CLI::App& app);
+
+/// The scene's models, or those named by --model flags.
+std::vector<ModelKind> selected_models(const Scene& scene, const std::vector<std::string>& names);
+
+}  // namespace nhc::cli

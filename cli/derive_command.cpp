@@ -1,0 +1,56 @@
+// nhc derive SCENE [--model M]... [--format text|latex|json] [-o FILE]
+#include <iostream>
+
+#include "commands.hpp"
+#include "nhc/derive/models.hpp"
+#include "nhc/emit/derivation_emitters.hpp"
+#include "nhc/io/atomic_file.hpp"
+#include "nhc/scene/scene.hpp"
+
+namespace nhc::cli {
+
+namespace {
+
+struct DeriveOptions {
+  std::string scene_path;
+  std::vector<std::string> models;
+  std::string format = "text";
+  std::string output;
+};
+
+}  // namespace
+
+std::vector<ModelKind> selected_models(const Scene& scene, const std::vector<std::string>& names) {
+  if (names.empty()) return scene.models;
+  std::vector<ModelKind> kinds;
+  for (const auto& n : names) kinds.push_back(*parse_model_kind(n));
+  return kinds;
+}
+
+CommandRunner add_derive_command(CLI::App& app) {
+  auto options = std::make_shared<DeriveOptions>();
+  CLI::App* sub = app.add_subcommand("derive", "derive the equations of motion of a scene");
+  sub->add_option("SCENE", options->scene_path, "scene file (TOML)")->required();
+  sub->add_option("--model,-m", options->models, "model(s) to derive (default: the scene's)")
+      ->check(CLI::IsMember({"vakonomic", "chetaev", "holder", "suslov"}));
+  sub->add_option("--format,-f", options->format, "output format")
+      ->check(CLI::IsMember({"text", "latex", "json"}));
+  sub->add_option("-o,--output", options->output, "write to FILE instead of standard output");
+
+  return [options]() {
+    const Scene scene = load_scene(options->scene_path);
+    std::vector<DerivedModel> models;
+    for (ModelKind kind : selected_models(scene, options->models))
+      models.push_back(derive_model(scene, kind));
+    auto write = [&](std::ostream& out) {
+      if (options->format == "latex") write_derivation_latex(out, scene, models);
+      else if (options->format == "json") write_derivation_json(out, scene, models);
+      else write_derivation_text(out, scene, models);
+    };
+    if (options->output.empty()) write(std::cout);
+    else write_file_atomically(options->output, write);
+    return 0;
+  };
+}
+
+}  // namespace nhc::cli

@@ -1,0 +1,49 @@
+// nhc — the nonholonomic compiler: command-line entry point.
+// Exit codes: 0 ok, 1 internal error, 2 bad input, 3 numerical or mathematical failure.
+#include <iostream>
+#include <vector>
+
+#include "commands.hpp"
+#include "nhc/errors.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"nhc, the nonholonomic compiler: derives, analyses, generates and integrates the "
+               "equations of motion of systems with high-order nonholonomic constraints"};
+  app.set_version_flag("--version", std::string("nhc ") + NHC_VERSION);
+  app.require_subcommand(1);
+
+  std::vector<std::pair<CLI::App*, nhc::cli::CommandRunner>> commands;
+  auto add = [&](nhc::cli::CommandRunner (*adder)(CLI::App&)) {
+    nhc::cli::CommandRunner run = adder(app);
+    commands.emplace_back(app.get_subcommands({}).back(), std::move(run));
+  };
+  add(nhc::cli::add_derive_command);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "nhc: error: " << e.what() << " (see nhc --help)\n";
+    return nhc::kExitBadInput;
+  }
+
+  try {
+    for (auto& [sub, run] : commands)
+      if (sub->parsed()) return run();
+  } catch (const nhc::InputError& e) {
+    std::cerr << e.what() << "\n";
+    return nhc::kExitBadInput;
+  } catch (const nhc::MathError& e) {
+    std::cerr << "nhc: error: " << e.what() << "\n";
+    return nhc::kExitMathFailure;
+  } catch (const std::exception& e) {
+    std::cerr << "nhc: internal error: " << e.what() << "\n";
+    return nhc::kExitInternal;
+  }
+  return nhc::kExitInternal;
+}

@@ -1,0 +1,56 @@
+#pragma once
+/// \file index1_system.hpp
+/// \brief The index-1 form of a model (models.md, "Structural analysis", step 5): what code
+/// generation and the runtime consume.
+///
+/// Unknowns x_j (q_1..q_n, then λ_1..λ_g; suslov: q only) with Pryce offsets d_j; equations f_i
+/// (R_1..R_n, then f^1..f^g; suslov: R only) with offsets c_i.
+/// States y: for each unknown x_j in order, x_j, x_j', …, x_j^(d_j−1) (differential), or x_j alone
+/// (algebraic) when d_j = 0. Residuals F(t, y, y') = 0, in this order:
+///   1. for each equation f_i in order: D^{c_i} f_i, with x_j^(k) written as y[state(x_j, k)] for
+///      k < d_j and x_j^(d_j) as yp[state(x_j, d_j − 1)];
+///   2. for each unknown x_j with d_j ≥ 2, for k = 0..d_j−2: yp[state(x_j,k)] − y[state(x_j,k+1)].
+/// Hidden constraints: D^r f_i for r < c_i, in (t, p, y) only.
+
+#include <ginac/ginac.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "nhc/derive/jet_space.hpp"
+#include "nhc/scene/scene.hpp"
+
+namespace nhc {
+
+/// One component of the state vector y: the order-th derivative of an unknown.
+struct StateComponent {
+  VariableKind kind = VariableKind::coordinate;
+  int index = 0;          ///< coordinate or multiplier index
+  int order = 0;          ///< derivative order held in y
+  bool differential = true;  ///< IDA id: true when its derivative appears (d_j ≥ 1)
+  std::string name;       ///< "x", "x'", "x''", "lambda1", "lambda1'"
+};
+
+struct Index1System {
+  ModelKind model = ModelKind::chetaev;
+  std::shared_ptr<JetSpace> jet;
+
+  std::vector<StateComponent> states;
+  /// Symbols standing for y_k and y'_k in the expressions below (printed "y[k]", "yp[k]").
+  std::vector<GiNaC::realsymbol> y, yp;
+  /// F(t, p, y, y') = 0; as many as states.
+  std::vector<GiNaC::ex> residuals;
+  /// Short description of each residual, e.g. "D^1 f1", "R_x", "chain x' = x'".
+  std::vector<std::string> residual_names;
+  /// Hidden constraints g(t, p, y) = 0 (D^r f_i, r < c_i), e.g. named "f1", "D f1".
+  std::vector<GiNaC::ex> hidden_constraints;
+  std::vector<std::string> hidden_constraint_names;
+
+  int size() const { return static_cast<int>(states.size()); }
+  /// Maps a jet symbol x^(k) with k ≤ d_j to its y / yp symbol (to rewrite scene expressions
+  /// such as invariants in state variables). Filled by the reduction.
+  GiNaC::exmap jet_to_state;
+};
+
+}  // namespace nhc

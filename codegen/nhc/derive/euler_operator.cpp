@@ -1,0 +1,71 @@
+#include "nhc/derive/euler_operator.hpp"
+
+#include <algorithm>
+
+namespace nhc {
+
+GiNaC::ex simplify_expression(const GiNaC::ex& e) { return e.expand(); }
+
+VariationForm VariationForm::first_variation(const GiNaC::ex& F, const JetSpace& jet) {
+  VariationForm form;
+  for (const auto& c : jet.jet_coordinates_in(F)) {
+    if (c.kind != VariableKind::coordinate) continue;
+    form.add(c.index, c.order, F.diff(jet.symbol(c)));
+  }
+  return form;
+}
+
+GiNaC::ex VariationForm::coefficient(int i, int k) const {
+  auto it = coefficients_.find({i, k});
+  return it == coefficients_.end() ? GiNaC::ex(0) : it->second;
+}
+
+void VariationForm::add(int i, int k, const GiNaC::ex& term) {
+  auto [it, inserted] = coefficients_.emplace(std::make_pair(i, k), term);
+  if (!inserted) it->second += term;
+}
+
+int VariationForm::highest_order(int i) const {
+  int k = -1;
+  for (const auto& [key, value] : coefficients_)
+    if (key.first == i && !value.is_zero()) k = std::max(k, key.second);
+  return k;
+}
+
+bool VariationForm::integrate_by_parts_once(int i, const JetSpace& jet) {
+  const int k = highest_order(i);
+  if (k <= 0) return false;
+  const GiNaC::ex a = coefficients_.at({i, k});
+  coefficients_.erase({i, k});
+  // ∫ A δq^(k) dt = [A δq^(k−1)] − ∫ D(A) δq^(k−1) dt, the bracket vanishing at the ends.
+  add(i, k - 1, -jet.total_derivative(a));
+  coefficients_[{i, k - 1}] = coefficients_[{i, k - 1}].expand();
+  return true;
+}
+
+std::vector<GiNaC::ex> euler_operator(const GiNaC::ex& F, const JetSpace& jet) {
+  VariationForm form = VariationForm::first_variation(F, jet);
+  std::vector<GiNaC::ex> result;
+  for (int i = 0; i < jet.coordinate_count(); ++i) {
+    while (form.integrate_by_parts_once(i, jet)) {
+    }
+    result.push_back(simplify_expression(form.coefficient(i, 0)));
+  }
+  return result;
+}
+
+std::vector<GiNaC::ex> euler_operator_closed_form(const GiNaC::ex& F, const JetSpace& jet) {
+  std::vector<GiNaC::ex> result;
+  for (int i = 0; i < jet.coordinate_count(); ++i) {
+    GiNaC::ex sum = 0;
+    const int m = jet.highest_order(F, VariableKind::coordinate, i);
+    for (int k = 0; k <= m; ++k) {
+      const GiNaC::ex partial = F.diff(jet.symbol({VariableKind::coordinate, i, k}));
+      sum += (k % 2 == 0 ? 1 : -1) * jet.total_derivative(partial, k);
+    }
+    result.push_back(simplify_expression(sum));
+  }
+  return result;
+}
+
+}  // namespace nhc

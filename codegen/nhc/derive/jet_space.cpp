@@ -1,0 +1,151 @@
+#include "nhc/derive/jet_space.hpp"
+
+#include <algorithm>
+#include <set>
+#include <stdexcept>
+
+namespace nhc {
+
+namespace {
+
+const std::set<std::string>& greek_letters() {
+  static const std::set<std::string> names = {
+      "alpha", "beta",  "gamma", "delta", "epsilon", "zeta", "eta",   "theta",
+      "iota",  "kappa", "mu",    "nu",    "xi",      "pi",   "rho",   "sigma",
+      "tau",   "upsilon", "phi", "chi",   "psi",     "omega", "Gamma", "Delta",
+      "Theta", "Lambda", "Xi",   "Pi",    "Sigma",   "Upsilon", "Phi", "Psi", "Omega"};
+  return names;
+}
+
+/// LaTeX for a bare name: single letters as they are, Greek names as macros, others upright.
+std::string latex_base(const std::string& name) {
+  if (name.size() == 1) return name;
+  if (greek_letters().count(name)) return "\\" + name;
+  std::string escaped;
+  for (char ch : name) {
+    if (ch == '_') escaped += "\\_";
+    else escaped += ch;
+  }
+  return "\\mathrm{" + escaped + "}";
+}
+
+}  // namespace
+
+std::string jet_symbol_name(const std::string& variable, int order) {
+  if (order == 0) return variable;
+  return variable + "_d" + std::to_string(order);
+}
+
+std::string jet_symbol_latex(const std::string& variable, VariableKind kind, int order) {
+  std::string base;
+  if (kind == VariableKind::multiplier) {
+    // "lambda7" → \lambda_7 ; \dot\lambda_7 puts the dot on λ, not on the subscript.
+    base = "\\lambda_{" + variable.substr(6) + "}";
+    switch (order) {
+      case 0: return base;
+      case 1: return "\\dot\\lambda_{" + variable.substr(6) + "}";
+      case 2: return "\\ddot\\lambda_{" + variable.substr(6) + "}";
+      case 3: return "\\dddot\\lambda_{" + variable.substr(6) + "}";
+      default: return "\\lambda_{" + variable.substr(6) + "}^{(" + std::to_string(order) + ")}";
+    }
+  }
+  base = latex_base(variable);
+  switch (order) {
+    case 0: return base;
+    case 1: return "\\dot{" + base + "}";
+    case 2: return "\\ddot{" + base + "}";
+    case 3: return "\\dddot{" + base + "}";
+    default: return base + "^{(" + std::to_string(order) + ")}";
+  }
+}
+
+JetSpace::JetSpace(std::vector<std::string> coordinates, int multiplier_count,
+                   std::vector<std::string> parameters)
+    : coordinates_(std::move(coordinates)),
+      multiplier_count_(multiplier_count),
+      parameter_names_(std::move(parameters)),
+      time_("t") {
+  for (const auto& name : parameter_names_) parameters_.emplace_back(name, latex_base(name));
+}
+
+std::string JetSpace::multiplier_name(int alpha) const {
+  return "lambda" + std::to_string(alpha + 1);
+}
+
+std::string JetSpace::variable_name(VariableKind kind, int index) const {
+  return kind == VariableKind::coordinate ? coordinates_.at(static_cast<size_t>(index))
+                                          : multiplier_name(index);
+}
+
+std::optional<int> JetSpace::parameter_index(const std::string& name) const {
+  auto it = std::find(parameter_names_.begin(), parameter_names_.end(), name);
+  if (it == parameter_names_.end()) return std::nullopt;
+  return static_cast<int>(it - parameter_names_.begin());
+}
+
+const GiNaC::realsymbol& JetSpace::symbol(const JetCoordinate& c) const {
+  auto it = jet_.find(c);
+  if (it != jet_.end()) return it->second;
+  const int count = c.kind == VariableKind::coordinate ? coordinate_count() : multiplier_count_;
+  if (c.index < 0 || c.index >= count || c.order < 0)
+    throw std::out_of_range("jet coordinate out of range");
+  const std::string variable = variable_name(c.kind, c.index);
+  GiNaC::realsymbol s(jet_symbol_name(variable, c.order),
+                      jet_symbol_latex(variable, c.kind, c.order));
+  jet_.emplace(c, s);
+  by_symbol_.emplace(s, c);
+  creation_order_.push_back(c);
+  return jet_.at(c);
+}
+
+std::optional<JetCoordinate> JetSpace::classify(const GiNaC::ex& s) const {
+  auto it = by_symbol_.find(s);
+  if (it == by_symbol_.end()) return std::nullopt;
+  return it->second;
+}
+
+std::vector<JetCoordinate> JetSpace::jet_coordinates_in(const GiNaC::ex& e) const {
+  std::set<JetCoordinate> found;
+  for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it) {
+    if (!GiNaC::is_a<GiNaC::symbol>(*it)) continue;
+    if (auto c = classify(*it)) found.insert(*c);
+  }
+  return {found.begin(), found.end()};
+}
+
+GiNaC::ex JetSpace::total_derivative(const GiNaC::ex& e) const {
+  GiNaC::ex result = e.diff(time_);
+  for (const auto& c : jet_coordinates_in(e)) {
+    const auto& s = symbol(c);
+    result += e.diff(s) * symbol({c.kind, c.index, c.order + 1});
+  }
+  return result;
+}
+
+GiNaC::ex JetSpace::total_derivative(const GiNaC::ex& e, int k) const {
+  GiNaC::ex result = e;
+  for (int j = 0; j < k; ++j) result = total_derivative(result).expand();
+  return result;
+}
+
+int JetSpace::highest_order(const GiNaC::ex& e, VariableKind kind, int index) const {
+  int order = -1;
+  for (const auto& c : jet_coordinates_in(e))
+    if (c.kind == kind && c.index == index) order = std::max(order, c.order);
+  return order;
+}
+
+int JetSpace::highest_coordinate_order(const GiNaC::ex& e) const {
+  int order = -1;
+  for (const auto& c : jet_coordinates_in(e))
+    if (c.kind == VariableKind::coordinate) order = std::max(order, c.order);
+  return order;
+}
+
+std::vector<std::pair<JetCoordinate, GiNaC::realsymbol>> JetSpace::symbols() const {
+  std::vector<std::pair<JetCoordinate, GiNaC::realsymbol>> out;
+  for (const auto& c : creation_order_) out.emplace_back(c, jet_.at(c));
+  return out;
+}
+
+}  // namespace nhc

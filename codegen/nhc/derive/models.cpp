@@ -1,0 +1,121 @@
+#include "nhc/derive/models.hpp"
+
+#include "nhc/derive/euler_operator.hpp"
+
+namespace nhc {
+
+namespace {
+
+using GiNaC::ex;
+
+int sign(int k) { return k % 2 == 0 ? 1 : -1; }  // (−1)^k
+
+std::vector<ex> add_terms(std::vector<ex> base, const std::vector<ex>& extra) {
+  for (std::size_t i = 0; i < base.size(); ++i) base[i] += extra[i];
+  return base;
+}
+
+std::vector<ex> vakonomic(const MechanicalSystem& s) {
+  ex lambda_f = 0;
+  for (std::size_t a = 0; a < s.constraints.size(); ++a)
+    lambda_f += s.jet.lambda(static_cast<int>(a), 0) * s.constraints[a];
+  return add_terms(euler_operator(s.lagrangian, s.jet), euler_operator(lambda_f, s.jet));
+}
+
+std::vector<ex> chetaev(const MechanicalSystem& s) {
+  std::vector<ex> r = euler_operator(s.lagrangian, s.jet);
+  for (std::size_t a = 0; a < s.constraints.size(); ++a) {
+    const int alpha = static_cast<int>(a);
+    const int m = s.constraint_order(alpha);
+    for (int i = 0; i < s.jet.coordinate_count(); ++i)
+      r[static_cast<std::size_t>(i)] += s.jet.lambda(alpha, 0) * s.constraints[a].diff(
+                                            s.jet.symbol({VariableKind::coordinate, i, m}));
+  }
+  return r;
+}
+
+std::vector<ex> holder(const MechanicalSystem& s) {
+  std::vector<ex> r = euler_operator(s.lagrangian, s.jet);
+  for (std::size_t a = 0; a < s.constraints.size(); ++a) {
+    const int alpha = static_cast<int>(a);
+    const int m = s.constraint_order(alpha);
+    for (int i = 0; i < s.jet.coordinate_count(); ++i) {
+      for (int k = 1; k <= m; ++k) {
+        const ex partial = s.constraints[a].diff(s.jet.symbol({VariableKind::coordinate, i, k}));
+        // paper eq. (26): (−1)^{k+1} λ^(k) ∂f/∂q^(k) + ((−1)^{k+1} − 1) λ D^k ∂f/∂q^(k)
+        r[static_cast<std::size_t>(i)] +=
+            sign(k + 1) * s.jet.lambda(alpha, k) * partial +
+            (sign(k + 1) - 1) * s.jet.lambda(alpha, 0) * s.jet.total_derivative(partial, k);
+      }
+    }
+  }
+  return r;
+}
+
+/// paper eq. (29); returns false with a reason when A = ∂f/∂q'^dep is singular.
+bool suslov(const MechanicalSystem& s, std::vector<ex>& r, std::string& reason) {
+  const std::size_t g = s.constraints.size();
+  r = euler_operator(s.lagrangian, s.jet);
+  if (g == 0) return true;
+  if (s.dependent.size() != g) {
+    reason = "the scene names no dependent coordinates (key 'dependent'), which the suslov "
+             "model needs, one per constraint";
+    return false;
+  }
+  GiNaC::matrix A(static_cast<unsigned>(g), static_cast<unsigned>(g));
+  for (std::size_t a = 0; a < g; ++a)
+    for (std::size_t b = 0; b < g; ++b)
+      A(static_cast<unsigned>(a), static_cast<unsigned>(b)) = s.constraints[a].diff(
+          s.jet.symbol({VariableKind::coordinate, s.dependent[b], 1}));
+  const ex det = A.determinant().normal();
+  if (det.is_zero()) {
+    std::string names;
+    for (int d : s.dependent) names += (names.empty() ? "" : ", ") + s.jet.coordinates()[static_cast<std::size_t>(d)];
+    reason = "the matrix A = ∂f/∂q' of the constraints with respect to the first derivatives of "
+             "the dependent coordinates (" + names + ") is identically singular";
+    return false;
+  }
+  const GiNaC::matrix A_inv = A.inverse();
+  for (std::size_t a = 0; a < g; ++a) {
+    ex mu = 0;
+    for (std::size_t b = 0; b < g; ++b)
+      mu += s.lagrangian.diff(s.jet.symbol({VariableKind::coordinate, s.dependent[b], 1})) *
+            A_inv(static_cast<unsigned>(b), static_cast<unsigned>(a));
+    mu = mu.normal();
+    const std::vector<ex> euler_f = euler_operator(s.constraints[a], s.jet);
+    for (std::size_t i = 0; i < r.size(); ++i) r[i] -= mu * euler_f[i];
+  }
+  return true;
+}
+
+}  // namespace
+
+int MechanicalSystem::constraint_order(int alpha) const {
+  return jet.highest_coordinate_order(constraints.at(static_cast<std::size_t>(alpha)));
+}
+
+DerivedModel derive_model(const MechanicalSystem& system, ModelKind kind) {
+  DerivedModel model;
+  model.kind = kind;
+  model.constraints = system.constraints;
+  std::vector<ex> equations;
+  switch (kind) {
+    case ModelKind::vakonomic: equations = vakonomic(system); break;
+    case ModelKind::chetaev: equations = chetaev(system); break;
+    case ModelKind::holder: equations = holder(system); break;
+    case ModelKind::suslov:
+      model.constraints_are_equations = false;
+      if (!suslov(system, equations, model.reason)) {
+        model.applicable = false;
+        return model;
+      }
+      break;
+  }
+  if (model.constraints_are_equations)
+    for (std::size_t a = 0; a < system.constraints.size(); ++a)
+      model.multipliers.push_back(system.jet.multiplier_name(static_cast<int>(a)));
+  for (auto& e : equations) model.equations.push_back(simplify_expression(e));
+  return model;
+}
+
+}  // namespace nhc

@@ -1,0 +1,63 @@
+#include <set>
+
+#include "nhc/emit/derivation_emitters.hpp"
+#include "nhc/emit/expression_printer.hpp"
+#include "nhc/emit/json_writer.hpp"
+
+namespace nhc {
+
+void write_derivation_json(std::ostream& out, const Scene& scene,
+                           const std::vector<DerivedModel>& models) {
+  const JetSpace& jet = *scene.jet;
+  JsonWriter json(out);
+  json.begin_object();
+  json.key("scene").value(scene.name);
+  json.key("parameters").begin_array();
+  for (const auto& p : jet.parameters()) json.value(p);
+  json.end_array();
+
+  // Every jet symbol that occurs in a printed expression, with what it is a derivative of.
+  std::set<JetCoordinate> used;
+  auto note = [&](const GiNaC::ex& e) {
+    for (const auto& c : jet.jet_coordinates_in(e)) used.insert(c);
+  };
+  for (const DerivedModel& model : models) {
+    for (const auto& e : model.equations) note(e);
+    for (const auto& e : model.constraints) note(e);
+  }
+  json.key("symbols").begin_object();
+  for (const JetCoordinate& c : used) {
+    const std::string of = jet.variable_name(c.kind, c.index);
+    json.key(jet_symbol_name(of, c.order)).begin_object();
+    json.key("of").value(of);
+    json.key("order").value(c.order);
+    json.end_object();
+  }
+  json.end_object();
+
+  json.key("models").begin_object();
+  for (const DerivedModel& model : models) {
+    json.key(to_string(model.kind)).begin_object();
+    json.key("applicable").value(model.applicable);
+    if (!model.applicable) {
+      json.key("reason").value(model.reason);
+      json.end_object();
+      continue;
+    }
+    json.key("equations").begin_array();
+    for (const auto& e : model.equations) json.value(to_text(e));
+    json.end_array();
+    json.key(model.constraints_are_equations ? "constraints" : "monitored_constraints")
+        .begin_array();
+    for (const auto& e : model.constraints) json.value(to_text(e));
+    json.end_array();
+    json.key("multipliers").begin_array();
+    for (const auto& m : model.multipliers) json.value(m);
+    json.end_array();
+    json.end_object();
+  }
+  json.end_object();
+  json.end_object();
+}
+
+}  // namespace nhc

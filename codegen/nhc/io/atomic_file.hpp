@@ -1,0 +1,17 @@
+#pragma once
+/// \file atomic_file.hpp
+/// \brief Writing output files so that no half-written file is ever visible: the content goes
+/// to a temporary file in the same directory, which is renamed over the target when complete.
+
+#include <functional>
+#include <ostream>
+#include <string>
+
+namespace nhc {
+
+/// Calls `write` with a stream on a temporary file beside `path`, then renames it to `path`.
+/// On any exception the temporary file is removed and the exception propagates.
+/// Throws InputError (flag "-o") when the directory cannot be written.
+void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& write);
+
+}  // namespace nhc

@@ -1,0 +1,314 @@
+#include "nhc/scene/expression_parser.hpp"
+
+#include <cctype>
+#include <functional>
+#include <map>
+#include <optional>
+#include <vector>
+
+namespace nhc {
+
+namespace {
+
+using GiNaC::ex;
+
+bool is_name_start(char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; }
+bool is_name_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; }
+
+/// Splits `x_d12` into ("x", 12); returns nullopt when the name has no `_d<digits>` tail.
+std::optional<std::pair<std::string, int>> split_jet_suffix(const std::string& name) {
+  const auto pos = name.rfind("_d");
+  if (pos == std::string::npos || pos == 0 || pos + 2 >= name.size()) return std::nullopt;
+  const std::string digits = name.substr(pos + 2);
+  if (digits.size() > 3) return std::pair<std::string, int>(name.substr(0, pos), 1000);
+  for (char c : digits)
+    if (!std::isdigit(static_cast<unsigned char>(c))) return std::nullopt;
+  if (digits[0] == '0') return std::nullopt;
+  return std::pair<std::string, int>(name.substr(0, pos), std::stoi(digits));
+}
+
+/// Index α (0-based) when `name` is lambda<α+1>.
+std::optional<int> multiplier_index(const std::string& name) {
+  if (name.rfind("lambda", 0) != 0 || name.size() == 6) return std::nullopt;
+  const std::string digits = name.substr(6);
+  if (digits[0] == '0' || digits.size() > 6) return std::nullopt;
+  for (char c : digits)
+    if (!std::isdigit(static_cast<unsigned char>(c))) return std::nullopt;
+  return std::stoi(digits) - 1;
+}
+
+class Parser {
+ public:
+  Parser(const std::string& text, const JetSpace& jet, const ExpressionRules& rules)
+      : text_(text), jet_(jet), rules_(rules) {}
+
+  ex parse() {
+    skip_space();
+    if (at_end()) fail(pos_, "empty expression");
+    ex e = expr();
+    skip_space();
+    if (!at_end()) fail(pos_, std::string("unexpected '") + text_[pos_] + "'");
+    return e;
+  }
+
+ private:
+  [[noreturn]] void fail(std::size_t at, const std::string& message) const {
+    throw ExpressionSyntaxError(at, message);
+  }
+  bool at_end() const { return pos_ >= text_.size(); }
+  char peek() const { return at_end() ? '\0' : text_[pos_]; }
+  void skip_space() {
+    while (!at_end() && std::isspace(static_cast<unsigned char>(text_[pos_]))) ++pos_;
+  }
+  bool accept(char c) {
+    skip_space();
+    if (peek() != c) return false;
+    ++pos_;
+    return true;
+  }
+
+  struct DepthGuard {
+    Parser& p;
+    explicit DepthGuard(Parser& parser) : p(parser) {
+      if (++p.depth_ > kMaxExpressionDepth)
+        p.fail(p.pos_, "expression nested more than " + std::to_string(kMaxExpressionDepth) +
+                           " levels deep");
+    }
+    ~DepthGuard() { --p.depth_; }
+  };
+
+  /// GiNaC reports 1/0 and similar by throwing; turn that into a positioned error.
+  template <class F>
+  ex guarded(std::size_t at, F&& f) {
+    try {
+      return f();
+    } catch (const GiNaC::pole_error&) {
+      fail(at, "division by zero");
+    } catch (const std::overflow_error&) {
+      fail(at, "division by zero");
+    } catch (const std::domain_error& e) {
+      fail(at, std::string("invalid operation: ") + e.what());
+    }
+  }
+
+  ex expr() {
+    DepthGuard guard(*this);
+    ex result = term();
+    for (;;) {
+      skip_space();
+      if (accept('+')) {
+        result = result + term();
+      } else if (peek() == '-') {
+        ++pos_;
+        result = result - term();
+      } else {
+        return result;
+      }
+    }
+  }
+
+  ex term() {
+    ex result = unary();
+    for (;;) {
+      skip_space();
+      const std::size_t at = pos_;
+      if (accept('*')) {
+        ex rhs = unary();
+        result = guarded(at, [&] { return ex(result * rhs); });
+      } else if (accept('/')) {
+        ex rhs = unary();
+        if (rhs.is_zero()) fail(at, "division by zero");
+        result = guarded(at, [&] { return ex(result / rhs); });
+      } else {
+        return result;
+      }
+    }
+  }
+
+  ex unary() {
+    DepthGuard guard(*this);
+    skip_space();
+    if (accept('-')) return -unary();
+    if (accept('+')) return unary();
+    return power();
+  }
+
+  ex power() {
+    ex base = primary();
+    skip_space();
+    const std::size_t at = pos_;
+    if (accept('^')) {
+      ex exponent = unary();
+      return guarded(at, [&] { return GiNaC::pow(base, exponent); });
+    }
+    return base;
+  }
+
+  ex primary() {
+    DepthGuard guard(*this);
+    skip_space();
+    const std::size_t start = pos_;
+    if (at_end()) fail(pos_, "expected a number, name or '(' but the expression ended");
+    const char c = peek();
+    if (c == '(') {
+      ++pos_;
+      ex inner = expr();
+      if (!accept(')')) fail(pos_, "expected ')'");
+      return inner;
+    }
+    if (std::isdigit(static_cast<unsigned char>(c)) || c == '.') return number();
+    if (is_name_start(c)) {
+      while (!at_end() && is_name_char(peek())) ++pos_;
+      const std::string name = text_.substr(start, pos_ - start);
+      std::size_t after_name = pos_;
+      skip_space();
+      if (peek() == '(') return call(name, start);
+      pos_ = after_name;
+      int primes = 0;
+      while (peek() == '\'') {
+        ++primes;
+        ++pos_;
+      }
+      return variable(name, primes, start);
+    }
+    fail(pos_, std::string("unexpected '") + c + "'");
+  }
+
+  ex number() {
+    const std::size_t start = pos_;
+    std::string digits;
+    int decimals = 0;
+    while (std::isdigit(static_cast<unsigned char>(peek()))) digits += text_[pos_++];
+    if (peek() == '.') {
+      ++pos_;
+      while (std::isdigit(static_cast<unsigned char>(peek()))) {
+        digits += text_[pos_++];
+        ++decimals;
+      }
+    }
+    if (digits.empty()) fail(start, "malformed number");
+    long exponent = 0;
+    if (peek() == 'e' || peek() == 'E') {
+      std::size_t save = pos_;
+      ++pos_;
+      int sign = 1;
+      if (peek() == '+' || peek() == '-') {
+        if (peek() == '-') sign = -1;
+        ++pos_;
+      }
+      std::string exp_digits;
+      while (std::isdigit(static_cast<unsigned char>(peek()))) exp_digits += text_[pos_++];
+      if (exp_digits.empty()) {
+        pos_ = save;
+        fail(start, "malformed number exponent");
+      }
+      if (exp_digits.size() > 4) fail(start, "number exponent out of range");
+      exponent = sign * std::stol(exp_digits);
+    }
+    if (digits.size() > 400) fail(start, "number has too many digits");
+    exponent -= decimals;
+    if (exponent > 400 || exponent < -400) fail(start, "number out of range (|exponent| > 400)");
+    GiNaC::numeric value(digits.c_str());
+    const GiNaC::numeric scale = GiNaC::pow(GiNaC::numeric(10), GiNaC::numeric(exponent));
+    if (is_name_start(peek())) fail(pos_, "a name cannot follow a number directly; write '*'");
+    return value * scale;
+  }
+
+  ex call(const std::string& name, std::size_t start) {
+    static const std::map<std::string, std::function<ex(const ex&)>> unary_functions = {
+        {"sin", [](const ex& a) { return GiNaC::sin(a); }},
+        {"cos", [](const ex& a) { return GiNaC::cos(a); }},
+        {"tan", [](const ex& a) { return GiNaC::tan(a); }},
+        {"exp", [](const ex& a) { return GiNaC::exp(a); }},
+        {"log", [](const ex& a) { return GiNaC::log(a); }},
+        {"sqrt", [](const ex& a) { return GiNaC::sqrt(a); }},
+        {"abs", [](const ex& a) { return GiNaC::abs(a); }},
+        {"sinh", [](const ex& a) { return GiNaC::sinh(a); }},
+        {"cosh", [](const ex& a) { return GiNaC::cosh(a); }},
+        {"tanh", [](const ex& a) { return GiNaC::tanh(a); }},
+        {"asin", [](const ex& a) { return GiNaC::asin(a); }},
+        {"acos", [](const ex& a) { return GiNaC::acos(a); }},
+        {"atan", [](const ex& a) { return GiNaC::atan(a); }},
+    };
+    const bool binary = name == "atan2";
+    auto it = unary_functions.find(name);
+    if (!binary && it == unary_functions.end()) fail(start, "unknown function '" + name + "'");
+    accept('(');
+    std::vector<ex> args;
+    std::vector<std::size_t> arg_positions;
+    do {
+      skip_space();
+      arg_positions.push_back(pos_);
+      args.push_back(expr());
+    } while (accept(','));
+    if (!accept(')')) fail(pos_, "expected ')' after the arguments of " + name);
+    const std::size_t expected = binary ? 2 : 1;
+    if (args.size() != expected)
+      fail(start, name + " takes " + std::to_string(expected) + " argument" +
+                      (expected == 1 ? "" : "s") + ", got " + std::to_string(args.size()));
+    if (binary) return guarded(start, [&] { return GiNaC::atan2(args[0], args[1]); });
+    return guarded(start, [&] { return it->second(args[0]); });
+  }
+
+  ex variable(const std::string& name, int primes, std::size_t start) {
+    // Printed jet form x_d2 is accepted as a spelling of x''.
+    std::string base = name;
+    int order = primes;
+    if (!jet_.parameter_index(name) && !known_variable(name)) {
+      if (auto split = split_jet_suffix(name)) {
+        if (known_variable(split->first)) {
+          if (primes > 0) fail(start, "'" + name + "' cannot take primes as well");
+          base = split->first;
+          order = split->second;
+        }
+      }
+    }
+    if (order > kMaxDerivativeOrder)
+      fail(start, "derivative order " + std::to_string(order) + " of '" + base +
+                      "' exceeds the limit of " + std::to_string(kMaxDerivativeOrder));
+    if (base == "t") {
+      if (!rules_.allow_time) fail(start, "'t' is not allowed here");
+      if (order > 0) fail(start, "'t' cannot be differentiated (primes on 't')");
+      return jet_.time();
+    }
+    if (auto p = jet_.parameter_index(base)) {
+      if (order > 0) fail(start, "parameter '" + base + "' cannot carry primes");
+      return jet_.parameter(*p);
+    }
+    const auto& coords = jet_.coordinates();
+    for (std::size_t i = 0; i < coords.size(); ++i) {
+      if (coords[i] != base) continue;
+      if (!rules_.allow_coordinates)
+        fail(start, "coordinate '" + base + "' is not allowed here (only t and parameters)");
+      return jet_.q(static_cast<int>(i), order);
+    }
+    if (auto alpha = multiplier_index(base); alpha && *alpha < jet_.multiplier_count()) {
+      if (!rules_.allow_multipliers) fail(start, "multiplier '" + base + "' is not allowed here");
+      return jet_.lambda(*alpha, order);
+    }
+    fail(start, "unknown name '" + base + "'");
+  }
+
+  bool known_variable(const std::string& name) const {
+    if (name == "t") return true;
+    const auto& coords = jet_.coordinates();
+    if (std::find(coords.begin(), coords.end(), name) != coords.end()) return true;
+    auto alpha = multiplier_index(name);
+    return alpha && *alpha < jet_.multiplier_count();
+  }
+
+  const std::string& text_;
+  const JetSpace& jet_;
+  ExpressionRules rules_;
+  std::size_t pos_ = 0;
+  int depth_ = 0;
+};
+
+}  // namespace
+
+GiNaC::ex parse_expression(const std::string& text, const JetSpace& jet,
+                           const ExpressionRules& rules) {
+  return Parser(text, jet, rules).parse();
+}
+
+}  // namespace nhc

@@ -1,0 +1,51 @@
+#pragma once
+/// \file expression_parser.hpp
+/// \brief Parser for scene expressions into GiNaC expressions on a JetSpace.
+///
+/// Grammar (precedence low → high; `^` is right-associative and binds tighter than unary minus):
+///   expr    := term (('+' | '-') term)*
+///   term    := unary (('*' | '/') unary)*
+///   unary   := ('+' | '-') unary | power
+///   power   := primary ('^' unary)?
+///   primary := number | name '\''* | function '(' expr (',' expr)* ')' | '(' expr ')'
+/// Numbers are read exactly (0.5 → 1/2, 1e-3 → 1/1000) so that derivations stay exact.
+/// Names: `t`, parameters, coordinates with primes (`x''`) or in printed jet form (`x_d2`),
+/// and, where allowed, multipliers `lambda1`… (also with primes or `_d<k>`).
+/// Functions: sin cos tan exp log sqrt abs sinh cosh tanh asin acos atan atan2.
+
+#include <ginac/ginac.h>
+
+#include <stdexcept>
+#include <string>
+
+#include "nhc/derive/jet_space.hpp"
+
+namespace nhc {
+
+/// Highest derivative order a scene may write (`x''''''''`); keeps derivations finite.
+inline constexpr int kMaxDerivativeOrder = 8;
+/// Deepest parenthesis / operator nesting accepted.
+inline constexpr int kMaxExpressionDepth = 200;
+
+/// A parse failure at a 0-based character offset of the expression text.
+class ExpressionSyntaxError : public std::runtime_error {
+ public:
+  ExpressionSyntaxError(std::size_t offset, const std::string& message)
+      : std::runtime_error(message), offset_(offset) {}
+  std::size_t offset() const noexcept { return offset_; }
+
+ private:
+  std::size_t offset_;
+};
+
+struct ExpressionRules {
+  bool allow_coordinates = true;   ///< q and its derivatives
+  bool allow_multipliers = false;  ///< lambda1… and derivatives
+  bool allow_time = true;          ///< t
+};
+
+/// Parse `text`; throws ExpressionSyntaxError on any error.
+GiNaC::ex parse_expression(const std::string& text, const JetSpace& jet,
+                           const ExpressionRules& rules = {});
+
+}  // namespace nhc

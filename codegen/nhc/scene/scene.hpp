@@ -1,0 +1,72 @@
+#pragma once
+/// \file scene.hpp
+/// \brief A scene: one mechanical system as the user wrote it, with its expressions parsed
+/// onto a JetSpace. Produced by load_scene() from TOML, or built in code.
+
+#include <ginac/ginac.h>
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "nhc/derive/jet_space.hpp"
+#include "nhc/errors.hpp"
+
+namespace nhc {
+
+/// The dynamical models nhc derives (models.md, "The four models").
+enum class ModelKind { vakonomic, chetaev, holder, suslov };
+
+inline constexpr ModelKind kAllModels[] = {ModelKind::vakonomic, ModelKind::chetaev,
+                                           ModelKind::holder, ModelKind::suslov};
+std::string to_string(ModelKind model);
+std::optional<ModelKind> parse_model_kind(const std::string& name);
+
+/// Initial data: t0 and, per coordinate or multiplier, [value, 1st derivative, …].
+struct InitialData {
+  double t0 = 0.0;
+  std::map<std::string, std::vector<double>> values;
+};
+
+struct SimulateSettings {
+  std::optional<ModelKind> model;
+  double t_end = 1.0;
+  double rtol = 1e-8;
+  double atol = 1e-10;
+};
+
+struct Scene {
+  std::string name;         ///< valid C++ identifier, used for file names
+  std::string source_path;  ///< file the scene came from ("" when built in code)
+  std::shared_ptr<JetSpace> jet;
+
+  std::vector<double> parameter_values;  ///< in JetSpace parameter order
+  GiNaC::ex lagrangian;                  ///< L(t, q, q')
+  std::vector<GiNaC::ex> constraints;    ///< f^α(t, q, …, q^(m_α)) = 0
+  std::vector<std::string> constraint_texts;
+  std::vector<int> dependent;            ///< coordinate indices d_1..d_g (suslov); may be empty
+  std::vector<ModelKind> models;         ///< requested models, default all four
+  InitialData initial;
+  SimulateSettings simulate;
+  std::vector<std::pair<int, GiNaC::ex>> reference;            ///< coordinate → q(t)
+  std::vector<std::pair<std::string, GiNaC::ex>> invariants;   ///< name → I(t, q, q', …)
+
+  int coordinate_count() const { return jet->coordinate_count(); }
+  int constraint_count() const { return static_cast<int>(constraints.size()); }
+  /// Parameter symbol → value, for numeric evaluation.
+  GiNaC::exmap parameter_substitution() const;
+};
+
+/// Reads and validates a scene file. Every problem is an InputError naming FILE:LINE:COLUMN.
+Scene load_scene(const std::string& path);
+/// Same, from text already in memory; `path` is only used in messages.
+Scene parse_scene(const std::string& text, const std::string& path);
+
+/// True for C++ keywords and alternative tokens (and, or, …), which a scene may not use as names.
+bool is_cpp_keyword(const std::string& name);
+/// [A-Za-z_][A-Za-z0-9_]* and not a C++ keyword.
+bool is_valid_identifier(const std::string& name);
+
+}  // namespace nhc

@@ -1,0 +1,447 @@
+// Reads scene TOML files (toml++) into Scene, validating every key and expression.
+// Each problem becomes an InputError with the file, line and column of the offending value.
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "nhc/scene/expression_parser.hpp"
+#include "nhc/scene/scene.hpp"
+
+namespace nhc {
+
+std::string to_string(ModelKind model) {
+  switch (model) {
+    case ModelKind::vakonomic: return "vakonomic";
+    case ModelKind::chetaev: return "chetaev";
+    case ModelKind::holder: return "holder";
+    case ModelKind::suslov: return "suslov";
+  }
+  return "?";
+}
+
+std::optional<ModelKind> parse_model_kind(const std::string& name) {
+  for (ModelKind m : kAllModels)
+    if (to_string(m) == name) return m;
+  return std::nullopt;
+}
+
+bool is_cpp_keyword(const std::string& name) {
+  static const std::set<std::string> keywords = {
+      "alignas", "alignof", "and", "and_eq", "asm", "auto", "bitand", "bitor", "bool", "break",
+      "case", "catch", "char", "char8_t", "char16_t", "char32_t", "class", "compl", "concept",
+      "const", "consteval", "constexpr", "constinit", "const_cast", "continue", "co_await",
+      "co_return", "co_yield", "decltype", "default", "delete", "do", "double", "dynamic_cast",
+      "else", "enum", "explicit", "export", "extern", "false", "float", "for", "friend", "goto",
+      "if", "inline", "int", "long", "mutable", "namespace", "new", "noexcept", "not", "not_eq",
+      "nullptr", "operator", "or", "or_eq", "private", "protected", "public", "register",
+      "reinterpret_cast", "requires", "return", "short", "signed", "sizeof", "static",
+      "static_assert", "static_cast", "struct", "switch", "template", "this", "thread_local",
+      "throw", "true", "try", "typedef", "typeid", "typename", "union", "unsigned", "using",
+      "virtual", "void", "volatile", "wchar_t", "while", "xor", "xor_eq"};
+  return keywords.count(name) > 0;
+}
+
+bool is_valid_identifier(const std::string& name) {
+  if (name.empty() || name.size() > 64) return false;
+  const auto c0 = static_cast<unsigned char>(name[0]);
+  if (!(std::isalpha(c0) || name[0] == '_')) return false;
+  for (char c : name) {
+    const auto u = static_cast<unsigned char>(c);
+    if (!(std::isalnum(u) || c == '_') || u >= 0x80) return false;
+  }
+  return !is_cpp_keyword(name);
+}
+
+GiNaC::exmap Scene::parameter_substitution() const {
+  GiNaC::exmap m;
+  for (std::size_t p = 0; p < parameter_values.size(); ++p)
+    m[jet->parameter(static_cast<int>(p))] = parameter_values[p];
+  return m;
+}
+
+namespace {
+
+const std::set<std::string>& function_names() {
+  static const std::set<std::string> names = {"sin",  "cos",  "tan",  "exp",  "log",
+                                              "sqrt", "abs",  "sinh", "cosh", "tanh",
+                                              "asin", "acos", "atan", "atan2"};
+  return names;
+}
+
+bool looks_like_multiplier(const std::string& name) {
+  if (name.rfind("lambda", 0) != 0 || name.size() == 6) return false;
+  return std::all_of(name.begin() + 6, name.end(),
+                     [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
+}
+
+bool has_jet_suffix(const std::string& name) {
+  const auto pos = name.rfind("_d");
+  if (pos == std::string::npos || pos == 0 || pos + 2 >= name.size()) return false;
+  return std::all_of(name.begin() + static_cast<long>(pos) + 2, name.end(),
+                     [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
+}
+
+class SceneReader {
+ public:
+  SceneReader(const std::string& text, std::string path) : text_(text), path_(std::move(path)) {
+    std::istringstream lines(text_);
+    for (std::string line; std::getline(lines, line);) lines_.push_back(line);
+  }
+
+  Scene read() {
+    toml::table root;
+    try {
+      root = toml::parse(text_, path_);
+    } catch (const toml::parse_error& e) {
+      throw InputError(at(e.source()), std::string("TOML syntax: ") + std::string(e.description()));
+    }
+
+    check_keys(root, {"name", "coordinates", "lagrangian", "constraints", "dependent", "models",
+                      "parameters", "initial", "simulate", "reference", "invariants"});
+
+    Scene scene;
+    scene.source_path = path_;
+    const toml::node& name_node = require(root, "name", "top level");
+    scene.name = string_value(name_node, "name");
+    if (!is_valid_identifier(scene.name))
+      fail(name_node, "invalid name '" + printable(scene.name) +
+                          "': it must match [A-Za-z_][A-Za-z0-9_]* (at most 64 characters) "
+                          "and not be a C++ keyword");
+
+    // Names: coordinates, then parameters; all distinct.
+    const toml::node& coords_node = require(root, "coordinates", "top level");
+    const toml::array& coords = array_value(coords_node, "coordinates");
+    if (coords.empty()) fail(coords_node, "'coordinates' is empty: a scene needs at least one");
+    std::vector<std::string> coordinate_names;
+    for (const toml::node& c : coords) {
+      std::string n = string_value(c, "coordinates entry");
+      check_variable_name(c, n, "coordinate");
+      coordinate_names.push_back(n);
+    }
+
+    std::vector<std::string> parameter_names;
+    std::vector<double> parameter_values;
+    if (const toml::node* params_node = root.get("parameters")) {
+      const toml::table& params = table_value(*params_node, "parameters");
+      for (auto&& [key, value] : params) {
+        const std::string n(key.str());
+        check_variable_name_at(at(key.source()), n, "parameter");
+        parameter_names.push_back(n);
+        parameter_values.push_back(number_value(value, "parameter '" + n + "'"));
+      }
+    }
+
+    // Multipliers count = constraints count; read the constraint strings first.
+    std::vector<const toml::node*> constraint_nodes;
+    if (const toml::node* cn = root.get("constraints")) {
+      const toml::array& arr = array_value(*cn, "constraints");
+      for (const toml::node& c : arr) {
+        string_value(c, "constraints entry");
+        constraint_nodes.push_back(&c);
+      }
+      if (constraint_nodes.size() >= coordinate_names.size() && !constraint_nodes.empty())
+        fail(*cn, std::to_string(constraint_nodes.size()) + " constraints on " +
+                      std::to_string(coordinate_names.size()) +
+                      " coordinates: there must be fewer constraints than coordinates");
+    }
+
+    scene.jet = std::make_shared<JetSpace>(coordinate_names,
+                                           static_cast<int>(constraint_nodes.size()),
+                                           parameter_names);
+    scene.parameter_values = parameter_values;
+    const JetSpace& jet = *scene.jet;
+
+    ExpressionRules mechanics;  // t, parameters, coordinates; no multipliers
+    const toml::node& lagrangian_node = require(root, "lagrangian", "top level");
+    scene.lagrangian = expression(lagrangian_node, "lagrangian", jet, mechanics);
+    if (jet.highest_coordinate_order(scene.lagrangian) > 1)
+      fail(lagrangian_node, "the Lagrangian may depend on t, q and q' only (found a derivative "
+                            "of order " +
+                                std::to_string(jet.highest_coordinate_order(scene.lagrangian)) +
+                                ")");
+
+    for (std::size_t a = 0; a < constraint_nodes.size(); ++a) {
+      const toml::node& c = *constraint_nodes[a];
+      GiNaC::ex f = expression(c, "constraint", jet, mechanics);
+      if (f.expand().normal().is_zero()) fail(c, "constraint " + std::to_string(a + 1) +
+                                                     " is identically zero");
+      if (jet.highest_coordinate_order(f) < 0)
+        fail(c, "constraint " + std::to_string(a + 1) + " does not involve any coordinate");
+      scene.constraints.push_back(f);
+      scene.constraint_texts.push_back(*c.value<std::string>());
+    }
+
+    if (const toml::node* dn = root.get("dependent")) {
+      const toml::array& arr = array_value(*dn, "dependent");
+      std::set<int> seen;
+      for (const toml::node& d : arr) {
+        const std::string n = string_value(d, "dependent entry");
+        auto it = std::find(coordinate_names.begin(), coordinate_names.end(), n);
+        if (it == coordinate_names.end()) fail(d, "'" + printable(n) + "' is not a coordinate");
+        const int index = static_cast<int>(it - coordinate_names.begin());
+        if (!seen.insert(index).second) fail(d, "dependent coordinate '" + n + "' listed twice");
+        scene.dependent.push_back(index);
+      }
+      if (scene.dependent.size() != scene.constraints.size())
+        fail(*dn, "'dependent' lists " + std::to_string(scene.dependent.size()) +
+                      " coordinates but there are " + std::to_string(scene.constraints.size()) +
+                      " constraints; give one dependent coordinate per constraint");
+    }
+
+    if (const toml::node* mn = root.get("models")) {
+      const toml::array& arr = array_value(*mn, "models");
+      if (arr.empty()) fail(*mn, "'models' is empty");
+      for (const toml::node& m : arr) {
+        const std::string n = string_value(m, "models entry");
+        auto kind = parse_model_kind(n);
+        if (!kind)
+          fail(m, "unknown model '" + printable(n) +
+                      "' (known: vakonomic, chetaev, holder, suslov)");
+        if (std::find(scene.models.begin(), scene.models.end(), *kind) != scene.models.end())
+          fail(m, "model '" + n + "' listed twice");
+        scene.models.push_back(*kind);
+      }
+    } else {
+      scene.models.assign(std::begin(kAllModels), std::end(kAllModels));
+    }
+
+    read_initial(root, scene);
+    read_simulate(root, scene);
+
+    if (const toml::node* rn = root.get("reference")) {
+      const toml::table& ref = table_value(*rn, "reference");
+      ExpressionRules time_only;
+      time_only.allow_coordinates = false;
+      for (auto&& [key, value] : ref) {
+        const std::string n(key.str());
+        auto it = std::find(coordinate_names.begin(), coordinate_names.end(), n);
+        if (it == coordinate_names.end())
+          throw InputError(at(key.source()),
+                           "[reference] names '" + printable(n) + "', which is not a coordinate");
+        scene.reference.emplace_back(static_cast<int>(it - coordinate_names.begin()),
+                                     expression(value, "reference", jet, time_only));
+      }
+    }
+
+    if (const toml::node* in = root.get("invariants")) {
+      const toml::table& inv = table_value(*in, "invariants");
+      for (auto&& [key, value] : inv) {
+        const std::string n(key.str());
+        if (!is_valid_identifier(n))
+          throw InputError(at(key.source()), "invalid invariant name '" + printable(n) +
+                                                 "': it must be a C++ identifier");
+        scene.invariants.emplace_back(n, expression(value, "invariant", jet, mechanics));
+      }
+    }
+    return scene;
+  }
+
+ private:
+  SourceLocation at(const toml::source_region& region) const {
+    return {path_, static_cast<int>(region.begin.line), static_cast<int>(region.begin.column)};
+  }
+  SourceLocation at(const toml::node& node) const { return at(node.source()); }
+
+  [[noreturn]] void fail(const toml::node& node, const std::string& message) const {
+    throw InputError(at(node), message);
+  }
+
+  /// Non-printable bytes are shown as \xNN so that the one-line message stays one line.
+  static std::string printable(const std::string& s) {
+    std::string out;
+    for (unsigned char c : s) {
+      if (c < 0x20 || c == 0x7f) {
+        char buf[8];
+        std::snprintf(buf, sizeof buf, "\\x%02x", c);
+        out += buf;
+      } else {
+        out += static_cast<char>(c);
+      }
+    }
+    return out;
+  }
+
+  void check_keys(const toml::table& table, const std::set<std::string>& allowed) const {
+    for (auto&& [key, value] : table) {
+      const std::string k(key.str());
+      if (!allowed.count(k)) {
+        std::string list;
+        for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+        throw InputError(at(key.source()),
+                         "unknown key '" + printable(k) + "' (expected one of: " + list + ")");
+      }
+    }
+  }
+
+  const toml::node& require(const toml::table& table, const std::string& key,
+                            const std::string& where) const {
+    const toml::node* n = table.get(key);
+    if (!n) {
+      SourceLocation loc = at(table);
+      if (loc.line <= 0) loc = {path_, 1, 1};
+      throw InputError(loc, "missing required key '" + key + "' (" + where + ")");
+    }
+    return *n;
+  }
+
+  std::string string_value(const toml::node& node, const std::string& what) const {
+    if (!node.is_string()) fail(node, what + " must be a string, not " + type_name(node));
+    return *node.value<std::string>();
+  }
+  const toml::array& array_value(const toml::node& node, const std::string& what) const {
+    if (!node.is_array()) fail(node, "'" + what + "' must be an array, not " + type_name(node));
+    return *node.as_array();
+  }
+  const toml::table& table_value(const toml::node& node, const std::string& what) const {
+    if (!node.is_table()) fail(node, "'" + what + "' must be a table, not " + type_name(node));
+    return *node.as_table();
+  }
+  double number_value(const toml::node& node, const std::string& what) const {
+    double v = 0;
+    if (node.is_integer()) v = static_cast<double>(*node.value<int64_t>());
+    else if (node.is_floating_point()) v = *node.value<double>();
+    else fail(node, what + " must be a number, not " + type_name(node));
+    if (!std::isfinite(v)) fail(node, what + " must be finite");
+    return v;
+  }
+  static std::string type_name(const toml::node& node) {
+    switch (node.type()) {
+      case toml::node_type::table: return "a table";
+      case toml::node_type::array: return "an array";
+      case toml::node_type::string: return "a string";
+      case toml::node_type::integer: return "an integer";
+      case toml::node_type::floating_point: return "a floating-point number";
+      case toml::node_type::boolean: return "a boolean";
+      default: return "a date or time";
+    }
+  }
+
+  void check_variable_name(const toml::node& node, const std::string& n,
+                           const std::string& what) {
+    check_variable_name_at(at(node), n, what);
+  }
+  void check_variable_name_at(const SourceLocation& where, const std::string& n,
+                              const std::string& what) {
+    auto bad = [&](const std::string& why) {
+      throw InputError(where, "invalid " + what + " name '" + printable(n) + "': " + why);
+    };
+    if (!is_valid_identifier(n))
+      bad("it must match [A-Za-z_][A-Za-z0-9_]* (at most 64 characters) and not be a C++ keyword");
+    if (n == "t") bad("'t' is time");
+    if (looks_like_multiplier(n)) bad("lambda<N> names are reserved for the multipliers");
+    if (function_names().count(n)) bad("it is the name of a function");
+    if (has_jet_suffix(n)) bad("names ending in _d<digits> are reserved for derivatives");
+    if (!names_.insert(n).second) bad("the name is used twice");
+  }
+
+  /// Column of character `offset` of a string value, when the value is a one-line string
+  /// without escapes (then columns map one to one); else the value's start.
+  SourceLocation expression_location(const toml::node& node, std::size_t offset) const {
+    SourceLocation loc = at(node);
+    const std::string value = *node.value<std::string>();
+    if (loc.line <= 0 || static_cast<std::size_t>(loc.line) > lines_.size()) return loc;
+    const std::string& line = lines_[static_cast<std::size_t>(loc.line - 1)];
+    const std::size_t start = static_cast<std::size_t>(loc.column - 1);
+    if (start >= line.size() || (line[start] != '"' && line[start] != '\'')) return loc;
+    if (line.compare(start + 1, value.size(), value) != 0) return loc;
+    loc.column += static_cast<int>(1 + std::min(offset, value.size()));
+    return loc;
+  }
+
+  GiNaC::ex expression(const toml::node& node, const std::string& what, const JetSpace& jet,
+                       const ExpressionRules& rules) const {
+    const std::string text = string_value(node, what);
+    try {
+      return parse_expression(text, jet, rules);
+    } catch (const ExpressionSyntaxError& e) {
+      throw InputError(expression_location(node, e.offset()),
+                       "in " + what + " \"" + printable(text) + "\": " + e.what());
+    }
+  }
+
+  void read_initial(const toml::table& root, Scene& scene) {
+    const toml::node* node = root.get("initial");
+    if (!node) return;
+    const toml::table& table = table_value(*node, "initial");
+    const JetSpace& jet = *scene.jet;
+    for (auto&& [key, value] : table) {
+      const std::string n(key.str());
+      if (n == "t0") {
+        scene.initial.t0 = number_value(value, "initial t0");
+        continue;
+      }
+      bool known = std::find(jet.coordinates().begin(), jet.coordinates().end(), n) !=
+                   jet.coordinates().end();
+      for (int a = 0; a < jet.multiplier_count(); ++a) known = known || jet.multiplier_name(a) == n;
+      if (!known)
+        throw InputError(at(key.source()), "[initial] names '" + printable(n) +
+                                               "', which is neither t0, a coordinate nor a "
+                                               "multiplier of this scene");
+      const toml::array& arr = array_value(value, "initial " + n);
+      if (arr.empty()) fail(value, "initial values of '" + n + "' are empty");
+      if (arr.size() > static_cast<std::size_t>(kMaxDerivativeOrder) + 1)
+        fail(value, "initial values of '" + n + "' go beyond derivative order " +
+                        std::to_string(kMaxDerivativeOrder));
+      std::vector<double> values;
+      for (const toml::node& v : arr) values.push_back(number_value(v, "initial value of " + n));
+      scene.initial.values[n] = values;
+    }
+  }
+
+  void read_simulate(const toml::table& root, Scene& scene) {
+    const toml::node* node = root.get("simulate");
+    if (!node) {
+      scene.simulate.t_end = scene.initial.t0 + 1.0;
+      return;
+    }
+    const toml::table& table = table_value(*node, "simulate");
+    check_keys(table, {"model", "t_end", "rtol", "atol"});
+    scene.simulate.t_end = scene.initial.t0 + 1.0;
+    if (const toml::node* m = table.get("model")) {
+      const std::string n = string_value(*m, "simulate model");
+      auto kind = parse_model_kind(n);
+      if (!kind)
+        fail(*m, "unknown model '" + printable(n) + "' (known: vakonomic, chetaev, holder, suslov)");
+      if (std::find(scene.models.begin(), scene.models.end(), *kind) == scene.models.end())
+        fail(*m, "model '" + n + "' is not among the scene's models");
+      scene.simulate.model = kind;
+    }
+    if (const toml::node* te = table.get("t_end")) {
+      scene.simulate.t_end = number_value(*te, "t_end");
+      if (!(scene.simulate.t_end > scene.initial.t0))
+        fail(*te, "t_end must be after t0 = " + std::to_string(scene.initial.t0));
+    }
+    for (const char* key : {"rtol", "atol"}) {
+      if (const toml::node* tol = table.get(key)) {
+        const double v = number_value(*tol, key);
+        if (!(v > 0)) fail(*tol, std::string(key) + " must be positive");
+        (std::string(key) == "rtol" ? scene.simulate.rtol : scene.simulate.atol) = v;
+      }
+    }
+  }
+
+  const std::string& text_;
+  std::string path_;
+  std::vector<std::string> lines_;
+  std::set<std::string> names_;
+};
+
+}  // namespace
+
+Scene parse_scene(const std::string& text, const std::string& path) {
+  return SceneReader(text, path).read();
+}
+
+Scene load_scene(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError({path, 0, 0}, "cannot open the scene file");
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  return parse_scene(buffer.str(), path);
+}
+
+}  // namespace nhc
