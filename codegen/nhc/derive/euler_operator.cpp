@@ -4,7 +4,27 @@
 
 namespace nhc {
 
-GiNaC::ex simplify_expression(const GiNaC::ex& e) { return e.expand(); }
+namespace {
+
+/// Number of nodes in an expression tree: a rough measure of how much there is to read.
+std::size_t node_count(const GiNaC::ex& e) {
+  std::size_t n = 0;
+  for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it) ++n;
+  return n;
+}
+
+}  // namespace
+
+GiNaC::ex simplify_expression(const GiNaC::ex& e) {
+  // Expanding cancels polynomial terms. Terms over different powers of one radical, such as
+  // x'^2 v^-3 - v^-1 with v = sqrt(x'^2 + y'^2), cancel only over a common denominator:
+  // normal() finds it, and expanding its numerator shows the cancellation (-y'^2 v^-3).
+  // Keep whichever form is smaller.
+  const GiNaC::ex expanded = e.expand();
+  const GiNaC::ex fraction = expanded.normal().numer_denom();
+  const GiNaC::ex combined = fraction.op(0).expand() / fraction.op(1);
+  return node_count(combined) < node_count(expanded) ? combined : expanded;
+}
 
 VariationForm VariationForm::first_variation(const GiNaC::ex& F, const JetSpace& jet) {
   VariationForm form;
