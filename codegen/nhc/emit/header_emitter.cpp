@@ -1,0 +1,545 @@
+#include "nhc/emit/header_emitter.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "nhc/emit/cpp_printer.hpp"
+#include "nhc/emit/expression_printer.hpp"
+#include "nhc/errors.hpp"
+
+namespace nhc {
+
+std::string to_string(JacobianKind kind) {
+  switch (kind) {
+    case JacobianKind::dense: return "dense";
+    case JacobianKind::sparse: return "sparse";
+    case JacobianKind::none: return "none";
+  }
+  return "dense";
+}
+
+std::optional<JacobianKind> parse_jacobian_kind(const std::string& name) {
+  for (JacobianKind k : {JacobianKind::dense, JacobianKind::sparse, JacobianKind::none})
+    if (to_string(k) == name) return k;
+  return std::nullopt;
+}
+
+std::string sanitize_comment(const std::string& text) {
+  std::string out;
+  for (size_t k = 0; k < text.size(); ++k) {
+    const auto c = static_cast<unsigned char>(text[k]);
+    if (c == '*' && k + 1 < text.size() && text[k + 1] == '/') {
+      out += "* ";  // the '/' follows: "* /"
+    } else if (c == '\\') {
+      out += '/';
+    } else if (c < 0x20 || c >= 0x7f) {
+      out += (c == '\n' || c == '\r' || c == '\t') ? ' ' : '?';
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  return out;
+}
+
+std::string cpp_string_literal(const std::string& text) {
+  std::string out = "\"";
+  for (char ch : text) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += ch;
+    } else if (c < 0x20 || c >= 0x7f || c == '?') {
+      char octal[8];
+      std::snprintf(octal, sizeof octal, "\\%03o", static_cast<unsigned>(c));
+      out += octal;
+    } else {
+      out += ch;
+    }
+  }
+  return out + "\"";
+}
+
+SymbolicJacobian index1_jacobian(const Index1System& system) {
+  SymbolicJacobian jac;
+  const int n = system.size();
+  jac.size = n;
+  jac.entries.reserve(static_cast<size_t>(n) * static_cast<size_t>(n));
+  jac.colptr.push_back(0);
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      const GiNaC::ex& f = system.residuals[static_cast<size_t>(i)];
+      GiNaC::ex entry = f.diff(system.y[static_cast<size_t>(j)]) +
+                        jac.cj * f.diff(system.yp[static_cast<size_t>(j)]);
+      if (!entry.is_zero()) jac.rowind.push_back(i);
+      jac.entries.push_back(entry);
+    }
+    jac.colptr.push_back(static_cast<int>(jac.rowind.size()));
+  }
+  return jac;
+}
+
+std::vector<GiNaC::ex> hidden_constraint_jacobian(const Index1System& system) {
+  std::vector<GiNaC::ex> entries;
+  for (int j = 0; j < system.size(); ++j)
+    for (const GiNaC::ex& g : system.hidden_constraints)
+      entries.push_back(g.diff(system.y[static_cast<size_t>(j)]));
+  return entries;
+}
+
+std::vector<GiNaC::ex> invariants_in_states(const Scene& scene, const Index1System& system) {
+  std::vector<GiNaC::ex> out;
+  for (const auto& [name, expression] : scene.invariants) {
+    const GiNaC::ex rewritten = expression.subs(system.jet_to_state);
+    for (const JetCoordinate& c : system.jet->jet_coordinates_in(rewritten))
+      throw MathError("invariant " + name + " involves " +
+                      jet_symbol_name(system.jet->variable_name(c.kind, c.index), c.order) +
+                      ", which is not a state of the " + to_string(system.model) +
+                      " model (nor the derivative of one)");
+    out.push_back(rewritten);
+  }
+  return out;
+}
+
+namespace {
+
+std::string base_name(const std::string& path) {
+  const auto slash = path.find_last_of("/\\");
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+std::string joined(const std::vector<std::string>& items, const std::string& separator) {
+  std::string out;
+  for (size_t k = 0; k < items.size(); ++k) out += (k ? separator : "") + items[k];
+  return out;
+}
+
+template <class T, class F>
+std::string list_of(const std::vector<T>& items, F&& print) {
+  std::vector<std::string> texts;
+  for (const auto& item : items) texts.push_back(print(item));
+  return "{" + joined(texts, ", ") + "}";
+}
+
+std::string describe_count(const std::string& label, const OperationCount& before,
+                           const OperationCount& after) {
+  char line[160];
+  std::snprintf(line, sizeof line, "//   %-28s %7lld %7lld\n", label.c_str(), before.total(),
+                after.total());
+  return line;
+}
+
+/// One emitted function: its signature parameters, the assignments and what it may read.
+struct FunctionPlan {
+  std::string name;
+  std::string doc;
+  /// (type, name) in order; a name the body does not read is printed as a comment.
+  std::vector<std::pair<std::string, std::string>> parameters;
+  std::vector<Assignment> assignments;
+  std::string prologue;  ///< e.g. zero fill of a dense matrix
+  OperationCount before, after;
+};
+
+class HeaderWriter {
+ public:
+  HeaderWriter(const Scene& scene, const Index1System& system, const HeaderOptions& options)
+      : scene_(scene),
+        system_(system),
+        options_(options),
+        jacobian_(options.jacobian == JacobianKind::none ? SymbolicJacobian{}
+                                                         : index1_jacobian(system)),
+        dag_(inputs()) {}
+
+  GeneratedHeader write();
+
+ private:
+  std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> inputs() const {
+    std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> in;
+    in[system_.jet->time()] = "t";
+    for (int k = 0; k < static_cast<int>(system_.jet->parameters().size()); ++k)
+      in[system_.jet->parameter(k)] = "p[" + std::to_string(k) + "]";
+    for (size_t k = 0; k < system_.y.size(); ++k) in[system_.y[k]] = "y[" + std::to_string(k) + "]";
+    for (size_t k = 0; k < system_.yp.size(); ++k)
+      in[system_.yp[k]] = "yp[" + std::to_string(k) + "]";
+    in[jacobian_.cj] = "cj";
+    return in;
+  }
+
+  std::string function_text(FunctionPlan& plan, const std::set<std::string>& allowed);
+
+  const Scene& scene_;
+  const Index1System& system_;
+  const HeaderOptions& options_;
+  SymbolicJacobian jacobian_;
+  ExpressionDag dag_;
+};
+
+std::string HeaderWriter::function_text(FunctionPlan& plan, const std::set<std::string>& allowed) {
+  std::vector<int> outputs;
+  for (const auto& a : plan.assignments) outputs.push_back(a.value);
+  plan.before = tree_operation_count(dag_, outputs);
+  plan.after = dag_operation_count(dag_, outputs);
+  const PrintedBlock block = print_cpp_block(dag_, plan.assignments, "  ");
+  for (const std::string& used : block.used_inputs)
+    if (!allowed.count(used))
+      throw MathError(plan.name + " of the " + to_string(system_.model) + " model of " +
+                      scene_.name + " depends on " + used + ", which it does not receive");
+
+  std::vector<std::string> parameters;
+  for (const auto& [type, name] : plan.parameters) {
+    const bool read = block.used_inputs.count(name) > 0 || type == "double*";
+    parameters.push_back(type + " " + (read ? name : "/*" + name + "*/"));
+  }
+  std::string text = plan.doc;
+  text += "inline void " + plan.name + "(" + joined(parameters, ", ") + ") noexcept {\n";
+  text += plan.prologue;
+  text += block.code;
+  text += "}\n";
+  return text;
+}
+
+GeneratedHeader HeaderWriter::write() {
+  const int n = system_.size();
+  const std::string model = to_string(system_.model);
+  GeneratedHeader header;
+  header.namespace_name = scene_.name + "_" + model;
+  header.file_name = header.namespace_name + ".hpp";
+
+  const int n_parameters = static_cast<int>(system_.jet->parameters().size());
+  const int n_coordinates = system_.jet->coordinate_count();
+  const int n_multipliers =
+      system_.model == ModelKind::suslov ? 0 : static_cast<int>(scene_.constraints.size());
+  const int n_hidden = static_cast<int>(system_.hidden_constraints.size());
+  const int n_invariants = static_cast<int>(scene_.invariants.size());
+  const int n_reference = static_cast<int>(scene_.reference.size());
+  const bool dense = options_.jacobian == JacobianKind::dense;
+  const bool sparse = options_.jacobian == JacobianKind::sparse;
+
+  if (static_cast<int>(system_.residuals.size()) != n || static_cast<int>(system_.y.size()) != n ||
+      static_cast<int>(system_.yp.size()) != n)
+    throw MathError("inconsistent index-1 system: " + std::to_string(n) + " states, " +
+                    std::to_string(system_.residuals.size()) + " residuals");
+
+  // Lower everything into one DAG, in the order the functions are printed, so that a
+  // subexpression is one instruction wherever it occurs.
+  std::vector<FunctionPlan> plans;
+  const std::vector<std::pair<std::string, std::string>> tyyp = {
+      {"double", "t"}, {"const double*", "y"}, {"const double*", "yp"}, {"const double*", "p"}};
+  {
+    FunctionPlan f;
+    f.name = "residual";
+    f.doc = "/// F(t, y, y') = 0, IDA form; r has n_states entries.\n";
+    f.parameters = tyyp;
+    f.parameters.push_back({"double*", "r"});
+    for (int i = 0; i < n; ++i) {
+      const std::string comment = static_cast<size_t>(i) < system_.residual_names.size()
+                                      ? sanitize_comment(system_.residual_names[static_cast<size_t>(i)])
+                                      : "";
+      f.assignments.push_back(
+          {"r[" + std::to_string(i) + "]", dag_.add(system_.residuals[static_cast<size_t>(i)]),
+           comment});
+    }
+    plans.push_back(std::move(f));
+  }
+  if (dense || sparse) {
+    FunctionPlan f;
+    f.parameters = {{"double", "t"},  {"const double*", "y"}, {"const double*", "yp"},
+                    {"double", "cj"}, {"const double*", "p"}};
+    if (dense) {
+      f.name = "jacobian";
+      f.doc = "/// J = dF/dy + cj dF/dy', column-major n_states x n_states.\n";
+      f.parameters.push_back({"double*", "J"});
+      f.prologue = "  for (int k = 0; k < n_states * n_states; ++k) J[k] = 0.0;\n";
+      for (int j = 0; j < n; ++j)
+        for (int k = jacobian_.colptr[static_cast<size_t>(j)];
+             k < jacobian_.colptr[static_cast<size_t>(j) + 1]; ++k) {
+          const int i = jacobian_.rowind[static_cast<size_t>(k)];
+          const size_t at = static_cast<size_t>(i) + static_cast<size_t>(j) * static_cast<size_t>(n);
+          f.assignments.push_back({"J[" + std::to_string(at) + "]", dag_.add(jacobian_.entries[at]),
+                                   "(" + std::to_string(i) + ", " + std::to_string(j) + ")"});
+        }
+    } else {
+      f.name = "jacobian_values";
+      f.doc = "/// Nonzero values of J = dF/dy + cj dF/dy' in compressed-column order\n"
+              "/// (jacobian_colptr, jacobian_rowind).\n";
+      f.parameters.push_back({"double*", "values"});
+      for (int j = 0; j < n; ++j)
+        for (int k = jacobian_.colptr[static_cast<size_t>(j)];
+             k < jacobian_.colptr[static_cast<size_t>(j) + 1]; ++k) {
+          const int i = jacobian_.rowind[static_cast<size_t>(k)];
+          const size_t at = static_cast<size_t>(i) + static_cast<size_t>(j) * static_cast<size_t>(n);
+          f.assignments.push_back({"values[" + std::to_string(k) + "]",
+                                   dag_.add(jacobian_.entries[at]),
+                                   "(" + std::to_string(i) + ", " + std::to_string(j) + ")"});
+        }
+    }
+    plans.push_back(std::move(f));
+  }
+  if (n_hidden > 0) {
+    FunctionPlan g;
+    g.name = "hidden_constraints";
+    g.doc = "/// Hidden constraints g(t, y) = 0 (derivatives of the equations the index-1 form\n"
+            "/// differentiated away); they fix consistent initial values and drift during\n"
+            "/// integration.\n";
+    g.parameters = {{"double", "t"}, {"const double*", "y"}, {"const double*", "p"},
+                    {"double*", "g"}};
+    for (int i = 0; i < n_hidden; ++i)
+      g.assignments.push_back(
+          {"g[" + std::to_string(i) + "]",
+           dag_.add(system_.hidden_constraints[static_cast<size_t>(i)]),
+           static_cast<size_t>(i) < system_.hidden_constraint_names.size()
+               ? sanitize_comment(system_.hidden_constraint_names[static_cast<size_t>(i)])
+               : ""});
+    plans.push_back(std::move(g));
+
+    FunctionPlan G;
+    G.name = "hidden_constraints_jacobian";
+    G.doc = "/// G = dg/dy, column-major n_hidden x n_states.\n";
+    G.parameters = {{"double", "t"}, {"const double*", "y"}, {"const double*", "p"},
+                    {"double*", "G"}};
+    G.prologue = "  for (int k = 0; k < n_hidden * n_states; ++k) G[k] = 0.0;\n";
+    const std::vector<GiNaC::ex> entries = hidden_constraint_jacobian(system_);
+    for (size_t at = 0; at < entries.size(); ++at)
+      if (!entries[at].is_zero())
+        G.assignments.push_back({"G[" + std::to_string(at) + "]", dag_.add(entries[at]),
+                                 "(" + std::to_string(at % static_cast<size_t>(n_hidden)) + ", " +
+                                     std::to_string(at / static_cast<size_t>(n_hidden)) + ")"});
+    plans.push_back(std::move(G));
+  }
+  if (n_invariants > 0) {
+    FunctionPlan f;
+    f.name = "invariants";
+    f.doc = "/// The scene's invariants I(t, y, y'), in invariant_names order.\n";
+    f.parameters = tyyp;
+    f.parameters.push_back({"double*", "out"});
+    const std::vector<GiNaC::ex> invariants = invariants_in_states(scene_, system_);
+    for (int i = 0; i < n_invariants; ++i)
+      f.assignments.push_back({"out[" + std::to_string(i) + "]",
+                               dag_.add(invariants[static_cast<size_t>(i)]),
+                               sanitize_comment(scene_.invariants[static_cast<size_t>(i)].first)});
+    plans.push_back(std::move(f));
+  }
+  if (n_reference > 0) {
+    FunctionPlan f;
+    f.name = "reference";
+    f.doc = "/// The scene's reference solution q_c(t) for the coordinates reference_coordinate.\n";
+    f.parameters = {{"double", "t"}, {"const double*", "p"}, {"double*", "q"}};
+    for (int i = 0; i < n_reference; ++i) {
+      const auto& [coordinate, expression] = scene_.reference[static_cast<size_t>(i)];
+      f.assignments.push_back({"q[" + std::to_string(i) + "]", dag_.add(expression),
+                               sanitize_comment(system_.jet->coordinates().at(
+                                   static_cast<size_t>(coordinate)))});
+    }
+    plans.push_back(std::move(f));
+  }
+
+  // Function bodies (this also counts operations).
+  std::vector<std::string> bodies;
+  for (FunctionPlan& plan : plans) {
+    std::set<std::string> allowed;
+    for (const auto& parameter : plan.parameters) allowed.insert(parameter.second);
+    bodies.push_back(function_text(plan, allowed));
+    header.before_cse += plan.before;
+    header.after_cse += plan.after;
+  }
+
+  std::ostringstream out;
+  const std::string scene_file =
+      scene_.source_path.empty() ? std::string("a scene built in code") : base_name(scene_.source_path);
+
+  // Banner. Everything taken from the scene is sanitised: it lives in `//` comments only.
+  out << "// " << sanitize_comment(header.file_name) << ": generated by nhc " << NHC_VERSION
+      << " from " << sanitize_comment(scene_file) << ", model " << model << ".\n"
+      << "// Do not edit: regenerate with\n"
+      << "//   nhc generate " << sanitize_comment(scene_file) << " --model " << model
+      << " --jacobian " << to_string(options_.jacobian) << "\n"
+      << "//\n"
+      << "// Scene " << sanitize_comment(scene_.name) << ": coordinates "
+      << sanitize_comment(joined(system_.jet->coordinates(), ", "));
+  if (n_parameters > 0)
+    out << "; parameters " << sanitize_comment(joined(system_.jet->parameters(), ", "));
+  out << "\n//   L = " << sanitize_comment(to_text(scene_.lagrangian)) << "\n";
+  for (size_t a = 0; a < scene_.constraints.size(); ++a)
+    out << "//   f" << a + 1 << " = " << sanitize_comment(to_text(scene_.constraints[a])) << "\n";
+  out << "// Index-1 form: " << n << " states, " << n_hidden << " hidden constraints.\n"
+      << "//\n"
+      << "// Floating-point operations (+, -, *, /, calls), before and after common-subexpression\n"
+      << "// elimination over all functions below:\n";
+  for (const FunctionPlan& plan : plans) out << describe_count(plan.name, plan.before, plan.after);
+  out << describe_count("total", header.before_cse, header.after_cse);
+  out << "\n#pragma once\n\n#include <cmath>\n\n";
+
+  out << "namespace nhc_gen::" << header.namespace_name << " {\n\n";
+
+  // Metadata.
+  auto strings = [](const std::vector<std::string>& v) {
+    return list_of(v, [](const std::string& s) { return cpp_string_literal(s); });
+  };
+  auto ints = [](const std::vector<int>& v) {
+    return list_of(v, [](int k) { return std::to_string(k); });
+  };
+  auto doubles = [](const std::vector<double>& v) {
+    return list_of(v, [](double x) { return cpp_double_literal(x); });
+  };
+  std::vector<std::string> state_names;
+  std::vector<int> state_variable, state_order;
+  std::vector<double> differential_id;
+  for (const StateComponent& s : system_.states) {
+    state_names.push_back(s.name);
+    state_variable.push_back(s.kind == VariableKind::coordinate ? s.index : n_coordinates + s.index);
+    state_order.push_back(s.order);
+    differential_id.push_back(s.differential ? 1.0 : 0.0);
+  }
+  out << "inline constexpr int n_states = " << n << ";\n"
+      << "inline constexpr int n_parameters = " << n_parameters << ";\n"
+      << "inline constexpr int n_coordinates = " << n_coordinates << ";\n"
+      << "inline constexpr int n_multipliers = " << n_multipliers << ";\n"
+      << "inline constexpr int n_hidden = " << n_hidden << ";\n"
+      << "inline constexpr int n_invariants = " << n_invariants << ";\n"
+      << "inline constexpr int n_reference = " << n_reference << ";\n"
+      << "inline constexpr const char* model_name = " << cpp_string_literal(model) << ";\n"
+      << "inline constexpr const char* scene_name = " << cpp_string_literal(scene_.name) << ";\n\n"
+      << "/// y[k] holds the state_order[k]-th derivative of variable state_variable[k]\n"
+      << "/// (0..n_coordinates-1: coordinates, then multipliers).\n"
+      << "inline constexpr const char* state_names[n_states] = " << strings(state_names) << ";\n"
+      << "inline constexpr int state_variable[n_states] = " << ints(state_variable) << ";\n"
+      << "inline constexpr int state_order[n_states] = " << ints(state_order) << ";\n"
+      << "/// IDA id: 1.0 differential, 0.0 algebraic.\n"
+      << "inline constexpr double differential_id[n_states] = " << doubles(differential_id)
+      << ";\n";
+  if (n_parameters > 0) {
+    out << "inline constexpr const char* parameter_names[n_parameters] = "
+        << strings(system_.jet->parameters()) << ";\n"
+        << "inline constexpr double default_parameters[n_parameters] = "
+        << doubles(scene_.parameter_values) << ";\n";
+  } else {
+    out << "/// No parameters; C++ has no empty arrays, so one unused placeholder each.\n"
+        << "inline constexpr const char* parameter_names[1] = {nullptr};\n"
+        << "inline constexpr double default_parameters[1] = {0.0};\n";
+  }
+  if (n_hidden > 0) {
+    std::vector<std::string> names = system_.hidden_constraint_names;
+    names.resize(static_cast<size_t>(n_hidden));
+    out << "inline constexpr const char* hidden_names[n_hidden] = " << strings(names) << ";\n";
+  }
+  if (n_invariants > 0) {
+    std::vector<std::string> names;
+    for (const auto& inv : scene_.invariants) names.push_back(inv.first);
+    out << "inline constexpr const char* invariant_names[n_invariants] = " << strings(names)
+        << ";\n";
+  }
+  if (n_reference > 0) {
+    std::vector<int> coordinates;
+    for (const auto& r : scene_.reference) coordinates.push_back(r.first);
+    out << "inline constexpr int reference_coordinate[n_reference] = " << ints(coordinates)
+        << ";\n";
+  }
+  if (sparse) {
+    out << "\n/// Compressed-column structure of J (the entries not identically zero).\n"
+        << "inline constexpr int jacobian_nnz = " << jacobian_.rowind.size() << ";\n"
+        << "inline constexpr int jacobian_colptr[n_states + 1] = " << ints(jacobian_.colptr)
+        << ";\n";
+    if (jacobian_.rowind.empty())
+      out << "inline constexpr int jacobian_rowind[1] = {0};  // no nonzeros: placeholder\n";
+    else
+      out << "inline constexpr int jacobian_rowind[jacobian_nnz] = " << ints(jacobian_.rowind)
+          << ";\n";
+  }
+
+  for (const std::string& body : bodies) out << "\n" << body;
+  out << "\n}  // namespace nhc_gen::" << header.namespace_name << "\n";
+
+  // The C table for loading a compiled header from a shared object (docs/generated-code.md).
+  const std::string ns = "nhc_gen::" + header.namespace_name + "::";
+  auto has = [&](const std::string& function) {
+    return std::any_of(plans.begin(), plans.end(),
+                       [&](const FunctionPlan& p) { return p.name == function; });
+  };
+  auto pointer = [&](const std::string& function) {
+    return has(function) ? "&" + ns + function : std::string("nullptr");
+  };
+  out << R"(
+#ifndef NHC_MODEL_TABLE_DEFINED
+#define NHC_MODEL_TABLE_DEFINED
+extern "C" {
+struct nhc_model_table {
+  int abi_version;
+  const char* scene_name;
+  const char* model_name;
+  int n_states, n_parameters, n_coordinates, n_multipliers, n_hidden, n_invariants, n_reference;
+  const char* const* state_names;
+  const int* state_variable;
+  const int* state_order;
+  const double* differential_id;
+  const char* const* parameter_names;
+  const double* default_parameters;
+  const char* const* hidden_names;
+  const char* const* invariant_names;
+  const int* reference_coordinate;
+  void (*residual)(double, const double*, const double*, const double*, double*);
+  void (*jacobian)(double, const double*, const double*, double, const double*, double*);
+  int jacobian_nnz;
+  const int* jacobian_colptr;
+  const int* jacobian_rowind;
+  void (*jacobian_values)(double, const double*, const double*, double, const double*, double*);
+  void (*hidden_constraints)(double, const double*, const double*, double*);
+  void (*hidden_constraints_jacobian)(double, const double*, const double*, double*);
+  void (*invariants)(double, const double*, const double*, const double*, double*);
+  void (*reference)(double, const double*, double*);
+};
+}
+#endif
+
+#ifdef NHC_EXPORT_MODEL_TABLE
+extern "C" const nhc_model_table* nhc_model_table_get(void) {
+  static const nhc_model_table table = {
+)";
+  out << "      1,\n"
+      << "      " << ns << "scene_name,\n"
+      << "      " << ns << "model_name,\n"
+      << "      " << ns << "n_states,\n"
+      << "      " << ns << "n_parameters,\n"
+      << "      " << ns << "n_coordinates,\n"
+      << "      " << ns << "n_multipliers,\n"
+      << "      " << ns << "n_hidden,\n"
+      << "      " << ns << "n_invariants,\n"
+      << "      " << ns << "n_reference,\n"
+      << "      " << ns << "state_names,\n"
+      << "      " << ns << "state_variable,\n"
+      << "      " << ns << "state_order,\n"
+      << "      " << ns << "differential_id,\n"
+      << "      " << (n_parameters > 0 ? ns + "parameter_names" : "nullptr") << ",\n"
+      << "      " << (n_parameters > 0 ? ns + "default_parameters" : "nullptr") << ",\n"
+      << "      " << (n_hidden > 0 ? ns + "hidden_names" : "nullptr") << ",\n"
+      << "      " << (n_invariants > 0 ? ns + "invariant_names" : "nullptr") << ",\n"
+      << "      " << (n_reference > 0 ? ns + "reference_coordinate" : "nullptr") << ",\n"
+      << "      " << pointer("residual") << ",\n"
+      << "      " << pointer("jacobian") << ",\n"
+      << "      " << (sparse ? ns + "jacobian_nnz" : "0") << ",\n"
+      << "      " << (sparse ? ns + "jacobian_colptr" : "nullptr") << ",\n"
+      << "      " << (sparse ? ns + "jacobian_rowind" : "nullptr") << ",\n"
+      << "      " << pointer("jacobian_values") << ",\n"
+      << "      " << pointer("hidden_constraints") << ",\n"
+      << "      " << pointer("hidden_constraints_jacobian") << ",\n"
+      << "      " << pointer("invariants") << ",\n"
+      << "      " << pointer("reference") << ",\n"
+      << "  };\n"
+      << "  return &table;\n"
+      << "}\n"
+      << "#endif  // NHC_EXPORT_MODEL_TABLE\n";
+
+  header.text = out.str();
+  return header;
+}
+
+}  // namespace
+
+GeneratedHeader generate_header(const Scene& scene, const Index1System& system,
+                                const HeaderOptions& options) {
+  if (!system.jet) throw MathError("index-1 system without a jet space");
+  return HeaderWriter(scene, system, options).write();
+}
+
+}  // namespace nhc
