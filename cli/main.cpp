@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
     commands.emplace_back(app.get_subcommands({}).back(), std::move(run));
   };
   add(nhc::cli::add_derive_command);
+  add(nhc::cli::add_analyze_command);
 
   try {
     app.parse(argc, argv);

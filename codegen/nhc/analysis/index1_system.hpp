@@ -47,6 +47,11 @@ struct Index1System {
   std::vector<GiNaC::ex> hidden_constraints;
   std::vector<std::string> hidden_constraint_names;
 
+  /// ∂g/∂y of each hidden constraint: hidden_constraint_jacobian[r][k] = ∂g_r/∂y_k.
+  std::vector<std::vector<GiNaC::ex>> hidden_constraint_jacobian;
+  /// Pryce offsets: c per equation (R_1..R_n, f^1..f^g), d per unknown (q, then λ).
+  std::vector<int> c, d;
+
   int size() const { return static_cast<int>(states.size()); }
   /// Maps a jet symbol x^(k) with k ≤ d_j to its y / yp symbol (to rewrite scene expressions
   /// such as invariants in state variables). Filled by the reduction.

@@ -1,0 +1,68 @@
+// nhc analyze SCENE [--model M]... [--format text|json] [--repair-initial] [-o FILE]
+// Pryce's structural analysis of each model, its consistent initial point and the system
+// Jacobian there. Exit 3 (with the reasons in words on standard error) when some model is
+// not applicable, structurally singular, has inconsistent initial data or a singular
+// system Jacobian at t0.
+#include <iostream>
+
+#include "commands.hpp"
+#include "nhc/analysis/model_analysis.hpp"
+#include "nhc/derive/models.hpp"
+#include "nhc/emit/analysis_emitters.hpp"
+#include "nhc/errors.hpp"
+#include "nhc/io/atomic_file.hpp"
+#include "nhc/scene/scene.hpp"
+
+namespace nhc::cli {
+
+namespace {
+
+struct AnalyzeOptions {
+  std::string scene_path;
+  std::vector<std::string> models;
+  std::string format = "text";
+  std::string output;
+  bool repair = false;
+};
+
+}  // namespace
+
+CommandRunner add_analyze_command(CLI::App& app) {
+  auto options = std::make_shared<AnalyzeOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "analyze", "structural analysis (Pryce's Sigma-method), index, degrees of freedom and "
+                 "consistent initial values of a scene's models");
+  sub->add_option("SCENE", options->scene_path, "scene file (TOML)")->required();
+  sub->add_option("--model,-m", options->models, "model(s) to analyse (default: the scene's)")
+      ->check(CLI::IsMember({"vakonomic", "chetaev", "holder", "suslov"}));
+  sub->add_option("--format,-f", options->format,
+                  "output format (json: one object per model, an array when several)")
+      ->check(CLI::IsMember({"text", "json"}));
+  sub->add_flag("--repair-initial", options->repair,
+                "move given initial values that violate a hidden constraint to the nearest "
+                "consistent point instead of failing");
+  sub->add_option("-o,--output", options->output, "write to FILE instead of standard output");
+
+  return [options]() {
+    const Scene scene = load_scene(options->scene_path);
+    InitializationOptions init;
+    init.repair = options->repair;
+    std::vector<ModelAnalysis> analyses;
+    for (ModelKind kind : selected_models(scene, options->models))
+      analyses.push_back(analyze_model(scene, derive_model(scene, kind), init));
+    auto write = [&](std::ostream& out) {
+      if (options->format == "json") write_analysis_json(out, scene, analyses);
+      else write_analysis_text(out, scene, analyses);
+    };
+    if (options->output.empty()) write(std::cout);
+    else write_file_atomically(options->output, write);
+    std::cout.flush();
+    std::string failures;
+    for (const auto& a : analyses)
+      for (const auto& e : a.errors) failures += (failures.empty() ? "" : "\nnhc: error: ") + e;
+    if (!failures.empty()) throw MathError(failures);
+    return 0;
+  };
+}
+
+}  // namespace nhc::cli

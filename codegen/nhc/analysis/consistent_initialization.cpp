@@ -1,0 +1,347 @@
+#include "nhc/analysis/consistent_initialization.hpp"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "nhc/analysis/numeric_evaluation.hpp"
+#include "nhc/analysis/system_jacobian.hpp"
+#include "nhc/emit/expression_printer.hpp"
+#include "nhc/errors.hpp"
+
+namespace nhc {
+
+std::string to_string(ValueSource source) {
+  switch (source) {
+    case ValueSource::given: return "given";
+    case ValueSource::solved: return "solved";
+    case ValueSource::repaired: return "repaired";
+    case ValueSource::defaulted: return "defaulted";
+    case ValueSource::computed: return "computed";
+  }
+  return "?";
+}
+
+namespace {
+
+std::string number(double v) {
+  std::ostringstream s;
+  s.precision(10);
+  s << v;
+  return s.str();
+}
+
+/// Evaluation of a vector of expressions and their Jacobian in a list of jet variables, with
+/// the other symbols fixed by a base substitution.
+class Evaluator {
+ public:
+  Evaluator(std::vector<GiNaC::ex> functions, std::vector<std::string> names,
+            std::vector<GiNaC::ex> variables)
+      : f_(std::move(functions)), names_(std::move(names)), vars_(std::move(variables)) {
+    for (const auto& f : f_) {
+      std::vector<GiNaC::ex> row;
+      for (const auto& v : vars_) row.push_back(f.diff(GiNaC::ex_to<GiNaC::symbol>(v)));
+      jac_.push_back(row);
+    }
+  }
+  GiNaC::exmap point(const GiNaC::exmap& base, const Eigen::VectorXd& x) const {
+    GiNaC::exmap m = base;
+    for (std::size_t k = 0; k < vars_.size(); ++k) m[vars_[k]] = x(static_cast<Eigen::Index>(k));
+    return m;
+  }
+  Eigen::VectorXd values(const GiNaC::exmap& p) const {
+    Eigen::VectorXd out(static_cast<Eigen::Index>(f_.size()));
+    for (std::size_t i = 0; i < f_.size(); ++i)
+      out(static_cast<Eigen::Index>(i)) = evaluate_real(f_[i], p, names_[i] + " at t0");
+    return out;
+  }
+  Eigen::MatrixXd jacobian(const GiNaC::exmap& p) const {
+    Eigen::MatrixXd out(static_cast<Eigen::Index>(f_.size()), static_cast<Eigen::Index>(vars_.size()));
+    for (std::size_t i = 0; i < f_.size(); ++i)
+      for (std::size_t k = 0; k < vars_.size(); ++k)
+        out(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) =
+            evaluate_real(jac_[i][k], p, "the derivative of " + names_[i] + " at t0");
+    return out;
+  }
+
+ private:
+  std::vector<GiNaC::ex> f_;
+  std::vector<std::string> names_;
+  std::vector<GiNaC::ex> vars_;
+  std::vector<std::vector<GiNaC::ex>> jac_;
+};
+
+Eigen::VectorXd select(const Eigen::VectorXd& x, const std::vector<int>& idx) {
+  Eigen::VectorXd out(static_cast<Eigen::Index>(idx.size()));
+  for (std::size_t k = 0; k < idx.size(); ++k) out(static_cast<Eigen::Index>(k)) = x(idx[k]);
+  return out;
+}
+
+Eigen::MatrixXd select_columns(const Eigen::MatrixXd& m, const std::vector<int>& idx) {
+  Eigen::MatrixXd out(m.rows(), static_cast<Eigen::Index>(idx.size()));
+  for (std::size_t k = 0; k < idx.size(); ++k) out.col(static_cast<Eigen::Index>(k)) = m.col(idx[k]);
+  return out;
+}
+
+}  // namespace
+
+ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAnalysis& a,
+                                         const InitializationOptions& options) {
+  a.require_nonsingular();
+  const DaeSystem& sys = a.system;
+  const JetSpace& jet = *sys.jet;
+  const std::string model = to_string(sys.model);
+  ConsistentPoint result;
+  result.t0 = scene.initial.t0;
+
+  GiNaC::exmap base = scene.parameter_substitution();
+  base[jet.time()] = scene.initial.t0;
+
+  auto given_value = [&](int j, int k) -> const double* {
+    auto it = scene.initial.values.find(sys.unknowns[static_cast<std::size_t>(j)].name);
+    if (it == scene.initial.values.end() || k >= static_cast<int>(it->second.size())) return nullptr;
+    return &it->second[static_cast<std::size_t>(k)];
+  };
+
+  // Given values the model does not use as initial data.
+  for (const auto& [name, vals] : scene.initial.values) {
+    int j = -1;
+    for (int u = 0; u < sys.size(); ++u)
+      if (sys.unknowns[static_cast<std::size_t>(u)].name == name) j = u;
+    if (j < 0) {
+      result.notes.push_back(name + " is not an unknown of the " + model +
+                             " model: its initial values are ignored");
+      continue;
+    }
+    const int d = a.d(j);
+    for (int k = d; k < static_cast<int>(vals.size()); ++k) {
+      const std::string what = sys.derivative_name(j, k);
+      if (k == d)
+        result.notes.push_back(what + " is not initial data of the " + model + " model (d_" + name +
+                               " = " + std::to_string(d) + "): the given " + what + " = " +
+                               number(vals[static_cast<std::size_t>(k)]) +
+                               " serves only as a starting guess for solving the equations at t0");
+      else
+        result.notes.push_back(what + " is determined by the " + model +
+                               " equations (d_" + name + " = " + std::to_string(d) +
+                               "): the given value " + number(vals[static_cast<std::size_t>(k)]) +
+                               " is ignored");
+    }
+  }
+
+  // Values x_j^(k), k < d_j: given ones kept, missing ones unknown (starting guess 0).
+  const int count = static_cast<int>(a.initial_values_needed.size());
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(count);
+  std::vector<GiNaC::ex> vars;
+  std::vector<int> missing;
+  for (int k = 0; k < count; ++k) {
+    const JetCoordinate& c = a.initial_values_needed[static_cast<std::size_t>(k)];
+    int j = 0;
+    while (sys.unknowns[static_cast<std::size_t>(j)].kind != c.kind ||
+           sys.unknowns[static_cast<std::size_t>(j)].index != c.index)
+      ++j;
+    InitialValue v;
+    v.unknown = j;
+    v.order = c.order;
+    v.name = sys.derivative_name(j, c.order);
+    if (const double* g = given_value(j, c.order)) {
+      v.value = v.given = *g;
+      v.source = ValueSource::given;
+      x(k) = *g;
+    } else {
+      v.source = ValueSource::solved;
+      missing.push_back(k);
+    }
+    result.values.push_back(v);
+    vars.push_back(jet.symbol(c));
+  }
+
+  std::vector<GiNaC::ex> hidden;
+  std::vector<std::string> hidden_names;
+  for (const HiddenConstraint& h : a.hidden_constraints) {
+    hidden.push_back(differentiated_equation(a, h.equation, h.order));
+    hidden_names.push_back("hidden constraint " + h.name);
+    result.constraint_names.push_back(h.name);
+  }
+  // suslov: the motion keeps f^α = 0 only if it starts on it (Suslov's equations have the
+  // constraints as invariants), so the initial values must satisfy them too.
+  for (std::size_t m = 0; m < sys.monitored_constraints.size(); ++m) {
+    const GiNaC::ex& f = sys.monitored_constraints[m];
+    bool initial_data_only = true;
+    for (const JetCoordinate& c : jet.jet_coordinates_in(f))
+      for (int j = 0; j < sys.size(); ++j)
+        if (sys.unknowns[static_cast<std::size_t>(j)].kind == c.kind &&
+            sys.unknowns[static_cast<std::size_t>(j)].index == c.index && c.order >= a.d(j))
+          initial_data_only = false;
+    const std::string name = sys.monitored_constraint_names[m];
+    if (!initial_data_only) {
+      result.notes.push_back("the monitored constraint " + name + " involves derivatives the " + model +
+                             " equations determine, so it is not imposed on the initial values");
+      continue;
+    }
+    hidden.push_back(f);
+    hidden_names.push_back("monitored constraint " + name);
+    result.constraint_names.push_back(name + " (monitored)");
+  }
+  const Evaluator g(hidden, hidden_names, vars);
+  const auto scale = [&] { return options.tolerance * (1.0 + (count ? x.cwiseAbs().maxCoeff() : 0.0)); };
+
+  // Which missing values the hidden constraints fix: the pivot columns of a rank-revealing QR
+  // of ∂g/∂x_missing at the starting guess. The others keep the guess 0.
+  std::vector<int> solve_for;
+  if (!missing.empty() && !hidden.empty()) {
+    const Eigen::MatrixXd gm = select_columns(g.jacobian(g.point(base, x)), missing);
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(gm);
+    qr.setThreshold(1e-10);
+    const auto perm = qr.colsPermutation().indices();
+    for (Eigen::Index r = 0; r < qr.rank(); ++r) solve_for.push_back(missing[static_cast<std::size_t>(perm(r))]);
+  }
+  std::vector<std::string> defaulted;
+  for (int k : missing)
+    if (std::find(solve_for.begin(), solve_for.end(), k) == solve_for.end()) {
+      result.values[static_cast<std::size_t>(k)].source = ValueSource::defaulted;
+      defaulted.push_back(result.values[static_cast<std::size_t>(k)].name);
+    }
+  if (!defaulted.empty())
+    result.notes.push_back(join_names(defaulted) + (defaulted.size() == 1 ? " is" : " are") +
+                           " initial data of the " + model + " model but " +
+                           (defaulted.size() == 1 ? "was" : "were") +
+                           " not given and no hidden constraint fixes " +
+                           (defaulted.size() == 1 ? "it" : "them") + ": taken as 0");
+
+  // Newton (Gauss–Newton when overdetermined) on the hidden constraints for the missing values.
+  bool newton_converged = true;
+  if (!solve_for.empty()) {
+    newton_converged = false;
+    for (int it = 0; it < options.max_iterations; ++it) {
+      const GiNaC::exmap p = g.point(base, x);
+      const Eigen::VectorXd r = g.values(p);
+      if (r.cwiseAbs().maxCoeff() <= 1e-4 * scale()) {
+        newton_converged = true;
+        break;
+      }
+      const Eigen::MatrixXd js = select_columns(g.jacobian(p), solve_for);
+      const Eigen::VectorXd step = js.colPivHouseholderQr().solve(-r);
+      for (std::size_t k = 0; k < solve_for.size(); ++k) x(solve_for[k]) += step(static_cast<Eigen::Index>(k));
+      if (step.norm() <= 1e-14 * (1.0 + select(x, solve_for).norm())) break;  // stalled
+    }
+  }
+
+  Eigen::VectorXd residual = hidden.empty() ? Eigen::VectorXd() : g.values(g.point(base, x));
+  auto violated = [&](const Eigen::VectorXd& r) {
+    for (Eigen::Index h = 0; h < r.size(); ++h)
+      if (!(std::abs(r(h)) <= scale())) return true;
+    return false;
+  };
+
+  if (residual.size() > 0 && violated(residual)) {
+    if (options.repair) {
+      // Minimum-norm Gauss–Newton on every value: the smallest change that satisfies g = 0
+      // to first order, repeated (the nearest consistent point for linear constraints).
+      for (int it = 0; it < options.max_iterations && violated(residual); ++it) {
+        const GiNaC::exmap p = g.point(base, x);
+        const Eigen::VectorXd step = g.jacobian(p).completeOrthogonalDecomposition().solve(-residual);
+        x += step;
+        residual = g.values(g.point(base, x));
+      }
+      if (violated(residual)) {
+        Eigen::Index worst = 0;
+        residual.cwiseAbs().maxCoeff(&worst);
+        throw MathError("the " + model + " model: no consistent initial point found near the given "
+                        "values: " + hidden_names[static_cast<std::size_t>(worst)] +
+                        " keeps residual " + number(residual(worst)));
+      }
+      for (int k = 0; k < count; ++k) {
+        InitialValue& v = result.values[static_cast<std::size_t>(k)];
+        if (v.source == ValueSource::given && std::abs(x(k) - v.given) > 0.0) {
+          v.source = ValueSource::repaired;
+          result.notes.push_back("repaired " + v.name + ": " + number(v.given) + " -> " + number(x(k)));
+        }
+      }
+    } else {
+      Eigen::Index worst = 0;
+      residual.cwiseAbs().maxCoeff(&worst);
+      const Eigen::MatrixXd jg = g.jacobian(g.point(base, x));
+      std::vector<std::string> involved_given, involved_solved;
+      for (int k = 0; k < count; ++k) {
+        if (jg(worst, k) == 0.0) continue;
+        const InitialValue& v = result.values[static_cast<std::size_t>(k)];
+        (v.source == ValueSource::given ? involved_given : involved_solved).push_back(v.name);
+      }
+      std::ostringstream s;
+      s << "the initial values violate the " << hidden_names[static_cast<std::size_t>(worst)] << " of the " << model
+        << " model, " << to_text(hidden[static_cast<std::size_t>(worst)]) << " = 0: residual "
+        << number(residual(worst)) << " at t0 = " << number(scene.initial.t0) << " (tolerance "
+        << number(scale()) << ")";
+      if (!involved_given.empty())
+        s << "; it involves the given value" << (involved_given.size() == 1 ? " " : "s ")
+          << join_names(involved_given);
+      if (!involved_solved.empty())
+        s << (newton_converged ? "" : "; Newton's method did not converge") << " for "
+          << join_names(involved_solved);
+      s << ". Give consistent values, or pass --repair-initial for the nearest consistent point";
+      throw MathError(s.str());
+    }
+  }
+  for (int k = 0; k < count; ++k) result.values[static_cast<std::size_t>(k)].value = x(k);
+  for (Eigen::Index h = 0; h < residual.size(); ++h) result.constraint_residuals.push_back(residual(h));
+
+  // Leading derivatives x_j^(d_j) from D^{c_i} f_i = 0 by Newton's method.
+  base = g.point(base, x);
+  const int n = sys.size();
+  std::vector<GiNaC::ex> top, leading_vars;
+  std::vector<std::string> top_names;
+  Eigen::VectorXd z(n);
+  for (int i = 0; i < n; ++i) {
+    top.push_back(differentiated_equation(a, i, a.c(i)));
+    top_names.push_back(derivative_equation_name(sys.equation_names[static_cast<std::size_t>(i)], a.c(i)));
+  }
+  for (int j = 0; j < n; ++j) {
+    leading_vars.push_back(sys.unknown_symbol(j, a.d(j)));
+    const double* guess = given_value(j, a.d(j));
+    z(j) = guess ? *guess : 0.0;
+    InitialValue v;
+    v.unknown = j;
+    v.order = a.d(j);
+    v.name = sys.derivative_name(j, a.d(j));
+    v.source = ValueSource::computed;
+    result.leading.push_back(v);
+  }
+  const Evaluator f(top, top_names, leading_vars);
+  for (int it = 0; it < options.max_iterations; ++it) {
+    const GiNaC::exmap p = f.point(base, z);
+    const Eigen::VectorXd r = f.values(p);
+    const Eigen::MatrixXd jz = f.jacobian(p);
+    if (!(condition_number(jz) < kSingularCondition)) break;  // the caller reports J
+    const Eigen::VectorXd step = jz.partialPivLu().solve(-r);
+    z += step;
+    if (step.norm() <= 1e-12 * (1.0 + z.norm())) {
+      result.leading_solved = true;
+      break;
+    }
+  }
+  if (result.leading_solved) {
+    const Eigen::VectorXd r = f.values(f.point(base, z));
+    if (r.size() > 0 && !(r.cwiseAbs().maxCoeff() <= 1e-8 * (1.0 + z.cwiseAbs().maxCoeff())))
+      result.leading_solved = false;
+  }
+  for (int j = 0; j < n; ++j) result.leading[static_cast<std::size_t>(j)].value = z(j);
+  result.point = f.point(base, z);
+  if (!result.leading_solved) {
+    const Eigen::MatrixXd jz = f.jacobian(result.point);
+    if (condition_number(jz) < kSingularCondition)
+      throw MathError("the " + model + " model: Newton's method on the equations at t0 did not "
+                      "converge for the leading derivatives " +
+                      [&] {
+                        std::vector<std::string> names;
+                        for (const auto& v : result.leading) names.push_back(v.name);
+                        return join_names(names);
+                      }());
+  }
+  return result;
+}
+
+}  // namespace nhc

@@ -1,0 +1,72 @@
+#pragma once
+/// \file consistent_initialization.hpp
+/// \brief Consistent initial values for a model (models.md, "Structural analysis", step 5):
+/// the x_j^(k), k < d_j, the user gave are kept; the other needed ones are solved from the
+/// hidden constraints D^r f_i = 0, r < c_i, by Newton's method (Gauss–Newton where there are
+/// fewer constraints than values to find); then the leading derivatives x_j^(d_j) are solved
+/// from D^{c_i} f_i = 0, whose Jacobian with respect to them is the system Jacobian
+/// (Pryce 2001, §4; Nedialkov & Pryce, BIT 47 (2007), consistent point of the Σ-method).
+///
+/// A given value that violates a hidden constraint is an error naming the constraint and its
+/// residual, unless repair is asked for: then the given values are changed as little as possible
+/// (minimum-norm Gauss–Newton, the nearest consistent point to first order).
+
+#include <ginac/ginac.h>
+
+#include <string>
+#include <vector>
+
+#include "nhc/analysis/structural_analysis.hpp"
+#include "nhc/scene/scene.hpp"
+
+namespace nhc {
+
+struct InitializationOptions {
+  bool repair = false;
+  /// Largest accepted hidden-constraint residual, relative to 1 + the largest |value|.
+  double tolerance = 1e-8;
+  int max_iterations = 50;
+};
+
+enum class ValueSource {
+  given,      ///< from [initial], kept
+  solved,     ///< solved from the hidden constraints
+  repaired,   ///< given, changed by repair to satisfy the hidden constraints
+  defaulted,  ///< needed, not given, not fixed by any hidden constraint: 0
+  computed,   ///< a leading derivative x_j^(d_j), solved from the differentiated equations
+};
+std::string to_string(ValueSource source);
+
+struct InitialValue {
+  int unknown = 0;
+  int order = 0;
+  std::string name;  ///< "x'", "lambda1"
+  double value = 0.0;
+  ValueSource source = ValueSource::given;
+  double given = 0.0;  ///< the value the user gave (given and repaired values)
+};
+
+struct ConsistentPoint {
+  double t0 = 0.0;
+  /// x_j^(k), k < d_j, in StructuralAnalysis::initial_values_needed order.
+  std::vector<InitialValue> values;
+  /// x_j^(d_j) for every unknown j; valid when leading_solved.
+  std::vector<InitialValue> leading;
+  /// False when the system Jacobian was singular before Newton converged: `leading` then holds
+  /// the starting guesses, at which the caller can examine the Jacobian.
+  bool leading_solved = false;
+  /// The constraints imposed on the initial values: the hidden constraints, then (suslov) the
+  /// monitored constraints f^α that involve initial data only; and their residuals at the point.
+  std::vector<std::string> constraint_names;
+  std::vector<double> constraint_residuals;
+  std::vector<std::string> notes;
+  /// t, the parameters and every x_j^(k), k ≤ d_j, at their values.
+  GiNaC::exmap point;
+};
+
+/// Throws MathError when the hidden constraints cannot be satisfied (naming the constraint
+/// and its residual) or Newton's method fails on the leading derivatives.
+ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAnalysis& analysis,
+                                         const InitializationOptions& options = {});
+
+}  // namespace nhc

@@ -1,0 +1,40 @@
+#include "nhc/analysis/model_analysis.hpp"
+
+#include <sstream>
+
+#include "nhc/analysis/numeric_evaluation.hpp"
+#include "nhc/analysis/system_jacobian.hpp"
+#include "nhc/errors.hpp"
+
+namespace nhc {
+
+ModelAnalysis analyze_model(const Scene& scene, const DerivedModel& model,
+                            const InitializationOptions& options) {
+  ModelAnalysis out;
+  out.model = model.kind;
+  if (!model.applicable) {
+    out.applicable = false;
+    out.errors.push_back("the " + to_string(model.kind) + " model is not applicable to scene '" +
+                         scene.name + "': " + model.reason);
+    return out;
+  }
+  out.structure = analyze_structure(dae_system_of(scene, model));
+  const StructuralAnalysis& a = *out.structure;
+  if (a.structurally_singular) {
+    out.errors.push_back(a.singular_reason);
+    return out;
+  }
+  try {
+    out.initial = consistent_initial_point(scene, a, options);
+    out.jacobian = evaluate_matrix(system_jacobian(a), out.initial->point, "the system Jacobian at t0");
+    out.jacobian_condition = condition_number(*out.jacobian);
+    if (!(out.jacobian_condition < kSingularCondition)) {
+      out.errors.push_back(describe_singular_jacobian(a, *out.jacobian, scene.initial.t0));
+    }
+  } catch (const MathError& e) {
+    out.errors.push_back(e.what());
+  }
+  return out;
+}
+
+}  // namespace nhc
