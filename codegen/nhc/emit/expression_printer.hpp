@@ -10,7 +10,9 @@
 
 namespace nhc {
 
-/// GiNaC default syntax; parse_expression() reads it back.
+/// GiNaC default syntax; parse_expression() reads it back. Terms and factors are sorted by
+/// their text, so that equal expressions print the same in every run (GiNaC's own order can
+/// change between runs).
 std::string to_text(const GiNaC::ex& e);
 /// LaTeX math (no surrounding $).
 std::string to_latex(const GiNaC::ex& e);

@@ -77,11 +77,22 @@ class Parser {
     ~DepthGuard() { --p.depth_; }
   };
 
-  /// GiNaC reports 1/0 and similar by throwing; turn that into a positioned error.
+  /// True when e contains a number that is not real (GiNaC evaluates sqrt(-4) to 2*I).
+  static bool has_complex_number(const ex& e) {
+    for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
+      if (GiNaC::is_a<GiNaC::numeric>(*it) && !GiNaC::ex_to<GiNaC::numeric>(*it).is_real())
+        return true;
+    return false;
+  }
+
+  /// GiNaC reports 1/0 and similar by throwing; turn that into a positioned error. A complex
+  /// constant (sqrt(-4), log(-1)) is refused too: nothing downstream can read `I` back.
   template <class F>
   ex guarded(std::size_t at, F&& f) {
     try {
-      return f();
+      ex result = f();
+      if (has_complex_number(result)) fail(at, "the expression has a complex value");
+      return result;
     } catch (const GiNaC::pole_error&) {
       fail(at, "division by zero");
     } catch (const std::overflow_error&) {
@@ -266,6 +277,11 @@ class Parser {
     if (order > kMaxDerivativeOrder)
       fail(start, "derivative order " + std::to_string(order) + " of '" + base +
                       "' exceeds the limit of " + std::to_string(kMaxDerivativeOrder));
+    // GiNaC prints π as `Pi` (acos(-1), atan(1)*4 evaluate to it); read it back.
+    if (base == "Pi" && !jet_.parameter_index(base) && !known_variable(base)) {
+      if (order > 0) fail(start, "'Pi' is a constant and cannot carry primes");
+      return GiNaC::Pi;
+    }
     if (base == "t") {
       if (!rules_.allow_time) fail(start, "'t' is not allowed here");
       if (order > 0) fail(start, "'t' cannot be differentiated (primes on 't')");

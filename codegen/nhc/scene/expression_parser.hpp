@@ -12,6 +12,8 @@
 /// Names: `t`, parameters, coordinates with primes (`x''`) or in printed jet form (`x_d2`),
 /// and, where allowed, multipliers `lambda1`… (also with primes or `_d<k>`).
 /// Functions: sin cos tan exp log sqrt abs sinh cosh tanh asin acos atan atan2.
+/// The constant `Pi` is accepted because GiNaC prints π that way (acos(-1) evaluates to it);
+/// a complex constant (sqrt(-4)) is an error.
 
 #include <ginac/ginac.h>
 

@@ -65,6 +65,31 @@ GiNaC::exmap Scene::parameter_substitution() const {
 
 namespace {
 
+/// True when e evaluates to (numerically) zero at several pseudo-random points: catches
+/// constraints such as sin(x)^2 + cos(x)^2 - 1 that GiNaC's normal form does not reduce.
+bool vanishes_numerically(const GiNaC::ex& e) {
+  GiNaC::exset symbols;
+  for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
+    if (GiNaC::is_a<GiNaC::symbol>(*it)) symbols.insert(*it);
+  unsigned state = 12345u;
+  auto next = [&state] {
+    state = state * 1103515245u + 12345u;
+    return 0.25 + static_cast<double>((state >> 8) % 10000) / 10000.0;  // in [0.25, 1.25)
+  };
+  for (int trial = 0; trial < 4; ++trial) {
+    GiNaC::exmap point;
+    for (const auto& s : symbols) point[s] = next();
+    try {
+      const GiNaC::ex value = GiNaC::evalf(e.subs(point));
+      if (!GiNaC::is_a<GiNaC::numeric>(value)) return false;
+      if (GiNaC::abs(GiNaC::ex_to<GiNaC::numeric>(value)).to_double() > 1e-9) return false;
+    } catch (const std::exception&) {
+      return false;  // undefined at this point (log of 0, ...): not a proof of anything
+    }
+  }
+  return true;
+}
+
 const std::set<std::string>& function_names() {
   static const std::set<std::string> names = {"sin",  "cos",  "tan",  "exp",  "log",
                                               "sqrt", "abs",  "sinh", "cosh", "tanh",
@@ -167,8 +192,8 @@ class SceneReader {
     for (std::size_t a = 0; a < constraint_nodes.size(); ++a) {
       const toml::node& c = *constraint_nodes[a];
       GiNaC::ex f = expression(c, "constraint", jet, mechanics);
-      if (f.expand().normal().is_zero()) fail(c, "constraint " + std::to_string(a + 1) +
-                                                     " is identically zero");
+      if (f.expand().normal().is_zero() || vanishes_numerically(f))
+        fail(c, "constraint " + std::to_string(a + 1) + " is identically zero");
       if (jet.highest_coordinate_order(f) < 0)
         fail(c, "constraint " + std::to_string(a + 1) + " does not involve any coordinate");
       scene.constraints.push_back(f);
@@ -332,6 +357,7 @@ class SceneReader {
     if (!is_valid_identifier(n))
       bad("it must match [A-Za-z_][A-Za-z0-9_]* (at most 64 characters) and not be a C++ keyword");
     if (n == "t") bad("'t' is time");
+    if (n == "Pi") bad("'Pi' is the constant pi in expressions");
     if (looks_like_multiplier(n)) bad("lambda<N> names are reserved for the multipliers");
     if (function_names().count(n)) bad("it is the name of a function");
     if (has_jet_suffix(n)) bad("names ending in _d<digits> are reserved for derivatives");

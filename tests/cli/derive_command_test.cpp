@@ -1,0 +1,394 @@
+// `nhc derive` through the real binary: the malformed-input corpus (tests/bad/), the JSON
+// schema of the issue with a symbolic round trip of every expression through nhc's own parser,
+// and the LaTeX output compiled by pdflatex.
+#include <catch2/catch.hpp>
+#include <ginac/ginac.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <dirent.h>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <vector>
+
+#include "nhc/derive/models.hpp"
+#include "nhc/scene/expression_parser.hpp"
+#include "nhc/scene/scene.hpp"
+
+namespace {
+
+// ---- running the binary -------------------------------------------------------------------
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+bool file_exists(const std::string& path) {
+  struct stat st {};
+  return ::stat(path.c_str(), &st) == 0;
+}
+
+/// A fresh directory under the build tree for one test's files.
+std::string scratch_dir(const std::string& name) {
+  const std::string dir = std::string(NHC_BINARY_DIR) + "/tests/scratch/" + name + "_" +
+                          std::to_string(::getpid());
+  std::system(("rm -rf '" + dir + "' && mkdir -p '" + dir + "'").c_str());
+  return dir;
+}
+
+struct Run {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+/// Runs `command` (arguments already quoted) with stdout and stderr captured to files.
+Run run(const std::string& command, const std::string& dir) {
+  const std::string out = dir + "/stdout.txt", err = dir + "/stderr.txt";
+  const int status = std::system((command + " >'" + out + "' 2>'" + err + "'").c_str());
+  Run r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = read_file(out);
+  r.err = read_file(err);
+  return r;
+}
+
+std::string nhc_command() { return std::string("'") + NHC_EXECUTABLE + "'"; }
+
+std::vector<std::string> list_dir(const std::string& dir, const std::string& suffix) {
+  std::vector<std::string> names;
+  if (DIR* d = ::opendir(dir.c_str())) {
+    while (const dirent* e = ::readdir(d)) {
+      const std::string n = e->d_name;
+      if (n.size() > suffix.size() && n.compare(n.size() - suffix.size(), suffix.size(), suffix) == 0)
+        names.push_back(n);
+    }
+    ::closedir(d);
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// ---- a tiny JSON reader -------------------------------------------------------------------
+
+struct Json {
+  enum Kind { null, boolean, number, string, array, object } kind = null;
+  bool b = false;
+  double n = 0;
+  std::string s;
+  std::vector<Json> items;
+  std::vector<std::pair<std::string, Json>> members;  // in document order
+
+  const Json* get(const std::string& key) const {
+    for (const auto& [k, v] : members)
+      if (k == key) return &v;
+    return nullptr;
+  }
+};
+
+class JsonReader {
+ public:
+  explicit JsonReader(const std::string& text) : t_(text) {}
+  Json document() {
+    Json v = value();
+    space();
+    if (i_ != t_.size()) throw std::runtime_error("JSON: trailing text at " + std::to_string(i_));
+    return v;
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const {
+    throw std::runtime_error("JSON: " + what + " at offset " + std::to_string(i_));
+  }
+  void space() {
+    while (i_ < t_.size() && (t_[i_] == ' ' || t_[i_] == '\n' || t_[i_] == '\t' || t_[i_] == '\r'))
+      ++i_;
+  }
+  bool take(char c) {
+    space();
+    if (i_ < t_.size() && t_[i_] == c) {
+      ++i_;
+      return true;
+    }
+    return false;
+  }
+  void expect(char c) {
+    if (!take(c)) fail(std::string("expected '") + c + "'");
+  }
+  std::string str() {
+    expect('"');
+    std::string out;
+    while (i_ < t_.size() && t_[i_] != '"') {
+      char c = t_[i_++];
+      if (static_cast<unsigned char>(c) < 0x20) fail("control character in string");
+      if (c == '\\') {
+        if (i_ >= t_.size()) fail("dangling escape");
+        const char e = t_[i_++];
+        switch (e) {
+          case '"': out += '"'; break;
+          case '\\': out += '\\'; break;
+          case '/': out += '/'; break;
+          case 'b': out += '\b'; break;
+          case 'f': out += '\f'; break;
+          case 'n': out += '\n'; break;
+          case 'r': out += '\r'; break;
+          case 't': out += '\t'; break;
+          case 'u': {
+            if (i_ + 4 > t_.size()) fail("short \\u escape");
+            const unsigned cp = std::stoul(t_.substr(i_, 4), nullptr, 16);
+            i_ += 4;
+            if (cp < 0x80) out += static_cast<char>(cp);
+            else if (cp < 0x800) {
+              out += static_cast<char>(0xC0 | (cp >> 6));
+              out += static_cast<char>(0x80 | (cp & 0x3F));
+            } else {
+              out += static_cast<char>(0xE0 | (cp >> 12));
+              out += static_cast<char>(0x80 | ((cp >> 6) & 0x3F));
+              out += static_cast<char>(0x80 | (cp & 0x3F));
+            }
+            break;
+          }
+          default: fail("bad escape");
+        }
+      } else {
+        out += c;
+      }
+    }
+    expect('"');
+    return out;
+  }
+  Json value() {
+    space();
+    if (i_ >= t_.size()) fail("unexpected end");
+    Json v;
+    const char c = t_[i_];
+    if (c == '{') {
+      ++i_;
+      v.kind = Json::object;
+      if (take('}')) return v;
+      do {
+        space();
+        std::string k = str();
+        expect(':');
+        v.members.emplace_back(k, value());
+      } while (take(','));
+      expect('}');
+    } else if (c == '[') {
+      ++i_;
+      v.kind = Json::array;
+      if (take(']')) return v;
+      do v.items.push_back(value());
+      while (take(','));
+      expect(']');
+    } else if (c == '"') {
+      v.kind = Json::string;
+      v.s = str();
+    } else if (t_.compare(i_, 4, "true") == 0) {
+      i_ += 4;
+      v.kind = Json::boolean;
+      v.b = true;
+    } else if (t_.compare(i_, 5, "false") == 0) {
+      i_ += 5;
+      v.kind = Json::boolean;
+    } else if (t_.compare(i_, 4, "null") == 0) {
+      i_ += 4;
+    } else {
+      std::size_t used = 0;
+      v.kind = Json::number;
+      v.n = std::stod(t_.substr(i_), &used);
+      if (used == 0) fail("bad value");
+      i_ += used;
+    }
+    return v;
+  }
+  const std::string& t_;
+  std::size_t i_ = 0;
+};
+
+bool same(const GiNaC::ex& a, const GiNaC::ex& b) {
+  const GiNaC::ex d = (a - b).expand();
+  return d.is_zero() || d.normal().is_zero();
+}
+
+std::string example(const std::string& name) {
+  return std::string(NHC_SOURCE_DIR) + "/examples/" + name + ".toml";
+}
+
+}  // namespace
+
+TEST_CASE("malformed scenes: exit 2, one located error line, no output file", "[cli][bad]") {
+  const std::string bad_dir = std::string(NHC_SOURCE_DIR) + "/tests/bad";
+  const std::vector<std::string> cases = list_dir(bad_dir, ".toml");
+  REQUIRE(cases.size() >= 30);
+  const std::string dir = scratch_dir("bad");
+  const std::regex expect_line(R"(^#\s*expect:\s*(\d+):(\d+)\s*$)");
+  for (const std::string& name : cases) {
+    INFO("case " << name);
+    const std::string path = bad_dir + "/" + name;
+    const std::string text = read_file(path);
+    const std::string first = text.substr(0, text.find('\n'));
+    std::smatch m;
+    REQUIRE(std::regex_match(first, m, expect_line));
+    const std::string where = path + ":" + m[1].str() + ":" + m[2].str() + ": error: ";
+    const std::string output = dir + "/" + name + ".out";
+    const Run r = run(nhc_command() + " derive '" + path + "' --format json -o '" + output + "'", dir);
+    CHECK(r.exit_code == 2);
+    CHECK(r.out.empty());
+    INFO("stderr: " << r.err);
+    REQUIRE(!r.err.empty());
+    CHECK(r.err.back() == '\n');
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    CHECK(r.err.rfind(where, 0) == 0);
+    CHECK(r.err.size() > where.size() + 1);  // a message follows
+    CHECK(!file_exists(output));
+    // No temporary left behind either.
+    for (const auto& leftover : list_dir(dir, "")) CHECK(leftover.find(name) == std::string::npos);
+  }
+}
+
+TEST_CASE("a missing scene file and bad flags exit 2", "[cli][bad]") {
+  const std::string dir = scratch_dir("flags");
+  Run r = run(nhc_command() + " derive '" + dir + "/nonexistent.toml'", dir);
+  CHECK(r.exit_code == 2);
+  CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+  r = run(nhc_command() + " derive '" + example("particle") + "' --format yaml", dir);
+  CHECK(r.exit_code == 2);
+  r = run(nhc_command() + " derive '" + example("particle") + "' --model lagrange", dir);
+  CHECK(r.exit_code == 2);
+}
+
+TEST_CASE("JSON output: schema, symbols, and a symbolic round trip", "[cli][json]") {
+  for (const char* name : {"particle", "appell_hamel"}) {
+    INFO("scene " << name);
+    const std::string dir = scratch_dir(std::string("json_") + name);
+    const std::string output = dir + "/out.json";
+    const Run r = run(nhc_command() + " derive '" + example(name) + "' --format json -o '" + output + "'", dir);
+    REQUIRE(r.exit_code == 0);
+    CHECK(r.err.empty());
+    const Json doc = JsonReader(read_file(output)).document();
+
+    // Independent path: the same scene loaded and derived in-process.
+    const nhc::Scene scene = nhc::load_scene(example(name));
+    const nhc::JetSpace& jet = *scene.jet;
+
+    REQUIRE(doc.kind == Json::object);
+    REQUIRE(doc.get("scene"));
+    CHECK(doc.get("scene")->s == scene.name);
+    const Json* params = doc.get("parameters");
+    REQUIRE(params);
+    REQUIRE(params->kind == Json::array);
+    CHECK(params->items.size() == jet.parameters().size());
+    for (const Json& p : params->items) CHECK(jet.parameter_index(p.s).has_value());
+
+    const Json* symbols = doc.get("symbols");
+    REQUIRE(symbols);
+    REQUIRE(symbols->kind == Json::object);
+    std::map<std::string, std::pair<std::string, int>> listed;
+    for (const auto& [printed, info] : symbols->members) {
+      REQUIRE(info.get("of"));
+      REQUIRE(info.get("order"));
+      CHECK(info.get("order")->kind == Json::number);
+      listed[printed] = {info.get("of")->s, static_cast<int>(info.get("order")->n)};
+      CHECK(printed == nhc::jet_symbol_name(info.get("of")->s, static_cast<int>(info.get("order")->n)));
+    }
+
+    const Json* models = doc.get("models");
+    REQUIRE(models);
+    REQUIRE(models->kind == Json::object);
+    CHECK(models->members.size() == scene.models.size());
+    nhc::ExpressionRules read_back;
+    read_back.allow_multipliers = true;
+    for (const auto& [model_name, model] : models->members) {
+      INFO("model " << model_name);
+      const auto kind = nhc::parse_model_kind(model_name);
+      REQUIRE(kind.has_value());
+      const nhc::DerivedModel expected = nhc::derive_model(scene, *kind);
+      REQUIRE(model.get("applicable"));
+      REQUIRE(model.get("applicable")->kind == Json::boolean);
+      CHECK(model.get("applicable")->b == expected.applicable);
+      if (!model.get("applicable")->b) {
+        REQUIRE(model.get("reason"));
+        CHECK(!model.get("reason")->s.empty());
+        continue;
+      }
+      const Json* equations = model.get("equations");
+      REQUIRE(equations);
+      REQUIRE(equations->items.size() == static_cast<std::size_t>(scene.coordinate_count()));
+      // The constraints are equations for three models and monitored for suslov.
+      const Json* constraints =
+          model.get("constraints") ? model.get("constraints") : model.get("monitored_constraints");
+      REQUIRE(constraints);
+      REQUIRE(constraints->items.size() == static_cast<std::size_t>(scene.constraint_count()));
+      const Json* multipliers = model.get("multipliers");
+      REQUIRE(multipliers);
+      REQUIRE(multipliers->items.size() == expected.multipliers.size());
+      for (std::size_t a = 0; a < expected.multipliers.size(); ++a)
+        CHECK(multipliers->items[a].s == expected.multipliers[a]);
+
+      auto check_expression = [&](const std::string& text, const GiNaC::ex& reference) {
+        INFO("expression " << text);
+        const GiNaC::ex parsed = nhc::parse_expression(text, jet, read_back);
+        CHECK(same(parsed, reference));
+        // Every jet symbol in it is listed, with the right variable and order.
+        for (const auto& c : jet.jet_coordinates_in(parsed)) {
+          const std::string of = jet.variable_name(c.kind, c.index);
+          const std::string printed = nhc::jet_symbol_name(of, c.order);
+          INFO("symbol " << printed);
+          REQUIRE(listed.count(printed) == 1);
+          CHECK(listed[printed].first == of);
+          CHECK(listed[printed].second == c.order);
+        }
+      };
+      for (std::size_t i = 0; i < equations->items.size(); ++i)
+        check_expression(equations->items[i].s, expected.equations[i]);
+      for (std::size_t a = 0; a < constraints->items.size(); ++a)
+        check_expression(constraints->items[a].s, expected.constraints[a]);
+    }
+  }
+}
+
+TEST_CASE("JSON output is the same on stdout and with -o", "[cli][json]") {
+  const std::string dir = scratch_dir("json_stdout");
+  const Run a = run(nhc_command() + " derive '" + example("appell_hamel") + "' --format json", dir);
+  const Run b = run(nhc_command() + " derive '" + example("appell_hamel") + "' --format json -o '" + dir +
+                        "/o.json'",
+                    dir);
+  REQUIRE(a.exit_code == 0);
+  REQUIRE(b.exit_code == 0);
+  CHECK(a.out == read_file(dir + "/o.json"));
+  CHECK(b.out.empty());
+}
+
+TEST_CASE("LaTeX output of both examples compiles with pdflatex", "[cli][latex]") {
+  if (std::system("command -v pdflatex >/dev/null 2>&1") != 0) {
+    WARN("SKIPPED: pdflatex is not installed (Debian: apt-get install texlive-latex-base)");
+    return;
+  }
+  for (const char* name : {"particle", "appell_hamel"}) {
+    INFO("scene " << name);
+    const std::string dir = scratch_dir(std::string("latex_") + name);
+    const std::string tex = dir + "/" + name + ".tex";
+    const Run r = run(nhc_command() + " derive '" + example(name) + "' --format latex -o '" + tex + "'", dir);
+    REQUIRE(r.exit_code == 0);
+    const std::string text = read_file(tex);
+    CHECK(text.find("\\documentclass") != std::string::npos);
+    CHECK(text.find("\\dot{") != std::string::npos);
+    CHECK(text.find("\\lambda_{1}") != std::string::npos);
+    const Run latex = run("cd '" + dir + "' && pdflatex -interaction=nonstopmode -halt-on-error '" +
+                              std::string(name) + ".tex'",
+                          dir);
+    INFO(latex.out.substr(latex.out.size() > 3000 ? latex.out.size() - 3000 : 0));
+    CHECK(latex.exit_code == 0);
+    CHECK(file_exists(dir + "/" + name + ".pdf"));
+  }
+}

@@ -1,0 +1,194 @@
+// Expression parser: precedence, exact numbers, primes and the printed jet spelling, functions,
+// and errors with their character offsets. Results are compared symbolically with expressions
+// built directly in GiNaC, never as strings.
+#include <catch2/catch.hpp>
+#include <ginac/ginac.h>
+
+#include <string>
+
+#include "nhc/derive/jet_space.hpp"
+#include "nhc/scene/expression_parser.hpp"
+
+using GiNaC::ex;
+using nhc::ExpressionRules;
+using nhc::ExpressionSyntaxError;
+using nhc::JetSpace;
+using nhc::parse_expression;
+
+namespace {
+
+JetSpace make_jet() { return JetSpace({"x", "y", "theta"}, 2, {"m", "g", "k_1"}); }
+
+bool same(const ex& a, const ex& b) { return (a - b).expand().normal().is_zero(); }
+
+/// Offset of the ExpressionSyntaxError thrown by parsing `text`, or -1 when it parses.
+long error_offset(const std::string& text, const JetSpace& jet, const ExpressionRules& rules = {}) {
+  try {
+    parse_expression(text, jet, rules);
+  } catch (const ExpressionSyntaxError& e) {
+    return static_cast<long>(e.offset());
+  }
+  return -1;
+}
+
+std::string error_message(const std::string& text, const JetSpace& jet,
+                          const ExpressionRules& rules = {}) {
+  try {
+    parse_expression(text, jet, rules);
+  } catch (const ExpressionSyntaxError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+ExpressionRules with_multipliers() {
+  ExpressionRules r;
+  r.allow_multipliers = true;
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("precedence and associativity", "[scene][parser]") {
+  const JetSpace jet = make_jet();
+  const ex m = jet.parameter(0), g = jet.parameter(1), x = jet.q(0, 0);
+  CHECK(same(parse_expression("1 + 2*3", jet), 7));
+  CHECK(same(parse_expression("(1 + 2)*3", jet), 9));
+  CHECK(same(parse_expression("2^3^2", jet), 512));   // right-associative
+  CHECK(same(parse_expression("-2^2", jet), -4));     // ^ binds tighter than unary minus
+  CHECK(same(parse_expression("2^-1", jet), GiNaC::numeric(1, 2)));
+  CHECK(same(parse_expression("2^-1^2", jet), GiNaC::numeric(1, 2)));  // 2^(-(1^2))
+  CHECK(same(parse_expression("8/2/2", jet), 2));     // left-associative
+  CHECK(same(parse_expression("8-2-2", jet), 4));
+  CHECK(same(parse_expression("m/2*x^2", jet), m * x * x / 2));
+  CHECK(same(parse_expression("- - m", jet), m));
+  CHECK(same(parse_expression("+m*-g", jet), -m * g));
+  CHECK(same(parse_expression("m*g^2/m", jet), g * g));
+  CHECK(same(parse_expression("  m\t*\n g ", jet), m * g));
+  CHECK(same(parse_expression("2*(m+(g-(x)))", jet), 2 * (m + g - x)));
+}
+
+TEST_CASE("numbers are exact", "[scene][parser]") {
+  const JetSpace jet = make_jet();
+  using GiNaC::numeric;
+  const ex v01 = parse_expression("0.1", jet);
+  REQUIRE(GiNaC::is_a<numeric>(v01));
+  CHECK(GiNaC::ex_to<numeric>(v01) == numeric(1, 10));
+  CHECK(GiNaC::ex_to<numeric>(v01).is_rational());
+  CHECK(same(parse_expression("1e-3", jet), numeric(1, 1000)));
+  CHECK(same(parse_expression("1.5E2", jet), 150));
+  CHECK(same(parse_expression("2.5e+1", jet), 25));
+  CHECK(same(parse_expression(".5", jet), numeric(1, 2)));
+  CHECK(same(parse_expression("5.", jet), 5));
+  CHECK(same(parse_expression("0.1 + 0.2 - 0.3", jet), 0));  // exact, not floating point
+  CHECK(same(parse_expression("123456789012345678901234567890", jet),
+             numeric("123456789012345678901234567890")));
+  CHECK(same(parse_expression("9.81", jet), numeric(981, 100)));
+}
+
+TEST_CASE("primes and the printed jet spelling", "[scene][parser]") {
+  const JetSpace jet = make_jet();
+  CHECK(same(parse_expression("x", jet), jet.q(0, 0)));
+  CHECK(same(parse_expression("x'", jet), jet.q(0, 1)));
+  CHECK(same(parse_expression("x''", jet), jet.q(0, 2)));
+  CHECK(same(parse_expression("theta'''", jet), jet.q(2, 3)));
+  CHECK(same(parse_expression("x_d2", jet), jet.q(0, 2)));
+  CHECK(same(parse_expression("x_d2 - x''", jet), 0));
+  CHECK(same(parse_expression("theta_d4", jet), jet.q(2, 4)));
+  CHECK(same(parse_expression("x''^2", jet), GiNaC::pow(jet.q(0, 2), 2)));
+  CHECK(same(parse_expression("y'*y''", jet), jet.q(1, 1) * jet.q(1, 2)));
+  CHECK(same(parse_expression("x''''''''", jet), jet.q(0, 8)));  // the limit itself
+  // Multipliers, with primes or in jet form, only where allowed.
+  const ExpressionRules mult = with_multipliers();
+  CHECK(same(parse_expression("lambda1", jet, mult), jet.lambda(0, 0)));
+  CHECK(same(parse_expression("lambda2''", jet, mult), jet.lambda(1, 2)));
+  CHECK(same(parse_expression("lambda2_d3", jet, mult), jet.lambda(1, 3)));
+  CHECK(same(parse_expression("t", jet), jet.time()));
+  CHECK(same(parse_expression("k_1", jet), jet.parameter(2)));
+}
+
+TEST_CASE("functions", "[scene][parser]") {
+  const JetSpace jet = make_jet();
+  const ex x = jet.q(0, 0), y = jet.q(1, 0);
+  CHECK(same(parse_expression("sin(x)", jet), GiNaC::sin(x)));
+  CHECK(same(parse_expression("cos(x)^2 + sin(x)^2 - cos(x)^2", jet), GiNaC::pow(GiNaC::sin(x), 2)));
+  CHECK(same(parse_expression("tan(x)", jet), GiNaC::tan(x)));
+  CHECK(same(parse_expression("exp(x)*exp(-x)", jet), 1));
+  CHECK(same(parse_expression("log(x)", jet), GiNaC::log(x)));
+  CHECK(same(parse_expression("sqrt(x)^2", jet), x));
+  CHECK(same(parse_expression("abs(x)", jet), GiNaC::abs(x)));
+  CHECK(same(parse_expression("sinh(x)", jet), GiNaC::sinh(x)));
+  CHECK(same(parse_expression("cosh(x)", jet), GiNaC::cosh(x)));
+  CHECK(same(parse_expression("tanh(x)", jet), GiNaC::tanh(x)));
+  CHECK(same(parse_expression("asin(x)", jet), GiNaC::asin(x)));
+  CHECK(same(parse_expression("acos(x)", jet), GiNaC::acos(x)));
+  CHECK(same(parse_expression("atan(x)", jet), GiNaC::atan(x)));
+  CHECK(same(parse_expression("atan2(y, x)", jet), GiNaC::atan2(y, x)));
+  CHECK(same(parse_expression("sqrt (x'^2 + y'^2)", jet),
+             GiNaC::sqrt(GiNaC::pow(jet.q(0, 1), 2) + GiNaC::pow(jet.q(1, 1), 2))));
+  CHECK(same(parse_expression("sin(cos(x))", jet), GiNaC::sin(GiNaC::cos(x))));
+}
+
+TEST_CASE("constants that GiNaC produces read back", "[scene][parser]") {
+  // acos(-1) evaluates to Pi: GiNaC prints it as `Pi`, which must parse back.
+  const JetSpace jet = make_jet();
+  CHECK(same(parse_expression("acos(-1)", jet), GiNaC::Pi));
+  CHECK(same(parse_expression("Pi/4 - atan(1)", jet), 0));
+  CHECK(error_offset("sqrt(-4)", jet) == 0);  // complex values have no place in mechanics
+  CHECK(error_offset("m + log(-1)", jet) >= 0);
+}
+
+TEST_CASE("errors carry the offset of the offending text", "[scene][parser]") {
+  const JetSpace jet = make_jet();
+  CHECK(error_offset("", jet) == 0);
+  CHECK(error_offset("   ", jet) == 3);
+  CHECK(error_offset("x +", jet) == 3);
+  CHECK(error_offset("x + * y", jet) == 4);
+  CHECK(error_offset("(x + y", jet) == 6);
+  CHECK(error_offset("x + y)", jet) == 5);
+  CHECK(error_offset("2x", jet) == 1);
+  CHECK(error_offset("m + foo", jet) == 4);
+  CHECK(error_message("m + foo", jet).find("unknown name 'foo'") != std::string::npos);
+  CHECK(error_offset("m + foo(x)", jet) == 4);
+  CHECK(error_message("m + foo(x)", jet).find("unknown function 'foo'") != std::string::npos);
+  CHECK(error_offset("x + m'", jet) == 4);       // primes on a parameter
+  CHECK(error_offset("x + t'", jet) == 4);       // primes on t
+  CHECK(error_offset("x + t_d1", jet) == 4);     // the jet spelling of t' is just as wrong
+  CHECK(error_offset("x + m_d1", jet) == 4);
+  CHECK(error_offset("x_d2'", jet) == 0);        // both spellings at once
+  CHECK(error_offset("x_d0", jet) == 0);
+  CHECK(error_offset("x'''''''''", jet) == 0);   // 9 > kMaxDerivativeOrder
+  CHECK(error_offset("x_d1000", jet) == 0);
+  CHECK(error_offset("sin(x, y)", jet) == 0);
+  CHECK(error_offset("atan2(x)", jet) == 0);
+  CHECK(error_offset("sin()", jet) == 4);
+  CHECK(error_offset("sin(x", jet) == 5);
+  CHECK(error_offset("1/0", jet) == 1);
+  CHECK(error_offset("x/(m - m)", jet) == 1);
+  CHECK(error_offset("x + 1e", jet) == 4);
+  CHECK(error_offset("x + 1e99999", jet) == 4);
+  CHECK(error_offset("x $ y", jet) == 2);
+  CHECK(error_offset("x''' + lambda1", jet) == 7);  // multipliers not allowed by default
+  CHECK(error_offset("lambda3", jet, with_multipliers()) == 0);  // only 2 constraints
+  CHECK(error_offset("lambda0", jet, with_multipliers()) == 0);
+  ExpressionRules time_only;
+  time_only.allow_coordinates = false;
+  CHECK(error_offset("t + y", jet, time_only) == 4);
+  ExpressionRules no_time;
+  no_time.allow_time = false;
+  CHECK(error_offset("x + t", jet, no_time) == 4);
+}
+
+TEST_CASE("hostile input fails cleanly", "[scene][parser]") {
+  const JetSpace jet = make_jet();
+  CHECK(error_offset(std::string(100000, '('), jet) >= 0);
+  CHECK(error_offset(std::string(100000, '-') + "x", jet) >= 0);
+  std::string tower = "x";
+  for (int i = 0; i < 5000; ++i) tower += "^x";
+  CHECK(error_offset(tower, jet) >= 0);
+  CHECK(error_offset(std::string(1000, '9') + "e1", jet) >= 0);
+  CHECK(error_offset("x\xc3\xa9", jet) == 1);
+  CHECK(error_offset(std::string("x\0y", 3), jet) == 1);
+  // Deep but legal nesting still parses.
+  CHECK(same(parse_expression(std::string(50, '(') + "x" + std::string(50, ')'), jet), jet.q(0, 0)));
+}
