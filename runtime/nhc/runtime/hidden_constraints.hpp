@@ -1,0 +1,36 @@
+#pragma once
+/// \file hidden_constraints.hpp
+/// \brief Solving the hidden constraints g(t, y) = 0 of the index-1 form (models.md, step 5)
+/// for some of the states: consistent initial values and projection during integration.
+///
+/// Gauss–Newton with the minimum-norm correction: with D = diag(scale) over the free states,
+///   Δy = −D (G D)^+ g,
+/// the orthogonal projection in the metric D^{-2} (Hairer–Wanner, Sect. VII.2; with scale =
+/// the error-weight inverse atol + rtol|y| it is the smallest correction in IDA's own norm).
+/// States with scale 0 stay fixed (the user-given initial values).
+
+#include <string>
+#include <vector>
+
+#include "nhc/runtime/model.hpp"
+
+namespace nhc::runtime {
+
+struct HiddenSolveReport {
+  int iterations = 0;
+  double residual_before = 0;  ///< max |g_i| before
+  double residual_after = 0;   ///< max |g_i| after
+  double correction = 0;       ///< max |Δy_i|
+};
+
+/// max |g_i(t, y)|, 0 when the model has no hidden constraints.
+double hidden_residual(const Model& model, const double* p, double t, const double* y);
+
+/// Moves the states with scale[i] > 0 so that g(t, y) = 0 (|g_i| <= tolerance).
+/// Throws SolverError(inconsistent_initial_values, t) naming the violated constraint and the
+/// free states when no such point is found (e.g. every state the constraint involves is fixed).
+HiddenSolveReport solve_hidden_constraints(const Model& model, const double* p, double t, double* y,
+                                           const std::vector<double>& scale, double tolerance,
+                                           int max_iterations = 50);
+
+}  // namespace nhc::runtime

@@ -1,0 +1,682 @@
+#include "nhc/runtime/integrator.hpp"
+
+#include <ida/ida.h>
+#include <ida/ida_ls.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunlinsol/sunlinsol_klu.h>
+#include <sunmatrix/sunmatrix_dense.h>
+#include <sunmatrix/sunmatrix_sparse.h>
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "nhc/runtime/hidden_constraints.hpp"
+#include "nhc/runtime/progress_bar.hpp"
+#include "nhc/runtime/sundials.hpp"
+
+namespace nhc::runtime {
+
+namespace sd = sun;
+
+namespace {
+
+std::string format_time(double t) {
+  std::ostringstream os;
+  os.precision(15);
+  os << t;
+  return os.str();
+}
+
+/// The first non-finite value a callback met since the last accepted step.
+struct NonFinite {
+  bool seen = false;
+  double t = 0;
+  int index = 0;
+  bool in_jacobian = false;
+  long step = 0;          ///< accepted steps before it happened
+  std::vector<double> y;  ///< the state at which it happened
+};
+
+/// Pseudo return flag: the step size collapsed (IDA crawls towards a point it cannot pass).
+constexpr int kStepSizeCollapse = -1000;
+/// Steps in a row with h < kTinyStep max(1, |t|) that count as a collapse.
+constexpr int kCollapseSteps = 20;
+constexpr double kTinyStep = 1e-12;
+
+}  // namespace
+
+struct Integrator::Impl {
+  Model model;
+  std::vector<double> p;
+  IntegratorOptions options;
+  std::vector<Event> user_events;
+  std::vector<EventHit> hits;
+
+  sd::Context ctx;
+  sd::Vector y, yp, id, work;
+  sd::Matrix A;
+  sd::LinearSolver solver;
+  sd::IdaMemory ida;
+  bool sparse = false;
+  std::string jacobian_kind;
+
+  std::vector<double> singular_scale;  // |s_k(t0)|
+  std::vector<double> dense_scratch;   // n*n when scattering a sparse Jacobian into a dense matrix
+  std::vector<double> singular_values_scratch;
+
+  NonFinite nonfinite;
+  std::string last_message;  // from IDA's error handler
+
+  double t = 0;  // last accepted time
+  std::vector<double> y_last, yp_last;
+  bool initialized = false;
+  long accepted_steps = 0;
+  int tiny_steps = 0;  // consecutive steps below kTinyStep
+  bool have_last_output = false;
+  double last_output_t = 0;
+
+  long projections = 0;
+  double init_seconds = 0, integrate_seconds = 0;
+  Statistics before_restarts;  // IDAReInit zeroes IDA's counters; they are summed here
+
+  /// IDA's counters since the last (re)initialization.
+  Statistics counters() const {
+    Statistics st;
+    if (!ida) return st;
+    long v = 0;
+    IDAGetNumSteps(ida, &st.steps);
+    IDAGetNumResEvals(ida, &st.residual_evaluations);
+    if (IDAGetNumLinResEvals(ida, &v) == IDA_SUCCESS) st.residual_evaluations += v;
+    IDAGetNumJacEvals(ida, &st.jacobian_evaluations);
+    IDAGetNumLinSolvSetups(ida, &st.linear_solver_setups);
+    IDAGetNumErrTestFails(ida, &st.error_test_failures);
+    IDAGetNumNonlinSolvIters(ida, &st.nonlinear_iterations);
+    IDAGetNumNonlinSolvConvFails(ida, &st.nonlinear_failures);
+    if (n_roots() > 0) IDAGetNumGEvals(ida, &st.root_evaluations);
+    return st;
+  }
+
+  Statistics total() const {
+    Statistics st = counters();
+    const Statistics& b = before_restarts;
+    st.steps += b.steps;
+    st.residual_evaluations += b.residual_evaluations;
+    st.jacobian_evaluations += b.jacobian_evaluations;
+    st.linear_solver_setups += b.linear_solver_setups;
+    st.error_test_failures += b.error_test_failures;
+    st.nonlinear_iterations += b.nonlinear_iterations;
+    st.nonlinear_failures += b.nonlinear_failures;
+    st.root_evaluations += b.root_evaluations;
+    return st;
+  }
+
+  Impl(Model m, std::vector<double> params, IntegratorOptions opts)
+      : model(std::move(m)), p(std::move(params)), options(opts) {
+    if (p.empty()) p = model.default_parameters();
+    if (static_cast<int>(p.size()) != model.n_parameters())
+      throw ModelError("the model has " + std::to_string(model.n_parameters()) + " parameters, " +
+                       std::to_string(p.size()) + " given");
+  }
+
+  int n() const { return model.n_states(); }
+  int n_roots() const { return static_cast<int>(user_events.size()) + model.n_singular(); }
+
+  // ---- callbacks -------------------------------------------------------------------------
+
+  void note_nonfinite(double tt, int index, bool in_jacobian, const double* yy) {
+    nonfinite.seen = true;
+    nonfinite.step = accepted_steps;
+    nonfinite.t = tt;
+    nonfinite.index = index;
+    nonfinite.in_jacobian = in_jacobian;
+    nonfinite.y.assign(yy, yy + n());
+  }
+
+  static int residual_cb(sunrealtype tt, N_Vector yy, N_Vector ypp, N_Vector rr, void* data) {
+    auto* self = static_cast<Impl*>(data);
+    const double* yv = N_VGetArrayPointer(yy);
+    double* r = N_VGetArrayPointer(rr);
+    self->model.table().residual(tt, yv, N_VGetArrayPointer(ypp), self->p.data(), r);
+    for (int i = 0; i < self->n(); ++i)
+      if (!std::isfinite(r[i])) {
+        self->note_nonfinite(tt, i, false, yv);
+        return 1;  // recoverable: IDA retries with a smaller step, and reports if it cannot
+      }
+    return 0;
+  }
+
+  static int jacobian_cb(sunrealtype tt, sunrealtype cj, N_Vector yy, N_Vector ypp, N_Vector, SUNMatrix J,
+                         void* data, N_Vector, N_Vector, N_Vector) {
+    auto* self = static_cast<Impl*>(data);
+    const auto& tab = self->model.table();
+    const double* yv = N_VGetArrayPointer(yy);
+    const double* ypv = N_VGetArrayPointer(ypp);
+    const int n = self->n();
+    double* values = nullptr;
+    long count = 0;
+    if (self->sparse) {
+      sunindextype* colptr = SUNSparseMatrix_IndexPointers(J);
+      sunindextype* rowind = SUNSparseMatrix_IndexValues(J);
+      for (int j = 0; j <= n; ++j) colptr[j] = tab.jacobian_colptr[j];
+      for (int k = 0; k < tab.jacobian_nnz; ++k) rowind[k] = tab.jacobian_rowind[k];
+      values = SUNSparseMatrix_Data(J);
+      count = tab.jacobian_nnz;
+      tab.jacobian_values(tt, yv, ypv, cj, self->p.data(), values);
+    } else {
+      values = SUNDenseMatrix_Data(J);
+      count = static_cast<long>(n) * n;
+      SUNMatZero(J);
+      if (tab.jacobian) {
+        tab.jacobian(tt, yv, ypv, cj, self->p.data(), values);
+      } else {  // scatter the generated sparse Jacobian
+        std::vector<double>& nz = self->dense_scratch;
+        nz.resize(tab.jacobian_nnz);
+        tab.jacobian_values(tt, yv, ypv, cj, self->p.data(), nz.data());
+        for (int j = 0; j < n; ++j)
+          for (int k = tab.jacobian_colptr[j]; k < tab.jacobian_colptr[j + 1]; ++k)
+            values[tab.jacobian_rowind[k] + static_cast<long>(n) * j] = nz[k];
+      }
+    }
+    for (long k = 0; k < count; ++k)
+      if (!std::isfinite(values[k])) {
+        self->note_nonfinite(tt, static_cast<int>(k), true, yv);
+        return 1;
+      }
+    return 0;
+  }
+
+  static int root_cb(sunrealtype tt, N_Vector yy, N_Vector ypp, sunrealtype* gout, void* data) {
+    auto* self = static_cast<Impl*>(data);
+    const double* yv = N_VGetArrayPointer(yy);
+    const double* ypv = N_VGetArrayPointer(ypp);
+    const int ne = static_cast<int>(self->user_events.size());
+    for (int k = 0; k < ne; ++k) gout[k] = self->user_events[k].function(tt, yv, ypv);
+    const int ns = self->model.n_singular();
+    if (ns > 0) {
+      self->model.table().singular_quantities(tt, yv, self->p.data(), gout + ne);
+      for (int k = 0; k < ns; ++k)
+        gout[ne + k] = std::abs(gout[ne + k]) - self->options.singularity_threshold * self->singular_scale[k];
+    }
+    for (int k = 0; k < ne + ns; ++k)
+      if (!std::isfinite(gout[k])) gout[k] = -1.0;  // a monitor that is no longer finite has crossed
+    return 0;
+  }
+
+  static void error_handler_cb(int, const char*, const char*, char* message, void* data) {
+    static_cast<Impl*>(data)->last_message = message ? message : "";
+  }
+
+  // ---- set-up ----------------------------------------------------------------------------
+
+  void create_linear_solver() {
+    const auto& tab = model.table();
+    bool want_sparse = false;
+    switch (options.linear_solver) {
+      case LinearSolverKind::sparse:
+        if (!model.has_sparse_jacobian())
+          throw ModelError("KLU needs the sparse Jacobian; generate the header with --jacobian sparse");
+        want_sparse = true;
+        break;
+      case LinearSolverKind::dense: want_sparse = false; break;
+      case LinearSolverKind::automatic:
+        want_sparse = model.has_sparse_jacobian() && (n() >= 40 || !model.has_dense_jacobian());
+        break;
+    }
+    sparse = want_sparse;
+    if (sparse) {
+      A = sd::Matrix::sparse_csc(n(), n(), tab.jacobian_nnz, ctx);
+      solver = sd::LinearSolver::klu(y, A, ctx);
+      jacobian_kind = "generated sparse";
+    } else {
+      A = sd::Matrix::dense(n(), n(), ctx);
+      solver = sd::LinearSolver::dense(y, A, ctx);
+      jacobian_kind = model.has_dense_jacobian()    ? "generated dense"
+                      : model.has_sparse_jacobian() ? "generated sparse (scattered)"
+                                                    : "difference quotients";
+    }
+    sd::check(IDASetLinearSolver(ida, solver, A), "attaching the linear solver");
+    if (sparse || model.has_dense_jacobian() || model.has_sparse_jacobian())
+      sd::check(IDASetJacFn(ida, &Impl::jacobian_cb), "setting the Jacobian function");
+  }
+
+  void check(int flag, const char* what) {
+    if (flag >= 0) return;
+    double tcur = t;
+    if (ida) IDAGetCurrentTime(ida, &tcur);
+    sd::check(flag, what, tcur, last_message);
+  }
+
+  // ---- diagnostics -----------------------------------------------------------------------
+
+  /// States with the largest components of a vector, by name: "x' (0.71), y' (0.71)".
+  std::string dominant_states(const Eigen::VectorXd& v) const {
+    std::vector<int> order(v.size());
+    for (int i = 0; i < v.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](int a, int b) { return std::abs(v[a]) > std::abs(v[b]); });
+    std::ostringstream os;
+    os.precision(2);
+    const double top = std::abs(v[order[0]]);
+    for (int k = 0; k < std::min<int>(3, v.size()); ++k) {
+      if (k > 0 && std::abs(v[order[k]]) < 0.1 * top) break;
+      os << (k ? ", " : "") << model.state_name(order[k]) << " (" << v[order[k]] << ")";
+    }
+    return os.str();
+  }
+
+  /// The singular-set monitor closest to zero relative to its start, if any is below `ratio`.
+  int near_singular(double tt, const double* yy, double ratio) const {
+    const int ns = model.n_singular();
+    if (ns == 0) return -1;
+    std::vector<double> s(ns);
+    model.table().singular_quantities(tt, yy, p.data(), s.data());
+    int best = -1;
+    double best_ratio = ratio;
+    for (int k = 0; k < ns; ++k) {
+      const double r = singular_scale[k] > 0 ? std::abs(s[k]) / singular_scale[k] : std::abs(s[k]);
+      if (!std::isfinite(s[k]) || r < best_ratio) best = k, best_ratio = std::isfinite(s[k]) ? r : 0;
+    }
+    return best;
+  }
+
+  /// The hidden-constraint gradient entry that is not finite at y, as "df1/dx'", or "".
+  std::string nonfinite_constraint_gradient(double tt, const double* yy) const {
+    const int m = model.n_hidden();
+    if (m == 0) return "";
+    std::vector<double> G(static_cast<size_t>(m) * n());
+    model.table().hidden_constraints_jacobian(tt, yy, p.data(), G.data());
+    for (int j = 0; j < n(); ++j)
+      for (int i = 0; i < m; ++i)
+        if (!std::isfinite(G[i + static_cast<size_t>(m) * j]))
+          return "d" + model.hidden_name(i) + "/d" + model.state_name(j);
+    return "";
+  }
+
+  [[noreturn]] void throw_singular_gradient(double tt, int monitor, const std::string& entry) {
+    std::ostringstream os;
+    os.precision(15);
+    os << "the constraint gradient is singular at t = " << tt << ": ";
+    if (monitor >= 0) os << model.singular_name(monitor) << " reaches 0";
+    if (monitor >= 0 && !entry.empty()) os << "; ";
+    if (!entry.empty()) os << entry << " is not defined there";
+    os << ". The motion cannot be continued past this point.";
+    throw SolverError(FailureKind::singular_constraint_gradient, tt, os.str());
+  }
+
+  /// Turns an IDA failure into the most specific SolverError we can justify.
+  [[noreturn]] void fail(int flag, const char* what) {
+    double tcur = t;
+    IDAGetCurrentTime(ida, &tcur);
+    const double tt = std::max(tcur, t);
+    const std::string symptom = flag == kStepSizeCollapse
+                                    ? std::string("the step size collapsed below 1e-12 |t| for ") +
+                                          std::to_string(kCollapseSteps) + " steps in a row"
+                                    : sd::describe_ida_flag(flag);
+
+    if (nonfinite.seen && accepted_steps - nonfinite.step <= 2 * kCollapseSteps) {
+      const std::string entry = nonfinite_constraint_gradient(nonfinite.t, nonfinite.y.data());
+      const int monitor = near_singular(nonfinite.t, nonfinite.y.data(), 1e-3);
+      if (!entry.empty() || monitor >= 0) throw_singular_gradient(nonfinite.t, monitor, entry);
+      std::ostringstream os;
+      os.precision(15);
+      if (nonfinite.in_jacobian) {
+        const int row = nonfinite.index % n(), col = nonfinite.index / n();
+        os << "the Jacobian of " << model.residual_name(sparse ? 0 : row);
+        if (!sparse) os << " with respect to " << model.state_name(col);
+        os << " is NaN or Inf";
+      } else {
+        os << "residual " << model.residual_name(nonfinite.index) << " is NaN or Inf";
+      }
+      os << " at t = " << nonfinite.t << " (" << what << ": " << symptom << ")";
+      throw SolverError(FailureKind::nonfinite_residual, nonfinite.t, os.str());
+    }
+
+    // Near a singular set: name it rather than the symptom.
+    const int monitor = near_singular(t, y_last.data(), 1e-4);
+    if (monitor >= 0) throw_singular_gradient(t, monitor, "");
+
+    // Is the iteration matrix singular at the last accepted point?
+    long lsflag = 0;
+    IDAGetLastLinFlag(ida, &lsflag);
+    if (flag == IDA_LSETUP_FAIL || flag == IDA_LSOLVE_FAIL || flag == IDA_CONV_FAIL || flag == IDA_ERR_FAIL ||
+        flag == IDA_NO_RECOVERY || flag == kStepSizeCollapse || lsflag > 0) {
+      double cj = 1.0;
+      IDAGetCurrentCj(ida, &cj);
+      Eigen::MatrixXd J = iteration_matrix(t, y_last.data(), yp_last.data(), cj);
+      if (J.allFinite()) {
+        Eigen::JacobiSVD<Eigen::MatrixXd> svd(J, Eigen::ComputeFullV);
+        const auto& s = svd.singularValues();
+        const double cond = s[0] > 0 ? s[0] / s[s.size() - 1] : INFINITY;
+        if (lsflag > 0 || !(cond < (flag == kStepSizeCollapse ? 1e10 : 1e12))) {
+          std::ostringstream os;
+          os.precision(15);
+          os << "the iteration matrix dF/dy + cj dF/dy' is singular at t = " << tt;
+          os.precision(3);
+          os << " (condition number " << cond << "; null direction " << dominant_states(svd.matrixV().col(s.size() - 1))
+             << "): the index-1 system is not solvable for y' and the algebraic states there";
+          os << " (" << what << ": " << symptom << ")";
+          throw SolverError(FailureKind::singular_iteration_matrix, tt, os.str());
+        }
+      }
+    }
+    if (flag == kStepSizeCollapse)
+      throw SolverError(FailureKind::convergence, tt,
+                        std::string(what) + " failed at t = " + format_time(tt) + ": " + symptom +
+                            "; the solution cannot be continued past this point");
+    sd::check(flag, what, tt, last_message);
+    throw SolverError(FailureKind::other, tt, std::string(what) + " failed at t = " + format_time(tt));
+  }
+
+  /// dF/dy + cj dF/dy' from the generated Jacobian, or by differences of the residual.
+  Eigen::MatrixXd iteration_matrix(double tt, const double* yy, const double* ypp, double cj) const {
+    const int nn = n();
+    const auto& tab = model.table();
+    Eigen::MatrixXd J = Eigen::MatrixXd::Zero(nn, nn);
+    if (tab.jacobian) {
+      tab.jacobian(tt, yy, ypp, cj, p.data(), J.data());
+    } else if (model.has_sparse_jacobian()) {
+      std::vector<double> nz(tab.jacobian_nnz);
+      tab.jacobian_values(tt, yy, ypp, cj, p.data(), nz.data());
+      for (int j = 0; j < nn; ++j)
+        for (int k = tab.jacobian_colptr[j]; k < tab.jacobian_colptr[j + 1]; ++k) J(tab.jacobian_rowind[k], j) = nz[k];
+    } else {
+      std::vector<double> y1(yy, yy + nn), yp1(ypp, ypp + nn), r0(nn), r1(nn);
+      tab.residual(tt, yy, ypp, p.data(), r0.data());
+      for (int j = 0; j < nn; ++j) {
+        const double h = 1e-7 * std::max(1.0, std::abs(yy[j]));
+        y1[j] += h;
+        yp1[j] += cj * h;
+        tab.residual(tt, y1.data(), yp1.data(), p.data(), r1.data());
+        for (int i = 0; i < nn; ++i) J(i, j) = (r1[i] - r0[i]) / h;
+        y1[j] = yy[j];
+        yp1[j] = ypp[j];
+      }
+    }
+    return J;
+  }
+
+  // ---- projection ------------------------------------------------------------------------
+
+  /// Error-weight inverses atol + rtol |y_i| for the differential states, 0 for the algebraic ones.
+  std::vector<double> projection_scale(const double* yy) const {
+    std::vector<double> scale(n());
+    for (int i = 0; i < n(); ++i)
+      scale[i] = model.is_differential(i) ? options.atol + options.rtol * std::abs(yy[i]) : 0.0;
+    return scale;
+  }
+
+  /// One Gauss–Newton correction's size in IDA's WRMS norm (0 when the constraints hold).
+  double correction_norm(double tt, const double* yy, const std::vector<double>& scale) const {
+    const int m = model.n_hidden(), nn = n();
+    Eigen::VectorXd g(m);
+    model.table().hidden_constraints(tt, yy, p.data(), g.data());
+    if (!g.allFinite()) return 0;
+    Eigen::MatrixXd G(m, nn);
+    model.table().hidden_constraints_jacobian(tt, yy, p.data(), G.data());
+    if (!G.allFinite()) return 0;
+    Eigen::MatrixXd GD = G * Eigen::VectorXd::Map(scale.data(), nn).asDiagonal();
+    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(GD);
+    Eigen::VectorXd u = cod.solve(g);  // correction / scale, componentwise
+    return std::sqrt(u.squaredNorm() / nn);
+  }
+
+  void maybe_project(double tt) {
+    if (options.projection != ProjectionMethod::restart || model.n_hidden() == 0) return;
+    double* yy = y.data();
+    const std::vector<double> scale = projection_scale(yy);
+    if (correction_norm(tt, yy, scale) <= options.projection_threshold) return;
+    solve_hidden_constraints(model, p.data(), tt, yy, scale, 1e-3 * options.atol);
+    double h = 0;
+    IDAGetLastStep(ida, &h);
+    before_restarts = total();
+    check(IDAReInit(ida, tt, y, yp), "restarting IDA after the projection");
+    check(IDACalcIC(ida, IDA_YA_YDP_INIT, tt + std::max(h, 1e-10 * std::max(1.0, std::abs(tt)))),
+          "recomputing y' and the algebraic states after the projection");
+    check(IDAGetConsistentIC(ida, y, yp), "reading the projected point");
+    ++projections;
+  }
+
+  void remember(double tt, bool new_step = true) {
+    t = tt;
+    std::copy(y.data(), y.data() + n(), y_last.begin());
+    std::copy(yp.data(), yp.data() + n(), yp_last.begin());
+    if (new_step) ++accepted_steps;
+  }
+};
+
+Integrator::Integrator(Model model, std::vector<double> parameters, IntegratorOptions options)
+    : impl_(std::make_unique<Impl>(std::move(model), std::move(parameters), options)) {}
+Integrator::~Integrator() = default;
+Integrator::Integrator(Integrator&&) noexcept = default;
+Integrator& Integrator::operator=(Integrator&&) noexcept = default;
+
+void Integrator::add_event(Event event) {
+  if (impl_->initialized) throw std::logic_error("add_event after initialize");
+  impl_->user_events.push_back(std::move(event));
+}
+
+Sample Integrator::initialize(const InitialState& state, double t_next) {
+  Impl& s = *impl_;
+  const auto start = std::chrono::steady_clock::now();
+  const int n = s.n();
+  if (static_cast<int>(state.y.size()) != n)
+    throw ModelError("initial state has " + std::to_string(state.y.size()) + " values, the model " + std::to_string(n) + " states");
+  if (!(t_next > state.t0)) throw std::invalid_argument("initialize: t_next must be after t0");
+
+  s.ctx = sd::Context::create();
+  s.y = sd::Vector::create(n, s.ctx);
+  s.yp = sd::Vector::create(n, s.ctx);
+  s.id = sd::Vector::create(n, s.ctx);
+  s.y_last.assign(n, 0.0);
+  s.yp_last.assign(n, 0.0);
+  for (int i = 0; i < n; ++i) {
+    s.y[i] = state.y[i];
+    s.yp[i] = state.yp.empty() ? 0.0 : state.yp[i];
+    s.id[i] = s.model.table().differential_id[i];
+  }
+  s.t = state.t0;
+
+  // 1. Hidden constraints: move only what the user did not give (minimum-norm Gauss–Newton).
+  if (s.model.n_hidden() > 0) {
+    std::vector<double> scale(n, 1.0);
+    for (int i = 0; i < n && i < static_cast<int>(state.given.size()); ++i)
+      if (state.given[i]) scale[i] = 0.0;
+    double size = 1.0;
+    for (int i = 0; i < n; ++i) size = std::max(size, std::abs(s.y[i]));
+    solve_hidden_constraints(s.model, s.p.data(), state.t0, s.y.data(), scale, 1e-13 * size);
+  }
+
+  // 2. IDA and IDACalcIC for the algebraic states and y'.
+  s.ida = sd::IdaMemory::create(s.ctx);
+  s.check(IDASetErrHandlerFn(s.ida, &Impl::error_handler_cb, &s), "installing the error handler");
+  s.check(IDAInit(s.ida, &Impl::residual_cb, state.t0, s.y, s.yp), "initialising IDA");
+  s.check(IDASetUserData(s.ida, &s), "setting the user data");
+  s.check(IDASStolerances(s.ida, s.options.rtol, s.options.atol), "setting the tolerances");
+  s.check(IDASetId(s.ida, s.id), "setting the id vector");
+  s.check(IDASetMaxNumSteps(s.ida, std::max(1L, s.options.max_steps)), "setting the step limit");
+  if (s.options.max_step > 0) s.check(IDASetMaxStep(s.ida, s.options.max_step), "setting the maximum step");
+  if (s.options.initial_step > 0) s.check(IDASetInitStep(s.ida, s.options.initial_step), "setting the initial step");
+  s.create_linear_solver();
+
+  auto nonfinite_at_start = [&](const char* stage) {
+    if (!s.nonfinite.seen) return;
+    const std::string entry = s.nonfinite_constraint_gradient(s.nonfinite.t, s.nonfinite.y.data());
+    if (!entry.empty()) s.throw_singular_gradient(s.nonfinite.t, -1, entry);
+    throw SolverError(FailureKind::nonfinite_residual, s.nonfinite.t,
+                      std::string("residual ") + s.model.residual_name(s.nonfinite.index) + " is NaN or Inf at t = " +
+                          format_time(s.nonfinite.t) + " (" + stage + ")");
+  };
+  const int flag = IDACalcIC(s.ida, IDA_YA_YDP_INIT, t_next);
+  if (flag < 0) {
+    nonfinite_at_start("consistent initialization");
+    s.check(flag, "the consistent initialization (IDACalcIC: algebraic states and y')");
+  }
+  s.check(IDAGetConsistentIC(s.ida, s.y, s.yp), "reading the consistent initial values");
+  s.remember(state.t0);
+
+  // 3. Singular-set monitors and events.
+  const int ns = s.model.n_singular();
+  if (ns > 0) {
+    s.singular_scale.assign(ns, 0.0);
+    s.model.table().singular_quantities(state.t0, s.y.data(), s.p.data(), s.singular_scale.data());
+    for (int k = 0; k < ns; ++k) {
+      s.singular_scale[k] = std::abs(s.singular_scale[k]);
+      if (!(s.singular_scale[k] > 0)) s.throw_singular_gradient(state.t0, k, "");
+    }
+  }
+  if (s.n_roots() > 0) {
+    s.check(IDARootInit(s.ida, s.n_roots(), &Impl::root_cb), "initialising the event functions");
+    std::vector<int> direction(s.n_roots(), 0);
+    for (int k = static_cast<int>(s.user_events.size()); k < s.n_roots(); ++k) direction[k] = -1;
+    s.check(IDASetRootDirection(s.ida, direction.data()), "setting the event directions");
+    s.check(IDASetNoInactiveRootWarn(s.ida), "configuring the event functions");
+  }
+  s.initialized = true;
+  s.init_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return Sample{state.t0, s.y_last, s.yp_last};
+}
+
+void Integrator::integrate(const std::vector<double>& times, const std::function<void(const Sample&)>& observer) {
+  Impl& s = *impl_;
+  if (!s.initialized) throw std::logic_error("integrate before initialize");
+  if (times.empty()) return;
+  const auto start = std::chrono::steady_clock::now();
+  struct Timer {
+    Impl& s;
+    std::chrono::steady_clock::time_point start;
+    ~Timer() { s.integrate_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); }
+  } timer{s, start};
+
+  const int n = s.n();
+  const double t_final = times.back();
+  ProgressBar progress(s.t, t_final, s.options.progress);
+  Sample out;
+  out.y.resize(n);
+  out.yp.resize(n);
+  sd::Vector dky = sd::Vector::create(n, s.ctx);
+
+  auto emit_current = [&](double tt) {
+    out.t = tt;
+    out.y.assign(s.y.data(), s.y.data() + n);
+    out.yp.assign(s.yp.data(), s.yp.data() + n);
+    observer(out);
+    s.have_last_output = true;
+    s.last_output_t = tt;
+  };
+  auto emit_last_accepted = [&] {
+    if (s.have_last_output && s.last_output_t >= s.t) return;
+    out.t = s.t;
+    out.y = s.y_last;
+    out.yp = s.yp_last;
+    observer(out);
+    s.have_last_output = true;
+    s.last_output_t = s.t;
+  };
+
+  size_t next = 0;
+  while (next < times.size() && times[next] <= s.t) {  // outputs at the current point
+    if (!s.have_last_output || s.last_output_t < times[next]) {
+      out.t = times[next];
+      out.y = s.y_last;
+      out.yp = s.yp_last;
+      observer(out);
+      s.have_last_output = true;
+      s.last_output_t = times[next];
+    }
+    ++next;
+  }
+  if (next == times.size()) return;
+  s.check(IDASetStopTime(s.ida, t_final), "setting the stop time");
+
+  try {
+    while (next < times.size()) {
+      if (s.total().steps >= s.options.max_steps)
+        throw SolverError(FailureKind::too_many_steps, s.t,
+                          "the step limit (" + std::to_string(s.options.max_steps) + " steps) was reached at t = " +
+                              format_time(s.t) + " before t = " + format_time(t_final));
+      double tret = s.t;
+      const int flag = IDASolve(s.ida, t_final, &tret, s.y, s.yp, IDA_ONE_STEP);
+      if (flag < 0) s.fail(flag, "the integration step");
+
+      // Outputs inside the step just taken, from IDA's interpolating polynomial.
+      while (next < times.size() && times[next] <= tret) {
+        if (times[next] == tret) {
+          emit_current(tret);
+        } else {
+          s.check(IDAGetDky(s.ida, times[next], 0, dky), "interpolating the output");
+          out.t = times[next];
+          out.y.assign(dky.data(), dky.data() + n);
+          s.check(IDAGetDky(s.ida, times[next], 1, dky), "interpolating the output");
+          out.yp.assign(dky.data(), dky.data() + n);
+          observer(out);
+          s.have_last_output = true;
+          s.last_output_t = out.t;
+        }
+        ++next;
+      }
+      s.remember(tret);
+      progress.update(tret);
+      double h_last = 0;
+      IDAGetLastStep(s.ida, &h_last);
+      s.tiny_steps = std::abs(h_last) < kTinyStep * std::max(1.0, std::abs(tret)) ? s.tiny_steps + 1 : 0;
+      if (s.tiny_steps >= kCollapseSteps) s.fail(kStepSizeCollapse, "the integration");
+
+      if (flag == IDA_ROOT_RETURN) {
+        std::vector<int> found(s.n_roots(), 0);
+        s.check(IDAGetRootInfo(s.ida, found.data()), "reading the events");
+        const int ne = static_cast<int>(s.user_events.size());
+        for (int k = ne; k < s.n_roots(); ++k)
+          if (found[k] != 0) {
+            if (!s.have_last_output || s.last_output_t < tret) emit_current(tret);
+            s.throw_singular_gradient(tret, k - ne, "");
+          }
+        bool stop = false;
+        for (int k = 0; k < ne; ++k)
+          if (found[k] != 0) {
+            s.hits.push_back({s.user_events[k].name, tret});
+            stop = stop || s.user_events[k].terminal;
+          }
+        if (stop) {
+          if (!s.have_last_output || s.last_output_t < tret) emit_current(tret);
+          return;
+        }
+      } else if (flag == IDA_TSTOP_RETURN) {
+        if (next < times.size() && (!s.have_last_output || s.last_output_t < tret)) emit_current(tret);
+        break;
+      }
+      s.maybe_project(tret);
+      if (s.options.projection != ProjectionMethod::none) s.remember(tret, false);
+    }
+  } catch (...) {
+    progress.finish();
+    emit_last_accepted();
+    throw;
+  }
+}
+
+Statistics Integrator::statistics() const {
+  const Impl& s = *impl_;
+  Statistics st = s.total();
+  st.projections = s.projections;
+  st.initialization_seconds = s.init_seconds;
+  st.integration_seconds = s.integrate_seconds;
+  st.linear_solver = s.sparse ? "KLU" : "dense";
+  st.jacobian = s.jacobian_kind;
+  return st;
+}
+
+const std::vector<EventHit>& Integrator::events() const { return impl_->hits; }
+const Model& Integrator::model() const { return impl_->model; }
+const std::vector<double>& Integrator::parameters() const { return impl_->p; }
+const IntegratorOptions& Integrator::options() const { return impl_->options; }
+
+std::vector<double> output_times(double t0, double t_end, int intervals) {
+  std::vector<double> times(intervals + 1);
+  for (int i = 0; i <= intervals; ++i) times[i] = i == intervals ? t_end : t0 + (t_end - t0) * i / intervals;
+  return times;
+}
+
+}  // namespace nhc::runtime

@@ -1,0 +1,129 @@
+#pragma once
+/// \file integrator.hpp
+/// \brief Integrating the index-1 form F(t, y, y') = 0 of a generated model with IDA
+/// (SUNDIALS; Hindmarsh et al., ACM TOMS 31 (2005) 363): dense LU or KLU with the generated
+/// Jacobian, the id vector, consistent initialization, output at requested times, events,
+/// statistics, optional projection onto the hidden constraints, and diagnostics that stop at
+/// singular points with the time (docs/projection.md, docs/generated-code.md).
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "nhc/runtime/errors.hpp"
+#include "nhc/runtime/model.hpp"
+
+namespace nhc::runtime {
+
+enum class LinearSolverKind {
+  automatic,  ///< KLU when the model has a sparse Jacobian and at least 40 states, else dense
+  dense,      ///< dense LU (generated dense Jacobian, the sparse one scattered, or difference quotients)
+  sparse,     ///< KLU on the generated compressed-column Jacobian
+};
+
+enum class ProjectionMethod {
+  none,
+  /// After a step whose hidden constraints need a correction larger than projection_threshold
+  /// in IDA's weighted norm: project y (hidden_constraints.hpp), recompute y' and the algebraic
+  /// states (IDACalcIC) and restart IDA there (docs/projection.md).
+  restart,
+};
+
+struct IntegratorOptions {
+  double rtol = 1e-8;
+  double atol = 1e-10;
+  long max_steps = 1000000;  ///< internal steps over the whole run
+  double max_step = 0;       ///< 0: no limit
+  double initial_step = 0;   ///< 0: IDA's estimate
+  LinearSolverKind linear_solver = LinearSolverKind::automatic;
+  ProjectionMethod projection = ProjectionMethod::none;
+  /// Project when the correction exceeds this in IDA's WRMS norm (1 = the local tolerance).
+  double projection_threshold = 0.1;
+  /// A singular-set monitor s_k stops the run when |s_k| falls below this times |s_k(t0)|.
+  double singularity_threshold = 1e-14;
+  /// Progress bar on stderr for runs longer than a second, when stderr is a terminal.
+  bool progress = true;
+};
+
+/// Initial data: a guess for every state, and which of them the user gave (these stay fixed
+/// while the hidden constraints are solved; the others are moved, then IDACalcIC computes the
+/// algebraic states and y').
+struct InitialState {
+  double t0 = 0;
+  std::vector<double> y;
+  std::vector<bool> given;
+  std::vector<double> yp;  ///< optional guess, zeros when empty
+};
+
+struct Sample {
+  double t = 0;
+  std::vector<double> y, yp;
+};
+
+/// A user event: the run records (and, if terminal, stops at) each zero of `function`.
+struct Event {
+  std::string name;
+  std::function<double(double t, const double* y, const double* yp)> function;
+  bool terminal = false;
+};
+
+struct EventHit {
+  std::string name;
+  double t = 0;
+};
+
+struct Statistics {
+  long steps = 0;
+  long residual_evaluations = 0;  ///< including those for difference-quotient Jacobians
+  long jacobian_evaluations = 0;
+  long linear_solver_setups = 0;
+  long error_test_failures = 0;
+  long nonlinear_iterations = 0;
+  long nonlinear_failures = 0;  ///< nonlinear-solver convergence failures
+  long root_evaluations = 0;
+  long projections = 0;
+  double initialization_seconds = 0;
+  double integration_seconds = 0;
+  std::string linear_solver;  ///< "dense" or "KLU"
+  std::string jacobian;       ///< "generated dense", "generated sparse", "difference quotients"
+};
+
+class Integrator {
+ public:
+  /// `parameters` empty: the model's defaults.
+  Integrator(Model model, std::vector<double> parameters = {}, IntegratorOptions options = {});
+  ~Integrator();
+  Integrator(Integrator&&) noexcept;
+  Integrator& operator=(Integrator&&) noexcept;
+  Integrator(const Integrator&) = delete;
+  Integrator& operator=(const Integrator&) = delete;
+
+  /// Registers an event; call before initialize().
+  void add_event(Event event);
+
+  /// Consistent initialization at state.t0; `t_next` (> t0) is the first output time (IDACalcIC's
+  /// step scale). Returns the consistent point. Throws SolverError.
+  Sample initialize(const InitialState& state, double t_next);
+
+  /// Integrates through `times` (increasing, >= t0), calling `observer` with the solution at each
+  /// (times equal to t0 give the initial point). Returns after the last time or at a terminal
+  /// event. Throws SolverError at a failure or a singular point, after passing the observer the
+  /// last point reached (so a trajectory holds the solution up to the failure).
+  void integrate(const std::vector<double>& times, const std::function<void(const Sample&)>& observer);
+
+  Statistics statistics() const;
+  const std::vector<EventHit>& events() const;
+  const Model& model() const;
+  const std::vector<double>& parameters() const;
+  const IntegratorOptions& options() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// n + 1 equally spaced times from t0 to t_end.
+std::vector<double> output_times(double t0, double t_end, int intervals);
+
+}  // namespace nhc::runtime

@@ -1,0 +1,109 @@
+#include "nhc/runtime/model.hpp"
+
+#include <dlfcn.h>
+
+#include "nhc/runtime/errors.hpp"
+
+namespace nhc::runtime {
+
+namespace {
+
+void validate(const nhc_model_table* t, const std::string& origin) {
+  auto fail = [&](const std::string& what) {
+    throw ModelError("model table of " + origin + ": " + what + " (see docs/generated-code.md)");
+  };
+  if (!t) fail("null table");
+  if (t->abi_version < 1 || t->abi_version > 2)
+    fail("unsupported ABI version " + std::to_string(t->abi_version) + " (this runtime reads 1 and 2)");
+  if (t->n_states <= 0) fail("no states");
+  if (!t->residual) fail("no residual function");
+  if (!t->state_names || !t->state_variable || !t->state_order || !t->differential_id)
+    fail("missing state metadata");
+  if (t->n_parameters > 0 && (!t->default_parameters || !t->parameter_names)) fail("missing parameters");
+  if (t->n_hidden > 0 && (!t->hidden_constraints || !t->hidden_constraints_jacobian))
+    fail("hidden constraints declared but their functions are missing");
+  if (t->n_invariants > 0 && !t->invariants) fail("invariants declared but no invariants function");
+  if (t->n_reference > 0 && (!t->reference || !t->reference_coordinate))
+    fail("reference declared but no reference function");
+  if (t->jacobian_values && (t->jacobian_nnz <= 0 || !t->jacobian_colptr || !t->jacobian_rowind))
+    fail("sparse Jacobian without its pattern");
+  if (t->abi_version >= 2 && t->n_singular > 0 && !t->singular_quantities)
+    fail("singular-set monitors declared but no function");
+}
+
+}  // namespace
+
+Model::Model(const nhc_model_table* table, std::shared_ptr<void> library)
+    : table_(table), library_(std::move(library)) {}
+
+Model Model::from_table(const nhc_model_table* table) {
+  validate(table, "the program");
+  return Model(table, nullptr);
+}
+
+Model Model::load(const std::string& shared_object) {
+  dlerror();
+  void* handle = dlopen(shared_object.c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (!handle) {
+    const char* why = dlerror();
+    throw ModelError("cannot load " + shared_object + ": " + (why ? why : "unknown reason"));
+  }
+  std::shared_ptr<void> library(handle, [](void* h) { dlclose(h); });
+  using Getter = const nhc_model_table* (*)();
+  auto get = reinterpret_cast<Getter>(dlsym(handle, "nhc_model_table_get"));
+  if (!get)
+    throw ModelError(shared_object + " has no nhc_model_table_get (was it compiled with NHC_EXPORT_MODEL_TABLE?)");
+  const nhc_model_table* table = get();
+  validate(table, shared_object);
+  return Model(table, std::move(library));
+}
+
+int Model::n_singular() const noexcept {
+  return table_->abi_version >= 2 && table_->singular_quantities ? table_->n_singular : 0;
+}
+
+bool Model::has_sparse_jacobian() const noexcept {
+  return table_->jacobian_values && table_->jacobian_nnz > 0 && table_->jacobian_colptr && table_->jacobian_rowind;
+}
+
+std::string Model::variable_name(int variable) const {
+  int i = state_index(variable, 0);
+  if (i >= 0) return table_->state_names[i];
+  return variable < n_coordinates() ? "q" + std::to_string(variable + 1)
+                                    : "lambda" + std::to_string(variable - n_coordinates() + 1);
+}
+
+int Model::state_index(int variable, int order) const noexcept {
+  for (int i = 0; i < n_states(); ++i)
+    if (table_->state_variable[i] == variable && table_->state_order[i] == order) return i;
+  return -1;
+}
+
+std::string Model::residual_name(int i) const {
+  if (table_->abi_version >= 2 && table_->residual_names && table_->residual_names[i])
+    return table_->residual_names[i];
+  return "residual " + std::to_string(i);
+}
+
+std::string Model::hidden_name(int i) const {
+  if (table_->hidden_names && table_->hidden_names[i]) return table_->hidden_names[i];
+  return "hidden constraint " + std::to_string(i + 1);
+}
+
+std::string Model::singular_name(int i) const {
+  if (table_->abi_version >= 2 && table_->singular_names && table_->singular_names[i])
+    return table_->singular_names[i];
+  return "singular-set monitor " + std::to_string(i + 1);
+}
+
+std::vector<double> Model::default_parameters() const {
+  return std::vector<double>(table_->default_parameters, table_->default_parameters + n_parameters());
+}
+
+int Model::parameter_index(const std::string& name) const noexcept {
+  for (int i = 0; i < n_parameters(); ++i)
+    if (name == table_->parameter_names[i]) return i;
+  return -1;
+}
+
+}  // namespace nhc::runtime

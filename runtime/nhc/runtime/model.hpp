@@ -1,0 +1,68 @@
+#pragma once
+/// \file model.hpp
+/// \brief A model the runtime can integrate: the table of docs/generated-code.md, either compiled
+/// into the application (from a generated namespace, no dlopen) or loaded from a shared object.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "nhc/runtime/model_table.h"
+
+namespace nhc::runtime {
+
+/// A cheap-to-copy handle on a generated model. Copies share the loaded library (if any),
+/// which is closed with the last copy.
+class Model {
+ public:
+  /// A table compiled into this program, e.g. `Model::from_table(nhc_gen::appell_hamel_chetaev::model_table())`
+  /// or, with NHC_EXPORT_MODEL_TABLE defined before the include, `Model::from_table(nhc_model_table_get())`.
+  /// Throws ModelError when the table violates the contract.
+  static Model from_table(const nhc_model_table* table);
+
+  /// dlopen()s a shared object built from a generated header with NHC_EXPORT_MODEL_TABLE and
+  /// takes its table. Throws ModelError with dlerror()'s message on failure.
+  static Model load(const std::string& shared_object);
+
+  const nhc_model_table& table() const noexcept { return *table_; }
+  int abi_version() const noexcept { return table_->abi_version; }
+  std::string scene_name() const { return table_->scene_name; }
+  std::string model_name() const { return table_->model_name; }
+  int n_states() const noexcept { return table_->n_states; }
+  int n_parameters() const noexcept { return table_->n_parameters; }
+  int n_coordinates() const noexcept { return table_->n_coordinates; }
+  int n_multipliers() const noexcept { return table_->n_multipliers; }
+  int n_hidden() const noexcept { return table_->n_hidden; }
+  int n_invariants() const noexcept { return table_->n_invariants; }
+  int n_reference() const noexcept { return table_->n_reference; }
+  /// Singular-set monitors (Runtime additions, abi_version >= 2), else 0.
+  int n_singular() const noexcept;
+
+  bool has_dense_jacobian() const noexcept { return table_->jacobian != nullptr; }
+  bool has_sparse_jacobian() const noexcept;
+
+  std::string state_name(int i) const { return table_->state_names[i]; }
+  bool is_differential(int i) const noexcept { return table_->differential_id[i] != 0.0; }
+  /// Name of unknown j (coordinate, then multiplier): the state name of order 0.
+  std::string variable_name(int variable) const;
+  /// State index holding the order-th derivative of unknown `variable`, or -1.
+  int state_index(int variable, int order) const noexcept;
+  /// "R_x" from the generated names when available (abi >= 2), else "residual 3".
+  std::string residual_name(int i) const;
+  std::string hidden_name(int i) const;
+  std::string singular_name(int i) const;
+  std::vector<double> default_parameters() const;
+  int parameter_index(const std::string& name) const noexcept;
+
+ private:
+  Model(const nhc_model_table* table, std::shared_ptr<void> library);
+  const nhc_model_table* table_ = nullptr;
+  std::shared_ptr<void> library_;
+};
+
+}  // namespace nhc::runtime
+
+/// The model of a generated namespace compiled into this program, e.g.
+/// `auto model = NHC_RUNTIME_MODEL(nhc_gen::appell_hamel_chetaev);`
+#define NHC_RUNTIME_MODEL(generated_namespace) \
+  ::nhc::runtime::Model::from_table(generated_namespace::model_table())

@@ -1,0 +1,48 @@
+/* nhc runtime: the C table through which a compiled model is loaded from a shared object.
+ * Identical to the declaration emitted by `nhc generate` (docs/generated-code.md); whichever
+ * header is included first defines it, the guard keeps the other one out.
+ * abi_version 1: the fields up to `reference`. abi_version 2 appends the fields of the section
+ * "Runtime additions" of docs/generated-code.md; read them only when abi_version >= 2. */
+#ifndef NHC_MODEL_TABLE_DEFINED
+#define NHC_MODEL_TABLE_DEFINED
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+struct nhc_model_table {
+  int abi_version;
+  const char* scene_name;
+  const char* model_name;
+  int n_states, n_parameters, n_coordinates, n_multipliers, n_hidden, n_invariants, n_reference;
+  const char* const* state_names;
+  const int* state_variable;
+  const int* state_order;
+  const double* differential_id;
+  const char* const* parameter_names;
+  const double* default_parameters;
+  const char* const* hidden_names;
+  const char* const* invariant_names;
+  const int* reference_coordinate;
+  void (*residual)(double, const double*, const double*, const double*, double*);
+  void (*jacobian)(double, const double*, const double*, double, const double*, double*);
+  int jacobian_nnz;
+  const int* jacobian_colptr;
+  const int* jacobian_rowind;
+  void (*jacobian_values)(double, const double*, const double*, double, const double*, double*);
+  void (*hidden_constraints)(double, const double*, const double*, double*);
+  void (*hidden_constraints_jacobian)(double, const double*, const double*, double*);
+  void (*invariants)(double, const double*, const double*, const double*, double*);
+  void (*reference)(double, const double*, double*);
+  /* abi_version >= 2 (Runtime additions) */
+  const char* const* residual_names;
+  int n_singular;
+  const char* const* singular_names;
+  void (*singular_quantities)(double, const double*, const double*, double*);
+};
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* NHC_MODEL_TABLE_DEFINED */

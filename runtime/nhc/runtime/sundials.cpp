@@ -1,0 +1,144 @@
+#include "nhc/runtime/sundials.hpp"
+
+#include <sundials/sundials_math.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunlinsol/sunlinsol_klu.h>
+#include <sunmatrix/sunmatrix_dense.h>
+#include <sunmatrix/sunmatrix_sparse.h>
+
+#include <cmath>
+#include <sstream>
+
+namespace nhc::runtime {
+
+const char* to_string(FailureKind kind) {
+  switch (kind) {
+    case FailureKind::setup: return "solver set-up failure";
+    case FailureKind::inconsistent_initial_values: return "inconsistent initial values";
+    case FailureKind::nonfinite_residual: return "NaN or Inf in a residual";
+    case FailureKind::singular_iteration_matrix: return "singular iteration matrix";
+    case FailureKind::singular_constraint_gradient: return "singular constraint gradient";
+    case FailureKind::convergence: return "convergence failure";
+    case FailureKind::error_test: return "error test failure";
+    case FailureKind::too_many_steps: return "too many steps";
+    case FailureKind::other: break;
+  }
+  return "numerical failure";
+}
+
+namespace sun {
+
+std::string describe_ida_flag(int flag) {
+  switch (flag) {
+    case IDA_TOO_MUCH_WORK: return "the maximum number of internal steps was taken before reaching the output time";
+    case IDA_TOO_MUCH_ACC: return "the requested accuracy cannot be reached (tolerances too small)";
+    case IDA_ERR_FAIL: return "the local error test failed repeatedly or with the minimum step size";
+    case IDA_CONV_FAIL: return "the Newton corrector failed to converge repeatedly or with the minimum step size";
+    case IDA_LINIT_FAIL: return "the linear solver could not be initialised";
+    case IDA_LSETUP_FAIL: return "the linear solver set-up (factorisation of the iteration matrix) failed unrecoverably";
+    case IDA_LSOLVE_FAIL: return "the linear solve failed unrecoverably";
+    case IDA_RES_FAIL: return "the residual function failed unrecoverably";
+    case IDA_REP_RES_ERR: return "the residual function failed repeatedly";
+    case IDA_RTFUNC_FAIL: return "the root (event) function failed";
+    case IDA_CONSTR_FAIL: return "the inequality constraints could not be met";
+    case IDA_FIRST_RES_FAIL: return "the residual function failed at the first call of the initial-condition calculation";
+    case IDA_LINESEARCH_FAIL: return "the line search of the initial-condition calculation failed";
+    case IDA_NO_RECOVERY: return "the residual, Jacobian or linear solver failed recoverably but could not recover";
+    case IDA_NLS_INIT_FAIL: return "the nonlinear solver could not be initialised";
+    case IDA_NLS_SETUP_FAIL: return "the nonlinear solver set-up failed";
+    case IDA_NLS_FAIL: return "the nonlinear solver failed";
+    case IDA_MEM_NULL: return "the integrator memory is null";
+    case IDA_MEM_FAIL: return "out of memory";
+    case IDA_ILL_INPUT: return "an input to the integrator is illegal";
+    case IDA_NO_MALLOC: return "the integrator was not initialised";
+    case IDA_BAD_EWT: return "an error weight became zero or negative (a state is zero with atol = 0?)";
+    case IDA_BAD_K: return "illegal derivative order requested";
+    case IDA_BAD_T: return "time outside the last step";
+    case IDA_BAD_DKY: return "output vector is null";
+    case IDA_VECTOROP_ERR: return "a vector operation failed";
+    case IDA_CONTEXT_ERR: return "the SUNDIALS context is invalid";
+    default: break;
+  }
+  std::ostringstream os;
+  os << "SUNDIALS return code " << flag;
+  return os.str();
+}
+
+FailureKind classify_ida_flag(int flag) {
+  switch (flag) {
+    case IDA_TOO_MUCH_WORK: return FailureKind::too_many_steps;
+    case IDA_ERR_FAIL: return FailureKind::error_test;
+    case IDA_CONV_FAIL:
+    case IDA_NLS_FAIL:
+    case IDA_LINESEARCH_FAIL:
+    case IDA_NO_RECOVERY: return FailureKind::convergence;
+    case IDA_LSETUP_FAIL:
+    case IDA_LSOLVE_FAIL: return FailureKind::singular_iteration_matrix;
+    case IDA_RES_FAIL:
+    case IDA_REP_RES_ERR:
+    case IDA_FIRST_RES_FAIL: return FailureKind::nonfinite_residual;
+    case IDA_MEM_NULL:
+    case IDA_MEM_FAIL:
+    case IDA_ILL_INPUT:
+    case IDA_NO_MALLOC:
+    case IDA_LINIT_FAIL:
+    case IDA_NLS_INIT_FAIL:
+    case IDA_CONTEXT_ERR: return FailureKind::setup;
+    default: return FailureKind::other;
+  }
+}
+
+void check(int flag, const char* what, double t, const std::string& detail) {
+  if (flag >= 0) return;
+  std::ostringstream os;
+  os.precision(17);
+  os << what << " failed";
+  if (!std::isnan(t)) os << " at t = " << t;
+  os << ": " << describe_ida_flag(flag);
+  if (!detail.empty()) os << " (" << detail << ")";
+  throw SolverError(classify_ida_flag(flag), t, os.str());
+}
+
+namespace {
+template <class T>
+T require(T handle, const char* what) {
+  if (!handle) throw SolverError(FailureKind::setup, kNoTime, std::string("cannot create ") + what);
+  return handle;
+}
+}  // namespace
+
+Context Context::create() {
+  SUNContext ctx = nullptr;
+  if (SUNContext_Create(nullptr, &ctx) != 0 || !ctx)
+    throw SolverError(FailureKind::setup, kNoTime, "cannot create the SUNDIALS context");
+  return Context(ctx);
+}
+
+Vector Vector::create(long length, SUNContext ctx) {
+  return Vector(require(N_VNew_Serial(length, ctx), "a SUNDIALS vector"));
+}
+
+long Vector::size() const noexcept { return static_cast<long>(N_VGetLength(get())); }
+
+Matrix Matrix::dense(long rows, long cols, SUNContext ctx) {
+  return Matrix(require(SUNDenseMatrix(rows, cols, ctx), "a dense SUNDIALS matrix"));
+}
+
+Matrix Matrix::sparse_csc(long rows, long cols, long nnz, SUNContext ctx) {
+  return Matrix(require(SUNSparseMatrix(rows, cols, nnz, CSC_MAT, ctx), "a sparse SUNDIALS matrix"));
+}
+
+LinearSolver LinearSolver::dense(N_Vector y, SUNMatrix A, SUNContext ctx) {
+  return LinearSolver(require(SUNLinSol_Dense(y, A, ctx), "the dense linear solver"));
+}
+
+LinearSolver LinearSolver::klu(N_Vector y, SUNMatrix A, SUNContext ctx) {
+  return LinearSolver(require(SUNLinSol_KLU(y, A, ctx), "the KLU sparse linear solver"));
+}
+
+IdaMemory IdaMemory::create(SUNContext ctx) {
+  return IdaMemory(require(IDACreate(ctx), "the IDA integrator"));
+}
+
+}  // namespace sun
+}  // namespace nhc::runtime

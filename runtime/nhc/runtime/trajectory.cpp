@@ -1,0 +1,153 @@
+#include "nhc/runtime/trajectory.hpp"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <stdexcept>
+
+namespace nhc::runtime {
+
+namespace {
+
+/// For each unknown, the state holding its highest differential order: its y' is the next
+/// derivative (x'' from the state x').
+std::vector<int> highest_differential_states(const Model& model) {
+  const int unknowns = model.n_coordinates() + model.n_multipliers();
+  std::vector<int> result;
+  for (int v = 0; v < unknowns; ++v) {
+    int best = -1;
+    for (int i = 0; i < model.n_states(); ++i)
+      if (model.table().state_variable[i] == v && model.is_differential(i) &&
+          (best < 0 || model.table().state_order[i] > model.table().state_order[best]))
+        best = i;
+    result.push_back(best);
+  }
+  return result;
+}
+
+}  // namespace
+
+Observables observe(const Model& model, const std::vector<double>& p, const Sample& s) {
+  const auto& tab = model.table();
+  Observables o;
+  o.hidden.resize(model.n_hidden());
+  if (model.n_hidden() > 0) tab.hidden_constraints(s.t, s.y.data(), p.data(), o.hidden.data());
+  o.invariants.resize(model.n_invariants());
+  if (model.n_invariants() > 0) tab.invariants(s.t, s.y.data(), s.yp.data(), p.data(), o.invariants.data());
+  const int nr = model.n_reference();
+  if (nr > 0) {
+    std::vector<double> q(nr);
+    tab.reference(s.t, p.data(), q.data());
+    o.errors.resize(nr);
+    for (int k = 0; k < nr; ++k) {
+      const int i = model.state_index(tab.reference_coordinate[k], 0);
+      o.errors[k] = i >= 0 ? s.y[i] - q[k] : NAN;
+    }
+  }
+  return o;
+}
+
+DriftReport measure_drift(const Model& model, const std::vector<double>& p, const std::vector<Sample>& samples) {
+  DriftReport d;
+  d.max_hidden_each.assign(model.n_hidden(), 0.0);
+  d.invariant_drift.assign(model.n_invariants(), 0.0);
+  d.invariant_relative.assign(model.n_invariants(), 0.0);
+  d.max_error_each.assign(model.n_reference(), 0.0);
+  if (samples.empty()) return d;
+  const Observables first = observe(model, p, samples.front());
+  auto worse = [](double& acc, double v) { acc = std::isfinite(v) ? std::max(acc, std::abs(v)) : INFINITY; };
+  for (const Sample& s : samples) {
+    const Observables o = observe(model, p, s);
+    for (size_t i = 0; i < o.hidden.size(); ++i) worse(d.max_hidden_each[i], o.hidden[i]), worse(d.max_hidden, o.hidden[i]);
+    for (size_t k = 0; k < o.invariants.size(); ++k) worse(d.invariant_drift[k], o.invariants[k] - first.invariants[k]);
+    for (size_t k = 0; k < o.errors.size(); ++k) worse(d.max_error_each[k], o.errors[k]), worse(d.max_error, o.errors[k]);
+  }
+  for (size_t k = 0; k < d.invariant_drift.size(); ++k) {
+    // Relative to |I(t0)|; absolute when I(t0) = 0 (a pendulum released at its pivot height).
+    const double i0 = std::abs(first.invariants[k]);
+    d.invariant_relative[k] = i0 > 0 ? d.invariant_drift[k] / i0 : d.invariant_drift[k];
+    d.max_invariant_relative = std::max(d.max_invariant_relative, d.invariant_relative[k]);
+  }
+  return d;
+}
+
+std::vector<std::string> csv_header(const Model& model) {
+  const auto& tab = model.table();
+  std::vector<std::string> h{"t"};
+  const std::vector<int> top = highest_differential_states(model);
+  const int unknowns = model.n_coordinates() + model.n_multipliers();
+  for (int v = 0; v < unknowns; ++v) {
+    for (int i = 0; i < model.n_states(); ++i)
+      if (tab.state_variable[i] == v) h.push_back(model.state_name(i));
+    if (top[v] >= 0) h.push_back(model.state_name(top[v]) + "'");
+  }
+  for (int i = 0; i < model.n_hidden(); ++i) h.push_back("hidden:" + std::to_string(i + 1));
+  for (int k = 0; k < model.n_invariants(); ++k) h.push_back(std::string("invariant:") + tab.invariant_names[k]);
+  for (int k = 0; k < model.n_reference(); ++k) h.push_back("error:" + model.variable_name(tab.reference_coordinate[k]));
+  return h;
+}
+
+void write_csv(const std::string& path, const Model& model, const std::vector<double>& p,
+               const std::vector<Sample>& samples) {
+  const auto& tab = model.table();
+  const std::string tmp = path + ".tmp" + std::to_string(getpid());
+  {
+    std::ofstream out(tmp);
+    if (!out) throw std::runtime_error("cannot write " + tmp);
+    out.precision(17);
+    const std::vector<std::string> header = csv_header(model);
+    for (size_t c = 0; c < header.size(); ++c) out << (c ? "," : "") << header[c];
+    out << '\n';
+    const std::vector<int> top = highest_differential_states(model);
+    const int unknowns = model.n_coordinates() + model.n_multipliers();
+    for (const Sample& s : samples) {
+      out << s.t;
+      for (int v = 0; v < unknowns; ++v) {
+        for (int i = 0; i < model.n_states(); ++i)
+          if (tab.state_variable[i] == v) out << ',' << s.y[i];
+        if (top[v] >= 0) out << ',' << s.yp[top[v]];
+      }
+      const Observables o = observe(model, p, s);
+      for (double x : o.hidden) out << ',' << x;
+      for (double x : o.invariants) out << ',' << x;
+      for (double x : o.errors) out << ',' << x;
+      out << '\n';
+    }
+    out.flush();
+    if (!out) {
+      std::remove(tmp.c_str());
+      throw std::runtime_error("cannot write " + tmp);
+    }
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    throw std::runtime_error("cannot rename " + tmp + " to " + path);
+  }
+}
+
+RunResult simulate(const Model& model, const std::vector<double>& p, const InitialState& initial,
+                   const std::vector<double>& times, const IntegratorOptions& options,
+                   const std::vector<Event>& events) {
+  RunResult result;
+  Integrator integrator(model, p, options);
+  for (const Event& e : events) integrator.add_event(e);
+  try {
+    double t_next = initial.t0 + 1.0;
+    for (double t : times)
+      if (t > initial.t0) {
+        t_next = t;
+        break;
+      }
+    result.initial = integrator.initialize(initial, t_next);
+    integrator.integrate(times, [&](const Sample& s) { result.samples.push_back(s); });
+  } catch (const SolverError& e) {
+    result.failure = e;
+  }
+  result.statistics = integrator.statistics();
+  result.events = integrator.events();
+  return result;
+}
+
+}  // namespace nhc::runtime

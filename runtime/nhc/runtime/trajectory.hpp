@@ -1,0 +1,59 @@
+#pragma once
+/// \file trajectory.hpp
+/// \brief What a run produces: the samples, the quantities derived from them (hidden-constraint
+/// residuals, invariants, errors against the scene's reference), their drift, and the CSV file.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "nhc/runtime/integrator.hpp"
+
+namespace nhc::runtime {
+
+/// Per-sample derived quantities, in CSV column order.
+struct Observables {
+  std::vector<double> hidden;      ///< g_i(t, y)
+  std::vector<double> invariants;  ///< I_k(t, y, y')
+  std::vector<double> errors;      ///< q_c(t) computed − reference, for the reference coordinates
+};
+
+Observables observe(const Model& model, const std::vector<double>& p, const Sample& sample);
+
+/// Maxima along a trajectory.
+struct DriftReport {
+  double max_hidden = 0;                  ///< max_t max_i |g_i|
+  std::vector<double> max_hidden_each;    ///< per hidden constraint
+  std::vector<double> invariant_drift;    ///< max_t |I_k(t) − I_k(t0)|
+  std::vector<double> invariant_relative; ///< invariant_drift / |I_k(t0)| (absolute when I_k(t0) = 0)
+  double max_invariant_relative = 0;
+  std::vector<double> max_error_each;     ///< per reference coordinate
+  double max_error = 0;
+};
+
+DriftReport measure_drift(const Model& model, const std::vector<double>& p, const std::vector<Sample>& samples);
+
+/// The CSV header: t, states by name with the highest derivative from y' (x, x', x''), then
+/// multipliers, hidden:<i> (1-based), invariant:<name>, error:<coordinate>.
+std::vector<std::string> csv_header(const Model& model);
+
+/// Writes the trajectory as CSV (17 significant digits), atomically: a temporary file beside
+/// `path` renamed over it. Throws std::runtime_error when the file cannot be written.
+void write_csv(const std::string& path, const Model& model, const std::vector<double>& p,
+               const std::vector<Sample>& samples);
+
+/// A whole run: initialization, integration through `times`, statistics; a SolverError is caught
+/// and kept in `failure`, the samples up to the failure are kept.
+struct RunResult {
+  Sample initial;
+  std::vector<Sample> samples;
+  Statistics statistics;
+  std::vector<EventHit> events;
+  std::optional<SolverError> failure;
+};
+
+RunResult simulate(const Model& model, const std::vector<double>& p, const InitialState& initial,
+                   const std::vector<double>& times, const IntegratorOptions& options = {},
+                   const std::vector<Event>& events = {});
+
+}  // namespace nhc::runtime
