@@ -1,7 +1,9 @@
 #include "nhc/runtime/integrator.hpp"
 
 #include <ida/ida.h>
+#include <ida/ida_impl.h>  // ProjectionMethod::in_place shifts IDA's phi[0]; pinned to SUNDIALS 6
 #include <ida/ida_ls.h>
+#include <sundials/sundials_config.h>
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunlinsol/sunlinsol_klu.h>
 #include <sunmatrix/sunmatrix_dense.h>
@@ -21,6 +23,9 @@
 namespace nhc::runtime {
 
 namespace sd = sun;
+
+static_assert(SUNDIALS_VERSION_MAJOR == 6,
+              "ProjectionMethod::in_place relies on IDA 6's divided-difference array phi; check ida_impl.h");
 
 namespace {
 
@@ -424,10 +429,21 @@ struct Integrator::Impl {
   }
 
   void maybe_project(double tt) {
-    if (options.projection != ProjectionMethod::restart || model.n_hidden() == 0) return;
+    if (options.projection == ProjectionMethod::none || model.n_hidden() == 0) return;
     double* yy = y.data();
     const std::vector<double> scale = projection_scale(yy);
     if (correction_norm(tt, yy, scale) <= options.projection_threshold) return;
+    if (options.projection == ProjectionMethod::in_place) {
+      // phi[0] holds y_n; shifting it moves the predictor of the next step by the same Δy while
+      // the higher differences (and so y' and the error estimate) stay: the step continues from
+      // the projected point without a restart (the analogue of CVODE's projection, CVodeSetProjFn).
+      std::vector<double> before(yy, yy + n());
+      solve_hidden_constraints(model, p.data(), tt, yy, scale, 1e-3 * options.atol);
+      double* phi0 = N_VGetArrayPointer(static_cast<IDAMem>(ida.get())->ida_phi[0]);
+      for (int i = 0; i < n(); ++i) phi0[i] += yy[i] - before[i];
+      ++projections;
+      return;
+    }
     solve_hidden_constraints(model, p.data(), tt, yy, scale, 1e-3 * options.atol);
     double h = 0;
     IDAGetLastStep(ida, &h);

@@ -28,6 +28,9 @@ enum class ProjectionMethod {
   /// in IDA's weighted norm: project y (hidden_constraints.hpp), recompute y' and the algebraic
   /// states (IDACalcIC) and restart IDA there (docs/projection.md).
   restart,
+  /// After such a step: project y_n and shift IDA's history (its divided difference phi[0]) by the
+  /// correction, so the next step predicts from the projected point without a restart.
+  in_place,
 };
 
 struct IntegratorOptions {
@@ -37,9 +40,10 @@ struct IntegratorOptions {
   double max_step = 0;       ///< 0: no limit
   double initial_step = 0;   ///< 0: IDA's estimate
   LinearSolverKind linear_solver = LinearSolverKind::automatic;
-  ProjectionMethod projection = ProjectionMethod::none;
-  /// Project when the correction exceeds this in IDA's WRMS norm (1 = the local tolerance).
-  double projection_threshold = 0.1;
+  ProjectionMethod projection = ProjectionMethod::none;  ///< `--project` selects in_place
+  /// Project when the correction exceeds this in IDA's WRMS norm (1 = the local error tolerance;
+  /// 0 = after every step). docs/projection.md has the measurements behind the default.
+  double projection_threshold = 1.0;
   /// A singular-set monitor s_k stops the run when |s_k| falls below this times |s_k(t0)|.
   double singularity_threshold = 1e-14;
   /// Progress bar on stderr for runs longer than a second, when stderr is a terminal.
