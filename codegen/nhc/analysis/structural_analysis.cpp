@@ -51,9 +51,10 @@ std::string describe_deficiency(const DaeSystem& system, const StructuralDeficie
   std::string s = "the " + to_string(system.model) + " system is structurally singular: no " +
                   "assignment of equations to distinct unknowns exists (structural rank " +
                   std::to_string(def.matching_size) + " of " + std::to_string(system.size()) + "). ";
-  s += "The " + std::to_string(eqs.size()) + " equations " + join_names(eqs) + " involve only ";
-  if (unknowns.empty()) s += "no unknowns at all";
-  else s += "the " + std::to_string(unknowns.size()) + " unknown" + (unknowns.size() == 1 ? " " : "s ") + join_names(unknowns);
+  if (eqs.size() == 1) s += "The equation " + eqs.front() + " involves ";
+  else s += "The " + std::to_string(eqs.size()) + " equations " + join_names(eqs) + " involve ";
+  if (unknowns.empty()) s += "no unknown at all";
+  else s += "only the " + std::to_string(unknowns.size()) + " unknown" + (unknowns.size() == 1 ? " " : "s ") + join_names(unknowns);
   if (!free_unknowns.empty())
     s += ", and " + join_names(free_unknowns) + (free_unknowns.size() == 1 ? " is" : " are") +
          " left without an equation";
