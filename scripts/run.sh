@@ -12,6 +12,12 @@ echo "== nhc derive $scene"
 "$nhc" derive "$scene"
 "$nhc" derive "$scene" --format latex -o out/appell_hamel.tex
 "$nhc" derive "$scene" --format json -o out/appell_hamel.json
+
+echo
+echo "== nhc analyze $scene --model chetaev"
+"$nhc" analyze "$scene" --model chetaev
+"$nhc" analyze "$scene" --model chetaev --format json -o out/appell_hamel_analysis.json
 echo
 echo "wrote out/appell_hamel.tex"
 echo "wrote out/appell_hamel.json"
+echo "wrote out/appell_hamel_analysis.json"
