@@ -41,8 +41,8 @@ bool file_exists(const std::string& path) {
 
 /// A fresh directory under the build tree for one test's files.
 std::string scratch_dir(const std::string& name) {
-  const std::string dir = std::string(NHC_BINARY_DIR) + "/tests/scratch/" + name + "_" +
-                          std::to_string(::getpid());
+  // One directory per test case; ctest runs cases in separate processes, possibly in parallel.
+  const std::string dir = std::string(NHC_BINARY_DIR) + "/tests/scratch/" + name;
   std::system(("rm -rf '" + dir + "' && mkdir -p '" + dir + "'").c_str());
   return dir;
 }

@@ -55,8 +55,9 @@ class CanonicalText {
 
   /// (is_negative, text of the magnitude) of one term of a sum.
   std::pair<bool, std::string> signed_term(const ex& term) const {
-    if (starts_negative(term)) return {true, print(-term, 0)};
-    return {false, print(term, 0)};
+    const std::string text = print(term, 0);
+    if (!text.empty() && text[0] == '-') return {true, text.substr(1)};
+    return {false, text};
   }
 
   bool first_term_negative(const ex& sum_expression) const {
