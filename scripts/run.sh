@@ -17,7 +17,16 @@ echo
 echo "== nhc analyze $scene --model chetaev"
 "$nhc" analyze "$scene" --model chetaev
 "$nhc" analyze "$scene" --model chetaev --format json -o out/appell_hamel_analysis.json
+
+echo
+echo "== nhc simulate $scene (header, compile, integrate)"
+"$nhc" simulate "$scene" -o out/appell_hamel.csv
+echo
+echo "== nhc simulate $scene --t-end 0.3: past t*, where the constraint gradient is singular (exit 3)"
+"$nhc" simulate "$scene" --t-end 0.3 -o out/appell_hamel_t_star.csv || [ $? -eq 3 ]
 echo
 echo "wrote out/appell_hamel.tex"
 echo "wrote out/appell_hamel.json"
 echo "wrote out/appell_hamel_analysis.json"
+echo "wrote out/appell_hamel.csv"
+echo "wrote out/appell_hamel_t_star.csv"
