@@ -16,6 +16,7 @@ using CommandRunner = std::function<int()>;
 
 CommandRunner add_derive_command(CLI::App& app);
 CommandRunner add_analyze_command(CLI::App& app);
+CommandRunner add_generate_command(CLI::App& app);
 CommandRunner add_simulate_command(CLI::App& app);
 
 /// The scene's models, or those named by --model flags.

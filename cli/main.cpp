@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   };
   add(nhc::cli::add_derive_command);
   add(nhc::cli::add_analyze_command);
+  add(nhc::cli::add_generate_command);
   add(nhc::cli::add_simulate_command);
 
   try {

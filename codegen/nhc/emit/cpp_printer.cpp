@@ -58,7 +58,8 @@ class BlockPrinter {
         for (size_t k = 0; k < in.args.size(); ++k) {
           if (k == 0) {
             text = operand(in.args[k], kSum);
-            if (in.negated[k]) text = "-" + operand(in.args[k], kAtom);
+            // Negation is exact, so −a·b may be read (−a)·b.
+            if (in.negated[k]) text = "-" + operand(in.args[k], kProduct);
           } else {
             text += in.negated[k] ? " - " : " + ";
             text += operand(in.args[k], kProduct);
@@ -133,7 +134,7 @@ PrintedBlock print_cpp_block(const ExpressionDag& dag, const std::vector<Assignm
                              const std::string& indent) {
   std::vector<int> outputs;
   for (const auto& a : assignments) outputs.push_back(a.value);
-  const std::vector<int> order = dag.reachable(outputs);
+  const std::vector<int> order = dag.canonical_order(outputs);
 
   std::vector<int> uses(static_cast<size_t>(dag.size()), 0);
   for (int id : order)

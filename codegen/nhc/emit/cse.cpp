@@ -49,6 +49,21 @@ const std::map<std::string, std::string>& cpp_functions() {
   return table;
 }
 
+/// Deterministic 64-bit mixing (splitmix64 finaliser), the same on every platform and run.
+std::uint64_t mix(std::uint64_t seed, std::uint64_t value) {
+  std::uint64_t z = seed ^ (value + 0x9e3779b97f4a7c15ULL + (seed << 6) + (seed >> 2));
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+/// FNV-1a: std::hash<std::string> is not specified to be stable.
+std::uint64_t hash_text(const std::string& text) {
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  for (unsigned char c : text) h = (h ^ c) * 0x100000001b3ULL;
+  return h;
+}
+
 }  // namespace
 
 bool Instruction::operator<(const Instruction& o) const {
@@ -64,6 +79,35 @@ ExpressionDag::ExpressionDag(std::map<GiNaC::ex, std::string, GiNaC::ex_is_less>
 int ExpressionDag::add(const GiNaC::ex& e) { return lower(e); }
 
 int ExpressionDag::make(Instruction instruction) {
+  // Canonical operand order for the commutative operations: by structural key (then index,
+  // for the astronomically unlikely equal keys); added terms before subtracted ones.
+  auto key_of = [this](int id) { return instructions_[static_cast<size_t>(id)].key; };
+  if (instruction.op == OpCode::product) {
+    std::sort(instruction.args.begin(), instruction.args.end(), [&](int a, int b) {
+      return std::make_pair(key_of(a), a) < std::make_pair(key_of(b), b);
+    });
+  } else if (instruction.op == OpCode::sum) {
+    std::vector<std::pair<bool, int>> terms;
+    for (size_t k = 0; k < instruction.args.size(); ++k)
+      terms.emplace_back(instruction.negated[k], instruction.args[k]);
+    std::sort(terms.begin(), terms.end(), [&](const auto& a, const auto& b) {
+      return std::make_tuple(a.first, key_of(a.second), a.second) <
+             std::make_tuple(b.first, key_of(b.second), b.second);
+    });
+    for (size_t k = 0; k < terms.size(); ++k) {
+      instruction.negated[k] = terms[k].first;
+      instruction.args[k] = terms[k].second;
+    }
+  }
+  std::uint64_t key = mix(static_cast<std::uint64_t>(instruction.op) + 1, hash_text(instruction.name));
+  key = mix(key, bits_of(instruction.value));
+  key = mix(key, static_cast<std::uint64_t>(instruction.exponent));
+  for (size_t k = 0; k < instruction.args.size(); ++k) {
+    key = mix(key, key_of(instruction.args[k]));
+    if (instruction.op == OpCode::sum) key = mix(key, instruction.negated[k] ? 2 : 1);
+  }
+  instruction.key = key;
+
   auto it = by_instruction_.find(instruction);
   if (it != by_instruction_.end()) return it->second;
   const int id = size();
@@ -82,9 +126,6 @@ int ExpressionDag::constant(double value) {
 int ExpressionDag::make_product(std::vector<int> factors) {
   if (factors.empty()) return constant(1.0);
   if (factors.size() == 1) return factors.front();
-  // Operand order is canonical (by index), so equal products hash-cons; constants, created
-  // first, usually lead.
-  std::sort(factors.begin(), factors.end());
   Instruction p;
   p.op = OpCode::product;
   p.args = std::move(factors);
@@ -106,27 +147,52 @@ int ExpressionDag::make_power(int base, int exponent) {
   return make(std::move(p));
 }
 
-std::pair<int, bool> ExpressionDag::lower_signed(const GiNaC::ex& e) {
-  if (GiNaC::is_exactly_a<GiNaC::numeric>(e)) {
-    const double v = to_real(GiNaC::ex_to<GiNaC::numeric>(e), e);
-    return {constant(std::fabs(v)), v < 0};
+int ExpressionDag::negated(int id) {
+  Instruction in = (*this)[id];
+  switch (in.op) {
+    case OpCode::sum:
+      for (size_t k = 0; k < in.negated.size(); ++k) in.negated[k] = !in.negated[k];
+      return make(std::move(in));
+    case OpCode::quotient: {
+      const int numerator = negated(in.args[0]);
+      if (numerator < 0) return -1;
+      in.args[0] = numerator;
+      return make(std::move(in));
+    }
+    case OpCode::product:
+      for (int& arg : in.args)
+        if ((*this)[arg].op == OpCode::sum) {
+          arg = negated(arg);
+          return make(std::move(in));
+        }
+      return -1;
+    default:
+      return -1;
   }
-  if (GiNaC::is_exactly_a<GiNaC::mul>(e)) {
-    GiNaC::numeric c = 1;
-    for (size_t k = 0; k < e.nops(); ++k)
-      if (GiNaC::is_exactly_a<GiNaC::numeric>(e.op(k))) c *= GiNaC::ex_to<GiNaC::numeric>(e.op(k));
-    if (c.is_real() && c.is_negative()) return {lower(-e), true};
-  }
-  return {lower(e), false};
 }
 
 int ExpressionDag::lower(const GiNaC::ex& e) {
+  const auto [magnitude, negative] = lower_signed(e);
+  if (!negative) return magnitude;
+  // −(a − b)/c is printed (b − a)/c; a negation is left only where no sum can take the sign.
+  const int absorbed = negated(magnitude);
+  if (absorbed >= 0) return absorbed;
+  Instruction n;
+  n.op = OpCode::negate;
+  n.args = {magnitude};
+  return make(std::move(n));
+}
+
+// Signs are pulled out of sums and products and normalised, so that forms GiNaC may produce
+// for the same value in different runs, such as −(a − b)/c and (b − a)/c, lower alike.
+std::pair<int, bool> ExpressionDag::lower_signed(const GiNaC::ex& e) {
   auto found = by_expression_.find(e);
   if (found != by_expression_.end()) return found->second;
 
-  int id = -1;
+  std::pair<int, bool> result{-1, false};
   if (GiNaC::is_exactly_a<GiNaC::numeric>(e)) {
-    id = constant(to_real(GiNaC::ex_to<GiNaC::numeric>(e), e));
+    const double v = to_real(GiNaC::ex_to<GiNaC::numeric>(e), e);
+    result = {constant(std::fabs(v)), v < 0};
   } else if (GiNaC::is_a<GiNaC::symbol>(e)) {
     auto it = inputs_.find(e);
     if (it == inputs_.end())
@@ -135,72 +201,58 @@ int ExpressionDag::lower(const GiNaC::ex& e) {
     Instruction in;
     in.op = OpCode::input;
     in.name = it->second;
-    id = make(std::move(in));
+    result = {make(std::move(in)), false};
   } else if (GiNaC::is_a<GiNaC::constant>(e)) {
-    id = constant(to_real(GiNaC::ex_to<GiNaC::numeric>(e.evalf()), e));
+    const double v = to_real(GiNaC::ex_to<GiNaC::numeric>(e.evalf()), e);
+    result = {constant(std::fabs(v)), v < 0};
   } else if (GiNaC::is_exactly_a<GiNaC::add>(e)) {
-    std::vector<std::pair<int, bool>> terms;
-    for (size_t k = 0; k < e.nops(); ++k) terms.push_back(lower_signed(e.op(k)));
-    // Added terms first, then subtracted ones: a + b − c rather than −c + a + b.
-    std::stable_partition(terms.begin(), terms.end(),
-                          [](const std::pair<int, bool>& t) { return !t.second; });
-    if (terms.front().second) {
-      // Every term negative: −(a + b).
-      for (auto& t : terms) t.second = false;
-      Instruction s;
-      s.op = OpCode::sum;
-      for (auto& [arg, neg] : terms) {
-        s.args.push_back(arg);
-        s.negated.push_back(neg);
-      }
-      Instruction n;
-      n.op = OpCode::negate;
-      n.args = {make(std::move(s))};
-      id = make(std::move(n));
-    } else {
-      Instruction s;
-      s.op = OpCode::sum;
-      for (auto& [arg, neg] : terms) {
-        s.args.push_back(arg);
-        s.negated.push_back(neg);
-      }
-      id = make(std::move(s));
+    Instruction s;
+    s.op = OpCode::sum;
+    for (size_t k = 0; k < e.nops(); ++k) {
+      const auto [term, negative] = lower_signed(e.op(k));
+      s.args.push_back(term);
+      s.negated.push_back(negative);
     }
+    // The sign of the sum is that of its term with the smallest key: a − b and b − a become
+    // the same instruction, one of them negated.
+    size_t lead = 0;
+    for (size_t k = 1; k < s.args.size(); ++k)
+      if ((*this)[s.args[k]].key < (*this)[s.args[lead]].key) lead = k;
+    const bool flip = s.negated[lead];
+    if (flip)
+      for (size_t k = 0; k < s.negated.size(); ++k) s.negated[k] = !s.negated[k];
+    result = {make(std::move(s)), flip};
   } else if (GiNaC::is_exactly_a<GiNaC::mul>(e) || GiNaC::is_exactly_a<GiNaC::power>(e)) {
-    auto [magnitude, negative] = lower_signed(e);
-    if (!negative) {
-      id = lower_product(e);
-    } else {
-      Instruction n;
-      n.op = OpCode::negate;
-      n.args = {magnitude};
-      id = make(std::move(n));
-    }
+    result = lower_product(e);
   } else if (GiNaC::is_a<GiNaC::function>(e)) {
-    id = lower_function(e);
+    result = {lower_function(e), false};
   } else {
     throw MathError("cannot generate code for " + describe(e));
   }
-  by_expression_.emplace(e, id);
-  return id;
+  by_expression_.emplace(e, result);
+  return result;
 }
 
-int ExpressionDag::lower_product(const GiNaC::ex& e) {
+std::pair<int, bool> ExpressionDag::lower_product(const GiNaC::ex& e) {
   std::vector<GiNaC::ex> factors;
   if (GiNaC::is_exactly_a<GiNaC::mul>(e))
     for (size_t k = 0; k < e.nops(); ++k) factors.push_back(e.op(k));
   else
     factors.push_back(e);
 
+  bool negative = false;
   std::vector<int> numerator, denominator;
   for (const GiNaC::ex& f : factors) {
     if (GiNaC::is_exactly_a<GiNaC::numeric>(f)) {
       const double c = to_real(GiNaC::ex_to<GiNaC::numeric>(f), e);
-      if (c != 1.0) numerator.push_back(constant(c));
+      if (c < 0) negative = !negative;
+      if (std::fabs(c) != 1.0) numerator.push_back(constant(std::fabs(c)));
       continue;
     }
     if (!GiNaC::is_exactly_a<GiNaC::power>(f)) {
-      numerator.push_back(lower(f));
+      const auto [factor, sign] = lower_signed(f);
+      if (sign) negative = !negative;
+      numerator.push_back(factor);
       continue;
     }
     const GiNaC::ex base = f.op(0), exponent = f.op(1);
@@ -217,7 +269,11 @@ int ExpressionDag::lower_product(const GiNaC::ex& e) {
     const GiNaC::numeric num = q.numer(), den = q.denom();
     auto& side = q.is_negative() ? denominator : numerator;
     if (den == 1 && GiNaC::abs(num) <= 64) {
-      side.push_back(make_power(lower(base), GiNaC::abs(num).to_int()));
+      // (−b)^k = ±b^k.
+      const int k = GiNaC::abs(num).to_int();
+      const auto [b, sign] = lower_signed(base);
+      if (sign && k % 2 == 1) negative = !negative;
+      side.push_back(make_power(b, k));
     } else if (den == 2 && GiNaC::abs(num) <= 64) {
       // b^(k/2) = b^((k−1)/2) · sqrt(b): the sqrt is shared by every half-integer power of b.
       const int whole = (GiNaC::abs(num).to_int() - 1) / 2;
@@ -236,11 +292,11 @@ int ExpressionDag::lower_product(const GiNaC::ex& e) {
     }
   }
   const int top = make_product(std::move(numerator));
-  if (denominator.empty()) return top;
+  if (denominator.empty()) return {top, negative};
   Instruction d;
   d.op = OpCode::quotient;
   d.args = {top, make_product(std::move(denominator))};
-  return make(std::move(d));
+  return {make(std::move(d)), negative};
 }
 
 int ExpressionDag::lower_function(const GiNaC::ex& e) {
@@ -276,6 +332,33 @@ std::vector<int> ExpressionDag::reachable(const std::vector<int>& outputs) const
   for (int id = 0; id < size(); ++id)
     if (seen[static_cast<size_t>(id)]) ids.push_back(id);
   return ids;
+}
+
+std::vector<int> ExpressionDag::canonical_order(const std::vector<int>& outputs) const {
+  std::vector<char> state(instructions_.size(), 0);  // 0 new, 1 open, 2 done
+  std::vector<int> order;
+  for (int root : outputs) {
+    std::vector<std::pair<int, size_t>> stack = {{root, 0}};
+    while (!stack.empty()) {
+      auto& [id, next] = stack.back();
+      const auto at = static_cast<size_t>(id);
+      if (state[at] == 2) {
+        stack.pop_back();
+        continue;
+      }
+      state[at] = 1;
+      const auto& args = instructions_[at].args;
+      if (next < args.size()) {
+        const int child = args[next++];
+        if (state[static_cast<size_t>(child)] == 0) stack.emplace_back(child, 0);
+        continue;
+      }
+      state[at] = 2;
+      order.push_back(id);
+      stack.pop_back();
+    }
+  }
+  return order;
 }
 
 OperationCount& OperationCount::operator+=(const OperationCount& o) {

@@ -13,6 +13,7 @@
 
 #include <ginac/ginac.h>
 
+#include <cstdint>
 #include <map>
 #include <string>
 #include <unordered_map>
@@ -41,7 +42,13 @@ struct Instruction {
   double value = 0.0;          ///< constant only
   int exponent = 0;            ///< integer_power only
   std::string name;            ///< input: printed form; call: C++ function name
+  /// Structural hash from the fields above and the operands' keys; independent of instruction
+  /// indices and of GiNaC's term order (which follows object addresses and so changes from
+  /// run to run). Operands of sums and products are sorted by it, and the printer walks the
+  /// DAG in operand order, so the printed code is the same in every run.
+  std::uint64_t key = 0;
 
+  /// Compares content (not `key`), for hash-consing.
   bool operator<(const Instruction& o) const;
 };
 
@@ -62,12 +69,17 @@ class ExpressionDag {
 
   /// Instructions the outputs depend on, in increasing (topological) order.
   std::vector<int> reachable(const std::vector<int>& outputs) const;
+  /// The same set in a canonical topological order: depth-first from the outputs in order,
+  /// operands in order, each instruction after its operands.
+  std::vector<int> canonical_order(const std::vector<int>& outputs) const;
 
  private:
   int lower(const GiNaC::ex& e);
-  /// Lowers ±e: returns the instruction of |e| and whether e carries a negative sign.
+  /// Lowers e as ±(instruction): returns the instruction and whether the sign is negative.
   std::pair<int, bool> lower_signed(const GiNaC::ex& e);
-  int lower_product(const GiNaC::ex& e);
+  std::pair<int, bool> lower_product(const GiNaC::ex& e);
+  /// −(instruction id) without a negation, by flipping the signs of a sum in it; −1 if none.
+  int negated(int id);
   int lower_function(const GiNaC::ex& e);
   int constant(double value);
   int make(Instruction instruction);
@@ -77,7 +89,8 @@ class ExpressionDag {
   std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> inputs_;
   std::vector<Instruction> instructions_;
   std::map<Instruction, int> by_instruction_;
-  std::unordered_map<GiNaC::ex, int, std::hash<GiNaC::ex>, GiNaC::ex_is_equal> by_expression_;
+  std::unordered_map<GiNaC::ex, std::pair<int, bool>, std::hash<GiNaC::ex>, GiNaC::ex_is_equal>
+      by_expression_;
 };
 
 /// Floating-point operations, counted as the printed C++ performs them: an n-ary sum or product

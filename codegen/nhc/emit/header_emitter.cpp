@@ -7,7 +7,6 @@
 #include <sstream>
 
 #include "nhc/emit/cpp_printer.hpp"
-#include "nhc/emit/expression_printer.hpp"
 #include "nhc/errors.hpp"
 
 namespace nhc {
@@ -104,6 +103,110 @@ std::vector<GiNaC::ex> invariants_in_states(const Scene& scene, const Index1Syst
 }
 
 namespace {
+
+std::string primed(const std::string& variable, int order) {
+  return variable + std::string(static_cast<size_t>(order), '\'');
+}
+
+/// Symbol → name in scene notation: t, parameter names, x' for jet symbols, and the jet name of
+/// each state symbol y[k] of `system` when given.
+std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> scene_names(const JetSpace& jet,
+                                                                const Index1System* system) {
+  std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> names;
+  names[jet.time()] = "t";
+  for (int k = 0; k < static_cast<int>(jet.parameters().size()); ++k)
+    names[jet.parameter(k)] = jet.parameters()[static_cast<size_t>(k)];
+  for (const auto& [c, symbol] : jet.symbols())
+    names[symbol] = primed(jet.variable_name(c.kind, c.index), c.order);
+  if (system)
+    for (const auto& [jet_symbol, state] : system->jet_to_state)
+      if (const auto c = jet.classify(jet_symbol))
+        names[state] = primed(jet.variable_name(c->kind, c->index), c->order);
+  return names;
+}
+
+}  // namespace
+
+std::string scene_notation(const GiNaC::ex& e, const JetSpace& jet) {
+  ExpressionDag dag(scene_names(jet, nullptr));
+  return print_cpp_expression(dag, dag.add(e));
+}
+
+std::vector<SingularQuantity> singular_quantities(const Index1System& system) {
+  auto depends_on = [](const GiNaC::ex& e, const std::vector<GiNaC::realsymbol>& symbols) {
+    return std::any_of(symbols.begin(), symbols.end(),
+                       [&](const GiNaC::realsymbol& s) { return e.has(s); });
+  };
+  // Lowered into a DAG of their own: it names them in scene notation, removes duplicates and
+  // gives them an order that does not depend on GiNaC's (run-dependent) term order.
+  ExpressionDag dag(scene_names(*system.jet, &system));
+  std::map<std::pair<std::uint64_t, int>, GiNaC::ex> found;
+  auto consider = [&](const GiNaC::ex& base) {
+    if (!depends_on(base, system.y) || depends_on(base, system.yp)) return;
+    const int id = dag.add(base);
+    found.emplace(std::make_pair(dag[id].key, id), base);
+  };
+  std::vector<GiNaC::ex> sources = system.residuals;
+  sources.insert(sources.end(), system.hidden_constraints.begin(), system.hidden_constraints.end());
+  for (const GiNaC::ex& e : sources)
+    for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it) {
+      const GiNaC::ex& sub = *it;
+      if (GiNaC::is_exactly_a<GiNaC::power>(sub) &&
+          GiNaC::is_exactly_a<GiNaC::numeric>(sub.op(1))) {
+        const auto& exponent = GiNaC::ex_to<GiNaC::numeric>(sub.op(1));
+        if (exponent.is_negative() || !exponent.is_integer()) consider(sub.op(0));
+      } else if (GiNaC::is_a<GiNaC::function>(sub) &&
+                 GiNaC::ex_to<GiNaC::function>(sub).get_name() == "log") {
+        consider(sub.op(0));
+      }
+    }
+  std::vector<SingularQuantity> out;
+  for (const auto& [key, expression] : found)
+    out.push_back({print_cpp_expression(dag, key.second), expression});
+  return out;
+}
+
+namespace {
+
+/// The C table, identical to runtime/nhc/runtime/model_table.h; whichever is included first
+/// defines it.
+constexpr int kModelTableAbiVersion = 2;
+constexpr const char* kModelTableDeclaration = R"(
+#ifndef NHC_MODEL_TABLE_DEFINED
+#define NHC_MODEL_TABLE_DEFINED
+extern "C" {
+struct nhc_model_table {
+  int abi_version;
+  const char* scene_name;
+  const char* model_name;
+  int n_states, n_parameters, n_coordinates, n_multipliers, n_hidden, n_invariants, n_reference;
+  const char* const* state_names;
+  const int* state_variable;
+  const int* state_order;
+  const double* differential_id;
+  const char* const* parameter_names;
+  const double* default_parameters;
+  const char* const* hidden_names;
+  const char* const* invariant_names;
+  const int* reference_coordinate;
+  void (*residual)(double, const double*, const double*, const double*, double*);
+  void (*jacobian)(double, const double*, const double*, double, const double*, double*);
+  int jacobian_nnz;
+  const int* jacobian_colptr;
+  const int* jacobian_rowind;
+  void (*jacobian_values)(double, const double*, const double*, double, const double*, double*);
+  void (*hidden_constraints)(double, const double*, const double*, double*);
+  void (*hidden_constraints_jacobian)(double, const double*, const double*, double*);
+  void (*invariants)(double, const double*, const double*, const double*, double*);
+  void (*reference)(double, const double*, double*);
+  const char* const* residual_names;
+  int n_singular;
+  const char* const* singular_names;
+  void (*singular_quantities)(double, const double*, const double*, double*);
+};
+}
+#endif
+)";
 
 std::string base_name(const std::string& path) {
   const auto slash = path.find_last_of("/\\");
@@ -335,6 +438,23 @@ GeneratedHeader HeaderWriter::write() {
     plans.push_back(std::move(f));
   }
 
+  // Singular-set monitors (runtime additions): quantities whose zeros make the residual or
+  // the hidden constraints non-smooth; the runtime watches them as root functions.
+  const std::vector<SingularQuantity> singular = singular_quantities(system_);
+  const int n_singular = static_cast<int>(singular.size());
+  if (n_singular > 0) {
+    FunctionPlan f;
+    f.name = "singular_quantities";
+    f.doc = "/// Quantities that vanish where the equations are singular (bases of square roots,\n"
+            "/// of negative powers and arguments of logarithms), in singular_names order.\n";
+    f.parameters = {{"double", "t"}, {"const double*", "y"}, {"const double*", "p"},
+                    {"double*", "s"}};
+    for (int i = 0; i < n_singular; ++i)
+      f.assignments.push_back({"s[" + std::to_string(i) + "]",
+                               dag_.add(singular[static_cast<size_t>(i)].expression), ""});
+    plans.push_back(std::move(f));
+  }
+
   // Function bodies (this also counts operations).
   std::vector<std::string> bodies;
   for (FunctionPlan& plan : plans) {
@@ -355,23 +475,26 @@ GeneratedHeader HeaderWriter::write() {
       << "// Do not edit: regenerate with\n"
       << "//   nhc generate " << sanitize_comment(scene_file) << " --model " << model
       << " --jacobian " << to_string(options_.jacobian) << "\n"
+      << "// Layout: docs/generated-code.md.\n"
       << "//\n"
       << "// Scene " << sanitize_comment(scene_.name) << ": coordinates "
       << sanitize_comment(joined(system_.jet->coordinates(), ", "));
   if (n_parameters > 0)
     out << "; parameters " << sanitize_comment(joined(system_.jet->parameters(), ", "));
-  out << "\n//   L = " << sanitize_comment(to_text(scene_.lagrangian)) << "\n";
+  out << "\n//   L = " << sanitize_comment(scene_notation(scene_.lagrangian, *scene_.jet)) << "\n";
   for (size_t a = 0; a < scene_.constraints.size(); ++a)
-    out << "//   f" << a + 1 << " = " << sanitize_comment(to_text(scene_.constraints[a])) << "\n";
-  out << "// Index-1 form: " << n << " states, " << n_hidden << " hidden constraints.\n"
+    out << "//   f" << a + 1 << " = "
+        << sanitize_comment(scene_notation(scene_.constraints[a], *scene_.jet)) << "\n";
+  out << "// Index-1 form: " << n << " states, " << n_hidden << " hidden constraint"
+      << (n_hidden == 1 ? "" : "s") << ".\n"
       << "//\n"
-      << "// Floating-point operations (+, -, *, /, calls), before and after common-subexpression\n"
-      << "// elimination over all functions below:\n";
+      << "// Floating-point operations (+, -, *, /, calls) without and with common-subexpression\n"
+      << "// elimination:\n";
   for (const FunctionPlan& plan : plans) out << describe_count(plan.name, plan.before, plan.after);
   out << describe_count("total", header.before_cse, header.after_cse);
-  out << "\n#pragma once\n\n#include <cmath>\n\n";
-
-  out << "namespace nhc_gen::" << header.namespace_name << " {\n\n";
+  out << "\n#pragma once\n\n#include <cmath>\n";
+  out << kModelTableDeclaration;
+  out << "\nnamespace nhc_gen::" << header.namespace_name << " {\n\n";
 
   // Metadata.
   auto strings = [](const std::vector<std::string>& v) {
@@ -392,6 +515,8 @@ GeneratedHeader HeaderWriter::write() {
     state_order.push_back(s.order);
     differential_id.push_back(s.differential ? 1.0 : 0.0);
   }
+  std::vector<std::string> residual_names = system_.residual_names;
+  residual_names.resize(static_cast<size_t>(n));
   out << "inline constexpr int n_states = " << n << ";\n"
       << "inline constexpr int n_parameters = " << n_parameters << ";\n"
       << "inline constexpr int n_coordinates = " << n_coordinates << ";\n"
@@ -399,6 +524,7 @@ GeneratedHeader HeaderWriter::write() {
       << "inline constexpr int n_hidden = " << n_hidden << ";\n"
       << "inline constexpr int n_invariants = " << n_invariants << ";\n"
       << "inline constexpr int n_reference = " << n_reference << ";\n"
+      << "inline constexpr int n_singular = " << n_singular << ";\n"
       << "inline constexpr const char* model_name = " << cpp_string_literal(model) << ";\n"
       << "inline constexpr const char* scene_name = " << cpp_string_literal(scene_.name) << ";\n\n"
       << "/// y[k] holds the state_order[k]-th derivative of variable state_variable[k]\n"
@@ -408,6 +534,8 @@ GeneratedHeader HeaderWriter::write() {
       << "inline constexpr int state_order[n_states] = " << ints(state_order) << ";\n"
       << "/// IDA id: 1.0 differential, 0.0 algebraic.\n"
       << "inline constexpr double differential_id[n_states] = " << doubles(differential_id)
+      << ";\n"
+      << "inline constexpr const char* residual_names[n_states] = " << strings(residual_names)
       << ";\n";
   if (n_parameters > 0) {
     out << "inline constexpr const char* parameter_names[n_parameters] = "
@@ -436,6 +564,12 @@ GeneratedHeader HeaderWriter::write() {
     out << "inline constexpr int reference_coordinate[n_reference] = " << ints(coordinates)
         << ";\n";
   }
+  if (n_singular > 0) {
+    std::vector<std::string> names;
+    for (const auto& q : singular) names.push_back(q.name);
+    out << "inline constexpr const char* singular_names[n_singular] = " << strings(names)
+        << ";\n";
+  }
   if (sparse) {
     out << "\n/// Compressed-column structure of J (the entries not identically zero).\n"
         << "inline constexpr int jacobian_nnz = " << jacobian_.rowind.size() << ";\n"
@@ -449,84 +583,64 @@ GeneratedHeader HeaderWriter::write() {
   }
 
   for (const std::string& body : bodies) out << "\n" << body;
-  out << "\n}  // namespace nhc_gen::" << header.namespace_name << "\n";
 
-  // The C table for loading a compiled header from a shared object (docs/generated-code.md).
-  const std::string ns = "nhc_gen::" + header.namespace_name + "::";
+  // The table (docs/generated-code.md): every pointer null for what the scene does not need.
   auto has = [&](const std::string& function) {
     return std::any_of(plans.begin(), plans.end(),
                        [&](const FunctionPlan& p) { return p.name == function; });
   };
   auto pointer = [&](const std::string& function) {
-    return has(function) ? "&" + ns + function : std::string("nullptr");
+    return has(function) ? "&" + function : std::string("nullptr");
   };
-  out << R"(
-#ifndef NHC_MODEL_TABLE_DEFINED
-#define NHC_MODEL_TABLE_DEFINED
-extern "C" {
-struct nhc_model_table {
-  int abi_version;
-  const char* scene_name;
-  const char* model_name;
-  int n_states, n_parameters, n_coordinates, n_multipliers, n_hidden, n_invariants, n_reference;
-  const char* const* state_names;
-  const int* state_variable;
-  const int* state_order;
-  const double* differential_id;
-  const char* const* parameter_names;
-  const double* default_parameters;
-  const char* const* hidden_names;
-  const char* const* invariant_names;
-  const int* reference_coordinate;
-  void (*residual)(double, const double*, const double*, const double*, double*);
-  void (*jacobian)(double, const double*, const double*, double, const double*, double*);
-  int jacobian_nnz;
-  const int* jacobian_colptr;
-  const int* jacobian_rowind;
-  void (*jacobian_values)(double, const double*, const double*, double, const double*, double*);
-  void (*hidden_constraints)(double, const double*, const double*, double*);
-  void (*hidden_constraints_jacobian)(double, const double*, const double*, double*);
-  void (*invariants)(double, const double*, const double*, const double*, double*);
-  void (*reference)(double, const double*, double*);
-};
-}
-#endif
-
-#ifdef NHC_EXPORT_MODEL_TABLE
-extern "C" const nhc_model_table* nhc_model_table_get(void) {
-  static const nhc_model_table table = {
-)";
-  out << "      1,\n"
-      << "      " << ns << "scene_name,\n"
-      << "      " << ns << "model_name,\n"
-      << "      " << ns << "n_states,\n"
-      << "      " << ns << "n_parameters,\n"
-      << "      " << ns << "n_coordinates,\n"
-      << "      " << ns << "n_multipliers,\n"
-      << "      " << ns << "n_hidden,\n"
-      << "      " << ns << "n_invariants,\n"
-      << "      " << ns << "n_reference,\n"
-      << "      " << ns << "state_names,\n"
-      << "      " << ns << "state_variable,\n"
-      << "      " << ns << "state_order,\n"
-      << "      " << ns << "differential_id,\n"
-      << "      " << (n_parameters > 0 ? ns + "parameter_names" : "nullptr") << ",\n"
-      << "      " << (n_parameters > 0 ? ns + "default_parameters" : "nullptr") << ",\n"
-      << "      " << (n_hidden > 0 ? ns + "hidden_names" : "nullptr") << ",\n"
-      << "      " << (n_invariants > 0 ? ns + "invariant_names" : "nullptr") << ",\n"
-      << "      " << (n_reference > 0 ? ns + "reference_coordinate" : "nullptr") << ",\n"
-      << "      " << pointer("residual") << ",\n"
-      << "      " << pointer("jacobian") << ",\n"
-      << "      " << (sparse ? ns + "jacobian_nnz" : "0") << ",\n"
-      << "      " << (sparse ? ns + "jacobian_colptr" : "nullptr") << ",\n"
-      << "      " << (sparse ? ns + "jacobian_rowind" : "nullptr") << ",\n"
-      << "      " << pointer("jacobian_values") << ",\n"
-      << "      " << pointer("hidden_constraints") << ",\n"
-      << "      " << pointer("hidden_constraints_jacobian") << ",\n"
-      << "      " << pointer("invariants") << ",\n"
-      << "      " << pointer("reference") << ",\n"
-      << "  };\n"
+  auto field = [&](bool present, const std::string& name, const char* absent = "nullptr") {
+    return present ? name : std::string(absent);
+  };
+  const std::vector<std::string> fields = {
+      std::to_string(kModelTableAbiVersion),
+      "scene_name",
+      "model_name",
+      "n_states",
+      "n_parameters",
+      "n_coordinates",
+      "n_multipliers",
+      "n_hidden",
+      "n_invariants",
+      "n_reference",
+      "state_names",
+      "state_variable",
+      "state_order",
+      "differential_id",
+      field(n_parameters > 0, "parameter_names"),
+      field(n_parameters > 0, "default_parameters"),
+      field(n_hidden > 0, "hidden_names"),
+      field(n_invariants > 0, "invariant_names"),
+      field(n_reference > 0, "reference_coordinate"),
+      pointer("residual"),
+      pointer("jacobian"),
+      field(sparse, "jacobian_nnz", "0"),
+      field(sparse, "jacobian_colptr"),
+      field(sparse, "jacobian_rowind"),
+      pointer("jacobian_values"),
+      pointer("hidden_constraints"),
+      pointer("hidden_constraints_jacobian"),
+      pointer("invariants"),
+      pointer("reference"),
+      "residual_names",
+      "n_singular",
+      field(n_singular > 0, "singular_names"),
+      pointer("singular_quantities"),
+  };
+  out << "\n/// Everything above as the C table of docs/generated-code.md.\n"
+      << "inline const nhc_model_table* model_table() noexcept {\n"
+      << "  static const nhc_model_table table = {\n";
+  for (const std::string& f : fields) out << "      " << f << ",\n";
+  out << "  };\n"
       << "  return &table;\n"
+      << "}\n";
+  out << "\n}  // namespace nhc_gen::" << header.namespace_name << "\n"
+      << "\n#ifdef NHC_EXPORT_MODEL_TABLE\n"
+      << "extern \"C\" const nhc_model_table* nhc_model_table_get(void) {\n"
+      << "  return nhc_gen::" << header.namespace_name << "::model_table();\n"
       << "}\n"
       << "#endif  // NHC_EXPORT_MODEL_TABLE\n";
 

@@ -40,6 +40,17 @@ std::vector<GiNaC::ex> hidden_constraint_jacobian(const Index1System& system);
 /// Throws MathError naming the invariant when it involves a derivative the states do not hold.
 std::vector<GiNaC::ex> invariants_in_states(const Scene& scene, const Index1System& system);
 
+/// A quantity whose zeros make the equations singular (runtime additions of
+/// docs/generated-code.md): the base of a square root or negative power, or the argument of a
+/// logarithm, occurring in the residuals or hidden constraints and depending on the states y
+/// (not on y'). `name` is the quantity in scene notation (`x' * x' + y' * y'`). Each quantity
+/// once, in an order that is the same in every run.
+struct SingularQuantity {
+  std::string name;
+  GiNaC::ex expression;  ///< in t, p, y
+};
+std::vector<SingularQuantity> singular_quantities(const Index1System& system);
+
 struct HeaderOptions {
   JacobianKind jacobian = JacobianKind::dense;
 };
@@ -56,6 +67,10 @@ struct GeneratedHeader {
 /// banner names the scene file without its directory, and no time stamp).
 GeneratedHeader generate_header(const Scene& scene, const Index1System& system,
                                 const HeaderOptions& options);
+
+/// e in C++ syntax with scene names (`0.5 * m * (x' * x' + y' * y')`), the same in every run
+/// (GiNaC's own printing follows its term order, which changes from run to run).
+std::string scene_notation(const GiNaC::ex& e, const JetSpace& jet);
 
 /// Text safe inside a `//` comment: one line, no `*/`, no backslash (line splicing), ASCII only.
 std::string sanitize_comment(const std::string& text);
