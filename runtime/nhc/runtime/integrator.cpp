@@ -281,7 +281,8 @@ struct Integrator::Impl {
     int best = -1;
     double best_ratio = ratio;
     for (int k = 0; k < ns; ++k) {
-      const double r = singular_scale[k] > 0 ? std::abs(s[k]) / singular_scale[k] : std::abs(s[k]);
+      const double scale = k < static_cast<int>(singular_scale.size()) ? singular_scale[k] : 0.0;  // unset before t0
+      const double r = scale > 0 ? std::abs(s[k]) / scale : std::abs(s[k]);
       if (!std::isfinite(s[k]) || r < best_ratio) best = k, best_ratio = std::isfinite(s[k]) ? r : 0;
     }
     return best;
@@ -312,7 +313,7 @@ struct Integrator::Impl {
   }
 
   /// Turns an IDA failure into the most specific SolverError we can justify.
-  [[noreturn]] void fail(int flag, const char* what) {
+  [[noreturn]] void fail(int flag, const char* what, double cj_override = 0) {
     double tcur = t;
     IDAGetCurrentTime(ida, &tcur);
     const double tt = std::max(tcur, t);
@@ -347,9 +348,9 @@ struct Integrator::Impl {
     long lsflag = 0;
     IDAGetLastLinFlag(ida, &lsflag);
     if (flag == IDA_LSETUP_FAIL || flag == IDA_LSOLVE_FAIL || flag == IDA_CONV_FAIL || flag == IDA_ERR_FAIL ||
-        flag == IDA_NO_RECOVERY || flag == kStepSizeCollapse || lsflag > 0) {
-      double cj = 1.0;
-      IDAGetCurrentCj(ida, &cj);
+        flag == IDA_NO_RECOVERY || flag == IDA_LINESEARCH_FAIL || flag == kStepSizeCollapse || lsflag > 0) {
+      double cj = cj_override;
+      if (cj <= 0) IDAGetCurrentCj(ida, &cj);
       Eigen::MatrixXd J = iteration_matrix(t, y_last.data(), yp_last.data(), cj);
       if (J.allFinite()) {
         Eigen::JacobiSVD<Eigen::MatrixXd> svd(J, Eigen::ComputeFullV);
@@ -525,10 +526,13 @@ Sample Integrator::initialize(const InitialState& state, double t_next) {
                       std::string("residual ") + s.model.residual_name(s.nonfinite.index) + " is NaN or Inf at t = " +
                           format_time(s.nonfinite.t) + " (" + stage + ")");
   };
+  s.y_last.assign(s.y.data(), s.y.data() + n);  // the point a failure is diagnosed at
+  s.yp_last.assign(s.yp.data(), s.yp.data() + n);
   const int flag = IDACalcIC(s.ida, IDA_YA_YDP_INIT, t_next);
   if (flag < 0) {
     nonfinite_at_start("consistent initialization");
-    s.check(flag, "the consistent initialization (IDACalcIC: algebraic states and y')");
+    // IDACalcIC's first step scale is 1e-3 (t_next - t0): its iteration matrix has cj ~ 1/that.
+    s.fail(flag, "the consistent initialization (IDACalcIC: algebraic states and y')", 1e3 / (t_next - state.t0));
   }
   s.check(IDAGetConsistentIC(s.ida, s.y, s.yp), "reading the consistent initial values");
   s.remember(state.t0);
