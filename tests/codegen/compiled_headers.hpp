@@ -8,7 +8,8 @@
 namespace nhc_test {
 
 struct CompiledHeader {
-  const char* scene;     ///< examples/<scene>.toml
+  const char* scene;       ///< the scene's name
+  const char* scene_file;  ///< relative to the source directory
   const char* model;
   const char* jacobian;  ///< "dense" or "sparse"
   const char* path;      ///< the header in the build tree

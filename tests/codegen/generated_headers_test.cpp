@@ -28,13 +28,12 @@ struct Symbolic {
   nhc::Index1System system;
 };
 
-const Symbolic& symbolic(const std::string& scene_name, const std::string& model) {
+const Symbolic& symbolic(const std::string& scene_file, const std::string& model) {
   static std::map<std::string, Symbolic> cache;
-  const std::string key = scene_name + "/" + model;
+  const std::string key = scene_file + "/" + model;
   auto it = cache.find(key);
   if (it == cache.end()) {
-    Symbolic s{nhc::load_scene(std::string(NHC_SOURCE_DIR) + "/examples/" + scene_name + ".toml"),
-               {}};
+    Symbolic s{nhc::load_scene(std::string(NHC_SOURCE_DIR) + "/" + scene_file), {}};
     s.system = nhc::reduce_to_index1(s.scene, nhc::derive_model(s.scene, *nhc::parse_model_kind(model)));
     it = cache.emplace(key, std::move(s)).first;
   }
@@ -116,7 +115,7 @@ TEST_CASE("every compiled header matches its symbolic index-1 system", "[codegen
     const std::string label = std::string(compiled.scene) + " " + compiled.model + " " + compiled.jacobian;
     SECTION(label) {
       const nhc_model_table& table = *compiled.table();
-      const Symbolic& s = symbolic(compiled.scene, compiled.model);
+      const Symbolic& s = symbolic(compiled.scene_file, compiled.model);
       const nhc::Index1System& system = s.system;
       const int n = system.size();
 
