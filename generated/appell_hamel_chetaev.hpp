@@ -11,12 +11,12 @@
 // Floating-point operations (+, -, *, /, calls) without and with common-subexpression
 // elimination:
 //   residual                          45      30
-//   jacobian                         181      62
+//   jacobian                         178      61
 //   hidden_constraints                 7       7
 //   hidden_constraints_jacobian       16      11
 //   invariants                        10      10
 //   singular_quantities                3       3
-//   total                            262     123
+//   total                            259     122
 
 #pragma once
 
@@ -108,21 +108,20 @@ inline void jacobian(double /*t*/, const double* y, const double* yp, double cj,
   const double w6 = p[0] * w3;
   const double w7 = y[6] * p[1] / w6;
   const double w8 = y[3] * y[6] * p[1] * y[1] / w4;
-  const double w9 = -1.0;
   J[4] = cj;  // (4, 0)
   J[7] = w0 * y[6] * p[1] / w4 - w5 - w7;  // (0, 1)
   J[8] = w8;  // (1, 1)
   J[10] = y[3] * yp[3] * p[1] * y[1] / w4 + w0 * p[1] * yp[1] / w4 - p[1] * yp[1] / w6 - p[1] * y[1] * cj / w6;  // (3, 1)
-  J[11] = w9;  // (4, 1)
+  J[11] = -1.0;  // (4, 1)
   J[19] = cj;  // (5, 2)
   J[21] = w8;  // (0, 3)
   J[22] = y[6] * p[1] * w1 / w4 - w5 - w7;  // (1, 3)
   J[24] = y[3] * p[1] * y[1] * yp[1] / w4 + yp[3] * p[1] * w1 / w4 - y[3] * p[1] * cj / w6 - yp[3] * p[1] / w6;  // (3, 3)
-  J[26] = w9;  // (5, 3)
+  J[26] = -1.0;  // (5, 3)
   J[34] = cj;  // (6, 4)
   J[37] = -w5;  // (2, 5)
   J[38] = cj;  // (3, 5)
-  J[41] = w9;  // (6, 5)
+  J[41] = -1.0;  // (6, 5)
   J[42] = -(p[1] * y[1] / w6);  // (0, 6)
   J[43] = -(y[3] * p[1] / w6);  // (1, 6)
   J[44] = 1.0;  // (2, 6)

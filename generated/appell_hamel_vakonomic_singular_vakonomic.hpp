@@ -11,11 +11,11 @@
 // Floating-point operations (+, -, *, /, calls) without and with common-subexpression
 // elimination:
 //   residual                         107      68
-//   jacobian                         570     218
+//   jacobian                         567     217
 //   hidden_constraints                 7       7
 //   hidden_constraints_jacobian       16      11
 //   singular_quantities                3       3
-//   total                            703     307
+//   total                            700     306
 
 #pragma once
 
@@ -117,24 +117,23 @@ inline void jacobian(double /*t*/, const double* y, const double* yp, double cj,
   const double w12 = y[3] * p[1] * y[1] * 2.0 * yp[6];
   const double w13 = y[3] * yp[3] * p[1] * y[1];
   const double w14 = p[0] * w3;
-  const double w15 = -1.0;
-  const double w16 = y[3] * p[1] * y[1] * yp[1];
+  const double w15 = y[3] * p[1] * y[1] * yp[1];
   J[4] = cj;  // (4, 0)
   J[7] = w5 * y[1] * 3.0 / w6 + (y[6] * p[1] * w1 - w7) * cj / w8 - (p[0] * w3 * y[1] * 3.0 * p[3] * yp[1] + y[3] * yp[3] * y[6] * p[1] - p[1] * yp[6] * w1 - w0 * p[1] * 3.0 * yp[6]) / w8;  // (0, 1)
   J[8] = -w10 * y[1] * 3.0 / w6 - w11 - (y[3] * y[6] * p[1] * yp[1] + p[0] * w3 * yp[3] * y[1] * 3.0 * p[3] - yp[3] * y[6] * p[1] * y[1] * 2.0 - w12) / w8;  // (1, 1)
   J[10] = w13 / w8 + w0 * p[1] * yp[1] / w8 - p[1] * yp[1] / w14 - p[1] * y[1] * cj / w14;  // (3, 1)
-  J[11] = w15;  // (4, 1)
+  J[11] = -1.0;  // (4, 1)
   J[19] = cj;  // (5, 2)
   J[21] = y[3] * w5 * 3.0 / w6 - w11 - (p[0] * y[3] * w3 * 3.0 * p[3] * yp[1] + yp[3] * y[6] * p[1] * y[1] - y[3] * y[6] * p[1] * 2.0 * yp[1] - w12) / w8;  // (0, 3)
   J[22] = (p[1] * 3.0 * yp[6] * w1 + w0 * p[1] * yp[6] - y[6] * p[1] * y[1] * yp[1] - p[0] * y[3] * w3 * yp[3] * 3.0 * p[3]) / w8 - (w7 - w0 * y[6] * p[1]) * cj / w8 - y[3] * w10 * 3.0 / w6;  // (1, 3)
-  J[24] = w16 / w8 + yp[3] * p[1] * w1 / w8 - y[3] * p[1] * cj / w14 - yp[3] * p[1] / w14;  // (3, 3)
-  J[26] = w15;  // (5, 3)
+  J[24] = w15 / w8 + yp[3] * p[1] * w1 / w8 - y[3] * p[1] * cj / w14 - yp[3] * p[1] / w14;  // (3, 3)
+  J[26] = -1.0;  // (5, 3)
   J[34] = cj;  // (6, 4)
   J[37] = -(cj * p[3]);  // (2, 5)
   J[38] = cj;  // (3, 5)
-  J[41] = w15;  // (6, 5)
+  J[41] = -1.0;  // (6, 5)
   J[42] = (w4 * p[1] + p[1] * y[1] * w1) * cj / w8 + (p[1] * w1 * yp[1] - w13) / w8;  // (0, 6)
-  J[43] = (w0 * yp[3] * p[1] - w16) / w8 + (p[1] * w9 + y[3] * w0 * p[1]) * cj / w8;  // (1, 6)
+  J[43] = (w0 * yp[3] * p[1] - w15) / w8 + (p[1] * w9 + y[3] * w0 * p[1]) * cj / w8;  // (1, 6)
   J[44] = -cj;  // (2, 6)
 }
 

@@ -223,6 +223,13 @@ TEST_CASE("every compiled header matches its symbolic index-1 system", "[codegen
               const double expected = evaluate(gi.diff(system.y[static_cast<size_t>(j)]), system, x);
               INFO("G(" << i << ", " << j << ")");
               CHECK(close(G[static_cast<size_t>(i + j * h)], expected, 1e-12));
+              // The reduction's own dg/dy, when it provides one.
+              if (static_cast<size_t>(i) < system.hidden_constraint_jacobian.size())
+                CHECK(close(G[static_cast<size_t>(i + j * h)],
+                            evaluate(system.hidden_constraint_jacobian[static_cast<size_t>(i)]
+                                                                     [static_cast<size_t>(j)],
+                                     system, x),
+                            1e-12));
             }
           }
         }

@@ -174,6 +174,7 @@ int ExpressionDag::negated(int id) {
 int ExpressionDag::lower(const GiNaC::ex& e) {
   const auto [magnitude, negative] = lower_signed(e);
   if (!negative) return magnitude;
+  if ((*this)[magnitude].op == OpCode::constant) return constant(-(*this)[magnitude].value);
   // −(a − b)/c is printed (b − a)/c; a negation is left only where no sum can take the sign.
   const int absorbed = negated(magnitude);
   if (absorbed >= 0) return absorbed;
