@@ -1,9 +1,12 @@
 #include "nhc/scene/expression_parser.hpp"
 
+#include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <functional>
 #include <map>
 #include <optional>
+#include <sstream>
 #include <vector>
 
 namespace nhc {
@@ -150,9 +153,37 @@ class Parser {
     const std::size_t at = pos_;
     if (accept('^')) {
       ex exponent = unary();
+      check_exponent(base, exponent, at);
       return guarded(at, [&] { return GiNaC::pow(base, exponent); });
     }
     return base;
+  }
+
+  /// Numeric exponents are bounded: an exact power of a number must stay a reasonable size,
+  /// and a power of an expression must stay expandable (GiNaC expands integer powers of sums).
+  void check_exponent(const ex& base, const ex& exponent, std::size_t at) {
+    if (!GiNaC::is_a<GiNaC::numeric>(exponent)) return;
+    const auto& n = GiNaC::ex_to<GiNaC::numeric>(exponent);
+    // Checked here rather than left to GiNaC, whose exception for 0^0 leaks the power object.
+    if (base.is_zero() && !n.is_positive()) fail(at, "0^" + to_string_of(n) + " is undefined");
+    if (!n.is_rational()) return;
+    const double magnitude = std::abs(n.to_double());
+    if (GiNaC::is_a<GiNaC::numeric>(base)) {
+      const auto& b = GiNaC::ex_to<GiNaC::numeric>(base);
+      if (!b.is_rational() || b.is_zero()) return;
+      const double bits = std::max(GiNaC::numer(b).int_length(), GiNaC::denom(b).int_length());
+      if (bits * magnitude > kMaxPowerBits)
+        fail(at, "the number this power gives is too large (more than " +
+                     std::to_string(kMaxPowerBits) + " bits)");
+    } else if (magnitude > kMaxExponent) {
+      fail(at, "exponent too large (the limit is " + std::to_string(kMaxExponent) + ")");
+    }
+  }
+
+  static std::string to_string_of(const GiNaC::numeric& n) {
+    std::ostringstream out;
+    out << n;
+    return out.str();
   }
 
   ex primary() {

@@ -26,6 +26,10 @@ namespace nhc {
 
 /// Highest derivative order a scene may write (`x''''''''`); keeps derivations finite.
 inline constexpr int kMaxDerivativeOrder = 8;
+/// Largest numeric exponent of a non-numeric base (x^64); larger powers of sums cannot be expanded.
+inline constexpr int kMaxExponent = 64;
+/// Largest exact power of a number, in bits (2^4096).
+inline constexpr int kMaxPowerBits = 4096;
 /// Deepest parenthesis / operator nesting accepted.
 inline constexpr int kMaxExpressionDepth = 200;
 
