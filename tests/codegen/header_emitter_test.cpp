@@ -99,7 +99,7 @@ TEST_CASE("generation is deterministic", "[codegen]") {
 }
 
 TEST_CASE("scene text cannot escape the banner comments", "[codegen]") {
-  const std::string evil_path = "dir/evil*/\n#error escaped\\\n.toml";
+  const std::string evil_path = "dir/evil*/\n#error escaped?\?/\\\n.toml";
   const auto g = generate(kPendulumLike, evil_path, nhc::ModelKind::chetaev,
                           nhc::JacobianKind::dense);
   CHECK(!contains(g.header.text, "*/\n"));
@@ -115,6 +115,7 @@ TEST_CASE("scene text cannot escape the banner comments", "[codegen]") {
     start = end + 1;
   }
   CHECK(nhc::sanitize_comment("a */ b\nc\\") == "a * / b c/");
+  CHECK(nhc::sanitize_comment("what?\?/") == "what? ?/");
   CHECK(nhc::cpp_string_literal("x'\"\\?\n") == "\"x'\\\"\\\\\\077\\012\"");
 }
 

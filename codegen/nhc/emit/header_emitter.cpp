@@ -34,6 +34,8 @@ std::string sanitize_comment(const std::string& text) {
       out += "* ";  // the '/' follows: "* /"
     } else if (c == '\\') {
       out += '/';
+    } else if (c == '?' && k + 1 < text.size() && text[k + 1] == '?') {
+      out += "? ";  // no trigraph: -Wall warns about "??/" even where C++17 ignores it
     } else if (c < 0x20 || c >= 0x7f) {
       out += (c == '\n' || c == '\r' || c == '\t') ? ' ' : '?';
     } else {
@@ -320,21 +322,16 @@ GeneratedHeader HeaderWriter::write() {
   const bool dense = options_.jacobian == JacobianKind::dense;
   const bool sparse = options_.jacobian == JacobianKind::sparse;
 
-  if (static_cast<int>(system_.residuals.size()) != n || static_cast<int>(system_.y.size()) != n ||
-      static_cast<int>(system_.yp.size()) != n)
-    throw MathError("inconsistent index-1 system: " + std::to_string(n) + " states, " +
-                    std::to_string(system_.residuals.size()) + " residuals");
-
   // Lower everything into one DAG, in the order the functions are printed, so that a
   // subexpression is one instruction wherever it occurs.
   std::vector<FunctionPlan> plans;
-  const std::vector<std::pair<std::string, std::string>> tyyp = {
+  const std::vector<std::pair<std::string, std::string>> state_inputs = {
       {"double", "t"}, {"const double*", "y"}, {"const double*", "yp"}, {"const double*", "p"}};
   {
     FunctionPlan f;
     f.name = "residual";
     f.doc = "/// F(t, y, y') = 0, IDA form; r has n_states entries.\n";
-    f.parameters = tyyp;
+    f.parameters = state_inputs;
     f.parameters.push_back({"double*", "r"});
     for (int i = 0; i < n; ++i) {
       const std::string comment = static_cast<size_t>(i) < system_.residual_names.size()
@@ -415,7 +412,7 @@ GeneratedHeader HeaderWriter::write() {
     FunctionPlan f;
     f.name = "invariants";
     f.doc = "/// The scene's invariants I(t, y, y'), in invariant_names order.\n";
-    f.parameters = tyyp;
+    f.parameters = state_inputs;
     f.parameters.push_back({"double*", "out"});
     const std::vector<GiNaC::ex> invariants = invariants_in_states(scene_, system_);
     for (int i = 0; i < n_invariants; ++i)
@@ -653,6 +650,10 @@ GeneratedHeader HeaderWriter::write() {
 GeneratedHeader generate_header(const Scene& scene, const Index1System& system,
                                 const HeaderOptions& options) {
   if (!system.jet) throw MathError("index-1 system without a jet space");
+  const size_t n = system.states.size();
+  if (system.residuals.size() != n || system.y.size() != n || system.yp.size() != n)
+    throw MathError("inconsistent index-1 system: " + std::to_string(n) + " states, " +
+                    std::to_string(system.residuals.size()) + " residuals");
   return HeaderWriter(scene, system, options).write();
 }
 
