@@ -47,10 +47,12 @@ void write_derivation_json(std::ostream& out, const Scene& scene,
     json.key("equations").begin_array();
     for (const auto& e : model.equations) json.value(to_text(e));
     json.end_array();
-    json.key(model.constraints_are_equations ? "constraints" : "monitored_constraints")
-        .begin_array();
+    // Every model lists its constraints under the same key; "constraints_solved" says whether
+    // the model solves them (vakonomic, chetaev, holder) or only monitors them (suslov).
+    json.key("constraints").begin_array();
     for (const auto& e : model.constraints) json.value(to_text(e));
     json.end_array();
+    json.key("constraints_solved").value(model.constraints_are_equations);
     json.key("multipliers").begin_array();
     for (const auto& m : model.multipliers) json.value(m);
     json.end_array();
