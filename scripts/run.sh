@@ -19,6 +19,9 @@ echo "== nhc analyze $scene --model chetaev"
 "$nhc" analyze "$scene" --model chetaev --format json -o out/appell_hamel_analysis.json
 
 echo
+echo "== nhc generate $scene --model chetaev"
+"$nhc" generate "$scene" --model chetaev -o out
+echo
 echo "== nhc simulate $scene (header, compile, integrate)"
 "$nhc" simulate "$scene" -o out/appell_hamel.csv
 echo
@@ -28,5 +31,6 @@ echo
 echo "wrote out/appell_hamel.tex"
 echo "wrote out/appell_hamel.json"
 echo "wrote out/appell_hamel_analysis.json"
+echo "wrote out/appell_hamel_chetaev.hpp"
 echo "wrote out/appell_hamel.csv"
 echo "wrote out/appell_hamel_t_star.csv"
