@@ -11,34 +11,19 @@
 #include <string>
 #include <vector>
 
+#include "command_runner.hpp"
+
 using Catch::Matchers::Contains;
 
 namespace {
 
-struct Run {
-  int exit_code = -1;
-  std::string out, err;
-};
-
-std::string read_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using nhc::test::Run;
 
 Run analyze(const std::string& args) {
-  const std::string dir = std::string(NHC_BINARY_DIR) + "/tests/scratch/analyze_" + std::to_string(::getpid());
-  std::system(("mkdir -p '" + dir + "'").c_str());
-  const std::string out = dir + "/stdout.txt", err = dir + "/stderr.txt";
-  const std::string command = std::string("cd '") + NHC_SOURCE_DIR + "' && '" + NHC_EXECUTABLE +
-                              "' analyze " + args + " >'" + out + "' 2>'" + err + "'";
-  const int status = std::system(command.c_str());
-  Run r;
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = read_file(out);
-  r.err = read_file(err);
-  return r;
+  const std::string dir = nhc::test::scratch_dir("analyze_" + std::to_string(::getpid()));
+  return nhc::test::run(std::string("cd '") + NHC_SOURCE_DIR + "' && " + nhc::test::nhc_command() +
+                            " analyze " + args,
+                        dir);
 }
 
 std::vector<std::string> example_scenes() {

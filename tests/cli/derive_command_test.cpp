@@ -22,48 +22,18 @@
 #include "nhc/derive/models.hpp"
 #include "nhc/scene/expression_parser.hpp"
 #include "nhc/scene/scene.hpp"
+#include "command_runner.hpp"
 
 namespace {
 
 // ---- running the binary -------------------------------------------------------------------
 
-std::string read_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-bool file_exists(const std::string& path) {
-  struct stat st {};
-  return ::stat(path.c_str(), &st) == 0;
-}
-
-/// A fresh directory under the build tree for one test's files.
-std::string scratch_dir(const std::string& name) {
-  // One directory per test case; ctest runs cases in separate processes, possibly in parallel.
-  const std::string dir = std::string(NHC_BINARY_DIR) + "/tests/scratch/" + name;
-  std::system(("rm -rf '" + dir + "' && mkdir -p '" + dir + "'").c_str());
-  return dir;
-}
-
-struct Run {
-  int exit_code = -1;
-  std::string out, err;
-};
-
-/// Runs `command` (arguments already quoted) with stdout and stderr captured to files.
-Run run(const std::string& command, const std::string& dir) {
-  const std::string out = dir + "/stdout.txt", err = dir + "/stderr.txt";
-  const int status = std::system((command + " >'" + out + "' 2>'" + err + "'").c_str());
-  Run r;
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = read_file(out);
-  r.err = read_file(err);
-  return r;
-}
-
-std::string nhc_command() { return std::string("'") + NHC_EXECUTABLE + "'"; }
+using nhc::test::file_exists;
+using nhc::test::nhc_command;
+using nhc::test::read_file;
+using nhc::test::Run;
+using nhc::test::run;
+using nhc::test::scratch_dir;
 
 std::vector<std::string> list_dir(const std::string& dir, const std::string& suffix) {
   std::vector<std::string> names;

@@ -1,0 +1,43 @@
+#include "command_runner.hpp"
+
+#include <sys/stat.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+namespace nhc::test {
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+bool file_exists(const std::string& path) {
+  struct stat st {};
+  return ::stat(path.c_str(), &st) == 0;
+}
+
+std::string scratch_dir(const std::string& name) {
+  // One directory per test case; ctest runs cases in separate processes, possibly in parallel.
+  const std::string dir = std::string(NHC_BINARY_DIR) + "/tests/scratch/" + name;
+  std::system(("rm -rf '" + dir + "' && mkdir -p '" + dir + "'").c_str());
+  return dir;
+}
+
+Run run(const std::string& command, const std::string& dir) {
+  const std::string out = dir + "/stdout.txt", err = dir + "/stderr.txt";
+  const int status = std::system((command + " >'" + out + "' 2>'" + err + "'").c_str());
+  Run r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = read_file(out);
+  r.err = read_file(err);
+  return r;
+}
+
+std::string nhc_command() { return std::string("'") + NHC_EXECUTABLE + "'"; }
+
+}  // namespace nhc::test

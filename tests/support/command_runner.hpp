@@ -1,0 +1,23 @@
+#pragma once
+// Running the real `nhc` binary (or any shell command) from tests, with its output captured.
+
+#include <string>
+
+namespace nhc::test {
+
+struct Run {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+/// The whole content of a file ("" when it cannot be read).
+std::string read_file(const std::string& path);
+bool file_exists(const std::string& path);
+/// A fresh, empty directory under the build tree for one test case's files.
+std::string scratch_dir(const std::string& name);
+/// Runs `command` (arguments already quoted) with stdout and stderr captured in files of `dir`.
+Run run(const std::string& command, const std::string& dir);
+/// The nhc executable under test, quoted for the shell.
+std::string nhc_command();
+
+}  // namespace nhc::test
