@@ -1,0 +1,112 @@
+#!/usr/bin/env python3
+"""The scalable scene family of the benchmarks: a chain of N knife edges on an inclined plane.
+
+Knife edge i has coordinates (x_i, y_i, theta_i) in the plane (x down the slope), mass m and
+moment of inertia J about its vertical axis; it may not slide sideways:
+
+    f_i = x_i' sin(theta_i) - y_i' cos(theta_i) = 0          (first order, nonholonomic)
+
+Gravity pulls along the incline (g sin(alpha) in +x). Neighbours i, i+1 are joined by a
+zero-rest-length spring whose anchor points are a distance l apart across the slope:
+
+    L = sum_i [ m/2 (x_i'^2 + y_i'^2) + J/2 theta_i'^2 + m g sin(alpha) x_i ]
+        - sum_{i<N} k/2 [ (x_{i+1} - x_i)^2 + (y_{i+1} - y_i - l)^2 ]
+
+3N coordinates, N constraints. Chetaev's model of first-order constraints is the Lagrange
+equations with multipliers, which SymPy's LagrangesMethod derives (bench/peers.py).
+
+Usage: knife_chain.py OUTDIR N [N ...]   writes OUTDIR/knife_chain_<N>.toml
+The family's definition (parameters, initial values, t_end, tolerances) lives here only: the
+scene files, the SymPy/SciPy peers and the hand-written limit (bench/knife_chain_handwritten.hpp,
+whose defaults must equal PARAMETERS) all take it from this module.
+"""
+import math
+import os
+import sys
+
+# Parameter values, in the order of the scene file.
+PARAMETERS = [("m", 1.0), ("J", 0.1), ("g", 9.81), ("alpha", 0.3), ("k", 10.0), ("l", 1.0)]
+T_END = 1.0
+RTOL = 1e-8
+ATOL = 1e-10
+
+
+def initial_values(n):
+    """Initial state of knife edge i = 1..n: (x, x', y, theta, theta'). y' follows from the
+    constraint, y' = x' tan(theta); the scenes leave it to nhc's consistent initialization."""
+    out = []
+    for i in range(1, n + 1):
+        x = 0.1 * math.sin(i)
+        xd = 1.0 + 0.1 * math.cos(2 * i)
+        y = (i - 1) * 1.0 + 0.05 * math.sin(3 * i)
+        th = 0.4 * math.sin(0.7 * i)
+        thd = 0.5 * math.cos(1.3 * i)
+        out.append((x, xd, y, th, thd))
+    return out
+
+
+def consistent_velocities(n):
+    """(x', y', theta') of every knife edge at t0, on the constraints."""
+    return [(xd, xd * math.tan(th), thd) for (_, xd, _, th, thd) in initial_values(n)]
+
+
+def scene_text(n):
+    lines = []
+    lines.append("# Benchmark scene (bench/knife_chain.py, generated): %d knife edge%s on an inclined"
+                 % (n, "" if n == 1 else "s"))
+    lines.append("# plane, neighbours coupled by springs. 3N coordinates, N first-order constraints.")
+    lines.append('name = "knife_chain_%d"' % n)
+    coords = []
+    for i in range(1, n + 1):
+        coords += ["x%d" % i, "y%d" % i, "th%d" % i]
+    lines.append("coordinates = [%s]" % ", ".join('"%s"' % c for c in coords))
+    kinetic = []
+    for i in range(1, n + 1):
+        kinetic.append("m/2*(x{0}'^2 + y{0}'^2) + J/2*th{0}'^2 + m*g*sin(alpha)*x{0}".format(i))
+    springs = []
+    for i in range(1, n):
+        springs.append(" - k/2*((x{1} - x{0})^2 + (y{1} - y{0} - l)^2)".format(i, i + 1))
+    lines.append('lagrangian = "%s%s"' % (" + ".join(kinetic), "".join(springs)))
+    cons = ["x{0}'*sin(th{0}) - y{0}'*cos(th{0})".format(i) for i in range(1, n + 1)]
+    lines.append("constraints = [%s]" % ", ".join('"%s"' % c for c in cons))
+    lines.append('models = ["chetaev"]')
+    lines.append("")
+    lines.append("[parameters]")
+    for name, value in PARAMETERS:
+        lines.append("%s = %r" % (name, value))
+    lines.append("")
+    lines.append("[initial]")
+    lines.append("t0 = 0.0")
+    for i, (x, xd, y, th, thd) in enumerate(initial_values(n), start=1):
+        lines.append("x%d = [%r, %r]" % (i, x, xd))
+        lines.append("y%d = [%r]" % (i, y))
+        lines.append("th%d = [%r, %r]" % (i, th, thd))
+    lines.append("")
+    lines.append("[simulate]")
+    lines.append('model = "chetaev"')
+    lines.append("t_end = %r" % T_END)
+    lines.append("rtol = %r" % RTOL)
+    lines.append("atol = %r" % ATOL)
+    return "\n".join(lines) + "\n"
+
+
+def main(argv):
+    if len(argv) < 3:
+        sys.stderr.write("usage: knife_chain.py OUTDIR N [N ...]\n")
+        return 2
+    outdir = argv[1]
+    os.makedirs(outdir, exist_ok=True)
+    for arg in argv[2:]:
+        n = int(arg)
+        if not 1 <= n <= 512:
+            sys.stderr.write("knife_chain.py: N must be in 1..512, got %d\n" % n)
+            return 2
+        path = os.path.join(outdir, "knife_chain_%d.toml" % n)
+        with open(path + ".tmp", "w") as f:
+            f.write(scene_text(n))
+        os.replace(path + ".tmp", path)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

@@ -1,0 +1,449 @@
+// nhc_bench: one benchmark measurement of nhc on one scene, printed as one JSON object.
+//
+//   nhc_bench SCENE --out DIR [--model M] [--jacobian auto|dense|sparse] [--t-end T]
+//             [--rtol R] [--atol A] [--handwritten HEADER [--define NAME=VALUE]...] [--quick]
+//
+// 1. derive + analyse (Pryce, index-1 reduction) + generate the header, timed per stage (best of
+//    several runs when one is short); operation counts before/after CSE, per function;
+// 2. compile the header into a shared object as `nhc simulate` does (-std=c++17 -O2 -fPIC
+//    -shared), timed;
+// 3. load it, initialize consistently from the scene's [initial] and integrate to t_end with IDA
+//    (KLU when the Jacobian is sparse), timed (best of several runs); steps and evaluations;
+// 4. time one residual and one Jacobian evaluation at the consistent initial point;
+// 5. with --handwritten: compile the hand-written header (docs/generated-code.md contract, same
+//    state layout) with the same flags and do 3 and 4 for it too, from the same initial state, and
+//    report how far its final state is from the generated one's.
+// --quick: one run of everything (smoke test). bench/run.sh turns the JSON into bench/results.md.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "nhc/analysis/index1_reduction.hpp"
+#include "nhc/derive/models.hpp"
+#include "nhc/emit/cse.hpp"
+#include "nhc/emit/header_emitter.hpp"
+#include "nhc/runtime/runtime.hpp"
+#include "nhc/scene/scene.hpp"
+
+#ifndef NHC_CXX_COMPILER
+#define NHC_CXX_COMPILER "c++"
+#endif
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+struct Options {
+  std::string scene, out = "bench-out", model, jacobian = "auto", handwritten;
+  std::vector<std::string> defines;
+  double t_end = -1, rtol = -1, atol = -1;
+  bool quick = false;
+};
+
+[[noreturn]] void usage(const std::string& message) {
+  std::cerr << "nhc_bench: " << message << "\n"
+            << "usage: nhc_bench SCENE --out DIR [--model M] [--jacobian auto|dense|sparse] [--t-end T]\n"
+            << "                 [--rtol R] [--atol A] [--handwritten HEADER [--define NAME=VALUE]...] [--quick]\n";
+  std::exit(2);
+}
+
+Options parse(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) usage(a + " needs a value");
+      return argv[++i];
+    };
+    if (a == "--out") o.out = value();
+    else if (a == "--model") o.model = value();
+    else if (a == "--jacobian") o.jacobian = value();
+    else if (a == "--handwritten") o.handwritten = value();
+    else if (a == "--define") o.defines.push_back(value());
+    else if (a == "--t-end") o.t_end = std::stod(value());
+    else if (a == "--rtol") o.rtol = std::stod(value());
+    else if (a == "--atol") o.atol = std::stod(value());
+    else if (a == "--quick") o.quick = true;
+    else if (!a.empty() && a[0] == '-') usage("unknown option " + a);
+    else if (o.scene.empty()) o.scene = a;
+    else usage("more than one scene");
+  }
+  if (o.scene.empty()) usage("no scene");
+  if (o.jacobian != "auto" && o.jacobian != "dense" && o.jacobian != "sparse") usage("bad --jacobian");
+  return o;
+}
+
+std::string shell_quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+int run_command(const std::string& command, std::string& output) {
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  if (!pipe) return -1;
+  char buffer[4096];
+  size_t n = 0;
+  while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) output.append(buffer, n);
+  const int status = pclose(pipe);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+/// Compiles `source` (a header) into `library` the way `nhc simulate` does; returns the seconds.
+double compile(const std::string& source, const std::string& library, const std::vector<std::string>& defines) {
+  std::string command = shell_quote(NHC_CXX_COMPILER) + " -std=c++17 -O2 -fPIC -shared -DNHC_EXPORT_MODEL_TABLE";
+  for (const auto& d : defines) command += " " + shell_quote("-D" + d);
+  command += " -x c++ -o " + shell_quote(library) + " " + shell_quote(source);
+  std::string messages;
+  const auto start = Clock::now();
+  const int status = run_command(command, messages);
+  const double seconds = seconds_since(start);
+  if (status != 0) throw std::runtime_error("compiler failed:\n  " + command + "\n" + messages);
+  return seconds;
+}
+
+/// The scene's [initial] as the runtime's InitialState (as `nhc simulate` reads it).
+nhc::runtime::InitialState initial_state_of(const nhc::Scene& scene, const nhc::runtime::Model& model) {
+  nhc::runtime::InitialState s;
+  s.t0 = scene.initial.t0;
+  const int n = model.n_states();
+  s.y.assign(n, 0.0);
+  s.yp.assign(n, 0.0);
+  s.given.assign(n, false);
+  for (int i = 0; i < n; ++i) {
+    const std::string name = model.variable_name(model.table().state_variable[i]);
+    const int order = model.table().state_order[i];
+    const auto it = scene.initial.values.find(name);
+    if (it == scene.initial.values.end()) continue;
+    if (static_cast<int>(it->second.size()) > order) {
+      s.y[i] = it->second[order];
+      s.given[i] = model.is_differential(i);
+    }
+    if (static_cast<int>(it->second.size()) > order + 1) s.yp[i] = it->second[order + 1];
+  }
+  return s;
+}
+
+/// Best time of `f` over repetitions: at least one, more while the total stays under `budget`
+/// seconds (at most `max_runs`).
+double best_time(const std::function<void()>& f, double budget, int max_runs) {
+  double best = 1e300, total = 0;
+  for (int run = 0; run < max_runs; ++run) {
+    const auto start = Clock::now();
+    f();
+    const double s = seconds_since(start);
+    best = std::min(best, s);
+    total += s;
+    if (total + s > budget) break;
+  }
+  return best;
+}
+
+/// Seconds per call of `f`, from batches lasting at least `min_seconds`; best batch of three.
+double per_call(const std::function<void()>& f, double min_seconds) {
+  long calls = 1;
+  for (;;) {
+    const auto start = Clock::now();
+    for (long k = 0; k < calls; ++k) f();
+    const double s = seconds_since(start);
+    if (s >= min_seconds || calls > (1L << 30)) break;
+    calls *= s > 0 ? std::max(2L, static_cast<long>(min_seconds / s * 1.2)) : 10;
+  }
+  double best = 1e300;
+  for (int b = 0; b < 3; ++b) {
+    const auto start = Clock::now();
+    for (long k = 0; k < calls; ++k) f();
+    best = std::min(best, seconds_since(start) / static_cast<double>(calls));
+  }
+  return best;
+}
+
+struct Json {
+  std::ostringstream os;
+  bool first = true;
+  Json() { os.precision(9); os << "{"; }
+  void key(const std::string& k) {
+    os << (first ? "" : ", ") << "\"" << k << "\": ";
+    first = false;
+  }
+  void number(const std::string& k, double v) {
+    key(k);
+    if (std::isfinite(v)) os << v; else os << "null";
+  }
+  void integer(const std::string& k, long long v) { key(k); os << v; }
+  void text(const std::string& k, const std::string& v) {
+    key(k);
+    os << "\"";
+    for (char c : v) {
+      if (c == '"' || c == '\\') os << '\\' << c;
+      else if (static_cast<unsigned char>(c) < 0x20) os << ' ';
+      else os << c;
+    }
+    os << "\"";
+  }
+  void raw(const std::string& k, const std::string& v) { key(k); os << v; }
+  std::string str() { return os.str() + "}"; }
+};
+
+std::string vector_json(const std::vector<double>& v) {
+  std::ostringstream os;
+  os.precision(17);
+  os << "[";
+  for (size_t i = 0; i < v.size(); ++i) os << (i ? ", " : "") << v[i];
+  return os.str() + "]";
+}
+
+/// Per-function operation counts from the header's banner: "//   residual   45   30".
+std::string banner_counts(const std::string& text) {
+  std::istringstream in(text);
+  std::string line, out = "{";
+  bool inside = false, first = true;
+  while (std::getline(in, line)) {
+    if (line.rfind("//", 0) != 0) break;
+    if (line.find("elimination:") != std::string::npos) { inside = true; continue; }
+    if (!inside) continue;
+    std::istringstream fields(line.substr(2));
+    std::string name;
+    long before = 0, after = 0;
+    if (fields >> name >> before >> after) {
+      out += std::string(first ? "" : ", ") + "\"" + name + "\": [" + std::to_string(before) + ", " +
+             std::to_string(after) + "]";
+      first = false;
+    }
+  }
+  return out + "}";
+}
+
+/// Operations after CSE of the residual and the Jacobian lowered into one DAG (one function
+/// computing both, as sympy.cse of both lists does), without and with CSE.
+std::pair<long long, long long> joint_residual_jacobian_ops(const nhc::Index1System& system) {
+  const nhc::SymbolicJacobian jac = nhc::index1_jacobian(system);
+  std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> in;
+  in[system.jet->time()] = "t";
+  for (size_t k = 0; k < system.jet->parameters().size(); ++k)
+    in[system.jet->parameter(static_cast<int>(k))] = "p[" + std::to_string(k) + "]";
+  for (size_t k = 0; k < system.y.size(); ++k) in[system.y[k]] = "y[" + std::to_string(k) + "]";
+  for (size_t k = 0; k < system.yp.size(); ++k) in[system.yp[k]] = "yp[" + std::to_string(k) + "]";
+  in[jac.cj] = "cj";
+  nhc::ExpressionDag dag(in);
+  std::vector<int> outputs;
+  for (const auto& r : system.residuals) outputs.push_back(dag.add(r));
+  for (const auto& e : jac.entries)
+    if (!e.is_zero()) outputs.push_back(dag.add(e));
+  return {nhc::tree_operation_count(dag, outputs).total(), nhc::dag_operation_count(dag, outputs).total()};
+}
+
+struct Integration {
+  nhc::runtime::RunResult run;
+  double seconds = 0;
+  double residual_seconds = 0, jacobian_seconds = 0;
+};
+
+Integration integrate(const nhc::runtime::Model& model, const nhc::runtime::InitialState& initial, double t_end,
+                      const nhc::runtime::IntegratorOptions& io, bool quick) {
+  Integration out;
+  const std::vector<double> p = model.default_parameters();
+  const auto times = nhc::runtime::output_times(initial.t0, t_end, 10);
+  out.seconds = best_time([&] { out.run = nhc::runtime::simulate(model, p, initial, times, io); },
+                          quick ? 0 : 1.0, quick ? 1 : 5);
+  if (out.run.failure) throw std::runtime_error(std::string("integration failed: ") + out.run.failure->what());
+
+  // One residual / Jacobian evaluation at the consistent initial point.
+  const auto& t = model.table();
+  const int n = t.n_states;
+  const double* y = out.run.initial.y.data();
+  const double* yp = out.run.initial.yp.data();
+  std::vector<double> r(static_cast<size_t>(n));
+  const double cj = 1e3, min_seconds = quick ? 1e-3 : 0.05;
+  out.residual_seconds = per_call([&] { t.residual(initial.t0, y, yp, p.data(), r.data()); }, min_seconds);
+  const bool sparse = t.jacobian_values && (io.linear_solver == nhc::runtime::LinearSolverKind::sparse ||
+                                            (io.linear_solver == nhc::runtime::LinearSolverKind::automatic &&
+                                             (!t.jacobian || n >= 40)));
+  if (sparse) {
+    std::vector<double> v(static_cast<size_t>(std::max(1, t.jacobian_nnz)));
+    out.jacobian_seconds = per_call([&] { t.jacobian_values(initial.t0, y, yp, cj, p.data(), v.data()); }, min_seconds);
+  } else if (t.jacobian) {
+    std::vector<double> J(static_cast<size_t>(n) * static_cast<size_t>(n));
+    out.jacobian_seconds = per_call([&] { t.jacobian(initial.t0, y, yp, cj, p.data(), J.data()); }, min_seconds);
+  }
+  return out;
+}
+
+void report_integration(Json& json, const std::string& prefix, const Integration& in) {
+  const auto& st = in.run.statistics;
+  json.number(prefix + "integrate_s", in.seconds);
+  json.integer(prefix + "steps", st.steps);
+  json.integer(prefix + "residual_evaluations", st.residual_evaluations);
+  json.integer(prefix + "jacobian_evaluations", st.jacobian_evaluations);
+  json.integer(prefix + "nonlinear_iterations", st.nonlinear_iterations);
+  json.integer(prefix + "error_test_failures", st.error_test_failures);
+  json.text(prefix + "linear_solver", st.linear_solver);
+  json.text(prefix + "jacobian", st.jacobian);
+  json.number(prefix + "residual_call_s", in.residual_seconds);
+  json.number(prefix + "jacobian_call_s", in.jacobian_seconds);
+  json.number(prefix + "t_final", in.run.samples.empty() ? 0.0 : in.run.samples.back().t);
+}
+
+int run(const Options& o) {
+  std::error_code ec;
+  fs::create_directories(o.out, ec);
+  if (ec) throw std::runtime_error("cannot create " + o.out + ": " + ec.message());
+
+  // 1. derive + analyse + generate.
+  double load_s = 0, derive_s = 0, analyse_s = 0, generate_s = 0;
+  nhc::GeneratedHeader header;
+  int n_states = 0;
+  std::pair<long long, long long> joint_ops;
+  bool sparse = false;
+  std::string model_name;
+  auto pipeline = [&](bool record) {
+    auto t0 = Clock::now();
+    const nhc::Scene scene = nhc::load_scene(o.scene);
+    const double a = seconds_since(t0);
+    t0 = Clock::now();
+    nhc::ModelKind kind = nhc::ModelKind::chetaev;
+    if (!o.model.empty()) kind = *nhc::parse_model_kind(o.model);
+    else if (scene.simulate.model) kind = *scene.simulate.model;
+    const nhc::DerivedModel derived = nhc::derive_model(scene, kind);
+    if (!derived.applicable) throw std::runtime_error("model not applicable: " + derived.reason);
+    const double b = seconds_since(t0);
+    t0 = Clock::now();
+    const nhc::Index1System system = nhc::reduce_to_index1(scene, derived);
+    const double c = seconds_since(t0);
+    t0 = Clock::now();
+    nhc::HeaderOptions ho;
+    sparse = o.jacobian == "sparse" || (o.jacobian == "auto" && system.size() >= 40);
+    ho.jacobian = sparse ? nhc::JacobianKind::sparse : nhc::JacobianKind::dense;
+    nhc::GeneratedHeader h = nhc::generate_header(scene, system, ho);
+    const double d = seconds_since(t0);
+    if (record || a + b + c + d < load_s + derive_s + analyse_s + generate_s) {
+      load_s = a, derive_s = b, analyse_s = c, generate_s = d;
+    }
+    if (record) {
+      header = std::move(h);
+      n_states = system.size();
+      model_name = nhc::to_string(kind);
+      joint_ops = joint_residual_jacobian_ops(system);
+    }
+  };
+  pipeline(true);
+  if (!o.quick) {
+    double total = load_s + derive_s + analyse_s + generate_s, spent = total;
+    for (int k = 0; k < 4 && spent + total < 1.0; ++k) {
+      pipeline(false);
+      spent += total;
+    }
+  }
+
+  const std::string header_path = (fs::path(o.out) / header.file_name).string();
+  {
+    std::ofstream f(header_path);
+    f << header.text;
+    if (!f) throw std::runtime_error("cannot write " + header_path);
+  }
+
+  // 2. compile.
+  const std::string library = (fs::path(o.out) / (header.namespace_name + ".so")).string();
+  const double compile_s = compile(header_path, library, {});
+
+  // 3, 4. integrate.
+  const nhc::Scene scene = nhc::load_scene(o.scene);
+  const nhc::runtime::Model model = nhc::runtime::Model::load(library);
+  const nhc::runtime::InitialState initial = initial_state_of(scene, model);
+  nhc::runtime::IntegratorOptions io;
+  io.rtol = o.rtol > 0 ? o.rtol : scene.simulate.rtol;
+  io.atol = o.atol > 0 ? o.atol : scene.simulate.atol;
+  io.progress = false;
+  io.linear_solver = sparse ? nhc::runtime::LinearSolverKind::sparse : nhc::runtime::LinearSolverKind::dense;
+  const double t_end = o.t_end > 0 ? o.t_end : scene.simulate.t_end;
+  const Integration gen = integrate(model, initial, t_end, io, o.quick);
+
+  Json json;
+  json.text("scene", scene.name);
+  json.text("model", model_name);
+  json.integer("n_states", n_states);
+  json.integer("n_coordinates", model.n_coordinates());
+  json.integer("n_multipliers", model.n_multipliers());
+  json.text("jacobian_kind", sparse ? "sparse" : "dense");
+  json.integer("jacobian_nnz", model.table().jacobian_nnz);
+  json.number("load_s", load_s);
+  json.number("derive_s", derive_s);
+  json.number("analyse_s", analyse_s);
+  json.number("generate_s", generate_s);
+  json.number("derive_analyse_generate_s", load_s + derive_s + analyse_s + generate_s);
+  json.integer("ops_before_cse", header.before_cse.total());
+  json.integer("ops_after_cse", header.after_cse.total());
+  json.raw("ops_by_function", banner_counts(header.text));
+  json.integer("residual_jacobian_joint_ops_before_cse", joint_ops.first);
+  json.integer("residual_jacobian_joint_ops_after_cse", joint_ops.second);
+  json.integer("header_bytes", static_cast<long long>(header.text.size()));
+  json.number("compile_s", compile_s);
+  json.number("rtol", io.rtol);
+  json.number("atol", io.atol);
+  json.number("t_end", t_end);
+  report_integration(json, "", gen);
+  const std::vector<double> final_y = gen.run.samples.back().y;
+  json.raw("final_state_names", [&] {
+    std::string s = "[";
+    for (int i = 0; i < model.n_states(); ++i) s += (i ? ", \"" : "\"") + model.state_name(i) + "\"";
+    return s + "]";
+  }());
+  json.raw("final_y", vector_json(final_y));
+
+  // 5. the hand-written limit.
+  if (!o.handwritten.empty()) {
+    const std::string hw_library = (fs::path(o.out) / (header.namespace_name + "_handwritten.so")).string();
+    const double hw_compile_s = compile(o.handwritten, hw_library, o.defines);
+    const nhc::runtime::Model hw = nhc::runtime::Model::load(hw_library);
+    if (hw.n_states() != model.n_states())
+      throw std::runtime_error("the hand-written model has " + std::to_string(hw.n_states()) + " states, the generated " +
+                               std::to_string(model.n_states()));
+    for (int i = 0; i < hw.n_states(); ++i)
+      if (hw.state_name(i) != model.state_name(i))
+        throw std::runtime_error("state " + std::to_string(i) + " is " + hw.state_name(i) + " hand-written, " +
+                                 model.state_name(i) + " generated");
+    const Integration h = integrate(hw, initial, t_end, io, o.quick);
+    json.number("handwritten_compile_s", hw_compile_s);
+    report_integration(json, "handwritten_", h);
+    double diff = 0, scale = 0;
+    const std::vector<double>& hy = h.run.samples.back().y;
+    for (int i = 0; i < model.n_states(); ++i)
+      if (model.is_differential(i)) {
+        diff = std::max(diff, std::abs(hy[static_cast<size_t>(i)] - final_y[static_cast<size_t>(i)]));
+        scale = std::max(scale, std::abs(final_y[static_cast<size_t>(i)]));
+      }
+    json.number("handwritten_final_difference", diff);
+    json.number("final_state_scale", scale);
+  }
+  std::cout << json.str() << "\n";
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(parse(argc, argv));
+  } catch (const std::exception& e) {
+    std::cerr << "nhc_bench: error: " << e.what() << "\n";
+    return 1;
+  }
+}
