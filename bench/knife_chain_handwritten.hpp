@@ -248,13 +248,44 @@ inline void jacobian_values(double /*t*/, const double* y, const double* yp, dou
 }
 
 // Dense J, column-major n_states x n_states.
-inline void jacobian(double t, const double* y, const double* yp, double cj, const double* p, double* Jd) noexcept {
-  double v[jacobian_nnz];
-  jacobian_values(t, y, yp, cj, p, v);
-  for (int i = 0; i < n_states * n_states; ++i) Jd[i] = 0.0;
-  for (int col = 0; col < n_states; ++col)
-    for (int e = jacobian_colptr[col]; e < jacobian_colptr[col + 1]; ++e)
-      Jd[jacobian_rowind[e] + n_states * col] = v[e];
+inline void jacobian(double /*t*/, const double* y, const double* yp, double cj, const double* p, double* Jd) noexcept {
+  for (int e = 0; e < n_states * n_states; ++e) Jd[e] = 0.0;
+  auto at = [Jd](int row, int col) -> double& { return Jd[row + n_states * col]; };
+  const double m = p[0], J = p[1], k = p[4];
+  const double mcj = -m * cj, Jcj = -J * cj;
+  for (int i = 0; i < N; ++i) {
+    const double* q = y + 6 * i;
+    const double* qp = yp + 6 * i;
+    const double lam = y[6 * N + i];
+    const double s = std::sin(q[4]), c = std::cos(q[4]);
+    const int rx = 3 * i, ry = 3 * i + 1, rth = 3 * i + 2, rf = 3 * N + i, chain = 4 * N + 3 * i;
+    const int cx = 6 * i, cy = 6 * i + 2, cth = 6 * i + 4;
+    // springs
+    if (i > 0) {
+      at(rx, cx) -= k, at(rx - 3, cx) = k;
+      at(ry, cy) -= k, at(ry - 3, cy) = k;
+    }
+    if (i + 1 < N) {
+      at(rx, cx) -= k, at(rx + 3, cx) = k;
+      at(ry, cy) -= k, at(ry + 3, cy) = k;
+    }
+    // chain rows
+    for (int d = 0; d < 3; ++d) {
+      at(chain + d, cx + 2 * d) = cj;
+      at(chain + d, cx + 2 * d + 1) = -1.0;
+    }
+    at(rx, cx + 1) = mcj;
+    at(ry, cy + 1) = mcj;
+    at(rth, cth + 1) = Jcj;
+    at(rf, cx + 1) = cj * s + c * q[5];
+    at(rf, cy + 1) = s * q[5] - cj * c;
+    at(rx, cth) = lam * c;
+    at(ry, cth) = lam * s;
+    at(rf, cth) = c * (qp[1] + q[3] * q[5]) - s * (q[1] * q[5] - qp[3]);
+    at(rf, cth + 1) = c * q[1] + s * q[3];
+    at(rx, 6 * N + i) = s;
+    at(ry, 6 * N + i) = -c;
+  }
 }
 
 // Hidden constraints f_i and G = df/dy (column-major n_hidden x n_states).

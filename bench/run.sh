@@ -1,0 +1,114 @@
+#!/usr/bin/env bash
+# The benchmark suite (issue 9): nhc on the knife-edge chain (bench/knife_chain.py) for N up to
+# 64 and on the paper's two examples, side by side with SymPy (LagrangesMethod, cse, lambdify),
+# SciPy (solve_ivp Radau/BDF) and hand-written residuals and Jacobians. Writes bench/results.md
+# and bench/results-time.svg; everything in them is measured in this run.
+#
+#   bench/run.sh                       # as root on a fresh Debian machine: installs what is missing
+# Environment: NHC_BENCH_BUILD_DIR (default build-bench), NHC_BENCH_N (default "1 2 4 8 16 32 64"),
+# NHC_BENCH_PEER_N (default "1 2 4 8 16"), NHC_BENCH_PEER_TIMEOUT (seconds per peer run, 600),
+# PYTHON (default /usr/bin/python3, the interpreter Debian's python3-sympy/-scipy belong to).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+start=$(date +%s.%N)
+build=${NHC_BENCH_BUILD_DIR:-build-bench}
+nhc_n=${NHC_BENCH_N:-"1 2 4 8 16 32 64"}
+peer_n=${NHC_BENCH_PEER_N:-"1 2 4 8 16"}
+peer_timeout=${NHC_BENCH_PEER_TIMEOUT:-600}
+python=${PYTHON:-/usr/bin/python3}
+log() { echo "bench: $*" >&2; }
+
+# --- what the peers and the plot need ---
+missing=()
+"$python" -c 'import sympy' 2>/dev/null || missing+=(python3-sympy)
+"$python" -c 'import scipy, numpy' 2>/dev/null || missing+=(python3-scipy python3-numpy)
+command -v gnuplot >/dev/null || missing+=(gnuplot-nox)
+if [ ${#missing[@]} -gt 0 ]; then
+  if [ "$(id -u)" -ne 0 ]; then
+    echo "bench/run.sh: missing ${missing[*]}; install them (apt-get install ${missing[*]}) or run as root" >&2
+    exit 2
+  fi
+  log "installing ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get install -y --no-install-recommends "${missing[@]}" >/dev/null ||
+    { apt-get update >/dev/null && apt-get install -y --no-install-recommends "${missing[@]}" >/dev/null; }
+fi
+[ -x "$python" ] || python=python3
+
+# --- build the driver (the library, the runtime and bench/; not the test suite) ---
+log "building nhc_bench in $build"
+cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DNHC_BUILD_BENCH=ON >/dev/null
+cmake --build "$build" -j"$(nproc)" --target nhc_bench >/dev/null
+bench="$build/bench/nhc_bench"
+out="$build/bench-out"
+json="$out/json"
+rm -rf "$out"
+mkdir -p "$json" "$out/scenes"
+load_start=$(cut -d' ' -f1-3 /proc/loadavg)
+
+# --- nhc (and the hand-written limit) ---
+# shellcheck disable=SC2086
+"$python" bench/knife_chain.py "$out/scenes" $nhc_n
+for n in $nhc_n; do
+  log "nhc, knife chain N = $n"
+  "$bench" "$out/scenes/knife_chain_$n.toml" --out "$out/nhc/$n" \
+    --handwritten bench/knife_chain_handwritten.hpp --define "NHC_BENCH_CHAIN_N=$n" \
+    >"$json/nhc_knife_chain_$n.json" || { log "nhc_bench failed at N = $n"; rm -f "$json/nhc_knife_chain_$n.json"; }
+done
+log "nhc, appell_hamel"
+"$bench" examples/appell_hamel.toml --out "$out/nhc/appell_hamel" \
+  --handwritten tests/runtime/handwritten/appell_hamel_chetaev.hpp >"$json/nhc_appell_hamel.json" ||
+  { log "nhc_bench failed on appell_hamel"; rm -f "$json/nhc_appell_hamel.json"; }
+log "nhc, particle"
+"$bench" examples/particle.toml --out "$out/nhc/particle" >"$json/nhc_particle.json" ||
+  { log "nhc_bench failed on particle"; rm -f "$json/nhc_particle.json"; }
+
+# --- SymPy and SciPy ---
+for n in $peer_n appell_hamel; do
+  log "SymPy/SciPy, $n"
+  timeout "$peer_timeout" "$python" bench/peers.py "$n" >"$json/peers_$n.json" ||
+    { log "peers.py failed or timed out at $n"; rm -f "$json/peers_$n.json"; }
+done
+
+# --- report and plot ---
+cxx=$(sed -n 's/^CMAKE_CXX_COMPILER:[A-Z]*=//p' "$build/CMakeCache.txt")
+env_json() {
+  NHC_N="$nhc_n" PEER_N="$peer_n" LOAD_START="$load_start" START="$start" \
+  CXX_VERSION="$("${cxx:-c++}" --version | head -1)" "$python" - "$json/env.json" <<'PY'
+import json, os, sys, time
+sys.path.insert(0, "bench")
+import knife_chain
+import numpy, scipy, sympy
+cpu = "?"
+try:
+    with open("/proc/cpuinfo") as f:
+        for line in f:
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+except OSError:
+    pass
+with open("/proc/loadavg") as f:
+    load_end = " ".join(f.read().split()[:3])
+env = {
+    "date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
+    "cpu": cpu, "cores": os.cpu_count(),
+    "load_start": os.environ["LOAD_START"], "load_end": load_end,
+    "compiler": os.environ["CXX_VERSION"],
+    "sympy": sympy.__version__, "scipy": scipy.__version__, "numpy": numpy.__version__,
+    "nhc_N": [int(n) for n in os.environ["NHC_N"].split()],
+    "peer_N": [int(n) for n in os.environ["PEER_N"].split()],
+    "t_end": knife_chain.T_END, "rtol": knife_chain.RTOL, "atol": knife_chain.ATOL,
+    "wall_s": time.time() - float(os.environ["START"]),
+}
+with open(sys.argv[1], "w") as f:
+    json.dump(env, f, indent=1)
+PY
+}
+env_json
+"$python" bench/report.py "$json" bench/results.md "$json/plot.dat"
+gnuplot -e "data='$json/plot.dat'; set terminal svg size 900,540 dynamic font 'sans,12'; set output 'bench/results-time.svg'" bench/plot.gp
+gnuplot -e "data='$json/plot.dat'; set terminal dumb size 110,36; set output '$json/plot.txt'" bench/plot.gp 2>/dev/null
+env_json
+"$python" bench/report.py "$json" bench/results.md "$json/plot.dat"
+log "wrote bench/results.md and bench/results-time.svg ($(awk -v s="$start" -v e="$(date +%s.%N)" 'BEGIN{printf "%.0f", e-s}') s)"
