@@ -1,0 +1,40 @@
+# `cmake --install`: the nhc executable, the codegen and runtime headers and libraries, the
+# exported targets nhc::nhc, nhc::codegen, nhc::runtime, and a package config with version file
+# and nhc_add_model(), so that find_package(nhc) works (examples/app/).
+include(GNUInstallDirs)
+include(CMakePackageConfigHelpers)
+
+set(NHC_INSTALL_CMAKEDIR "${CMAKE_INSTALL_LIBDIR}/cmake/nhc" CACHE STRING
+    "Where the nhc package config is installed, relative to the prefix")
+
+set_target_properties(nhc_codegen PROPERTIES EXPORT_NAME codegen)
+set_target_properties(nhc_runtime PROPERTIES EXPORT_NAME runtime)
+set_target_properties(nhc PROPERTIES EXPORT_NAME nhc)
+if(BUILD_SHARED_LIBS)
+  set_target_properties(nhc PROPERTIES INSTALL_RPATH "$ORIGIN/../${CMAKE_INSTALL_LIBDIR}")
+endif()
+
+install(TARGETS nhc nhc_codegen nhc_runtime
+  EXPORT nhcTargets
+  RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
+  LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+  ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+  INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+# Both trees share the top directory nhc/ (nhc/scene, nhc/derive, …, nhc/runtime).
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/codegen/nhc ${PROJECT_SOURCE_DIR}/runtime/nhc
+  DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+  FILES_MATCHING PATTERN "*.hpp" PATTERN "*.h")
+
+install(EXPORT nhcTargets NAMESPACE nhc:: DESTINATION ${NHC_INSTALL_CMAKEDIR})
+configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/nhcConfig.cmake.in
+  ${PROJECT_BINARY_DIR}/nhcConfig.cmake
+  INSTALL_DESTINATION ${NHC_INSTALL_CMAKEDIR})
+# 0.x: a minor version may change the generated-code contract.
+write_basic_package_version_file(${PROJECT_BINARY_DIR}/nhcConfigVersion.cmake
+  VERSION ${PROJECT_VERSION}
+  COMPATIBILITY SameMinorVersion)
+install(FILES
+  ${PROJECT_BINARY_DIR}/nhcConfig.cmake
+  ${PROJECT_BINARY_DIR}/nhcConfigVersion.cmake
+  ${PROJECT_SOURCE_DIR}/cmake/nhcFunctions.cmake
+  DESTINATION ${NHC_INSTALL_CMAKEDIR})
