@@ -34,3 +34,7 @@ echo "wrote out/appell_hamel_analysis.json"
 echo "wrote out/appell_hamel_chetaev.hpp"
 echo "wrote out/appell_hamel.csv"
 echo "wrote out/appell_hamel_t_star.csv"
+echo
+echo "== nhc report $scene: work-precision (error against run time, rtol 1e-3 ... 1e-12)"
+"$nhc" report "$scene" -o out/appell_hamel_report
+echo "wrote out/appell_hamel_report/report.md (workprec.csv, workprec.svg, workprec.png)"

@@ -10,6 +10,7 @@ packages=(
   libeigen3-dev libsundials-dev libsuitesparse-dev
   libfmt-dev catch2 libtomlplusplus-dev libcli11-dev
   texlive-latex-base clang
+  gnuplot-nox
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -1,0 +1,599 @@
+// nhc report SCENE [--model M] [--tolerances 1e-3:1e-12] [--atol-scale S] [--jacobian dense|sparse|both]
+//                  [--projection off|on|both] [--t-end T] [--outputs N] [--set NAME=VALUE]...
+//                  [--sweep NAME=LO:HI] [--repeats N] [--reference-rtol R] [-o DIR]
+// nhc report --stability MANIFEST [-o FILE.md | --check FILE.md]
+//
+// Work-precision report of one model of a scene (work_precision.hpp): the scene integrated at
+// rtol = 10^-k over the given decades with atol = rtol × scale (the scale defaults to the scene's
+// [simulate] atol/rtol), in every solver configuration, error against the scene's [reference] or
+// else a reference run at rtol 1e-13, wall time (median of repeats when a run takes less than
+// 0.2 s), drift and solver statistics → DIR/workprec.csv, DIR/workprec.svg/.png (gnuplot),
+// DIR/report.md. `--sweep K=1e2:1e8` repeats everything for K = 1e2, 1e3, …, 1e8 (the stiff
+// scenes) and adds DIR/steps.svg/.png.
+//
+// --stability runs the cases of a manifest (docs/stability.toml): each case is a report with
+// the expected outcome, either an accuracy met (with optional bounds on steps and drift) or a
+// diagnostic stop at a given t; it writes the table of docs/stability.md, or with --check
+// compares it with the file (wall times excluded: they differ from run to run) and fails when
+// it is stale. Either way the exit code is 3 when a case misses its expectation.
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+#include "commands.hpp"
+#include "nhc/derive/models.hpp"
+#include "nhc/emit/derivation_emitters.hpp"
+#include "nhc/errors.hpp"
+#include "nhc/io/atomic_file.hpp"
+#include "nhc/scene/scene.hpp"
+#include "pipeline.hpp"
+#include "work_precision.hpp"
+
+namespace nhc::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ReportOptions {
+  std::string scene_path;
+  std::string model;
+  std::string tolerances = "1e-3:1e-12";
+  std::optional<double> atol_scale, t_end;
+  std::string jacobian = "both";
+  std::string projection = "both";
+  int outputs = 200;
+  std::vector<std::string> set;
+  std::string sweep;
+  int repeats = 5;
+  double reference_rtol = 1e-13;
+  std::string output;
+  bool quiet = false;
+  std::string stability, check;
+};
+
+std::string fmt(double v, int precision = 3) { return std::isnan(v) ? std::string("—") : format_number(v, precision); }
+
+/// "NAME=VALUE" → (NAME, VALUE); VALUE kept as text.
+std::pair<std::string, std::string> split_assignment(const std::string& flag, const std::string& text) {
+  const size_t eq = text.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
+    throw InputError({flag, 0, 0}, flag + " " + text + ": expected NAME=VALUE");
+  return {text.substr(0, eq), text.substr(eq + 1)};
+}
+
+double parse_number(const std::string& flag, const std::string& text) {
+  size_t used = 0;
+  double v = NAN;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || !std::isfinite(v)) throw InputError({flag, 0, 0}, flag + ": '" + text + "' is not a number");
+  return v;
+}
+
+std::vector<double> decades_or_throw(const std::string& flag, const std::string& spec) {
+  try {
+    return decades(spec);
+  } catch (const std::invalid_argument& e) {
+    throw InputError({flag, 0, 0}, e.what());
+  }
+}
+
+/// The progress sink: lines on stderr once the command has run for a second (short reports stay quiet).
+ProgressSink progress_sink(bool quiet) {
+  if (quiet) return {};
+  const auto start = Clock::now();
+  return [start](const std::string& line) {
+    if (seconds_since(start) > 1.0) std::cerr << "nhc report: " << line << std::endl;
+  };
+}
+
+struct PreparedReport {
+  Scene scene;
+  ModelKind kind;
+  WorkPrecisionSettings settings;
+};
+
+PreparedReport prepare(const ReportOptions& o) {
+  PreparedReport r{load_scene(o.scene_path), ModelKind::chetaev, {}};
+  r.kind = chosen_model(r.scene, o.model);
+  WorkPrecisionSettings& s = r.settings;
+  s.rtols = decades_or_throw("--tolerances", o.tolerances);
+  s.atol_scale = o.atol_scale.value_or(r.scene.simulate.atol / r.scene.simulate.rtol);
+  s.t_end = o.t_end.value_or(r.scene.simulate.t_end);
+  if (!(s.t_end > r.scene.initial.t0))
+    throw InputError({o.scene_path, 0, 0}, "--t-end " + fmt(s.t_end, 17) + " must be after t0 = " + fmt(r.scene.initial.t0, 17));
+  s.outputs = o.outputs;
+  s.max_repeats = o.repeats;
+  s.reference_rtol = o.reference_rtol;
+  for (const std::string& j : {std::string("dense"), std::string("sparse")}) {
+    if (o.jacobian != "both" && o.jacobian != j) continue;
+    for (bool projection : {false, true})
+      if (o.projection == "both" || (o.projection == "on") == projection) s.configurations.push_back({j, projection});
+  }
+  for (const std::string& a : o.set) {
+    const auto [name, value] = split_assignment("--set", a);
+    s.parameter_overrides.emplace_back(name, parse_number("--set", value));
+  }
+  if (!o.sweep.empty()) {
+    const auto [name, range] = split_assignment("--sweep", o.sweep);
+    s.sweep_parameter = name;
+    s.sweep_values = decades_or_throw("--sweep", range);
+    std::reverse(s.sweep_values.begin(), s.sweep_values.end());  // LO:HI → increasing
+  }
+  return r;
+}
+
+/// Accepts both orders for a sweep (K=1e2:1e8 or K=1e8:1e2); decades() wants the larger first.
+std::string normalized_sweep(const std::string& sweep) {
+  const size_t eq = sweep.find('='), colon = sweep.find(':', eq == std::string::npos ? 0 : eq);
+  if (eq == std::string::npos || colon == std::string::npos) return sweep;
+  const std::string lo = sweep.substr(eq + 1, colon - eq - 1), hi = sweep.substr(colon + 1);
+  try {
+    if (std::stod(lo) < std::stod(hi)) return sweep.substr(0, eq + 1) + hi + ":" + lo;
+  } catch (const std::exception&) {
+  }
+  return sweep;
+}
+
+// ---------------------------------------------------------------------------------------------
+// report.md
+
+std::string table_row(const std::vector<std::string>& cells) {
+  std::string row = "|";
+  for (const std::string& c : cells) row += " " + c + " |";
+  return row + "\n";
+}
+
+/// Per configuration (and sweep value): how the error falls with the tolerance.
+std::string error_summary(const WorkPrecision& wp) {
+  std::ostringstream out;
+  std::map<std::string, std::vector<const Measurement*>> series;
+  std::vector<std::string> order;
+  for (const Measurement& m : wp.measurements) {
+    std::string key = m.configuration.label();
+    if (m.sweep_value) key += ", " + wp.settings.sweep_parameter + " = " + fmt(*m.sweep_value);
+    if (!series.count(key)) order.push_back(key);
+    series[key].push_back(&m);
+  }
+  for (const std::string& key : order) {
+    const auto& ms = series[key];
+    double best = INFINITY;
+    for (const Measurement* m : ms)
+      if (std::isfinite(m->error)) best = std::min(best, m->error);
+    if (!std::isfinite(best)) {
+      out << "- " << key << ": no error could be measured.\n";
+      continue;
+    }
+    // The loosest tolerance from which on the error stays within 10× of the best: the floor.
+    double floor_rtol = ms.back()->rtol;
+    for (auto it = ms.rbegin(); it != ms.rend(); ++it) {
+      if (!std::isfinite((*it)->error) || (*it)->error > 10 * std::max(best, 1e-300)) break;
+      floor_rtol = (*it)->rtol;
+    }
+    out << "- " << key << ": error " << fmt(ms.front()->error) << " at rtol " << fmt(ms.front()->rtol) << ", "
+        << fmt(ms.back()->error) << " at rtol " << fmt(ms.back()->rtol) << "; smallest " << fmt(best)
+        << ", reached (within 10×) from rtol " << fmt(floor_rtol) << " on.\n";
+  }
+  return out.str();
+}
+
+void write_report(const std::string& path, const Scene& scene, ModelKind kind, const WorkPrecision& wp,
+                  const std::vector<std::string>& images) {
+  const DerivedModel derived = derive_model(scene, kind);
+  std::ostringstream equations;
+  write_derivation_text(equations, scene, {derived});
+  const WorkPrecisionSettings& s = wp.settings;
+  const bool sweep = !s.sweep_parameter.empty();
+
+  write_file_atomically(path, [&](std::ostream& out) {
+    out << "# Work-precision report: " << wp.scene_name << " (" << wp.model_name << ")\n\n"
+        << "Written by `nhc report` from `" << scene.source_path << "`.\n\n"
+        << "## Settings\n\n"
+        << "- t from " << fmt(scene.initial.t0, 6) << " to " << fmt(s.t_end, 6) << "; error and drift measured at "
+        << s.outputs + 1 << " equally spaced output times.\n"
+        << "- rtol = " << fmt(s.rtols.front()) << " … " << fmt(s.rtols.back())
+        << " by decades, atol = rtol × " << fmt(s.atol_scale)
+        << " (the scale is the scene's [simulate] atol/rtol unless `--atol-scale` is given).\n"
+        << "- error: max over the output times and the coordinates of |q − q_ref|, against "
+        << wp.source.description() << ". A run that stops early is compared up to where it stopped.\n"
+        << "- seconds: wall time of one run (consistent initialization and integration; not derivation or "
+           "compilation), the median of up to "
+        << s.max_repeats << " repeats while their total stays below " << fmt(s.repeat_seconds) << " s.\n"
+        << "- drift: max |g_i| of the hidden constraints, and max over the invariants of |I(t) − I(t0)| / |I(t0)|.\n"
+        << "- configurations: dense LU or KLU (sparse) with the generated Jacobian, without or with projection "
+           "onto the hidden constraints (`in_place`, docs/projection.md).\n";
+    if (!s.parameter_overrides.empty()) {
+      out << "- parameters set:";
+      for (const auto& [n, v] : s.parameter_overrides) out << " " << n << " = " << fmt(v, 6);
+      out << "\n";
+    }
+    if (sweep) out << "- sweep: " << s.sweep_parameter << " = " << fmt(s.sweep_values.front()) << " … " << fmt(s.sweep_values.back()) << " by decades.\n";
+    out << "- derivation and code generation " << fmt(wp.derive_seconds) << " s, compilation " << fmt(wp.compile_seconds)
+        << " s (not in the table).\n\n";
+
+    out << "## Plots\n\n";
+    for (const std::string& image : images)
+      if (fs::path(image).extension() == ".svg")
+        out << "![" << fs::path(image).stem().string() << "](" << fs::path(image).filename().string() << ")\n\n";
+    if (images.empty()) out << "(not drawn: gnuplot missing)\n\n";
+    out << "Errors below 1e-16 are drawn at 1e-16.\n\n";
+
+    out << "## Error against tolerance\n\n" << error_summary(wp) << "\n";
+
+    out << "## Measurements\n\n";
+    std::vector<std::string> header{"configuration"};
+    if (sweep) header.push_back(s.sweep_parameter);
+    for (const char* h : {"rtol", "atol", "error", "seconds", "repeats", "steps", "residuals", "Jacobians",
+                          "error-test failures", "nonlinear failures", "projections", "hidden drift",
+                          "invariant drift", "t reached", "status"})
+      header.push_back(h);
+    out << table_row(header);
+    out << table_row(std::vector<std::string>(header.size(), "---"));
+    for (const Measurement& m : wp.measurements) {
+      const runtime::Statistics& st = m.statistics;
+      std::vector<std::string> row{m.configuration.label()};
+      if (sweep) row.push_back(fmt(*m.sweep_value));
+      for (const std::string& c :
+           {fmt(m.rtol), fmt(m.atol), fmt(m.error), fmt(m.seconds), std::to_string(m.repeats), std::to_string(st.steps),
+            std::to_string(st.residual_evaluations), std::to_string(st.jacobian_evaluations),
+            std::to_string(st.error_test_failures), std::to_string(st.nonlinear_failures),
+            std::to_string(st.projections), fmt(m.max_hidden), fmt(m.max_invariant_relative), fmt(m.t_reached, 6),
+            m.status()})
+        row.push_back(c);
+      out << table_row(row);
+    }
+    out << "\nThe same numbers are in `workprec.csv`.\n\n";
+
+    // Failures, once per distinct message.
+    std::vector<std::string> messages;
+    for (const Measurement& m : wp.measurements)
+      if (m.failure && std::find(messages.begin(), messages.end(), m.failure_message) == messages.end())
+        messages.push_back(m.failure_message);
+    if (!messages.empty()) {
+      out << "## Stops\n\n";
+      for (const std::string& msg : messages) out << "- " << msg << "\n";
+      out << "\n";
+    }
+
+    out << "## Solver statistics\n\n";
+    if (!wp.measurements.empty()) {
+      const runtime::Statistics& st = wp.measurements.back().statistics;
+      out << "Linear solver and Jacobian per configuration: ";
+      std::vector<std::string> seen;
+      for (const Measurement& m : wp.measurements) {
+        const std::string d = m.configuration.label() + ": " + m.statistics.linear_solver + ", " + m.statistics.jacobian;
+        if (std::find(seen.begin(), seen.end(), d) == seen.end()) seen.push_back(d);
+      }
+      for (size_t i = 0; i < seen.size(); ++i) out << (i ? "; " : "") << seen[i];
+      out << ".\n\nTightest run of the last configuration: " << st.steps << " steps, " << st.residual_evaluations
+          << " residual evaluations, " << st.jacobian_evaluations << " Jacobian evaluations, "
+          << st.linear_solver_setups << " linear-solver set-ups, " << st.nonlinear_iterations
+          << " nonlinear iterations, " << st.error_test_failures << " error-test failures, "
+          << st.nonlinear_failures << " nonlinear failures, " << st.root_evaluations << " root evaluations, "
+          << st.projections << " projections.\n\n";
+    }
+
+    out << "## Equations\n\n"
+        << "Index-1 system: " << wp.n_states << " states (";
+    for (size_t i = 0; i < wp.state_names.size(); ++i) out << (i ? ", " : "") << "`" << wp.state_names[i] << "`";
+    out << "), " << wp.n_hidden << " hidden constraints";
+    if (!wp.hidden_names.empty()) {
+      out << " (";
+      for (size_t i = 0; i < wp.hidden_names.size(); ++i) out << (i ? ", " : "") << "`" << wp.hidden_names[i] << "`";
+      out << ")";
+    }
+    out << ".";
+    if (!wp.singular_names.empty()) {
+      out << " Singular-set monitors: ";
+      for (size_t i = 0; i < wp.singular_names.size(); ++i) out << (i ? ", " : "") << "`" << wp.singular_names[i] << "`";
+      out << ".";
+    }
+    out << "\n\nParameters:";
+    for (size_t i = 0; i < wp.parameter_names.size(); ++i)
+      out << (i ? "," : "") << " " << wp.parameter_names[i] << " = " << fmt(wp.parameters[i], 6);
+    out << "\n\n```\n" << equations.str() << "```\n";
+  });
+}
+
+int run_report(const ReportOptions& o) {
+  if (o.scene_path.empty()) throw InputError({"SCENE", 0, 0}, "nhc report needs a SCENE (or --stability MANIFEST)");
+  ReportOptions opts = o;
+  opts.sweep = normalized_sweep(o.sweep);
+  const PreparedReport prepared = prepare(opts);
+  const std::string dir = o.output.empty() ? prepared.scene.name + "-report" : o.output;
+  std::error_code ignored;
+  fs::create_directories(dir, ignored);  // an unwritable directory is reported by the first write
+
+  const WorkPrecision wp = measure_work_precision(prepared.scene, prepared.kind, prepared.settings, progress_sink(o.quiet));
+  const std::string csv = (fs::path(dir) / "workprec.csv").string(), md = (fs::path(dir) / "report.md").string();
+  write_work_precision_csv(csv, wp);
+  std::vector<std::string> images;
+  std::string plot_error;
+  try {
+    images = plot_work_precision(dir, wp);
+  } catch (const std::runtime_error& e) {
+    plot_error = e.what();
+  }
+  write_report(md, prepared.scene, prepared.kind, wp, images);
+  if (!o.quiet) {
+    std::cout << "nhc report: " << wp.scene_name << " (" << wp.model_name << "), " << wp.measurements.size()
+              << " runs, error against " << wp.source.description() << "\n";
+    for (const std::string& f : {csv, md}) std::cout << "  wrote " << f << "\n";
+    for (const std::string& f : images) std::cout << "  wrote " << f << "\n";
+  }
+  if (!plot_error.empty()) throw std::runtime_error(plot_error);
+  return kExitOk;
+}
+
+// ---------------------------------------------------------------------------------------------
+// --stability
+
+struct StabilityCase {
+  std::string id, title, scene, model, tolerances, projection = "off", sweep, expect, diagnostic, advice;
+  std::optional<double> t_end, accuracy, max_steps, max_hidden_drift, max_invariant_drift, t_stop, atol_scale;
+  std::vector<std::string> set;
+};
+
+std::vector<StabilityCase> load_manifest(const std::string& path) {
+  toml::table doc;
+  try {
+    doc = toml::parse_file(path);
+  } catch (const toml::parse_error& e) {
+    const auto& b = e.source().begin;
+    throw InputError({path, static_cast<int>(b.line), static_cast<int>(b.column)}, std::string(e.description()));
+  }
+  std::vector<StabilityCase> cases;
+  const toml::array* array = doc["case"].as_array();
+  if (!array) throw InputError({path, 1, 1}, "expected [[case]] tables");
+  for (const toml::node& node : *array) {
+    const toml::table* t = node.as_table();
+    const int line = static_cast<int>(node.source().begin.line);
+    if (!t) throw InputError({path, line, 1}, "[[case]] must be a table");
+    auto text = [&](const char* key, bool required) {
+      const auto v = (*t)[key].value<std::string>();
+      if (!v && required) throw InputError({path, line, 1}, std::string("case without '") + key + "'");
+      return v.value_or("");
+    };
+    auto number = [&](const char* key) -> std::optional<double> {
+      if (!t->contains(key)) return std::nullopt;
+      const auto v = (*t)[key].value<double>();
+      if (!v) throw InputError({path, line, 1}, std::string("'") + key + "' must be a number");
+      return v;
+    };
+    StabilityCase c;
+    c.id = text("id", true);
+    c.title = text("title", true);
+    c.scene = text("scene", true);
+    c.model = text("model", false);
+    c.tolerances = text("tolerances", false);
+    if (t->contains("projection")) c.projection = text("projection", true);
+    c.sweep = text("sweep", false);
+    c.expect = text("expect", true);
+    c.diagnostic = text("diagnostic", false);
+    c.advice = text("advice", true);
+    c.t_end = number("t_end");
+    c.accuracy = number("accuracy");
+    c.max_steps = number("max_steps");
+    c.max_hidden_drift = number("max_hidden_drift");
+    c.max_invariant_drift = number("max_invariant_drift");
+    c.t_stop = number("t_stop");
+    c.atol_scale = number("atol_scale");
+    if (const toml::array* set = (*t)["set"].as_array())
+      for (const toml::node& s : *set)
+        if (auto v = s.value<std::string>()) c.set.push_back(*v);
+    if (c.expect != "accuracy" && c.expect != "diagnostic")
+      throw InputError({path, line, 1}, "case " + c.id + ": expect must be \"accuracy\" or \"diagnostic\"");
+    if (c.expect == "accuracy" && !c.accuracy) throw InputError({path, line, 1}, "case " + c.id + ": no accuracy");
+    if (c.expect == "diagnostic" && (c.diagnostic.empty() || !c.t_stop))
+      throw InputError({path, line, 1}, "case " + c.id + ": a diagnostic case needs diagnostic and t_stop");
+    if (c.projection != "off" && c.projection != "on" && c.projection != "both")
+      throw InputError({path, line, 1}, "case " + c.id + ": projection must be off, on or both");
+    cases.push_back(std::move(c));
+  }
+  return cases;
+}
+
+/// Whether a measurement meets its case's expectation; `why` says what it missed.
+bool meets(const StabilityCase& c, const Measurement& m, std::string& why) {
+  std::ostringstream w;
+  if (c.expect == "accuracy") {
+    if (m.failure) w << "stopped: " << m.failure_message << "; ";
+    if (!(m.error <= *c.accuracy)) w << "error " << fmt(m.error) << " > " << fmt(*c.accuracy) << "; ";
+  } else {
+    if (!m.failure) w << "ran through, expected " << c.diagnostic << "; ";
+    else if (m.status() != c.diagnostic) w << "stopped with " << m.status() << ", expected " << c.diagnostic << "; ";
+    else if (!(std::abs(m.failure_t - *c.t_stop) <= 1e-6 * std::abs(*c.t_stop) + 1e-15))
+      w << "stopped at t = " << fmt(m.failure_t, 10) << ", expected " << fmt(*c.t_stop, 10) << "; ";
+    if (c.accuracy && !(m.error <= *c.accuracy)) w << "error " << fmt(m.error) << " > " << fmt(*c.accuracy) << "; ";
+  }
+  if (c.max_steps && m.statistics.steps > *c.max_steps) w << m.statistics.steps << " steps > " << fmt(*c.max_steps) << "; ";
+  if (c.max_hidden_drift && !(m.max_hidden <= *c.max_hidden_drift))
+    w << "hidden drift " << fmt(m.max_hidden) << " > " << fmt(*c.max_hidden_drift) << "; ";
+  if (c.max_invariant_drift && !(m.max_invariant_relative <= *c.max_invariant_drift))
+    w << "invariant drift " << fmt(m.max_invariant_relative) << " > " << fmt(*c.max_invariant_drift) << "; ";
+  why = w.str();
+  return why.empty();
+}
+
+std::string expectation(const StabilityCase& c) {
+  std::ostringstream e;
+  if (c.expect == "accuracy") e << "error ≤ " << fmt(*c.accuracy);
+  else {
+    std::string d = c.diagnostic;
+    std::replace(d.begin(), d.end(), '_', ' ');
+    e << d << " at t = " << fmt(*c.t_stop, 6);
+    if (c.accuracy) e << ", error ≤ " << fmt(*c.accuracy);
+  }
+  if (c.max_steps) e << ", steps ≤ " << fmt(*c.max_steps);
+  if (c.max_hidden_drift) e << ", hidden drift ≤ " << fmt(*c.max_hidden_drift);
+  if (c.max_invariant_drift) e << ", invariant drift ≤ " << fmt(*c.max_invariant_drift);
+  return e.str();
+}
+
+std::string outcome(const Measurement& m) {
+  if (!m.failure) return "ran to t_end";
+  std::string d = m.status();
+  std::replace(d.begin(), d.end(), '_', ' ');
+  return "stopped: " + d + " at t = " + fmt(m.failure_t, 6);
+}
+
+/// Table rows: the last cell (seconds) is left out of the staleness comparison.
+std::string without_timing(const std::string& doc) {
+  std::istringstream in(doc);
+  std::ostringstream out;
+  for (std::string line; std::getline(in, line);) {
+    if (line.size() > 2 && line[0] == '|' && line.back() == '|') {
+      const size_t last = line.rfind('|', line.size() - 2);
+      line = line.substr(0, last + 1) + " |";
+    }
+    out << line << "\n";
+  }
+  return out.str();
+}
+
+int run_stability(const ReportOptions& o) {
+  const std::vector<StabilityCase> cases = load_manifest(o.stability);
+  const fs::path root = fs::path(o.stability).parent_path().parent_path();  // docs/stability.toml → the project
+  const ProgressSink progress = progress_sink(o.quiet);
+
+  std::ostringstream table, advice;
+  int missed = 0;
+  table << table_row({"case", "configuration", "rtol", "error against", "error", "steps", "hidden drift",
+                      "invariant drift", "outcome", "expected", "met", "seconds"});
+  table << table_row(std::vector<std::string>(12, "---"));
+  for (const StabilityCase& c : cases) {
+    if (!o.quiet) std::cerr << "nhc report --stability: " << c.id << " (" << c.scene << ")" << std::endl;
+    ReportOptions ro;
+    ro.scene_path = (root / c.scene).string();
+    ro.model = c.model;
+    ro.atol_scale = c.atol_scale;
+    ro.t_end = c.t_end;
+    ro.jacobian = "dense";
+    ro.projection = c.projection;
+    ro.set = c.set;
+    ro.sweep = normalized_sweep(c.sweep);
+    ro.repeats = 1;
+    const PreparedReport prepared = [&] {
+      ReportOptions r = ro;
+      if (c.tolerances.empty()) r.tolerances = "1";  // replaced below by the scene's rtol
+      else r.tolerances = c.tolerances;
+      PreparedReport p = prepare(r);
+      if (c.tolerances.empty()) p.settings.rtols = {p.scene.simulate.rtol};
+      return p;
+    }();
+    const WorkPrecision wp = measure_work_precision(prepared.scene, prepared.kind, prepared.settings, progress);
+    for (const Measurement& m : wp.measurements) {
+      std::string why;
+      const bool ok = meets(c, m, why);
+      if (!ok) {
+        ++missed;
+        std::cerr << "nhc report --stability: case " << c.id << " (" << m.configuration.label() << ", rtol "
+                  << fmt(m.rtol) << ") missed its expectation: " << why << "\n";
+      }
+      std::string config = m.configuration.label();
+      if (m.sweep_value) config += ", " + wp.settings.sweep_parameter + " = " + fmt(*m.sweep_value, 2);
+      table << table_row({c.id, config, fmt(m.rtol, 2), wp.source.exact ? "reference" : "reference run",
+                          fmt(m.error, 2), std::to_string(m.statistics.steps),
+                          wp.n_hidden ? fmt(m.max_hidden, 2) : "—", wp.n_invariants ? fmt(m.max_invariant_relative, 2) : "—",
+                          outcome(m), expectation(c), ok ? "yes" : "**no**", fmt(m.seconds, 2)});
+    }
+    advice << "### " << c.id << ": " << c.title << "\n\n"
+           << "Scene `" << c.scene << "`, model " << wp.model_name << ", t_end " << fmt(wp.settings.t_end, 6)
+           << ", atol = rtol × " << fmt(wp.settings.atol_scale);
+    for (const std::string& s : c.set) advice << ", " << s;
+    if (!c.sweep.empty()) advice << ", sweep " << c.sweep << " (by decades)";
+    advice << ". Error against " << wp.source.description() << ".\n\n" << c.advice << "\n\n";
+  }
+
+  std::ostringstream doc;
+  doc << "# Stability: stiff and extreme scenes\n\n"
+      << "<!-- Generated by `nhc report --stability docs/stability.toml -o docs/stability.md` (CMake target\n"
+      << "     `stability`); do not edit: change docs/stability.toml and regenerate. The test\n"
+      << "     `report:stability_current` fails when the table is stale (every column but seconds). -->\n\n"
+      << "Each case is one scene of `examples/` run by `nhc report` (dense LU with the generated Jacobian;\n"
+      << "atol = rtol × the scene's [simulate] atol/rtol unless stated) with its documented expectation: an\n"
+      << "accuracy to meet, or a diagnostic to stop with at a given t. error = max over 201 output times and the\n"
+      << "coordinates of |q − q_ref|, against the scene's [reference] where it has one, else against a reference\n"
+      << "run at rtol 1e-13. hidden drift = max |g_i| of the hidden constraints; invariant drift = max\n"
+      << "|I(t) − I(t0)|/|I(t0)| over the scene's invariants; \"+ projection\" = projection onto the hidden\n"
+      << "constraints (docs/projection.md). seconds = wall time of one run on the machine that generated\n"
+      << "this file (not compared by the staleness test). The work-precision plot of each case:\n"
+      << "`nhc report <scene>` (README).\n\n"
+      << table.str() << "\n"
+      << "## What to do in each case\n\n"
+      << advice.str();
+  const std::string text = doc.str();
+
+  if (!o.check.empty()) {
+    std::ifstream in(o.check);
+    std::stringstream current;
+    current << in.rdbuf();
+    if (!in || without_timing(current.str()) != without_timing(text)) {
+      const std::string fresh = o.check + ".new";
+      write_file_atomically(fresh, [&](std::ostream& out) { out << text; });
+      std::cerr << "nhc report --stability: " << o.check << " is stale; the current table is in " << fresh
+                << " (regenerate with the CMake target `stability`)\n";
+      return kExitInternal;
+    }
+    if (!o.quiet) std::cout << "nhc report --stability: " << o.check << " is current\n";
+  } else if (o.output.empty()) {
+    std::cout << text;
+  } else {
+    write_file_atomically(o.output, [&](std::ostream& out) { out << text; });
+    if (!o.quiet) std::cout << "nhc report --stability: wrote " << o.output << "\n";
+  }
+  if (missed > 0) {
+    std::cerr << "nhc: error: " << missed << " run(s) of the stability cases missed their expectation\n";
+    return kExitMathFailure;
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+CommandRunner add_report_command(CLI::App& app) {
+  auto options = std::make_shared<ReportOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "report", "work-precision report of one model of a scene: error against run time over a range of tolerances");
+  sub->add_option("SCENE", options->scene_path, "scene file (TOML)");
+  sub->add_option("--model,-m", options->model, "model (default: the scene's [simulate] model, else chetaev)")
+      ->check(CLI::IsMember({"vakonomic", "chetaev", "holder", "suslov"}));
+  sub->add_option("--tolerances", options->tolerances, "rtol range by decades, loosest first (default 1e-3:1e-12)");
+  sub->add_option("--atol-scale", options->atol_scale, "atol = rtol × this (default: the scene's atol/rtol)")
+      ->check(CLI::PositiveNumber);
+  sub->add_option("--jacobian", options->jacobian, "dense, sparse or both (default both)")
+      ->check(CLI::IsMember({"dense", "sparse", "both"}));
+  sub->add_option("--projection", options->projection, "off, on or both (default both)")
+      ->check(CLI::IsMember({"off", "on", "both"}));
+  sub->add_option("--t-end", options->t_end, "final time (default: [simulate] t_end)");
+  sub->add_option("--outputs", options->outputs, "output intervals where error and drift are measured (default 200)")
+      ->check(CLI::PositiveNumber);
+  sub->add_option("--set", options->set, "NAME=VALUE: override a parameter (repeatable)");
+  sub->add_option("--sweep", options->sweep, "NAME=LO:HI: repeat for the parameter at every decade from LO to HI");
+  sub->add_option("--repeats", options->repeats, "at most this many timed repeats of a short run (default 5)")
+      ->check(CLI::PositiveNumber);
+  sub->add_option("--reference-rtol", options->reference_rtol,
+                  "rtol of the reference run for scenes without [reference] (default 1e-13)")
+      ->check(CLI::PositiveNumber);
+  sub->add_option("-o,--output", options->output,
+                  "directory for workprec.csv, workprec.svg/.png and report.md (default <scene>-report); with "
+                  "--stability the Markdown file (default standard output)");
+  sub->add_flag("-q,--quiet", options->quiet, "no summary and no progress lines");
+  sub->add_option("--stability", options->stability,
+                  "run the cases of a manifest (docs/stability.toml) and write their table (docs/stability.md)");
+  sub->add_option("--check", options->check, "with --stability: fail when this file is stale (wall times excluded)");
+
+  return [options]() { return options->stability.empty() ? run_report(*options) : run_stability(*options); };
+}
+
+}  // namespace nhc::cli

@@ -1,0 +1,405 @@
+// Work-precision measurements, their CSV file and plots (work_precision.hpp).
+#include "work_precision.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+#include "nhc/errors.hpp"
+#include "nhc/io/atomic_file.hpp"
+#include "pipeline.hpp"
+
+namespace nhc::cli {
+
+namespace fs = std::filesystem;
+
+std::string Configuration::label() const { return jacobian + (projection ? " + projection" : ""); }
+
+std::string Measurement::status() const {
+  if (!failure) return "ok";
+  std::string s = runtime::to_string(*failure);
+  std::replace(s.begin(), s.end(), ' ', '_');
+  return s;
+}
+
+std::string ErrorSource::description() const {
+  if (exact) return "the scene's [reference] (exact solution)";
+  return "a reference run at rtol " + format_number(rtol, 3) + ", atol " + format_number(atol, 3) +
+         " (dense LU, no projection)";
+}
+
+std::vector<double> decades(const std::string& spec) {
+  auto parse = [&](const std::string& text) {
+    size_t used = 0;
+    double v = 0;
+    try {
+      v = std::stod(text, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != text.size() || !(v > 0) || !std::isfinite(v))
+      throw std::invalid_argument("--tolerances " + spec + ": '" + text + "' is not a positive number");
+    return v;
+  };
+  const size_t colon = spec.find(':');
+  const double hi = parse(spec.substr(0, colon));
+  const double lo = colon == std::string::npos ? hi : parse(spec.substr(colon + 1));
+  if (lo > hi) throw std::invalid_argument("--tolerances " + spec + ": give the loosest tolerance first (1e-3:1e-12)");
+  std::vector<double> values;
+  // Decades: hi, hi/10, ... down to lo (inclusive within rounding), at most 20.
+  const int n = static_cast<int>(std::floor(std::log10(hi / lo) + 1e-9));
+  if (n > 19) throw std::invalid_argument("--tolerances " + spec + ": more than 20 decades");
+  for (int k = 0; k <= n; ++k) values.push_back(std::stod(format_number(hi / std::pow(10.0, k), 12)));
+  return values;
+}
+
+namespace {
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/// Positions of the coordinates (order-0 states) in y.
+std::vector<int> coordinate_states(const runtime::Model& model) {
+  std::vector<int> idx;
+  for (int c = 0; c < model.n_coordinates(); ++c) {
+    const int i = model.state_index(c, 0);
+    if (i >= 0) idx.push_back(i);
+  }
+  return idx;
+}
+
+/// max |q − q_ref| over the coordinates at the output times both runs reached.
+double error_against_run(const runtime::Model& model, const std::vector<runtime::Sample>& run,
+                         const std::vector<runtime::Sample>& reference) {
+  const std::vector<int> coords = coordinate_states(model);
+  double worst = 0;
+  size_t compared = 0;
+  const size_t n = std::min(run.size(), reference.size());
+  for (size_t k = 0; k < n; ++k) {
+    const double t = run[k].t, tr = reference[k].t;
+    if (std::abs(t - tr) > 1e-12 * std::max(1.0, std::abs(tr))) break;  // a stop between output times
+    for (int i : coords) {
+      const double e = std::abs(run[k].y[i] - reference[k].y[i]);
+      worst = std::isfinite(e) ? std::max(worst, e) : INFINITY;
+    }
+    ++compared;
+  }
+  // Only the initial point in common: nothing measured.
+  return compared > 1 ? worst : NAN;
+}
+
+}  // namespace
+
+WorkPrecision measure_work_precision(const Scene& scene, ModelKind kind, const WorkPrecisionSettings& settings,
+                                     const ProgressSink& progress) {
+  WorkPrecision wp;
+  wp.settings = settings;
+  wp.scene_name = scene.name;
+  wp.model_name = to_string(kind);
+
+  // One compiled model per Jacobian flavour (the reference run uses the dense one).
+  std::map<std::string, BuiltModel> models;
+  auto model_for = [&](const std::string& jacobian) -> const runtime::Model& {
+    auto it = models.find(jacobian);
+    if (it == models.end()) {
+      BuiltModel b = build_model(scene, kind, jacobian == "sparse" ? JacobianKind::sparse : JacobianKind::dense);
+      wp.derive_seconds += b.derive_seconds;
+      wp.compile_seconds += b.compile_seconds;
+      it = models.emplace(jacobian, std::move(b)).first;
+    }
+    return it->second.model;
+  };
+  const runtime::Model& dense = model_for("dense");
+  const auto& tab = dense.table();
+  wp.n_states = dense.n_states();
+  wp.n_hidden = dense.n_hidden();
+  wp.n_invariants = dense.n_invariants();
+  for (int i = 0; i < dense.n_states(); ++i) wp.state_names.push_back(dense.state_name(i));
+  for (int i = 0; i < dense.n_hidden(); ++i) wp.hidden_names.push_back(dense.hidden_name(i));
+  for (int i = 0; i < dense.n_invariants(); ++i) wp.invariant_names.push_back(tab.invariant_names[i]);
+  for (int i = 0; i < dense.n_singular(); ++i) wp.singular_names.push_back(dense.singular_name(i));
+  for (int i = 0; i < dense.n_parameters(); ++i) wp.parameter_names.push_back(tab.parameter_names[i]);
+
+  const std::string scene_file = scene.source_path.empty() ? scene.name : scene.source_path;
+  auto parameter_index = [&](const std::string& name) {
+    const int i = dense.parameter_index(name);
+    if (i < 0) throw InputError({scene_file, 0, 0}, "the scene has no parameter '" + name + "'");
+    return i;
+  };
+  wp.parameters = dense.default_parameters();
+  for (const auto& [name, value] : settings.parameter_overrides) wp.parameters[parameter_index(name)] = value;
+  std::vector<std::optional<double>> sweep{std::nullopt};
+  int sweep_index = -1;
+  if (!settings.sweep_parameter.empty()) {
+    sweep_index = parameter_index(settings.sweep_parameter);
+    sweep.assign(settings.sweep_values.begin(), settings.sweep_values.end());
+  }
+  const double t0 = scene.initial.t0;
+  const std::vector<double> times = runtime::output_times(t0, settings.t_end, settings.outputs);
+  wp.source.exact = dense.n_reference() > 0;
+  wp.source.rtol = settings.reference_rtol;
+  wp.source.atol = settings.reference_rtol * settings.atol_scale;
+
+  const size_t total = sweep.size() * settings.configurations.size() * settings.rtols.size();
+  size_t done = 0;
+  for (const std::optional<double>& value : sweep) {
+    std::vector<double> p = wp.parameters;
+    if (value) p[sweep_index] = *value;
+    const std::string at = value ? ", " + settings.sweep_parameter + " = " + format_number(*value, 6) : "";
+
+    // The reference run: rtol = reference_rtol, loosened by decades (to 1e-10) while it does not
+    // reach t_end (very tight tolerances can exhaust the step limit on stiff problems).
+    std::vector<runtime::Sample> reference;
+    double reference_rtol = 0;
+    if (!wp.source.exact) {
+      for (double rtol = settings.reference_rtol; rtol <= 1.0001e-10; rtol *= 10) {
+        runtime::IntegratorOptions io;
+        io.rtol = rtol;
+        io.atol = rtol * settings.atol_scale;
+        io.linear_solver = runtime::LinearSolverKind::dense;
+        io.progress = false;
+        const runtime::RunResult ref = runtime::simulate(dense, p, initial_state_of(scene, dense), times, io);
+        if (progress)
+          progress("reference run" + at + ": rtol " + format_number(io.rtol) + ", " +
+                   std::to_string(ref.statistics.steps) + " steps" +
+                   (ref.failure ? std::string(", stopped: ") + ref.failure->what() : std::string()));
+        if (reference.empty() || ref.samples.size() > reference.size()) {
+          reference = ref.samples;
+          reference_rtol = rtol;
+        }
+        if (!ref.failure || ref.failure->kind() != runtime::FailureKind::too_many_steps) break;
+      }
+      wp.source.rtol = std::max(wp.source.rtol, reference_rtol);  // the loosest one used
+      wp.source.atol = wp.source.rtol * settings.atol_scale;
+    }
+
+    for (const Configuration& config : settings.configurations) {
+      const runtime::Model& model = model_for(config.jacobian);
+      const runtime::InitialState initial = initial_state_of(scene, model);
+      for (double rtol : settings.rtols) {
+        runtime::IntegratorOptions io;
+        io.rtol = rtol;
+        io.atol = rtol * settings.atol_scale;
+        io.linear_solver = config.jacobian == "sparse" ? runtime::LinearSolverKind::sparse : runtime::LinearSolverKind::dense;
+        io.projection = config.projection ? runtime::ProjectionMethod::in_place : runtime::ProjectionMethod::none;
+        io.progress = false;
+
+        std::vector<double> seconds;
+        runtime::RunResult run;
+        double total_seconds = 0;
+        do {
+          const auto start = Clock::now();
+          run = runtime::simulate(model, p, initial, times, io);
+          seconds.push_back(seconds_since(start));
+          total_seconds += seconds.back();
+        } while (static_cast<int>(seconds.size()) < settings.max_repeats && total_seconds < settings.repeat_seconds);
+
+        Measurement m;
+        m.configuration = config;
+        m.sweep_value = value;
+        m.rtol = io.rtol;
+        m.atol = io.atol;
+        m.seconds = median(seconds);
+        m.repeats = static_cast<int>(seconds.size());
+        m.statistics = run.statistics;
+        const runtime::DriftReport drift = runtime::measure_drift(model, p, run.samples);
+        m.max_hidden = drift.max_hidden;
+        m.max_invariant_relative = drift.max_invariant_relative;
+        m.error = wp.source.exact ? (run.samples.empty() ? NAN : drift.max_error)
+                                  : error_against_run(model, run.samples, reference);
+        m.t_reached = run.samples.empty() ? t0 : run.samples.back().t;
+        if (run.failure) {
+          m.failure = run.failure->kind();
+          m.failure_t = run.failure->t();
+          m.failure_message = run.failure->what();
+        }
+        wp.measurements.push_back(m);
+        ++done;
+        if (progress)
+          progress("[" + std::to_string(done) + "/" + std::to_string(total) + "] " + config.label() + at +
+                   ", rtol " + format_number(rtol) + ": error " + format_number(m.error) + ", " +
+                   std::to_string(m.statistics.steps) + " steps, " + format_number(m.seconds) + " s" +
+                   (m.failure ? ", stopped: " + m.status() : std::string()));
+      }
+    }
+  }
+  return wp;
+}
+
+void write_work_precision_csv(const std::string& path, const WorkPrecision& wp) {
+  write_file_atomically(path, [&](std::ostream& out) {
+    out << "configuration,jacobian,projection,parameter,value,rtol,atol,error,error_source,seconds,repeats,steps,"
+           "residual_evaluations,jacobian_evaluations,linear_solver_setups,error_test_failures,"
+           "nonlinear_iterations,nonlinear_failures,projections,max_hidden_drift,max_invariant_drift,t_end,"
+           "t_reached,status\n";
+    out.precision(10);
+    for (const Measurement& m : wp.measurements) {
+      const runtime::Statistics& s = m.statistics;
+      out << m.configuration.label() << ',' << m.configuration.jacobian << ',' << (m.configuration.projection ? 1 : 0)
+          << ',' << (m.sweep_value ? wp.settings.sweep_parameter : "") << ',';
+      if (m.sweep_value) out << *m.sweep_value;
+      out << ',' << m.rtol << ',' << m.atol << ',' << m.error << ',' << (wp.source.exact ? "reference" : "reference run")
+          << ',' << m.seconds << ',' << m.repeats << ',' << s.steps << ',' << s.residual_evaluations << ','
+          << s.jacobian_evaluations << ',' << s.linear_solver_setups << ',' << s.error_test_failures << ','
+          << s.nonlinear_iterations << ',' << s.nonlinear_failures << ',' << s.projections << ',' << m.max_hidden
+          << ',' << m.max_invariant_relative << ',' << wp.settings.t_end << ',' << m.t_reached << ',' << m.status()
+          << '\n';
+    }
+  });
+}
+
+namespace {
+
+/// Errors below this are drawn at it (a log axis has no zero).
+constexpr double kPlotFloor = 1e-16;
+
+std::string gnuplot_string(const std::string& s) {
+  std::string q = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') q += '\\';
+    q += c;
+  }
+  return q + "\"";
+}
+
+struct Curve {
+  std::string title;
+  std::vector<std::pair<double, double>> points;
+};
+
+void write_data(const fs::path& path, const std::vector<Curve>& curves) {
+  write_file_atomically(path.string(), [&](std::ostream& out) {
+    out.precision(10);
+    for (const Curve& c : curves) {
+      out << "# " << c.title << "\n";
+      for (const auto& [x, y] : c.points) out << x << ' ' << y << '\n';
+      out << "\n\n";
+    }
+  });
+}
+
+/// The gnuplot commands for one log-log plot of `data` into `stem`.svg/.png (temporary names).
+std::string plot_script(const std::string& stem, const std::string& title, const std::string& xlabel,
+                        const std::string& ylabel, bool log_y, const std::vector<Curve>& curves,
+                        const std::string& suffix) {
+  std::ostringstream g;
+  g << "set terminal svg size 900,560 dynamic enhanced font 'sans,12' background rgb 'white'\n"
+    << "set output " << gnuplot_string(stem + ".svg" + suffix) << "\n"
+    << "set title " << gnuplot_string(title) << " noenhanced\n"
+    << "set xlabel " << gnuplot_string(xlabel) << "\nset ylabel " << gnuplot_string(ylabel) << "\n"
+    << "set logscale x\nset format x '10^{%L}'\n"
+    << (log_y ? "set logscale y\nset format y '10^{%L}'\n" : "")
+    << "set grid\nset key outside right top\nset mxtics 10\n";
+  std::ostringstream plot;
+  plot << "plot ";
+  for (size_t i = 0; i < curves.size(); ++i)
+    plot << (i ? ", \\\n     " : "") << gnuplot_string(stem + ".dat") << " index " << i
+         << " using 1:2 with linespoints pointtype " << (i % 13 + 1) << " title " << gnuplot_string(curves[i].title)
+         << " noenhanced";
+  g << plot.str() << "\n"
+    << "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
+    << "  set terminal pngcairo size 900,560 enhanced font 'sans,10' background rgb 'white'\n"
+    << "} else {\n"
+    << "  set terminal png size 900,560 enhanced background rgb 'white'\n"
+    << "}\n"
+    << "set output " << gnuplot_string(stem + ".png" + suffix) << "\n"
+    << "replot\nset output\n";
+  return g.str();
+}
+
+}  // namespace
+
+std::vector<std::string> plot_work_precision(const std::string& directory, const WorkPrecision& wp) {
+  std::string where;
+  if (run_command("command -v gnuplot", where) != 0)
+    throw std::runtime_error(
+        "gnuplot is not installed (Debian package gnuplot-nox; scripts/setup.sh installs it): no plots drawn");
+  const fs::path dir = directory;
+  const std::string suffix = ".tmp" + std::to_string(getpid());
+
+  // Error against time: one curve per configuration (and sweep value).
+  std::vector<Curve> curves;
+  std::map<std::string, size_t> curve_of;
+  for (const Measurement& m : wp.measurements) {
+    if (!std::isfinite(m.error)) continue;
+    std::string title = m.configuration.label();
+    if (m.sweep_value) title += ", " + wp.settings.sweep_parameter + " = " + format_number(*m.sweep_value);
+    auto it = curve_of.find(title);
+    if (it == curve_of.end()) {
+      it = curve_of.emplace(title, curves.size()).first;
+      curves.push_back({title, {}});
+    }
+    curves[it->second].points.emplace_back(std::max(m.seconds, 1e-7), std::max(m.error, kPlotFloor));
+  }
+  std::vector<std::pair<std::string, std::string>> scripts;
+  if (!curves.empty()) {
+    write_data(dir / "workprec.dat", curves);
+    scripts.emplace_back("workprec",
+                         plot_script("workprec",
+                                     "work-precision: " + wp.scene_name + " (" + wp.model_name + "), error against " +
+                                         (wp.source.exact ? "[reference]" : "a reference run"),
+                                     "wall time per run [s]", "max error of the coordinates", true, curves, suffix));
+  }
+
+  // Steps against the swept parameter: one curve per configuration and tolerance.
+  if (!wp.settings.sweep_parameter.empty()) {
+    std::vector<Curve> steps;
+    std::map<std::string, size_t> steps_of;
+    for (const Measurement& m : wp.measurements) {
+      const std::string title = m.configuration.label() + ", rtol " + format_number(m.rtol);
+      auto it = steps_of.find(title);
+      if (it == steps_of.end()) {
+        it = steps_of.emplace(title, steps.size()).first;
+        steps.push_back({title, {}});
+      }
+      steps[it->second].points.emplace_back(*m.sweep_value, static_cast<double>(m.statistics.steps));
+    }
+    write_data(dir / "steps.dat", steps);
+    scripts.emplace_back("steps", plot_script("steps",
+                                              "steps against " + wp.settings.sweep_parameter + ": " + wp.scene_name +
+                                                  " (" + wp.model_name + ")",
+                                              wp.settings.sweep_parameter, "IDA steps", true, steps, suffix));
+  }
+
+  std::vector<std::string> written;
+  for (const auto& [stem, script] : scripts) {
+    // The script is kept (without the temporary names) so that the plot can be redrawn by hand.
+    std::string kept = script;
+    for (size_t pos; (pos = kept.find(suffix)) != std::string::npos;) kept.erase(pos, suffix.size());
+    write_file_atomically((dir / (stem + ".gp")).string(), [&](std::ostream& out) { out << kept; });
+    const fs::path tmp_script = dir / (stem + ".gp" + suffix);
+    {
+      std::ofstream out(tmp_script);
+      out << script;
+    }
+    std::string messages;
+    const int status = run_command("cd " + shell_quote(dir.string()) + " && gnuplot " +
+                                       shell_quote(tmp_script.filename().string()),
+                                   messages);
+    std::error_code ec;
+    fs::remove(tmp_script, ec);
+    for (const char* ext : {".svg", ".png"}) {
+      const fs::path tmp = dir / (stem + ext + suffix), target = dir / (stem + ext);
+      if (status != 0 || !fs::exists(tmp)) {
+        fs::remove(tmp, ec);
+        throw std::runtime_error("gnuplot failed on " + (dir / (stem + ".gp")).string() + ":\n" + messages);
+      }
+      fs::rename(tmp, target, ec);
+      if (ec) throw std::runtime_error("cannot move " + tmp.string() + " to " + target.string() + ": " + ec.message());
+      written.push_back(target.string());
+    }
+  }
+  return written;
+}
+
+}  // namespace nhc::cli
