@@ -3,6 +3,7 @@
 # must appear verbatim in PATH (relative to the source tree), a file that the install tests
 # compile and run; so the documented code cannot drift from working code.
 # usage: cmake -DSOURCE_DIR=<nhc source> -P check_snippets.cmake
+cmake_minimum_required(VERSION 3.20)
 set(marker "<!-- snippet: ")
 set(checked 0)
 foreach(doc README.md docs/library.md)
@@ -19,6 +20,9 @@ foreach(doc README.md docs/library.md)
     string(SUBSTRING "${text}" 0 ${end} path)
     # The block: from the line after the opening fence to the closing fence.
     string(FIND "${text}" "```" open)
+    if(open EQUAL -1)
+      message(FATAL_ERROR "${doc}: no code block after the snippet marker for ${path}")
+    endif()
     string(SUBSTRING "${text}" ${open} -1 text)
     string(FIND "${text}" "\n" newline)
     math(EXPR newline "${newline} + 1")
