@@ -1,6 +1,7 @@
 #include "nhc/emit/expression_printer.hpp"
 
 #include <algorithm>
+#include <map>
 #include <sstream>
 #include <vector>
 
@@ -53,13 +54,10 @@ class CanonicalText {
     return false;
   }
 
-  /// (is_negative, text of the magnitude) of one term of a sum.
-  std::pair<bool, std::string> signed_term(const ex& term) const {
-    const std::string text = print(term, 0);
-    if (!text.empty() && text[0] == '-') return {true, text.substr(1)};
-    return {false, text};
-  }
-
+ public:
+  /// True when the first term of the sum, in canonical order, is negative. normal() picks the
+  /// sign of a sum factor by GiNaC's term order, which varies between runs; printers flip such
+  /// factors so that the first term is positive.
   bool first_term_negative(const ex& sum_expression) const {
     std::vector<std::pair<std::string, bool>> terms;
     for (std::size_t i = 0; i < sum_expression.nops(); ++i) {
@@ -67,6 +65,14 @@ class CanonicalText {
       terms.emplace_back(text, negative);
     }
     return std::min_element(terms.begin(), terms.end())->second;
+  }
+
+ private:
+  /// (is_negative, text of the magnitude) of one term of a sum.
+  std::pair<bool, std::string> signed_term(const ex& term) const {
+    const std::string text = print(term, 0);
+    if (!text.empty() && text[0] == '-') return {true, text.substr(1)};
+    return {false, text};
   }
 
   std::string sum(const ex& e) const {
@@ -124,14 +130,122 @@ class CanonicalText {
   }
 };
 
+/// LaTeX in the same deterministic order as CanonicalText (terms and factors sorted by their
+/// canonical text), with negative powers gathered into one \frac and jet symbols printed by
+/// their TeX names (\dot{x}, \lambda_{1}).
+class CanonicalLatex {
+ public:
+  std::string print(const ex& e, int context = 0) const {
+    if (GiNaC::is_a<GiNaC::add>(e)) return wrap(sum(e), context > 0);
+    if (GiNaC::is_a<GiNaC::mul>(e) || is_reciprocal(e)) return wrap(product(e), context > 1);
+    if (GiNaC::is_a<GiNaC::power>(e)) return power(e);
+    if (GiNaC::is_a<GiNaC::numeric>(e)) {
+      const GiNaC::numeric& n = GiNaC::ex_to<GiNaC::numeric>(e);
+      return wrap(number(n), (n.is_negative() && context > 0) || (!n.is_integer() && context > 1));
+    }
+    if (GiNaC::is_a<GiNaC::function>(e) && !GiNaC::is_a<GiNaC::fderivative>(e)) return call(e);
+    std::ostringstream out;
+    out << GiNaC::latex << e;  // symbols (their TeX names) and constants
+    return out.str();
+  }
+
+ private:
+  static std::string wrap(const std::string& s, bool parenthesize) {
+    return parenthesize ? "\\left(" + s + "\\right)" : s;
+  }
+  static bool is_reciprocal(const ex& e) {
+    return GiNaC::is_a<GiNaC::power>(e) && GiNaC::is_a<GiNaC::numeric>(e.op(1)) &&
+           GiNaC::ex_to<GiNaC::numeric>(e.op(1)).is_negative();
+  }
+  static std::string number(const GiNaC::numeric& n) {
+    if (n.is_integer()) return ginac_text(n);
+    const std::string sign = n.is_negative() ? "-" : "";
+    const GiNaC::numeric a = GiNaC::abs(n);
+    if (!a.is_rational()) return ginac_text(n);
+    return sign + "\\frac{" + ginac_text(a.numer()) + "}{" + ginac_text(a.denom()) + "}";
+  }
+
+  std::string sum(const ex& e) const {
+    std::vector<std::pair<std::string, ex>> terms;  // sorted by canonical text
+    for (std::size_t i = 0; i < e.nops(); ++i)
+      terms.emplace_back(CanonicalText().print(e.op(i)), e.op(i));
+    std::sort(terms.begin(), terms.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::string out;
+    for (std::size_t i = 0; i < terms.size(); ++i) {
+      std::string t = print(terms[i].second, 0);
+      if (i > 0 && t.rfind("-", 0) != 0) out += "+";
+      out += t;
+    }
+    return out;
+  }
+
+  /// Numeric coefficient, factors with positive powers over those with negative powers.
+  std::string product(const ex& e) const {
+    GiNaC::numeric coefficient = 1;
+    std::vector<std::pair<std::string, std::string>> upper, lower;  // (sort key, latex)
+    auto add_factor = [&](ex f) {
+      if (GiNaC::is_a<GiNaC::add>(f) && CanonicalText().first_term_negative(f)) {
+        f = (-f).expand();
+        coefficient = -coefficient;
+      }
+      if (GiNaC::is_a<GiNaC::numeric>(f)) {
+        coefficient *= GiNaC::ex_to<GiNaC::numeric>(f);
+      } else if (is_reciprocal(f)) {
+        const ex inverse = GiNaC::pow(f.op(0), -f.op(1));
+        lower.emplace_back(CanonicalText().print(inverse), print(inverse, 1));
+      } else {
+        upper.emplace_back(CanonicalText().print(f), print(f, 1));
+      }
+    };
+    if (GiNaC::is_a<GiNaC::mul>(e)) {
+      for (std::size_t i = 0; i < e.nops(); ++i) add_factor(e.op(i));
+    } else {
+      add_factor(e);
+    }
+    std::sort(upper.begin(), upper.end());
+    std::sort(lower.begin(), lower.end());
+    const std::string sign = coefficient.is_negative() ? "-" : "";
+    const GiNaC::numeric a = GiNaC::abs(coefficient);
+    std::string top = a.is_rational() && !a.numer().is_equal(1) ? ginac_text(a.numer()) : "";
+    std::string bottom = a.is_rational() && !a.denom().is_equal(1) ? ginac_text(a.denom()) : "";
+    if (!a.is_rational()) top = ginac_text(a);
+    for (const auto& f : upper) top += (top.empty() ? "" : " ") + f.second;
+    for (const auto& f : lower) bottom += (bottom.empty() ? "" : " ") + f.second;
+    if (top.empty()) top = "1";
+    if (bottom.empty()) return sign + top;
+    return sign + "\\frac{" + top + "}{" + bottom + "}";
+  }
+
+  std::string power(const ex& e) const {
+    const ex base = e.op(0), exponent = e.op(1);
+    if (exponent.is_equal(GiNaC::numeric(1, 2))) return "\\sqrt{" + print(base) + "}";
+    std::string exponent_text = GiNaC::is_a<GiNaC::numeric>(exponent)
+                                    ? ginac_text(exponent)
+                                    : print(exponent);
+    // A jet symbol such as \dot{x} takes its exponent directly; other bases are braced.
+    return "{" + print(base, 2) + "}^{" + exponent_text + "}";
+  }
+
+  std::string call(const ex& e) const {
+    static const std::map<std::string, std::string> names = {
+        {"sin", "\\sin"},       {"cos", "\\cos"},       {"tan", "\\tan"},
+        {"exp", "\\exp"},       {"log", "\\ln"},        {"sinh", "\\sinh"},
+        {"cosh", "\\cosh"},     {"tanh", "\\tanh"},     {"asin", "\\arcsin"},
+        {"acos", "\\arccos"},   {"atan", "\\arctan"},   {"atan2", "\\operatorname{atan2}"}};
+    const std::string name = GiNaC::ex_to<GiNaC::function>(e).get_name();
+    if (name == "abs") return "\\left|" + print(e.op(0)) + "\\right|";
+    auto it = names.find(name);
+    std::string out = (it != names.end() ? it->second : "\\operatorname{" + name + "}") + "\\left(";
+    for (std::size_t i = 0; i < e.nops(); ++i) out += (i ? ", " : "") + print(e.op(i));
+    return out + "\\right)";
+  }
+};
+
 }  // namespace
 
 std::string to_text(const GiNaC::ex& e) { return CanonicalText().print(e); }
 
-std::string to_latex(const GiNaC::ex& e) {
-  std::ostringstream out;
-  out << GiNaC::latex << e;
-  return out.str();
-}
+std::string to_latex(const GiNaC::ex& e) { return CanonicalLatex().print(e); }
 
 }  // namespace nhc
