@@ -4,9 +4,12 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "interrupt.hpp"
 #include "nhc/errors.hpp"
 
 int main(int argc, char** argv) {
+  // An interrupted run removes its temporary files and exits 130 (interrupt.hpp).
+  nhc::cli::install_interrupt_handlers();
   CLI::App app{"nhc, the nonholonomic compiler: derives, analyses, generates and integrates the "
                "equations of motion of systems with high-order nonholonomic constraints"};
   app.set_version_flag("--version", std::string("nhc ") + NHC_VERSION);

@@ -1,29 +1,20 @@
 #include "nhc/io/atomic_file.hpp"
 
-#include <unistd.h>
-
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
-#include <random>
 
 #include "nhc/errors.hpp"
+#include "nhc/io/temporary_files.hpp"
 
 namespace nhc {
 
-namespace {
-
-std::string temporary_name_for(const std::string& path) {
-  std::random_device rd;
-  return path + ".tmp" + std::to_string(::getpid()) + "_" + std::to_string(rd() % 1000000);
-}
-
-}  // namespace
-
 void write_file_atomically(const std::string& path,
                            const std::function<void(std::ostream&)>& write) {
-  const std::string temporary = temporary_name_for(path);
+  // Registered before it exists: an interrupt at any moment removes it (temporary_files.hpp).
+  const TemporaryFile registration(unique_temporary_name(path));
+  const std::string& temporary = registration.path();
   {
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
     if (!out) throw InputError({path, 0, 0}, std::string("cannot write: ") + std::strerror(errno));

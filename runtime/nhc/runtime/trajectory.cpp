@@ -89,32 +89,38 @@ std::vector<std::string> csv_header(const Model& model) {
   return h;
 }
 
-void write_csv(const std::string& path, const Model& model, const std::vector<double>& p,
+void write_csv(std::ostream& out, const Model& model, const std::vector<double>& p,
                const std::vector<Sample>& samples) {
   const auto& tab = model.table();
+  const auto precision = out.precision(17);
+  const std::vector<std::string> header = csv_header(model);
+  for (size_t c = 0; c < header.size(); ++c) out << (c ? "," : "") << header[c];
+  out << '\n';
+  const std::vector<int> top = highest_differential_states(model);
+  const int unknowns = model.n_coordinates() + model.n_multipliers();
+  for (const Sample& s : samples) {
+    out << s.t;
+    for (int v = 0; v < unknowns; ++v) {
+      for (int i = 0; i < model.n_states(); ++i)
+        if (tab.state_variable[i] == v) out << ',' << s.y[i];
+      if (top[v] >= 0) out << ',' << s.yp[top[v]];
+    }
+    const Observables o = observe(model, p, s);
+    for (double x : o.hidden) out << ',' << x;
+    for (double x : o.invariants) out << ',' << x;
+    for (double x : o.errors) out << ',' << x;
+    out << '\n';
+  }
+  out.precision(precision);
+}
+
+void write_csv(const std::string& path, const Model& model, const std::vector<double>& p,
+               const std::vector<Sample>& samples) {
   const std::string tmp = path + ".tmp" + std::to_string(getpid());
   {
     std::ofstream out(tmp);
     if (!out) throw std::runtime_error("cannot write " + tmp);
-    out.precision(17);
-    const std::vector<std::string> header = csv_header(model);
-    for (size_t c = 0; c < header.size(); ++c) out << (c ? "," : "") << header[c];
-    out << '\n';
-    const std::vector<int> top = highest_differential_states(model);
-    const int unknowns = model.n_coordinates() + model.n_multipliers();
-    for (const Sample& s : samples) {
-      out << s.t;
-      for (int v = 0; v < unknowns; ++v) {
-        for (int i = 0; i < model.n_states(); ++i)
-          if (tab.state_variable[i] == v) out << ',' << s.y[i];
-        if (top[v] >= 0) out << ',' << s.yp[top[v]];
-      }
-      const Observables o = observe(model, p, s);
-      for (double x : o.hidden) out << ',' << x;
-      for (double x : o.invariants) out << ',' << x;
-      for (double x : o.errors) out << ',' << x;
-      out << '\n';
-    }
+    write_csv(out, model, p, samples);
     out.flush();
     if (!out) {
       std::remove(tmp.c_str());

@@ -4,6 +4,7 @@
 /// residuals, invariants, errors against the scene's reference), their drift, and the CSV file.
 
 #include <optional>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,9 @@ std::vector<std::string> csv_header(const Model& model);
 /// Writes the trajectory as CSV (17 significant digits), atomically: a temporary file beside
 /// `path` renamed over it. Throws std::runtime_error when the file cannot be written.
 void write_csv(const std::string& path, const Model& model, const std::vector<double>& p,
+               const std::vector<Sample>& samples);
+/// The same CSV text on a stream (for callers with their own atomic writing).
+void write_csv(std::ostream& out, const Model& model, const std::vector<double>& p,
                const std::vector<Sample>& samples);
 
 /// A whole run: initialization, integration through `times`, statistics; a SolverError is caught
