@@ -15,6 +15,11 @@ namespace {
 
 using GiNaC::ex;
 
+/// A name for a message: long ones cut after 40 characters.
+std::string shown(const std::string& name) {
+  return name.size() <= 40 ? name : name.substr(0, 40) + "...";
+}
+
 bool is_name_start(char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; }
 bool is_name_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; }
 
@@ -46,11 +51,16 @@ class Parser {
       : text_(text), jet_(jet), rules_(rules) {}
 
   ex parse() {
+    if (text_.size() > kMaxExpressionLength)
+      fail(0, "expression longer than " + std::to_string(kMaxExpressionLength) + " characters");
     skip_space();
     if (at_end()) fail(pos_, "empty expression");
     ex e = expr();
     skip_space();
     if (!at_end()) fail(pos_, std::string("unexpected '") + text_[pos_] + "'");
+    if (expanded_terms_bound(e) > kMaxExpandedTerms)
+      fail(0, "the expression expands to more than " +
+                  std::to_string(static_cast<long>(kMaxExpandedTerms)) + " terms");
     return e;
   }
 
@@ -79,6 +89,32 @@ class Parser {
     }
     ~DepthGuard() { --p.depth_; }
   };
+
+  /// An upper bound on the number of terms of e.expand(): sums add, products multiply, a power
+  /// with a positive integer exponent k of an n-term base has at most C(n+k-1, k) terms.
+  /// Saturates at infinity instead of overflowing.
+  static double expanded_terms_bound(const ex& e) {
+    if (GiNaC::is_exactly_a<GiNaC::add>(e)) {
+      double sum = 0;
+      for (std::size_t k = 0; k < e.nops(); ++k) sum += expanded_terms_bound(e.op(k));
+      return sum;
+    }
+    if (GiNaC::is_exactly_a<GiNaC::mul>(e)) {
+      double product = 1;
+      for (std::size_t k = 0; k < e.nops(); ++k) product *= expanded_terms_bound(e.op(k));
+      return product;
+    }
+    if (GiNaC::is_exactly_a<GiNaC::power>(e) && GiNaC::is_a<GiNaC::numeric>(e.op(1))) {
+      const auto& k = GiNaC::ex_to<GiNaC::numeric>(e.op(1));
+      if (!k.is_pos_integer()) return 1;
+      const double n = expanded_terms_bound(e.op(0));
+      const double kk = k.to_double();
+      double bound = 1;  // C(n + k - 1, k), as a product of k factors (k is at most 64 here)
+      for (double j = 1; j <= kk && bound < 1e300; ++j) bound *= (n - 1 + j) / j;
+      return bound;
+    }
+    return 1;
+  }
 
   /// True when e contains a number that is not real (GiNaC evaluates sqrt(-4) to 2*I).
   static bool has_complex_number(const ex& e) {
@@ -274,7 +310,7 @@ class Parser {
     };
     const bool binary = name == "atan2";
     auto it = unary_functions.find(name);
-    if (!binary && it == unary_functions.end()) fail(start, "unknown function '" + name + "'");
+    if (!binary && it == unary_functions.end()) fail(start, "unknown function '" + shown(name) + "'");
     accept('(');
     std::vector<ex> args;
     std::vector<std::size_t> arg_positions;
@@ -306,7 +342,7 @@ class Parser {
       }
     }
     if (order > kMaxDerivativeOrder)
-      fail(start, "derivative order " + std::to_string(order) + " of '" + base +
+      fail(start, "derivative order " + std::to_string(order) + " of '" + shown(base) +
                       "' exceeds the limit of " + std::to_string(kMaxDerivativeOrder));
     // GiNaC prints π as `Pi` (acos(-1), atan(1)*4 evaluate to it); read it back.
     if (base == "Pi" && !jet_.parameter_index(base) && !known_variable(base)) {
@@ -333,7 +369,7 @@ class Parser {
       if (!rules_.allow_multipliers) fail(start, "multiplier '" + base + "' is not allowed here");
       return jet_.lambda(*alpha, order);
     }
-    fail(start, "unknown name '" + base + "'");
+    fail(start, "unknown name '" + shown(base) + "'");
   }
 
   bool known_variable(const std::string& name) const {

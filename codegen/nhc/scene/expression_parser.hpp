@@ -32,6 +32,12 @@ inline constexpr int kMaxExponent = 64;
 inline constexpr int kMaxPowerBits = 4096;
 /// Deepest parenthesis / operator nesting accepted.
 inline constexpr int kMaxExpressionDepth = 200;
+/// Longest expression text accepted, in bytes.
+inline constexpr std::size_t kMaxExpressionLength = 100000;
+/// Largest number of terms an expression may expand to (bounded from its structure: (a+b+c)^k
+/// has at most C(k+2, 2) terms); derivations expand, so a short text such as
+/// (x+y+z+x'+y'+z'+t)^64 with its 10^8 terms would exhaust time and memory.
+inline constexpr double kMaxExpandedTerms = 1e5;
 
 /// A parse failure at a 0-based character offset of the expression text.
 class ExpressionSyntaxError : public std::runtime_error {

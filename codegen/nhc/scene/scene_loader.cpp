@@ -275,8 +275,26 @@ class SceneReader {
     throw InputError(at(node), message);
   }
 
-  /// Non-printable bytes are shown as \xNN so that the one-line message stays one line.
-  static std::string printable(const std::string& s) {
+  /// A number as written (0, 1.5, 1e-08), not std::to_string's 0.000000.
+  static std::string shortest(double v) {
+    std::ostringstream out;
+    out.precision(17);
+    out << v;
+    std::ostringstream shorter;
+    shorter << v;  // 6 significant digits, enough unless that loses the value
+    return std::stod(shorter.str()) == v ? shorter.str() : out.str();
+  }
+
+  /// Non-printable bytes are shown as \xNN so that the one-line message stays one line; a
+  /// long text is cut after 60 bytes (at a character boundary) and marked with "...".
+  static std::string printable(const std::string& text) {
+    constexpr std::size_t kShown = 60;
+    std::string s = text;
+    if (s.size() > kShown) {
+      std::size_t cut = kShown;
+      while (cut > 0 && (static_cast<unsigned char>(s[cut]) & 0xc0) == 0x80) --cut;
+      s = s.substr(0, cut) + "...";
+    }
     std::string out;
     for (unsigned char c : s) {
       if (c < 0x20 || c == 0x7f) {
@@ -439,7 +457,7 @@ class SceneReader {
     if (const toml::node* te = table.get("t_end")) {
       scene.simulate.t_end = number_value(*te, "t_end");
       if (!(scene.simulate.t_end > scene.initial.t0))
-        fail(*te, "t_end must be after t0 = " + std::to_string(scene.initial.t0));
+        fail(*te, "t_end must be after t0 = " + shortest(scene.initial.t0));
     }
     for (const char* key : {"rtol", "atol"}) {
       if (const toml::node* tol = table.get(key)) {
