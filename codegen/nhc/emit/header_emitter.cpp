@@ -63,19 +63,51 @@ std::string cpp_string_literal(const std::string& text) {
   return out + "\"";
 }
 
+namespace {
+
+/// For each expression, the indices k of the symbols `symbols[k]` occurring in it (sorted): the
+/// partial derivatives with respect to all other symbols are zero and need not be formed. One
+/// walk over each expression instead of one diff per (expression, symbol) pair keeps the
+/// Jacobians of large sparse systems linear in their size.
+std::vector<std::vector<int>> occurring_symbols(const std::vector<GiNaC::ex>& expressions,
+                                                const std::vector<GiNaC::realsymbol>& symbols) {
+  std::map<GiNaC::ex, int, GiNaC::ex_is_less> index;
+  for (size_t k = 0; k < symbols.size(); ++k) index.emplace(symbols[k], static_cast<int>(k));
+  std::vector<std::vector<int>> out;
+  out.reserve(expressions.size());
+  for (const GiNaC::ex& e : expressions) {
+    std::set<int> found;
+    for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
+      if (GiNaC::is_a<GiNaC::symbol>(*it))
+        if (const auto at = index.find(*it); at != index.end()) found.insert(at->second);
+    out.emplace_back(found.begin(), found.end());
+  }
+  return out;
+}
+
+}  // namespace
+
 SymbolicJacobian index1_jacobian(const Index1System& system) {
   SymbolicJacobian jac;
   const int n = system.size();
   jac.size = n;
-  jac.entries.reserve(static_cast<size_t>(n) * static_cast<size_t>(n));
+  // rows[j]: the residuals in which y_j or y'_j occurs, increasing.
+  std::vector<std::set<int>> rows(static_cast<size_t>(n));
+  const auto in_y = occurring_symbols(system.residuals, system.y);
+  const auto in_yp = occurring_symbols(system.residuals, system.yp);
+  for (int i = 0; i < n; ++i) {
+    for (int j : in_y[static_cast<size_t>(i)]) rows[static_cast<size_t>(j)].insert(i);
+    for (int j : in_yp[static_cast<size_t>(i)]) rows[static_cast<size_t>(j)].insert(i);
+  }
+  jac.entries.assign(static_cast<size_t>(n) * static_cast<size_t>(n), GiNaC::ex(0));
   jac.colptr.push_back(0);
   for (int j = 0; j < n; ++j) {
-    for (int i = 0; i < n; ++i) {
+    for (int i : rows[static_cast<size_t>(j)]) {
       const GiNaC::ex& f = system.residuals[static_cast<size_t>(i)];
       GiNaC::ex entry = f.diff(system.y[static_cast<size_t>(j)]) +
                         jac.cj * f.diff(system.yp[static_cast<size_t>(j)]);
       if (!entry.is_zero()) jac.rowind.push_back(i);
-      jac.entries.push_back(entry);
+      jac.entries[static_cast<size_t>(i) + static_cast<size_t>(n) * static_cast<size_t>(j)] = entry;
     }
     jac.colptr.push_back(static_cast<int>(jac.rowind.size()));
   }
@@ -83,10 +115,13 @@ SymbolicJacobian index1_jacobian(const Index1System& system) {
 }
 
 std::vector<GiNaC::ex> hidden_constraint_jacobian(const Index1System& system) {
-  std::vector<GiNaC::ex> entries;
-  for (int j = 0; j < system.size(); ++j)
-    for (const GiNaC::ex& g : system.hidden_constraints)
-      entries.push_back(g.diff(system.y[static_cast<size_t>(j)]));
+  const size_t h = system.hidden_constraints.size();
+  std::vector<GiNaC::ex> entries(h * system.y.size(), GiNaC::ex(0));
+  const auto in_y = occurring_symbols(system.hidden_constraints, system.y);
+  for (size_t r = 0; r < h; ++r)
+    for (int j : in_y[r])
+      entries[r + h * static_cast<size_t>(j)] =
+          system.hidden_constraints[r].diff(system.y[static_cast<size_t>(j)]);
   return entries;
 }
 
