@@ -214,12 +214,14 @@ inline void jacobian_values(double /*t*/, const double* y, const double* yp, dou
                             double* v) noexcept {
   const double m = p[0], J = p[1], k = p[4];
   const double mcj = -m * cj, Jcj = -J * cj;
+  double sc[2 * N];  // sin, cos of each th_i, for the multiplier columns
   int e = 0;
   for (int i = 0; i < N; ++i) {
     const double* q = y + 6 * i;
     const double* qp = yp + 6 * i;
     const double lam = y[6 * N + i];
     const double s = std::sin(q[4]), c = std::cos(q[4]);
+    sc[2 * i] = s, sc[2 * i + 1] = c;
     const double diag = -k * ((i > 0) + (i + 1 < N));
     for (int d = 0; d < 2; ++d) {  // x, then y: position and velocity columns
       if (i > 0) v[e++] = k;
@@ -241,9 +243,8 @@ inline void jacobian_values(double /*t*/, const double* y, const double* yp, dou
     v[e++] = -1.0;
   }
   for (int a = 0; a < N; ++a) {
-    const double th = y[6 * a + 4];
-    v[e++] = std::sin(th);
-    v[e++] = -std::cos(th);
+    v[e++] = sc[2 * a];
+    v[e++] = -sc[2 * a + 1];
   }
 }
 

@@ -239,7 +239,7 @@ def main(argv):
     L.append("SciPy: `solve_ivp(method=Radau|BDF)` on q' = u, u' from M z = F (`numpy.linalg.solve` of "
              "the lambdified matrices at every evaluation; finite-difference Jacobian), same initial "
              "state, t_end, rtol and atol. nhc: IDA on the index-1 DAE with the generated Jacobian. "
-             "|Δ| = max over coordinates and velocities of |nhc − SciPy| at t_end.")
+             "max Δ = largest difference between nhc and SciPy over the coordinates and velocities at t_end.")
     L.append("")
     rows = []
     cases = [(n, nhc.get(n), peers.get(n)) for n in peer_ns] + [("Appell–Hamel", examples.get("appell_hamel"), peer_ah)]
@@ -256,8 +256,8 @@ def main(argv):
                     "%d / %d" % (m["steps"], m["nfev"]), fmt_x(ratio(m["integrate_s"], d["integrate_s"])),
                     "%.1e" % final_difference(d, m) if final_difference(d, m) is not None else "–"]
         rows.append(row)
-    L.append(table(["N", "nhc", "nhc steps", "Radau", "Radau steps / f evals", "Radau / nhc", "|Δ| Radau",
-                    "BDF", "BDF steps / f evals", "BDF / nhc", "|Δ| BDF"], rows))
+    L.append(table(["N", "nhc", "nhc steps", "Radau", "Radau steps / f evals", "Radau / nhc", "max Δ Radau",
+                    "BDF", "BDF steps / f evals", "BDF / nhc", "max Δ BDF"], rows))
     L.append("")
 
     # ---- hand-written ----
@@ -268,7 +268,7 @@ def main(argv):
              "`tests/runtime/handwritten/appell_hamel_chetaev.hpp`, compiled with the same flags and loaded "
              "the same way. One call at the consistent initial point (best of 3 batches); the Jacobian "
              "is the one the integrator uses (dense below 40 states, compressed-column values from 40). "
-             "|Δ| = max difference of the final states of the two runs.")
+             "max Δ = largest difference between the final states of the two runs.")
     L.append("")
     rows = []
     hw_cases = [(n, nhc.get(n)) for n in ns] + [("Appell–Hamel", examples.get("appell_hamel"))]
@@ -285,7 +285,7 @@ def main(argv):
                      "%.1e" % d["handwritten_final_difference"], fmt_s(d["compile_s"]),
                      fmt_s(d["handwritten_compile_s"])))
     L.append(table(["N", "residual", "hand", "ratio", "Jacobian", "hand", "ratio", "integrate", "hand", "ratio",
-                    "steps gen / hand", "|Δ|", "compile", "compile hand"], rows))
+                    "steps gen / hand", "max Δ", "compile", "compile hand"], rows))
     L.append("")
 
     # ---- examples ----
