@@ -105,7 +105,7 @@ TEST_CASE("nhc report on Appell–Hamel writes the CSV, both plots and the repor
   }
 }
 
-TEST_CASE("stiff scenes: the accuracy is met for K = 1e2 … 1e8, the sprung particle's steps stay bounded",
+TEST_CASE("stiff scenes: the accuracy is met and the steps stay bounded for K = 1e2 … 1e8",
           "[report]") {
   {
     const auto [r, rows] = report("particle_spring", "examples/particle_spring.toml --sweep K=1e2:1e8 --tolerances 1e-6 "
@@ -131,8 +131,13 @@ TEST_CASE("stiff scenes: the accuracy is met for K = 1e2 … 1e8, the sprung par
       CHECK(row.at("status") == "ok");
       CHECK(num(row, "error") < 1e-5);
     }
-    // Bounded up to K = 1e4 (docs/stability.md: beyond, each step fails the error test once).
-    for (int k = 0; k < 3; ++k) CHECK(num(rows[k], "steps") <= 100);
+    // Bounded for every K: the algebraic multiplier, which a stiff spring makes noisy, is kept
+    // out of IDA's error test (IntegratorOptions::algebraic_in_error_test).
+    for (const Row& row : rows) {
+      INFO("K = " << row.at("value"));
+      CHECK(num(row, "steps") <= 100);
+      CHECK(num(row, "steps") <= 1.5 * num(rows.front(), "steps"));
+    }
   }
 }
 

@@ -40,6 +40,10 @@ struct IntegratorOptions {
   double max_step = 0;       ///< 0: no limit
   double initial_step = 0;   ///< 0: IDA's estimate
   LinearSolverKind linear_solver = LinearSolverKind::automatic;
+  /// Include the algebraic states (d_j = 0, e.g. chetaev's λ) in IDA's local error test. Off by
+  /// default: they follow from the differential states, and testing them makes stiff scenes
+  /// take steps of order 1/sqrt(K) (IDASetSuppressAlg).
+  bool algebraic_in_error_test = false;
   ProjectionMethod projection = ProjectionMethod::none;  ///< `--project` selects in_place
   /// Project when the correction exceeds this in IDA's WRMS norm (1 = the local error tolerance;
   /// 0 = after every step). docs/projection.md has the measurements behind the default.
