@@ -27,6 +27,7 @@
 #include <functional>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -157,22 +158,26 @@ double best_time(const std::function<void()>& f, double budget, int max_runs) {
   return best;
 }
 
-/// Seconds per call of `f`, from batches lasting at least `min_seconds`; best batch of three.
-double per_call(const std::function<void()>& f, double min_seconds) {
-  long calls = 1;
-  for (;;) {
-    const auto start = Clock::now();
-    for (long k = 0; k < calls; ++k) f();
-    const double s = seconds_since(start);
-    if (s >= min_seconds || calls > (1L << 30)) break;
-    calls *= s > 0 ? std::max(2L, static_cast<long>(min_seconds / s * 1.2)) : 10;
-  }
-  double best = 1e300;
-  for (int b = 0; b < 3; ++b) {
-    const auto start = Clock::now();
-    for (long k = 0; k < calls; ++k) f();
-    best = std::min(best, seconds_since(start) / static_cast<double>(calls));
-  }
+/// Seconds per call of each of `fs`, from batches lasting at least `min_seconds`, the batches of
+/// the different functions interleaved (so that a change of the machine's load hits all of them
+/// alike); best of `rounds` batches each.
+std::vector<double> per_call(const std::vector<std::function<void()>>& fs, double min_seconds, int rounds) {
+  std::vector<long> calls(fs.size(), 1);
+  for (size_t i = 0; i < fs.size(); ++i)
+    for (;;) {
+      const auto start = Clock::now();
+      for (long k = 0; k < calls[i]; ++k) fs[i]();
+      const double s = seconds_since(start);
+      if (s >= min_seconds || calls[i] > (1L << 30)) break;
+      calls[i] *= s > 0 ? std::max(2L, static_cast<long>(min_seconds / s * 1.2)) : 10;
+    }
+  std::vector<double> best(fs.size(), 1e300);
+  for (int round = 0; round < rounds; ++round)
+    for (size_t i = 0; i < fs.size(); ++i) {
+      const auto start = Clock::now();
+      for (long k = 0; k < calls[i]; ++k) fs[i]();
+      best[i] = std::min(best[i], seconds_since(start) / static_cast<double>(calls[i]));
+    }
   return best;
 }
 
@@ -266,25 +271,47 @@ Integration integrate(const nhc::runtime::Model& model, const nhc::runtime::Init
                           quick ? 0 : 1.0, quick ? 1 : 5);
   if (out.run.failure) throw std::runtime_error(std::string("integration failed: ") + out.run.failure->what());
 
-  // One residual / Jacobian evaluation at the consistent initial point.
-  const auto& t = model.table();
-  const int n = t.n_states;
-  const double* y = out.run.initial.y.data();
-  const double* yp = out.run.initial.yp.data();
-  std::vector<double> r(static_cast<size_t>(n));
-  const double cj = 1e3, min_seconds = quick ? 1e-3 : 0.05;
-  out.residual_seconds = per_call([&] { t.residual(initial.t0, y, yp, p.data(), r.data()); }, min_seconds);
-  const bool sparse = t.jacobian_values && (io.linear_solver == nhc::runtime::LinearSolverKind::sparse ||
-                                            (io.linear_solver == nhc::runtime::LinearSolverKind::automatic &&
-                                             (!t.jacobian || n >= 40)));
-  if (sparse) {
-    std::vector<double> v(static_cast<size_t>(std::max(1, t.jacobian_nnz)));
-    out.jacobian_seconds = per_call([&] { t.jacobian_values(initial.t0, y, yp, cj, p.data(), v.data()); }, min_seconds);
-  } else if (t.jacobian) {
-    std::vector<double> J(static_cast<size_t>(n) * static_cast<size_t>(n));
-    out.jacobian_seconds = per_call([&] { t.jacobian(initial.t0, y, yp, cj, p.data(), J.data()); }, min_seconds);
-  }
   return out;
+}
+
+/// One residual and one Jacobian evaluation (the Jacobian the integrator uses) of each model at
+/// the consistent initial point of its run, timed with all models interleaved.
+void time_calls(const std::vector<const nhc::runtime::Model*>& models, const std::vector<Integration*>& runs,
+                const nhc::runtime::IntegratorOptions& io, bool quick) {
+  struct Buffers {
+    std::vector<double> p, r, J;
+  };
+  std::vector<Buffers> buffers(models.size());
+  std::vector<std::function<void()>> fs;
+  const double cj = 1e3;
+  for (size_t m = 0; m < models.size(); ++m) {
+    const auto& t = models[m]->table();
+    const int n = t.n_states;
+    Buffers& b = buffers[m];
+    b.p = models[m]->default_parameters();
+    b.r.assign(static_cast<size_t>(n), 0.0);
+    const double t0 = runs[m]->run.initial.t;
+    const double* y = runs[m]->run.initial.y.data();
+    const double* yp = runs[m]->run.initial.yp.data();
+    fs.push_back([&t, &b, t0, y, yp] { t.residual(t0, y, yp, b.p.data(), b.r.data()); });
+    const bool sparse = t.jacobian_values && (io.linear_solver == nhc::runtime::LinearSolverKind::sparse ||
+                                              (io.linear_solver == nhc::runtime::LinearSolverKind::automatic &&
+                                               (!t.jacobian || n >= 40)));
+    if (sparse) {
+      b.J.assign(static_cast<size_t>(std::max(1, t.jacobian_nnz)), 0.0);
+      fs.push_back([&t, &b, t0, y, yp, cj] { t.jacobian_values(t0, y, yp, cj, b.p.data(), b.J.data()); });
+    } else {
+      b.J.assign(static_cast<size_t>(n) * static_cast<size_t>(n), 0.0);
+      fs.push_back([&t, &b, t0, y, yp, cj] {
+        if (t.jacobian) t.jacobian(t0, y, yp, cj, b.p.data(), b.J.data());
+      });
+    }
+  }
+  const std::vector<double> seconds = per_call(fs, quick ? 1e-3 : 0.02, quick ? 1 : 9);
+  for (size_t m = 0; m < models.size(); ++m) {
+    runs[m]->residual_seconds = seconds[2 * m];
+    runs[m]->jacobian_seconds = models[m]->table().jacobian || models[m]->table().jacobian_values ? seconds[2 * m + 1] : 0;
+  }
 }
 
 void report_integration(Json& json, const std::string& prefix, const Integration& in) {
@@ -374,7 +401,26 @@ int run(const Options& o) {
   io.progress = false;
   io.linear_solver = sparse ? nhc::runtime::LinearSolverKind::sparse : nhc::runtime::LinearSolverKind::dense;
   const double t_end = o.t_end > 0 ? o.t_end : scene.simulate.t_end;
-  const Integration gen = integrate(model, initial, t_end, io, o.quick);
+  Integration gen = integrate(model, initial, t_end, io, o.quick);
+  std::optional<nhc::runtime::Model> hw;
+  Integration hand;
+  double hw_compile_s = 0;
+  if (!o.handwritten.empty()) {
+    const std::string hw_library = (fs::path(o.out) / (header.namespace_name + "_handwritten.so")).string();
+    hw_compile_s = compile(o.handwritten, hw_library, o.defines);
+    hw = nhc::runtime::Model::load(hw_library);
+    if (hw->n_states() != model.n_states())
+      throw std::runtime_error("the hand-written model has " + std::to_string(hw->n_states()) + " states, the generated " +
+                               std::to_string(model.n_states()));
+    for (int i = 0; i < hw->n_states(); ++i)
+      if (hw->state_name(i) != model.state_name(i))
+        throw std::runtime_error("state " + std::to_string(i) + " is " + hw->state_name(i) + " hand-written, " +
+                                 model.state_name(i) + " generated");
+    hand = integrate(*hw, initial, t_end, io, o.quick);
+    time_calls({&model, &*hw}, {&gen, &hand}, io, o.quick);
+  } else {
+    time_calls({&model}, {&gen}, io, o.quick);
+  }
 
   Json json;
   json.text("scene", scene.name);
@@ -409,22 +455,11 @@ int run(const Options& o) {
   json.raw("final_y", vector_json(final_y));
 
   // 5. the hand-written limit.
-  if (!o.handwritten.empty()) {
-    const std::string hw_library = (fs::path(o.out) / (header.namespace_name + "_handwritten.so")).string();
-    const double hw_compile_s = compile(o.handwritten, hw_library, o.defines);
-    const nhc::runtime::Model hw = nhc::runtime::Model::load(hw_library);
-    if (hw.n_states() != model.n_states())
-      throw std::runtime_error("the hand-written model has " + std::to_string(hw.n_states()) + " states, the generated " +
-                               std::to_string(model.n_states()));
-    for (int i = 0; i < hw.n_states(); ++i)
-      if (hw.state_name(i) != model.state_name(i))
-        throw std::runtime_error("state " + std::to_string(i) + " is " + hw.state_name(i) + " hand-written, " +
-                                 model.state_name(i) + " generated");
-    const Integration h = integrate(hw, initial, t_end, io, o.quick);
+  if (hw) {
     json.number("handwritten_compile_s", hw_compile_s);
-    report_integration(json, "handwritten_", h);
+    report_integration(json, "handwritten_", hand);
     double diff = 0, scale = 0;
-    const std::vector<double>& hy = h.run.samples.back().y;
+    const std::vector<double>& hy = hand.run.samples.back().y;
     for (int i = 0; i < model.n_states(); ++i)
       if (model.is_differential(i)) {
         diff = std::max(diff, std::abs(hy[static_cast<size_t>(i)] - final_y[static_cast<size_t>(i)]));
