@@ -27,20 +27,20 @@ std::optional<JacobianKind> parse_jacobian_kind(const std::string& name) {
 }
 
 std::string sanitize_comment(const std::string& text) {
+  // Decided on the output, not the input: a replacement must not form a sequence either
+  // ("\xff\xff/" would otherwise become the trigraph "??/", a line splice in C++14).
   std::string out;
-  for (size_t k = 0; k < text.size(); ++k) {
-    const auto c = static_cast<unsigned char>(text[k]);
-    if (c == '*' && k + 1 < text.size() && text[k + 1] == '/') {
-      out += "* ";  // the '/' follows: "* /"
-    } else if (c == '\\') {
-      out += '/';
-    } else if (c == '?' && k + 1 < text.size() && text[k + 1] == '?') {
-      out += "? ";  // no trigraph: -Wall warns about "??/" even where C++17 ignores it
-    } else if (c < 0x20 || c >= 0x7f) {
-      out += (c == '\n' || c == '\r' || c == '\t') ? ' ' : '?';
-    } else {
-      out += static_cast<char>(c);
-    }
+  auto put = [&out](char c) {
+    if (!out.empty() && ((out.back() == '*' && c == '/') || (out.back() == '?' && c == '?')))
+      out += ' ';  // "* /" cannot close a comment, "? ?" is no trigraph
+    out += c;
+  };
+  for (const char ch : text) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (c == '\\') put('/');  // no line splicing
+    else if (c == '\n' || c == '\r' || c == '\t') put(' ');
+    else if (c < 0x20 || c >= 0x7f) put('?');  // ASCII only: no U+2028, no invalid UTF-8
+    else put(ch);
   }
   return out;
 }
@@ -685,6 +685,12 @@ GeneratedHeader HeaderWriter::write() {
 GeneratedHeader generate_header(const Scene& scene, const Index1System& system,
                                 const HeaderOptions& options) {
   if (!system.jet) throw MathError("index-1 system without a jet space");
+  // The scene name becomes a namespace and a file name: only a validated identifier may. (Scenes
+  // built in code skip the loader's checks; every other name only enters comments and literals.)
+  if (!is_valid_identifier(scene.name))
+    throw InputError({scene.source_path.empty() ? "scene" : scene.source_path, 0, 0},
+                     "invalid scene name '" + sanitize_comment(scene.name) +
+                         "': it must be a C++ identifier");
   const size_t n = system.states.size();
   if (system.residuals.size() != n || system.y.size() != n || system.yp.size() != n)
     throw MathError("inconsistent index-1 system: " + std::to_string(n) + " states, " +
