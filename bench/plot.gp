@@ -4,7 +4,7 @@
 set logscale xy
 set xlabel "N (knife edges; 7N states)"
 set ylabel "wall time [s]"
-set key outside right top
+set key below
 set grid
 set xrange [0.8:80]
 set format y "%g"

@@ -138,6 +138,20 @@ def main(argv):
     ok_ops = ops_j is not None and ops_js is not None and ops_j <= ops_js and ops_r <= ops_rs
     targets.append(("N = 16: operations after CSE ≤ sympy.cse (residual; residual + Jacobian)",
                     "%s vs %s; %s vs %s" % (ops_r, ops_rs, ops_j, ops_js), ok_ops))
+    misses = []
+    for label, d, sp in [(n, nhc.get(n), peers.get(n)) for n in peer_ns] + \
+            [("Appell–Hamel", examples.get("appell_hamel"), peer_ah)]:
+        if not d or not sp:
+            continue
+        mine = (d.get("ops_by_function", {}).get("residual", [None, None])[1],
+                d.get("residual_jacobian_joint_ops_after_cse"))
+        theirs = (sp.get("residual_ops_after_cse"), sp.get("residual_jacobian_ops_after_cse"))
+        if None in mine or None in theirs:
+            continue
+        if mine[0] > theirs[0] or mine[1] > theirs[1]:
+            misses.append("%s: %d vs %d; %d vs %d" % (label, mine[0], theirs[0], mine[1], theirs[1]))
+    targets.append(("the same at every N of the peers and on Appell–Hamel (cases where nhc has more)",
+                    "; ".join(misses) if misses else "none", not misses))
     r_int = None
     for method in ("Radau", "BDF"):
         m = p and p.get(method)
