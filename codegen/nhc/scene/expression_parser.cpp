@@ -51,14 +51,17 @@ class Parser {
       : text_(text), jet_(jet), rules_(rules) {}
 
   ex parse() {
-    if (text_.size() > kMaxExpressionLength)
+    if (rules_.input_limits && text_.size() > kMaxExpressionLength)
       fail(0, "expression longer than " + std::to_string(kMaxExpressionLength) + " characters");
     skip_space();
     if (at_end()) fail(pos_, "empty expression");
     ex e = expr();
     skip_space();
     if (!at_end()) fail(pos_, std::string("unexpected '") + text_[pos_] + "'");
-    if (expanded_terms_bound(e) > kMaxExpandedTerms)
+    if (rules_.input_limits && has_large_number(e, true))
+      fail(0, "a number in the expression is too large (more than " +
+                  std::to_string(kMaxPowerBits) + " bits)");
+    if (rules_.input_limits && expanded_terms_bound(e) > kMaxExpandedTerms)
       fail(0, "the expression expands to more than " +
                   std::to_string(static_cast<long>(kMaxExpandedTerms)) + " terms");
     return e;
@@ -83,7 +86,7 @@ class Parser {
   struct DepthGuard {
     Parser& p;
     explicit DepthGuard(Parser& parser) : p(parser) {
-      if (++p.depth_ > kMaxExpressionDepth)
+      if (++p.depth_ > (p.rules_.input_limits ? 1 : 20) * kMaxExpressionDepth)
         p.fail(p.pos_, "expression nested more than " + std::to_string(kMaxExpressionDepth) +
                            " levels deep");
     }
@@ -116,6 +119,40 @@ class Parser {
     return 1;
   }
 
+  /// True when a rational number of e has a numerator or denominator of more than kMaxPowerBits
+  /// bits: looking at e's own coefficients (cheap, after each operation) or, with `deep`, at
+  /// every number in it. Products of numbers grow without a power (1e400*1e400*…), and every
+  /// number nhc accepts must print as a literal it reads back.
+  static bool has_large_number(const ex& e, bool deep) {
+    auto large = [](const ex& x) {
+      if (!GiNaC::is_a<GiNaC::numeric>(x)) return false;
+      const auto& n = GiNaC::ex_to<GiNaC::numeric>(x);
+      if (!n.is_rational()) return false;
+      return std::max(GiNaC::numer(n).int_length(), GiNaC::denom(n).int_length()) > kMaxPowerBits;
+    };
+    if (deep) {
+      for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
+        if (large(*it)) return true;
+      return false;
+    }
+    if (large(e)) return true;
+    if (GiNaC::is_exactly_a<GiNaC::mul>(e) || GiNaC::is_exactly_a<GiNaC::add>(e))
+      for (std::size_t k = 0; k < e.nops(); ++k)
+        if (large(e.op(k)) || (GiNaC::is_exactly_a<GiNaC::mul>(e.op(k)) &&
+                               large(e.op(k).op(e.op(k).nops() - 1))))
+          return true;
+    return false;
+  }
+
+  /// Height of the tower of powers with non-numeric exponents in e (x^y: 1, x^x^y: 2).
+  static int exponent_tower(const ex& e) {
+    if (GiNaC::is_exactly_a<GiNaC::power>(e) && !GiNaC::is_a<GiNaC::numeric>(e.op(1)))
+      return 1 + std::max(exponent_tower(e.op(0)), exponent_tower(e.op(1)));
+    int height = 0;
+    for (std::size_t k = 0; k < e.nops(); ++k) height = std::max(height, exponent_tower(e.op(k)));
+    return height;
+  }
+
   /// True when e contains a number that is not real (GiNaC evaluates sqrt(-4) to 2*I).
   static bool has_complex_number(const ex& e) {
     for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
@@ -131,6 +168,9 @@ class Parser {
     try {
       ex result = f();
       if (has_complex_number(result)) fail(at, "the expression has a complex value");
+      if (rules_.input_limits && has_large_number(result, false))
+        fail(at, "a number in the result is too large (more than " + std::to_string(kMaxPowerBits) +
+                     " bits)");
       return result;
     } catch (const GiNaC::pole_error&) {
       fail(at, "division by zero");
@@ -190,7 +230,12 @@ class Parser {
     if (accept('^')) {
       ex exponent = unary();
       check_exponent(base, exponent, at);
-      return guarded(at, [&] { return GiNaC::pow(base, exponent); });
+      ex result = guarded(at, [&] { return GiNaC::pow(base, exponent); });
+      if (rules_.input_limits && !GiNaC::is_a<GiNaC::numeric>(exponent) &&
+          exponent_tower(result) > kMaxExponentTower)
+        fail(at, "powers with non-numeric exponents nested more than " +
+                     std::to_string(kMaxExponentTower) + " deep");
+      return result;
     }
     return base;
   }
@@ -202,7 +247,7 @@ class Parser {
     const auto& n = GiNaC::ex_to<GiNaC::numeric>(exponent);
     // Checked here rather than left to GiNaC, whose exception for 0^0 leaks the power object.
     if (base.is_zero() && !n.is_positive()) fail(at, "0^" + to_string_of(n) + " is undefined");
-    if (!n.is_rational()) return;
+    if (!n.is_rational() || !rules_.input_limits) return;
     const double magnitude = std::abs(n.to_double());
     if (GiNaC::is_a<GiNaC::numeric>(base)) {
       const auto& b = GiNaC::ex_to<GiNaC::numeric>(base);
@@ -280,16 +325,23 @@ class Parser {
         pos_ = save;
         fail(start, "malformed number exponent");
       }
-      if (exp_digits.size() > 4) fail(start, "number exponent out of range");
+      if (exp_digits.size() > 4 && rules_.input_limits) fail(start, "number exponent out of range");
+      if (exp_digits.size() > 9) fail(start, "number exponent out of range");
       exponent = sign * std::stol(exp_digits);
     }
-    if (digits.size() > 400) fail(start, "number has too many digits");
+    // A literal may have as many digits as a kMaxPowerBits-bit number (1234): whatever nhc
+    // prints, it reads back.
+    if (rules_.input_limits && digits.size() > 1240) fail(start, "number has too many digits");
     exponent -= decimals;
-    if (exponent > 400 || exponent < -400) fail(start, "number out of range (|exponent| > 400)");
+    const long range = rules_.input_limits ? 400 : 100000;
+    if (exponent > range || exponent < -range) fail(start, "number out of range (|exponent| > 400)");
     GiNaC::numeric value(digits.c_str());
     const GiNaC::numeric scale = GiNaC::pow(GiNaC::numeric(10), GiNaC::numeric(exponent));
     if (is_name_start(peek())) fail(pos_, "a name cannot follow a number directly; write '*'");
-    return value * scale;
+    const GiNaC::numeric result = value * scale;
+    if (rules_.input_limits && has_large_number(result, false))
+      fail(start, "number out of range (more than " + std::to_string(kMaxPowerBits) + " bits)");
+    return result;
   }
 
   ex call(const std::string& name, std::size_t start) {

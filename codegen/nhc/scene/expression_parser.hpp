@@ -28,10 +28,14 @@ namespace nhc {
 inline constexpr int kMaxDerivativeOrder = 8;
 /// Largest numeric exponent of a non-numeric base (x^64); larger powers of sums cannot be expanded.
 inline constexpr int kMaxExponent = 64;
-/// Largest exact power of a number, in bits (2^4096).
+/// Largest exact number, in bits of its numerator and denominator (2^4096): also the bound for
+/// literals, products and powers of numbers.
 inline constexpr int kMaxPowerBits = 4096;
 /// Deepest parenthesis / operator nesting accepted.
 inline constexpr int kMaxExpressionDepth = 200;
+/// Highest tower of powers with non-numeric exponents (x^x^x^x^y is 4): GiNaC's normal form,
+/// which derivations use, takes time exponential in it.
+inline constexpr int kMaxExponentTower = 4;
 /// Longest expression text accepted, in bytes.
 inline constexpr std::size_t kMaxExpressionLength = 100000;
 /// Largest number of terms an expression may expand to (bounded from its structure: (a+b+c)^k
@@ -54,6 +58,11 @@ struct ExpressionRules {
   bool allow_coordinates = true;   ///< q and its derivatives
   bool allow_multipliers = false;  ///< lambda1… and derivatives
   bool allow_time = true;          ///< t
+  /// The size limits above (length, nesting, exponents, numbers, expansion) guard against
+  /// hostile scene files. Text nhc printed itself (JSON output read back) may exceed them: a
+  /// product of powers prints as y^81, an expansion as larger numbers. Off: only the nesting
+  /// bound stays, twenty times higher.
+  bool input_limits = true;
 };
 
 /// Parse `text`; throws ExpressionSyntaxError on any error.

@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Builds the test suite with AddressSanitizer and UndefinedBehaviorSanitizer (clang, -O1, in
+# ./build-asan) and runs it; any sanitizer report fails the test that produced it. The same build
+# holds the libFuzzer targets (NHC_FUZZ: the libraries carry the fuzzers' coverage
+# instrumentation too), so scripts/fuzz.sh can reuse it: NHC_FUZZ_BUILD_DIR=build-asan.
+#
+# Which tests: the parsers, the derivation, the structural analysis, the code generator and the
+# runtime, each through its unit tests, plus the command line on the malformed-scene corpus and
+# `nhc simulate` end to end (the sanitized nhc compiles, loads and integrates a generated model).
+# The code generator's tests run from nhc_tests_codegen_units (tests/codegen/CMakeLists.txt):
+# nhc_tests_codegen itself compiles some twenty generated headers into its binary, plain double
+# arithmetic that the Release suite checks, and would double this build's time. Left out as
+# well: the LaTeX test (pdflatex, not our memory) and the paper check (the derivation tests
+# already run the same code here).
+# Usage: scripts/sanitize.sh [CTEST_ARGS...]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=${NHC_ASAN_BUILD_DIR:-build-asan}
+jobs=$(nproc 2>/dev/null || echo 2)
+
+# GiNaC and CLN keep caches alive until exit; everything else must be freed.
+export LSAN_OPTIONS="suppressions=$PWD/tests/fuzz/lsan.supp:print_suppressions=0"
+export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:strict_string_checks=1:detect_stack_use_after_return=1"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+
+CXX=${CXX_SANITIZE:-clang++} cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Debug \
+  -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DNHC_FUZZ=ON -DNHC_SANITIZE=ON -DNHC_BUILD_TESTS=ON >/dev/null
+targets=(nhc nhc_tests_scene nhc_tests_derive nhc_tests_analysis nhc_tests_cli nhc_tests_runtime
+         nhc_tests_codegen_units nhc_test_appell_hamel_module nhc_scene_fuzzer nhc_expression_fuzzer)
+cmake --build "$build" -j "$jobs" --target "${targets[@]}"
+
+# ctest names: <executable>:<test case> (catch_discover_tests) and cli:simulate_* (add_test).
+selected='^(nhc_tests_(scene|derive|analysis|runtime|codegen_units):|nhc_tests_cli:(malformed|bad|a |JSON)|cli:(simulate_(appell_hamel|particle_chetaev_uniform|vakonomic_singular_branch)|concurrent_cache|interrupt_leaves_no_partial_file)$)'
+ctest --test-dir "$build" --output-on-failure -j "$jobs" -R "$selected" "$@"
