@@ -14,7 +14,9 @@
 
 #include "nhc/errors.hpp"
 #include "nhc/io/atomic_file.hpp"
+#include "nhc/io/temporary_files.hpp"
 #include "pipeline.hpp"
+#include "subprocess.hpp"
 
 namespace nhc::cli {
 
@@ -378,13 +380,18 @@ std::vector<std::string> plot_work_precision(const std::string& directory, const
     for (size_t pos; (pos = kept.find(suffix)) != std::string::npos;) kept.erase(pos, suffix.size());
     write_file_atomically((dir / (stem + ".gp")).string(), [&](std::ostream& out) { out << kept; });
     const fs::path tmp_script = dir / (stem + ".gp" + suffix);
+    // Registered, so that an interrupt stops gnuplot and removes them (nhc/io/temporary_files.hpp).
+    const TemporaryFile script_file(tmp_script.string());
+    const TemporaryFile svg_file((dir / (stem + ".svg" + suffix)).string());
+    const TemporaryFile png_file((dir / (stem + ".png" + suffix)).string());
     {
       std::ofstream out(tmp_script);
       out << script;
     }
     std::string messages;
-    const int status = run_command("cd " + shell_quote(dir.string()) + " && gnuplot " +
-                                       shell_quote(tmp_script.filename().string()),
+    const int status = run_process({"sh", "-c",
+                                    "cd " + shell_quote(dir.string()) + " && gnuplot " +
+                                        shell_quote(tmp_script.filename().string())},
                                    messages);
     std::error_code ec;
     fs::remove(tmp_script, ec);
