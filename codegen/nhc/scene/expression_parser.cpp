@@ -59,7 +59,7 @@ class Parser {
     skip_space();
     if (!at_end()) fail(pos_, std::string("unexpected '") + text_[pos_] + "'");
     if (rules_.input_limits && has_large_number(e, true))
-      fail(0, "a number in the expression is too large (more than " +
+      fail(0, "a number in the expression is too large (beyond double precision or more than " +
                   std::to_string(kMaxPowerBits) + " bits)");
     if (rules_.input_limits && expanded_terms_bound(e) > kMaxExpandedTerms)
       fail(0, "the expression expands to more than " +
@@ -120,7 +120,7 @@ class Parser {
   }
 
   /// True when a rational number of e has a numerator or denominator of more than kMaxPowerBits
-  /// bits: looking at e's own coefficients (cheap, after each operation) or, with `deep`, at
+  /// bits or is too large for a double: looking at e's own coefficients (cheap, after each operation) or, with `deep`, at
   /// every number in it. Products of numbers grow without a power (1e400*1e400*…), and every
   /// number nhc accepts must print as a literal it reads back.
   static bool has_large_number(const ex& e, bool deep) {
@@ -128,7 +128,12 @@ class Parser {
       if (!GiNaC::is_a<GiNaC::numeric>(x)) return false;
       const auto& n = GiNaC::ex_to<GiNaC::numeric>(x);
       if (!n.is_rational()) return false;
-      return std::max(GiNaC::numer(n).int_length(), GiNaC::denom(n).int_length()) > kMaxPowerBits;
+      const long numerator_bits = GiNaC::numer(n).int_length();
+      const long denominator_bits = GiNaC::denom(n).int_length();
+      // |n| < 2^(numerator_bits - denominator_bits + 1): beyond 2^1023 no double holds it, and
+      // the generated code and the runtime compute in doubles.
+      return std::max(numerator_bits, denominator_bits) > kMaxPowerBits ||
+             numerator_bits - denominator_bits > 1022;
     };
     if (deep) {
       for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
@@ -169,8 +174,8 @@ class Parser {
       ex result = f();
       if (has_complex_number(result)) fail(at, "the expression has a complex value");
       if (rules_.input_limits && has_large_number(result, false))
-        fail(at, "a number in the result is too large (more than " + std::to_string(kMaxPowerBits) +
-                     " bits)");
+        fail(at, "a number in the result is too large (beyond double precision or more than " +
+                     std::to_string(kMaxPowerBits) + " bits)");
       return result;
     } catch (const GiNaC::pole_error&) {
       fail(at, "division by zero");
@@ -340,7 +345,8 @@ class Parser {
     if (is_name_start(peek())) fail(pos_, "a name cannot follow a number directly; write '*'");
     const GiNaC::numeric result = value * scale;
     if (rules_.input_limits && has_large_number(result, false))
-      fail(start, "number out of range (more than " + std::to_string(kMaxPowerBits) + " bits)");
+      fail(start, "number out of range (beyond double precision or more than " +
+                      std::to_string(kMaxPowerBits) + " bits)");
     return result;
   }
 
