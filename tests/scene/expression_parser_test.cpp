@@ -192,3 +192,22 @@ TEST_CASE("hostile input fails cleanly", "[scene][parser]") {
   // Deep but legal nesting still parses.
   CHECK(same(parse_expression(std::string(50, '(') + "x" + std::string(50, ')'), jet), jet.q(0, 0)));
 }
+
+TEST_CASE("size limits on scene input, not on nhc's own printed output", "[scene][parser]") {
+  const JetSpace jet = make_jet();
+  // Found by the fuzzers: a tower of symbolic exponents made the normal form hang, products of
+  // numbers grew without bound, numbers beyond double range failed only in code generation.
+  CHECK(error_offset("x^x^x^x^x^t", jet) >= 0);
+  CHECK_NOTHROW(parse_expression("x^x^x^x^t", jet));
+  CHECK(error_offset("x*1e300*1e300", jet) == 7);
+  CHECK(error_offset("2^2000", jet) >= 0);
+  CHECK(error_offset("(x + x' + t + 1)^64 * (x + t)^64", jet) >= 0);  // > 10^5 expanded terms
+  CHECK(error_offset(std::string(100001, ' ') + "x", jet) == 0);
+  // What nhc prints can exceed them: y^81 from y*(y^4)^20, (1+x)^128 from (1+x)^64*(1+x)^64.
+  nhc::ExpressionRules own_output;
+  own_output.input_limits = false;
+  CHECK(error_offset("x^81", jet) >= 0);
+  CHECK(same(parse_expression("x^81", jet, own_output), GiNaC::pow(jet.q(0, 0), 81)));
+  CHECK_NOTHROW(parse_expression("(1+x)^128", jet, own_output));
+  CHECK_NOTHROW(parse_expression(std::string(1300, '7') + "/3", jet, own_output));
+}
