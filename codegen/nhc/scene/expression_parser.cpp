@@ -61,6 +61,13 @@ class Parser {
     if (rules_.input_limits && has_large_number(e, true))
       fail(0, "a number in the expression is too large (beyond double precision or more than " +
                   std::to_string(kMaxPowerBits) + " bits)");
+    if (rules_.input_limits)
+      for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it) {
+        if (GiNaC::is_exactly_a<GiNaC::mul>(*it) && it->nops() > kMaxFactors)
+          fail(0, "a product of more than " + std::to_string(kMaxFactors) + " factors");
+        if (GiNaC::is_exactly_a<GiNaC::add>(*it) && it->nops() > kMaxTerms)
+          fail(0, "a sum of more than " + std::to_string(kMaxTerms) + " terms");
+      }
     if (rules_.input_limits && expanded_terms_bound(e) > kMaxExpandedTerms)
       fail(0, "the expression expands to more than " +
                   std::to_string(static_cast<long>(kMaxExpandedTerms)) + " terms");
@@ -186,38 +193,60 @@ class Parser {
     }
   }
 
+  // Sums and products are collected and built once: adding term by term copies the growing sum
+  // each time, quadratic in the number of terms (sin(1)*sin(2)*…*sin(10000) took 17 s).
   ex expr() {
     DepthGuard guard(*this);
-    ex result = term();
+    GiNaC::exvector terms{term()};
     for (;;) {
       skip_space();
       if (accept('+')) {
-        result = result + term();
+        terms.push_back(term());
       } else if (peek() == '-') {
         ++pos_;
-        result = result - term();
+        terms.push_back(-term());
       } else {
-        return result;
+        return terms.size() == 1 ? terms.front() : ex(GiNaC::add(terms));
       }
     }
   }
 
   ex term() {
-    ex result = unary();
+    GiNaC::exvector factors{unary()};
+    // The numbers among the factors, multiplied as they come, so that a product of numbers that
+    // grows too large is reported at its own operator.
+    GiNaC::numeric coefficient = numeric_coefficient(factors.front());
+    std::size_t first_operator = std::string::npos;
     for (;;) {
       skip_space();
       const std::size_t at = pos_;
+      ex factor;
       if (accept('*')) {
-        ex rhs = unary();
-        result = guarded(at, [&] { return ex(result * rhs); });
+        factor = unary();
       } else if (accept('/')) {
-        ex rhs = unary();
+        const ex rhs = unary();
         if (rhs.is_zero()) fail(at, "division by zero");
-        result = guarded(at, [&] { return ex(result / rhs); });
+        factor = guarded(at, [&] { return GiNaC::pow(rhs, -1); });
       } else {
-        return result;
+        if (factors.size() == 1) return factors.front();
+        return guarded(first_operator, [&] { return ex(GiNaC::mul(factors)); });
       }
+      if (first_operator == std::string::npos) first_operator = at;
+      coefficient *= numeric_coefficient(factor);
+      if (rules_.input_limits && has_large_number(coefficient, false))
+        fail(at, "a number in the result is too large (beyond double precision or more than " +
+                     std::to_string(kMaxPowerBits) + " bits)");
+      factors.push_back(factor);
     }
+  }
+
+  /// The numeric factor of e: e itself when it is a number, a product's coefficient, else 1.
+  static GiNaC::numeric numeric_coefficient(const ex& e) {
+    if (GiNaC::is_a<GiNaC::numeric>(e)) return GiNaC::ex_to<GiNaC::numeric>(e);
+    if (GiNaC::is_exactly_a<GiNaC::mul>(e) && e.nops() > 0 &&
+        GiNaC::is_a<GiNaC::numeric>(e.op(e.nops() - 1)))
+      return GiNaC::ex_to<GiNaC::numeric>(e.op(e.nops() - 1));
+    return 1;
   }
 
   ex unary() {
