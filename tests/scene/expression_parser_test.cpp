@@ -201,7 +201,12 @@ TEST_CASE("size limits on scene input, not on nhc's own printed output", "[scene
   CHECK_NOTHROW(parse_expression("x^x^x^x^t", jet));
   CHECK(error_offset("x*1e300*1e300", jet) == 7);
   CHECK(error_offset("2^2000", jet) >= 0);
-  CHECK(error_offset("(x + x' + t + 1)^64 * (x + t)^64", jet) >= 0);  // > 10^5 expanded terms
+  CHECK(error_offset("(x + x' + t + 1)^64 * (x + t)^64", jet) >= 0);  // > 10^4 expanded terms
+  CHECK(error_offset("cos((x + x' + t + 1)^64 * (x + t)^64)", jet) >= 0);  // also in arguments
+  CHECK(error_offset("sqrt((x + x' + t + 1)^64 * (x + t)^64)", jet) >= 0);
+  std::string product = "x'";
+  for (int k = 1; k <= 70; ++k) product += "*sin(" + std::to_string(k) + "*x)";
+  CHECK(error_offset(product, jet) == 0);  // more than 64 factors
   CHECK(error_offset(std::string(100001, ' ') + "x", jet) == 0);
   // What nhc prints can exceed them: y^81 from y*(y^4)^20, (1+x)^128 from (1+x)^64*(1+x)^64.
   nhc::ExpressionRules own_output;

@@ -68,7 +68,8 @@ class Parser {
         if (GiNaC::is_exactly_a<GiNaC::add>(*it) && it->nops() > kMaxTerms)
           fail(0, "a sum of more than " + std::to_string(kMaxTerms) + " terms");
       }
-    if (rules_.input_limits && expanded_terms_bound(e) > kMaxExpandedTerms)
+    double inner = 0;
+    if (rules_.input_limits && std::max(expanded_terms_bound(e, inner), inner) > kMaxExpandedTerms)
       fail(0, "the expression expands to more than " +
                   std::to_string(static_cast<long>(kMaxExpandedTerms)) + " terms");
     return e;
@@ -101,28 +102,30 @@ class Parser {
   };
 
   /// An upper bound on the number of terms of e.expand(): sums add, products multiply, a power
-  /// with a positive integer exponent k of an n-term base has at most C(n+k-1, k) terms.
-  /// Saturates at infinity instead of overflowing.
-  static double expanded_terms_bound(const ex& e) {
+  /// with a positive integer exponent k of an n-term base has at most C(n+k-1, k) terms. What
+  /// expand() does not multiply out (function arguments, bases of other powers, exponents) is
+  /// expanded on its own: its bound goes into `inner`. Saturates at infinity.
+  static double expanded_terms_bound(const ex& e, double& inner) {
     if (GiNaC::is_exactly_a<GiNaC::add>(e)) {
       double sum = 0;
-      for (std::size_t k = 0; k < e.nops(); ++k) sum += expanded_terms_bound(e.op(k));
+      for (std::size_t k = 0; k < e.nops(); ++k) sum += expanded_terms_bound(e.op(k), inner);
       return sum;
     }
     if (GiNaC::is_exactly_a<GiNaC::mul>(e)) {
       double product = 1;
-      for (std::size_t k = 0; k < e.nops(); ++k) product *= expanded_terms_bound(e.op(k));
+      for (std::size_t k = 0; k < e.nops(); ++k) product *= expanded_terms_bound(e.op(k), inner);
       return product;
     }
-    if (GiNaC::is_exactly_a<GiNaC::power>(e) && GiNaC::is_a<GiNaC::numeric>(e.op(1))) {
-      const auto& k = GiNaC::ex_to<GiNaC::numeric>(e.op(1));
-      if (!k.is_pos_integer()) return 1;
-      const double n = expanded_terms_bound(e.op(0));
-      const double kk = k.to_double();
+    if (GiNaC::is_exactly_a<GiNaC::power>(e) && GiNaC::is_a<GiNaC::numeric>(e.op(1)) &&
+        GiNaC::ex_to<GiNaC::numeric>(e.op(1)).is_pos_integer()) {
+      const double n = expanded_terms_bound(e.op(0), inner);
+      const double k = GiNaC::ex_to<GiNaC::numeric>(e.op(1)).to_double();
       double bound = 1;  // C(n + k - 1, k), as a product of k factors (k is at most 64 here)
-      for (double j = 1; j <= kk && bound < 1e300; ++j) bound *= (n - 1 + j) / j;
+      for (double j = 1; j <= k && bound < 1e300; ++j) bound *= (n - 1 + j) / j;
       return bound;
     }
+    for (std::size_t k = 0; k < e.nops(); ++k)
+      inner = std::max(inner, expanded_terms_bound(e.op(k), inner));
     return 1;
   }
 
