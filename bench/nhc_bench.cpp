@@ -36,6 +36,7 @@
 #include "nhc/derive/models.hpp"
 #include "nhc/emit/cse.hpp"
 #include "nhc/emit/header_emitter.hpp"
+#include "nhc/io/shell.hpp"
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/scene/scene.hpp"
 
@@ -92,21 +93,8 @@ Options parse(int argc, char** argv) {
   return o;
 }
 
-std::string shell_quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
-int run_command(const std::string& command, std::string& output) {
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  if (!pipe) return -1;
-  char buffer[4096];
-  size_t n = 0;
-  while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) output.append(buffer, n);
-  const int status = pclose(pipe);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
+using nhc::run_command;
+using nhc::shell_quote;
 
 /// Compiles `source` (a header) into `library` the way `nhc simulate` does; returns the seconds.
 double compile(const std::string& source, const std::string& library, const std::vector<std::string>& defines) {

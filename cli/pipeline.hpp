@@ -10,6 +10,7 @@
 #include <string>
 
 #include "nhc/emit/header_emitter.hpp"
+#include "nhc/io/shell.hpp"
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/scene/scene.hpp"
 
@@ -19,12 +20,7 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point start);
 
-/// Text in single quotes for /bin/sh.
-std::string shell_quote(const std::string& s);
-
-/// Runs a shell command; returns its exit status (-1 when it could not run or was killed) and
-/// appends its stdout and stderr to `output`.
-int run_command(const std::string& command, std::string& output);
+// shell_quote() and run_command(): nhc/io/shell.hpp.
 
 /// `$NHC_CACHE_DIR`, else `$XDG_CACHE_HOME/nhc`, else `~/.cache/nhc`.
 std::filesystem::path cache_directory();

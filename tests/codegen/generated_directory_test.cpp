@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "nhc/io/shell.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -25,11 +27,7 @@ std::string read_file(const fs::path& path) {
   return s.str();
 }
 
-std::string shell_quote(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
+using nhc::shell_quote;
 
 int run(const std::string& command) {
   const int status = std::system(command.c_str());
