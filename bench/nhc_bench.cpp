@@ -109,28 +109,6 @@ double compile(const std::string& source, const std::string& library, const std:
   return seconds;
 }
 
-/// The scene's [initial] as the runtime's InitialState (as `nhc simulate` reads it).
-nhc::runtime::InitialState initial_state_of(const nhc::Scene& scene, const nhc::runtime::Model& model) {
-  nhc::runtime::InitialState s;
-  s.t0 = scene.initial.t0;
-  const int n = model.n_states();
-  s.y.assign(n, 0.0);
-  s.yp.assign(n, 0.0);
-  s.given.assign(n, false);
-  for (int i = 0; i < n; ++i) {
-    const std::string name = model.variable_name(model.table().state_variable[i]);
-    const int order = model.table().state_order[i];
-    const auto it = scene.initial.values.find(name);
-    if (it == scene.initial.values.end()) continue;
-    if (static_cast<int>(it->second.size()) > order) {
-      s.y[i] = it->second[order];
-      s.given[i] = model.is_differential(i);
-    }
-    if (static_cast<int>(it->second.size()) > order + 1) s.yp[i] = it->second[order + 1];
-  }
-  return s;
-}
-
 /// Best time of `f` over repetitions: at least one, more while the total stays under `budget`
 /// seconds (at most `max_runs`).
 double best_time(const std::function<void()>& f, double budget, int max_runs) {
@@ -382,7 +360,8 @@ int run(const Options& o) {
   // 3, 4. integrate.
   const nhc::Scene scene = nhc::load_scene(o.scene);
   const nhc::runtime::Model model = nhc::runtime::Model::load(library);
-  const nhc::runtime::InitialState initial = initial_state_of(scene, model);
+  const nhc::runtime::InitialState initial =
+      nhc::runtime::initial_state_from(model, scene.initial.t0, scene.initial.values);
   nhc::runtime::IntegratorOptions io;
   io.rtol = o.rtol > 0 ? o.rtol : scene.simulate.rtol;
   io.atol = o.atol > 0 ? o.atol : scene.simulate.atol;

@@ -136,24 +136,7 @@ BuiltModel build_model(const Scene& scene, ModelKind kind, std::optional<Jacobia
 }
 
 runtime::InitialState initial_state_of(const Scene& scene, const runtime::Model& model) {
-  runtime::InitialState s;
-  s.t0 = scene.initial.t0;
-  const int n = model.n_states();
-  s.y.assign(n, 0.0);
-  s.yp.assign(n, 0.0);
-  s.given.assign(n, false);
-  for (int i = 0; i < n; ++i) {
-    const std::string name = model.variable_name(model.table().state_variable[i]);
-    const int order = model.table().state_order[i];
-    const auto it = scene.initial.values.find(name);
-    if (it == scene.initial.values.end()) continue;
-    if (static_cast<int>(it->second.size()) > order) {
-      s.y[i] = it->second[order];
-      s.given[i] = model.is_differential(i);  // algebraic values are only guesses
-    }
-    if (static_cast<int>(it->second.size()) > order + 1) s.yp[i] = it->second[order + 1];
-  }
-  return s;
+  return runtime::initial_state_from(model, scene.initial.t0, scene.initial.values);
 }
 
 std::string format_number(double v, int precision) {

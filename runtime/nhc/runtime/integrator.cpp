@@ -54,6 +54,28 @@ constexpr double kTinyStep = 1e-12;
 
 }  // namespace
 
+InitialState initial_state_from(const Model& model, double t0,
+                                const std::map<std::string, std::vector<double>>& values) {
+  InitialState s;
+  s.t0 = t0;
+  const int n = model.n_states();
+  s.y.assign(static_cast<std::size_t>(n), 0.0);
+  s.yp.assign(static_cast<std::size_t>(n), 0.0);
+  s.given.assign(static_cast<std::size_t>(n), false);
+  for (int i = 0; i < n; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    const auto it = values.find(model.variable_name(model.table().state_variable[i]));
+    if (it == values.end()) continue;
+    const auto order = static_cast<std::size_t>(model.table().state_order[i]);
+    if (it->second.size() > order) {
+      s.y[k] = it->second[order];
+      s.given[k] = model.is_differential(i);  // algebraic values are only guesses
+    }
+    if (it->second.size() > order + 1) s.yp[k] = it->second[order + 1];
+  }
+  return s;
+}
+
 struct Integrator::Impl {
   Model model;
   std::vector<double> p;

@@ -7,6 +7,7 @@
 /// singular points with the time (docs/projection.md, docs/generated-code.md).
 
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -63,6 +64,12 @@ struct InitialState {
   std::vector<bool> given;
   std::vector<double> yp;  ///< optional guess, zeros when empty
 };
+
+/// Initial data in a scene's [initial] form (per coordinate or multiplier name: value, first
+/// derivative, …) as an InitialState of `model`. Values of differential states are given; values
+/// of algebraic states and derivatives one order above a state are only guesses.
+InitialState initial_state_from(const Model& model, double t0,
+                                const std::map<std::string, std::vector<double>>& values);
 
 struct Sample {
   double t = 0;
