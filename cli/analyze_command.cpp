@@ -34,7 +34,7 @@ CommandRunner add_analyze_command(CLI::App& app) {
                  "consistent initial values of a scene's models");
   sub->add_option("SCENE", options->scene_path, "scene file (TOML)")->required();
   sub->add_option("--model,-m", options->models, "model(s) to analyse (default: the scene's)")
-      ->check(CLI::IsMember({"vakonomic", "chetaev", "holder", "suslov"}));
+      ->check(CLI::IsMember(model_names()));
   sub->add_option("--format,-f", options->format,
                   "output format (json: one object per model, an array when several)")
       ->check(CLI::IsMember({"text", "json"}));

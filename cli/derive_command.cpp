@@ -32,7 +32,7 @@ CommandRunner add_derive_command(CLI::App& app) {
   CLI::App* sub = app.add_subcommand("derive", "derive the equations of motion of a scene");
   sub->add_option("SCENE", options->scene_path, "scene file (TOML)")->required();
   sub->add_option("--model,-m", options->models, "model(s) to derive (default: the scene's)")
-      ->check(CLI::IsMember({"vakonomic", "chetaev", "holder", "suslov"}));
+      ->check(CLI::IsMember(model_names()));
   sub->add_option("--format,-f", options->format, "output format")
       ->check(CLI::IsMember({"text", "latex", "json"}));
   sub->add_option("-o,--output", options->output, "write to FILE instead of standard output");

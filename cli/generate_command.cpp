@@ -25,13 +25,6 @@ struct GenerateOptions {
   bool quiet = false;
 };
 
-ModelKind default_generated_model(const Scene& scene) {
-  if (scene.simulate.model) return *scene.simulate.model;
-  for (ModelKind m : scene.models)
-    if (m == ModelKind::chetaev) return m;
-  return scene.models.empty() ? ModelKind::chetaev : scene.models.front();
-}
-
 }  // namespace
 
 CommandRunner add_generate_command(CLI::App& app) {
@@ -41,7 +34,7 @@ CommandRunner add_generate_command(CLI::App& app) {
   sub->add_option("SCENE", options->scene_path, "scene file (TOML)")->required();
   sub->add_option("--model,-m", options->model,
                   "model (default: the scene's [simulate] model, else chetaev)")
-      ->check(CLI::IsMember({"vakonomic", "chetaev", "holder", "suslov"}));
+      ->check(CLI::IsMember(model_names()));
   sub->add_option("--jacobian,-j", options->jacobian,
                   "Jacobian dF/dy + cj dF/dy': dense (column-major), sparse (compressed column) or "
                   "none")
@@ -53,7 +46,7 @@ CommandRunner add_generate_command(CLI::App& app) {
   return [options]() {
     const Scene scene = load_scene(options->scene_path);
     const ModelKind kind =
-        options->model.empty() ? default_generated_model(scene) : *parse_model_kind(options->model);
+        model_or_default(scene, options->model);
     const DerivedModel derived = derive_model(scene, kind);
     if (!derived.applicable)
       throw MathError("the " + to_string(kind) + " model does not apply to " + scene.name + ": " +

@@ -107,14 +107,6 @@ CompiledModel compile_model(const GeneratedHeader& header) {
   return {library.string(), false};
 }
 
-ModelKind chosen_model(const Scene& scene, const std::string& name) {
-  if (!name.empty()) return *parse_model_kind(name);
-  if (scene.simulate.model) return *scene.simulate.model;
-  for (ModelKind m : scene.models)
-    if (m == ModelKind::chetaev) return m;
-  return scene.models.empty() ? ModelKind::chetaev : scene.models.front();
-}
-
 BuiltModel build_model(const Scene& scene, ModelKind kind, std::optional<JacobianKind> jacobian_choice) {
   const auto derive_start = Clock::now();
   const DerivedModel derived = derive_model(scene, kind);
@@ -122,7 +114,7 @@ BuiltModel build_model(const Scene& scene, ModelKind kind, std::optional<Jacobia
     throw MathError("the " + to_string(kind) + " model does not apply to " + scene.name + ": " + derived.reason);
   const Index1System system = reduce_to_index1(scene, derived);
   const JacobianKind jacobian =
-      jacobian_choice.value_or(system.size() >= 40 ? JacobianKind::sparse : JacobianKind::dense);
+      jacobian_choice.value_or(default_jacobian_kind(system.size()));
   HeaderOptions header_options;
   header_options.jacobian = jacobian;
   GeneratedHeader header = generate_header(scene, system, header_options);

@@ -36,10 +36,6 @@ struct CompiledModel {
 /// with the compiler's output when it fails.
 CompiledModel compile_model(const GeneratedHeader& header);
 
-/// `--model`, else the scene's [simulate] model, else chetaev when the scene lists it, else the
-/// scene's first model.
-ModelKind chosen_model(const Scene& scene, const std::string& name);
-
 /// A model of a scene, derived, reduced, generated, compiled and loaded.
 struct BuiltModel {
   ModelKind kind = ModelKind::chetaev;

@@ -105,7 +105,7 @@ struct PreparedReport {
 
 PreparedReport prepare(const ReportOptions& o) {
   PreparedReport r{load_scene(o.scene_path), ModelKind::chetaev, {}};
-  r.kind = chosen_model(r.scene, o.model);
+  r.kind = model_or_default(r.scene, o.model);
   WorkPrecisionSettings& s = r.settings;
   s.rtols = decades_or_throw("--tolerances", o.tolerances);
   s.atol_scale = o.atol_scale.value_or(r.scene.simulate.atol / r.scene.simulate.rtol);
@@ -567,7 +567,7 @@ CommandRunner add_report_command(CLI::App& app) {
       "report", "work-precision report of one model of a scene: error against run time over a range of tolerances");
   sub->add_option("SCENE", options->scene_path, "scene file (TOML)");
   sub->add_option("--model,-m", options->model, "model (default: the scene's [simulate] model, else chetaev)")
-      ->check(CLI::IsMember({"vakonomic", "chetaev", "holder", "suslov"}));
+      ->check(CLI::IsMember(model_names()));
   sub->add_option("--tolerances", options->tolerances, "rtol range by decades, loosest first (default 1e-3:1e-12)");
   sub->add_option("--atol-scale", options->atol_scale, "atol = rtol × this (default: the scene's atol/rtol)")
       ->check(CLI::PositiveNumber);

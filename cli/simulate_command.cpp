@@ -50,7 +50,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
       "simulate", "derive, generate, compile and integrate one model of a scene with SUNDIALS IDA");
   sub->add_option("SCENE", options->scene_path, "scene file (TOML)")->required();
   sub->add_option("--model,-m", options->model, "model (default: the scene's [simulate] model, else chetaev)")
-      ->check(CLI::IsMember({"vakonomic", "chetaev", "holder", "suslov"}));
+      ->check(CLI::IsMember(model_names()));
   sub->add_option("--t-end", options->t_end, "final time (default: [simulate] t_end)");
   sub->add_option("--rtol", options->rtol, "relative tolerance (default: [simulate] rtol)")
       ->check(CLI::PositiveNumber);
@@ -65,7 +65,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
     // Derive, reduce, generate (dense Jacobian; sparse from 40 states), compile (or reuse), load.
     const auto load_start = Clock::now();
     const Scene scene = load_scene(options->scene_path);
-    const ModelKind kind = chosen_model(scene, options->model);
+    const ModelKind kind = model_or_default(scene, options->model);
     check_simulate_flags(*options, scene);  // before anything is compiled or written
     const double load_seconds = seconds_since(load_start);
     const BuiltModel built = build_model(scene, kind, std::nullopt);

@@ -21,6 +21,13 @@ enum class JacobianKind { dense, sparse, none };
 std::string to_string(JacobianKind kind);
 std::optional<JacobianKind> parse_jacobian_kind(const std::string& name);
 
+/// The Jacobian generated when none is asked for: dense below kSparseJacobianFromStates states,
+/// compressed-column from there (the dense LU's n³ then costs more than KLU's fill-in).
+inline constexpr int kSparseJacobianFromStates = 40;
+inline JacobianKind default_jacobian_kind(int n_states) {
+  return n_states >= kSparseJacobianFromStates ? JacobianKind::sparse : JacobianKind::dense;
+}
+
 /// J = dF/dy + cj dF/dy' of the index-1 residual (SUNDIALS IDA's iteration matrix), with its
 /// compressed-column structure: the entries that are not identically zero after GiNaC's
 /// automatic simplification.

@@ -13,16 +13,9 @@
 
 #include "nhc/derive/jet_space.hpp"
 #include "nhc/errors.hpp"
+#include "nhc/scene/model_kind.hpp"
 
 namespace nhc {
-
-/// The dynamical models nhc derives (models.md, "The four models").
-enum class ModelKind { vakonomic, chetaev, holder, suslov };
-
-inline constexpr ModelKind kAllModels[] = {ModelKind::vakonomic, ModelKind::chetaev,
-                                           ModelKind::holder, ModelKind::suslov};
-std::string to_string(ModelKind model);
-std::optional<ModelKind> parse_model_kind(const std::string& name);
 
 /// Initial data: t0 and, per coordinate or multiplier, [value, 1st derivative, …].
 struct InitialData {

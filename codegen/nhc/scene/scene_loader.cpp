@@ -14,22 +14,6 @@
 
 namespace nhc {
 
-std::string to_string(ModelKind model) {
-  switch (model) {
-    case ModelKind::vakonomic: return "vakonomic";
-    case ModelKind::chetaev: return "chetaev";
-    case ModelKind::holder: return "holder";
-    case ModelKind::suslov: return "suslov";
-  }
-  return "?";
-}
-
-std::optional<ModelKind> parse_model_kind(const std::string& name) {
-  for (ModelKind m : kAllModels)
-    if (to_string(m) == name) return m;
-  return std::nullopt;
-}
-
 bool is_cpp_keyword(const std::string& name) {
   static const std::set<std::string> keywords = {
       "alignas", "alignof", "and", "and_eq", "asm", "auto", "bitand", "bitor", "bool", "break",
