@@ -323,7 +323,7 @@ int run(const Options& o) {
     const double c = seconds_since(t0);
     t0 = Clock::now();
     nhc::HeaderOptions ho;
-    sparse = o.jacobian == "sparse" || (o.jacobian == "auto" && default_jacobian_kind(system.size()) == JacobianKind::sparse);
+    sparse = o.jacobian == "sparse" || (o.jacobian == "auto" && nhc::default_jacobian_kind(system.size()) == nhc::JacobianKind::sparse);
     ho.jacobian = sparse ? nhc::JacobianKind::sparse : nhc::JacobianKind::dense;
     nhc::GeneratedHeader h = nhc::generate_header(scene, system, ho);
     const double d = seconds_since(t0);

@@ -11,6 +11,7 @@
 #include "commands.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/io/atomic_file.hpp"
+#include "nhc/jit.hpp"
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/scene/scene.hpp"
 #include "pipeline.hpp"
@@ -68,10 +69,10 @@ CommandRunner add_simulate_command(CLI::App& app) {
     const ModelKind kind = model_or_default(scene, options->model);
     check_simulate_flags(*options, scene);  // before anything is compiled or written
     const double load_seconds = seconds_since(load_start);
-    const BuiltModel built = build_model(scene, kind, std::nullopt);
-    const runtime::Model& model = built.model;
-    const CompiledModel& compiled = built.compiled;
-    const double derive_seconds = load_seconds + built.derive_seconds, compile_seconds = built.compile_seconds;
+    const jit::LoadedModel built = jit::build(scene, kind);
+    const runtime::Model& model = built.model();
+    const double derive_seconds = load_seconds + built.timings().derive + built.timings().generate;
+    const double compile_seconds = built.timings().compile + built.timings().load;
 
     // Integrate.
     runtime::IntegratorOptions io;
@@ -100,7 +101,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
               << st.nonlinear_failures;
     if (options->project) std::cout << ", projections " << st.projections;
     std::cout << "\n  time: derive " << format(derive_seconds) << " s, compile " << format(compile_seconds) << " s"
-              << (compiled.reused ? " (cached)" : "") << ", integrate "
+              << (built.library().reused ? " (cached)" : "") << ", integrate "
               << format(st.initialization_seconds + st.integration_seconds) << " s\n";
     if (model.n_reference() > 0) std::cout << "  max reference error " << format(drift.max_error) << "\n";
     if (model.n_hidden() > 0) std::cout << "  max hidden-constraint drift " << format(drift.max_hidden) << "\n";

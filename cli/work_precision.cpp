@@ -16,7 +16,9 @@
 #include "nhc/io/atomic_file.hpp"
 #include "nhc/io/temporary_files.hpp"
 #include "pipeline.hpp"
-#include "subprocess.hpp"
+#include "nhc/io/shell.hpp"
+#include "nhc/jit.hpp"
+#include "nhc/jit/subprocess.hpp"
 
 namespace nhc::cli {
 
@@ -110,16 +112,18 @@ WorkPrecision measure_work_precision(const Scene& scene, ModelKind kind, const W
   wp.model_name = to_string(kind);
 
   // One compiled model per Jacobian flavour (the reference run uses the dense one).
-  std::map<std::string, BuiltModel> models;
+  std::map<std::string, jit::LoadedModel> models;
   auto model_for = [&](const std::string& jacobian) -> const runtime::Model& {
     auto it = models.find(jacobian);
     if (it == models.end()) {
-      BuiltModel b = build_model(scene, kind, jacobian == "sparse" ? JacobianKind::sparse : JacobianKind::dense);
-      wp.derive_seconds += b.derive_seconds;
-      wp.compile_seconds += b.compile_seconds;
+      jit::BuildOptions options;
+      options.jacobian = jacobian == "sparse" ? JacobianKind::sparse : JacobianKind::dense;
+      jit::LoadedModel b = jit::build(scene, kind, options);
+      wp.derive_seconds += b.timings().derive + b.timings().generate;
+      wp.compile_seconds += b.timings().compile + b.timings().load;
       it = models.emplace(jacobian, std::move(b)).first;
     }
-    return it->second.model;
+    return it->second.model();
   };
   const runtime::Model& dense = model_for("dense");
   const auto& tab = dense.table();
@@ -389,7 +393,7 @@ std::vector<std::string> plot_work_precision(const std::string& directory, const
       out << script;
     }
     std::string messages;
-    const int status = run_process({"sh", "-c",
+    const int status = jit::run_process({"sh", "-c",
                                     "cd " + shell_quote(dir.string()) + " && gnuplot " +
                                         shell_quote(tmp_script.filename().string())},
                                    messages);

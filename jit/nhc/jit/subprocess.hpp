@@ -7,11 +7,11 @@
 #include <string>
 #include <vector>
 
-namespace nhc::cli {
+namespace nhc::jit {
 
 /// Runs `argv[0]` (looked up in PATH) with `argv`; appends its standard output and error to
 /// `output`. Returns its exit status, or -1 when it could not be started or was killed by a
 /// signal.
 int run_process(const std::vector<std::string>& argv, std::string& output);
 
-}  // namespace nhc::cli
+}  // namespace nhc::jit

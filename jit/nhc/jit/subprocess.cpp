@@ -1,4 +1,4 @@
-#include "subprocess.hpp"
+#include "nhc/jit/subprocess.hpp"
 
 #include <spawn.h>
 #include <sys/wait.h>
@@ -10,7 +10,7 @@
 
 extern char** environ;
 
-namespace nhc::cli {
+namespace nhc::jit {
 
 int run_process(const std::vector<std::string>& argv, std::string& output) {
   if (argv.empty()) return -1;
@@ -77,4 +77,4 @@ int run_process(const std::vector<std::string>& argv, std::string& output) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-}  // namespace nhc::cli
+}  // namespace nhc::jit

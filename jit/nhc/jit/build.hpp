@@ -1,0 +1,63 @@
+#pragma once
+/// \file build.hpp
+/// \brief nhc::jit::build: a scene's model derived, reduced, generated, compiled and loaded.
+
+#include <optional>
+
+#include "nhc/emit/header_emitter.hpp"
+#include "nhc/jit/compiler.hpp"
+#include "nhc/runtime/model.hpp"
+#include "nhc/scene/scene.hpp"
+
+namespace nhc::jit {
+
+struct BuildOptions {
+  /// The Jacobian to generate; none given: default_jacobian_kind() of the system's size.
+  std::optional<JacobianKind> jacobian;
+  CompileOptions compile;
+};
+
+/// Wall time of each stage of build(), in seconds.
+struct BuildTimings {
+  double derive = 0;    ///< derivation and reduction to index 1
+  double generate = 0;  ///< code generation
+  double compile = 0;   ///< compiling, or finding the shared object in the cache
+  double load = 0;      ///< dlopen and table checks
+};
+
+/// A model of a scene, ready to integrate. Owns the loaded library: model() is valid while this
+/// object lives. Move-only.
+class LoadedModel {
+ public:
+  LoadedModel(ModelKind kind, JacobianKind jacobian, GeneratedHeader header, CompiledLibrary library,
+              runtime::Model model, BuildTimings timings);
+  LoadedModel(LoadedModel&&) noexcept = default;
+  LoadedModel& operator=(LoadedModel&&) noexcept = default;
+  LoadedModel(const LoadedModel&) = delete;
+  LoadedModel& operator=(const LoadedModel&) = delete;
+
+  const runtime::Model& model() const noexcept { return model_; }
+  ModelKind kind() const noexcept { return kind_; }
+  JacobianKind jacobian() const noexcept { return jacobian_; }
+  const GeneratedHeader& header() const noexcept { return header_; }
+  const CompiledLibrary& library() const noexcept { return library_; }
+  const BuildTimings& timings() const noexcept { return timings_; }
+
+ private:
+  ModelKind kind_;
+  JacobianKind jacobian_;
+  GeneratedHeader header_;
+  CompiledLibrary library_;
+  runtime::Model model_;
+  BuildTimings timings_;
+};
+
+/// Derives `kind` for the scene (MathError when it does not apply), reduces it to index 1,
+/// generates the header, compiles it (cached) and loads it.
+LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& options = {});
+
+/// A header already generated (or written by hand) compiled and loaded.
+LoadedModel load_header(const GeneratedHeader& header, ModelKind kind, JacobianKind jacobian,
+                        const CompileOptions& options = {});
+
+}  // namespace nhc::jit
