@@ -9,7 +9,7 @@
 
 #include "nhc/analysis/numeric_evaluation.hpp"
 #include "nhc/analysis/system_jacobian.hpp"
-#include "nhc/emit/expression_printer.hpp"
+#include "nhc/jet/expression_printer.hpp"
 #include "nhc/errors.hpp"
 
 namespace nhc {
@@ -282,8 +282,8 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
       if (!involved_solved.empty())
         s << (newton_converged ? "" : "; Newton's method did not converge") << " for "
           << join_names(involved_solved);
-      s << ". Give consistent values, or pass --repair-initial for the nearest consistent point";
-      throw MathError(s.str());
+      s << ". Give consistent values, or have them repaired to the nearest consistent point";
+      throw InconsistentInitialValues(s.str());
     }
   }
   for (int k = 0; k < count; ++k) result.values[static_cast<std::size_t>(k)].value = x(k);

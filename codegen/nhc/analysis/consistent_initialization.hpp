@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "nhc/analysis/structural_analysis.hpp"
+#include "nhc/errors.hpp"
 #include "nhc/scene/scene.hpp"
 
 namespace nhc {
@@ -64,7 +65,15 @@ struct ConsistentPoint {
   GiNaC::exmap point;
 };
 
-/// Throws MathError when the hidden constraints cannot be satisfied (naming the constraint
+/// Given initial values that violate a hidden constraint, with repair not asked for: the
+/// caller may offer repair (`nhc analyze --repair-initial`).
+class InconsistentInitialValues : public MathError {
+ public:
+  using MathError::MathError;
+};
+
+/// Throws InconsistentInitialValues when the given values violate a hidden constraint and
+/// repair is off; MathError when the hidden constraints cannot be satisfied (naming the constraint
 /// and its residual) or Newton's method fails on the leading derivatives.
 ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAnalysis& analysis,
                                          const InitializationOptions& options = {});

@@ -245,12 +245,14 @@ struct Integrator::Impl {
     switch (options.linear_solver) {
       case LinearSolverKind::sparse:
         if (!model.has_sparse_jacobian())
-          throw ModelError("KLU needs the sparse Jacobian; generate the header with --jacobian sparse");
+          throw ModelError("KLU needs the sparse Jacobian, and this model was generated without it");
         want_sparse = true;
         break;
       case LinearSolverKind::dense: want_sparse = false; break;
       case LinearSolverKind::automatic:
-        want_sparse = model.has_sparse_jacobian() && (n() >= 40 || !model.has_dense_jacobian());
+        // The size policy lives where the header is generated (default_jacobian_kind, emit
+        // layer); the runtime follows what the model carries.
+        want_sparse = model.has_sparse_jacobian();
         break;
     }
     sparse = want_sparse;
