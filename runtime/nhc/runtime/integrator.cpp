@@ -16,6 +16,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "nhc/runtime/constraint_solver.hpp"
 #include "nhc/runtime/hidden_constraints.hpp"
 #include "nhc/runtime/progress_bar.hpp"
 #include "nhc/runtime/sundials.hpp"
@@ -525,9 +526,8 @@ Sample Integrator::initialize(const InitialState& state, double t_next) {
     std::vector<double> scale(n, 1.0);
     for (int i = 0; i < n && i < static_cast<int>(state.given.size()); ++i)
       if (state.given[i]) scale[i] = 0.0;
-    double size = 1.0;
-    for (int i = 0; i < n; ++i) size = std::max(size, std::abs(s.y[i]));
-    solve_hidden_constraints(s.model, s.p.data(), state.t0, s.y.data(), scale, 1e-13 * size);
+    solve_hidden_constraints(s.model, s.p.data(), state.t0, s.y.data(), scale,
+                             initial_point_tolerance(std::vector<double>(s.y.data(), s.y.data() + n)));
   }
 
   // 2. IDA and IDACalcIC for the algebraic states and y'.
