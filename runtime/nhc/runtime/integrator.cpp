@@ -456,6 +456,9 @@ struct Integrator::Impl {
 
   void maybe_project(double tt) {
     if (options.projection == ProjectionMethod::none || model.n_hidden() == 0) return;
+    // The suslov model's hidden constraints are its monitored constraints f^α: the initial point
+    // is put on them, but its equations do not keep them, so the motion is not projected.
+    if (model.model_name() == "suslov") return;
     double* yy = y.data();
     const std::vector<double> scale = projection_scale(yy);
     if (correction_norm(tt, yy, scale) <= options.projection_threshold) return;
@@ -521,7 +524,8 @@ Sample Integrator::initialize(const InitialState& state, double t_next) {
   }
   s.t = state.t0;
 
-  // 1. Hidden constraints: move only what the user did not give (minimum-norm Gauss–Newton).
+  // 1. Hidden constraints: move only what the user did not give (minimum-norm Gauss–Newton,
+  //    constraint_solver.hpp; nhc analyze solves them with the same solver and tolerance).
   if (s.model.n_hidden() > 0) {
     std::vector<double> scale(n, 1.0);
     for (int i = 0; i < n && i < static_cast<int>(state.given.size()); ++i)
