@@ -58,8 +58,13 @@ CommandRunner add_analyze_command(CLI::App& app) {
     else write_file_atomically(options->output, write);
     std::cout.flush();
     std::string failures;
-    for (const auto& a : analyses)
+    bool repairable = false;
+    for (const auto& a : analyses) {
       for (const auto& e : a.errors) failures += (failures.empty() ? "" : "\nnhc: error: ") + e;
+      repairable = repairable || a.initial_values_repairable;
+    }
+    if (repairable)
+      failures += "\nnhc: note: --repair-initial moves the given values to the nearest consistent point";
     if (!failures.empty()) throw MathError(failures);
     return 0;
   };

@@ -8,6 +8,7 @@
 
 #include <functional>
 
+#include "exit_codes.hpp"
 #include "nhc/scene/scene.hpp"
 
 namespace nhc::cli {

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "exit_codes.hpp"
 #include "interrupt.hpp"
 #include "nhc/errors.hpp"
 
@@ -36,7 +37,7 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::cerr << "nhc: error: " << e.what() << " (see nhc --help)\n";
-    return nhc::kExitBadInput;
+    return nhc::cli::kExitBadInput;
   }
 
   try {
@@ -44,13 +45,13 @@ int main(int argc, char** argv) {
       if (sub->parsed()) return run();
   } catch (const nhc::InputError& e) {
     std::cerr << e.what() << "\n";
-    return nhc::kExitBadInput;
+    return nhc::cli::kExitBadInput;
   } catch (const nhc::MathError& e) {
     std::cerr << "nhc: error: " << e.what() << "\n";
-    return nhc::kExitMathFailure;
+    return nhc::cli::kExitMathFailure;
   } catch (const std::exception& e) {
     std::cerr << "nhc: internal error: " << e.what() << "\n";
-    return nhc::kExitInternal;
+    return nhc::cli::kExitInternal;
   }
-  return nhc::kExitInternal;
+  return nhc::cli::kExitInternal;
 }

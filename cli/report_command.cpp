@@ -1,7 +1,6 @@
 // nhc report SCENE [--model M] [--tolerances 1e-3:1e-12] [--atol-scale S] [--jacobian dense|sparse|both]
 //                  [--projection off|on|both] [--t-end T] [--outputs N] [--set NAME=VALUE]...
 //                  [--sweep NAME=LO:HI] [--repeats N] [--reference-rtol R] [-o DIR]
-// nhc report --stability MANIFEST [-o FILE.md | --check FILE.md]
 //
 // Work-precision report of one model of a scene (work_precision.hpp): the scene integrated at
 // rtol = 10^-k over the given decades with atol = rtol × scale (the scale defaults to the scene's
@@ -9,15 +8,8 @@
 // else a reference run at rtol 1e-13, wall time (median of repeats when a run takes less than
 // 0.2 s), drift and solver statistics → DIR/workprec.csv, DIR/workprec.svg/.png (gnuplot),
 // DIR/report.md. `--sweep K=1e2:1e8` repeats everything for K = 1e2, 1e3, …, 1e8 (the stiff
-// scenes) and adds DIR/steps.svg/.png.
-//
-// --stability runs the cases of a manifest (docs/stability.toml): each case is a report with
-// the expected outcome, either an accuracy met (with optional bounds on steps and drift) or a
-// diagnostic stop at a given t; it writes the table of docs/stability.md, or with --check
-// compares it with the file (wall times excluded: they differ from run to run) and fails when
-// it is stale. Either way the exit code is 3 when a case misses its expectation.
-#include <toml++/toml.h>
-
+// scenes) and adds DIR/steps.svg/.png. (docs/stability.md is written by the maintenance tool
+// scripts/stability/, not by this command.)
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -55,7 +47,6 @@ struct ReportOptions {
   double reference_rtol = 1e-13;
   std::string output;
   bool quiet = false;
-  std::string stability, check;
 };
 
 std::string fmt(double v, int precision = 3) { return std::isnan(v) ? std::string("—") : format_number(v, precision); }
@@ -306,7 +297,7 @@ void write_report(const std::string& path, const Scene& scene, ModelKind kind, c
 }
 
 int run_report(const ReportOptions& o) {
-  if (o.scene_path.empty()) throw InputError({"SCENE", 0, 0}, "nhc report needs a SCENE (or --stability MANIFEST)");
+  if (o.scene_path.empty()) throw InputError({"SCENE", 0, 0}, "nhc report needs a SCENE");
   ReportOptions opts = o;
   opts.sweep = normalized_sweep(o.sweep);
   const PreparedReport prepared = prepare(opts);
@@ -335,237 +326,13 @@ int run_report(const ReportOptions& o) {
   return kExitOk;
 }
 
-// ---------------------------------------------------------------------------------------------
-// --stability
-
-struct StabilityCase {
-  std::string id, title, scene, model, tolerances, projection = "off", sweep, expect, diagnostic, advice;
-  std::optional<double> t_end, accuracy, max_steps, max_hidden_drift, max_invariant_drift, t_stop, atol_scale;
-  std::vector<std::string> set;
-};
-
-std::vector<StabilityCase> load_manifest(const std::string& path) {
-  toml::table doc;
-  try {
-    doc = toml::parse_file(path);
-  } catch (const toml::parse_error& e) {
-    const auto& b = e.source().begin;
-    throw InputError({path, static_cast<int>(b.line), static_cast<int>(b.column)}, std::string(e.description()));
-  }
-  std::vector<StabilityCase> cases;
-  const toml::array* array = doc["case"].as_array();
-  if (!array) throw InputError({path, 1, 1}, "expected [[case]] tables");
-  for (const toml::node& node : *array) {
-    const toml::table* t = node.as_table();
-    const int line = static_cast<int>(node.source().begin.line);
-    if (!t) throw InputError({path, line, 1}, "[[case]] must be a table");
-    auto text = [&](const char* key, bool required) {
-      const auto v = (*t)[key].value<std::string>();
-      if (!v && required) throw InputError({path, line, 1}, std::string("case without '") + key + "'");
-      return v.value_or("");
-    };
-    auto number = [&](const char* key) -> std::optional<double> {
-      if (!t->contains(key)) return std::nullopt;
-      const auto v = (*t)[key].value<double>();
-      if (!v) throw InputError({path, line, 1}, std::string("'") + key + "' must be a number");
-      return v;
-    };
-    StabilityCase c;
-    c.id = text("id", true);
-    c.title = text("title", true);
-    c.scene = text("scene", true);
-    c.model = text("model", false);
-    c.tolerances = text("tolerances", false);
-    if (t->contains("projection")) c.projection = text("projection", true);
-    c.sweep = text("sweep", false);
-    c.expect = text("expect", true);
-    c.diagnostic = text("diagnostic", false);
-    c.advice = text("advice", true);
-    c.t_end = number("t_end");
-    c.accuracy = number("accuracy");
-    c.max_steps = number("max_steps");
-    c.max_hidden_drift = number("max_hidden_drift");
-    c.max_invariant_drift = number("max_invariant_drift");
-    c.t_stop = number("t_stop");
-    c.atol_scale = number("atol_scale");
-    if (const toml::array* set = (*t)["set"].as_array())
-      for (const toml::node& s : *set)
-        if (auto v = s.value<std::string>()) c.set.push_back(*v);
-    if (c.expect != "accuracy" && c.expect != "diagnostic")
-      throw InputError({path, line, 1}, "case " + c.id + ": expect must be \"accuracy\" or \"diagnostic\"");
-    if (c.expect == "accuracy" && !c.accuracy) throw InputError({path, line, 1}, "case " + c.id + ": no accuracy");
-    if (c.expect == "diagnostic" && (c.diagnostic.empty() || !c.t_stop))
-      throw InputError({path, line, 1}, "case " + c.id + ": a diagnostic case needs diagnostic and t_stop");
-    if (c.projection != "off" && c.projection != "on" && c.projection != "both")
-      throw InputError({path, line, 1}, "case " + c.id + ": projection must be off, on or both");
-    cases.push_back(std::move(c));
-  }
-  return cases;
-}
-
-/// Whether a measurement meets its case's expectation; `why` says what it missed.
-bool meets(const StabilityCase& c, const Measurement& m, std::string& why) {
-  std::ostringstream w;
-  if (c.expect == "accuracy") {
-    if (m.failure) w << "stopped: " << m.failure_message << "; ";
-    if (!(m.error <= *c.accuracy)) w << "error " << fmt(m.error) << " > " << fmt(*c.accuracy) << "; ";
-  } else {
-    if (!m.failure) w << "ran through, expected " << c.diagnostic << "; ";
-    else if (m.status() != c.diagnostic) w << "stopped with " << m.status() << ", expected " << c.diagnostic << "; ";
-    else if (!(std::abs(m.failure_t - *c.t_stop) <= 1e-6 * std::abs(*c.t_stop) + 1e-15))
-      w << "stopped at t = " << fmt(m.failure_t, 10) << ", expected " << fmt(*c.t_stop, 10) << "; ";
-    if (c.accuracy && !(m.error <= *c.accuracy)) w << "error " << fmt(m.error) << " > " << fmt(*c.accuracy) << "; ";
-  }
-  if (c.max_steps && m.statistics.steps > *c.max_steps) w << m.statistics.steps << " steps > " << fmt(*c.max_steps) << "; ";
-  if (c.max_hidden_drift && !(m.max_hidden <= *c.max_hidden_drift))
-    w << "hidden drift " << fmt(m.max_hidden) << " > " << fmt(*c.max_hidden_drift) << "; ";
-  if (c.max_invariant_drift && !(m.max_invariant_relative <= *c.max_invariant_drift))
-    w << "invariant drift " << fmt(m.max_invariant_relative) << " > " << fmt(*c.max_invariant_drift) << "; ";
-  why = w.str();
-  return why.empty();
-}
-
-std::string expectation(const StabilityCase& c) {
-  std::ostringstream e;
-  if (c.expect == "accuracy") e << "error ≤ " << fmt(*c.accuracy);
-  else {
-    std::string d = c.diagnostic;
-    std::replace(d.begin(), d.end(), '_', ' ');
-    e << d << " at t = " << fmt(*c.t_stop, 6);
-    if (c.accuracy) e << ", error ≤ " << fmt(*c.accuracy);
-  }
-  if (c.max_steps) e << ", steps ≤ " << fmt(*c.max_steps);
-  if (c.max_hidden_drift) e << ", hidden drift ≤ " << fmt(*c.max_hidden_drift);
-  if (c.max_invariant_drift) e << ", invariant drift ≤ " << fmt(*c.max_invariant_drift);
-  return e.str();
-}
-
-std::string outcome(const Measurement& m) {
-  if (!m.failure) return "ran to t_end";
-  std::string d = m.status();
-  std::replace(d.begin(), d.end(), '_', ' ');
-  return "stopped: " + d + " at t = " + fmt(m.failure_t, 6);
-}
-
-/// Table rows: the last cell (seconds) is left out of the staleness comparison.
-std::string without_timing(const std::string& doc) {
-  std::istringstream in(doc);
-  std::ostringstream out;
-  for (std::string line; std::getline(in, line);) {
-    if (line.size() > 2 && line[0] == '|' && line.back() == '|') {
-      const size_t last = line.rfind('|', line.size() - 2);
-      line = line.substr(0, last + 1) + " |";
-    }
-    out << line << "\n";
-  }
-  return out.str();
-}
-
-int run_stability(const ReportOptions& o) {
-  const std::vector<StabilityCase> cases = load_manifest(o.stability);
-  const fs::path root = fs::path(o.stability).parent_path().parent_path();  // docs/stability.toml → the project
-  const ProgressSink progress = progress_sink(o.quiet);
-
-  std::ostringstream table, advice;
-  int missed = 0;
-  table << table_row({"case", "configuration", "rtol", "error against", "error", "steps", "hidden drift",
-                      "invariant drift", "outcome", "expected", "met", "seconds"});
-  table << table_row(std::vector<std::string>(12, "---"));
-  for (const StabilityCase& c : cases) {
-    if (!o.quiet) std::cerr << "nhc report --stability: " << c.id << " (" << c.scene << ")" << std::endl;
-    ReportOptions ro;
-    ro.scene_path = (root / c.scene).string();
-    ro.model = c.model;
-    ro.atol_scale = c.atol_scale;
-    ro.t_end = c.t_end;
-    ro.jacobian = "dense";
-    ro.projection = c.projection;
-    ro.set = c.set;
-    ro.sweep = normalized_sweep(c.sweep);
-    ro.repeats = 1;
-    const PreparedReport prepared = [&] {
-      ReportOptions r = ro;
-      if (c.tolerances.empty()) r.tolerances = "1";  // replaced below by the scene's rtol
-      else r.tolerances = c.tolerances;
-      PreparedReport p = prepare(r);
-      if (c.tolerances.empty()) p.settings.rtols = {p.scene.simulate.rtol};
-      return p;
-    }();
-    const WorkPrecision wp = measure_work_precision(prepared.scene, prepared.kind, prepared.settings, progress);
-    for (const Measurement& m : wp.measurements) {
-      std::string why;
-      const bool ok = meets(c, m, why);
-      if (!ok) {
-        ++missed;
-        std::cerr << "nhc report --stability: case " << c.id << " (" << m.configuration.label() << ", rtol "
-                  << fmt(m.rtol) << ") missed its expectation: " << why << "\n";
-      }
-      std::string config = m.configuration.label();
-      if (m.sweep_value) config += ", " + wp.settings.sweep_parameter + " = " + fmt(*m.sweep_value, 2);
-      table << table_row({c.id, config, fmt(m.rtol, 2), wp.source.exact ? "reference" : "reference run",
-                          fmt(m.error, 2), std::to_string(m.statistics.steps),
-                          wp.n_hidden ? fmt(m.max_hidden, 2) : "—", wp.n_invariants ? fmt(m.max_invariant_relative, 2) : "—",
-                          outcome(m), expectation(c), ok ? "yes" : "**no**", fmt(m.seconds, 2)});
-    }
-    advice << "### " << c.id << ": " << c.title << "\n\n"
-           << "Scene `" << c.scene << "`, model " << wp.model_name << ", t_end " << fmt(wp.settings.t_end, 6)
-           << ", atol = rtol × " << fmt(wp.settings.atol_scale);
-    for (const std::string& s : c.set) advice << ", " << s;
-    if (!c.sweep.empty()) advice << ", sweep " << c.sweep << " (by decades)";
-    advice << ". Error against " << wp.source.description() << ".\n\n" << c.advice << "\n\n";
-  }
-
-  std::ostringstream doc;
-  doc << "# Stability: stiff and extreme scenes\n\n"
-      << "<!-- Generated by `nhc report --stability docs/stability.toml -o docs/stability.md` (CMake target\n"
-      << "     `stability`); do not edit: change docs/stability.toml and regenerate. The test\n"
-      << "     `report:stability_current` fails when the table is stale (every column but seconds). -->\n\n"
-      << "Each case is one scene of `examples/` run by `nhc report` (dense LU with the generated Jacobian;\n"
-      << "atol = rtol × the scene's [simulate] atol/rtol unless stated) with its documented expectation: an\n"
-      << "accuracy to meet, or a diagnostic to stop with at a given t. error = max over 201 output times and the\n"
-      << "coordinates of |q − q_ref|, against the scene's [reference] where it has one, else against a reference\n"
-      << "run at rtol 1e-13. hidden drift = max |g_i| of the hidden constraints; invariant drift = max\n"
-      << "|I(t) − I(t0)|/|I(t0)| over the scene's invariants; \"+ projection\" = projection onto the hidden\n"
-      << "constraints (docs/projection.md). seconds = wall time of one run on the machine that generated\n"
-      << "this file (not compared by the staleness test). The work-precision plot of each case:\n"
-      << "`nhc report <scene>` (README).\n\n"
-      << table.str() << "\n"
-      << "## What to do in each case\n\n"
-      << advice.str();
-  const std::string text = doc.str();
-
-  if (!o.check.empty()) {
-    std::ifstream in(o.check);
-    std::stringstream current;
-    current << in.rdbuf();
-    if (!in || without_timing(current.str()) != without_timing(text)) {
-      const std::string fresh = o.check + ".new";
-      write_file_atomically(fresh, [&](std::ostream& out) { out << text; });
-      std::cerr << "nhc report --stability: " << o.check << " is stale; the current table is in " << fresh
-                << " (regenerate with the CMake target `stability`)\n";
-      return kExitInternal;
-    }
-    if (!o.quiet) std::cout << "nhc report --stability: " << o.check << " is current\n";
-  } else if (o.output.empty()) {
-    std::cout << text;
-  } else {
-    write_file_atomically(o.output, [&](std::ostream& out) { out << text; });
-    if (!o.quiet) std::cout << "nhc report --stability: wrote " << o.output << "\n";
-  }
-  if (missed > 0) {
-    std::cerr << "nhc: error: " << missed << " run(s) of the stability cases missed their expectation\n";
-    return kExitMathFailure;
-  }
-  return kExitOk;
-}
-
 }  // namespace
 
 CommandRunner add_report_command(CLI::App& app) {
   auto options = std::make_shared<ReportOptions>();
   CLI::App* sub = app.add_subcommand(
       "report", "work-precision report of one model of a scene: error against run time over a range of tolerances");
-  sub->add_option("SCENE", options->scene_path, "scene file (TOML)");
+  sub->add_option("SCENE", options->scene_path, "scene file (TOML)")->required();
   sub->add_option("--model,-m", options->model, "model (default: the scene's [simulate] model, else chetaev)")
       ->check(CLI::IsMember(model_names()));
   sub->add_option("--tolerances", options->tolerances, "rtol range by decades, loosest first (default 1e-3:1e-12)");
@@ -586,14 +353,10 @@ CommandRunner add_report_command(CLI::App& app) {
                   "rtol of the reference run for scenes without [reference] (default 1e-13)")
       ->check(CLI::PositiveNumber);
   sub->add_option("-o,--output", options->output,
-                  "directory for workprec.csv, workprec.svg/.png and report.md (default <scene>-report); with "
-                  "--stability the Markdown file (default standard output)");
+                  "directory for workprec.csv, workprec.svg/.png and report.md (default <scene>-report)");
   sub->add_flag("-q,--quiet", options->quiet, "no summary and no progress lines");
-  sub->add_option("--stability", options->stability,
-                  "run the cases of a manifest (docs/stability.toml) and write their table (docs/stability.md)");
-  sub->add_option("--check", options->check, "with --stability: fail when this file is stale (wall times excluded)");
 
-  return [options]() { return options->stability.empty() ? run_report(*options) : run_stability(*options); };
+  return [options]() { return run_report(*options); };
 }
 
 }  // namespace nhc::cli

@@ -79,6 +79,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
     io.rtol = options->rtol.value_or(scene.simulate.rtol);
     io.atol = options->atol.value_or(scene.simulate.atol);
     io.projection = options->project ? runtime::ProjectionMethod::in_place : runtime::ProjectionMethod::none;
+    io.progress = true;
     const double t0 = scene.initial.t0, t_end = options->t_end.value_or(scene.simulate.t_end);
     if (!(t_end > t0))
       throw InputError({options->scene_path, 0, 0}, "--t-end " + format(t_end, 17) + " must be after t0 = " + format(t0, 17));

@@ -24,21 +24,6 @@ namespace nhc::cli {
 
 namespace fs = std::filesystem;
 
-std::string Configuration::label() const { return jacobian + (projection ? " + projection" : ""); }
-
-std::string Measurement::status() const {
-  if (!failure) return "ok";
-  std::string s = runtime::to_string(*failure);
-  std::replace(s.begin(), s.end(), ' ', '_');
-  return s;
-}
-
-std::string ErrorSource::description() const {
-  if (exact) return "the scene's [reference] (exact solution)";
-  return "a reference run at rtol " + format_number(rtol, 3) + ", atol " + format_number(atol, 3) +
-         " (dense LU, no projection)";
-}
-
 std::vector<double> decades(const std::string& spec) {
   auto parse = [&](const std::string& text) {
     size_t used = 0;
@@ -64,181 +49,36 @@ std::vector<double> decades(const std::string& spec) {
   return values;
 }
 
-namespace {
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-/// Positions of the coordinates (order-0 states) in y.
-std::vector<int> coordinate_states(const runtime::Model& model) {
-  std::vector<int> idx;
-  for (int c = 0; c < model.n_coordinates(); ++c) {
-    const int i = model.state_index(c, 0);
-    if (i >= 0) idx.push_back(i);
-  }
-  return idx;
-}
-
-/// max |q − q_ref| over the coordinates at the output times both runs reached.
-double error_against_run(const runtime::Model& model, const std::vector<runtime::Sample>& run,
-                         const std::vector<runtime::Sample>& reference) {
-  const std::vector<int> coords = coordinate_states(model);
-  double worst = 0;
-  size_t compared = 0;
-  const size_t n = std::min(run.size(), reference.size());
-  for (size_t k = 0; k < n; ++k) {
-    const double t = run[k].t, tr = reference[k].t;
-    if (std::abs(t - tr) > 1e-12 * std::max(1.0, std::abs(tr))) break;  // a stop between output times
-    for (int i : coords) {
-      const double e = std::abs(run[k].y[i] - reference[k].y[i]);
-      worst = std::isfinite(e) ? std::max(worst, e) : INFINITY;
-    }
-    ++compared;
-  }
-  // Only the initial point in common: nothing measured.
-  return compared > 1 ? worst : NAN;
-}
-
-}  // namespace
-
 WorkPrecision measure_work_precision(const Scene& scene, ModelKind kind, const WorkPrecisionSettings& settings,
                                      const ProgressSink& progress) {
+  // One compiled model per Jacobian flavour the configurations use (dense: also the reference run).
   WorkPrecision wp;
-  wp.settings = settings;
-  wp.scene_name = scene.name;
-  wp.model_name = to_string(kind);
-
-  // One compiled model per Jacobian flavour (the reference run uses the dense one).
-  std::map<std::string, jit::LoadedModel> models;
-  auto model_for = [&](const std::string& jacobian) -> const runtime::Model& {
-    auto it = models.find(jacobian);
-    if (it == models.end()) {
-      jit::BuildOptions options;
-      options.jacobian = jacobian == "sparse" ? JacobianKind::sparse : JacobianKind::dense;
-      jit::LoadedModel b = jit::build(scene, kind, options);
-      wp.derive_seconds += b.timings().derive + b.timings().generate;
-      wp.compile_seconds += b.timings().compile + b.timings().load;
-      it = models.emplace(jacobian, std::move(b)).first;
-    }
-    return it->second.model();
+  std::map<std::string, jit::LoadedModel> built;
+  auto build = [&](const std::string& jacobian) {
+    jit::BuildOptions options;
+    options.jacobian = jacobian == "sparse" ? JacobianKind::sparse : JacobianKind::dense;
+    jit::LoadedModel b = jit::build(scene, kind, options);
+    wp.derive_seconds += b.timings().derive + b.timings().generate;
+    wp.compile_seconds += b.timings().compile + b.timings().load;
+    built.emplace(jacobian, std::move(b));
   };
-  const runtime::Model& dense = model_for("dense");
-  const auto& tab = dense.table();
-  wp.n_states = dense.n_states();
-  wp.n_hidden = dense.n_hidden();
-  wp.n_invariants = dense.n_invariants();
-  for (int i = 0; i < dense.n_states(); ++i) wp.state_names.push_back(dense.state_name(i));
-  for (int i = 0; i < dense.n_hidden(); ++i) wp.hidden_names.push_back(dense.hidden_name(i));
-  for (int i = 0; i < dense.n_invariants(); ++i) wp.invariant_names.push_back(tab.invariant_names[i]);
-  for (int i = 0; i < dense.n_singular(); ++i) wp.singular_names.push_back(dense.singular_name(i));
-  for (int i = 0; i < dense.n_parameters(); ++i) wp.parameter_names.push_back(tab.parameter_names[i]);
+  build("dense");
+  for (const Configuration& c : settings.configurations)
+    if (!built.count(c.jacobian)) build(c.jacobian);
+  const runtime::Model& dense = built.at("dense").model();
 
   const std::string scene_file = scene.source_path.empty() ? scene.name : scene.source_path;
-  auto parameter_index = [&](const std::string& name) {
-    const int i = dense.parameter_index(name);
-    if (i < 0) throw InputError({scene_file, 0, 0}, "the scene has no parameter '" + name + "'");
-    return i;
+  auto check_parameter = [&](const std::string& name) {
+    if (dense.parameter_index(name) < 0) throw InputError({scene_file, 0, 0}, "the scene has no parameter '" + name + "'");
   };
-  wp.parameters = dense.default_parameters();
-  for (const auto& [name, value] : settings.parameter_overrides) wp.parameters[parameter_index(name)] = value;
-  std::vector<std::optional<double>> sweep{std::nullopt};
-  int sweep_index = -1;
-  if (!settings.sweep_parameter.empty()) {
-    sweep_index = parameter_index(settings.sweep_parameter);
-    sweep.assign(settings.sweep_values.begin(), settings.sweep_values.end());
-  }
-  const double t0 = scene.initial.t0;
-  const std::vector<double> times = runtime::output_times(t0, settings.t_end, settings.outputs);
-  wp.source.exact = dense.n_reference() > 0;
-  wp.source.rtol = settings.reference_rtol;
-  wp.source.atol = settings.reference_rtol * settings.atol_scale;
+  for (const auto& [name, value] : settings.parameter_overrides) check_parameter(name);
+  if (!settings.sweep_parameter.empty()) check_parameter(settings.sweep_parameter);
 
-  const size_t total = sweep.size() * settings.configurations.size() * settings.rtols.size();
-  size_t done = 0;
-  for (const std::optional<double>& value : sweep) {
-    std::vector<double> p = wp.parameters;
-    if (value) p[sweep_index] = *value;
-    const std::string at = value ? ", " + settings.sweep_parameter + " = " + format_number(*value, 6) : "";
-
-    // The reference run: rtol = reference_rtol, loosened by decades (to 1e-10) while it does not
-    // reach t_end (very tight tolerances can exhaust the step limit on stiff problems).
-    std::vector<runtime::Sample> reference;
-    double reference_rtol = 0;
-    if (!wp.source.exact) {
-      for (double rtol = settings.reference_rtol; rtol <= 1.0001e-10; rtol *= 10) {
-        runtime::IntegratorOptions io;
-        io.rtol = rtol;
-        io.atol = rtol * settings.atol_scale;
-        io.linear_solver = runtime::LinearSolverKind::dense;
-        io.progress = false;
-        const runtime::RunResult ref = runtime::simulate(dense, p, initial_state_of(scene, dense), times, io);
-        if (progress)
-          progress("reference run" + at + ": rtol " + format_number(io.rtol) + ", " +
-                   std::to_string(ref.statistics.steps) + " steps" +
-                   (ref.failure ? std::string(", stopped: ") + ref.failure->what() : std::string()));
-        if (reference.empty() || ref.samples.size() > reference.size()) {
-          reference = ref.samples;
-          reference_rtol = rtol;
-        }
-        if (!ref.failure || ref.failure->kind() != runtime::FailureKind::too_many_steps) break;
-      }
-      wp.source.rtol = std::max(wp.source.rtol, reference_rtol);  // the loosest one used
-      wp.source.atol = wp.source.rtol * settings.atol_scale;
-    }
-
-    for (const Configuration& config : settings.configurations) {
-      const runtime::Model& model = model_for(config.jacobian);
-      const runtime::InitialState initial = initial_state_of(scene, model);
-      for (double rtol : settings.rtols) {
-        runtime::IntegratorOptions io;
-        io.rtol = rtol;
-        io.atol = rtol * settings.atol_scale;
-        io.linear_solver = config.jacobian == "sparse" ? runtime::LinearSolverKind::sparse : runtime::LinearSolverKind::dense;
-        io.projection = config.projection ? runtime::ProjectionMethod::in_place : runtime::ProjectionMethod::none;
-        io.progress = false;
-
-        std::vector<double> seconds;
-        runtime::RunResult run;
-        double total_seconds = 0;
-        do {
-          const auto start = Clock::now();
-          run = runtime::simulate(model, p, initial, times, io);
-          seconds.push_back(seconds_since(start));
-          total_seconds += seconds.back();
-        } while (static_cast<int>(seconds.size()) < settings.max_repeats && total_seconds < settings.repeat_seconds);
-
-        Measurement m;
-        m.configuration = config;
-        m.sweep_value = value;
-        m.rtol = io.rtol;
-        m.atol = io.atol;
-        m.seconds = median(seconds);
-        m.repeats = static_cast<int>(seconds.size());
-        m.statistics = run.statistics;
-        const runtime::DriftReport drift = runtime::measure_drift(model, p, run.samples);
-        m.max_hidden = drift.max_hidden;
-        m.max_invariant_relative = drift.max_invariant_relative;
-        m.error = wp.source.exact ? (run.samples.empty() ? NAN : drift.max_error)
-                                  : error_against_run(model, run.samples, reference);
-        m.t_reached = run.samples.empty() ? t0 : run.samples.back().t;
-        if (run.failure) {
-          m.failure = run.failure->kind();
-          m.failure_t = run.failure->t();
-          m.failure_message = run.failure->what();
-        }
-        wp.measurements.push_back(m);
-        ++done;
-        if (progress)
-          progress("[" + std::to_string(done) + "/" + std::to_string(total) + "] " + config.label() + at +
-                   ", rtol " + format_number(rtol) + ": error " + format_number(m.error) + ", " +
-                   std::to_string(m.statistics.steps) + " steps, " + format_number(m.seconds) + " s" +
-                   (m.failure ? ", stopped: " + m.status() : std::string()));
-      }
-    }
-  }
+  runtime::WorkPrecisionModels models;
+  models.dense = &dense;
+  if (built.count("sparse")) models.sparse = &built.at("sparse").model();
+  static_cast<runtime::WorkPrecision&>(wp) =
+      runtime::measure_work_precision(models, scene.initial.t0, scene.initial.values, settings, progress);
   return wp;
 }
 

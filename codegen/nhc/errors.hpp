@@ -1,11 +1,12 @@
 #pragma once
 /// \file errors.hpp
-/// \brief The two kinds of failure nhc reports to users, and their exit codes.
+/// \brief The two kinds of failure the library reports to its callers.
 ///
-/// InputError: the user's input is wrong (scene file, flag); exit code 2, one line
-/// `FILE:LINE:COLUMN: error: message`.
+/// InputError: the user's input is wrong (a scene file); it carries the position, and what()
+/// is one line `FILE:LINE:COLUMN: error: message`.
 /// MathError: the input is well formed but the mathematics fails (a singular matrix,
-/// a structurally singular system, an integrator failure); exit code 3.
+/// a structurally singular system, a model that does not apply).
+/// The nhc command maps them to its exit codes 2 and 3 (cli/exit_codes.hpp).
 
 #include <stdexcept>
 #include <string>
@@ -37,10 +38,5 @@ class MathError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
-
-inline constexpr int kExitOk = 0;
-inline constexpr int kExitInternal = 1;
-inline constexpr int kExitBadInput = 2;
-inline constexpr int kExitMathFailure = 3;
 
 }  // namespace nhc

@@ -85,6 +85,6 @@ TEST_CASE("nhc analyze exits 3 for singular systems, in words", "[sigma]") {
   CHECK_THAT(suslov.err, Contains("not applicable"));
   const Run inconsistent = analyze("tests/analysis/scenes/appell_hamel_inconsistent.toml");
   CHECK(inconsistent.exit_code == 3);
-  CHECK_THAT(inconsistent.err, Contains("f1") && Contains("residual"));
+  CHECK_THAT(inconsistent.err, Contains("f1") && Contains("residual") && Contains("--repair-initial"));
   CHECK(analyze("tests/analysis/scenes/appell_hamel_inconsistent.toml --repair-initial").exit_code == 0);
 }

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "nhc/derive/euler_operator.hpp"
-#include "nhc/derive/jet_space.hpp"
+#include "nhc/jet/jet_space.hpp"
 #include "variation_identity.hpp"
 
 using GiNaC::ex;

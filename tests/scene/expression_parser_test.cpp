@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "nhc/derive/jet_space.hpp"
+#include "nhc/jet/jet_space.hpp"
 #include "nhc/scene/expression_parser.hpp"
 
 using GiNaC::ex;

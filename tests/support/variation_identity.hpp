@@ -15,7 +15,7 @@
 
 #include <vector>
 
-#include "nhc/derive/jet_space.hpp"
+#include "nhc/jet/jet_space.hpp"
 
 namespace nhc::testing {
 

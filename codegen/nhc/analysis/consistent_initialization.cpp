@@ -9,8 +9,9 @@
 
 #include "nhc/analysis/numeric_evaluation.hpp"
 #include "nhc/analysis/system_jacobian.hpp"
-#include "nhc/emit/expression_printer.hpp"
+#include "nhc/jet/expression_printer.hpp"
 #include "nhc/errors.hpp"
+#include "nhc/runtime/constraint_solver.hpp"
 
 namespace nhc {
 
@@ -74,19 +75,33 @@ class Evaluator {
   std::vector<std::vector<GiNaC::ex>> jac_;
 };
 
-Eigen::VectorXd select(const Eigen::VectorXd& x, const std::vector<int>& idx) {
-  Eigen::VectorXd out(static_cast<Eigen::Index>(idx.size()));
-  for (std::size_t k = 0; k < idx.size(); ++k) out(static_cast<Eigen::Index>(k)) = x(idx[k]);
-  return out;
-}
-
-Eigen::MatrixXd select_columns(const Eigen::MatrixXd& m, const std::vector<int>& idx) {
-  Eigen::MatrixXd out(m.rows(), static_cast<Eigen::Index>(idx.size()));
-  for (std::size_t k = 0; k < idx.size(); ++k) out.col(static_cast<Eigen::Index>(k)) = m.col(idx[k]);
-  return out;
-}
-
 }  // namespace
+
+std::vector<InitialValueConstraint> initial_value_constraints(const StructuralAnalysis& a,
+                                                              std::vector<std::string>* notes) {
+  const DaeSystem& sys = a.system;
+  const JetSpace& jet = *sys.jet;
+  std::vector<InitialValueConstraint> out;
+  for (const HiddenConstraint& h : a.hidden_constraints)
+    out.push_back({differentiated_equation(a, h.equation, h.order), h.name, false});
+  // suslov: the motion keeps f^α = 0 only if it starts on it (Suslov's equations have the
+  // constraints as invariants), so the initial values must satisfy them too.
+  for (std::size_t m = 0; m < sys.monitored_constraints.size(); ++m) {
+    const GiNaC::ex& f = sys.monitored_constraints[m];
+    bool initial_data_only = true;
+    for (const JetCoordinate& c : jet.jet_coordinates_in(f))
+      for (int j = 0; j < sys.size(); ++j)
+        if (sys.unknowns[static_cast<std::size_t>(j)].kind == c.kind &&
+            sys.unknowns[static_cast<std::size_t>(j)].index == c.index && c.order >= a.d(j))
+          initial_data_only = false;
+    const std::string& name = sys.monitored_constraint_names[m];
+    if (initial_data_only) out.push_back({f, name, true});
+    else if (notes)
+      notes->push_back("the monitored constraint " + name + " involves derivatives the " + to_string(sys.model) +
+                       " equations determine, so it is not imposed on the initial values");
+  }
+  return out;
+}
 
 ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAnalysis& a,
                                          const InitializationOptions& options) {
@@ -161,131 +176,94 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
 
   std::vector<GiNaC::ex> hidden;
   std::vector<std::string> hidden_names;
-  for (const HiddenConstraint& h : a.hidden_constraints) {
-    hidden.push_back(differentiated_equation(a, h.equation, h.order));
-    hidden_names.push_back("hidden constraint " + h.name);
-    result.constraint_names.push_back(h.name);
-  }
-  // suslov: the motion keeps f^α = 0 only if it starts on it (Suslov's equations have the
-  // constraints as invariants), so the initial values must satisfy them too.
-  for (std::size_t m = 0; m < sys.monitored_constraints.size(); ++m) {
-    const GiNaC::ex& f = sys.monitored_constraints[m];
-    bool initial_data_only = true;
-    for (const JetCoordinate& c : jet.jet_coordinates_in(f))
-      for (int j = 0; j < sys.size(); ++j)
-        if (sys.unknowns[static_cast<std::size_t>(j)].kind == c.kind &&
-            sys.unknowns[static_cast<std::size_t>(j)].index == c.index && c.order >= a.d(j))
-          initial_data_only = false;
-    const std::string name = sys.monitored_constraint_names[m];
-    if (!initial_data_only) {
-      result.notes.push_back("the monitored constraint " + name + " involves derivatives the " + model +
-                             " equations determine, so it is not imposed on the initial values");
-      continue;
-    }
-    hidden.push_back(f);
-    hidden_names.push_back("monitored constraint " + name);
-    result.constraint_names.push_back(name + " (monitored)");
+  for (const InitialValueConstraint& c : initial_value_constraints(a, &result.notes)) {
+    hidden.push_back(c.expression);
+    hidden_names.push_back((c.monitored ? "monitored constraint " : "hidden constraint ") + c.name);
+    result.constraint_names.push_back(c.monitored ? c.name + " (monitored)" : c.name);
   }
   const Evaluator g(hidden, hidden_names, vars);
-  const auto scale = [&] { return options.tolerance * (1.0 + (count ? x.cwiseAbs().maxCoeff() : 0.0)); };
-
-  // Which missing values the hidden constraints fix: the pivot columns of a rank-revealing QR
-  // of ∂g/∂x_missing at the starting guess. The others keep the guess 0.
-  std::vector<int> solve_for;
-  if (!missing.empty() && !hidden.empty()) {
-    const Eigen::MatrixXd gm = select_columns(g.jacobian(g.point(base, x)), missing);
-    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(gm);
-    qr.setThreshold(1e-10);
-    const auto perm = qr.colsPermutation().indices();
-    for (Eigen::Index r = 0; r < qr.rank(); ++r) solve_for.push_back(missing[static_cast<std::size_t>(perm(r))]);
-  }
-  std::vector<std::string> defaulted;
-  for (int k : missing)
-    if (std::find(solve_for.begin(), solve_for.end(), k) == solve_for.end()) {
-      result.values[static_cast<std::size_t>(k)].source = ValueSource::defaulted;
-      defaulted.push_back(result.values[static_cast<std::size_t>(k)].name);
-    }
-  if (!defaulted.empty())
-    result.notes.push_back(join_names(defaulted) + (defaulted.size() == 1 ? " is" : " are") +
-                           " initial data of the " + model + " model but " +
-                           (defaulted.size() == 1 ? "was" : "were") +
-                           " not given and no hidden constraint fixes " +
-                           (defaulted.size() == 1 ? "it" : "them") + ": taken as 0");
-
-  // Newton (Gauss–Newton when overdetermined) on the hidden constraints for the missing values.
-  bool newton_converged = true;
-  if (!solve_for.empty()) {
-    newton_converged = false;
-    for (int it = 0; it < options.max_iterations; ++it) {
-      const GiNaC::exmap p = g.point(base, x);
-      const Eigen::VectorXd r = g.values(p);
-      if (r.cwiseAbs().maxCoeff() <= 1e-4 * scale()) {
-        newton_converged = true;
-        break;
-      }
-      const Eigen::MatrixXd js = select_columns(g.jacobian(p), solve_for);
-      const Eigen::VectorXd step = js.colPivHouseholderQr().solve(-r);
-      for (std::size_t k = 0; k < solve_for.size(); ++k) x(solve_for[k]) += step(static_cast<Eigen::Index>(k));
-      if (step.norm() <= 1e-14 * (1.0 + select(x, solve_for).norm())) break;  // stalled
-    }
-  }
-
-  Eigen::VectorXd residual = hidden.empty() ? Eigen::VectorXd() : g.values(g.point(base, x));
-  auto violated = [&](const Eigen::VectorXd& r) {
-    for (Eigen::Index h = 0; h < r.size(); ++h)
-      if (!(std::abs(r(h)) <= scale())) return true;
-    return false;
+  runtime::ConstraintFunctions functions;
+  functions.count = static_cast<int>(hidden.size());
+  functions.size = count;
+  functions.values = [&](const double* y, double* out) {
+    Eigen::Map<Eigen::VectorXd>(out, functions.count) = g.values(g.point(base, Eigen::Map<const Eigen::VectorXd>(y, count)));
+  };
+  functions.jacobian = [&](const double* y, double* out) {
+    Eigen::Map<Eigen::MatrixXd>(out, functions.count, count) =
+        g.jacobian(g.point(base, Eigen::Map<const Eigen::VectorXd>(y, count)));
   };
 
-  if (residual.size() > 0 && violated(residual)) {
-    if (options.repair) {
-      // Minimum-norm Gauss–Newton on every value: the smallest change that satisfies g = 0
-      // to first order, repeated (the nearest consistent point for linear constraints).
-      for (int it = 0; it < options.max_iterations && violated(residual); ++it) {
-        const GiNaC::exmap p = g.point(base, x);
-        const Eigen::VectorXd step = g.jacobian(p).completeOrthogonalDecomposition().solve(-residual);
-        x += step;
-        residual = g.values(g.point(base, x));
+  // Missing values no constraint involves keep the guess 0: note them.
+  {
+    const Eigen::MatrixXd j0 = hidden.empty() ? Eigen::MatrixXd(0, count) : g.jacobian(g.point(base, x));
+    std::vector<std::string> defaulted;
+    for (int k : missing)
+      if (j0.col(k).isZero(0.0)) {
+        result.values[static_cast<std::size_t>(k)].source = ValueSource::defaulted;
+        defaulted.push_back(result.values[static_cast<std::size_t>(k)].name);
       }
-      if (violated(residual)) {
-        Eigen::Index worst = 0;
-        residual.cwiseAbs().maxCoeff(&worst);
-        throw MathError("the " + model + " model: no consistent initial point found near the given "
-                        "values: " + hidden_names[static_cast<std::size_t>(worst)] +
-                        " keeps residual " + number(residual(worst)));
-      }
-      for (int k = 0; k < count; ++k) {
-        InitialValue& v = result.values[static_cast<std::size_t>(k)];
-        if (v.source == ValueSource::given && std::abs(x(k) - v.given) > 0.0) {
-          v.source = ValueSource::repaired;
-          result.notes.push_back("repaired " + v.name + ": " + number(v.given) + " -> " + number(x(k)));
-        }
-      }
-    } else {
-      Eigen::Index worst = 0;
-      residual.cwiseAbs().maxCoeff(&worst);
-      const Eigen::MatrixXd jg = g.jacobian(g.point(base, x));
-      std::vector<std::string> involved_given, involved_solved;
-      for (int k = 0; k < count; ++k) {
-        if (jg(worst, k) == 0.0) continue;
-        const InitialValue& v = result.values[static_cast<std::size_t>(k)];
-        (v.source == ValueSource::given ? involved_given : involved_solved).push_back(v.name);
-      }
-      std::ostringstream s;
-      s << "the initial values violate the " << hidden_names[static_cast<std::size_t>(worst)] << " of the " << model
-        << " model, " << to_text(hidden[static_cast<std::size_t>(worst)]) << " = 0: residual "
-        << number(residual(worst)) << " at t0 = " << number(scene.initial.t0) << " (tolerance "
-        << number(scale()) << ")";
-      if (!involved_given.empty())
-        s << "; it involves the given value" << (involved_given.size() == 1 ? " " : "s ")
-          << join_names(involved_given);
-      if (!involved_solved.empty())
-        s << (newton_converged ? "" : "; Newton's method did not converge") << " for "
-          << join_names(involved_solved);
-      s << ". Give consistent values, or pass --repair-initial for the nearest consistent point";
-      throw MathError(s.str());
-    }
+    if (!defaulted.empty())
+      result.notes.push_back(join_names(defaulted) + (defaulted.size() == 1 ? " is" : " are") +
+                             " initial data of the " + model + " model but " +
+                             (defaulted.size() == 1 ? "was" : "were") +
+                             " not given and no hidden constraint fixes " +
+                             (defaulted.size() == 1 ? "it" : "them") + ": taken as 0");
   }
+
+  // The missing values from the constraints, with the given ones fixed: the runtime's solver and
+  // tolerance (nhc/runtime/constraint_solver.hpp), so that `nhc analyze` reports the point
+  // `nhc simulate` starts from.
+  std::vector<double> y(x.data(), x.data() + count);
+  std::vector<double> scale(static_cast<std::size_t>(count), 0.0);
+  for (int k : missing) scale[static_cast<std::size_t>(k)] = 1.0;
+  const double tolerance = runtime::initial_point_tolerance(y);
+  runtime::ConstraintSolveResult solve = runtime::solve_constraints(functions, y.data(), scale, tolerance, options.max_iterations);
+  if (!solve.converged() && options.repair) {
+    // Repair: every value free, the minimum-norm correction (the nearest consistent point).
+    std::vector<double> repaired = y;
+    const runtime::ConstraintSolveResult again = runtime::solve_constraints(
+        functions, repaired.data(), std::vector<double>(static_cast<std::size_t>(count), 1.0), tolerance,
+        options.max_iterations);
+    if (!again.converged())
+      throw MathError("the " + model + " model: no consistent initial point found near the given "
+                      "values: " + hidden_names[static_cast<std::size_t>(again.worst)] +
+                      " keeps residual " + number(again.residuals[static_cast<std::size_t>(again.worst)]));
+    for (int k = 0; k < count; ++k) {
+      InitialValue& v = result.values[static_cast<std::size_t>(k)];
+      if (v.source == ValueSource::given && std::abs(repaired[static_cast<std::size_t>(k)] - v.given) > 0.0) {
+        v.source = ValueSource::repaired;
+        result.notes.push_back("repaired " + v.name + ": " + number(v.given) + " -> " +
+                               number(repaired[static_cast<std::size_t>(k)]));
+      }
+    }
+    y = repaired;
+    solve = again;
+  } else if (!solve.converged()) {
+    const auto worst = static_cast<std::size_t>(solve.worst);
+    const Eigen::MatrixXd jg = g.jacobian(g.point(base, Eigen::Map<const Eigen::VectorXd>(y.data(), count)));
+    std::vector<std::string> involved_given, involved_solved;
+    for (int k = 0; k < count; ++k) {
+      if (jg(solve.worst, k) == 0.0) continue;
+      const InitialValue& v = result.values[static_cast<std::size_t>(k)];
+      (v.source == ValueSource::given ? involved_given : involved_solved).push_back(v.name);
+    }
+    std::ostringstream s;
+    s << "the initial values violate the " << hidden_names[worst] << " of the " << model << " model, "
+      << to_text(hidden[worst]) << " = 0: residual " << number(solve.residuals[worst])
+      << " at t0 = " << number(scene.initial.t0) << " (tolerance " << number(tolerance) << ")";
+    if (!involved_given.empty())
+      s << "; it involves the given value" << (involved_given.size() == 1 ? " " : "s ") << join_names(involved_given);
+    if (!involved_solved.empty())
+      s << (solve.status == runtime::ConstraintSolveStatus::iteration_limit ||
+                    solve.status == runtime::ConstraintSolveStatus::stalled
+                ? "; Gauss–Newton did not converge"
+                : "")
+        << " for " << join_names(involved_solved);
+    s << ". Give consistent values, or have them repaired to the nearest consistent point";
+    throw InconsistentInitialValues(s.str());
+  }
+  x = Eigen::Map<const Eigen::VectorXd>(y.data(), count);
+  const Eigen::VectorXd residual = Eigen::Map<const Eigen::VectorXd>(solve.residuals.data(), functions.count);
   for (int k = 0; k < count; ++k) result.values[static_cast<std::size_t>(k)].value = x(k);
   for (Eigen::Index h = 0; h < residual.size(); ++h) result.constraint_residuals.push_back(residual(h));
 

@@ -2,14 +2,23 @@
 /// \file consistent_initialization.hpp
 /// \brief Consistent initial values for a model (models.md, "Structural analysis", step 5):
 /// the x_j^(k), k < d_j, the user gave are kept; the other needed ones are solved from the
-/// hidden constraints D^r f_i = 0, r < c_i, by Newton's method (Gauss–Newton where there are
-/// fewer constraints than values to find); then the leading derivatives x_j^(d_j) are solved
+/// hidden constraints D^r f_i = 0, r < c_i; then the leading derivatives x_j^(d_j) are solved
 /// from D^{c_i} f_i = 0, whose Jacobian with respect to them is the system Jacobian
 /// (Pryce 2001, §4; Nedialkov & Pryce, BIT 47 (2007), consistent point of the Σ-method).
 ///
+/// One consistent initialization in nhc: the constraints are solved by the runtime's solver
+/// (nhc/runtime/constraint_solver.hpp, minimum-norm damped Gauss–Newton over the values not
+/// given, with its tolerance), here on GiNaC-evaluated constraints and in the runtime on the
+/// generated ones, so `nhc analyze` and `nhc simulate` start from the same point. The runtime's
+/// is the one kept because an integration must work from a generated header alone (no GiNaC);
+/// the analysis evaluates the same constraints symbolically so it needs no compiler. The
+/// leading derivatives solve a square system with a nonsingular Jacobian (the system Jacobian),
+/// whose solution is unique: here Newton's method, in the runtime IDACalcIC; they agree to the
+/// integrator's tolerance.
+///
 /// A given value that violates a hidden constraint is an error naming the constraint and its
-/// residual, unless repair is asked for: then the given values are changed as little as possible
-/// (minimum-norm Gauss–Newton, the nearest consistent point to first order).
+/// residual, unless repair is asked for: then every value is free and the same solver finds the
+/// minimum-norm correction (the nearest consistent point to first order).
 
 #include <ginac/ginac.h>
 
@@ -17,14 +26,13 @@
 #include <vector>
 
 #include "nhc/analysis/structural_analysis.hpp"
+#include "nhc/errors.hpp"
 #include "nhc/scene/scene.hpp"
 
 namespace nhc {
 
 struct InitializationOptions {
   bool repair = false;
-  /// Largest accepted hidden-constraint residual, relative to 1 + the largest |value|.
-  double tolerance = 1e-8;
   int max_iterations = 50;
 };
 
@@ -64,7 +72,27 @@ struct ConsistentPoint {
   GiNaC::exmap point;
 };
 
-/// Throws MathError when the hidden constraints cannot be satisfied (naming the constraint
+/// A constraint the initial values must satisfy: a hidden constraint D^r f_i, r < c_i, or
+/// (suslov) a monitored constraint f^α that involves initial data only.
+struct InitialValueConstraint {
+  GiNaC::ex expression;
+  std::string name;
+  bool monitored = false;
+};
+/// The constraints on the initial values, hidden ones first; the index-1 form carries the same
+/// list as its hidden constraints g(t, y). Notes why a monitored constraint is left out.
+std::vector<InitialValueConstraint> initial_value_constraints(const StructuralAnalysis& analysis,
+                                                              std::vector<std::string>* notes = nullptr);
+
+/// Given initial values that violate a hidden constraint, with repair not asked for: the
+/// caller may offer repair (`nhc analyze --repair-initial`).
+class InconsistentInitialValues : public MathError {
+ public:
+  using MathError::MathError;
+};
+
+/// Throws InconsistentInitialValues when the given values violate a hidden constraint and
+/// repair is off; MathError when the hidden constraints cannot be satisfied (naming the constraint
 /// and its residual) or Newton's method fails on the leading derivatives.
 ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAnalysis& analysis,
                                          const InitializationOptions& options = {});

@@ -64,11 +64,12 @@ Index1System reduce_to_index1(const StructuralAnalysis& a) {
   if (out.residuals.size() != out.states.size())
     throw std::logic_error("index-1 reduction: residual and state counts differ");
 
-  // Hidden constraints D^r f_i, r < c_i, with their Jacobians in y.
-  for (const HiddenConstraint& h : a.hidden_constraints) {
-    const GiNaC::ex g = to_state(differentiated_equation(a, h.equation, h.order));
+  // Hidden constraints D^r f_i, r < c_i (suslov: the monitored constraints on initial data),
+  // with their Jacobians in y: the same list the analysis' consistent point satisfies.
+  for (const InitialValueConstraint& c : initial_value_constraints(a)) {
+    const GiNaC::ex g = to_state(c.expression);
     out.hidden_constraints.push_back(g);
-    out.hidden_constraint_names.push_back(h.name);
+    out.hidden_constraint_names.push_back(c.name);
     std::vector<GiNaC::ex> row;
     for (const auto& yk : out.y) row.push_back(simplify_expression(g.diff(yk)));
     out.hidden_constraint_jacobian.push_back(row);

@@ -10,7 +10,9 @@
 ///   1. for each equation f_i in order: D^{c_i} f_i, with x_j^(k) written as y[state(x_j, k)] for
 ///      k < d_j and x_j^(d_j) as yp[state(x_j, d_j − 1)];
 ///   2. for each unknown x_j with d_j ≥ 2, for k = 0..d_j−2: yp[state(x_j,k)] − y[state(x_j,k+1)].
-/// Hidden constraints: D^r f_i for r < c_i, in (t, p, y) only.
+/// Hidden constraints: D^r f_i for r < c_i, in (t, p, y) only; suslov: its monitored constraints
+/// f^α that involve initial data only (Suslov's equations keep them, so the motion must start on
+/// them), as initial_value_constraints() lists them.
 
 #include <ginac/ginac.h>
 
@@ -18,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "nhc/derive/jet_space.hpp"
+#include "nhc/jet/jet_space.hpp"
 #include "nhc/scene/scene.hpp"
 
 namespace nhc {
@@ -43,7 +45,7 @@ struct Index1System {
   std::vector<GiNaC::ex> residuals;
   /// Short description of each residual, e.g. "D^1 f1", "R_x", "chain x' = x'".
   std::vector<std::string> residual_names;
-  /// Hidden constraints g(t, p, y) = 0 (D^r f_i, r < c_i), e.g. named "f1", "D f1".
+  /// Hidden constraints g(t, p, y) = 0 (D^r f_i, r < c_i; suslov: f^α), e.g. named "f1", "D f1".
   std::vector<GiNaC::ex> hidden_constraints;
   std::vector<std::string> hidden_constraint_names;
 

@@ -31,6 +31,9 @@ ModelAnalysis analyze_model(const Scene& scene, const DerivedModel& model,
     if (!(out.jacobian_condition < kSingularCondition)) {
       out.errors.push_back(describe_singular_jacobian(a, *out.jacobian, scene.initial.t0));
     }
+  } catch (const InconsistentInitialValues& e) {
+    out.errors.push_back(e.what());
+    out.initial_values_repairable = true;
   } catch (const MathError& e) {
     out.errors.push_back(e.what());
   }

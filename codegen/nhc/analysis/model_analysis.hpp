@@ -31,6 +31,9 @@ struct ModelAnalysis {
   /// applicable, structurally singular, inconsistent initial values, singular Jacobian at t0.
   std::vector<std::string> errors;
 
+  /// The given initial values violate a hidden constraint; repair (InitializationOptions)
+  /// would move them to the nearest consistent point.
+  bool initial_values_repairable = false;
   bool ok() const { return errors.empty(); }
 };
 

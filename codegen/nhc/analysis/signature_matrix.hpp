@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "nhc/analysis/dae_system.hpp"
-#include "nhc/derive/jet_space.hpp"
+#include "nhc/jet/jet_space.hpp"
 
 namespace nhc {
 

@@ -13,7 +13,7 @@
 #include <map>
 #include <vector>
 
-#include "nhc/derive/jet_space.hpp"
+#include "nhc/jet/jet_space.hpp"
 
 namespace nhc {
 

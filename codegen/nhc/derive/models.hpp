@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "nhc/derive/jet_space.hpp"
+#include "nhc/jet/jet_space.hpp"
 #include "nhc/scene/scene.hpp"
 
 namespace nhc {

@@ -4,7 +4,7 @@
 #include <sstream>
 
 #include "nhc/emit/analysis_emitters.hpp"
-#include "nhc/emit/expression_printer.hpp"
+#include "nhc/jet/expression_printer.hpp"
 
 namespace nhc {
 

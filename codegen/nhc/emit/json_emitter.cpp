@@ -1,7 +1,7 @@
 #include <set>
 
 #include "nhc/emit/derivation_emitters.hpp"
-#include "nhc/emit/expression_printer.hpp"
+#include "nhc/jet/expression_printer.hpp"
 #include "nhc/emit/json_writer.hpp"
 
 namespace nhc {

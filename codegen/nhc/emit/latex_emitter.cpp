@@ -1,5 +1,5 @@
 #include "nhc/emit/derivation_emitters.hpp"
-#include "nhc/emit/expression_printer.hpp"
+#include "nhc/jet/expression_printer.hpp"
 
 namespace nhc {
 

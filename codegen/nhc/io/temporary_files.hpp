@@ -2,11 +2,12 @@
 /// \file temporary_files.hpp
 /// \brief Temporary files and child processes that must not outlive an interrupted nhc run.
 ///
-/// Output files are written to a temporary name and renamed (atomic_file.hpp). When SIGINT or
-/// SIGTERM arrives in between, the command's signal handler calls cleanup_after_signal(), which
-/// stops the registered child processes (the C++ compiler of `nhc simulate`) and removes the
-/// registered temporary files. Registration is a fixed table of slots written with atomics, so
-/// the cleanup is async-signal-safe (only kill, waitpid, nanosleep and unlink).
+/// Output files are written to a temporary name and renamed (atomic_file.hpp). The library only
+/// keeps the registry; installing signal handlers is the application's business (the nhc
+/// command's is cli/interrupt.cpp): a handler calls cleanup_after_signal(), which stops the
+/// registered child processes (a compiler the library started) and removes the registered
+/// temporary files. Registration is a fixed table of slots written with atomics, so the cleanup
+/// is async-signal-safe (only kill, waitpid, nanosleep and unlink).
 
 #include <sys/types.h>
 

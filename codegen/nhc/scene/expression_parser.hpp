@@ -20,7 +20,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "nhc/derive/jet_space.hpp"
+#include "nhc/jet/jet_space.hpp"
 
 namespace nhc {
 

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "nhc/derive/jet_space.hpp"
+#include "nhc/jet/jet_space.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/scene/model_kind.hpp"
 

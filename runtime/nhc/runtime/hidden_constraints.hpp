@@ -3,11 +3,9 @@
 /// \brief Solving the hidden constraints g(t, y) = 0 of the index-1 form (models.md, step 5)
 /// for some of the states: consistent initial values and projection during integration.
 ///
-/// Gauss–Newton with the minimum-norm correction: with D = diag(scale) over the free states,
-///   Δy = −D (G D)^+ g,
-/// the orthogonal projection in the metric D^{-2} (Hairer–Wanner, Sect. VII.2; with scale =
-/// the error-weight inverse atol + rtol|y| it is the smallest correction in IDA's own norm).
-/// States with scale 0 stay fixed (the user-given initial values).
+/// The minimum-norm Gauss–Newton of constraint_solver.hpp on the model's generated g and ∂g/∂y
+/// (with scale = the error-weight inverse atol + rtol|y| it is the smallest correction in IDA's
+/// own norm). States with scale 0 stay fixed (the user-given initial values).
 
 #include <string>
 #include <vector>

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "nhc/runtime/constraint_solver.hpp"
 #include "nhc/runtime/hidden_constraints.hpp"
 #include "nhc/runtime/progress_bar.hpp"
 #include "nhc/runtime/sundials.hpp"
@@ -245,12 +246,14 @@ struct Integrator::Impl {
     switch (options.linear_solver) {
       case LinearSolverKind::sparse:
         if (!model.has_sparse_jacobian())
-          throw ModelError("KLU needs the sparse Jacobian; generate the header with --jacobian sparse");
+          throw ModelError("KLU needs the sparse Jacobian, and this model was generated without it");
         want_sparse = true;
         break;
       case LinearSolverKind::dense: want_sparse = false; break;
       case LinearSolverKind::automatic:
-        want_sparse = model.has_sparse_jacobian() && (n() >= 40 || !model.has_dense_jacobian());
+        // The size policy lives where the header is generated (default_jacobian_kind, emit
+        // layer); the runtime follows what the model carries.
+        want_sparse = model.has_sparse_jacobian();
         break;
     }
     sparse = want_sparse;
@@ -453,6 +456,9 @@ struct Integrator::Impl {
 
   void maybe_project(double tt) {
     if (options.projection == ProjectionMethod::none || model.n_hidden() == 0) return;
+    // The suslov model's hidden constraints are its monitored constraints f^α: the initial point
+    // is put on them, but its equations do not keep them, so the motion is not projected.
+    if (model.model_name() == "suslov") return;
     double* yy = y.data();
     const std::vector<double> scale = projection_scale(yy);
     if (correction_norm(tt, yy, scale) <= options.projection_threshold) return;
@@ -518,14 +524,14 @@ Sample Integrator::initialize(const InitialState& state, double t_next) {
   }
   s.t = state.t0;
 
-  // 1. Hidden constraints: move only what the user did not give (minimum-norm Gauss–Newton).
+  // 1. Hidden constraints: move only what the user did not give (minimum-norm Gauss–Newton,
+  //    constraint_solver.hpp; nhc analyze solves them with the same solver and tolerance).
   if (s.model.n_hidden() > 0) {
     std::vector<double> scale(n, 1.0);
     for (int i = 0; i < n && i < static_cast<int>(state.given.size()); ++i)
       if (state.given[i]) scale[i] = 0.0;
-    double size = 1.0;
-    for (int i = 0; i < n; ++i) size = std::max(size, std::abs(s.y[i]));
-    solve_hidden_constraints(s.model, s.p.data(), state.t0, s.y.data(), scale, 1e-13 * size);
+    solve_hidden_constraints(s.model, s.p.data(), state.t0, s.y.data(), scale,
+                             initial_point_tolerance(std::vector<double>(s.y.data(), s.y.data() + n)));
   }
 
   // 2. IDA and IDACalcIC for the algebraic states and y'.

@@ -18,7 +18,7 @@
 namespace nhc::runtime {
 
 enum class LinearSolverKind {
-  automatic,  ///< KLU when the model has a sparse Jacobian and at least 40 states, else dense
+  automatic,  ///< KLU when the model carries a sparse Jacobian, else dense LU
   dense,      ///< dense LU (generated dense Jacobian, the sparse one scattered, or difference quotients)
   sparse,     ///< KLU on the generated compressed-column Jacobian
 };
@@ -51,8 +51,9 @@ struct IntegratorOptions {
   double projection_threshold = 1.0;
   /// A singular-set monitor s_k stops the run when |s_k| falls below this times |s_k(t0)|.
   double singularity_threshold = 1e-14;
-  /// Progress bar on stderr for runs longer than a second, when stderr is a terminal.
-  bool progress = true;
+  /// Progress bar on stderr for runs longer than a second, when stderr is a terminal. Off by
+  /// default: a library does not draw on its caller's terminal; `nhc simulate` turns it on.
+  bool progress = false;
 };
 
 /// Initial data: a guess for every state, and which of them the user gave (these stay fixed

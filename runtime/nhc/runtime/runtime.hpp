@@ -7,3 +7,4 @@
 #include "nhc/runtime/model.hpp"
 #include "nhc/runtime/model_table.h"
 #include "nhc/runtime/trajectory.hpp"
+#include "nhc/runtime/work_precision.hpp"

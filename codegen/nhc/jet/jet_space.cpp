@@ -1,4 +1,4 @@
-#include "nhc/derive/jet_space.hpp"
+#include "nhc/jet/jet_space.hpp"
 
 #include <algorithm>
 #include <set>

@@ -1,4 +1,4 @@
-#include "nhc/emit/expression_printer.hpp"
+#include "nhc/jet/expression_printer.hpp"
 
 #include <algorithm>
 #include <map>

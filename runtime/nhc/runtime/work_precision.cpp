@@ -1,0 +1,202 @@
+#include "nhc/runtime/work_precision.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "nhc/runtime/trajectory.hpp"
+
+namespace nhc::runtime {
+
+namespace {
+
+std::string format_number(double v, int precision = 3) {
+  std::ostringstream os;
+  os.precision(precision);
+  os << v;
+  return os.str();
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/// Positions of the coordinates (order-0 states) in y.
+std::vector<int> coordinate_states(const Model& model) {
+  std::vector<int> idx;
+  for (int c = 0; c < model.n_coordinates(); ++c) {
+    const int i = model.state_index(c, 0);
+    if (i >= 0) idx.push_back(i);
+  }
+  return idx;
+}
+
+/// max |q − q_ref| over the coordinates at the output times both runs reached.
+double error_against_run(const Model& model, const std::vector<Sample>& run,
+                         const std::vector<Sample>& reference) {
+  const std::vector<int> coords = coordinate_states(model);
+  double worst = 0;
+  size_t compared = 0;
+  const size_t n = std::min(run.size(), reference.size());
+  for (size_t k = 0; k < n; ++k) {
+    const double t = run[k].t, tr = reference[k].t;
+    if (std::abs(t - tr) > 1e-12 * std::max(1.0, std::abs(tr))) break;  // a stop between output times
+    for (int i : coords) {
+      const double e = std::abs(run[k].y[i] - reference[k].y[i]);
+      worst = std::isfinite(e) ? std::max(worst, e) : INFINITY;
+    }
+    ++compared;
+  }
+  // Only the initial point in common: nothing measured.
+  return compared > 1 ? worst : NAN;
+}
+
+}  // namespace
+
+std::string WorkPrecisionConfiguration::label() const { return jacobian + (projection ? " + projection" : ""); }
+
+std::string WorkPrecisionMeasurement::status() const {
+  if (!failure) return "ok";
+  std::string s = to_string(*failure);
+  std::replace(s.begin(), s.end(), ' ', '_');
+  return s;
+}
+
+std::string ErrorSource::description() const {
+  if (exact) return "the scene's [reference] (exact solution)";
+  return "a reference run at rtol " + format_number(rtol, 3) + ", atol " + format_number(atol, 3) +
+         " (dense LU, no projection)";
+}
+
+WorkPrecision measure_work_precision(const WorkPrecisionModels& models, double t0,
+                                     const std::map<std::string, std::vector<double>>& initial_values,
+                                     const WorkPrecisionSettings& settings, const ProgressSink& progress) {
+  if (!models.dense) throw ModelError("work-precision: the dense-Jacobian model is needed (reference runs)");
+  auto model_for = [&](const std::string& jacobian) -> const Model& {
+    if (jacobian == "dense") return *models.dense;
+    if (jacobian == "sparse" && models.sparse) return *models.sparse;
+    throw ModelError("work-precision: no model with the " + jacobian + " Jacobian was given");
+  };
+  const Model& dense = *models.dense;
+  WorkPrecision wp;
+  wp.settings = settings;
+  wp.scene_name = dense.scene_name();
+  wp.model_name = dense.model_name();
+  const auto& tab = dense.table();
+  wp.n_states = dense.n_states();
+  wp.n_hidden = dense.n_hidden();
+  wp.n_invariants = dense.n_invariants();
+  for (int i = 0; i < dense.n_states(); ++i) wp.state_names.push_back(dense.state_name(i));
+  for (int i = 0; i < dense.n_hidden(); ++i) wp.hidden_names.push_back(dense.hidden_name(i));
+  for (int i = 0; i < dense.n_invariants(); ++i) wp.invariant_names.push_back(tab.invariant_names[i]);
+  for (int i = 0; i < dense.n_singular(); ++i) wp.singular_names.push_back(dense.singular_name(i));
+  for (int i = 0; i < dense.n_parameters(); ++i) wp.parameter_names.push_back(tab.parameter_names[i]);
+
+  auto parameter_index = [&](const std::string& name) {
+    const int i = dense.parameter_index(name);
+    if (i < 0) throw ModelError("the model " + wp.scene_name + " has no parameter '" + name + "'");
+    return i;
+  };
+  wp.parameters = dense.default_parameters();
+  for (const auto& [name, value] : settings.parameter_overrides) wp.parameters[parameter_index(name)] = value;
+  std::vector<std::optional<double>> sweep{std::nullopt};
+  int sweep_index = -1;
+  if (!settings.sweep_parameter.empty()) {
+    sweep_index = parameter_index(settings.sweep_parameter);
+    sweep.assign(settings.sweep_values.begin(), settings.sweep_values.end());
+  }
+  const std::vector<double> times = output_times(t0, settings.t_end, settings.outputs);
+  wp.source.exact = dense.n_reference() > 0;
+  wp.source.rtol = settings.reference_rtol;
+  wp.source.atol = settings.reference_rtol * settings.atol_scale;
+
+  const size_t total = sweep.size() * settings.configurations.size() * settings.rtols.size();
+  size_t done = 0;
+  for (const std::optional<double>& value : sweep) {
+    std::vector<double> p = wp.parameters;
+    if (value) p[sweep_index] = *value;
+    const std::string at = value ? ", " + settings.sweep_parameter + " = " + format_number(*value, 6) : "";
+
+    // The reference run: rtol = reference_rtol, loosened by decades (to 1e-10) while it does not
+    // reach t_end (very tight tolerances can exhaust the step limit on stiff problems).
+    std::vector<Sample> reference;
+    double reference_rtol = 0;
+    if (!wp.source.exact) {
+      for (double rtol = settings.reference_rtol; rtol <= 1.0001e-10; rtol *= 10) {
+        IntegratorOptions io;
+        io.rtol = rtol;
+        io.atol = rtol * settings.atol_scale;
+        io.linear_solver = LinearSolverKind::dense;
+        io.progress = false;
+        const RunResult ref = simulate(dense, p, initial_state_from(dense, t0, initial_values), times, io);
+        if (progress)
+          progress("reference run" + at + ": rtol " + format_number(io.rtol) + ", " +
+                   std::to_string(ref.statistics.steps) + " steps" +
+                   (ref.failure ? std::string(", stopped: ") + ref.failure->what() : std::string()));
+        if (reference.empty() || ref.samples.size() > reference.size()) {
+          reference = ref.samples;
+          reference_rtol = rtol;
+        }
+        if (!ref.failure || ref.failure->kind() != FailureKind::too_many_steps) break;
+      }
+      wp.source.rtol = std::max(wp.source.rtol, reference_rtol);  // the loosest one used
+      wp.source.atol = wp.source.rtol * settings.atol_scale;
+    }
+
+    for (const WorkPrecisionConfiguration& config : settings.configurations) {
+      const Model& model = model_for(config.jacobian);
+      const InitialState initial = initial_state_from(model, t0, initial_values);
+      for (double rtol : settings.rtols) {
+        IntegratorOptions io;
+        io.rtol = rtol;
+        io.atol = rtol * settings.atol_scale;
+        io.linear_solver = config.jacobian == "sparse" ? LinearSolverKind::sparse : LinearSolverKind::dense;
+        io.projection = config.projection ? ProjectionMethod::in_place : ProjectionMethod::none;
+        io.progress = false;
+
+        std::vector<double> seconds;
+        RunResult run;
+        double total_seconds = 0;
+        do {
+          const auto start = std::chrono::steady_clock::now();
+          run = simulate(model, p, initial, times, io);
+          seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+          total_seconds += seconds.back();
+        } while (static_cast<int>(seconds.size()) < settings.max_repeats && total_seconds < settings.repeat_seconds);
+
+        WorkPrecisionMeasurement m;
+        m.configuration = config;
+        m.sweep_value = value;
+        m.rtol = io.rtol;
+        m.atol = io.atol;
+        m.seconds = median(seconds);
+        m.repeats = static_cast<int>(seconds.size());
+        m.statistics = run.statistics;
+        const DriftReport drift = measure_drift(model, p, run.samples);
+        m.max_hidden = drift.max_hidden;
+        m.max_invariant_relative = drift.max_invariant_relative;
+        m.error = wp.source.exact ? (run.samples.empty() ? NAN : drift.max_error)
+                                  : error_against_run(model, run.samples, reference);
+        m.t_reached = run.samples.empty() ? t0 : run.samples.back().t;
+        if (run.failure) {
+          m.failure = run.failure->kind();
+          m.failure_t = run.failure->t();
+          m.failure_message = run.failure->what();
+        }
+        wp.measurements.push_back(m);
+        ++done;
+        if (progress)
+          progress("[" + std::to_string(done) + "/" + std::to_string(total) + "] " + config.label() + at +
+                   ", rtol " + format_number(rtol) + ": error " + format_number(m.error) + ", " +
+                   std::to_string(m.statistics.steps) + " steps, " + format_number(m.seconds) + " s" +
+                   (m.failure ? ", stopped: " + m.status() : std::string()));
+      }
+    }
+  }
+  return wp;
+}
+
+}  // namespace nhc::runtime
