@@ -30,7 +30,9 @@
 #include "nhc/derive/models.hpp"
 #include "nhc/emit/derivation_emitters.hpp"
 #include "nhc/errors.hpp"
+#include "nhc/io/atomic_directory.hpp"
 #include "nhc/io/atomic_file.hpp"
+#include "nhc/io/output_path.hpp"
 #include "nhc/scene/scene.hpp"
 #include "pipeline.hpp"
 #include "work_precision.hpp"
@@ -310,28 +312,28 @@ int run_report(const ReportOptions& o) {
   ReportOptions opts = o;
   opts.sweep = normalized_sweep(o.sweep);
   const PreparedReport prepared = prepare(opts);
-  const std::string dir = o.output.empty() ? prepared.scene.name + "-report" : o.output;
-  std::error_code ignored;
-  fs::create_directories(dir, ignored);  // an unwritable directory is reported by the first write
+  // Built in a temporary sibling and moved into place at the end (nhc/io/atomic_directory.hpp).
+  AtomicDirectory dir(o.output.empty() ? prepared.scene.name + "-report" : o.output, {o.scene_path});
 
   const WorkPrecision wp = measure_work_precision(prepared.scene, prepared.kind, prepared.settings, progress_sink(o.quiet));
-  const std::string csv = (fs::path(dir) / "workprec.csv").string(), md = (fs::path(dir) / "report.md").string();
-  write_work_precision_csv(csv, wp);
+  write_work_precision_csv(dir.file("workprec.csv"), wp);
   std::vector<std::string> images;
   std::string plot_error;
   try {
-    images = plot_work_precision(dir, wp);
+    images = plot_work_precision(dir.path(), wp);
   } catch (const std::runtime_error& e) {
     plot_error = e.what();
   }
-  write_report(md, prepared.scene, prepared.kind, wp, images);
+  write_report(dir.file("report.md"), prepared.scene, prepared.kind, wp, images);
+  dir.commit();
   if (!o.quiet) {
     std::cout << "nhc report: " << wp.scene_name << " (" << wp.model_name << "), " << wp.measurements.size()
               << " runs, error against " << wp.source.description() << "\n";
-    for (const std::string& f : {csv, md}) std::cout << "  wrote " << f << "\n";
-    for (const std::string& f : images) std::cout << "  wrote " << f << "\n";
+    for (const std::string& f : {std::string("workprec.csv"), std::string("report.md")})
+      std::cout << "  wrote " << dir.final_file(f) << "\n";
+    for (const std::string& f : images) std::cout << "  wrote " << dir.final_file(fs::path(f).filename().string()) << "\n";
   }
-  if (!plot_error.empty()) throw std::runtime_error(plot_error);
+  if (!plot_error.empty()) throw EnvironmentError(plot_error);
   return kExitOk;
 }
 
@@ -462,6 +464,7 @@ std::string without_timing(const std::string& doc) {
 }
 
 int run_stability(const ReportOptions& o) {
+  if (!o.output.empty()) check_output_file(o.output, {o.stability});
   const std::vector<StabilityCase> cases = load_manifest(o.stability);
   const fs::path root = fs::path(o.stability).parent_path().parent_path();  // docs/stability.toml → the project
   const ProgressSink progress = progress_sink(o.quiet);

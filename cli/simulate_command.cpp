@@ -11,6 +11,7 @@
 #include "commands.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/io/atomic_file.hpp"
+#include "nhc/io/output_path.hpp"
 #include "nhc/jit.hpp"
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/scene/scene.hpp"
@@ -68,6 +69,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
     const Scene scene = load_scene(options->scene_path);
     const ModelKind kind = model_or_default(scene, options->model);
     check_simulate_flags(*options, scene);  // before anything is compiled or written
+    if (!options->output.empty()) check_output_file(options->output, {options->scene_path});
     const double load_seconds = seconds_since(load_start);
     const jit::LoadedModel built = jit::build(scene, kind);
     const runtime::Model& model = built.model();
