@@ -34,6 +34,7 @@
 #include "nhc/io/atomic_file.hpp"
 #include "nhc/io/output_path.hpp"
 #include "nhc/scene/scene.hpp"
+#include "nhc/scene/tolerances.hpp"
 #include "pipeline.hpp"
 #include "work_precision.hpp"
 
@@ -110,6 +111,11 @@ PreparedReport prepare(const ReportOptions& o) {
   r.kind = model_or_default(r.scene, o.model);
   WorkPrecisionSettings& s = r.settings;
   s.rtols = decades_or_throw("--tolerances", o.tolerances);
+  for (double rtol : s.rtols)
+    if (const std::string problem = relative_tolerance_problem(rtol); !problem.empty())
+      throw InputError({"--tolerances", 0, 0}, "--tolerances " + o.tolerances + ": rtol " + fmt(rtol) + " " + problem);
+  if (const std::string problem = relative_tolerance_problem(o.reference_rtol); !problem.empty())
+    throw InputError({"--reference-rtol", 0, 0}, "--reference-rtol " + fmt(o.reference_rtol) + " " + problem);
   s.atol_scale = o.atol_scale.value_or(r.scene.simulate.atol / r.scene.simulate.rtol);
   s.t_end = o.t_end.value_or(r.scene.simulate.t_end);
   if (!(s.t_end > r.scene.initial.t0))

@@ -15,6 +15,7 @@
 #include "nhc/jit.hpp"
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/scene/scene.hpp"
+#include "nhc/scene/tolerances.hpp"
 #include "pipeline.hpp"
 
 namespace nhc::cli {
@@ -40,7 +41,8 @@ void check_simulate_flags(const SimulateOptions& options, const Scene& scene) {
     if (!(*options.t_end > scene.initial.t0))
       bad("--t-end " + format(*options.t_end, 17) + " must be after t0 = " + format(scene.initial.t0, 17));
   }
-  if (options.rtol && !(std::isfinite(*options.rtol) && *options.rtol > 0)) bad("--rtol must be a positive number");
+  if (options.rtol && !relative_tolerance_problem(*options.rtol).empty())
+    throw InputError({"--rtol", 0, 0}, "--rtol " + format(*options.rtol) + " " + relative_tolerance_problem(*options.rtol));
   if (options.atol && !(std::isfinite(*options.atol) && *options.atol > 0)) bad("--atol must be a positive number");
 }
 

@@ -98,14 +98,15 @@ Warning warning_sink(const CompileOptions& options) {
   return [](const std::string& line) { std::cerr << "nhc: warning: " << line << std::endl; };
 }
 
-/// The compiler's output from its first error on, at most `max_lines` lines.
+/// The compiler's output from its first error (or failure, as the linker says) on, at most
+/// `max_lines` lines.
 std::string first_errors(const std::string& output, std::size_t max_lines = 20) {
   std::vector<std::string> lines;
   std::istringstream in(output);
   for (std::string line; std::getline(in, line);) lines.push_back(line);
   std::size_t first = 0;
   for (std::size_t i = 0; i < lines.size(); ++i)
-    if (lines[i].find("error") != std::string::npos) {
+    if (lines[i].find("error") != std::string::npos || lines[i].find("failed") != std::string::npos) {
       first = i;
       break;
     }
@@ -113,6 +114,7 @@ std::string first_errors(const std::string& output, std::size_t max_lines = 20) 
   const std::size_t last = std::min(lines.size(), first + max_lines);
   for (std::size_t i = first; i < last; ++i) text += "  " + lines[i] + "\n";
   if (last < lines.size()) text += "  [" + std::to_string(lines.size() - last) + " more lines]\n";
+  if (!text.empty()) text.pop_back();  // the caller's message ends the last line
   return text;
 }
 
