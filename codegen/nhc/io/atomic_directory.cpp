@@ -70,10 +70,13 @@ std::string AtomicDirectory::final_file(const std::string& name) const { return 
 void AtomicDirectory::commit() {
   std::error_code ec;
   if (!fs::exists(target_, ec)) {
-    if (std::rename(path().c_str(), target_.c_str()) != 0)
+    if (std::rename(path().c_str(), target_.c_str()) == 0) {
+      committed_ = true;
+      return;
+    }
+    // Another run made the directory in the meantime: move the files into it as below.
+    if (errno != ENOTEMPTY && errno != EEXIST)
       throw EnvironmentError("cannot move " + path() + " to " + target_ + ": " + std::strerror(errno));
-    committed_ = true;
-    return;
   }
   check_output_directory(target_, inputs_);
   std::vector<std::string> names;
