@@ -160,7 +160,7 @@ TEST_CASE("sha256: the FIPS 180-2 test vectors", "[faults]") {
   CHECK_FALSE(nhc::jit::sha256_file_hex(s.dir / "missing"));
 }
 
-TEST_CASE("run_process: a time limit stops the whole process group; a missing program says why", "[faults]") {
+TEST_CASE("run_process: a time limit stops the whole process group, a missing program says why", "[faults]") {
   std::string output;
   const auto start = std::chrono::steady_clock::now();
   const nhc::jit::ProcessResult r = nhc::jit::run_process({"sh", "-c", "sleep 30 & sleep 30"}, output, 0.3);
