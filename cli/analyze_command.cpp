@@ -11,6 +11,7 @@
 #include "nhc/emit/analysis_emitters.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/io/atomic_file.hpp"
+#include "nhc/io/output_path.hpp"
 #include "nhc/scene/scene.hpp"
 
 namespace nhc::cli {
@@ -44,6 +45,7 @@ CommandRunner add_analyze_command(CLI::App& app) {
   sub->add_option("-o,--output", options->output, "write to FILE instead of standard output");
 
   return [options]() {
+    if (!options->output.empty()) check_output_file(options->output, {options->scene_path});
     const Scene scene = load_scene(options->scene_path);
     InitializationOptions init;
     init.repair = options->repair;

@@ -5,6 +5,7 @@
 #include "nhc/derive/models.hpp"
 #include "nhc/emit/derivation_emitters.hpp"
 #include "nhc/io/atomic_file.hpp"
+#include "nhc/io/output_path.hpp"
 #include "nhc/scene/scene.hpp"
 
 namespace nhc::cli {
@@ -38,6 +39,7 @@ CommandRunner add_derive_command(CLI::App& app) {
   sub->add_option("-o,--output", options->output, "write to FILE instead of standard output");
 
   return [options]() {
+    if (!options->output.empty()) check_output_file(options->output, {options->scene_path});
     const Scene scene = load_scene(options->scene_path);
     std::vector<DerivedModel> models;
     for (ModelKind kind : selected_models(scene, options->models))

@@ -1,7 +1,7 @@
 #pragma once
 /// \file exit_codes.hpp
 /// \brief The exit codes of the nhc command (README, "Command line"). The libraries report
-/// failures as exceptions (nhc::InputError, nhc::MathError, nhc::runtime::SolverError); only
+/// failures as exceptions (nhc::InputError, nhc::MathError, nhc::EnvironmentError, nhc::runtime::SolverError); only
 /// the command turns them into a process status.
 
 namespace nhc::cli {
@@ -12,5 +12,8 @@ inline constexpr int kExitInternal = 1;
 inline constexpr int kExitBadInput = 2;
 /// A numerical or mathematical failure: a singular system, an integrator failure (with t).
 inline constexpr int kExitMathFailure = 3;
+/// The environment failed nhc (cannot write, disk full, compiler missing or failing, cannot load
+/// a library, cache directory unusable): nhc::EnvironmentError.
+inline constexpr int kExitEnvironment = 4;
 
 }  // namespace nhc::cli

@@ -11,6 +11,7 @@
 #include "nhc/derive/models.hpp"
 #include "nhc/emit/header_emitter.hpp"
 #include "nhc/io/atomic_file.hpp"
+#include "nhc/io/output_path.hpp"
 #include "nhc/scene/scene.hpp"
 
 namespace nhc::cli {
@@ -44,6 +45,7 @@ CommandRunner add_generate_command(CLI::App& app) {
   sub->add_flag("-q,--quiet", options->quiet, "do not print the written file and operation counts");
 
   return [options]() {
+    check_output_directory(options->directory, {options->scene_path});
     const Scene scene = load_scene(options->scene_path);
     const ModelKind kind =
         model_or_default(scene, options->model);
@@ -61,6 +63,7 @@ CommandRunner add_generate_command(CLI::App& app) {
     std::string path = options->directory;
     if (!path.empty() && path.back() != '/') path += '/';
     path += header.file_name;
+    check_output_file(path, {options->scene_path});
     write_file_atomically(path, [&](std::ostream& out) { out << header.text; });
     if (!options->quiet)
       std::cout << path << ": " << system.size() << " states, operations "

@@ -1,6 +1,8 @@
 // nhc — the nonholonomic compiler: command-line entry point.
-// Exit codes: 0 ok, 1 internal error, 2 bad input, 3 numerical or mathematical failure.
+// Exit codes: 0 ok, 1 internal error (a bug: please report), 2 bad input, 3 numerical or
+// mathematical failure, 4 environment (file system, compiler, loader, cache).
 #include <iostream>
+#include <new>
 #include <vector>
 
 #include "commands.hpp"
@@ -49,8 +51,15 @@ int main(int argc, char** argv) {
   } catch (const nhc::MathError& e) {
     std::cerr << "nhc: error: " << e.what() << "\n";
     return nhc::cli::kExitMathFailure;
+  } catch (const nhc::EnvironmentError& e) {
+    std::cerr << "nhc: error: " << e.what() << "\n";
+    return nhc::cli::kExitEnvironment;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "nhc: error: out of memory\n";
+    return nhc::cli::kExitEnvironment;
   } catch (const std::exception& e) {
-    std::cerr << "nhc: internal error: " << e.what() << "\n";
+    std::cerr << "nhc: internal error: " << e.what() << "\n"
+              << "nhc: this is a bug in nhc; please report it with the command and the scene\n";
     return nhc::cli::kExitInternal;
   }
   return nhc::cli::kExitInternal;

@@ -22,8 +22,11 @@
 #include "nhc/derive/models.hpp"
 #include "nhc/emit/derivation_emitters.hpp"
 #include "nhc/errors.hpp"
+#include "nhc/io/atomic_directory.hpp"
 #include "nhc/io/atomic_file.hpp"
+#include "nhc/io/output_path.hpp"
 #include "nhc/scene/scene.hpp"
+#include "nhc/scene/tolerances.hpp"
 #include "pipeline.hpp"
 #include "work_precision.hpp"
 
@@ -99,6 +102,11 @@ PreparedReport prepare(const ReportOptions& o) {
   r.kind = model_or_default(r.scene, o.model);
   WorkPrecisionSettings& s = r.settings;
   s.rtols = decades_or_throw("--tolerances", o.tolerances);
+  for (double rtol : s.rtols)
+    if (const std::string problem = relative_tolerance_problem(rtol); !problem.empty())
+      throw InputError({"--tolerances", 0, 0}, "--tolerances " + o.tolerances + ": rtol " + fmt(rtol) + " " + problem);
+  if (const std::string problem = relative_tolerance_problem(o.reference_rtol); !problem.empty())
+    throw InputError({"--reference-rtol", 0, 0}, "--reference-rtol " + fmt(o.reference_rtol) + " " + problem);
   s.atol_scale = o.atol_scale.value_or(r.scene.simulate.atol / r.scene.simulate.rtol);
   s.t_end = o.t_end.value_or(r.scene.simulate.t_end);
   if (!(s.t_end > r.scene.initial.t0))
@@ -301,28 +309,28 @@ int run_report(const ReportOptions& o) {
   ReportOptions opts = o;
   opts.sweep = normalized_sweep(o.sweep);
   const PreparedReport prepared = prepare(opts);
-  const std::string dir = o.output.empty() ? prepared.scene.name + "-report" : o.output;
-  std::error_code ignored;
-  fs::create_directories(dir, ignored);  // an unwritable directory is reported by the first write
+  // Built in a temporary sibling and moved into place at the end (nhc/io/atomic_directory.hpp).
+  AtomicDirectory dir(o.output.empty() ? prepared.scene.name + "-report" : o.output, {o.scene_path});
 
   const WorkPrecision wp = measure_work_precision(prepared.scene, prepared.kind, prepared.settings, progress_sink(o.quiet));
-  const std::string csv = (fs::path(dir) / "workprec.csv").string(), md = (fs::path(dir) / "report.md").string();
-  write_work_precision_csv(csv, wp);
+  write_work_precision_csv(dir.file("workprec.csv"), wp);
   std::vector<std::string> images;
   std::string plot_error;
   try {
-    images = plot_work_precision(dir, wp);
+    images = plot_work_precision(dir.path(), wp);
   } catch (const std::runtime_error& e) {
     plot_error = e.what();
   }
-  write_report(md, prepared.scene, prepared.kind, wp, images);
+  write_report(dir.file("report.md"), prepared.scene, prepared.kind, wp, images);
+  dir.commit();
   if (!o.quiet) {
     std::cout << "nhc report: " << wp.scene_name << " (" << wp.model_name << "), " << wp.measurements.size()
               << " runs, error against " << wp.source.description() << "\n";
-    for (const std::string& f : {csv, md}) std::cout << "  wrote " << f << "\n";
-    for (const std::string& f : images) std::cout << "  wrote " << f << "\n";
+    for (const std::string& f : {std::string("workprec.csv"), std::string("report.md")})
+      std::cout << "  wrote " << dir.final_file(f) << "\n";
+    for (const std::string& f : images) std::cout << "  wrote " << dir.final_file(fs::path(f).filename().string()) << "\n";
   }
-  if (!plot_error.empty()) throw std::runtime_error(plot_error);
+  if (!plot_error.empty()) throw EnvironmentError(plot_error);
   return kExitOk;
 }
 

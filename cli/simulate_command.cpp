@@ -11,9 +11,11 @@
 #include "commands.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/io/atomic_file.hpp"
+#include "nhc/io/output_path.hpp"
 #include "nhc/jit.hpp"
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/scene/scene.hpp"
+#include "nhc/scene/tolerances.hpp"
 #include "pipeline.hpp"
 
 namespace nhc::cli {
@@ -39,7 +41,8 @@ void check_simulate_flags(const SimulateOptions& options, const Scene& scene) {
     if (!(*options.t_end > scene.initial.t0))
       bad("--t-end " + format(*options.t_end, 17) + " must be after t0 = " + format(scene.initial.t0, 17));
   }
-  if (options.rtol && !(std::isfinite(*options.rtol) && *options.rtol > 0)) bad("--rtol must be a positive number");
+  if (options.rtol && !relative_tolerance_problem(*options.rtol).empty())
+    throw InputError({"--rtol", 0, 0}, "--rtol " + format(*options.rtol) + " " + relative_tolerance_problem(*options.rtol));
   if (options.atol && !(std::isfinite(*options.atol) && *options.atol > 0)) bad("--atol must be a positive number");
 }
 
@@ -68,6 +71,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
     const Scene scene = load_scene(options->scene_path);
     const ModelKind kind = model_or_default(scene, options->model);
     check_simulate_flags(*options, scene);  // before anything is compiled or written
+    if (!options->output.empty()) check_output_file(options->output, {options->scene_path});
     const double load_seconds = seconds_since(load_start);
     const jit::LoadedModel built = jit::build(scene, kind);
     const runtime::Model& model = built.model();

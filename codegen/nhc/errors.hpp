@@ -7,6 +7,10 @@
 /// MathError: the input is well formed but the mathematics fails (a singular matrix,
 /// a structurally singular system, a model that does not apply).
 /// The nhc command maps them to its exit codes 2 and 3 (cli/exit_codes.hpp).
+/// EnvironmentError: the machine around nhc fails it (a file cannot be written, the disk is
+/// full, the C++ compiler is missing, fails or times out, a library cannot be loaded, the
+/// compile cache is unusable); the message names the path and the system's reason. The nhc
+/// command maps it to exit code 4.
 
 #include <stdexcept>
 #include <string>
@@ -35,6 +39,11 @@ class InputError : public std::runtime_error {
 };
 
 class MathError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class EnvironmentError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };

@@ -1,5 +1,8 @@
 #include "nhc/io/atomic_file.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -10,18 +13,43 @@
 
 namespace nhc {
 
+namespace {
+
+/// The system's reason for the last failure, or `fallback` when errno says nothing.
+std::string system_reason(int error, const char* fallback) {
+  return error != 0 ? std::string(std::strerror(error)) : std::string(fallback);
+}
+
+/// Forces the bytes to the device, so that a full disk is reported now and not lost at close.
+int sync_file(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return errno;
+  const int status = ::fsync(fd) == 0 ? 0 : errno;
+  ::close(fd);
+  return status == EINVAL || status == EROFS ? 0 : status;  // files that cannot be synced (pipes, /dev)
+}
+
+}  // namespace
+
 void write_file_atomically(const std::string& path,
                            const std::function<void(std::ostream&)>& write) {
   // Registered before it exists: an interrupt at any moment removes it (temporary_files.hpp).
   const TemporaryFile registration(unique_temporary_name(path));
   const std::string& temporary = registration.path();
   {
+    errno = 0;
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) throw InputError({path, 0, 0}, std::string("cannot write: ") + std::strerror(errno));
+    if (!out) throw EnvironmentError("cannot write " + path + ": " + system_reason(errno, "cannot create a file there"));
     try {
+      errno = 0;
       write(out);
       out.flush();
-      if (!out) throw InputError({path, 0, 0}, "write failed (disk full?)");
+      if (!out) throw EnvironmentError("cannot write " + path + ": " + system_reason(errno, "write failed"));
+      errno = 0;
+      out.close();
+      if (out.fail()) throw EnvironmentError("cannot write " + path + ": " + system_reason(errno, "write failed"));
+      if (const int error = sync_file(temporary); error != 0)
+        throw EnvironmentError("cannot write " + path + ": " + std::strerror(error));
     } catch (...) {
       out.close();
       std::remove(temporary.c_str());
@@ -31,7 +59,7 @@ void write_file_atomically(const std::string& path,
   if (std::rename(temporary.c_str(), path.c_str()) != 0) {
     const std::string reason = std::strerror(errno);
     std::remove(temporary.c_str());
-    throw InputError({path, 0, 0}, "cannot write: " + reason);
+    throw EnvironmentError("cannot write " + path + ": " + reason);
   }
 }
 

@@ -11,7 +11,8 @@ namespace nhc {
 
 /// Calls `write` with a stream on a temporary file beside `path`, then renames it to `path`.
 /// On any exception the temporary file is removed and the exception propagates.
-/// Throws InputError (flag "-o") when the directory cannot be written.
+/// Throws EnvironmentError naming `path` and the system's reason when it cannot be written
+/// (no permission, disk full, …).
 void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& write);
 
 }  // namespace nhc

@@ -1,6 +1,9 @@
 #include "nhc/io/temporary_files.hpp"
 
+#include <dirent.h>
+#include <fcntl.h>
 #include <signal.h>
+#include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -22,9 +25,52 @@ constexpr std::size_t kPathCapacity = 4096;
 
 struct PathSlot {
   std::atomic<int> state{0};
+  bool directory = false;  // written before state becomes 2
   char path[kPathCapacity];
 };
 PathSlot path_slots[kSlots];
+
+int register_path(const std::string& path, bool directory) {
+  if (path.size() >= kPathCapacity) throw std::runtime_error("temporary file name too long: " + path);
+  for (int k = 0; k < kSlots; ++k) {
+    int expected = 0;
+    if (path_slots[k].state.compare_exchange_strong(expected, 1)) {
+      std::memcpy(path_slots[k].path, path.c_str(), path.size() + 1);
+      path_slots[k].directory = directory;
+      path_slots[k].state.store(2);
+      return k;
+    }
+  }
+  throw std::runtime_error("too many temporary files at once");
+}
+
+/// Async-signal-safe removal of a flat directory: raw getdents64, unlinkat, rmdir (no malloc).
+void remove_flat_directory(const char* path) noexcept {
+  const int fd = ::open(path, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+  if (fd >= 0) {
+    alignas(8) char buffer[8192];
+    for (;;) {
+      const long n = ::syscall(SYS_getdents64, fd, buffer, sizeof buffer);
+      if (n <= 0) break;
+      for (long offset = 0; offset < n;) {
+        struct LinuxDirent64 {
+          ino64_t d_ino;
+          off64_t d_off;
+          unsigned short d_reclen;
+          unsigned char d_type;
+          char d_name[1];
+        };
+        const auto* entry = reinterpret_cast<const LinuxDirent64*>(buffer + offset);
+        const char* name = entry->d_name;
+        const bool dot = name[0] == '.' && (name[1] == 0 || (name[1] == '.' && name[2] == 0));
+        if (!dot) ::unlinkat(fd, name, 0);
+        offset += entry->d_reclen;
+      }
+    }
+    ::close(fd);
+  }
+  ::rmdir(path);
+}
 
 struct ChildSlot {
   std::atomic<pid_t> pid{0};
@@ -42,20 +88,7 @@ void pause_briefly() noexcept {
 
 }  // namespace
 
-TemporaryFile::TemporaryFile(std::string path) : path_(std::move(path)) {
-  if (path_.size() >= kPathCapacity)
-    throw std::runtime_error("temporary file name too long: " + path_);
-  for (int k = 0; k < kSlots; ++k) {
-    int expected = 0;
-    if (path_slots[k].state.compare_exchange_strong(expected, 1)) {
-      std::memcpy(path_slots[k].path, path_.c_str(), path_.size() + 1);
-      path_slots[k].state.store(2);
-      slot_ = k;
-      return;
-    }
-  }
-  throw std::runtime_error("too many temporary files at once");
-}
+TemporaryFile::TemporaryFile(std::string path) : path_(std::move(path)), slot_(register_path(path_, false)) {}
 
 TemporaryFile::~TemporaryFile() {
   // Gone after a successful rename; still there when an exception left the work unfinished.
@@ -64,6 +97,16 @@ TemporaryFile::~TemporaryFile() {
 }
 
 void TemporaryFile::remove() const noexcept { ::unlink(path_.c_str()); }
+
+TemporaryDirectory::TemporaryDirectory(std::string path)
+    : path_(std::move(path)), slot_(register_path(path_, true)) {}
+
+TemporaryDirectory::~TemporaryDirectory() {
+  remove();
+  if (slot_ >= 0) path_slots[slot_].state.store(0);
+}
+
+void TemporaryDirectory::remove() const noexcept { remove_flat_directory(path_.c_str()); }
 
 ChildProcessGroup::ChildProcessGroup(pid_t pid) {
   for (int k = 0; k < kSlots; ++k) {
@@ -109,7 +152,9 @@ void cleanup_after_signal() noexcept {
     }
   }
   for (auto& slot : path_slots)
-    if (slot.state.load() == 2) ::unlink(slot.path);
+    if (slot.state.load() == 2 && !slot.directory) ::unlink(slot.path);
+  for (auto& slot : path_slots)
+    if (slot.state.load() == 2 && slot.directory) remove_flat_directory(slot.path);
 }
 
 }  // namespace nhc

@@ -35,6 +35,25 @@ class TemporaryFile {
   int slot_ = -1;
 };
 
+/// A temporary directory of flat content (files, no subdirectories), registered like a
+/// TemporaryFile: cleanup_after_signal() and the destructor remove its files and the directory
+/// itself unless it was renamed away (AtomicDirectory). Register before creating it.
+class TemporaryDirectory {
+ public:
+  explicit TemporaryDirectory(std::string path);
+  ~TemporaryDirectory();
+  TemporaryDirectory(const TemporaryDirectory&) = delete;
+  TemporaryDirectory& operator=(const TemporaryDirectory&) = delete;
+
+  const std::string& path() const noexcept { return path_; }
+  /// Removes the directory and its files now, if it still exists.
+  void remove() const noexcept;
+
+ private:
+  std::string path_;
+  int slot_ = -1;
+};
+
 /// Registers a running child process group (leader `pid`) to be terminated by
 /// cleanup_after_signal() for the lifetime of this object.
 class ChildProcessGroup {
@@ -53,7 +72,8 @@ class ChildProcessGroup {
 std::string unique_temporary_name(const std::string& path);
 
 /// Async-signal-safe: sends SIGTERM to the registered child process groups and waits for them
-/// (SIGKILL after two seconds), then unlinks every registered temporary file.
+/// (SIGKILL after two seconds), then unlinks every registered temporary file and removes every
+/// registered temporary directory with its files.
 void cleanup_after_signal() noexcept;
 
 }  // namespace nhc

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "nhc/scene/expression_parser.hpp"
+#include "nhc/scene/tolerances.hpp"
 #include "nhc/scene/scene.hpp"
 
 namespace nhc {
@@ -448,6 +449,8 @@ class SceneReader {
       if (const toml::node* tol = table.get(key)) {
         const double v = number_value(*tol, key);
         if (!(v > 0)) fail(*tol, std::string(key) + " must be positive");
+        if (std::string(key) == "rtol" && !relative_tolerance_problem(v).empty())
+          fail(*tol, "rtol = " + shortest(v) + " " + relative_tolerance_problem(v));
         (std::string(key) == "rtol" ? scene.simulate.rtol : scene.simulate.atol) = v;
       }
     }

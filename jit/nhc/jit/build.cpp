@@ -1,6 +1,7 @@
 // A scene's model derived, generated, compiled and loaded (build.hpp).
 #include "nhc/jit/build.hpp"
 
+#include <algorithm>
 #include <chrono>
 
 #include "nhc/analysis/index1_reduction.hpp"
@@ -13,6 +14,16 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+/// The scene and model a generated header is for: its namespace is `<scene>_<model>`
+/// (header_emitter.hpp). A header named otherwise (written by hand) has its model checked only.
+ModelIdentity identity_of(const GeneratedHeader& header, ModelKind kind) {
+  const std::string model = to_string(kind), suffix = "_" + model;
+  const std::string& name = header.namespace_name;
+  if (name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
+    return {name.substr(0, name.size() - suffix.size()), model};
+  return {"", model};
+}
 
 }  // namespace
 
@@ -28,11 +39,12 @@ LoadedModel::LoadedModel(ModelKind kind, JacobianKind jacobian, GeneratedHeader 
 LoadedModel load_header(const GeneratedHeader& header, ModelKind kind, JacobianKind jacobian,
                         const CompileOptions& options) {
   BuildTimings timings;
-  CompiledLibrary library = compile_header(header.text, header.namespace_name, options);
+  const auto start = Clock::now();
+  // The table must name the scene and model the header was generated for.
+  auto [library, model] = compile_and_load(header.text, header.namespace_name,
+                                           identity_of(header, kind), options);
   timings.compile = library.seconds;
-  const auto load_start = Clock::now();
-  runtime::Model model = runtime::Model::load(library.path.string());
-  timings.load = seconds_since(load_start);
+  timings.load = std::max(0.0, seconds_since(start) - library.seconds);
   return LoadedModel(kind, jacobian, header, std::move(library), std::move(model), timings);
 }
 

@@ -1,18 +1,23 @@
 // Compiling model headers into cached shared objects (compiler.hpp).
 #include "nhc/jit/compiler.hpp"
 
+#include <dlfcn.h>
 #include <unistd.h>
 
+#include <cctype>
+#include <cerrno>
 #include <chrono>
-#include <cinttypes>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
+#include <iostream>
 #include <sstream>
-#include <stdexcept>
 
+#include "nhc/errors.hpp"
 #include "nhc/io/shell.hpp"
 #include "nhc/io/temporary_files.hpp"
+#include "nhc/jit/sha256.hpp"
 #include "nhc/jit/subprocess.hpp"
 
 #ifndef NHC_CXX_COMPILER
@@ -25,29 +30,44 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// FNV-1a, 64 bit: a stable hash for the cache key (std::hash is not stable across builds).
-std::uint64_t fnv1a(const std::string& text, std::uint64_t h = 1469598103934665603ULL) {
-  for (unsigned char c : text) h = (h ^ c) * 1099511628211ULL;
-  return h;
+/// `text` as the body of a C string literal: printable ASCII kept, the rest as octal escapes.
+std::string c_string_body(const std::string& text) {
+  std::string out;
+  for (unsigned char c : text) {
+    if (c >= 0x20 && c < 0x7f && c != '"' && c != '\\' && c != '?') {
+      out += static_cast<char>(c);
+    } else {
+      char escape[5];
+      std::snprintf(escape, sizeof escape, "\\%03o", c);
+      out += escape;
+    }
+  }
+  return out;
 }
 
-/// The translation unit that wraps a model header: the table's entry point is the only symbol
-/// the shared object exports (every other symbol is hidden), so two models whose headers use the
-/// same namespace can never resolve to each other's table.
-std::string translation_unit(const std::string& header_name) {
+/// The translation unit that wraps a model header: the table's entry point and the build record
+/// are the only symbols the shared object exports (every other symbol is hidden), so two models
+/// whose headers use the same namespace can never resolve to each other's table. The header is
+/// included, not compiled as the main file: no "#pragma once in main file" warning.
+std::string translation_unit(const std::string& header_name, const std::string& build_record) {
   return "// nhc::jit: exports the model table of " + header_name +
-         "\n"
+         " and the record of what it was built from\n"
          "#define NHC_EXPORT_MODEL_TABLE\n"
          "struct nhc_model_table;\n"
          "extern \"C\" __attribute__((visibility(\"default\"))) const nhc_model_table* nhc_model_table_get(void);\n"
+         "extern \"C\" __attribute__((visibility(\"default\"))) const char nhc_model_build_key[] = \"" +
+         c_string_body(build_record) +
+         "\";\n"
          "#include \"" +
          header_name + "\"\n";
 }
 
 /// The flags every model library is built with, after the user's optimization flags.
 std::vector<std::string> contract_flags(const std::string& compiler_version) {
+  // -s: no symbol table, so that the bytes do not depend on the temporary source file's name
+  // and concurrent builds of one entry write identical files (and digests).
   std::vector<std::string> flags{"-std=c++17", "-fPIC", "-shared", "-fvisibility=hidden",
-                                 "-fvisibility-inlines-hidden"};
+                                 "-fvisibility-inlines-hidden", "-s"};
   // GCC gives function-local statics of inline functions STB_GNU_UNIQUE binding, which the
   // dynamic linker shares across every loaded library; hidden visibility already avoids it, and
   // -fno-gnu-unique makes sure.
@@ -55,86 +75,239 @@ std::vector<std::string> contract_flags(const std::string& compiler_version) {
   return flags;
 }
 
+std::string chosen_compiler(const CompileOptions& options) {
+  if (!options.compiler.empty()) return options.compiler;
+  if (const char* cxx = std::getenv("NHC_CXX"); cxx && *cxx) return cxx;
+  return NHC_CXX_COMPILER;
+}
+
+double compile_timeout(const CompileOptions& options) {
+  if (options.timeout_seconds) return *options.timeout_seconds;
+  const char* text = std::getenv("NHC_COMPILE_TIMEOUT");
+  if (!text || !*text) return default_compile_timeout();
+  char* end = nullptr;
+  const double seconds = std::strtod(text, &end);
+  if (*end != '\0' || !(seconds >= 0) || seconds > 1e9)
+    throw InputError({"NHC_COMPILE_TIMEOUT", 0, 0},
+                     std::string("'") + text + "' is not a number of seconds (0: no limit)");
+  return seconds;
+}
+
+Warning warning_sink(const CompileOptions& options) {
+  if (options.warn) return options.warn;
+  return [](const std::string& line) { std::cerr << "nhc: warning: " << line << std::endl; };
+}
+
+/// The compiler's output from its first error (or failure, as the linker says) on, at most
+/// `max_lines` lines.
+std::string first_errors(const std::string& output, std::size_t max_lines = 20) {
+  std::vector<std::string> lines;
+  std::istringstream in(output);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  std::size_t first = 0;
+  for (std::size_t i = 0; i < lines.size(); ++i)
+    if (lines[i].find("error") != std::string::npos || lines[i].find("failed") != std::string::npos) {
+      first = i;
+      break;
+    }
+  std::string text;
+  const std::size_t last = std::min(lines.size(), first + max_lines);
+  for (std::size_t i = first; i < last; ++i) text += "  " + lines[i] + "\n";
+  if (last < lines.size()) text += "  [" + std::to_string(lines.size() - last) + " more lines]\n";
+  if (!text.empty()) text.pop_back();  // the caller's message ends the last line
+  return text;
+}
+
+/// A system reason the compiler's output states (a full disk, a file-size limit), if any.
+std::string system_reason_in(const std::string& output) {
+  for (int error : {ENOSPC, EFBIG, EDQUOT, EACCES, EROFS}) {
+    const std::string reason = std::strerror(error);
+    if (output.find(reason) != std::string::npos) return reason;
+  }
+  return {};
+}
+
 void write_text(const fs::path& path, const std::string& text) {
+  errno = 0;
   std::ofstream file(path);
   file << text;
-  file.flush();
-  if (!file) throw std::runtime_error("cannot write " + path.string());
+  file.close();
+  if (!file)
+    throw EnvironmentError("cannot write " + path.string() + ": " +
+                           (errno ? std::strerror(errno) : "write failed"));
+}
+
+/// The compiler's version line(s); EnvironmentError when it cannot be run.
+std::string compiler_version(const std::string& compiler, double timeout) {
+  std::string version;
+  const ProcessResult r = run_process({compiler, "--version"}, version, timeout);
+  if (!r.started)
+    throw EnvironmentError("the C++ compiler " + compiler + " cannot be run: " + r.start_error +
+                           " (set NHC_CXX to a C++17 compiler)");
+  if (r.timed_out)
+    throw EnvironmentError("the C++ compiler " + compiler + " did not answer --version within " +
+                           std::to_string(static_cast<long long>(timeout)) + " s (NHC_COMPILE_TIMEOUT)");
+  if (!r.ok())
+    throw EnvironmentError("the C++ compiler " + compiler + " does not work (" + compiler +
+                           " --version failed):\n" + first_errors(version));
+  return version;
+}
+
+/// The compiler run into `out`; EnvironmentError with its first errors when it fails.
+void run_compiler(const std::vector<std::string>& command, const std::string& label, const fs::path& out,
+                  const fs::path& cache, double timeout) {
+  std::string messages;
+  const ProcessResult r = run_process(command, messages, timeout);
+  if (r.ok() && fs::exists(out)) return;
+  std::string command_line;
+  for (const std::string& word : command) command_line += (command_line.empty() ? "" : " ") + shell_quote(word);
+  if (!r.started)
+    throw EnvironmentError("the C++ compiler " + command.front() + " cannot be run: " + r.start_error +
+                           " (set NHC_CXX to a C++17 compiler)");
+  if (r.timed_out)
+    throw EnvironmentError("the C++ compiler took longer than " + std::to_string(static_cast<long long>(timeout)) +
+                           " s on the code of " + label + " and was stopped (raise NHC_COMPILE_TIMEOUT, 0: no limit)\n  " +
+                           command_line);
+  const std::string reason = system_reason_in(messages);
+  if (!reason.empty())
+    throw EnvironmentError("cannot compile " + label + " into the cache " + cache.string() + ": " + reason + "\n" +
+                           first_errors(messages));
+  throw EnvironmentError("the C++ compiler failed on the code of " + label +
+                         (r.signal ? " (killed by signal " + std::to_string(r.signal) + ")" : "") +
+                         " (if it compiles other C++17 code, this is a bug in nhc: please report it)\n  " +
+                         command_line + "\n" + first_errors(messages));
+}
+
+/// Renames `from` to `to`; EnvironmentError naming both when it fails.
+void move_into_place(const fs::path& from, const fs::path& to) {
+  if (std::rename(from.c_str(), to.c_str()) != 0)
+    throw EnvironmentError("cannot move " + from.string() + " to " + to.string() + ": " + std::strerror(errno));
+}
+
+/// The library loaded and checked against what it was built for; nullopt with `problem` set
+/// when it fails a check.
+std::optional<runtime::Model> load_checked(const CompiledLibrary& library, const ModelIdentity& identity,
+                                           std::string& problem) {
+  // Opened once here, without calling into it, to read the record; Model::load opens the same
+  // handle again (reference counted) and only then runs the table's entry point.
+  dlerror();
+  void* handle = dlopen(library.path.c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (!handle) {
+    const char* why = dlerror();
+    problem = std::string("dlopen failed: ") + (why ? why : "unknown reason");
+    return std::nullopt;
+  }
+  const char* record = static_cast<const char*>(dlsym(handle, "nhc_model_build_key"));
+  if (!record || library.build_record != record) {
+    dlclose(handle);
+    problem = record ? "built for something else (its nhc_model_build_key differs)" : "no nhc_model_build_key";
+    return std::nullopt;
+  }
+  std::optional<runtime::Model> model;
+  try {
+    model = runtime::Model::load(library.path.string());
+  } catch (const std::exception& e) {
+    dlclose(handle);
+    problem = std::string("no valid model table: ") + e.what();
+    return std::nullopt;
+  }
+  dlclose(handle);
+  if ((!identity.scene.empty() && model->scene_name() != identity.scene) ||
+      (!identity.model.empty() && model->model_name() != identity.model)) {
+    problem = "it holds the model " + model->model_name() + " of scene " + model->scene_name() + ", not " +
+              identity.model + " of " + identity.scene;
+    return std::nullopt;
+  }
+  return model;
 }
 
 }  // namespace
 
-fs::path default_cache_directory() {
-  if (const char* dir = std::getenv("NHC_CACHE_DIR"); dir && *dir) return dir;
-  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return fs::path(xdg) / "nhc";
-  if (const char* home = std::getenv("HOME"); home && *home) return fs::path(home) / ".cache" / "nhc";
-  return fs::temp_directory_path() / ("nhc-cache-" + std::to_string(getuid()));
-}
+fs::path default_cache_directory() { return default_cache_location().path; }
 
 CompiledLibrary compile_header(const std::string& header_text, const std::string& label,
-                               const CompileOptions& options) {
+                               const CompileOptions& options, const ModelIdentity& identity) {
   const auto start = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-  const std::string compiler = options.compiler.empty() ? NHC_CXX_COMPILER : options.compiler;
-  std::string version;
-  run_process({compiler, "--version"}, version);
+  const Warning warn = warning_sink(options);
+  const std::string compiler = chosen_compiler(options);
+  const double timeout = compile_timeout(options);
+  const std::string version = compiler_version(compiler, timeout);
   std::vector<std::string> flags = options.flags;
   for (std::string& f : contract_flags(version)) flags.push_back(std::move(f));
   std::string flag_text;
   for (const std::string& f : flags) flag_text += f + " ";
-  char key[17];
-  std::snprintf(key, sizeof key, "%016" PRIx64,
-                fnv1a(std::string(NHC_VERSION) + "\n" + compiler + "\n" + version + "\n" + flag_text + "\n" +
-                      header_text));
+  const std::string key = sha256_hex(std::string(NHC_VERSION) + "\n" + compiler + "\n" + version + "\n" +
+                                     flag_text + "\n" + header_text);
+  const std::string record =
+      "nhc build key " + key + "\nscene " + identity.scene + "\nmodel " + identity.model + "\n";
 
-  const fs::path dir = options.cache_directory.empty() ? default_cache_directory() : options.cache_directory;
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) throw std::runtime_error("cannot create the cache directory " + dir.string() + ": " + ec.message());
-  const std::string stem = label + "-" + key;
+  const fs::path dir = options.cache_directory.empty()
+                           ? private_cache_directory(default_cache_location(), warn)
+                           : private_cache_directory({options.cache_directory, false}, warn);
+  const std::string stem = label + "-" + key.substr(0, 16);
   const fs::path library = dir / (stem + ".so");
-  if (fs::exists(library)) return {library, true, elapsed()};
+  std::error_code ec;
+  if (fs::exists(fs::symlink_status(library, ec))) {
+    const std::string problem = entry_problem(library);
+    if (problem.empty()) return {library, true, elapsed(), record};
+    warn("cache entry " + library.string() + " rejected: " + problem + "; rebuilding it");
+    discard_entry(library);
+  }
 
   // Names unique to this process and call, registered before they exist: concurrent runs never
   // share a temporary file, and an interrupt removes them (nhc/io/temporary_files.hpp).
   const TemporaryFile header_file(unique_temporary_name((dir / (stem + ".hpp")).string()));
   const TemporaryFile source_file(unique_temporary_name((dir / (stem + ".cpp")).string()));
   const TemporaryFile out_file(unique_temporary_name(library.string()));
+  const TemporaryFile digest_file(unique_temporary_name(digest_path(library).string()));
   const fs::path out = out_file.path();
   write_text(header_file.path(), header_text);
-  write_text(source_file.path(), translation_unit(fs::path(header_file.path()).filename().string()));
+  write_text(source_file.path(), translation_unit(fs::path(header_file.path()).filename().string(), record));
   std::vector<std::string> command{compiler};
   command.insert(command.end(), flags.begin(), flags.end());
   command.emplace_back("-o");
   command.push_back(out.string());
   for (const char* argument : {"-x", "c++"}) command.emplace_back(argument);
   command.push_back(source_file.path());
-  std::string messages;
-  const int status = run_process(command, messages);
+  run_compiler(command, label, out, dir, timeout);
   header_file.remove();
   source_file.remove();
-  if (status != 0 || !fs::exists(out)) {
-    out_file.remove();
-    std::string command_line;
-    for (const std::string& word : command) command_line += (command_line.empty() ? "" : " ") + shell_quote(word);
-    throw std::runtime_error("the C++ compiler failed on the code of " + label + "\n  " + command_line + "\n" +
-                             messages);
-  }
-  fs::rename(out, library, ec);  // atomic: concurrent runs produce the same bytes
-  if (ec) out_file.remove();
-  if (ec) throw std::runtime_error("cannot move " + out.string() + " to " + library.string() + ": " + ec.message());
-  return {library, false, elapsed()};
+  const std::optional<std::string> digest = sha256_file_hex(out);
+  if (!digest) throw EnvironmentError("cannot read " + out.string() + ": " + std::strerror(errno));
+  write_text(digest_file.path(), digest_text(*digest, library.filename().string()));
+  // The digest first: a reader that finds the library finds its digest. Concurrent runs write
+  // the same bytes (-s), so either run's pair matches.
+  move_into_place(digest_file.path(), digest_path(library));
+  move_into_place(out, library);
+  return {library, false, elapsed(), record};
 }
 
 CompiledLibrary compile_header_file(const fs::path& header, const CompileOptions& options) {
   std::ifstream in(header);
-  if (!in) throw std::runtime_error("cannot read " + header.string());
+  if (!in) throw EnvironmentError("cannot read " + header.string() + ": " + std::strerror(errno));
   std::ostringstream text;
   text << in.rdbuf();
   std::string label = header.stem().string();
   for (char& c : label)
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) c = '_';
   return compile_header(text.str(), label, options);
+}
+
+std::pair<CompiledLibrary, runtime::Model> compile_and_load(const std::string& header_text, const std::string& label,
+                                                            const ModelIdentity& identity,
+                                                            const CompileOptions& options) {
+  CompiledLibrary library = compile_header(header_text, label, options, identity);
+  std::string problem;
+  std::optional<runtime::Model> model = load_checked(library, identity, problem);
+  if (!model && library.reused) {
+    warning_sink(options)("cache entry " + library.path.string() + " rejected: " + problem + "; rebuilding it");
+    discard_entry(library.path);
+    library = compile_header(header_text, label, options, identity);
+    model = load_checked(library, identity, problem);
+  }
+  if (!model) throw EnvironmentError("cannot load " + library.path.string() + ": " + problem);
+  return {std::move(library), std::move(*model)};
 }
 
 }  // namespace nhc::jit

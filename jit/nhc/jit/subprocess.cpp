@@ -1,10 +1,16 @@
 #include "nhc/jit/subprocess.hpp"
 
+#include <poll.h>
+#include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <thread>
 
 #include "nhc/io/temporary_files.hpp"
 
@@ -12,10 +18,48 @@ extern char** environ;
 
 namespace nhc::jit {
 
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// SIGTERM to the group, SIGKILL when it is still there two seconds later; reaps the leader.
+int stop_process_group(pid_t pid) {
+  ::kill(-pid, SIGTERM);
+  int status = 0;
+  const auto deadline = Clock::now() + std::chrono::seconds(2);
+  while (Clock::now() < deadline) {
+    const pid_t r = ::waitpid(pid, &status, WNOHANG);
+    if (r == pid) {
+      ::kill(-pid, SIGKILL);  // whatever the leader left behind in its group
+      return status;
+    }
+    if (r < 0 && errno != EINTR) return status;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ::kill(-pid, SIGKILL);
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  return status;
+}
+
+}  // namespace
+
 int run_process(const std::vector<std::string>& argv, std::string& output) {
-  if (argv.empty()) return -1;
+  const ProcessResult r = run_process(argv, output, 0);
+  return r.started && r.signal == 0 ? r.exit_status : -1;
+}
+
+ProcessResult run_process(const std::vector<std::string>& argv, std::string& output, double timeout_seconds) {
+  ProcessResult result;
+  if (argv.empty()) {
+    result.start_error = "no program given";
+    return result;
+  }
   int pipe_fds[2];
-  if (::pipe(pipe_fds) != 0) return -1;
+  if (::pipe(pipe_fds) != 0) {
+    result.start_error = std::strerror(errno);
+    return result;
+  }
 
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
@@ -57,24 +101,50 @@ int run_process(const std::vector<std::string>& argv, std::string& output) {
   if (spawned != 0) {
     ::sigprocmask(SIG_SETMASK, &previous, nullptr);
     ::close(pipe_fds[0]);
-    output += "cannot run " + argv[0] + "\n";
-    return -1;
+    result.start_error = std::strerror(spawned);
+    return result;
   }
+  result.started = true;
   const ChildProcessGroup registration(pid);
   ::sigprocmask(SIG_SETMASK, &previous, nullptr);
 
+  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                           std::chrono::duration<double>(timeout_seconds > 0 ? timeout_seconds : 0));
   char buffer[4096];
   for (;;) {
+    int wait_ms = -1;
+    if (timeout_seconds > 0) {
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
+      if (left <= 0) {
+        result.timed_out = true;
+        break;
+      }
+      wait_ms = static_cast<int>(std::min<long long>(left, 1000));
+    }
+    pollfd fd{pipe_fds[0], POLLIN, 0};
+    const int ready = ::poll(&fd, 1, wait_ms);
+    if (ready < 0 && errno != EINTR) break;
+    if (ready <= 0) continue;
     const ssize_t n = ::read(pipe_fds[0], buffer, sizeof buffer);
     if (n > 0) output.append(buffer, static_cast<std::size_t>(n));
     else if (n == 0 || errno != EINTR) break;
   }
   ::close(pipe_fds[0]);
   int status = 0;
-  while (::waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) return -1;
+  bool reaped = false;
+  // Its output closed, it may still run (a program that closed its standard output): the
+  // limit holds until it has exited.
+  while (!result.timed_out && !reaped) {
+    const pid_t r = ::waitpid(pid, &status, timeout_seconds > 0 ? WNOHANG : 0);
+    if (r == pid) reaped = true;
+    else if (r < 0 && errno != EINTR) return result;
+    else if (timeout_seconds > 0 && Clock::now() >= deadline) result.timed_out = true;
+    else if (r == 0) std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  if (result.timed_out) status = stop_process_group(pid);
+  if (WIFEXITED(status)) result.exit_status = WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) result.signal = WTERMSIG(status);
+  return result;
 }
 
 }  // namespace nhc::jit
