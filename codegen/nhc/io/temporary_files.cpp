@@ -1,6 +1,9 @@
 #include "nhc/io/temporary_files.hpp"
 
+#include <dirent.h>
+#include <fcntl.h>
 #include <signal.h>
+#include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -8,6 +11,7 @@
 #include <cerrno>
 #include <cstring>
 #include <ctime>
+#include <filesystem>
 #include <random>
 #include <stdexcept>
 
@@ -25,6 +29,7 @@ struct PathSlot {
   char path[kPathCapacity];
 };
 PathSlot path_slots[kSlots];
+PathSlot directory_slots[kSlots];
 
 struct ChildSlot {
   std::atomic<pid_t> pid{0};
@@ -40,21 +45,55 @@ void pause_briefly() noexcept {
   }
 }
 
+/// Claims a free slot of `slots` for `path`; -1 when none is free.
+int register_path(PathSlot* slots, const std::string& path) {
+  if (path.size() >= kPathCapacity) throw std::runtime_error("temporary file name too long: " + path);
+  for (int k = 0; k < kSlots; ++k) {
+    int expected = 0;
+    if (slots[k].state.compare_exchange_strong(expected, 1)) {
+      std::memcpy(slots[k].path, path.c_str(), path.size() + 1);
+      slots[k].state.store(2);
+      return k;
+    }
+  }
+  return -1;
+}
+
+/// Async-signal-safe removal of a flat directory: its entries by getdents64 and unlinkat, then
+/// the directory (opendir/readdir may allocate and are not safe in a handler).
+void remove_flat_directory(const char* path) noexcept {
+  const int fd = ::open(path, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd >= 0) {
+    alignas(8) char buffer[4096];
+    // Entries are removed while the directory is read: read again from the start until only
+    // "." and ".." are left (bounded, in case an entry cannot be removed).
+    for (int pass = 0; pass < 64; ++pass) {
+      ::lseek(fd, 0, SEEK_SET);
+      bool removed = false;
+      long n;
+      while ((n = ::syscall(SYS_getdents64, fd, buffer, sizeof buffer)) > 0) {
+        for (long offset = 0; offset < n;) {
+          // struct linux_dirent64: d_ino (8), d_off (8), d_reclen (2), d_type (1), d_name.
+          unsigned short record_length;
+          std::memcpy(&record_length, buffer + offset + 16, sizeof record_length);
+          const char* name = buffer + offset + 19;
+          const bool dots = name[0] == '.' && (name[1] == 0 || (name[1] == '.' && name[2] == 0));
+          if (!dots && ::unlinkat(fd, name, 0) == 0) removed = true;
+          offset += record_length;
+        }
+      }
+      if (!removed) break;
+    }
+    ::close(fd);
+  }
+  ::rmdir(path);
+}
+
 }  // namespace
 
 TemporaryFile::TemporaryFile(std::string path) : path_(std::move(path)) {
-  if (path_.size() >= kPathCapacity)
-    throw std::runtime_error("temporary file name too long: " + path_);
-  for (int k = 0; k < kSlots; ++k) {
-    int expected = 0;
-    if (path_slots[k].state.compare_exchange_strong(expected, 1)) {
-      std::memcpy(path_slots[k].path, path_.c_str(), path_.size() + 1);
-      path_slots[k].state.store(2);
-      slot_ = k;
-      return;
-    }
-  }
-  throw std::runtime_error("too many temporary files at once");
+  slot_ = register_path(path_slots, path_);
+  if (slot_ < 0) throw std::runtime_error("too many temporary files at once");
 }
 
 TemporaryFile::~TemporaryFile() {
@@ -64,6 +103,17 @@ TemporaryFile::~TemporaryFile() {
 }
 
 void TemporaryFile::remove() const noexcept { ::unlink(path_.c_str()); }
+
+TemporaryDirectory::TemporaryDirectory(std::string path) : path_(std::move(path)) {
+  slot_ = register_path(directory_slots, path_);
+  if (slot_ < 0) throw std::runtime_error("too many temporary directories at once");
+}
+
+TemporaryDirectory::~TemporaryDirectory() {
+  std::error_code ignored;
+  std::filesystem::remove_all(path_, ignored);  // nothing left after a successful rename
+  if (slot_ >= 0) directory_slots[slot_].state.store(0);
+}
 
 ChildProcessGroup::ChildProcessGroup(pid_t pid) {
   for (int k = 0; k < kSlots; ++k) {
@@ -110,6 +160,8 @@ void cleanup_after_signal() noexcept {
   }
   for (auto& slot : path_slots)
     if (slot.state.load() == 2) ::unlink(slot.path);
+  for (auto& slot : directory_slots)
+    if (slot.state.load() == 2) remove_flat_directory(slot.path);
 }
 
 }  // namespace nhc

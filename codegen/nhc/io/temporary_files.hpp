@@ -6,7 +6,8 @@
 /// SIGTERM arrives in between, the command's signal handler calls cleanup_after_signal(), which
 /// stops the registered child processes (the C++ compiler of `nhc simulate`) and removes the
 /// registered temporary files. Registration is a fixed table of slots written with atomics, so
-/// the cleanup is async-signal-safe (only kill, waitpid, nanosleep and unlink).
+/// the cleanup is async-signal-safe (only kill, waitpid, nanosleep, open, getdents64, unlink,
+/// unlinkat and rmdir).
 
 #include <sys/types.h>
 
@@ -28,6 +29,23 @@ class TemporaryFile {
   const std::string& path() const noexcept { return path_; }
   /// Removes the file now if it still exists (after a failure); the registration stays.
   void remove() const noexcept;
+
+ private:
+  std::string path_;
+  int slot_ = -1;
+};
+
+/// Registers a directory of files (no subdirectories) for removal, with its files, by
+/// cleanup_after_signal() for the lifetime of this object; the destructor removes it too when it
+/// still exists (not renamed). Used by AtomicDirectory (atomic_directory.hpp).
+class TemporaryDirectory {
+ public:
+  explicit TemporaryDirectory(std::string path);
+  ~TemporaryDirectory();
+  TemporaryDirectory(const TemporaryDirectory&) = delete;
+  TemporaryDirectory& operator=(const TemporaryDirectory&) = delete;
+
+  const std::string& path() const noexcept { return path_; }
 
  private:
   std::string path_;
