@@ -63,6 +63,9 @@ namespace {
 
 /// Okabe & Ito's palette (distinguishable with colour-vision deficiencies), yellow left out.
 constexpr const char* kColours[] = {"#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#000000"};
+/// Markers that stay distinguishable when they lie on top of each other: open square, filled
+/// circle, open triangle, filled diamond, open circle, filled triangle.
+constexpr int kPointTypes[] = {4, 7, 8, 13, 6, 9};
 constexpr int kWidth = 900, kHeight = 560;
 
 /// A string literal for gnuplot: double quotes, backslashes and quotes escaped.
@@ -181,7 +184,7 @@ std::string plot_script(const fs::path& dir, const Plot& plot) {
     const double width = 1.5 + 1.5 * static_cast<double>(n - 1 - i);
     const std::size_t interval = std::max<std::size_t>(1, resolved[i].rows / 10);
     g << (i ? ", \\\n     " : "") << quoted(c.csv) << " skip 1 using " << using_clause(c, resolved[i])
-      << " with linespoints lt " << i + 1 << " lw " << width << " pt " << (i % 6) + 4 << " ps 1.3 pi " << interval
+      << " with linespoints lt " << i + 1 << " lw " << width << " pt " << kPointTypes[i % std::size(kPointTypes)] << " ps 1.3 pi " << interval
       << " title " << quoted(c.title) << " noenhanced";
   }
   g << "\n"
