@@ -38,9 +38,26 @@ struct CompareOptions {
   std::string output;
 };
 
+/// The command with the flags that change the result (not -o), for compare.md.
+std::string command_line(const CompareOptions& o) {
+  std::string s = "nhc compare " + o.scene_path;
+  if (!o.models.empty()) {
+    s += " --models ";
+    for (std::size_t k = 0; k < o.models.size(); ++k) s += (k ? "," : "") + o.models[k];
+  }
+  if (o.t_end) s += " --t-end " + format_number(*o.t_end, 15);
+  if (o.rtol) s += " --rtol " + format_number(*o.rtol, 15);
+  if (o.atol) s += " --atol " + format_number(*o.atol, 15);
+  if (o.outputs != 200) s += " --outputs " + std::to_string(o.outputs);
+  if (o.tolerance != 1e-6) s += " --tolerance " + format_number(o.tolerance, 15);
+  if (!o.plot_xy.empty()) s += " --plot-xy " + o.plot_xy;
+  return s;
+}
+
 /// The run settings with the flags applied, checked before anything is compiled or written.
 CompareSettings settings_of(const CompareOptions& options, const Scene& scene) {
   CompareSettings s;
+  s.command_line = command_line(options);
   s.scene_path = options.scene_path;
   s.scene_name = scene.name;
   s.coordinates = scene.jet->coordinates();

@@ -237,7 +237,7 @@ std::string compare_markdown(const fs::path& dir, const CompareSettings& setting
 
   std::ostringstream md;
   md << "# " << settings.scene_name << ": the models side by side\n\n"
-     << "`nhc compare " << settings.scene_path << "`: every model from the same initial data, t from "
+     << "`" << settings.command_line << "`: every model from the same initial data, t from "
      << value(settings.t0) << " to " << value(settings.t_end) << " (" << settings.outputs
      << " output intervals), rtol " << format_number(settings.rtol) << ", atol " << format_number(settings.atol)
      << ". One CSV file per model (the columns of `nhc simulate -o`); the plots are drawn from them. "

@@ -33,6 +33,7 @@ struct ComparedModel {
 };
 
 struct CompareSettings {
+  std::string command_line;  ///< the command as given, for the reader to repeat it
   std::string scene_path, scene_name;
   std::vector<std::string> coordinates;
   std::map<std::string, std::vector<double>> given;  ///< the scene's [initial] values
