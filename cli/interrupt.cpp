@@ -12,7 +12,7 @@ namespace nhc::cli {
 namespace {
 
 extern "C" void on_interrupt(int signal_number) {
-  // Only async-signal-safe calls: kill, waitpid, nanosleep, unlink, write, _exit.
+  // Only async-signal-safe calls: kill, waitpid, nanosleep, unlink, rmdir, getdents64, write, _exit.
   nhc::cleanup_after_signal();
   static const char message[] = "nhc: interrupted; temporary files removed\n";
   const ssize_t ignored = ::write(STDERR_FILENO, message, sizeof message - 1);

@@ -1,4 +1,5 @@
 // nhc simulate SCENE [--model M] [--t-end T] [--rtol R] [--atol A] [--project] [-o FILE.csv]
+//              [--plot DIR [--plot-xy a,b]]
 //
 // The whole pipeline on one model: derive, reduce to index 1, generate the header
 // (docs/generated-code.md), compile it with the C++ compiler found at configure time into a
@@ -17,6 +18,7 @@
 #include "nhc/scene/scene.hpp"
 #include "nhc/scene/tolerances.hpp"
 #include "pipeline.hpp"
+#include "trajectory_plots.hpp"
 
 namespace nhc::cli {
 
@@ -29,6 +31,7 @@ struct SimulateOptions {
   bool project = false;
   int outputs = 200;
   std::string output;
+  std::string plot, plot_xy;  // trajectory_plots.hpp
 };
 
 std::string format(double v, int precision = 3) { return format_number(v, precision); }
@@ -64,6 +67,10 @@ CommandRunner add_simulate_command(CLI::App& app) {
   sub->add_option("--outputs", options->outputs, "number of output intervals (default 200)")
       ->check(CLI::Range(1, 10000000));
   sub->add_option("-o,--output", options->output, "CSV file for the solution");
+  CLI::Option* plot = sub->add_option(
+      "--plot", options->plot, "directory for plots (SVG, PNG) of the coordinates, path, multipliers and drift");
+  sub->add_option("--plot-xy", options->plot_xy, "a,b: the plane of the path plot (default: the first two coordinates)")
+      ->needs(plot);
 
   return [options]() {
     // Derive, reduce, generate (dense Jacobian; sparse from 40 states), compile (or reuse), load.
@@ -72,6 +79,8 @@ CommandRunner add_simulate_command(CLI::App& app) {
     const ModelKind kind = model_or_default(scene, options->model);
     check_simulate_flags(*options, scene);  // before anything is compiled or written
     if (!options->output.empty()) check_output_file(options->output, {options->scene_path});
+    PathPlane plane;
+    if (!options->plot.empty()) require_gnuplot("--plot"), plane = path_plane(scene, options->plot_xy, "--plot-xy");
     const double load_seconds = seconds_since(load_start);
     const jit::LoadedModel built = jit::build(scene, kind);
     const runtime::Model& model = built.model();
@@ -114,6 +123,11 @@ CommandRunner add_simulate_command(CLI::App& app) {
       std::cout << "  invariant " << model.table().invariant_names[k] << ": max drift "
                 << format(drift.invariant_drift[k]) << " (relative " << format(drift.invariant_relative[k]) << ")\n";
     if (!options->output.empty()) std::cout << "  wrote " << options->output << " (" << run.samples.size() << " rows)\n";
+    if (!options->plot.empty() && run.samples.empty()) std::cout << "  no plots: the run did not get past t0\n";
+    if (!options->plot.empty() && !run.samples.empty()) {
+      write_trajectory_plots(options->plot, scene, model, p, run, plane);
+      std::cout << "  plots in " << options->plot << " (plots.md)\n";
+    }
     if (run.failure) {
       std::cout.flush();
       std::cerr << "nhc: error: " << run.failure->what() << "\n";

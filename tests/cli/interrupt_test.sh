@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# An interrupted `nhc simulate` leaves no partial output and no temporary file: SIGINT (and
+# An interrupted `nhc simulate` (and `nhc compare`, section 4) leaves no partial output and no temporary file: SIGINT (and
 # SIGTERM) while the model is being compiled into an empty cache, while the CSV is being written,
 # and at a spread of moments across a whole run. After each interrupt nhc exits 128 + the signal
 # (130 for SIGINT), the output CSV is absent or complete, no *.tmp* file remains beside it or in
@@ -106,6 +106,24 @@ for delay in 0.01 0.03 0.06 0.1 0.15 0.2 0.3 0.5 0.8 1.2; do
   NHC_CACHE_DIR=$d/cache "$nhc" simulate "$scene" -o "$d/out/again.csv" >/dev/null 2>&1 ||
     fail "at $delay s: the rerun on the same cache failed"
   echo "interrupt at $delay s: exit $rc"
+done
+
+# 4. nhc compare, whose output is a directory built in a temporary sibling (atomic_directory.hpp):
+# SIGINT while models are integrated or gnuplot draws leaves no temporary directory, and DIR is
+# either absent or complete.
+d=$work/compare; mkdir -p "$d"
+for delay in 0.05 0.15 0.3 0.5 0.8; do
+  rm -rf "$d/out"
+  NHC_CACHE_DIR=$work/csv/cache "$nhc" compare "$scene" -o "$d/out" >"$d/stdout" 2>"$d/stderr" &
+  pid=$!
+  sleep "$delay"
+  kill -s INT "$pid" 2>/dev/null
+  wait "$pid"; rc=$?
+  [ "$rc" -eq 130 ] || [ "$rc" -eq 0 ] || fail "compare at $delay s: exit code $rc"
+  leftovers=$(find "$d" -name '*.tmp*' 2>/dev/null)
+  [ -z "$leftovers" ] || fail "compare at $delay s: temporary files left: $leftovers"
+  [ ! -e "$d/out" ] || [ -f "$d/out/compare.md" ] || fail "compare at $delay s: an incomplete directory"
+  echo "compare interrupted at $delay s: exit $rc"
 done
 
 [ "$failures" -eq 0 ] && echo "interrupt test: no partial or temporary file after any interrupt"
