@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <thread>
 
 #ifdef NHC_HAVE_MPI
@@ -34,8 +35,25 @@ using namespace std::chrono_literals;
 class Inbox {
  public:
   void add(RunRecord&& r) {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    records_.push_back(std::move(r));
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      records_.push_back(std::move(r));
+    }
+    arrived_.notify_one();
+  }
+  /// A worker thread has ended: wakes the main thread.
+  void worker_done() {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      ++done_;
+    }
+    arrived_.notify_one();
+  }
+  /// Waits until records arrive, a worker ends or `timeout` passes.
+  void wait(std::chrono::milliseconds timeout) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    arrived_.wait_for(lock, timeout, [&] { return !records_.empty() || done_ != seen_done_; });
+    seen_done_ = done_;
   }
   std::vector<RunRecord> take() {
     const std::lock_guard<std::mutex> lock(mutex_);
@@ -44,7 +62,9 @@ class Inbox {
 
  private:
   std::mutex mutex_;
+  std::condition_variable arrived_;
   std::vector<RunRecord> records_;
+  int done_ = 0, seen_done_ = 0;
 };
 
 /// Root's worker threads: each takes chunks from the dispenser until it is empty.
@@ -62,6 +82,7 @@ class LocalWorkers {
             inbox.add(std::move(r));
           }
         --running_;
+        inbox.worker_done();
       });
   }
   ~LocalWorkers() { join(); }
@@ -87,7 +108,7 @@ void schedule_threads(std::vector<std::int64_t> todo, const RunFunction& run, co
   Inbox inbox;
   LocalWorkers workers(threads, dispenser, run, options, 0, inbox);
   while (workers.running()) {
-    std::this_thread::sleep_for(20ms);
+    inbox.wait(20ms);
     deliver(inbox, options);
     options.on_idle();
   }
