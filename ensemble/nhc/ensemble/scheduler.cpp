@@ -34,12 +34,11 @@ using namespace std::chrono_literals;
 /// Records made by root's worker threads, waiting for its main thread.
 class Inbox {
  public:
+  /// Not a wake-up of the main thread per record: on a busy machine each wake-up can cost the
+  /// worker its time slice. The main thread collects every 20 ms.
   void add(RunRecord&& r) {
-    {
-      const std::lock_guard<std::mutex> lock(mutex_);
-      records_.push_back(std::move(r));
-    }
-    arrived_.notify_one();
+    const std::lock_guard<std::mutex> lock(mutex_);
+    records_.push_back(std::move(r));
   }
   /// A worker thread has ended: wakes the main thread.
   void worker_done() {
@@ -49,10 +48,10 @@ class Inbox {
     }
     arrived_.notify_one();
   }
-  /// Waits until records arrive, a worker ends or `timeout` passes.
+  /// Waits until a worker ends or `timeout` passes.
   void wait(std::chrono::milliseconds timeout) {
     std::unique_lock<std::mutex> lock(mutex_);
-    arrived_.wait_for(lock, timeout, [&] { return !records_.empty() || done_ != seen_done_; });
+    arrived_.wait_for(lock, timeout, [&] { return done_ != seen_done_; });
     seen_done_ = done_;
   }
   std::vector<RunRecord> take() {
@@ -155,6 +154,7 @@ void manage(const Session& session, std::vector<std::int64_t> todo, const RunFun
   LocalWorkers local(1, dispenser, run, options, 0, inbox);
   int active = remote;
   auto last_idle = std::chrono::steady_clock::now();
+  auto pause = 10us;  // grows while nothing arrives: few wake-ups that would take the worker thread's core
   while (active > 0 || local.running()) {
     int flag = 0;
     MPI_Status status;
@@ -175,6 +175,7 @@ void manage(const Session& session, std::vector<std::int64_t> todo, const RunFun
       std::vector<RunRecord> records;
       while (!in.done()) records.push_back(decode_record(in));
       if (!records.empty()) options.on_records(std::move(records));
+      pause = 10us;
       continue;  // answer every waiting worker before anything else
     }
     deliver(inbox, options);
@@ -182,7 +183,8 @@ void manage(const Session& session, std::vector<std::int64_t> todo, const RunFun
       options.on_idle();
       last_idle = std::chrono::steady_clock::now();
     }
-    std::this_thread::sleep_for(50us);
+    std::this_thread::sleep_for(pause);
+    pause = std::min<std::chrono::microseconds>(2 * pause, 500us);
   }
   local.join();
   deliver(inbox, options);
