@@ -11,6 +11,7 @@ packages=(
   libfmt-dev catch2 libtomlplusplus-dev libcli11-dev
   texlive-latex-base clang
   gnuplot-nox
+  libhdf5-dev libopenmpi-dev openmpi-bin
 )
 missing=()
 for p in "${packages[@]}"; do
