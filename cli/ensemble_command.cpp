@@ -8,8 +8,8 @@
 // (nhc/ensemble/scheduler.hpp) to the MPI ranks under mpirun, else to threads of this process.
 // Every run's outcome, final state, drift and statistics go to FILE.h5 (HDF5), which is
 // checkpointed while the ensemble runs so that --resume continues a killed one.
-#include <unistd.h>
-
+#include <algorithm>
+#include <cmath>
 #include <iostream>
 #include <thread>
 
@@ -73,6 +73,7 @@ void check_flags(const EnsembleOptions& o) {
   if (!o.sample.empty() && !o.samples) bad_flag("--sample " + o.sample.front(), "--sample needs --samples N");
   if (o.sample.empty() && o.samples) bad_flag("--samples", "--samples needs --sample NAME=…");
   if (o.keep != "final" && o.keep != "trajectories") bad_flag("--keep " + o.keep, "expected trajectories or final");
+  if (o.threads < 0) bad_flag("--threads " + std::to_string(o.threads), "N must be at least 1 (0: all cores)");
   if (o.outputs < 1) bad_flag("--outputs " + std::to_string(o.outputs), "K must be at least 1");
   if (o.t_end && !std::isfinite(*o.t_end)) bad_flag("--t-end", "T must be a finite number");
   if (o.rtol && !(*o.rtol > 0 && std::isfinite(*o.rtol))) bad_flag("--rtol", "must be a positive number");
@@ -201,11 +202,9 @@ class Checkpoints {
 void print_summary(const EnsembleResults& r, const Prepared& p, long ran, double run_seconds, int workers,
                    const std::string& output) {
   long count[4] = {0, 0, 0, 0};
-  double integration = 0;
-  for (const RunRecord& rec : r.records) {
-    ++count[static_cast<int>(rec.outcome)];
-    if (rec.finished() && std::find(p.todo.begin(), p.todo.end(), rec.index) != p.todo.end()) integration += rec.seconds;
-  }
+  for (const RunRecord& rec : r.records) ++count[static_cast<int>(rec.outcome)];
+  double integration = 0;  // of the runs made now (not those resumed from the file)
+  for (std::int64_t i : p.todo) integration += r.records[static_cast<std::size_t>(i)].seconds;
   const EnsembleInfo& i = r.info;
   std::cout << "nhc ensemble: " << i.scene << ", model " << i.model << ", " << i.design.runs << " runs ("
             << (i.design.kind == Design::Kind::grid ? "grid" : "sample") << " of " << i.design.variables.size()
@@ -267,7 +266,9 @@ int run_ensemble(const EnsembleOptions& o) {
     results.info.wall_seconds = seconds_since(start);
     write_results(o.output, results);
   } catch (...) {
-    return report(std::current_exception());
+    const int code = report(std::current_exception());
+    session.abort(code);  // under MPI: the workers would wait for rank 0 for ever
+    return code;
   }
   const int workers = session.uses_mpi() ? session.size() : threads;
   print_summary(results, p, static_cast<long>(p.todo.size()), results.info.wall_seconds, workers, o.output);
@@ -306,7 +307,7 @@ CommandRunner add_ensemble_command(CLI::App& app) {
   sub->add_option("-o,--output", o->output, "FILE.h5, the results (HDF5)");
   sub->add_flag("--resume", o->resume, "continue the ensemble in FILE.h5: skip its finished runs");
   sub->add_option("--plot", o->plot, "OUTCOME (t_stop, final:x, drift:energy, …): also draw FILE_OUTCOME.svg/.png");
-  sub->add_option("--threads", o->threads, "worker threads without mpirun (default: all cores)");
+  sub->add_option("--threads", o->threads, "worker threads without mpirun (default 0: all cores)");
   return [o]() { return run_ensemble(*o); };
 }
 

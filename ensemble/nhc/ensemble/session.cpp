@@ -75,4 +75,12 @@ int Session::broadcast(int value) const {
   return value;
 }
 
+void Session::abort(int code) const {
+#ifdef NHC_HAVE_MPI
+  if (mpi_ && size_ > 1) MPI_Abort(MPI_COMM_WORLD, code);
+#else
+  (void)code;
+#endif
+}
+
 }  // namespace nhc::ensemble

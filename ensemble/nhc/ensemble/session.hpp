@@ -27,6 +27,8 @@ class Session {
   void broadcast(std::vector<char>& bytes) const;
   /// Root's value on every rank.
   int broadcast(int value) const;
+  /// Ends every rank of an MPI job of more than one rank with `code` (MPI_Abort); else nothing.
+  void abort(int code) const;
 
  private:
   bool mpi_ = false;
