@@ -37,6 +37,7 @@ struct EnsembleOptions {
   std::optional<double> t_end, rtol, atol;
   int outputs = 100;
   int threads = 0;
+  double checkpoint_seconds = 10;
   bool resume = false;
 };
 
@@ -73,6 +74,8 @@ void check_flags(const EnsembleOptions& o) {
   if (!o.sample.empty() && !o.samples) bad_flag("--sample " + o.sample.front(), "--sample needs --samples N");
   if (o.sample.empty() && o.samples) bad_flag("--samples", "--samples needs --sample NAME=…");
   if (o.keep != "final" && o.keep != "trajectories") bad_flag("--keep " + o.keep, "expected trajectories or final");
+  if (!(o.checkpoint_seconds > 0 && std::isfinite(o.checkpoint_seconds)))
+    bad_flag("--checkpoint-every", "S must be a positive number of seconds");
   if (o.threads < 0) bad_flag("--threads " + std::to_string(o.threads), "N must be at least 1 (0: all cores)");
   if (o.outputs < 1) bad_flag("--outputs " + std::to_string(o.outputs), "K must be at least 1");
   if (o.t_end && !std::isfinite(*o.t_end)) bad_flag("--t-end", "T must be a finite number");
@@ -176,13 +179,14 @@ int report(std::exception_ptr failure) {
   }
 }
 
-/// Keeps FILE.h5 current while the ensemble runs: a checkpoint every 10 s, or rarer when
-/// writing takes long (at most 5 % of the time goes to checkpoints).
+/// Keeps FILE.h5 current while the ensemble runs: a checkpoint every `interval` seconds, or
+/// rarer when writing takes long (at most 5 % of the time goes to checkpoints).
 class Checkpoints {
  public:
-  Checkpoints(const std::string& path, EnsembleResults& results) : path_(path), results_(results) {}
+  Checkpoints(const std::string& path, EnsembleResults& results, double interval)
+      : path_(path), results_(results), interval_(interval) {}
   void maybe_write() {
-    if (!dirty_ || seconds_since(last_) < std::max(10.0, 20.0 * last_write_seconds_)) return;
+    if (!dirty_ || seconds_since(last_) < std::max(interval_, 20.0 * last_write_seconds_)) return;
     const auto start = Clock::now();
     write_results(path_, results_);
     last_write_seconds_ = seconds_since(start);
@@ -194,6 +198,7 @@ class Checkpoints {
  private:
   std::string path_;
   EnsembleResults& results_;
+  double interval_;
   Clock::time_point last_ = Clock::now();
   double last_write_seconds_ = 0;
   bool dirty_ = false;
@@ -246,7 +251,7 @@ int run_ensemble(const EnsembleOptions& o) {
   const runtime::Model model = session.is_root() ? p.built->model() : runtime::Model::load(spec.shared_object);
 
   EnsembleResults& results = p.results;
-  Checkpoints checkpoints(o.output, results);
+  Checkpoints checkpoints(o.output, results, o.checkpoint_seconds);
   ScheduleOptions schedule_options;
   schedule_options.threads = threads;
   schedule_options.values_per_run = static_cast<int>(spec.targets.size());
@@ -307,6 +312,7 @@ CommandRunner add_ensemble_command(CLI::App& app) {
   sub->add_option("-o,--output", o->output, "FILE.h5, the results (HDF5)");
   sub->add_flag("--resume", o->resume, "continue the ensemble in FILE.h5: skip its finished runs");
   sub->add_option("--plot", o->plot, "OUTCOME (t_stop, final:x, drift:energy, …): also draw FILE_OUTCOME.svg/.png");
+  sub->add_option("--checkpoint-every", o->checkpoint_seconds, "S: rewrite FILE.h5 every S seconds while running (default 10)");
   sub->add_option("--threads", o->threads, "worker threads without mpirun (default 0: all cores)");
   return [o]() { return run_ensemble(*o); };
 }

@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 #include <hdf5.h>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <string>
@@ -223,6 +224,30 @@ TEST_CASE("bad input: exit 2, the flag named, no FILE.h5", "[ensemble]") {
   const auto unwritable = run(ensemble("--vary b=0:1:3 -o /nonexistent-nhc-dir/out.h5"), dir);
   CHECK(unwritable.exit_code == 2);
   CHECK(unwritable.err.find("-o /nonexistent-nhc-dir/out.h5: error: cannot write") != std::string::npos);
+  const auto listing = run(std::string("ls -a '") + dir + "'", dir);
+  CHECK(listing.out.find(".tmp") == std::string::npos);
+}
+
+TEST_CASE("an interrupted ensemble leaves its last checkpoint and no temporary file", "[ensemble]") {
+  const std::string dir = scratch_dir("ensemble_interrupt");
+  const std::string file = dir + "/big.h5";
+  // The model compiled before (the compile cache), so that runs start at once.
+  REQUIRE(run(ensemble("--vary b=0.2:2:2 -o '" + dir + "/warm.h5'"), dir).exit_code == 0);
+  // 2 x 10^4 runs of about a millisecond: interrupted after 1.5 s, with checkpoints every 0.2 s.
+  const auto r = run("bash -c \"" + ensemble("--vary \\\"x'(0)=0.5:2:200\\\" --vary b=0.2:2:100 --threads 1 "
+                                            "--checkpoint-every 0.2 -o '" + file + "'") +
+                         " & pid=\\$!; sleep 1.5; kill -TERM \\$pid; wait \\$pid; echo exit \\$?\"",
+                     dir);
+  INFO(r.out << r.err);
+  REQUIRE(r.out.find("exit 143") != std::string::npos);
+  REQUIRE(file_exists(file));
+  const std::vector<int> outcome = read_outcomes(file);
+  REQUIRE(outcome.size() == 20000);
+  const long pending = std::count(outcome.begin(), outcome.end(), 0);
+  const long stopped = std::count(outcome.begin(), outcome.end(), 2);
+  CHECK(pending > 0);
+  CHECK(stopped > 0);
+  CHECK(pending + stopped == 20000);
   const auto listing = run(std::string("ls -a '") + dir + "'", dir);
   CHECK(listing.out.find(".tmp") == std::string::npos);
 }
