@@ -250,6 +250,9 @@ RunRecord run_one(const runtime::Model& model, const RunSpec& spec, std::int64_t
   } catch (const std::exception& e) {
     record.outcome = Outcome::failed;
     record.message = e.what();
+  } catch (...) {
+    record.outcome = Outcome::failed;
+    record.message = "unknown failure";
   }
   record.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return record;
