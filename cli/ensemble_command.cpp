@@ -225,6 +225,15 @@ void print_summary(const EnsembleResults& r, const Prepared& p, long ran, double
               << format_number(per_run * 1e3, 4) << " ms, overhead " << format_number(overhead * 1e3, 3) << " ms = "
               << format_number(100 * overhead / per_run, 3) << " %)";
   }
+  if (i.ranks > 1) {  // how the dynamic scheduling spread the runs made now
+    std::vector<long> per_rank(static_cast<std::size_t>(i.ranks), 0);
+    for (std::int64_t k : p.todo) {
+      const int rank = r.records[static_cast<std::size_t>(k)].rank;
+      if (rank >= 0 && rank < i.ranks) ++per_rank[static_cast<std::size_t>(rank)];
+    }
+    std::cout << "\n  runs per rank:";
+    for (std::size_t k = 0; k < per_rank.size(); ++k) std::cout << (k ? ", " : " ") << per_rank[k];
+  }
   std::cout << "\n  wrote " << output << "\n";
 }
 

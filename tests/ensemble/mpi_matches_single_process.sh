@@ -18,6 +18,7 @@ compare() {
   "$mpiexec" --oversubscribe "${as_root[@]}" -np 2 "$nhc" ensemble "$scene" "$@" -o "$name-mpi.h5" > "$name-mpi.log"
   grep -q "on 2 ranks x 1 thread" "$name-mpi.log" || { echo "FAIL $name: not run on 2 ranks"; cat "$name-mpi.log"; exit 1; }
   grep -q "on 1 rank x 2 threads" "$name-single.log" || { echo "FAIL $name: not run on 2 threads"; exit 1; }
+  grep -Eq "runs per rank: [1-9][0-9]*, [1-9]" "$name-mpi.log" || { echo "FAIL $name: a rank ran nothing"; cat "$name-mpi.log"; exit 1; }
   echo "== $name"
   "$same" "$name-single.h5" "$name-mpi.h5" "${ignore[@]}"
   # Not vacuous: the files differ where they should (timings).
