@@ -29,6 +29,8 @@ int main(int argc, char** argv) {
   add(nhc::cli::add_simulate_command);
   add(nhc::cli::add_report_command);
   add(nhc::cli::add_compare_command);
+  add(nhc::cli::add_ensemble_command);
+  add(nhc::cli::add_plot_command);
 
   try {
     app.parse(argc, argv);

@@ -12,6 +12,7 @@ packages=(
   texlive-latex-base clang
   gnuplot-nox
   libssl-dev
+  libhdf5-dev libopenmpi-dev openmpi-bin
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -1,0 +1,329 @@
+// nhc ensemble SCENE [--model M] --vary NAME=a:b:n [--vary …]
+//                    | --sample NAME=uniform(a,b)|normal(m,s) [--sample …] --samples N --seed S
+//              [--t-end T] [--outputs K] [--keep trajectories|final] [--resume] [--plot OUTCOME]
+//              [--threads N] -o FILE.h5
+//
+// Many runs of one model (docs/ensemble.md). Rank 0 derives and compiles the model once through
+// nhc::jit; the other ranks load the same shared object. Runs are handed out dynamically
+// (nhc/ensemble/scheduler.hpp) to the MPI ranks under mpirun, else to threads of this process.
+// Every run's outcome, final state, drift and statistics go to FILE.h5 (HDF5), which is
+// checkpointed while the ensemble runs so that --resume continues a killed one.
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <thread>
+
+#include "commands.hpp"
+#include "nhc/errors.hpp"
+#include "pipeline.hpp"
+
+#ifdef NHC_HAVE_ENSEMBLE
+#include <filesystem>
+#include <memory>
+
+#include "nhc/ensemble.hpp"
+#include "nhc/jit.hpp"
+#endif
+
+namespace nhc::cli {
+
+namespace {
+
+struct EnsembleOptions {
+  std::string scene_path, model, output, keep = "final", plot;
+  std::vector<std::string> vary, sample;
+  std::optional<long> samples;
+  std::uint64_t seed = 0;
+  std::optional<double> t_end, rtol, atol;
+  int outputs = 100;
+  int threads = 0;
+  double checkpoint_seconds = 10;
+  bool resume = false;
+};
+
+#ifndef NHC_HAVE_ENSEMBLE
+
+int run_ensemble(const EnsembleOptions&) {
+  std::cerr << "nhc: error: nhc ensemble needs HDF5, which was not found when nhc was built: install Debian's "
+               "libhdf5-dev (and libopenmpi-dev openmpi-bin for MPI; scripts/setup.sh installs them) and configure "
+               "again (cmake -S . -B build)\n";
+  return kExitInternal;
+}
+
+#else
+
+using namespace nhc::ensemble;
+
+/// What rank 0 prepares before any run: the model, the design, the settings, earlier records.
+struct Prepared {
+  std::unique_ptr<jit::LoadedModel> built;
+  RunSpec spec;
+  EnsembleResults results;
+  std::vector<std::int64_t> todo;
+  double build_seconds = 0;
+};
+
+[[noreturn]] void bad_flag(const std::string& where, const std::string& why) { throw InputError({where, 0, 0}, why); }
+
+/// The flags on their own, before the scene is read.
+void check_flags(const EnsembleOptions& o) {
+  if (o.output.empty()) bad_flag("-o", "nhc ensemble needs -o FILE.h5");
+  if (o.vary.empty() && o.sample.empty()) bad_flag("--vary", "nhc ensemble needs --vary NAME=a:b:n or --sample NAME=…");
+  if (!o.vary.empty() && !o.sample.empty())
+    bad_flag("--sample " + o.sample.front(), "--vary (a grid) and --sample (a random design) do not mix");
+  if (!o.sample.empty() && !o.samples) bad_flag("--sample " + o.sample.front(), "--sample needs --samples N");
+  if (o.sample.empty() && o.samples) bad_flag("--samples", "--samples needs --sample NAME=…");
+  if (o.keep != "final" && o.keep != "trajectories") bad_flag("--keep " + o.keep, "expected trajectories or final");
+  if (!(o.checkpoint_seconds > 0 && std::isfinite(o.checkpoint_seconds)))
+    bad_flag("--checkpoint-every", "S must be a positive number of seconds");
+  if (o.threads < 0) bad_flag("--threads " + std::to_string(o.threads), "N must be at least 1 (0: all cores)");
+  if (o.outputs < 1) bad_flag("--outputs " + std::to_string(o.outputs), "K must be at least 1");
+  if (o.t_end && !std::isfinite(*o.t_end)) bad_flag("--t-end", "T must be a finite number");
+  if (o.rtol && !(*o.rtol > 0 && std::isfinite(*o.rtol))) bad_flag("--rtol", "must be a positive number");
+  if (o.atol && !(*o.atol > 0 && std::isfinite(*o.atol))) bad_flag("--atol", "must be a positive number");
+}
+
+Design make_design(const EnsembleOptions& o) {
+  std::vector<VariableSpec> specs;
+  for (const std::string& v : o.vary) specs.push_back(parse_vary(v));
+  for (const std::string& s : o.sample) specs.push_back(parse_sample(s));
+  return o.vary.empty() ? make_sample(std::move(specs), *o.samples, o.seed) : make_grid(std::move(specs));
+}
+
+/// Earlier records of the same ensemble (--resume), else all pending.
+std::vector<RunRecord> earlier_records(const EnsembleOptions& o, const EnsembleInfo& info) {
+  if (o.resume && std::filesystem::exists(o.output)) {
+    EnsembleResults stored = read_results(o.output);
+    const std::string why = resume_mismatch(stored.info, info);
+    if (!why.empty())
+      bad_flag("--resume", o.output + " holds a different ensemble (" + why + "); remove it or leave out --resume");
+    return std::move(stored.records);
+  }
+  std::vector<RunRecord> records;
+  for (long k = 0; k < info.design.runs; ++k)
+    records.push_back(pending_record(k, static_cast<int>(info.state_names.size()), static_cast<int>(info.invariant_names.size())));
+  return records;
+}
+
+Prepared prepare(const EnsembleOptions& o, int ranks, int threads) {
+  const auto start = Clock::now();
+  check_flags(o);
+  Design design = make_design(o);
+  const Scene scene = load_scene(o.scene_path);
+  const ModelKind kind = model_or_default(scene, o.model);
+  const double t0 = scene.initial.t0, t_end = o.t_end.value_or(scene.simulate.t_end);
+  if (!(t_end > t0))
+    bad_flag("--t-end " + format_number(t_end, 17), "must be after t0 = " + format_number(t0, 17) + " of " + o.scene_path);
+  check_writable(o.output);
+
+  Prepared p;
+  p.built = std::make_unique<jit::LoadedModel>(jit::build(scene, kind));
+  const runtime::Model& model = p.built->model();
+  RunSpec& spec = p.spec;
+  spec.shared_object = p.built->library().path.string();
+  spec.parameters = model.default_parameters();
+  spec.initial = scene.initial.values;
+  spec.t0 = t0;
+  spec.t_end = t_end;
+  spec.outputs = o.outputs;
+  spec.rtol = o.rtol.value_or(scene.simulate.rtol);
+  spec.atol = o.atol.value_or(scene.simulate.atol);
+  spec.keep_trajectories = o.keep == "trajectories";
+  for (const VariableSpec& v : design.variables)
+    spec.targets.push_back(resolve_target(model, v.name, (o.vary.empty() ? "--sample " : "--vary ") + v.text));
+
+  EnsembleInfo& info = p.results.info;
+  info.scene = scene.name;
+  info.scene_file = o.scene_path;
+  info.model = to_string(kind);
+  info.nhc_version = NHC_VERSION;
+  info.rtol = spec.rtol;
+  info.atol = spec.atol;
+  info.t0 = t0;
+  info.t_end = t_end;
+  info.outputs = o.outputs;
+  info.keep_trajectories = spec.keep_trajectories;
+  for (int i = 0; i < model.n_states(); ++i) info.state_names.push_back(model.state_name(i));
+  for (int k = 0; k < model.n_invariants(); ++k) info.invariant_names.push_back(model.table().invariant_names[k]);
+  info.design = std::move(design);
+  info.ranks = ranks;
+  info.threads = threads;
+  if (!o.plot.empty()) {
+    const std::vector<std::string> names = outcome_names(info);
+    if (std::find(names.begin(), names.end(), o.plot) == names.end())
+      outcome_values(EnsembleResults{info, {}}, o.plot, "--plot");  // throws, naming the outcomes
+    if (info.design.variables.size() > 2)
+      bad_flag("--plot " + o.plot, "maps need a design of one or two variables, this one has " +
+                                      std::to_string(info.design.variables.size()));
+  }
+  p.results.records = earlier_records(o, info);
+  for (const RunRecord& r : p.results.records)
+    if (!r.finished()) p.todo.push_back(r.index);
+  p.build_seconds = seconds_since(start);
+  return p;
+}
+
+/// The exit code of the exception in flight, after printing it as main() does.
+int report(std::exception_ptr failure) {
+  try {
+    std::rethrow_exception(failure);
+  } catch (const InputError& e) {
+    std::cerr << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const MathError& e) {
+    std::cerr << "nhc: error: " << e.what() << "\n";
+    return kExitMathFailure;
+  } catch (const std::exception& e) {
+    std::cerr << "nhc: internal error: " << e.what() << "\n";
+    return kExitInternal;
+  }
+}
+
+/// Keeps FILE.h5 current while the ensemble runs: a checkpoint every `interval` seconds, or
+/// rarer when writing takes long (at most 5 % of the time goes to checkpoints).
+class Checkpoints {
+ public:
+  Checkpoints(const std::string& path, EnsembleResults& results, double interval)
+      : path_(path), results_(results), interval_(interval) {}
+  void maybe_write() {
+    if (!dirty_ || seconds_since(last_) < std::max(interval_, 20.0 * last_write_seconds_)) return;
+    const auto start = Clock::now();
+    write_results(path_, results_);
+    last_write_seconds_ = seconds_since(start);
+    last_ = Clock::now();
+    dirty_ = false;
+  }
+  void touched() { dirty_ = true; }
+
+ private:
+  std::string path_;
+  EnsembleResults& results_;
+  double interval_;
+  Clock::time_point last_ = Clock::now();
+  double last_write_seconds_ = 0;
+  bool dirty_ = false;
+};
+
+void print_summary(const EnsembleResults& r, const Prepared& p, long ran, double run_seconds, int workers,
+                   const std::string& output) {
+  long count[4] = {0, 0, 0, 0};
+  for (const RunRecord& rec : r.records) ++count[static_cast<int>(rec.outcome)];
+  double integration = 0;  // of the runs made now (not those resumed from the file)
+  for (std::int64_t i : p.todo) integration += r.records[static_cast<std::size_t>(i)].seconds;
+  const EnsembleInfo& i = r.info;
+  std::cout << "nhc ensemble: " << i.scene << ", model " << i.model << ", " << i.design.runs << " runs ("
+            << (i.design.kind == Design::Kind::grid ? "grid" : "sample") << " of " << i.design.variables.size()
+            << " variable" << (i.design.variables.size() == 1 ? "" : "s") << "), t from " << i.t0 << " to " << i.t_end
+            << "\n  " << count[1] << " ok, " << count[2] << " stopped at a singular point, " << count[3] << " failed";
+  if (count[0] > 0) std::cout << ", " << count[0] << " not run";
+  std::cout << "\n  ran " << ran << " (" << (i.design.runs - ran) << " finished before) on " << i.ranks << " rank"
+            << (i.ranks == 1 ? "" : "s") << " x " << i.threads << " thread" << (i.threads == 1 ? "" : "s")
+            << "; build " << format_number(p.build_seconds) << " s, runs " << format_number(run_seconds) << " s";
+  if (ran > 0 && run_seconds > 0) {
+    const double per_run = integration / ran, overhead = std::max(0.0, run_seconds * workers - integration) / ran;
+    std::cout << " (" << format_number(ran / run_seconds, 4) << " runs/s; per run: integration "
+              << format_number(per_run * 1e3, 4) << " ms, overhead " << format_number(overhead * 1e3, 3) << " ms = "
+              << format_number(100 * overhead / per_run, 3) << " %)";
+  }
+  if (i.ranks > 1) {  // how the dynamic scheduling spread the runs made now
+    std::vector<long> per_rank(static_cast<std::size_t>(i.ranks), 0);
+    for (std::int64_t k : p.todo) {
+      const int rank = r.records[static_cast<std::size_t>(k)].rank;
+      if (rank >= 0 && rank < i.ranks) ++per_rank[static_cast<std::size_t>(rank)];
+    }
+    std::cout << "\n  runs per rank:";
+    for (std::size_t k = 0; k < per_rank.size(); ++k) std::cout << (k ? ", " : " ") << per_rank[k];
+  }
+  std::cout << "\n  wrote " << output << "\n";
+}
+
+int run_ensemble(const EnsembleOptions& o) {
+  Session session;
+  const int threads = session.uses_mpi() ? 1 : o.threads > 0 ? o.threads : std::max(1u, std::thread::hardware_concurrency());
+  Prepared p;
+  int status = kExitOk;
+  if (session.is_root()) {
+    try {
+      p = prepare(o, session.size(), threads);
+    } catch (...) {
+      status = report(std::current_exception());
+    }
+  }
+  status = session.broadcast(status);
+  if (status != kExitOk) return status;
+
+  // Every rank integrates the same shared object; only rank 0 derived and compiled it.
+  std::vector<char> bytes;
+  if (session.is_root()) bytes = encode(p.spec);
+  session.broadcast(bytes);
+  const RunSpec spec = session.is_root() ? p.spec : decode_spec(bytes);
+  const runtime::Model model = session.is_root() ? p.built->model() : runtime::Model::load(spec.shared_object);
+
+  EnsembleResults& results = p.results;
+  Checkpoints checkpoints(o.output, results, o.checkpoint_seconds);
+  ScheduleOptions schedule_options;
+  schedule_options.threads = threads;
+  schedule_options.values_per_run = static_cast<int>(spec.targets.size());
+  schedule_options.values = [&results](std::int64_t i) { return results.info.design.row(i); };
+  schedule_options.on_records = [&](std::vector<RunRecord>&& records) {
+    for (RunRecord& r : records) results.records[static_cast<std::size_t>(r.index)] = std::move(r);
+    checkpoints.touched();
+  };
+  schedule_options.on_idle = [&] { checkpoints.maybe_write(); };
+  const auto start = Clock::now();
+  const RunFunction run = [&model, &spec](std::int64_t index, const double* values) {
+    return run_one(model, spec, index, values);
+  };
+  try {
+    schedule(session, p.todo, run, schedule_options);
+    if (!session.is_root()) return kExitOk;
+    results.info.wall_seconds = seconds_since(start);
+    write_results(o.output, results);
+  } catch (...) {
+    const int code = report(std::current_exception());
+    session.abort(code);  // under MPI: the workers would wait for rank 0 for ever
+    return code;
+  }
+  const int workers = session.uses_mpi() ? session.size() : threads;
+  print_summary(results, p, static_cast<long>(p.todo.size()), results.info.wall_seconds, workers, o.output);
+  if (!o.plot.empty())
+    for (const std::string& image : plot_outcome(results, o.plot, default_plot_stem(o.output, o.plot), "--plot"))
+      std::cout << "  wrote " << image << "\n";
+  return kExitOk;
+}
+
+#endif
+
+}  // namespace
+
+CommandRunner add_ensemble_command(CLI::App& app) {
+  auto o = std::make_shared<EnsembleOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "ensemble", "many runs of one model over a grid or a random sample of parameters and initial values "
+                  "(threads, or MPI ranks under mpirun), results in HDF5");
+  sub->add_option("SCENE", o->scene_path, "scene file (TOML)")->required();
+  sub->add_option("--model,-m", o->model, "model (default: the scene's [simulate] model, else chetaev)")
+      ->check(CLI::IsMember(model_names()));
+  sub->add_option("--vary", o->vary, "NAME=a:b:n: n values from a to b (a parameter, or an initial value x'(0)); "
+                                     "repeated: the Cartesian product")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  sub->add_option("--sample", o->sample, "NAME=uniform(a,b) or NAME=normal(m,s): a random design (repeatable)")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  sub->add_option("--samples", o->samples, "N: number of random samples");
+  sub->add_option("--seed", o->seed, "S: the seed fixing every sample (default 0)");
+  sub->add_option("--t-end", o->t_end, "final time (default: [simulate] t_end)");
+  sub->add_option("--rtol", o->rtol, "relative tolerance (default: [simulate] rtol)");
+  sub->add_option("--atol", o->atol, "absolute tolerance (default: [simulate] atol)");
+  sub->add_option("--outputs", o->outputs, "K: output intervals per run, for drift and trajectories (default 100)");
+  sub->add_option("--keep", o->keep, "final (default): final states only; trajectories: also the sampled states");
+  sub->add_option("-o,--output", o->output, "FILE.h5, the results (HDF5)");
+  sub->add_flag("--resume", o->resume, "continue the ensemble in FILE.h5: skip its finished runs");
+  sub->add_option("--plot", o->plot, "OUTCOME (t_stop, final:x, drift:energy, …): also draw FILE_OUTCOME.svg/.png");
+  sub->add_option("--checkpoint-every", o->checkpoint_seconds, "S: rewrite FILE.h5 every S seconds while running (default 10)");
+  sub->add_option("--threads", o->threads, "worker threads without mpirun (default 0: all cores)");
+  return [o]() { return run_ensemble(*o); };
+}
+
+}  // namespace nhc::cli

@@ -1,0 +1,62 @@
+#pragma once
+/// \file results_file.hpp
+/// \brief An ensemble in an HDF5 file (serial HDF5 C API, written by one process): the design,
+/// one record per run, the settings as attributes. Layout (docs/ensemble.md):
+///
+///   /                 attributes: format, scene, scene_file, model, nhc_version, rtol, atol, t0,
+///                     t_end, outputs, keep, design, seed, runs, finished; timings: ranks,
+///                     threads, wall_seconds
+///   /design/names     string[v]              /design/specs  string[v] (the flags' arguments)
+///   /design/values    double[runs][v]        /design/grid_shape int64[v] (grids)
+///   /runs/outcome     enum int8 {pending, ok, singular, failed}[runs]
+///   /runs/t_stop, /runs/hidden_drift, /runs/seconds  double[runs]
+///   /runs/message     string[runs]           /runs/steps int64[runs]   /runs/rank int32[runs]
+///   /runs/final_state double[runs][states]   /runs/state_names string[states]
+///   /runs/invariant_drift double[runs][invariants]  /runs/invariant_names string[invariants]
+///   /trajectories/t   double[outputs+1]      /trajectories/y double[runs][outputs+1][states]
+///
+/// Written to a temporary file beside the target and renamed, so a reader (or a killed
+/// ensemble) never sees half a file.
+
+#include <string>
+#include <vector>
+
+#include "nhc/ensemble/design.hpp"
+#include "nhc/ensemble/run.hpp"
+
+namespace nhc::ensemble {
+
+inline constexpr const char* kFormat = "nhc-ensemble 1";
+
+struct EnsembleInfo {
+  std::string scene, scene_file, model, nhc_version;
+  double rtol = 0, atol = 0, t0 = 0, t_end = 0;
+  int outputs = 0;
+  bool keep_trajectories = false;
+  std::vector<std::string> state_names, invariant_names;
+  Design design;
+  // Timings and placement: differ between runs of the same ensemble.
+  int ranks = 1, threads = 1;
+  double wall_seconds = 0;
+};
+
+struct EnsembleResults {
+  EnsembleInfo info;
+  std::vector<RunRecord> records;  ///< one per run, by index; pending when not run yet
+
+  long finished() const;
+};
+
+/// Writes `results` atomically. Throws InputError (flag -o) when the file cannot be written.
+void write_results(const std::string& path, const EnsembleResults& results);
+
+/// Reads a file written by write_results(). Throws InputError naming the file when it is not one.
+EnsembleResults read_results(const std::string& path);
+
+/// Throws InputError (flag -o) unless a file can be created beside `path`; creates nothing.
+void check_writable(const std::string& path);
+
+/// Why `stored` is not the same ensemble as `wanted` (scene, model, settings, design), or "".
+std::string resume_mismatch(const EnsembleInfo& stored, const EnsembleInfo& wanted);
+
+}  // namespace nhc::ensemble
