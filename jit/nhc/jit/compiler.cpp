@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cctype>
 #include <cinttypes>
 #include <cstdio>
 #include <cstdlib>
@@ -11,6 +12,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "nhc/emit/model_table_text.hpp"
 #include "nhc/io/shell.hpp"
 #include "nhc/io/temporary_files.hpp"
 #include "nhc/jit/subprocess.hpp"
@@ -62,6 +64,26 @@ void write_text(const fs::path& path, const std::string& text) {
   if (!file) throw std::runtime_error("cannot write " + path.string());
 }
 
+/// `dir`/include/nhc/runtime/model_table.h (the embedded text of the one definition), for
+/// hand-written headers that include it; returns `dir`/include. Written through a temporary
+/// name and renamed: concurrent runs write the same bytes.
+fs::path table_include_directory(const fs::path& dir) {
+  const fs::path include = dir / "include";
+  const fs::path header = include / "nhc" / "runtime" / "model_table.h";
+  std::ifstream existing(header);
+  std::ostringstream present;
+  present << existing.rdbuf();
+  if (existing && present.str() == model_table_text()) return include;
+  std::error_code ec;
+  fs::create_directories(header.parent_path(), ec);
+  if (ec) throw std::runtime_error("cannot create " + header.parent_path().string() + ": " + ec.message());
+  const TemporaryFile temporary(unique_temporary_name(header.string()));
+  write_text(temporary.path(), model_table_text());
+  fs::rename(temporary.path(), header, ec);
+  if (ec) throw std::runtime_error("cannot write " + header.string() + ": " + ec.message());
+  return include;
+}
+
 }  // namespace
 
 fs::path default_cache_directory() {
@@ -78,19 +100,21 @@ CompiledLibrary compile_header(const std::string& header_text, const std::string
   const std::string compiler = options.compiler.empty() ? NHC_CXX_COMPILER : options.compiler;
   std::string version;
   run_process({compiler, "--version"}, version);
-  std::vector<std::string> flags = options.flags;
-  for (std::string& f : contract_flags(version)) flags.push_back(std::move(f));
-  std::string flag_text;
-  for (const std::string& f : flags) flag_text += f + " ";
-  char key[17];
-  std::snprintf(key, sizeof key, "%016" PRIx64,
-                fnv1a(std::string(NHC_VERSION) + "\n" + compiler + "\n" + version + "\n" + flag_text + "\n" +
-                      header_text));
-
   const fs::path dir = options.cache_directory.empty() ? default_cache_directory() : options.cache_directory;
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) throw std::runtime_error("cannot create the cache directory " + dir.string() + ": " + ec.message());
+  std::vector<std::string> flags = options.flags;
+  for (std::string& f : contract_flags(version)) flags.push_back(std::move(f));
+  for (const fs::path& include : options.include_directories) flags.push_back("-I" + include.string());
+  flags.push_back("-I" + table_include_directory(dir).string());
+  std::string flag_text;
+  for (const std::string& f : flags) flag_text += f + " ";
+  char key[17];
+  std::snprintf(key, sizeof key, "%016" PRIx64,
+                fnv1a(std::string(NHC_VERSION) + "\n" + model_table_text() + "\n" + compiler + "\n" + version + "\n" + flag_text + "\n" +
+                      header_text));
+
   const std::string stem = label + "-" + key;
   const fs::path library = dir / (stem + ".so");
   if (fs::exists(library)) return {library, true, elapsed()};
@@ -134,7 +158,11 @@ CompiledLibrary compile_header_file(const fs::path& header, const CompileOptions
   std::string label = header.stem().string();
   for (char& c : label)
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) c = '_';
-  return compile_header(text.str(), label, options);
+  // Its own directory first: a hand-written header may include files next to it.
+  CompileOptions with_directory = options;
+  with_directory.include_directories.insert(with_directory.include_directories.begin(),
+                                            fs::absolute(header).parent_path());
+  return compile_header(text.str(), label, with_directory);
 }
 
 }  // namespace nhc::jit

@@ -18,6 +18,9 @@ struct CompileOptions {
   /// Optimization and extra flags; the flags the contract needs (-std=c++17 -fPIC -shared,
   /// hidden visibility) are always added.
   std::vector<std::string> flags{"-O2"};
+  /// Extra include directories (-I), searched before the one that provides
+  /// nhc/runtime/model_table.h (always added: hand-written headers include it).
+  std::vector<std::filesystem::path> include_directories;
   /// Empty: default_cache_directory().
   std::filesystem::path cache_directory;
 };
@@ -40,7 +43,8 @@ struct CompiledLibrary {
 CompiledLibrary compile_header(const std::string& header_text, const std::string& label,
                                const CompileOptions& options = {});
 
-/// A header file on disk (e.g. a hand-written model), compiled as compile_header() does.
+/// A header file on disk (e.g. a hand-written model), compiled as compile_header() does, with
+/// its own directory on the include path.
 CompiledLibrary compile_header_file(const std::filesystem::path& header, const CompileOptions& options = {});
 
 }  // namespace nhc::jit
