@@ -24,40 +24,7 @@
 #error "define NHC_BENCH_CHAIN_N (the number of knife edges) before including knife_chain_handwritten.hpp"
 #endif
 
-#ifndef NHC_MODEL_TABLE_DEFINED
-#define NHC_MODEL_TABLE_DEFINED
-extern "C" {
-struct nhc_model_table {
-  int abi_version;
-  const char* scene_name;
-  const char* model_name;
-  int n_states, n_parameters, n_coordinates, n_multipliers, n_hidden, n_invariants, n_reference;
-  const char* const* state_names;
-  const int* state_variable;
-  const int* state_order;
-  const double* differential_id;
-  const char* const* parameter_names;
-  const double* default_parameters;
-  const char* const* hidden_names;
-  const char* const* invariant_names;
-  const int* reference_coordinate;
-  void (*residual)(double, const double*, const double*, const double*, double*);
-  void (*jacobian)(double, const double*, const double*, double, const double*, double*);
-  int jacobian_nnz;
-  const int* jacobian_colptr;
-  const int* jacobian_rowind;
-  void (*jacobian_values)(double, const double*, const double*, double, const double*, double*);
-  void (*hidden_constraints)(double, const double*, const double*, double*);
-  void (*hidden_constraints_jacobian)(double, const double*, const double*, double*);
-  void (*invariants)(double, const double*, const double*, const double*, double*);
-  void (*reference)(double, const double*, double*);
-  const char* const* residual_names;
-  int n_singular;
-  const char* const* singular_names;
-  void (*singular_quantities)(double, const double*, const double*, double*);
-};
-}
-#endif
+#include "nhc/runtime/model_table.h"
 
 namespace nhc_gen::knife_chain_chetaev {
 
@@ -308,15 +275,41 @@ inline void hidden_constraints_jacobian(double /*t*/, const double* y, const dou
   }
 }
 
+/// The C table (nhc/runtime/model_table.h), filled by field name; the rest stays zero.
+inline nhc_model_table make_model_table() noexcept {
+  nhc_model_table t{};
+  t.abi_version = 2;
+  t.scene_name = scene_name;
+  t.model_name = model_name;
+  t.n_states = n_states;
+  t.n_parameters = n_parameters;
+  t.n_coordinates = n_coordinates;
+  t.n_multipliers = n_multipliers;
+  t.n_hidden = n_hidden;
+  t.n_invariants = n_invariants;
+  t.n_reference = n_reference;
+  t.state_names = names().state;
+  t.state_variable = state_variable;
+  t.state_order = state_order;
+  t.differential_id = differential_id;
+  t.parameter_names = parameter_names;
+  t.default_parameters = default_parameters;
+  t.hidden_names = names().hidden;
+  t.residual = &residual;
+  t.jacobian = &jacobian;
+  t.jacobian_nnz = jacobian_nnz;
+  t.jacobian_colptr = jacobian_colptr;
+  t.jacobian_rowind = jacobian_rowind;
+  t.jacobian_values = &jacobian_values;
+  t.hidden_constraints = &hidden_constraints;
+  t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
+  t.residual_names = names().residual;
+  t.n_singular = n_singular;
+  return t;
+}
+
 inline const nhc_model_table* model_table() noexcept {
-  static const nhc_model_table table = {
-      2, scene_name, model_name,
-      n_states, n_parameters, n_coordinates, n_multipliers, n_hidden, n_invariants, n_reference,
-      names().state, state_variable, state_order, differential_id, parameter_names, default_parameters,
-      names().hidden, nullptr, nullptr,
-      &residual, &jacobian, jacobian_nnz, jacobian_colptr, jacobian_rowind, &jacobian_values,
-      &hidden_constraints, &hidden_constraints_jacobian, nullptr, nullptr,
-      names().residual, n_singular, nullptr, nullptr};
+  static const nhc_model_table table = make_model_table();
   return &table;
 }
 

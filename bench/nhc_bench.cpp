@@ -5,14 +5,15 @@
 //
 // 1. derive + analyse (Pryce, index-1 reduction) + generate the header, timed per stage (best of
 //    several runs when one is short); operation counts before/after CSE, per function;
-// 2. compile the header into a shared object as `nhc simulate` does (-std=c++17 -O2 -fPIC
-//    -shared), timed;
+// 2. compile the header into a shared object with nhc::jit, as `nhc simulate` does (a fresh
+//    cache under --out, so that the compile is timed, not a cache hit);
 // 3. load it, initialize consistently from the scene's [initial] and integrate to t_end with IDA
 //    (KLU when the Jacobian is sparse), timed (best of several runs); steps and evaluations;
 // 4. time one residual and one Jacobian evaluation at the consistent initial point;
 // 5. with --handwritten: compile the hand-written header (docs/generated-code.md contract, same
-//    state layout) with the same flags and do 3 and 4 for it too, from the same initial state, and
-//    report how far its final state is from the generated one's.
+//    state layout) with nhc::jit and the same flags and do 3 and 4 for it too, from the same
+//    initial state, and report how far its final state is from the generated one's (the two
+//    tables must be distinct: different addresses, else the comparison would be of one code).
 // --quick: one run of everything (smoke test). bench/run.sh turns the JSON into bench/results.md.
 #include <sys/wait.h>
 #include <unistd.h>
@@ -36,13 +37,9 @@
 #include "nhc/derive/models.hpp"
 #include "nhc/emit/cse.hpp"
 #include "nhc/emit/header_emitter.hpp"
-#include "nhc/io/shell.hpp"
+#include "nhc/jit.hpp"
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/scene/scene.hpp"
-
-#ifndef NHC_CXX_COMPILER
-#define NHC_CXX_COMPILER "c++"
-#endif
 
 namespace {
 
@@ -91,22 +88,6 @@ Options parse(int argc, char** argv) {
   if (o.scene.empty()) usage("no scene");
   if (o.jacobian != "auto" && o.jacobian != "dense" && o.jacobian != "sparse") usage("bad --jacobian");
   return o;
-}
-
-using nhc::run_command;
-using nhc::shell_quote;
-
-/// Compiles `source` (a header) into `library` the way `nhc simulate` does; returns the seconds.
-double compile(const std::string& source, const std::string& library, const std::vector<std::string>& defines) {
-  std::string command = shell_quote(NHC_CXX_COMPILER) + " -std=c++17 -O2 -fPIC -shared -DNHC_EXPORT_MODEL_TABLE";
-  for (const auto& d : defines) command += " " + shell_quote("-D" + d);
-  command += " -x c++ -o " + shell_quote(library) + " " + shell_quote(source);
-  std::string messages;
-  const auto start = Clock::now();
-  const int status = run_command(command, messages);
-  const double seconds = seconds_since(start);
-  if (status != 0) throw std::runtime_error("compiler failed:\n  " + command + "\n" + messages);
-  return seconds;
 }
 
 /// Best time of `f` over repetitions: at least one, more while the total stays under `budget`
@@ -306,15 +287,13 @@ int run(const Options& o) {
   int n_states = 0;
   std::pair<long long, long long> joint_ops;
   bool sparse = false;
-  std::string model_name;
+  nhc::ModelKind kind_built = nhc::ModelKind::chetaev;
   auto pipeline = [&](bool record) {
     auto t0 = Clock::now();
     const nhc::Scene scene = nhc::load_scene(o.scene);
     const double a = seconds_since(t0);
     t0 = Clock::now();
-    nhc::ModelKind kind = nhc::ModelKind::chetaev;
-    if (!o.model.empty()) kind = *nhc::parse_model_kind(o.model);
-    else if (scene.simulate.model) kind = *scene.simulate.model;
+    const nhc::ModelKind kind = nhc::model_or_default(scene, o.model);
     const nhc::DerivedModel derived = nhc::derive_model(scene, kind);
     if (!derived.applicable) throw std::runtime_error("model not applicable: " + derived.reason);
     const double b = seconds_since(t0);
@@ -323,8 +302,10 @@ int run(const Options& o) {
     const double c = seconds_since(t0);
     t0 = Clock::now();
     nhc::HeaderOptions ho;
-    sparse = o.jacobian == "sparse" || (o.jacobian == "auto" && nhc::default_jacobian_kind(system.size()) == nhc::JacobianKind::sparse);
-    ho.jacobian = sparse ? nhc::JacobianKind::sparse : nhc::JacobianKind::dense;
+    ho.jacobian = o.jacobian == "auto"    ? nhc::default_jacobian_kind(system.size())
+                  : o.jacobian == "sparse" ? nhc::JacobianKind::sparse
+                                           : nhc::JacobianKind::dense;
+    sparse = ho.jacobian == nhc::JacobianKind::sparse;
     nhc::GeneratedHeader h = nhc::generate_header(scene, system, ho);
     const double d = seconds_since(t0);
     if (record || a + b + c + d < load_s + derive_s + analyse_s + generate_s) {
@@ -333,7 +314,7 @@ int run(const Options& o) {
     if (record) {
       header = std::move(h);
       n_states = system.size();
-      model_name = nhc::to_string(kind);
+      kind_built = kind;
       joint_ops = joint_residual_jacobian_ops(system);
     }
   };
@@ -353,13 +334,18 @@ int run(const Options& o) {
     if (!f) throw std::runtime_error("cannot write " + header_path);
   }
 
-  // 2. compile.
-  const std::string library = (fs::path(o.out) / (header.namespace_name + ".so")).string();
-  const double compile_s = compile(header_path, library, {});
+  // 2. compile (nhc::jit, in a cache of this run's own: a compile, not a cache hit).
+  nhc::jit::CompileOptions compile_options;
+  compile_options.cache_directory = fs::path(o.out) / "jit-cache";
+  fs::remove_all(compile_options.cache_directory, ec);
+  const nhc::jit::LoadedModel loaded = nhc::jit::load_header(
+      header, kind_built, sparse ? nhc::JacobianKind::sparse : nhc::JacobianKind::dense, compile_options);
+  const double compile_s = loaded.library().seconds;
+  const std::string model_name = nhc::to_string(kind_built);
 
   // 3, 4. integrate.
   const nhc::Scene scene = nhc::load_scene(o.scene);
-  const nhc::runtime::Model model = nhc::runtime::Model::load(library);
+  const nhc::runtime::Model& model = loaded.model();
   const nhc::runtime::InitialState initial =
       nhc::runtime::initial_state_from(model, scene.initial.t0, scene.initial.values);
   nhc::runtime::IntegratorOptions io;
@@ -372,10 +358,17 @@ int run(const Options& o) {
   std::optional<nhc::runtime::Model> hw;
   Integration hand;
   double hw_compile_s = 0;
+  std::string hw_library_name;
   if (!o.handwritten.empty()) {
-    const std::string hw_library = (fs::path(o.out) / (header.namespace_name + "_handwritten.so")).string();
-    hw_compile_s = compile(o.handwritten, hw_library, o.defines);
-    hw = nhc::runtime::Model::load(hw_library);
+    nhc::jit::CompileOptions hw_options = compile_options;
+    for (const std::string& d : o.defines) hw_options.flags.push_back("-D" + d);
+    const nhc::jit::CompiledLibrary hw_library = nhc::jit::compile_header_file(o.handwritten, hw_options);
+    hw_compile_s = hw_library.seconds;
+    hw_library_name = hw_library.path.filename().string();
+    hw = nhc::runtime::Model::load(hw_library.path.string());
+    if (&hw->table() == &model.table())
+      throw std::runtime_error("the hand-written and the generated model share one table: the comparison would be "
+                               "of one code with itself");
     if (hw->n_states() != model.n_states())
       throw std::runtime_error("the hand-written model has " + std::to_string(hw->n_states()) + " states, the generated " +
                                std::to_string(model.n_states()));
@@ -424,6 +417,8 @@ int run(const Options& o) {
   // 5. the hand-written limit.
   if (hw) {
     json.number("handwritten_compile_s", hw_compile_s);
+    json.text("handwritten_library", hw_library_name);
+    json.text("generated_library", fs::path(loaded.library().path).filename().string());
     report_integration(json, "handwritten_", hand);
     double diff = 0, scale = 0;
     const std::vector<double>& hy = hand.run.samples.back().y;

@@ -23,9 +23,19 @@
 
 #include <cmath>
 
+/* nhc runtime: the C table through which a compiled model is loaded from a shared object.
+ * The one definition: every header `nhc generate` writes embeds this file verbatim (taken at
+ * build time, docs/generated-code.md), hand-written models include it; the guard keeps a second
+ * copy out. Fill it by field name (zero-initialize, then assign), never by position.
+ * abi_version 1: the fields up to `reference`. abi_version 2 appends the fields of the section
+ * "Runtime additions" of docs/generated-code.md; read them only when abi_version >= 2. */
 #ifndef NHC_MODEL_TABLE_DEFINED
 #define NHC_MODEL_TABLE_DEFINED
+
+#ifdef __cplusplus
 extern "C" {
+#endif
+
 struct nhc_model_table {
   int abi_version;
   const char* scene_name;
@@ -50,13 +60,18 @@ struct nhc_model_table {
   void (*hidden_constraints_jacobian)(double, const double*, const double*, double*);
   void (*invariants)(double, const double*, const double*, const double*, double*);
   void (*reference)(double, const double*, double*);
+  /* abi_version >= 2 (Runtime additions) */
   const char* const* residual_names;
   int n_singular;
   const char* const* singular_names;
   void (*singular_quantities)(double, const double*, const double*, double*);
 };
+
+#ifdef __cplusplus
 }
 #endif
+
+#endif /* NHC_MODEL_TABLE_DEFINED */
 
 namespace nhc_gen::appell_hamel_near_singular_chetaev {
 
@@ -165,43 +180,43 @@ inline void singular_quantities(double /*t*/, const double* y, const double* /*p
   s[0] = y[1] * y[1] + y[3] * y[3];
 }
 
-/// Everything above as the C table of docs/generated-code.md.
+/// Everything above as the C table of docs/generated-code.md, filled by field name.
+inline nhc_model_table make_model_table() noexcept {
+  nhc_model_table t{};
+  t.abi_version = 2;
+  t.scene_name = scene_name;
+  t.model_name = model_name;
+  t.n_states = n_states;
+  t.n_parameters = n_parameters;
+  t.n_coordinates = n_coordinates;
+  t.n_multipliers = n_multipliers;
+  t.n_hidden = n_hidden;
+  t.n_invariants = n_invariants;
+  t.n_reference = n_reference;
+  t.state_names = state_names;
+  t.state_variable = state_variable;
+  t.state_order = state_order;
+  t.differential_id = differential_id;
+  t.parameter_names = parameter_names;
+  t.default_parameters = default_parameters;
+  t.hidden_names = hidden_names;
+  t.invariant_names = invariant_names;
+  t.reference_coordinate = reference_coordinate;
+  t.residual = &residual;
+  t.jacobian = &jacobian;
+  t.hidden_constraints = &hidden_constraints;
+  t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
+  t.invariants = &invariants;
+  t.reference = &reference;
+  t.residual_names = residual_names;
+  t.n_singular = n_singular;
+  t.singular_names = singular_names;
+  t.singular_quantities = &singular_quantities;
+  return t;
+}
+
 inline const nhc_model_table* model_table() noexcept {
-  static const nhc_model_table table = {
-      2,
-      scene_name,
-      model_name,
-      n_states,
-      n_parameters,
-      n_coordinates,
-      n_multipliers,
-      n_hidden,
-      n_invariants,
-      n_reference,
-      state_names,
-      state_variable,
-      state_order,
-      differential_id,
-      parameter_names,
-      default_parameters,
-      hidden_names,
-      invariant_names,
-      reference_coordinate,
-      &residual,
-      &jacobian,
-      0,
-      nullptr,
-      nullptr,
-      nullptr,
-      &hidden_constraints,
-      &hidden_constraints_jacobian,
-      &invariants,
-      &reference,
-      residual_names,
-      n_singular,
-      singular_names,
-      &singular_quantities,
-  };
+  static const nhc_model_table table = make_model_table();
   return &table;
 }
 

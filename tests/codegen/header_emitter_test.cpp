@@ -102,11 +102,12 @@ TEST_CASE("scene text cannot escape the banner comments", "[codegen]") {
   const std::string evil_path = "dir/evil*/\n#error escaped?\?/\\\n.toml";
   const auto g = generate(kPendulumLike, evil_path, nhc::ModelKind::chetaev,
                           nhc::JacobianKind::dense);
-  CHECK(!contains(g.header.text, "*/\n"));
+  // Every banner line is a // comment (the embedded C table, nhc/runtime/model_table.h, has
+  // /* */ comments of its own, so the checks look at the banner).
+  const std::string banner = g.header.text.substr(0, g.header.text.find("\n\n#pragma once"));
+  CHECK(!contains(banner, "*/\n"));
   CHECK(!contains(g.header.text, "\n#error"));
   CHECK(!contains(g.header.text, "\\\n"));
-  // Every banner line is a // comment.
-  const std::string banner = g.header.text.substr(0, g.header.text.find("\n\n#pragma once"));
   size_t start = 0;
   while (start < banner.size()) {
     const size_t end = banner.find('\n', start);

@@ -3,8 +3,10 @@
 #   1. cmake --install the build tree into WORK/prefix; nhc --version and the package version
 #      are the project version;
 #   2. configure examples/app against that prefix only (no package registry), build it
-#      (nhc_add_model runs the installed nhc), run `app` and `describe`, and check their numbers
-#      against the closed forms computed here: Appell–Hamel stops at t* = v0 (a^2+b^2)/(g a b);
+#      (nhc_add_model runs the installed nhc), run `app`, `describe` and `jit_app` (two scenes of
+#      one name built in code, JIT-compiled by the installed nhc::jit into a cache of its own), and
+#      check their numbers against the closed forms computed here: Appell–Hamel stops at
+#      t* = v0 (a^2+b^2)/(g a b);
 #   3. edit the scene (b = 0.5 -> 0.25), rebuild: only that header is regenerated, and the app
 #      then stops at the new t*.
 # usage: install_test.sh SOURCE_DIR BUILD_DIR WORK_DIR CMAKE CXX VERSION
@@ -31,6 +33,7 @@ cd "$work"
 "$cmake" --install "$build" --prefix "$work/prefix" > install.log
 for f in bin/nhc include/nhc/codegen.hpp include/nhc/scene/scene_builder.hpp \
          include/nhc/runtime/runtime.hpp include/nhc/runtime/model_table.h \
+         include/nhc/jit.hpp include/nhc/jit/build.hpp \
          lib/cmake/nhc/nhcConfig.cmake lib/cmake/nhc/nhcConfigVersion.cmake \
          lib/cmake/nhc/nhcTargets.cmake lib/cmake/nhc/nhcFunctions.cmake; do
   [ -e "prefix/$f" ] || fail "prefix/$f was not installed"
@@ -77,6 +80,23 @@ grep -q "describe: index 2, .*: OK" app/describe.out || fail "describe"
 check "describe lambda1(0)" "$(sed -n "s/.*lambda1(0) = \([^ ]*\).*/\1/p" app/describe.out)" \
   "$(awk 'BEGIN { printf "%.12f", 9.81 / 1.25 }')" 1e-9
 [ -s app/appell_hamel_chetaev.tex ] && [ -s app/appell_hamel_chetaev.hpp ] || fail "describe wrote no files"
+
+# jit_app: scene in code -> nhc::jit::build -> integrate, twice, for b = 0.5 and b = 0.25.
+NHC_CACHE_DIR="$work/jit-cache" app/jit_app > jit.out || { cat jit.out; fail "jit_app exited with $?"; }
+cat jit.out
+grep -q "tables distinct" jit.out || fail "jit_app: the two models share a table"
+for b in 0.5 0.25; do
+  line=$(grep "^jit b = $b:" jit.out) || fail "jit_app printed no line for b = $b"
+  # z'(0.9 t*) = k v0 (1 - 0.9) with k = b/a, v0 = |(1, 0.5)|
+  check "jit_app z'(0.9 t*) for b = $b" "$(echo "$line" | sed -n "s/.*z'(t_end) = \([^ ]*\).*/\1/p")" \
+    "$(awk -v b="$b" 'BEGIN { printf "%.12f", b * sqrt(1.25) * 0.1 }')" 1e-7
+  check "jit_app max_relative_error for b = $b" "$(value max_relative_error <(echo "$line"))" 0 1e-6
+done
+grep -q "^jit OK$" jit.out || fail "jit_app"
+for so in "$work"/jit-cache/*.so; do
+  if readelf -Ws "$so" | grep -q " UNIQUE "; then fail "$so has an STB_GNU_UNIQUE symbol"; fi
+done
+[ "$(ls "$work"/jit-cache/*.so | wc -l)" = 2 ] || fail "jit_app should have built two shared objects"
 
 # 3. Edit the scene: the next build regenerates its header (and only it), the app follows.
 sed -i 's/^b = 0.5$/b = 0.25/' appell_hamel.toml

@@ -13,6 +13,7 @@
 
 #include "nhc/analysis/index1_system.hpp"
 #include "nhc/emit/cse.hpp"
+#include "nhc/emit/model_preparation.hpp"
 #include "nhc/scene/scene.hpp"
 
 namespace nhc {
@@ -27,36 +28,6 @@ inline constexpr int kSparseJacobianFromStates = 40;
 inline JacobianKind default_jacobian_kind(int n_states) {
   return n_states >= kSparseJacobianFromStates ? JacobianKind::sparse : JacobianKind::dense;
 }
-
-/// J = dF/dy + cj dF/dy' of the index-1 residual (SUNDIALS IDA's iteration matrix), with its
-/// compressed-column structure: the entries that are not identically zero after GiNaC's
-/// automatic simplification.
-struct SymbolicJacobian {
-  GiNaC::realsymbol cj{"cj"};
-  int size = 0;
-  std::vector<GiNaC::ex> entries;  ///< column-major size × size
-  std::vector<int> colptr;         ///< size + 1
-  std::vector<int> rowind;         ///< colptr.back()
-};
-SymbolicJacobian index1_jacobian(const Index1System& system);
-
-/// G = dg/dy of the hidden constraints, column-major n_hidden × n_states.
-std::vector<GiNaC::ex> hidden_constraint_jacobian(const Index1System& system);
-
-/// The scene's invariants with every jet symbol rewritten as a state (Index1System::jet_to_state).
-/// Throws MathError naming the invariant when it involves a derivative the states do not hold.
-std::vector<GiNaC::ex> invariants_in_states(const Scene& scene, const Index1System& system);
-
-/// A quantity whose zeros make the equations singular (runtime additions of
-/// docs/generated-code.md): the base of a square root or negative power, or the argument of a
-/// logarithm, occurring in the residuals or hidden constraints and depending on the states y
-/// (not on y'). `name` is the quantity in scene notation (`x' * x' + y' * y'`). Each quantity
-/// once, in an order that is the same in every run.
-struct SingularQuantity {
-  std::string name;
-  GiNaC::ex expression;  ///< in t, p, y
-};
-std::vector<SingularQuantity> singular_quantities(const Index1System& system);
 
 struct HeaderOptions {
   JacobianKind jacobian = JacobianKind::dense;
@@ -74,10 +45,6 @@ struct GeneratedHeader {
 /// banner names the scene file without its directory, and no time stamp).
 GeneratedHeader generate_header(const Scene& scene, const Index1System& system,
                                 const HeaderOptions& options);
-
-/// e in C++ syntax with scene names (`0.5 * m * (x' * x' + y' * y')`), the same in every run
-/// (GiNaC's own printing follows its term order, which changes from run to run).
-std::string scene_notation(const GiNaC::ex& e, const JetSpace& jet);
 
 /// Text safe inside a `//` comment: one line, no `*/`, no backslash (line splicing), ASCII only.
 std::string sanitize_comment(const std::string& text);

@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "nhc/errors.hpp"
+#include "nhc/emit/model_table_text.hpp"
 #include "nhc/io/shell.hpp"
 #include "nhc/io/temporary_files.hpp"
 #include "nhc/jit/sha256.hpp"
@@ -221,6 +222,26 @@ std::optional<runtime::Model> load_checked(const CompiledLibrary& library, const
   return model;
 }
 
+/// `dir`/include/nhc/runtime/model_table.h (the embedded text of the one definition), for
+/// hand-written headers that include it; returns `dir`/include. Written through a temporary
+/// name and renamed: concurrent runs write the same bytes.
+fs::path table_include_directory(const fs::path& dir) {
+  const fs::path include = dir / "include";
+  const fs::path header = include / "nhc" / "runtime" / "model_table.h";
+  std::ifstream existing(header);
+  std::ostringstream present;
+  present << existing.rdbuf();
+  if (existing && present.str() == model_table_text()) return include;
+  std::error_code ec;
+  fs::create_directories(header.parent_path(), ec);
+  if (ec) throw EnvironmentError("cannot create " + header.parent_path().string() + ": " + ec.message());
+  const TemporaryFile temporary(unique_temporary_name(header.string()));
+  write_text(temporary.path(), model_table_text());
+  fs::rename(temporary.path(), header, ec);
+  if (ec) throw EnvironmentError("cannot write " + header.string() + ": " + ec.message());
+  return include;
+}
+
 }  // namespace
 
 fs::path default_cache_directory() { return default_cache_location().path; }
@@ -235,16 +256,19 @@ CompiledLibrary compile_header(const std::string& header_text, const std::string
   const std::string version = compiler_version(compiler, timeout);
   std::vector<std::string> flags = options.flags;
   for (std::string& f : contract_flags(version)) flags.push_back(std::move(f));
+  for (const fs::path& include : options.include_directories) flags.push_back("-I" + include.string());
   std::string flag_text;
   for (const std::string& f : flags) flag_text += f + " ";
-  const std::string key = sha256_hex(std::string(NHC_VERSION) + "\n" + compiler + "\n" + version + "\n" +
-                                     flag_text + "\n" + header_text);
+  const std::string key = sha256_hex(std::string(NHC_VERSION) + "\n" + model_table_text() + "\n" + compiler +
+                                     "\n" + version + "\n" + flag_text + "\n" + header_text);
   const std::string record =
       "nhc build key " + key + "\nscene " + identity.scene + "\nmodel " + identity.model + "\n";
 
   const fs::path dir = options.cache_directory.empty()
                            ? private_cache_directory(default_cache_location(), warn)
                            : private_cache_directory({options.cache_directory, false}, warn);
+  // Hand-written headers include nhc/runtime/model_table.h: the embedded one definition.
+  flags.push_back("-I" + table_include_directory(dir).string());
   const std::string stem = label + "-" + key.substr(0, 16);
   const fs::path library = dir / (stem + ".so");
   std::error_code ec;
@@ -291,7 +315,11 @@ CompiledLibrary compile_header_file(const fs::path& header, const CompileOptions
   std::string label = header.stem().string();
   for (char& c : label)
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) c = '_';
-  return compile_header(text.str(), label, options);
+  // Its own directory first: a hand-written header may include files next to it.
+  CompileOptions with_directory = options;
+  with_directory.include_directories.insert(with_directory.include_directories.begin(),
+                                            fs::absolute(header).parent_path());
+  return compile_header(text.str(), label, with_directory);
 }
 
 std::pair<CompiledLibrary, runtime::Model> compile_and_load(const std::string& header_text, const std::string& label,

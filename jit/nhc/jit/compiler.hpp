@@ -22,6 +22,9 @@ struct CompileOptions {
   /// Optimization and extra flags; the flags the contract needs (-std=c++17 -fPIC -shared,
   /// hidden visibility, stripped) are always added.
   std::vector<std::string> flags{"-O2"};
+  /// Extra include directories (-I), searched before the one that provides
+  /// nhc/runtime/model_table.h (always added: hand-written headers include it).
+  std::vector<std::filesystem::path> include_directories;
   /// Empty: default_cache_directory().
   std::filesystem::path cache_directory;
   /// Seconds the compiler may run before it is stopped (EnvironmentError); none:
@@ -65,7 +68,8 @@ struct ModelIdentity {
 CompiledLibrary compile_header(const std::string& header_text, const std::string& label,
                                const CompileOptions& options = {}, const ModelIdentity& identity = {});
 
-/// A header file on disk (e.g. a hand-written model), compiled as compile_header() does.
+/// A header file on disk (e.g. a hand-written model), compiled as compile_header() does, with
+/// its own directory on the include path.
 CompiledLibrary compile_header_file(const std::filesystem::path& header, const CompileOptions& options = {});
 
 /// compile_header(), then the library loaded and checked: its `nhc_model_build_key` is the

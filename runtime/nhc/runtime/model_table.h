@@ -1,6 +1,7 @@
 /* nhc runtime: the C table through which a compiled model is loaded from a shared object.
- * Identical to the declaration emitted by `nhc generate` (docs/generated-code.md); whichever
- * header is included first defines it, the guard keeps the other one out.
+ * The one definition: every header `nhc generate` writes embeds this file verbatim (taken at
+ * build time, docs/generated-code.md), hand-written models include it; the guard keeps a second
+ * copy out. Fill it by field name (zero-initialize, then assign), never by position.
  * abi_version 1: the fields up to `reference`. abi_version 2 appends the fields of the section
  * "Runtime additions" of docs/generated-code.md; read them only when abi_version >= 2. */
 #ifndef NHC_MODEL_TABLE_DEFINED

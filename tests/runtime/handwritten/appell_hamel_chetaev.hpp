@@ -12,40 +12,7 @@
 
 #include <cmath>
 
-#ifndef NHC_MODEL_TABLE_DEFINED
-#define NHC_MODEL_TABLE_DEFINED
-extern "C" {
-struct nhc_model_table {
-  int abi_version;
-  const char* scene_name;
-  const char* model_name;
-  int n_states, n_parameters, n_coordinates, n_multipliers, n_hidden, n_invariants, n_reference;
-  const char* const* state_names;
-  const int* state_variable;
-  const int* state_order;
-  const double* differential_id;
-  const char* const* parameter_names;
-  const double* default_parameters;
-  const char* const* hidden_names;
-  const char* const* invariant_names;
-  const int* reference_coordinate;
-  void (*residual)(double, const double*, const double*, const double*, double*);
-  void (*jacobian)(double, const double*, const double*, double, const double*, double*);
-  int jacobian_nnz;
-  const int* jacobian_colptr;
-  const int* jacobian_rowind;
-  void (*jacobian_values)(double, const double*, const double*, double, const double*, double*);
-  void (*hidden_constraints)(double, const double*, const double*, double*);
-  void (*hidden_constraints_jacobian)(double, const double*, const double*, double*);
-  void (*invariants)(double, const double*, const double*, const double*, double*);
-  void (*reference)(double, const double*, double*);
-  const char* const* residual_names;
-  int n_singular;
-  const char* const* singular_names;
-  void (*singular_quantities)(double, const double*, const double*, double*);
-};
-}
-#endif
+#include "nhc/runtime/model_table.h"
 
 namespace nhc_gen::appell_hamel_chetaev {
 
@@ -164,15 +131,44 @@ inline void singular_quantities(double t, const double* y, const double* p, doub
   s[0] = y[1] * y[1] + y[3] * y[3];
 }
 
+/// The C table (nhc/runtime/model_table.h), filled by field name; the rest stays zero.
+inline nhc_model_table make_model_table() noexcept {
+  nhc_model_table t{};
+  t.abi_version = 2;
+  t.scene_name = scene_name;
+  t.model_name = model_name;
+  t.n_states = n_states;
+  t.n_parameters = n_parameters;
+  t.n_coordinates = n_coordinates;
+  t.n_multipliers = n_multipliers;
+  t.n_hidden = n_hidden;
+  t.n_invariants = n_invariants;
+  t.state_names = state_names;
+  t.state_variable = state_variable;
+  t.state_order = state_order;
+  t.differential_id = differential_id;
+  t.parameter_names = parameter_names;
+  t.default_parameters = default_parameters;
+  t.hidden_names = hidden_names;
+  t.invariant_names = invariant_names;
+  t.residual = &residual;
+  t.jacobian = &jacobian;
+  t.jacobian_nnz = jacobian_nnz;
+  t.jacobian_colptr = jacobian_colptr;
+  t.jacobian_rowind = jacobian_rowind;
+  t.jacobian_values = &jacobian_values;
+  t.hidden_constraints = &hidden_constraints;
+  t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
+  t.invariants = &invariants;
+  t.residual_names = residual_names;
+  t.n_singular = n_singular;
+  t.singular_names = singular_names;
+  t.singular_quantities = &singular_quantities;
+  return t;
+}
+
 inline const nhc_model_table* model_table() noexcept {
-  static const nhc_model_table table = {
-      2, scene_name, model_name,
-      n_states, n_parameters, n_coordinates, n_multipliers, n_hidden, n_invariants, 0,
-      state_names, state_variable, state_order, differential_id, parameter_names, default_parameters,
-      hidden_names, invariant_names, nullptr,
-      &residual, &jacobian, jacobian_nnz, jacobian_colptr, jacobian_rowind, &jacobian_values,
-      &hidden_constraints, &hidden_constraints_jacobian, &invariants, nullptr,
-      residual_names, n_singular, singular_names, &singular_quantities};
+  static const nhc_model_table table = make_model_table();
   return &table;
 }
 

@@ -1,0 +1,18 @@
+#pragma once
+/// \file header_printer.hpp
+/// \brief The printing half of the header emitter: a PreparedModel (model_preparation.hpp) as
+/// the text of the self-contained header of docs/generated-code.md, one function per section.
+
+#include <string>
+
+#include "nhc/analysis/index1_system.hpp"
+#include "nhc/emit/model_preparation.hpp"
+#include "nhc/scene/scene.hpp"
+
+namespace nhc {
+
+/// The header's text: banner, the C table's definition (model_table.h), metadata, the
+/// Jacobian's structure, the functions, the table filled by field name and its entry point.
+std::string print_header(const Scene& scene, const Index1System& system, const PreparedModel& model);
+
+}  // namespace nhc

@@ -1,0 +1,322 @@
+// The symbolic half of the header emitter (model_preparation.hpp).
+#include "nhc/emit/model_preparation.hpp"
+
+#include <algorithm>
+#include <set>
+
+#include "nhc/emit/cpp_printer.hpp"
+#include "nhc/emit/header_emitter.hpp"
+#include "nhc/errors.hpp"
+
+namespace nhc {
+
+namespace {
+
+/// For each expression, the indices k of the symbols `symbols[k]` occurring in it (sorted): the
+/// partial derivatives with respect to all other symbols are zero and need not be formed. One
+/// walk over each expression instead of one diff per (expression, symbol) pair keeps the
+/// Jacobians of large sparse systems linear in their size.
+std::vector<std::vector<int>> occurring_symbols(const std::vector<GiNaC::ex>& expressions,
+                                                const std::vector<GiNaC::realsymbol>& symbols) {
+  std::map<GiNaC::ex, int, GiNaC::ex_is_less> index;
+  for (size_t k = 0; k < symbols.size(); ++k) index.emplace(symbols[k], static_cast<int>(k));
+  std::vector<std::vector<int>> out;
+  out.reserve(expressions.size());
+  for (const GiNaC::ex& e : expressions) {
+    std::set<int> found;
+    for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
+      if (GiNaC::is_a<GiNaC::symbol>(*it))
+        if (const auto at = index.find(*it); at != index.end()) found.insert(at->second);
+    out.emplace_back(found.begin(), found.end());
+  }
+  return out;
+}
+
+}  // namespace
+
+SymbolicJacobian index1_jacobian(const Index1System& system) {
+  SymbolicJacobian jac;
+  const int n = system.size();
+  jac.size = n;
+  // rows[j]: the residuals in which y_j or y'_j occurs, increasing.
+  std::vector<std::set<int>> rows(static_cast<size_t>(n));
+  const auto in_y = occurring_symbols(system.residuals, system.y);
+  const auto in_yp = occurring_symbols(system.residuals, system.yp);
+  for (int i = 0; i < n; ++i) {
+    for (int j : in_y[static_cast<size_t>(i)]) rows[static_cast<size_t>(j)].insert(i);
+    for (int j : in_yp[static_cast<size_t>(i)]) rows[static_cast<size_t>(j)].insert(i);
+  }
+  jac.entries.assign(static_cast<size_t>(n) * static_cast<size_t>(n), GiNaC::ex(0));
+  jac.colptr.push_back(0);
+  for (int j = 0; j < n; ++j) {
+    for (int i : rows[static_cast<size_t>(j)]) {
+      const GiNaC::ex& f = system.residuals[static_cast<size_t>(i)];
+      GiNaC::ex entry = f.diff(system.y[static_cast<size_t>(j)]) +
+                        jac.cj * f.diff(system.yp[static_cast<size_t>(j)]);
+      if (!entry.is_zero()) jac.rowind.push_back(i);
+      jac.entries[static_cast<size_t>(i) + static_cast<size_t>(n) * static_cast<size_t>(j)] = entry;
+    }
+    jac.colptr.push_back(static_cast<int>(jac.rowind.size()));
+  }
+  return jac;
+}
+
+std::vector<GiNaC::ex> invariants_in_states(const Scene& scene, const Index1System& system) {
+  std::vector<GiNaC::ex> out;
+  for (const auto& [name, expression] : scene.invariants) {
+    const GiNaC::ex rewritten = expression.subs(system.jet_to_state);
+    for (const JetCoordinate& c : system.jet->jet_coordinates_in(rewritten))
+      throw MathError("invariant " + name + " involves " +
+                      jet_symbol_name(system.jet->variable_name(c.kind, c.index), c.order) +
+                      ", which is not a state of the " + to_string(system.model) +
+                      " model (nor the derivative of one)");
+    out.push_back(rewritten);
+  }
+  return out;
+}
+
+namespace {
+
+std::string primed(const std::string& variable, int order) {
+  return variable + std::string(static_cast<size_t>(order), '\'');
+}
+
+/// Symbol → name in scene notation: t, parameter names, x' for jet symbols, and the jet name of
+/// each state symbol y[k] of `system` when given.
+std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> scene_names(const JetSpace& jet,
+                                                                const Index1System* system) {
+  std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> names;
+  names[jet.time()] = "t";
+  for (int k = 0; k < static_cast<int>(jet.parameters().size()); ++k)
+    names[jet.parameter(k)] = jet.parameters()[static_cast<size_t>(k)];
+  for (const auto& [c, symbol] : jet.symbols())
+    names[symbol] = primed(jet.variable_name(c.kind, c.index), c.order);
+  if (system)
+    for (const auto& [jet_symbol, state] : system->jet_to_state)
+      if (const auto c = jet.classify(jet_symbol))
+        names[state] = primed(jet.variable_name(c->kind, c->index), c->order);
+  return names;
+}
+
+}  // namespace
+
+std::string scene_notation(const GiNaC::ex& e, const JetSpace& jet) {
+  ExpressionDag dag(scene_names(jet, nullptr));
+  return print_cpp_expression(dag, dag.add(e));
+}
+
+std::vector<SingularQuantity> singular_quantities(const Index1System& system) {
+  auto depends_on = [](const GiNaC::ex& e, const std::vector<GiNaC::realsymbol>& symbols) {
+    return std::any_of(symbols.begin(), symbols.end(),
+                       [&](const GiNaC::realsymbol& s) { return e.has(s); });
+  };
+  // Lowered into a DAG of their own: it names them in scene notation, removes duplicates and
+  // gives them an order that does not depend on GiNaC's (run-dependent) term order.
+  ExpressionDag dag(scene_names(*system.jet, &system));
+  std::map<std::pair<std::uint64_t, int>, GiNaC::ex> found;
+  auto consider = [&](const GiNaC::ex& base) {
+    if (!depends_on(base, system.y) || depends_on(base, system.yp)) return;
+    const int id = dag.add(base);
+    found.emplace(std::make_pair(dag[id].key, id), base);
+  };
+  std::vector<GiNaC::ex> sources = system.residuals;
+  sources.insert(sources.end(), system.hidden_constraints.begin(), system.hidden_constraints.end());
+  for (const GiNaC::ex& e : sources)
+    for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it) {
+      const GiNaC::ex& sub = *it;
+      if (GiNaC::is_exactly_a<GiNaC::power>(sub) &&
+          GiNaC::is_exactly_a<GiNaC::numeric>(sub.op(1))) {
+        const auto& exponent = GiNaC::ex_to<GiNaC::numeric>(sub.op(1));
+        if (exponent.is_negative() || !exponent.is_integer()) consider(sub.op(0));
+      } else if (GiNaC::is_a<GiNaC::function>(sub) &&
+                 GiNaC::ex_to<GiNaC::function>(sub).get_name() == "log") {
+        consider(sub.op(0));
+      }
+    }
+  std::vector<SingularQuantity> out;
+  for (const auto& [key, expression] : found)
+    out.push_back({print_cpp_expression(dag, key.second), expression});
+  return out;
+}
+
+namespace {
+
+/// The inputs of generated functions by their C++ names.
+std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> function_inputs(const Index1System& system,
+                                                                    const GiNaC::realsymbol& cj) {
+  std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> in;
+  in[system.jet->time()] = "t";
+  for (int k = 0; k < static_cast<int>(system.jet->parameters().size()); ++k)
+    in[system.jet->parameter(k)] = "p[" + std::to_string(k) + "]";
+  for (size_t k = 0; k < system.y.size(); ++k) in[system.y[k]] = "y[" + std::to_string(k) + "]";
+  for (size_t k = 0; k < system.yp.size(); ++k) in[system.yp[k]] = "yp[" + std::to_string(k) + "]";
+  in[cj] = "cj";
+  return in;
+}
+
+const std::vector<std::pair<std::string, std::string>> kStateInputs = {
+    {"double", "t"}, {"const double*", "y"}, {"const double*", "yp"}, {"const double*", "p"}};
+
+std::string name_or_empty(const std::vector<std::string>& names, size_t i) {
+  return i < names.size() ? sanitize_comment(names[i]) : "";
+}
+
+FunctionPlan residual_function(const Index1System& system, ExpressionDag& dag) {
+  FunctionPlan f;
+  f.name = "residual";
+  f.doc = "/// F(t, y, y') = 0, IDA form; r has n_states entries.\n";
+  f.parameters = kStateInputs;
+  f.parameters.push_back({"double*", "r"});
+  for (size_t i = 0; i < system.residuals.size(); ++i)
+    f.assignments.push_back({"r[" + std::to_string(i) + "]", dag.add(system.residuals[i]),
+                             name_or_empty(system.residual_names, i)});
+  return f;
+}
+
+/// J = dF/dy + cj dF/dy': dense column-major, or the compressed-column values.
+FunctionPlan jacobian_function(const SymbolicJacobian& jacobian, bool dense, ExpressionDag& dag) {
+  FunctionPlan f;
+  f.parameters = {{"double", "t"},  {"const double*", "y"}, {"const double*", "yp"},
+                  {"double", "cj"}, {"const double*", "p"}};
+  if (dense) {
+    f.name = "jacobian";
+    f.doc = "/// J = dF/dy + cj dF/dy', column-major n_states x n_states.\n";
+    f.parameters.push_back({"double*", "J"});
+    f.prologue = "  for (int k = 0; k < n_states * n_states; ++k) J[k] = 0.0;\n";
+  } else {
+    f.name = "jacobian_values";
+    f.doc = "/// Nonzero values of J = dF/dy + cj dF/dy' in compressed-column order\n"
+            "/// (jacobian_colptr, jacobian_rowind).\n";
+    f.parameters.push_back({"double*", "values"});
+  }
+  const size_t n = static_cast<size_t>(jacobian.size);
+  for (size_t j = 0; j < n; ++j)
+    for (int k = jacobian.colptr[j]; k < jacobian.colptr[j + 1]; ++k) {
+      const int i = jacobian.rowind[static_cast<size_t>(k)];
+      const size_t at = static_cast<size_t>(i) + j * n;
+      const std::string target = dense ? "J[" + std::to_string(at) + "]" : "values[" + std::to_string(k) + "]";
+      f.assignments.push_back({target, dag.add(jacobian.entries[at]),
+                               "(" + std::to_string(i) + ", " + std::to_string(j) + ")"});
+    }
+  return f;
+}
+
+FunctionPlan hidden_constraints_function(const Index1System& system, ExpressionDag& dag) {
+  FunctionPlan g;
+  g.name = "hidden_constraints";
+  g.doc = "/// Hidden constraints g(t, y) = 0 (derivatives of the equations the index-1 form\n"
+          "/// differentiated away); they fix consistent initial values and drift during\n"
+          "/// integration.\n";
+  g.parameters = {{"double", "t"}, {"const double*", "y"}, {"const double*", "p"}, {"double*", "g"}};
+  for (size_t i = 0; i < system.hidden_constraints.size(); ++i)
+    g.assignments.push_back({"g[" + std::to_string(i) + "]", dag.add(system.hidden_constraints[i]),
+                             name_or_empty(system.hidden_constraint_names, i)});
+  return g;
+}
+
+/// G = dg/dy from the Jacobian the index-1 reduction already formed (Index1System).
+FunctionPlan hidden_constraints_jacobian_function(const Index1System& system, ExpressionDag& dag) {
+  FunctionPlan G;
+  G.name = "hidden_constraints_jacobian";
+  G.doc = "/// G = dg/dy, column-major n_hidden x n_states.\n";
+  G.parameters = {{"double", "t"}, {"const double*", "y"}, {"const double*", "p"}, {"double*", "G"}};
+  G.prologue = "  for (int k = 0; k < n_hidden * n_states; ++k) G[k] = 0.0;\n";
+  const size_t h = system.hidden_constraints.size();
+  if (system.hidden_constraint_jacobian.size() != h)
+    throw MathError("index-1 system without the Jacobian of its hidden constraints");
+  for (size_t k = 0; k < system.y.size(); ++k)
+    for (size_t r = 0; r < h; ++r) {
+      const GiNaC::ex& entry = system.hidden_constraint_jacobian[r].at(k);
+      if (!entry.is_zero())
+        G.assignments.push_back({"G[" + std::to_string(r + h * k) + "]", dag.add(entry),
+                                 "(" + std::to_string(r) + ", " + std::to_string(k) + ")"});
+    }
+  return G;
+}
+
+FunctionPlan invariants_function(const Scene& scene, const Index1System& system, ExpressionDag& dag) {
+  FunctionPlan f;
+  f.name = "invariants";
+  f.doc = "/// The scene's invariants I(t, y, y'), in invariant_names order.\n";
+  f.parameters = kStateInputs;
+  f.parameters.push_back({"double*", "out"});
+  const std::vector<GiNaC::ex> invariants = invariants_in_states(scene, system);
+  for (size_t i = 0; i < invariants.size(); ++i)
+    f.assignments.push_back({"out[" + std::to_string(i) + "]", dag.add(invariants[i]),
+                             sanitize_comment(scene.invariants[i].first)});
+  return f;
+}
+
+FunctionPlan reference_function(const Scene& scene, const Index1System& system, ExpressionDag& dag) {
+  FunctionPlan f;
+  f.name = "reference";
+  f.doc = "/// The scene's reference solution q_c(t) for the coordinates reference_coordinate.\n";
+  f.parameters = {{"double", "t"}, {"const double*", "p"}, {"double*", "q"}};
+  for (size_t i = 0; i < scene.reference.size(); ++i) {
+    const auto& [coordinate, expression] = scene.reference[i];
+    f.assignments.push_back({"q[" + std::to_string(i) + "]", dag.add(expression),
+                             sanitize_comment(system.jet->coordinates().at(static_cast<size_t>(coordinate)))});
+  }
+  return f;
+}
+
+/// Singular-set monitors (runtime additions): quantities whose zeros make the residual or the
+/// hidden constraints non-smooth; the runtime watches them as root functions.
+FunctionPlan singular_quantities_function(const std::vector<SingularQuantity>& singular, ExpressionDag& dag) {
+  FunctionPlan f;
+  f.name = "singular_quantities";
+  f.doc = "/// Quantities that vanish where the equations are singular (bases of square roots,\n"
+          "/// of negative powers and arguments of logarithms), in singular_names order.\n";
+  f.parameters = {{"double", "t"}, {"const double*", "y"}, {"const double*", "p"}, {"double*", "s"}};
+  for (size_t i = 0; i < singular.size(); ++i)
+    f.assignments.push_back({"s[" + std::to_string(i) + "]", dag.add(singular[i].expression), ""});
+  return f;
+}
+
+}  // namespace
+
+bool PreparedModel::has_function(const std::string& name) const {
+  return std::any_of(functions.begin(), functions.end(), [&](const FunctionPlan& f) { return f.name == name; });
+}
+
+PreparedModel prepare_model(const Scene& scene, const Index1System& system, JacobianKind jacobian) {
+  PreparedModel m;
+  m.model = to_string(system.model);
+  m.namespace_name = scene.name + "_" + m.model;
+  m.jacobian = jacobian;
+  m.n_states = system.size();
+  m.n_parameters = static_cast<int>(system.jet->parameters().size());
+  m.n_coordinates = system.jet->coordinate_count();
+  m.n_multipliers = system.model == ModelKind::suslov ? 0 : static_cast<int>(scene.constraints.size());
+  m.n_hidden = static_cast<int>(system.hidden_constraints.size());
+  m.n_invariants = static_cast<int>(scene.invariants.size());
+  m.n_reference = static_cast<int>(scene.reference.size());
+  const bool dense = jacobian == JacobianKind::dense, sparse = jacobian == JacobianKind::sparse;
+  if (dense || sparse) m.symbolic_jacobian = index1_jacobian(system);
+  m.singular = singular_quantities(system);
+  m.n_singular = static_cast<int>(m.singular.size());
+
+  // Lowered in the order the functions are printed.
+  m.dag = ExpressionDag(function_inputs(system, m.symbolic_jacobian.cj));
+  m.functions.push_back(residual_function(system, m.dag));
+  if (dense || sparse) m.functions.push_back(jacobian_function(m.symbolic_jacobian, dense, m.dag));
+  if (m.n_hidden > 0) {
+    m.functions.push_back(hidden_constraints_function(system, m.dag));
+    m.functions.push_back(hidden_constraints_jacobian_function(system, m.dag));
+  }
+  if (m.n_invariants > 0) m.functions.push_back(invariants_function(scene, system, m.dag));
+  if (m.n_reference > 0) m.functions.push_back(reference_function(scene, system, m.dag));
+  if (m.n_singular > 0) m.functions.push_back(singular_quantities_function(m.singular, m.dag));
+
+  for (FunctionPlan& f : m.functions) {
+    std::vector<int> outputs;
+    for (const Assignment& a : f.assignments) outputs.push_back(a.value);
+    f.before = tree_operation_count(m.dag, outputs);
+    f.after = dag_operation_count(m.dag, outputs);
+    m.before_cse += f.before;
+    m.after_cse += f.after;
+  }
+  return m;
+}
+
+}  // namespace nhc

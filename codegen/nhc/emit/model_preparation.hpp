@@ -1,0 +1,90 @@
+#pragma once
+/// \file model_preparation.hpp
+/// \brief The symbolic half of the header emitter: everything a generated header computes,
+/// prepared before any text is printed — the Jacobian of the index-1 residual, the
+/// hidden-constraint Jacobian (the one Index1System holds), the invariants in states, the
+/// singular quantities — and every emitted function lowered into one instruction list with
+/// common subexpressions shared (cse.hpp). header_printer.hpp turns a PreparedModel into text.
+
+#include <ginac/ginac.h>
+
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "nhc/analysis/index1_system.hpp"
+#include "nhc/emit/cpp_printer.hpp"
+#include "nhc/emit/cse.hpp"
+#include "nhc/scene/scene.hpp"
+
+namespace nhc {
+
+enum class JacobianKind;  // header_emitter.hpp
+
+/// J = dF/dy + cj dF/dy' of the index-1 residual (SUNDIALS IDA's iteration matrix), with its
+/// compressed-column structure: the entries that are not identically zero after GiNaC's
+/// automatic simplification.
+struct SymbolicJacobian {
+  GiNaC::realsymbol cj{"cj"};
+  int size = 0;
+  std::vector<GiNaC::ex> entries;  ///< column-major size × size
+  std::vector<int> colptr;         ///< size + 1
+  std::vector<int> rowind;         ///< colptr.back()
+};
+SymbolicJacobian index1_jacobian(const Index1System& system);
+
+
+/// The scene's invariants with every jet symbol rewritten as a state (Index1System::jet_to_state).
+/// Throws MathError naming the invariant when it involves a derivative the states do not hold.
+std::vector<GiNaC::ex> invariants_in_states(const Scene& scene, const Index1System& system);
+
+/// A quantity whose zeros make the equations singular (runtime additions of
+/// docs/generated-code.md): the base of a square root or negative power, or the argument of a
+/// logarithm, occurring in the residuals or hidden constraints and depending on the states y
+/// (not on y'). `name` is the quantity in scene notation (`x' * x' + y' * y'`). Each quantity
+/// once, in an order that is the same in every run.
+struct SingularQuantity {
+  std::string name;
+  GiNaC::ex expression;  ///< in t, p, y
+};
+std::vector<SingularQuantity> singular_quantities(const Index1System& system);
+
+/// e in C++ syntax with scene names (`0.5 * m * (x' * x' + y' * y')`), the same in every run
+/// (GiNaC's own printing follows its term order, which changes from run to run).
+std::string scene_notation(const GiNaC::ex& e, const JetSpace& jet);
+
+/// One emitted function: its signature parameters, the assignments (outputs as instructions
+/// of PreparedModel::dag) and their operation counts.
+struct FunctionPlan {
+  std::string name;
+  std::string doc;
+  /// (type, name) in order; a name the body does not read is printed as a comment.
+  std::vector<std::pair<std::string, std::string>> parameters;
+  std::vector<Assignment> assignments;
+  std::string prologue;  ///< e.g. zero fill of a dense matrix
+  OperationCount before, after;
+};
+
+/// A model ready to print: sizes, names, the Jacobian's structure and the functions.
+struct PreparedModel {
+  std::string model;           ///< the model's name (to_string(ModelKind))
+  std::string namespace_name;  ///< `<scene>_<model>`
+  JacobianKind jacobian;
+  int n_states = 0, n_parameters = 0, n_coordinates = 0, n_multipliers = 0, n_hidden = 0;
+  int n_invariants = 0, n_reference = 0, n_singular = 0;
+  SymbolicJacobian symbolic_jacobian;  ///< empty for JacobianKind::none
+  std::vector<SingularQuantity> singular;
+  /// Every function's assignments lowered into this one DAG, in the order the functions are
+  /// printed: a subexpression is one instruction wherever it occurs.
+  ExpressionDag dag{{}};
+  std::vector<FunctionPlan> functions;
+  OperationCount before_cse, after_cse;  ///< summed over the functions
+
+  bool has_function(const std::string& name) const;
+};
+
+/// The symbolic preparation of the header of `system` (an index-1 form of `scene`).
+PreparedModel prepare_model(const Scene& scene, const Index1System& system, JacobianKind jacobian);
+
+}  // namespace nhc
