@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "nhc/emit/cpp_printer.hpp"
+#include "nhc/emit/parameter_jacobian.hpp"
 #include "nhc/errors.hpp"
 
 namespace nhc {
@@ -207,7 +208,7 @@ namespace {
 
 /// The C table, identical to runtime/nhc/runtime/model_table.h; whichever is included first
 /// defines it.
-constexpr int kModelTableAbiVersion = 2;
+constexpr int kModelTableAbiVersion = 3;
 constexpr const char* kModelTableDeclaration = R"(
 #ifndef NHC_MODEL_TABLE_DEFINED
 #define NHC_MODEL_TABLE_DEFINED
@@ -240,6 +241,8 @@ struct nhc_model_table {
   int n_singular;
   const char* const* singular_names;
   void (*singular_quantities)(double, const double*, const double*, double*);
+  void (*residual_parameter_jacobian)(double, const double*, const double*, const double*, double*);
+  void (*hidden_parameter_jacobian)(double, const double*, const double*, double*);
 };
 }
 #endif
@@ -487,6 +490,33 @@ GeneratedHeader HeaderWriter::write() {
     plans.push_back(std::move(f));
   }
 
+  // ---- Sensitivity additions (docs/generated-code.md): dF/dp and dg/dp, column-major, only
+  // when asked for (HeaderOptions::sensitivities) and the scene has parameters.
+  if (options_.sensitivities && n_parameters > 0) {
+    const ParameterJacobian pj = parameter_jacobian(system_);
+    auto matrix_plan = [&](const std::string& name, const std::string& doc, const std::string& out,
+                           int rows, const std::vector<GiNaC::ex>& entries, const std::vector<int>& nonzeros,
+                           std::vector<std::pair<std::string, std::string>> parameters) {
+      FunctionPlan f;
+      f.name = name;
+      f.doc = doc;
+      f.parameters = std::move(parameters);
+      f.parameters.push_back({"double*", out});
+      f.prologue = "  for (int k = 0; k < " + std::to_string(rows * n_parameters) + "; ++k) " + out + "[k] = 0.0;\n";
+      for (int at : nonzeros)
+        f.assignments.push_back({out + "[" + std::to_string(at) + "]", dag_.add(entries[static_cast<size_t>(at)]),
+                                 "(" + std::to_string(at % rows) + ", " + std::to_string(at / rows) + ")"});
+      plans.push_back(std::move(f));
+    };
+    matrix_plan("residual_parameter_jacobian", "/// dF/dp, column-major n_states x n_parameters.\n", "Fp", n,
+                pj.residual, pj.residual_nonzeros, state_inputs);
+    if (n_hidden > 0)
+      matrix_plan("hidden_parameter_jacobian", "/// dg/dp of the hidden constraints, column-major n_hidden x n_parameters.\n",
+                  "Gp", n_hidden, pj.hidden, pj.hidden_nonzeros,
+                  {{"double", "t"}, {"const double*", "y"}, {"const double*", "p"}});
+  }
+  // ---- end of the sensitivity additions.
+
   // Function bodies (this also counts operations).
   std::vector<std::string> bodies;
   for (FunctionPlan& plan : plans) {
@@ -506,7 +536,7 @@ GeneratedHeader HeaderWriter::write() {
       << " from " << sanitize_comment(scene_file) << ", model " << model << ".\n"
       << "// Do not edit: regenerate with\n"
       << "//   nhc generate " << sanitize_comment(scene_file) << " --model " << model
-      << " --jacobian " << to_string(options_.jacobian) << "\n"
+      << " --jacobian " << to_string(options_.jacobian) << (options_.sensitivities ? " --sensitivities" : "") << "\n"
       << "// Layout: docs/generated-code.md.\n"
       << "//\n"
       << "// Scene " << sanitize_comment(scene_.name) << ": coordinates "
@@ -661,6 +691,8 @@ GeneratedHeader HeaderWriter::write() {
       "n_singular",
       field(n_singular > 0, "singular_names"),
       pointer("singular_quantities"),
+      pointer("residual_parameter_jacobian"),  // abi_version >= 3: sensitivity additions
+      pointer("hidden_parameter_jacobian"),
   };
   out << "\n/// Everything above as the C table of docs/generated-code.md.\n"
       << "inline const nhc_model_table* model_table() noexcept {\n"

@@ -60,6 +60,8 @@ std::vector<SingularQuantity> singular_quantities(const Index1System& system);
 
 struct HeaderOptions {
   JacobianKind jacobian = JacobianKind::dense;
+  /// dF/dp and dg/dp for forward sensitivities (docs/generated-code.md, "Sensitivity additions").
+  bool sensitivities = false;
 };
 
 struct GeneratedHeader {

@@ -2,7 +2,8 @@
  * Identical to the declaration emitted by `nhc generate` (docs/generated-code.md); whichever
  * header is included first defines it, the guard keeps the other one out.
  * abi_version 1: the fields up to `reference`. abi_version 2 appends the fields of the section
- * "Runtime additions" of docs/generated-code.md; read them only when abi_version >= 2. */
+ * "Runtime additions" of docs/generated-code.md; read them only when abi_version >= 2.
+ * abi_version 3 appends the "Sensitivity additions"; read them only when abi_version >= 3. */
 #ifndef NHC_MODEL_TABLE_DEFINED
 #define NHC_MODEL_TABLE_DEFINED
 
@@ -39,6 +40,9 @@ struct nhc_model_table {
   int n_singular;
   const char* const* singular_names;
   void (*singular_quantities)(double, const double*, const double*, double*);
+  /* abi_version >= 3 (Sensitivity additions; null unless generated with sensitivities) */
+  void (*residual_parameter_jacobian)(double, const double*, const double*, const double*, double*);
+  void (*hidden_parameter_jacobian)(double, const double*, const double*, double*);
 };
 
 #ifdef __cplusplus

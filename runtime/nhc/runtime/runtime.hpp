@@ -6,4 +6,5 @@
 #include "nhc/runtime/integrator.hpp"
 #include "nhc/runtime/model.hpp"
 #include "nhc/runtime/model_table.h"
+#include "nhc/runtime/sensitivity.hpp"
 #include "nhc/runtime/trajectory.hpp"
