@@ -1,4 +1,4 @@
-// nhc simulate SCENE [--model M] [--t-end T] [--rtol R] [--atol A] [--project] [-o FILE.csv]
+// nhc simulate SCENE [--model M] [--t-end T] [--rtol R] [--atol A] [--project] [--sensitivity NAMES] [-o FILE.csv]
 //
 // The whole pipeline on one model: derive, reduce to index 1, generate the header
 // (docs/generated-code.md), compile it with the C++ compiler found at configure time into a
@@ -15,6 +15,7 @@
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/scene/scene.hpp"
 #include "pipeline.hpp"
+#include "sensitivity_option.hpp"
 
 namespace nhc::cli {
 
@@ -27,6 +28,7 @@ struct SimulateOptions {
   bool project = false;
   int outputs = 200;
   std::string output;
+  SensitivityRequest sensitivity;
 };
 
 std::string format(double v, int precision = 3) { return format_number(v, precision); }
@@ -61,6 +63,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
   sub->add_option("--outputs", options->outputs, "number of output intervals (default 200)")
       ->check(CLI::Range(1, 10000000));
   sub->add_option("-o,--output", options->output, "CSV file for the solution");
+  add_sensitivity_options(sub, options->sensitivity);
 
   return [options]() {
     // Derive, reduce, generate (dense Jacobian; sparse from 40 states), compile (or reuse), load.
@@ -69,7 +72,10 @@ CommandRunner add_simulate_command(CLI::App& app) {
     const ModelKind kind = model_or_default(scene, options->model);
     check_simulate_flags(*options, scene);  // before anything is compiled or written
     const double load_seconds = seconds_since(load_start);
-    const jit::LoadedModel built = jit::build(scene, kind);
+    jit::BuildOptions build_options;
+    build_options.sensitivities = !options->sensitivity.names.empty();
+    const jit::LoadedModel built = jit::build(scene, kind, build_options);
+    if (build_options.sensitivities) parse_sensitivities(built.model(), options->sensitivity.names);
     const runtime::Model& model = built.model();
     const double derive_seconds = load_seconds + built.timings().derive + built.timings().generate;
     const double compile_seconds = built.timings().compile + built.timings().load;
@@ -83,11 +89,20 @@ CommandRunner add_simulate_command(CLI::App& app) {
     if (!(t_end > t0))
       throw InputError({options->scene_path, 0, 0}, "--t-end " + format(t_end, 17) + " must be after t0 = " + format(t0, 17));
     const std::vector<double> p = model.default_parameters();
-    const runtime::RunResult run =
-        runtime::simulate(model, p, initial_state_of(scene, model), runtime::output_times(t0, t_end, options->outputs), io);
+    const std::vector<double> times = runtime::output_times(t0, t_end, options->outputs);
+    const runtime::RunResult run = runtime::simulate(model, p, initial_state_of(scene, model), times, io);
+    std::optional<runtime::SensitivityRun> sensitivities;  // --sensitivity: the CSV comes from this run
+    if (build_options.sensitivities)
+      sensitivities = run_sensitivities(model, p, initial_state_of(scene, model), times, io, options->sensitivity,
+                                        run.statistics);
     if (!options->output.empty())
-      write_file_atomically(options->output,
-                            [&](std::ostream& out) { runtime::write_csv(out, model, p, run.samples); });
+      write_file_atomically(options->output, [&](std::ostream& out) {
+        if (sensitivities)
+          runtime::write_sensitivity_csv(out, model, p, parse_sensitivities(model, options->sensitivity.names),
+                                         sensitivities->samples);
+        else
+          runtime::write_csv(out, model, p, run.samples);
+      });
 
     // Summary.
     const runtime::Statistics& st = run.statistics;
@@ -108,7 +123,14 @@ CommandRunner add_simulate_command(CLI::App& app) {
     for (int k = 0; k < model.n_invariants(); ++k)
       std::cout << "  invariant " << model.table().invariant_names[k] << ": max drift "
                 << format(drift.invariant_drift[k]) << " (relative " << format(drift.invariant_relative[k]) << ")\n";
-    if (!options->output.empty()) std::cout << "  wrote " << options->output << " (" << run.samples.size() << " rows)\n";
+    if (!options->output.empty())
+      std::cout << "  wrote " << options->output << " ("
+                << (sensitivities ? sensitivities->samples.size() : run.samples.size()) << " rows)\n";
+    if (sensitivities && sensitivities->failure && !run.failure) {
+      std::cout.flush();
+      std::cerr << "nhc: error: sensitivities: " << sensitivities->failure->what() << "\n";
+      return kExitMathFailure;
+    }
     if (run.failure) {
       std::cout.flush();
       std::cerr << "nhc: error: " << run.failure->what() << "\n";
