@@ -54,6 +54,8 @@ struct nhc_model_table {
   int n_singular;
   const char* const* singular_names;
   void (*singular_quantities)(double, const double*, const double*, double*);
+  void (*residual_parameter_jacobian)(double, const double*, const double*, const double*, double*);
+  void (*hidden_parameter_jacobian)(double, const double*, const double*, double*);
 };
 }
 #endif
@@ -169,7 +171,7 @@ inline void singular_quantities(double /*t*/, const double* y, const double* /*p
 /// Everything above as the C table of docs/generated-code.md.
 inline const nhc_model_table* model_table() noexcept {
   static const nhc_model_table table = {
-      2,
+      3,
       scene_name,
       model_name,
       n_states,
@@ -202,6 +204,8 @@ inline const nhc_model_table* model_table() noexcept {
       n_singular,
       singular_names,
       &singular_quantities,
+      nullptr,
+      nullptr,
   };
   return &table;
 }

@@ -51,6 +51,8 @@ struct nhc_model_table {
   int n_singular;
   const char* const* singular_names;
   void (*singular_quantities)(double, const double*, const double*, double*);
+  void (*residual_parameter_jacobian)(double, const double*, const double*, const double*, double*);
+  void (*hidden_parameter_jacobian)(double, const double*, const double*, double*);
 };
 }
 #endif
@@ -130,7 +132,7 @@ inline void reference(double t, const double* /*p*/, double* q) noexcept {
 /// Everything above as the C table of docs/generated-code.md.
 inline const nhc_model_table* model_table() noexcept {
   static const nhc_model_table table = {
-      2,
+      3,
       scene_name,
       model_name,
       n_states,
@@ -161,6 +163,8 @@ inline const nhc_model_table* model_table() noexcept {
       &reference,
       residual_names,
       n_singular,
+      nullptr,
+      nullptr,
       nullptr,
       nullptr,
   };

@@ -51,6 +51,8 @@ struct nhc_model_table {
   int n_singular;
   const char* const* singular_names;
   void (*singular_quantities)(double, const double*, const double*, double*);
+  void (*residual_parameter_jacobian)(double, const double*, const double*, const double*, double*);
+  void (*hidden_parameter_jacobian)(double, const double*, const double*, double*);
 };
 }
 #endif
@@ -136,7 +138,7 @@ inline void hidden_constraints_jacobian(double /*t*/, const double* /*y*/, const
 /// Everything above as the C table of docs/generated-code.md.
 inline const nhc_model_table* model_table() noexcept {
   static const nhc_model_table table = {
-      2,
+      3,
       scene_name,
       model_name,
       n_states,
@@ -167,6 +169,8 @@ inline const nhc_model_table* model_table() noexcept {
       nullptr,
       residual_names,
       n_singular,
+      nullptr,
+      nullptr,
       nullptr,
       nullptr,
   };
