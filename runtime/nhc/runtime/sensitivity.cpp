@@ -118,7 +118,24 @@ struct SensitivityIntegrator::Impl {
   // corrector calls it repeatedly at the same point) and dF/dp.
   double cached_t = NAN;
   std::vector<double> cached_y, cached_yp;
-  Eigen::MatrixXd Fy, Fyp, Fp;
+  Eigen::MatrixXd Fy, Fyp, Fp;                    // dense models
+  std::vector<double> Fy_values, Fyp_values;       // sparse models, compressed-column values
+
+  /// r = F_y s + F_y' s' with the matrices of update_matrices().
+  void apply(const double* s, const double* sp, double* r) const {
+    const int nn = n();
+    if (!model.has_sparse_jacobian()) {
+      Eigen::Map<Eigen::VectorXd> out(r, nn);
+      out.noalias() = Fy * Eigen::Map<const Eigen::VectorXd>(s, nn);
+      out.noalias() += Fyp * Eigen::Map<const Eigen::VectorXd>(sp, nn);
+      return;
+    }
+    const auto& tab = model.table();
+    std::fill(r, r + nn, 0.0);
+    for (int j = 0; j < nn; ++j)
+      for (int k = tab.jacobian_colptr[j]; k < tab.jacobian_colptr[j + 1]; ++k)
+        r[tab.jacobian_rowind[k]] += Fy_values[static_cast<size_t>(k)] * s[j] + Fyp_values[static_cast<size_t>(k)] * sp[j];
+  }
 
   Impl(Model m, std::vector<double> params, std::vector<SensitivityParameter> th, IntegratorOptions o,
        SensitivityOptions so)
@@ -158,11 +175,20 @@ struct SensitivityIntegrator::Impl {
     const int nn = n();
     if (tt == cached_t && std::equal(yy, yy + nn, cached_y.begin()) && std::equal(ypp, ypp + nn, cached_yp.begin()))
       return;
-    Fy.resize(nn, nn);
-    Fyp.resize(nn, nn);
-    dense_jacobian(tt, yy, ypp, 0.0, Fy.data());   // dF/dy
-    dense_jacobian(tt, yy, ypp, 1.0, Fyp.data());  // dF/dy + dF/dy'
-    Fyp -= Fy;
+    const auto& tab = model.table();
+    if (model.has_sparse_jacobian()) {  // the compressed columns: linear in the nonzeros
+      Fy_values.resize(static_cast<size_t>(tab.jacobian_nnz));
+      Fyp_values.resize(static_cast<size_t>(tab.jacobian_nnz));
+      tab.jacobian_values(tt, yy, ypp, 0.0, p.data(), Fy_values.data());   // dF/dy
+      tab.jacobian_values(tt, yy, ypp, 1.0, p.data(), Fyp_values.data());  // dF/dy + dF/dy'
+      for (size_t k = 0; k < Fyp_values.size(); ++k) Fyp_values[k] -= Fy_values[k];
+    } else {
+      Fy.resize(nn, nn);
+      Fyp.resize(nn, nn);
+      dense_jacobian(tt, yy, ypp, 0.0, Fy.data());   // dF/dy
+      dense_jacobian(tt, yy, ypp, 1.0, Fyp.data());  // dF/dy + dF/dy'
+      Fyp -= Fy;
+    }
     if (model.n_parameters() > 0 && model.has_parameter_jacobian()) {
       Fp.resize(nn, model.n_parameters());
       model.table().residual_parameter_jacobian(tt, yy, ypp, p.data(), Fp.data());
@@ -190,10 +216,8 @@ struct SensitivityIntegrator::Impl {
     const int nn = self->n();
     self->update_matrices(tt, N_VGetArrayPointer(yy), N_VGetArrayPointer(ypp));
     for (int k = 0; k < count; ++k) {
-      Eigen::Map<const Eigen::VectorXd> s(N_VGetArrayPointer(yyS[k]), nn), sp(N_VGetArrayPointer(ypS[k]), nn);
+      self->apply(N_VGetArrayPointer(yyS[k]), N_VGetArrayPointer(ypS[k]), N_VGetArrayPointer(rrS[k]));
       Eigen::Map<Eigen::VectorXd> r(N_VGetArrayPointer(rrS[k]), nn);
-      r.noalias() = self->Fy * s;
-      r.noalias() += self->Fyp * sp;
       const SensitivityParameter& th = self->thetas[static_cast<size_t>(k)];
       if (th.kind == SensitivityParameter::Kind::parameter) r += self->Fp.col(th.index);
       if (!r.allFinite()) return 1;
