@@ -1,7 +1,7 @@
 // nhc simulate --sensitivity (sensitivity_option.hpp).
 #include "sensitivity_option.hpp"
 
-#include <iostream>
+#include <sstream>
 #include <stdexcept>
 
 #include "nhc/errors.hpp"
@@ -37,21 +37,25 @@ std::vector<runtime::SensitivityParameter> parse_sensitivities(const runtime::Mo
 
 runtime::SensitivityRun run_sensitivities(const runtime::Model& model, const std::vector<double>& p,
                                           const runtime::InitialState& initial, const std::vector<double>& times,
-                                          const runtime::IntegratorOptions& options, const SensitivityRequest& request,
-                                          const runtime::Statistics& plain) {
-  const std::vector<runtime::SensitivityParameter> thetas = parse_sensitivities(model, request.names);
+                                          const runtime::IntegratorOptions& options, const SensitivityRequest& request) {
   runtime::SensitivityOptions so;
   so.error_control = request.error_control == "on";
-  runtime::SensitivityRun run = runtime::simulate_sensitivities(model, p, initial, thetas, times, options, so);
+  return runtime::simulate_sensitivities(model, p, initial, parse_sensitivities(model, request.names), times,
+                                         options, so);
+}
+
+std::string describe_sensitivity_cost(const runtime::SensitivityRun& run, const SensitivityRequest& request,
+                                      const runtime::Statistics& plain) {
   const runtime::Statistics& st = run.statistics.state;
   const double seconds = st.initialization_seconds + st.integration_seconds;
   const double plain_seconds = plain.initialization_seconds + plain.integration_seconds;
-  std::cout << "  sensitivities (" << thetas.size() << ", IDAS staggered, error control " << request.error_control
-            << "): integrate " << format_number(seconds) << " s = "
-            << format_number(plain_seconds > 0 ? seconds / plain_seconds : 0) << " x the plain run; steps "
-            << st.steps << " (plain " << plain.steps << "), sensitivity residual evaluations "
-            << run.statistics.sensitivity_residual_evaluations << "\n";
-  return run;
+  std::ostringstream os;
+  os << "  sensitivities (" << request.names.size() << ", IDAS staggered, error control " << request.error_control
+     << "): integrate " << format_number(seconds) << " s = "
+     << format_number(plain_seconds > 0 ? seconds / plain_seconds : 0) << " x the plain run; steps " << st.steps
+     << " (plain " << plain.steps << "), sensitivity residual evaluations "
+     << run.statistics.sensitivity_residual_evaluations << "\n";
+  return os.str();
 }
 
 }  // namespace nhc::cli

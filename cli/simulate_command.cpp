@@ -93,8 +93,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
     const runtime::RunResult run = runtime::simulate(model, p, initial_state_of(scene, model), times, io);
     std::optional<runtime::SensitivityRun> sensitivities;  // --sensitivity: the CSV comes from this run
     if (build_options.sensitivities)
-      sensitivities = run_sensitivities(model, p, initial_state_of(scene, model), times, io, options->sensitivity,
-                                        run.statistics);
+      sensitivities = run_sensitivities(model, p, initial_state_of(scene, model), times, io, options->sensitivity);
     if (!options->output.empty())
       write_file_atomically(options->output, [&](std::ostream& out) {
         if (sensitivities)
@@ -118,6 +117,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
     std::cout << "\n  time: derive " << format(derive_seconds) << " s, compile " << format(compile_seconds) << " s"
               << (built.library().reused ? " (cached)" : "") << ", integrate "
               << format(st.initialization_seconds + st.integration_seconds) << " s\n";
+    if (sensitivities) std::cout << describe_sensitivity_cost(*sensitivities, options->sensitivity, st);
     if (model.n_reference() > 0) std::cout << "  max reference error " << format(drift.max_error) << "\n";
     if (model.n_hidden() > 0) std::cout << "  max hidden-constraint drift " << format(drift.max_hidden) << "\n";
     for (int k = 0; k < model.n_invariants(); ++k)
