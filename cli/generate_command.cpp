@@ -24,6 +24,7 @@ struct GenerateOptions {
   std::string jacobian = "dense";
   std::string directory = ".";
   bool quiet = false;
+  bool sensitivities = false;
 };
 
 }  // namespace
@@ -42,6 +43,8 @@ CommandRunner add_generate_command(CLI::App& app) {
       ->check(CLI::IsMember({"dense", "sparse", "none"}));
   sub->add_option("-o,--output-dir", options->directory,
                   "directory to write <scene>_<model>.hpp into (default: .)");
+  sub->add_flag("--sensitivities", options->sensitivities,
+                "also dF/dp and dg/dp for forward sensitivities (docs/generated-code.md)");
   sub->add_flag("-q,--quiet", options->quiet, "do not print the written file and operation counts");
 
   return [options]() {
@@ -56,6 +59,7 @@ CommandRunner add_generate_command(CLI::App& app) {
     const Index1System system = reduce_to_index1(scene, derived);
     HeaderOptions header_options;
     header_options.jacobian = *parse_jacobian_kind(options->jacobian);
+    header_options.sensitivities = options->sensitivities;
     const GeneratedHeader header = generate_header(scene, system, header_options);
 
     std::error_code ignored;  // an unwritable directory is reported by the write below

@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
   add(nhc::cli::add_compare_command);
   add(nhc::cli::add_ensemble_command);
   add(nhc::cli::add_plot_command);
+  add(nhc::cli::add_connect_command);
 
   try {
     app.parse(argc, argv);

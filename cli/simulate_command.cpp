@@ -1,4 +1,4 @@
-// nhc simulate SCENE [--model M] [--t-end T] [--rtol R] [--atol A] [--project] [-o FILE.csv]
+// nhc simulate SCENE [--model M] [--t-end T] [--rtol R] [--atol A] [--project] [--sensitivity NAMES] [-o FILE.csv]
 //              [--plot DIR [--plot-xy a,b]]
 //
 // The whole pipeline on one model: derive, reduce to index 1, generate the header
@@ -19,6 +19,7 @@
 #include "nhc/scene/tolerances.hpp"
 #include "pipeline.hpp"
 #include "trajectory_plots.hpp"
+#include "sensitivity_option.hpp"
 
 namespace nhc::cli {
 
@@ -32,6 +33,7 @@ struct SimulateOptions {
   int outputs = 200;
   std::string output;
   std::string plot, plot_xy;  // trajectory_plots.hpp
+  SensitivityRequest sensitivity;
 };
 
 std::string format(double v, int precision = 3) { return format_number(v, precision); }
@@ -71,6 +73,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
       "--plot", options->plot, "directory for plots (SVG, PNG) of the coordinates, path, multipliers and drift");
   sub->add_option("--plot-xy", options->plot_xy, "a,b: the plane of the path plot (default: the first two coordinates)")
       ->needs(plot);
+  add_sensitivity_options(sub, options->sensitivity);
 
   return [options]() {
     // Derive, reduce, generate (dense Jacobian; sparse from 40 states), compile (or reuse), load.
@@ -82,7 +85,10 @@ CommandRunner add_simulate_command(CLI::App& app) {
     PathPlane plane;
     if (!options->plot.empty()) require_gnuplot("--plot"), plane = path_plane(scene, options->plot_xy, "--plot-xy");
     const double load_seconds = seconds_since(load_start);
-    const jit::LoadedModel built = jit::build(scene, kind);
+    jit::BuildOptions build_options;
+    build_options.sensitivities = !options->sensitivity.names.empty();
+    const jit::LoadedModel built = jit::build(scene, kind, build_options);
+    if (build_options.sensitivities) parse_sensitivities(built.model(), options->sensitivity.names);
     const runtime::Model& model = built.model();
     const double derive_seconds = load_seconds + built.timings().derive + built.timings().generate;
     const double compile_seconds = built.timings().compile + built.timings().load;
@@ -97,11 +103,19 @@ CommandRunner add_simulate_command(CLI::App& app) {
     if (!(t_end > t0))
       throw InputError({options->scene_path, 0, 0}, "--t-end " + format(t_end, 17) + " must be after t0 = " + format(t0, 17));
     const std::vector<double> p = model.default_parameters();
-    const runtime::RunResult run =
-        runtime::simulate(model, p, initial_state_of(scene, model), runtime::output_times(t0, t_end, options->outputs), io);
+    const std::vector<double> times = runtime::output_times(t0, t_end, options->outputs);
+    const runtime::RunResult run = runtime::simulate(model, p, initial_state_of(scene, model), times, io);
+    std::optional<runtime::SensitivityRun> sensitivities;  // --sensitivity: the CSV comes from this run
+    if (build_options.sensitivities)
+      sensitivities = run_sensitivities(model, p, initial_state_of(scene, model), times, io, options->sensitivity);
     if (!options->output.empty())
-      write_file_atomically(options->output,
-                            [&](std::ostream& out) { runtime::write_csv(out, model, p, run.samples); });
+      write_file_atomically(options->output, [&](std::ostream& out) {
+        if (sensitivities)
+          runtime::write_sensitivity_csv(out, model, p, parse_sensitivities(model, options->sensitivity.names),
+                                         sensitivities->samples);
+        else
+          runtime::write_csv(out, model, p, run.samples);
+      });
 
     // Summary.
     const runtime::Statistics& st = run.statistics;
@@ -117,12 +131,20 @@ CommandRunner add_simulate_command(CLI::App& app) {
     std::cout << "\n  time: derive " << format(derive_seconds) << " s, compile " << format(compile_seconds) << " s"
               << (built.library().reused ? " (cached)" : "") << ", integrate "
               << format(st.initialization_seconds + st.integration_seconds) << " s\n";
+    if (sensitivities) std::cout << describe_sensitivity_cost(*sensitivities, options->sensitivity, st);
     if (model.n_reference() > 0) std::cout << "  max reference error " << format(drift.max_error) << "\n";
     if (model.n_hidden() > 0) std::cout << "  max hidden-constraint drift " << format(drift.max_hidden) << "\n";
     for (int k = 0; k < model.n_invariants(); ++k)
       std::cout << "  invariant " << model.table().invariant_names[k] << ": max drift "
                 << format(drift.invariant_drift[k]) << " (relative " << format(drift.invariant_relative[k]) << ")\n";
-    if (!options->output.empty()) std::cout << "  wrote " << options->output << " (" << run.samples.size() << " rows)\n";
+    if (!options->output.empty())
+      std::cout << "  wrote " << options->output << " ("
+                << (sensitivities ? sensitivities->samples.size() : run.samples.size()) << " rows)\n";
+    if (sensitivities && sensitivities->failure && !run.failure) {
+      std::cout.flush();
+      std::cerr << "nhc: error: sensitivities: " << sensitivities->failure->what() << "\n";
+      return kExitMathFailure;
+    }
     if (!options->plot.empty() && run.samples.empty()) std::cout << "  no plots: the run did not get past t0\n";
     if (!options->plot.empty() && !run.samples.empty()) {
       write_trajectory_plots(options->plot, scene, model, p, run, plane);

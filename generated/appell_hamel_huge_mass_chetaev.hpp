@@ -28,7 +28,8 @@
  * build time, docs/generated-code.md), hand-written models include it; the guard keeps a second
  * copy out. Fill it by field name (zero-initialize, then assign), never by position.
  * abi_version 1: the fields up to `reference`. abi_version 2 appends the fields of the section
- * "Runtime additions" of docs/generated-code.md; read them only when abi_version >= 2. */
+ * "Runtime additions" of docs/generated-code.md; read them only when abi_version >= 2.
+ * abi_version 3 appends the "Sensitivity additions"; read them only when abi_version >= 3. */
 #ifndef NHC_MODEL_TABLE_DEFINED
 #define NHC_MODEL_TABLE_DEFINED
 
@@ -65,6 +66,9 @@ struct nhc_model_table {
   int n_singular;
   const char* const* singular_names;
   void (*singular_quantities)(double, const double*, const double*, double*);
+  /* abi_version >= 3 (Sensitivity additions; null unless generated with sensitivities) */
+  void (*residual_parameter_jacobian)(double, const double*, const double*, const double*, double*);
+  void (*hidden_parameter_jacobian)(double, const double*, const double*, double*);
 };
 
 #ifdef __cplusplus
@@ -184,7 +188,7 @@ inline void singular_quantities(double /*t*/, const double* y, const double* /*p
 /// Everything above as the C table of docs/generated-code.md, filled by field name.
 inline nhc_model_table make_model_table() noexcept {
   nhc_model_table t{};
-  t.abi_version = 2;
+  t.abi_version = 3;
   t.scene_name = scene_name;
   t.model_name = model_name;
   t.n_states = n_states;

@@ -120,7 +120,10 @@ TEST_CASE("every compiled header matches its symbolic index-1 system", "[codegen
       const int n = system.size();
 
       // Metadata.
-      REQUIRE(table.abi_version == 2);
+      REQUIRE(table.abi_version == 3);
+      // Sensitivity additions only with HeaderOptions::sensitivities (not asked for here).
+      CHECK(table.residual_parameter_jacobian == nullptr);
+      CHECK(table.hidden_parameter_jacobian == nullptr);
       CHECK(std::string(table.scene_name) == compiled.scene);
       CHECK(std::string(table.model_name) == compiled.model);
       REQUIRE(table.n_states == n);

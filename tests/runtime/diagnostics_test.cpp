@@ -2,7 +2,7 @@
 // hang or silent NaN).
 #include <catch2/catch.hpp>
 
-#include <ida/ida.h>
+#include <idas/idas.h>
 
 #include <string>
 

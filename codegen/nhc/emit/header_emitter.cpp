@@ -75,7 +75,7 @@ GeneratedHeader generate_header(const Scene& scene, const Index1System& system,
   if (system.residuals.size() != n || system.y.size() != n || system.yp.size() != n)
     throw MathError("inconsistent index-1 system: " + std::to_string(n) + " states, " +
                     std::to_string(system.residuals.size()) + " residuals");
-  const PreparedModel model = prepare_model(scene, system, options.jacobian);
+  const PreparedModel model = prepare_model(scene, system, options.jacobian, options.sensitivities);
   GeneratedHeader header;
   header.namespace_name = model.namespace_name;
   header.file_name = header.namespace_name + ".hpp";

@@ -31,6 +31,8 @@ inline JacobianKind default_jacobian_kind(int n_states) {
 
 struct HeaderOptions {
   JacobianKind jacobian = JacobianKind::dense;
+  /// dF/dp and dg/dp for forward sensitivities (docs/generated-code.md, "Sensitivity additions").
+  bool sensitivities = false;
 };
 
 struct GeneratedHeader {

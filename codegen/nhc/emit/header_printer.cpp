@@ -60,7 +60,7 @@ void print_banner(std::ostream& out, const Scene& scene, const Index1System& sys
       << sanitize_comment(scene_file) << ", model " << m.model << ".\n"
       << "// Do not edit: regenerate with\n"
       << "//   nhc generate " << sanitize_comment(scene_file) << " --model " << m.model << " --jacobian "
-      << to_string(m.jacobian) << "\n"
+      << to_string(m.jacobian) << (m.sensitivities ? " --sensitivities" : "") << "\n"
       << "// Layout: docs/generated-code.md.\n"
       << "//\n"
       << "// Scene " << sanitize_comment(scene.name) << ": coordinates "
@@ -214,6 +214,8 @@ void print_table(std::ostream& out, const PreparedModel& m) {
       {"n_singular", "n_singular"},
       {"singular_names", field(m.n_singular > 0, "singular_names")},
       {"singular_quantities", pointer("singular_quantities")},
+      {"residual_parameter_jacobian", pointer("residual_parameter_jacobian")},  // abi_version >= 3
+      {"hidden_parameter_jacobian", pointer("hidden_parameter_jacobian")},
   };
   out << "\n/// Everything above as the C table of docs/generated-code.md, filled by field name.\n"
       << "inline nhc_model_table make_model_table() noexcept {\n"

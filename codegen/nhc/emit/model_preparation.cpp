@@ -1,6 +1,8 @@
 // The symbolic half of the header emitter (model_preparation.hpp).
 #include "nhc/emit/model_preparation.hpp"
 
+#include "nhc/emit/parameter_jacobian.hpp"
+
 #include <algorithm>
 #include <set>
 
@@ -273,13 +275,32 @@ FunctionPlan singular_quantities_function(const std::vector<SingularQuantity>& s
   return f;
 }
 
+/// dF/dp or dg/dp as a column-major rows × n_parameters matrix, zero-filled, its structural
+/// nonzeros assigned (parameter_jacobian.hpp).
+FunctionPlan parameter_matrix_function(const std::string& name, const std::string& doc, const std::string& out,
+                                       int rows, int n_parameters, const std::vector<GiNaC::ex>& entries,
+                                       const std::vector<int>& nonzeros,
+                                       std::vector<std::pair<std::string, std::string>> inputs, ExpressionDag& dag) {
+  FunctionPlan f;
+  f.name = name;
+  f.doc = doc;
+  f.parameters = std::move(inputs);
+  f.parameters.push_back({"double*", out});
+  f.prologue = "  for (int k = 0; k < " + std::to_string(rows * n_parameters) + "; ++k) " + out + "[k] = 0.0;\n";
+  for (int at : nonzeros)
+    f.assignments.push_back({out + "[" + std::to_string(at) + "]", dag.add(entries[static_cast<size_t>(at)]),
+                             "(" + std::to_string(at % rows) + ", " + std::to_string(at / rows) + ")"});
+  return f;
+}
+
 }  // namespace
 
 bool PreparedModel::has_function(const std::string& name) const {
   return std::any_of(functions.begin(), functions.end(), [&](const FunctionPlan& f) { return f.name == name; });
 }
 
-PreparedModel prepare_model(const Scene& scene, const Index1System& system, JacobianKind jacobian) {
+PreparedModel prepare_model(const Scene& scene, const Index1System& system, JacobianKind jacobian,
+                            bool sensitivities) {
   PreparedModel m;
   m.model = to_string(system.model);
   m.namespace_name = scene.name + "_" + m.model;
@@ -307,6 +328,20 @@ PreparedModel prepare_model(const Scene& scene, const Index1System& system, Jaco
   if (m.n_invariants > 0) m.functions.push_back(invariants_function(scene, system, m.dag));
   if (m.n_reference > 0) m.functions.push_back(reference_function(scene, system, m.dag));
   if (m.n_singular > 0) m.functions.push_back(singular_quantities_function(m.singular, m.dag));
+  // Sensitivity additions (docs/generated-code.md): only when asked for and the scene has parameters.
+  m.sensitivities = sensitivities && m.n_parameters > 0;
+  if (m.sensitivities) {
+    const ParameterJacobian pj = parameter_jacobian(system);
+    m.functions.push_back(parameter_matrix_function("residual_parameter_jacobian",
+                                                    "/// dF/dp, column-major n_states x n_parameters.\n", "Fp",
+                                                    m.n_states, m.n_parameters, pj.residual, pj.residual_nonzeros,
+                                                    kStateInputs, m.dag));
+    if (m.n_hidden > 0)
+      m.functions.push_back(parameter_matrix_function(
+          "hidden_parameter_jacobian", "/// dg/dp of the hidden constraints, column-major n_hidden x n_parameters.\n",
+          "Gp", m.n_hidden, m.n_parameters, pj.hidden, pj.hidden_nonzeros,
+          {{"double", "t"}, {"const double*", "y"}, {"const double*", "p"}}, m.dag));
+  }
 
   for (FunctionPlan& f : m.functions) {
     std::vector<int> outputs;

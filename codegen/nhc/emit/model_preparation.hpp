@@ -71,6 +71,7 @@ struct PreparedModel {
   std::string model;           ///< the model's name (to_string(ModelKind))
   std::string namespace_name;  ///< `<scene>_<model>`
   JacobianKind jacobian;
+  bool sensitivities = false;  ///< dF/dp and dg/dp emitted
   int n_states = 0, n_parameters = 0, n_coordinates = 0, n_multipliers = 0, n_hidden = 0;
   int n_invariants = 0, n_reference = 0, n_singular = 0;
   SymbolicJacobian symbolic_jacobian;  ///< empty for JacobianKind::none
@@ -84,7 +85,9 @@ struct PreparedModel {
   bool has_function(const std::string& name) const;
 };
 
-/// The symbolic preparation of the header of `system` (an index-1 form of `scene`).
-PreparedModel prepare_model(const Scene& scene, const Index1System& system, JacobianKind jacobian);
+/// The symbolic preparation of the header of `system` (an index-1 form of `scene`);
+/// `sensitivities`: also dF/dp and dg/dp (docs/generated-code.md, "Sensitivity additions").
+PreparedModel prepare_model(const Scene& scene, const Index1System& system, JacobianKind jacobian,
+                            bool sensitivities = false);
 
 }  // namespace nhc

@@ -10,6 +10,6 @@ namespace nhc {
 const char* model_table_text() noexcept;
 
 /// The table's abi_version written by generated headers.
-inline constexpr int kModelTableAbiVersion = 2;
+inline constexpr int kModelTableAbiVersion = 3;
 
 }  // namespace nhc

@@ -59,6 +59,7 @@ LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& option
   start = Clock::now();
   HeaderOptions header_options;
   header_options.jacobian = options.jacobian.value_or(default_jacobian_kind(system.size()));
+  header_options.sensitivities = options.sensitivities;
   GeneratedHeader header = generate_header(scene, system, header_options);
   const double generate_seconds = seconds_since(start);
 

@@ -14,6 +14,8 @@ namespace nhc::jit {
 struct BuildOptions {
   /// The Jacobian to generate; none given: default_jacobian_kind() of the system's size.
   std::optional<JacobianKind> jacobian;
+  /// Also dF/dp and dg/dp (HeaderOptions::sensitivities), for runtime::SensitivityIntegrator.
+  bool sensitivities = false;
   CompileOptions compile;
 };
 

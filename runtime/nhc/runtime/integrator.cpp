@@ -1,8 +1,7 @@
 #include "nhc/runtime/integrator.hpp"
 
-#include <ida/ida.h>
-#include <ida/ida_impl.h>  // ProjectionMethod::in_place shifts IDA's phi[0]; pinned to SUNDIALS 6
-#include <ida/ida_ls.h>
+#include <idas/idas.h>  // IDAS, a superset of IDA: one library for plain runs and sensitivities
+#include <idas/idas_ls.h>
 #include <sundials/sundials_config.h>
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunlinsol/sunlinsol_klu.h>
@@ -26,7 +25,7 @@ namespace nhc::runtime {
 namespace sd = sun;
 
 static_assert(SUNDIALS_VERSION_MAJOR == 6,
-              "ProjectionMethod::in_place relies on IDA 6's divided-difference array phi; check ida_impl.h");
+              "ProjectionMethod::in_place shifts IDA 6's divided difference phi[0] (sun::CloneRecorder)");
 
 namespace {
 
@@ -89,6 +88,7 @@ struct Integrator::Impl {
   sd::Matrix A;
   sd::LinearSolver solver;
   sd::IdaMemory ida;
+  N_Vector history = nullptr;  // IDA's phi[0] (sun::find_solution_history), owned by IDA
   bool sparse = false;
   std::string jacobian_kind;
 
@@ -462,13 +462,13 @@ struct Integrator::Impl {
     double* yy = y.data();
     const std::vector<double> scale = projection_scale(yy);
     if (correction_norm(tt, yy, scale) <= options.projection_threshold) return;
-    if (options.projection == ProjectionMethod::in_place) {
+    if (options.projection == ProjectionMethod::in_place && history) {
       // phi[0] holds y_n; shifting it moves the predictor of the next step by the same Δy while
       // the higher differences (and so y' and the error estimate) stay: the step continues from
       // the projected point without a restart (the analogue of CVODE's projection, CVodeSetProjFn).
       std::vector<double> before(yy, yy + n());
       solve_hidden_constraints(model, p.data(), tt, yy, scale, 1e-3 * options.atol);
-      double* phi0 = N_VGetArrayPointer(static_cast<IDAMem>(ida.get())->ida_phi[0]);
+      double* phi0 = N_VGetArrayPointer(history);
       for (int i = 0; i < n(); ++i) phi0[i] += yy[i] - before[i];
       ++projections;
       return;
@@ -537,7 +537,11 @@ Sample Integrator::initialize(const InitialState& state, double t_next) {
   // 2. IDA and IDACalcIC for the algebraic states and y'.
   s.ida = sd::IdaMemory::create(s.ctx);
   s.check(IDASetErrHandlerFn(s.ida, &Impl::error_handler_cb, &s), "installing the error handler");
-  s.check(IDAInit(s.ida, &Impl::residual_cb, state.t0, s.y, s.yp), "initialising IDA");
+  {
+    sd::CloneRecorder recorder(s.y);
+    s.check(IDAInit(s.ida, &Impl::residual_cb, state.t0, s.y, s.yp), "initialising IDA");
+    s.history = sd::find_solution_history(recorder.clones(), s.y, s.yp);
+  }
   s.check(IDASetUserData(s.ida, &s), "setting the user data");
   s.check(IDASStolerances(s.ida, s.options.rtol, s.options.atol), "setting the tolerances");
   s.check(IDASetId(s.ida, s.id), "setting the id vector");

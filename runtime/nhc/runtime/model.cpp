@@ -13,8 +13,8 @@ void validate(const nhc_model_table* t, const std::string& origin) {
     throw ModelError("model table of " + origin + ": " + what + " (see docs/generated-code.md)");
   };
   if (!t) fail("null table");
-  if (t->abi_version < 1 || t->abi_version > 2)
-    fail("unsupported ABI version " + std::to_string(t->abi_version) + " (this runtime reads 1 and 2)");
+  if (t->abi_version < 1 || t->abi_version > 3)
+    fail("unsupported ABI version " + std::to_string(t->abi_version) + " (this runtime reads 1 to 3)");
   if (t->n_states <= 0) fail("no states");
   if (!t->residual) fail("no residual function");
   if (!t->state_names || !t->state_variable || !t->state_order || !t->differential_id)
@@ -29,6 +29,8 @@ void validate(const nhc_model_table* t, const std::string& origin) {
     fail("sparse Jacobian without its pattern");
   if (t->abi_version >= 2 && t->n_singular > 0 && !t->singular_quantities)
     fail("singular-set monitors declared but no function");
+  if (t->abi_version >= 3 && t->hidden_parameter_jacobian && !t->residual_parameter_jacobian)
+    fail("dg/dp without dF/dp");
 }
 
 }  // namespace
@@ -56,6 +58,12 @@ Model Model::load(const std::string& shared_object) {
   const nhc_model_table* table = get();
   validate(table, shared_object);
   return Model(table, std::move(library));
+}
+
+bool Model::has_parameter_jacobian() const noexcept {
+  return table_->n_parameters == 0 ||
+         (table_->abi_version >= 3 && table_->residual_parameter_jacobian != nullptr &&
+          (table_->n_hidden == 0 || table_->hidden_parameter_jacobian != nullptr));
 }
 
 int Model::n_singular() const noexcept {

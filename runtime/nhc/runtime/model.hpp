@@ -38,6 +38,9 @@ class Model {
   /// Singular-set monitors (Runtime additions, abi_version >= 2), else 0.
   int n_singular() const noexcept;
 
+  /// dF/dp generated (Sensitivity additions, abi_version >= 3; always true without parameters).
+  bool has_parameter_jacobian() const noexcept;
+
   bool has_dense_jacobian() const noexcept { return table_->jacobian != nullptr; }
   bool has_sparse_jacobian() const noexcept;
 

@@ -6,5 +6,6 @@
 #include "nhc/runtime/integrator.hpp"
 #include "nhc/runtime/model.hpp"
 #include "nhc/runtime/model_table.h"
+#include "nhc/runtime/sensitivity.hpp"
 #include "nhc/runtime/trajectory.hpp"
 #include "nhc/runtime/work_precision.hpp"

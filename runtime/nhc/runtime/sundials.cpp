@@ -7,6 +7,7 @@
 #include <sunmatrix/sunmatrix_sparse.h>
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace nhc::runtime {
@@ -138,6 +139,55 @@ LinearSolver LinearSolver::klu(N_Vector y, SUNMatrix A, SUNContext ctx) {
 
 IdaMemory IdaMemory::create(SUNContext ctx) {
   return IdaMemory(require(IDACreate(ctx), "the IDA integrator"));
+}
+
+namespace {
+
+thread_local CloneRecorder* active_recorder = nullptr;
+thread_local std::vector<N_Vector>* active_clones = nullptr;
+
+N_Vector recording_clone(N_Vector w) {
+  N_Vector v = N_VClone_Serial(w);
+  if (v && active_clones) {
+    const sunindextype n = N_VGetLength_Serial(v);
+    double* data = N_VGetArrayPointer_Serial(v);
+    for (sunindextype i = 0; i < n; ++i) data[i] = std::numeric_limits<double>::quiet_NaN();
+    active_clones->push_back(v);
+  }
+  return v;
+}
+
+bool equal(N_Vector a, N_Vector b) {
+  const sunindextype n = N_VGetLength_Serial(a);
+  if (N_VGetLength_Serial(b) != n) return false;
+  const double* x = N_VGetArrayPointer_Serial(a);
+  const double* y = N_VGetArrayPointer_Serial(b);
+  for (sunindextype i = 0; i < n; ++i)
+    if (!(x[i] == y[i])) return false;
+  return true;
+}
+
+}  // namespace
+
+CloneRecorder::CloneRecorder(N_Vector y) : previous_(active_recorder) {
+  y->ops->nvclone = &recording_clone;  // clones copy the operations table, so they record too
+  active_recorder = this;
+  active_clones = &clones_;
+}
+
+CloneRecorder::~CloneRecorder() {
+  active_recorder = previous_;
+  active_clones = previous_ ? &previous_->clones_ : nullptr;
+}
+
+N_Vector find_solution_history(const std::vector<N_Vector>& clones, N_Vector y0, N_Vector yp0) {
+  N_Vector found = nullptr;
+  for (std::size_t k = 0; k + 1 < clones.size(); ++k)
+    if (equal(clones[k], y0) && equal(clones[k + 1], yp0)) {
+      if (found) return nullptr;  // ambiguous: do not guess
+      found = clones[k];
+    }
+  return found;
 }
 
 }  // namespace sun

@@ -4,7 +4,7 @@
 /// where SUNDIALS return codes are checked and turned into SolverError
 /// (cf. sundials/sundials_context.hpp).
 
-#include <ida/ida.h>
+#include <idas/idas.h>  // IDAS: IDA with forward sensitivities (one library, a superset of IDA)
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
 #include <sundials/sundials_linearsolver.h>
@@ -12,6 +12,7 @@
 
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "nhc/runtime/errors.hpp"
 
@@ -117,5 +118,26 @@ class IdaMemory : public Owner<void*, IdaTraits> {
   using Owner::Owner;  ///< adopts a handle
   static IdaMemory create(SUNContext ctx);
 };
+
+/// Records the vectors IDA(S) clones from `y` while it lives (IDAInit allocates its work space
+/// so), each filled with NaN first. With it, IDA's divided difference phi[0] (the current
+/// solution y_n) is found without IDA's private header: IDAInit copies y0 and y'0 into phi[0]
+/// and phi[1], allocated one after the other, and into no other vector (find_solution_history).
+class CloneRecorder {
+ public:
+  explicit CloneRecorder(N_Vector y);
+  ~CloneRecorder();
+  CloneRecorder(const CloneRecorder&) = delete;
+  CloneRecorder& operator=(const CloneRecorder&) = delete;
+  const std::vector<N_Vector>& clones() const noexcept { return clones_; }
+
+ private:
+  std::vector<N_Vector> clones_;
+  CloneRecorder* previous_ = nullptr;
+};
+
+/// IDA's phi[0] among `clones` (recorded around IDAInit(…, y0, yp0)): the first of two
+/// consecutive clones equal to y0 and yp0; null when there is no such unique pair.
+N_Vector find_solution_history(const std::vector<N_Vector>& clones, N_Vector y0, N_Vector yp0);
 
 }  // namespace nhc::runtime::sun

@@ -1,0 +1,61 @@
+// nhc simulate --sensitivity (sensitivity_option.hpp).
+#include "sensitivity_option.hpp"
+
+#include <sstream>
+#include <stdexcept>
+
+#include "nhc/errors.hpp"
+#include "pipeline.hpp"
+
+namespace nhc::cli {
+
+void add_sensitivity_options(CLI::App* sub, SensitivityRequest& request) {
+  sub->add_option("--sensitivity", request.names,
+                  "forward sensitivities (IDAS) with respect to parameters and initial values, e.g. g,alpha,x'(0): "
+                  "adds the CSV columns d(<state>)/d(<name>)")
+      ->delimiter(',');
+  sub->add_option("--sensitivity-error-control", request.error_control,
+                  "include the sensitivities in the local error test (default on)")
+      ->check(CLI::IsMember({"on", "off"}));
+}
+
+std::vector<runtime::SensitivityParameter> parse_sensitivities(const runtime::Model& model,
+                                                               const std::vector<std::string>& names) {
+  std::vector<runtime::SensitivityParameter> thetas;
+  for (const std::string& name : names) {
+    try {
+      thetas.push_back(runtime::sensitivity_parameter(model, name));
+    } catch (const std::invalid_argument& e) {
+      throw InputError({"--sensitivity", 0, 0}, e.what());
+    }
+    for (size_t k = 0; k + 1 < thetas.size(); ++k)
+      if (thetas[k].kind == thetas.back().kind && thetas[k].index == thetas.back().index)
+        throw InputError({"--sensitivity", 0, 0}, name + " is named twice");
+  }
+  return thetas;
+}
+
+runtime::SensitivityRun run_sensitivities(const runtime::Model& model, const std::vector<double>& p,
+                                          const runtime::InitialState& initial, const std::vector<double>& times,
+                                          const runtime::IntegratorOptions& options, const SensitivityRequest& request) {
+  runtime::SensitivityOptions so;
+  so.error_control = request.error_control == "on";
+  return runtime::simulate_sensitivities(model, p, initial, parse_sensitivities(model, request.names), times,
+                                         options, so);
+}
+
+std::string describe_sensitivity_cost(const runtime::SensitivityRun& run, const SensitivityRequest& request,
+                                      const runtime::Statistics& plain) {
+  const runtime::Statistics& st = run.statistics.state;
+  const double seconds = st.initialization_seconds + st.integration_seconds;
+  const double plain_seconds = plain.initialization_seconds + plain.integration_seconds;
+  std::ostringstream os;
+  os << "  sensitivities (" << request.names.size() << ", IDAS staggered, error control " << request.error_control
+     << "): integrate " << format_number(seconds) << " s = "
+     << format_number(plain_seconds > 0 ? seconds / plain_seconds : 0) << " x the plain run; steps " << st.steps
+     << " (plain " << plain.steps << "), sensitivity residual evaluations "
+     << run.statistics.sensitivity_residual_evaluations << "\n";
+  return os.str();
+}
+
+}  // namespace nhc::cli

@@ -1,0 +1,36 @@
+#pragma once
+/// \file sensitivity_option.hpp
+/// \brief `nhc simulate --sensitivity g,alpha,x'(0)`: the names as runtime::SensitivityParameter,
+/// the run with IDAS, and its cost relative to the plain run (README, "simulate").
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+#include <vector>
+
+#include "nhc/runtime/runtime.hpp"
+
+namespace nhc::cli {
+
+struct SensitivityRequest {
+  std::vector<std::string> names;  ///< empty: no sensitivities
+  std::string error_control = "on";
+};
+
+/// Registers --sensitivity and --sensitivity-error-control on `sub`.
+void add_sensitivity_options(CLI::App* sub, SensitivityRequest& request);
+
+/// The names for `model`; InputError naming --sensitivity for an unknown or algebraic name.
+std::vector<runtime::SensitivityParameter> parse_sensitivities(const runtime::Model& model,
+                                                               const std::vector<std::string>& names);
+
+/// Runs the sensitivities on the plain run's output times.
+runtime::SensitivityRun run_sensitivities(const runtime::Model& model, const std::vector<double>& p,
+                                          const runtime::InitialState& initial, const std::vector<double>& times,
+                                          const runtime::IntegratorOptions& options, const SensitivityRequest& request);
+
+/// One summary line: the sensitivities' cost against the plain run's statistics.
+std::string describe_sensitivity_cost(const runtime::SensitivityRun& run, const SensitivityRequest& request,
+                                      const runtime::Statistics& plain);
+
+}  // namespace nhc::cli
