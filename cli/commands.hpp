@@ -19,6 +19,7 @@ CommandRunner add_analyze_command(CLI::App& app);
 CommandRunner add_generate_command(CLI::App& app);
 CommandRunner add_simulate_command(CLI::App& app);
 CommandRunner add_report_command(CLI::App& app);
+CommandRunner add_linearize_command(CLI::App& app);
 
 /// The scene's models, or those named by --model flags.
 std::vector<ModelKind> selected_models(const Scene& scene, const std::vector<std::string>& names);

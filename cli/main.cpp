@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   add(nhc::cli::add_generate_command);
   add(nhc::cli::add_simulate_command);
   add(nhc::cli::add_report_command);
+  add(nhc::cli::add_linearize_command);
 
   try {
     app.parse(argc, argv);

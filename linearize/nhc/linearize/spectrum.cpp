@@ -1,0 +1,49 @@
+#include "nhc/linearize/spectrum.hpp"
+
+#include <algorithm>
+
+namespace nhc {
+
+std::string to_string(StabilityVerdict verdict) {
+  switch (verdict) {
+    case StabilityVerdict::unstable: return "unstable";
+    case StabilityVerdict::marginally_stable: return "marginally_stable";
+    case StabilityVerdict::asymptotically_stable: return "asymptotically_stable";
+  }
+  return "?";
+}
+
+std::vector<std::complex<double>> sorted_eigenvalues(const Eigen::MatrixXd& A) {
+  std::vector<std::complex<double>> out;
+  if (A.size() == 0) return out;
+  Eigen::EigenSolver<Eigen::MatrixXd> solver(A, false);
+  const Eigen::VectorXcd values = solver.eigenvalues();
+  out.assign(values.data(), values.data() + values.size());
+  std::sort(out.begin(), out.end(), [](const std::complex<double>& a, const std::complex<double>& b) {
+    if (a.real() != b.real()) return a.real() > b.real();
+    return a.imag() > b.imag();
+  });
+  return out;
+}
+
+SpectrumVerdict classify_spectrum(const Eigen::MatrixXd& A, const std::vector<std::complex<double>>& eigenvalues,
+                                  int families, double tolerance, double zero_tolerance) {
+  SpectrumVerdict out;
+  const double scale = A.size() ? std::max(1.0, A.cwiseAbs().rowwise().sum().maxCoeff()) : 1.0;
+  bool positive = false, on_axis = false;
+  for (const std::complex<double>& l : eigenvalues) {
+    if (std::abs(l) <= zero_tolerance * scale) {
+      ++out.zero_eigenvalues;
+      continue;
+    }
+    if (l.real() > tolerance * scale) positive = true;
+    else if (l.real() >= -tolerance * scale) on_axis = true;
+  }
+  if (out.zero_eigenvalues > families) on_axis = true;
+  out.verdict = positive  ? StabilityVerdict::unstable
+                : on_axis ? StabilityVerdict::marginally_stable
+                          : StabilityVerdict::asymptotically_stable;
+  return out;
+}
+
+}  // namespace nhc
