@@ -21,5 +21,6 @@
 
 #include "nhc/linearize/linearization.hpp"
 #include "nhc/linearize/linearizer.hpp"
+#include "nhc/linearize/steady_families.hpp"
 #include "nhc/linearize/operating_point.hpp"
 #include "nhc/linearize/sweep.hpp"

@@ -15,6 +15,7 @@
 #include "nhc/linearize/cyclic_reduction.hpp"
 #include "nhc/linearize/manifold_linearization.hpp"
 #include "nhc/linearize/spectrum.hpp"
+#include "nhc/linearize/steady_families.hpp"
 
 namespace nhc {
 
@@ -65,8 +66,8 @@ struct Linearizer::Impl {
   void check_stationary(const NumericPoint& p, Linearization& out) const;
   std::optional<Eigen::VectorXd> velocity(const NumericPoint& p, const ManifoldLinearization& lin,
                                           const Eigen::MatrixXd& G_dependent, const Eigen::VectorXd& s) const;
-  std::vector<SteadyFamily> steady_families(const NumericPoint& p, const ManifoldLinearization& lin,
-                                            const std::vector<std::string>& states) const;
+  std::vector<SteadyFamily> families_at(const NumericPoint& p, const ManifoldLinearization& lin,
+                                        const std::vector<std::string>& states, int zero_eigenvalues) const;
   std::string describe_basis(const ManifoldLinearization& lin) const;
 };
 
@@ -159,19 +160,10 @@ std::optional<Eigen::VectorXd> Linearizer::Impl::velocity(const NumericPoint& p,
   return std::nullopt;
 }
 
-/// Kernel vectors of A along which steady motions continue (docs/linearize.md, "Zero
-/// eigenvalues"): from s* + εv, chord iterations s ← s − A⁺ h(s) on the reduced velocity h
-/// must reach h = 0 within O(ε²) of the start.
-std::vector<SteadyFamily> Linearizer::Impl::steady_families(const NumericPoint& p, const ManifoldLinearization& lin,
-                                                            const std::vector<std::string>& states) const {
-  const Eigen::MatrixXd& A = lin.A;
-  std::vector<SteadyFamily> out;
-  if (A.size() == 0) return out;
-  const double scale = std::max(1.0, A.cwiseAbs().rowwise().sum().maxCoeff());
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  svd.setThreshold(options.zero_tolerance * scale / std::max(1.0, svd.singularValues()(0)));
-  const Eigen::VectorXd sigma = svd.singularValues();
-
+/// The reduced velocity h(s) and s* for steady_families().
+std::vector<SteadyFamily> Linearizer::Impl::families_at(const NumericPoint& p, const ManifoldLinearization& lin,
+                                                        const std::vector<std::string>& states,
+                                                        int zero_eigenvalues) const {
   Eigen::VectorXd s_star(static_cast<Eigen::Index>(lin.independent.size()));
   for (std::size_t i = 0; i < lin.independent.size(); ++i)
     s_star(static_cast<Eigen::Index>(i)) = p.z(lin.differential[static_cast<std::size_t>(lin.independent[i])]);
@@ -182,41 +174,8 @@ std::vector<SteadyFamily> Linearizer::Impl::steady_families(const NumericPoint& 
     for (std::size_t r = 0; r < lin.dependent.size(); ++r)
       G_dependent.col(static_cast<Eigen::Index>(r)) = G.col(lin.differential[static_cast<std::size_t>(lin.dependent[r])]);
   }
-  const double epsilon = 1e-3 * (1.0 + s_star.norm());
-  const double h_tolerance = 1e-11 * scale * (1.0 + s_star.norm());
-
-  for (Eigen::Index k = 0; k < sigma.size(); ++k) {
-    if (sigma(k) > options.zero_tolerance * scale) continue;
-    const Eigen::VectorXd v = svd.matrixV().col(k);
-    const Eigen::VectorXd start = s_star + epsilon * v;
-    Eigen::VectorXd s = start;
-    bool converged = false;
-    for (int iteration = 0; iteration < 40; ++iteration) {
-      const auto h = velocity(p, lin, G_dependent, s);
-      if (!h) break;
-      if (h->norm() <= h_tolerance) {
-        converged = true;
-        break;
-      }
-      s -= svd.solve(*h);
-    }
-    if (!converged || (s - start).norm() > 0.05 * epsilon) continue;
-    std::ostringstream text;
-    text << "family of steady motions along";
-    const double largest = v.cwiseAbs().maxCoeff();
-    bool first = true;
-    for (Eigen::Index i = 0; i < v.size(); ++i) {
-      if (std::abs(v(i)) < 0.1 * largest) continue;
-      const double c = v(i) / largest;
-      if (first) text << (c < 0 ? " -" : " ");
-      else text << (c < 0 ? " - " : " + ");
-      if (std::abs(std::abs(c) - 1.0) > 1e-6) text << number(std::abs(c)) << " ";
-      text << states[static_cast<std::size_t>(i)];
-      first = false;
-    }
-    out.push_back({std::vector<double>(v.data(), v.data() + v.size()), text.str()});
-  }
-  return out;
+  const ReducedVelocity h = [&](const Eigen::VectorXd& s) { return velocity(p, lin, G_dependent, s); };
+  return steady_families(lin.A, s_star, h, zero_eigenvalues, states, options.zero_tolerance);
 }
 
 std::string Linearizer::Impl::describe_basis(const ManifoldLinearization& lin) const {
@@ -296,11 +255,10 @@ Linearization Linearizer::at(const std::vector<PointOverride>& overrides) const 
   out.manifold_residual = lin.manifold_residual;
 
   out.eigenvalues = sorted_eigenvalues(out.A);
-  out.families = m.steady_families(p, lin, out.states);
-  const SpectrumVerdict v = classify_spectrum(out.A, out.eigenvalues, static_cast<int>(out.families.size()),
-                                              m.options.tolerance, m.options.zero_tolerance);
-  out.zero_eigenvalues = v.zero_eigenvalues;
-  out.verdict = v.verdict;
+  out.zero_eigenvalues = count_zero_eigenvalues(out.A, out.eigenvalues, m.options.zero_tolerance);
+  out.families = m.families_at(p, lin, out.states, out.zero_eigenvalues);
+  out.verdict = classify_spectrum(out.A, out.eigenvalues, static_cast<int>(out.families.size()), m.options.tolerance,
+                                  m.options.zero_tolerance);
   return out;
 }
 

@@ -26,24 +26,36 @@ std::vector<std::complex<double>> sorted_eigenvalues(const Eigen::MatrixXd& A) {
   return out;
 }
 
-SpectrumVerdict classify_spectrum(const Eigen::MatrixXd& A, const std::vector<std::complex<double>>& eigenvalues,
-                                  int families, double tolerance, double zero_tolerance) {
-  SpectrumVerdict out;
-  const double scale = A.size() ? std::max(1.0, A.cwiseAbs().rowwise().sum().maxCoeff()) : 1.0;
+namespace {
+double scale_of(const Eigen::MatrixXd& A) {
+  return A.size() ? std::max(1.0, A.cwiseAbs().rowwise().sum().maxCoeff()) : 1.0;
+}
+}  // namespace
+
+int count_zero_eigenvalues(const Eigen::MatrixXd& A, const std::vector<std::complex<double>>& eigenvalues,
+                           double zero_tolerance) {
+  int zeros = 0;
+  for (const std::complex<double>& l : eigenvalues) zeros += std::abs(l) <= zero_tolerance * scale_of(A) ? 1 : 0;
+  return zeros;
+}
+
+StabilityVerdict classify_spectrum(const Eigen::MatrixXd& A, const std::vector<std::complex<double>>& eigenvalues,
+                                   int families, double tolerance, double zero_tolerance) {
+  const double scale = scale_of(A);
+  int zeros = 0;
   bool positive = false, on_axis = false;
   for (const std::complex<double>& l : eigenvalues) {
     if (std::abs(l) <= zero_tolerance * scale) {
-      ++out.zero_eigenvalues;
+      ++zeros;
       continue;
     }
     if (l.real() > tolerance * scale) positive = true;
     else if (l.real() >= -tolerance * scale) on_axis = true;
   }
-  if (out.zero_eigenvalues > families) on_axis = true;
-  out.verdict = positive  ? StabilityVerdict::unstable
-                : on_axis ? StabilityVerdict::marginally_stable
-                          : StabilityVerdict::asymptotically_stable;
-  return out;
+  if (zeros > families) on_axis = true;
+  return positive  ? StabilityVerdict::unstable
+         : on_axis ? StabilityVerdict::marginally_stable
+                   : StabilityVerdict::asymptotically_stable;
 }
 
 }  // namespace nhc
