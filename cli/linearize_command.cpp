@@ -188,7 +188,7 @@ std::string stability_script(const SweepResult& sweep, const std::string& scene,
     g << "set ylabel " << gnuplot_string(part == 0 ? "Re(lambda)" : "Im(lambda)") << "\nplot ";
     for (std::size_t k = 0; k < count; ++k)
       g << (k ? ", " : "") << gnuplot_string("stability.csv") << " every ::1 using 1:" << (2 + 2 * k + part)
-        << " with linespoints pointtype 7 pointsize 0.5 linecolor " << (k % 8 + 1);
+        << " with points pointtype 7 pointsize 0.6 linecolor " << (k % 8 + 1);
     g << "\n";
   }
   g << "unset multiplot\nset output\n";

@@ -1,6 +1,7 @@
 #include "nhc/linearize/spectrum.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace nhc {
 
@@ -19,8 +20,12 @@ std::vector<std::complex<double>> sorted_eigenvalues(const Eigen::MatrixXd& A) {
   Eigen::EigenSolver<Eigen::MatrixXd> solver(A, false);
   const Eigen::VectorXcd values = solver.eigenvalues();
   out.assign(values.data(), values.data() + values.size());
-  std::sort(out.begin(), out.end(), [](const std::complex<double>& a, const std::complex<double>& b) {
-    if (a.real() != b.real()) return a.real() > b.real();
+  // Real parts equal to rounding are sorted by imaginary part, so that a conjugate pair on the
+  // axis and zeros keep one order along a sweep.
+  const double close = 1e-9 * std::max(1.0, A.cwiseAbs().rowwise().sum().maxCoeff());
+  std::stable_sort(out.begin(), out.end(), [close](const std::complex<double>& a, const std::complex<double>& b) {
+    const double ka = std::round(a.real() / close), kb = std::round(b.real() / close);  // a strict weak order
+    if (ka != kb) return ka > kb;
     return a.imag() > b.imag();
   });
   return out;

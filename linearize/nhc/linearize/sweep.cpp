@@ -77,18 +77,16 @@ SweepResult sweep(const Linearizer& linearizer, const std::vector<PointOverride>
   }
   for (std::size_t k = 0; k + 1 < out.points.size(); ++k) {
     const StabilityVerdict from = out.points[k].linearization.verdict;
-    StabilityVerdict to = out.points[k + 1].linearization.verdict;
+    const StabilityVerdict to = out.points[k + 1].linearization.verdict;
     if (from == to) continue;
     double lo = out.points[k].value, hi = out.points[k + 1].value;
     while (hi - lo > relative_width * std::max(std::abs(lo), std::abs(hi)) && hi - lo > 1e-300) {
       const double mid = lo + (hi - lo) / 2;
       if (mid <= lo || mid >= hi) break;
-      const StabilityVerdict v = at(mid).verdict;
-      if (v == from) lo = mid;
-      else {
-        hi = mid;
-        to = v;
-      }
+      // At the threshold itself eigenvalues pass through 0 and the verdict is degenerate; only
+      // "same as the lower end or not" steers the bisection.
+      if (at(mid).verdict == from) lo = mid;
+      else hi = mid;
     }
     out.thresholds.push_back({lo + (hi - lo) / 2, lo, hi, from, to});
   }
