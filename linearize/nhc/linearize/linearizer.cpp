@@ -133,7 +133,8 @@ std::optional<Eigen::VectorXd> Linearizer::Impl::velocity(const NumericPoint& p,
   for (std::size_t i = 0; i < lin.independent.size(); ++i)
     q.z(lin.differential[static_cast<std::size_t>(lin.independent[i])]) = s(static_cast<Eigen::Index>(i));
   const auto nD = static_cast<Eigen::Index>(lin.differential.size());
-  const auto solver = G_dependent.colPivHouseholderQr();
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> solver;  // Eigen's QR of an empty matrix crashes
+  if (G_dependent.size() > 0) solver.compute(G_dependent);
   for (int iteration = 0; iteration < 60; ++iteration) {
     double step = 0.0;
     if (!reduced.hidden.empty() && !lin.dependent.empty()) {
