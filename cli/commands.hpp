@@ -24,6 +24,7 @@ CommandRunner add_compare_command(CLI::App& app);
 CommandRunner add_ensemble_command(CLI::App& app);
 CommandRunner add_plot_command(CLI::App& app);
 CommandRunner add_connect_command(CLI::App& app);
+CommandRunner add_linearize_command(CLI::App& app);
 
 /// The scene's models, or those named by --model flags.
 std::vector<ModelKind> selected_models(const Scene& scene, const std::vector<std::string>& names);

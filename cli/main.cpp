@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
   add(nhc::cli::add_ensemble_command);
   add(nhc::cli::add_plot_command);
   add(nhc::cli::add_connect_command);
+  add(nhc::cli::add_linearize_command);
 
   try {
     app.parse(argc, argv);

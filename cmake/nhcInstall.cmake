@@ -1,5 +1,5 @@
-# `cmake --install`: the nhc executable, the codegen, runtime and jit headers and libraries, the
-# exported targets nhc::nhc, nhc::codegen, nhc::runtime, nhc::jit, and a package config with version file
+# `cmake --install`: the nhc executable, the codegen, runtime, jit and linearize headers and libraries, the
+# exported targets nhc::nhc, nhc::codegen, nhc::runtime, nhc::jit, nhc::linearize, and a package config with version file
 # and nhc_add_model(), so that find_package(nhc) works (examples/app/).
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
@@ -10,19 +10,20 @@ set(NHC_INSTALL_CMAKEDIR "${CMAKE_INSTALL_LIBDIR}/cmake/nhc" CACHE STRING
 set_target_properties(nhc_codegen PROPERTIES EXPORT_NAME codegen)
 set_target_properties(nhc_runtime PROPERTIES EXPORT_NAME runtime)
 set_target_properties(nhc_jit PROPERTIES EXPORT_NAME jit)
+set_target_properties(nhc_linearize PROPERTIES EXPORT_NAME linearize)
 set_target_properties(nhc PROPERTIES EXPORT_NAME nhc)
 if(BUILD_SHARED_LIBS)
   set_target_properties(nhc PROPERTIES INSTALL_RPATH "$ORIGIN/../${CMAKE_INSTALL_LIBDIR}")
 endif()
 
-install(TARGETS nhc nhc_codegen nhc_runtime nhc_jit
+install(TARGETS nhc nhc_codegen nhc_runtime nhc_jit nhc_linearize
   EXPORT nhcTargets
   RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
 # The trees share the top directory nhc/ (nhc/scene, nhc/derive, …, nhc/runtime, nhc/jit.hpp).
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/codegen/nhc ${PROJECT_SOURCE_DIR}/runtime/nhc
-          ${PROJECT_SOURCE_DIR}/jit/nhc
+          ${PROJECT_SOURCE_DIR}/jit/nhc ${PROJECT_SOURCE_DIR}/linearize/nhc
   DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
   FILES_MATCHING PATTERN "*.hpp" PATTERN "*.h")
 

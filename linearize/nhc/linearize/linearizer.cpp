@@ -1,0 +1,271 @@
+#include "nhc/linearize/linearizer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <sstream>
+
+#include "nhc/analysis/consistent_initialization.hpp"
+#include "nhc/analysis/dae_system.hpp"
+#include "nhc/analysis/index1_reduction.hpp"
+#include "nhc/analysis/numeric_evaluation.hpp"
+#include "nhc/analysis/structural_analysis.hpp"
+#include "nhc/derive/models.hpp"
+#include "nhc/errors.hpp"
+#include "nhc/linearize/cyclic_reduction.hpp"
+#include "nhc/linearize/manifold_linearization.hpp"
+#include "nhc/linearize/spectrum.hpp"
+#include "nhc/linearize/steady_families.hpp"
+
+namespace nhc {
+
+namespace {
+
+std::string number(double v) {
+  std::ostringstream s;
+  s.precision(6);
+  s << v;
+  return s.str();
+}
+
+/// The state of the reduced system at one point: z, z' of the differential states, and the
+/// parameters and t as a GiNaC substitution.
+struct NumericPoint {
+  GiNaC::exmap base;  ///< t and parameters
+  Eigen::VectorXd z;
+  Eigen::VectorXd zp;  ///< per state; 0 for algebraic ones
+};
+
+GiNaC::exmap substitution(const CyclicReduction& r, const NumericPoint& p) {
+  GiNaC::exmap m = p.base;
+  for (std::size_t c = 0; c < r.components.size(); ++c) {
+    const ReducedComponent& z = r.components[c];
+    m[z.value] = p.z(static_cast<Eigen::Index>(c));
+    if (z.differential) m[z.derivative] = p.zp(static_cast<Eigen::Index>(c));
+  }
+  return m;
+}
+
+Eigen::MatrixXd as_matrix(const std::vector<std::vector<GiNaC::ex>>& m, std::size_t cols, const GiNaC::exmap& at,
+                          const std::string& what) {
+  if (m.empty()) return Eigen::MatrixXd(0, static_cast<Eigen::Index>(cols));
+  return evaluate_matrix(m, at, what);
+}
+
+}  // namespace
+
+struct Linearizer::Impl {
+  Scene scene;
+  ModelKind model;
+  LinearizeOptions options;
+  StructuralAnalysis analysis;
+  Index1System system;
+  CyclicReduction reduced;
+
+  NumericPoint operating_point(const Scene& at_scene, Linearization& out) const;
+  void check_stationary(const NumericPoint& p, Linearization& out) const;
+  std::optional<Eigen::VectorXd> velocity(const NumericPoint& p, const ManifoldLinearization& lin,
+                                          const Eigen::MatrixXd& G_dependent, const Eigen::VectorXd& s) const;
+  std::vector<SteadyFamily> families_at(const NumericPoint& p, const ManifoldLinearization& lin,
+                                        const std::vector<std::string>& states, int zero_eigenvalues) const;
+  std::string describe_basis(const ManifoldLinearization& lin) const;
+};
+
+NumericPoint Linearizer::Impl::operating_point(const Scene& s, Linearization& out) const {
+  const ConsistentPoint cp = consistent_initial_point(s, analysis);
+  if (!cp.leading_solved)
+    throw MathError("the system Jacobian of the " + to_string(model) +
+                    " model is singular at the operating point: the leading derivatives cannot be solved there");
+  for (const std::string& note : cp.notes) out.notes.push_back(note);
+  std::vector<double> y0, yp0;
+  initial_state(system, cp, y0, yp0);
+
+  NumericPoint p;
+  p.base = s.parameter_substitution();
+  p.base[s.jet->time()] = s.initial.t0;
+  GiNaC::exmap full = p.base;
+  for (int k = 0; k < system.size(); ++k) {
+    full[system.y[static_cast<std::size_t>(k)]] = y0[static_cast<std::size_t>(k)];
+    full[system.yp[static_cast<std::size_t>(k)]] = yp0[static_cast<std::size_t>(k)];
+  }
+  const auto n = static_cast<Eigen::Index>(reduced.components.size());
+  p.z = Eigen::VectorXd::Zero(n);
+  p.zp = Eigen::VectorXd::Zero(n);
+  for (Eigen::Index c = 0; c < n; ++c) {
+    const ReducedComponent& z = reduced.components[static_cast<std::size_t>(c)];
+    p.z(c) = evaluate_real(z.value, full, z.name);
+    if (z.differential) p.zp(c) = evaluate_real(z.derivative, full, "the derivative of " + z.name);
+  }
+  for (int q = 0; q < static_cast<int>(s.parameter_values.size()); ++q)
+    out.point.emplace_back(s.jet->parameters()[static_cast<std::size_t>(q)], s.parameter_values[static_cast<std::size_t>(q)]);
+  for (int k = 0; k < system.size(); ++k)
+    out.point.emplace_back(system.states[static_cast<std::size_t>(k)].name, y0[static_cast<std::size_t>(k)]);
+  return p;
+}
+
+void Linearizer::Impl::check_stationary(const NumericPoint& p, Linearization& out) const {
+  const double scale = 1.0 + (p.z.size() ? p.z.cwiseAbs().maxCoeff() : 0.0);
+  double worst = 0.0;
+  for (std::size_t c = 0; c < reduced.components.size(); ++c) {
+    const double rate = std::abs(p.zp(static_cast<Eigen::Index>(c))) / scale;
+    if (reduced.components[c].differential && rate >= worst && (rate > worst || out.worst_state.empty())) {
+      worst = rate;
+      out.worst_state = reduced.components[c].name;
+    }
+  }
+  out.defect = worst;
+  if (worst > options.stationarity) {
+    std::size_t c = 0;
+    while (reduced.components[c].name != out.worst_state) ++c;
+    throw MathError("the operating point is not stationary: d/dt " + out.worst_state + " = " +
+                    number(p.zp(static_cast<Eigen::Index>(c))) + " (defect " + number(worst) + " > " +
+                    number(options.stationarity) + ", relative to 1 + max |state|); choose [initial] or --at values "
+                    "of an equilibrium or steady motion");
+  }
+}
+
+/// z'_D on the constraint manifold at the reduced state s: the dependent states solved from
+/// g = 0 and (z'_D, z_A) from F = 0 by chord iterations with the point's matrices.
+std::optional<Eigen::VectorXd> Linearizer::Impl::velocity(const NumericPoint& p, const ManifoldLinearization& lin,
+                                                          const Eigen::MatrixXd& G_dependent,
+                                                          const Eigen::VectorXd& s) const {
+  NumericPoint q = p;
+  for (std::size_t i = 0; i < lin.independent.size(); ++i)
+    q.z(lin.differential[static_cast<std::size_t>(lin.independent[i])]) = s(static_cast<Eigen::Index>(i));
+  const auto nD = static_cast<Eigen::Index>(lin.differential.size());
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> solver;  // Eigen's QR of an empty matrix crashes
+  if (G_dependent.size() > 0) solver.compute(G_dependent);
+  for (int iteration = 0; iteration < 60; ++iteration) {
+    double step = 0.0;
+    if (!reduced.hidden.empty() && !lin.dependent.empty()) {
+      const Eigen::VectorXd g = evaluate_vector(reduced.hidden, substitution(reduced, q), "a hidden constraint");
+      const Eigen::VectorXd d = -solver.solve(g);
+      for (std::size_t r = 0; r < lin.dependent.size(); ++r)
+        q.z(lin.differential[static_cast<std::size_t>(lin.dependent[r])]) += d(static_cast<Eigen::Index>(r));
+      step += d.norm();
+    }
+    const Eigen::VectorXd F = evaluate_vector(reduced.residuals, substitution(reduced, q), "the residual");
+    const Eigen::VectorXd u = -lin.K.solve(F);
+    for (Eigen::Index k = 0; k < nD; ++k) q.zp(lin.differential[static_cast<std::size_t>(k)]) += u(k);
+    for (std::size_t k = 0; k < lin.algebraic.size(); ++k)
+      q.z(lin.algebraic[k]) += u(nD + static_cast<Eigen::Index>(k));
+    step += u.norm();
+    if (!std::isfinite(step)) return std::nullopt;
+    if (step <= 1e-14 * (1.0 + q.z.norm() + q.zp.norm())) {
+      Eigen::VectorXd out(static_cast<Eigen::Index>(lin.independent.size()));
+      for (std::size_t i = 0; i < lin.independent.size(); ++i)
+        out(static_cast<Eigen::Index>(i)) = q.zp(lin.differential[static_cast<std::size_t>(lin.independent[i])]);
+      return out;
+    }
+  }
+  return std::nullopt;
+}
+
+/// The reduced velocity h(s) and s* for steady_families().
+std::vector<SteadyFamily> Linearizer::Impl::families_at(const NumericPoint& p, const ManifoldLinearization& lin,
+                                                        const std::vector<std::string>& states,
+                                                        int zero_eigenvalues) const {
+  Eigen::VectorXd s_star(static_cast<Eigen::Index>(lin.independent.size()));
+  for (std::size_t i = 0; i < lin.independent.size(); ++i)
+    s_star(static_cast<Eigen::Index>(i)) = p.z(lin.differential[static_cast<std::size_t>(lin.independent[i])]);
+  Eigen::MatrixXd G_dependent(static_cast<Eigen::Index>(reduced.hidden.size()),
+                              static_cast<Eigen::Index>(lin.dependent.size()));
+  if (G_dependent.size()) {
+    const Eigen::MatrixXd G = evaluate_matrix(reduced.dg_dz, substitution(reduced, p), "hidden-constraint Jacobian");
+    for (std::size_t r = 0; r < lin.dependent.size(); ++r)
+      G_dependent.col(static_cast<Eigen::Index>(r)) = G.col(lin.differential[static_cast<std::size_t>(lin.dependent[r])]);
+  }
+  const ReducedVelocity h = [&](const Eigen::VectorXd& s) { return velocity(p, lin, G_dependent, s); };
+  return steady_families(lin.A, s_star, h, zero_eigenvalues, states, options.zero_tolerance);
+}
+
+std::string Linearizer::Impl::describe_basis(const ManifoldLinearization& lin) const {
+  auto names = [&](const std::vector<int>& positions, bool through_differential) {
+    std::vector<std::string> out;
+    for (int k : positions)
+      out.push_back(reduced.components[static_cast<std::size_t>(
+                                           through_differential ? lin.differential[static_cast<std::size_t>(k)] : k)]
+                        .name);
+    return out;
+  };
+  std::ostringstream text;
+  text << "states: the differential states of the index-1 system";
+  if (!lin.algebraic.empty())
+    text << "; the algebraic " << join_names(names(lin.algebraic, false)) << " solved from the residual";
+  if (!lin.dependent.empty())
+    text << "; " << join_names(names(lin.dependent, true)) << " eliminated by the hidden constraint"
+         << (reduced.hidden.size() > 1 ? "s " : " ") << join_names(reduced.hidden_names)
+         << " (one state per independent constraint, chosen greedily: coordinates before multipliers, "
+            "higher derivatives before lower, larger constraint-gradient column first, each kept if it "
+            "raises the rank)";
+  else if (!reduced.hidden.empty())
+    text << "; the hidden constraints cut no direction at this point";
+  return text.str();
+}
+
+Linearizer::Linearizer(const Scene& scene, ModelKind model, LinearizeOptions options)
+    : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  m.scene = scene;
+  m.model = model;
+  m.options = options;
+  const DerivedModel derived = derive_model(scene, model);
+  if (!derived.applicable) throw MathError("the " + to_string(model) + " model is not applicable: " + derived.reason);
+  m.analysis = analyze_structure(dae_system_of(scene, derived));
+  m.analysis.require_nonsingular();
+  m.system = reduce_to_index1(m.analysis);
+  m.reduced = reduce_cyclic(m.system, scene.jet->time());
+}
+
+Linearizer::~Linearizer() = default;
+Linearizer::Linearizer(Linearizer&&) noexcept = default;
+Linearizer& Linearizer::operator=(Linearizer&&) noexcept = default;
+
+const Scene& Linearizer::scene() const { return impl_->scene; }
+ModelKind Linearizer::model() const { return impl_->model; }
+
+Linearization Linearizer::at(const std::vector<PointOverride>& overrides) const {
+  const Impl& m = *impl_;
+  Scene s = m.scene;
+  for (const PointOverride& o : overrides) apply_override(s, resolve_override(s, o.name), o.value);
+
+  Linearization out;
+  out.scene = s.name;
+  out.model = m.model;
+  out.cyclic = m.reduced.cyclic;
+  const NumericPoint p = m.operating_point(s, out);
+  m.check_stationary(p, out);
+
+  const GiNaC::exmap at = substitution(m.reduced, p);
+  const std::size_t n = m.reduced.components.size();
+  ManifoldInput input{as_matrix(m.reduced.dF_dz, n, at, "dF/dz"), as_matrix(m.reduced.dF_dzp, n, at, "dF/dz'"),
+                      as_matrix(m.reduced.dg_dz, n, at, "dg/dz"), {}, {}, {}};
+  for (const ReducedComponent& z : m.reduced.components) {
+    input.differential.push_back(z.differential);
+    input.order.push_back(z.order);
+    input.multiplier.push_back(z.multiplier);
+  }
+  const ManifoldLinearization lin = linearize_on_manifold(input);
+  for (int k : lin.independent)
+    out.states.push_back(m.reduced.components[static_cast<std::size_t>(lin.differential[static_cast<std::size_t>(k)])].name);
+  for (int k : lin.dependent)
+    out.eliminated.push_back(m.reduced.components[static_cast<std::size_t>(lin.differential[static_cast<std::size_t>(k)])].name);
+  for (int k : lin.algebraic) out.algebraic.push_back(m.reduced.components[static_cast<std::size_t>(k)].name);
+  out.basis = m.describe_basis(lin);
+  out.A = lin.A;
+  out.manifold_residual = lin.manifold_residual;
+
+  out.eigenvalues = sorted_eigenvalues(out.A);
+  out.zero_eigenvalues = count_zero_eigenvalues(out.A, out.eigenvalues, m.options.zero_tolerance);
+  out.families = m.families_at(p, lin, out.states, out.zero_eigenvalues);
+  out.verdict = classify_spectrum(out.A, out.eigenvalues, static_cast<int>(out.families.size()), m.options.tolerance,
+                                  m.options.zero_tolerance);
+  return out;
+}
+
+Linearization linearize(const Scene& scene, ModelKind model, const std::vector<PointOverride>& overrides,
+                        const LinearizeOptions& options) {
+  return Linearizer(scene, model, options).at(overrides);
+}
+
+}  // namespace nhc

@@ -1,0 +1,42 @@
+#pragma once
+/// \file manifold_linearization.hpp
+/// \brief The linear system on the constraint manifold in a minimal set of states
+/// (docs/linearize.md, "Linearization on the constraint manifold").
+///
+/// From F(z, z') = 0 linearized at a stationary point, E δz' + J δz = 0 with E = ∂F/∂z',
+/// J = ∂F/∂z. With z = (z_D differential, z_A algebraic), index 1 means
+/// K = [E_D  J_A] is nonsingular, so δz_D' = M_D δz_D and δz_A = M_A δz_D with
+/// [M_D; M_A] = −K⁻¹ J_D. The hidden constraints g(z) = 0 cut the directions
+/// Ĝ δz_D = 0, Ĝ = G_D + G_A M_A. One differential state per independent row of Ĝ is
+/// eliminated: candidates in order of decreasing derivative order (velocities before
+/// positions, coordinates before multipliers), then decreasing column norm, each kept when it
+/// raises the rank of the selected columns of Ĝ (greedy column selection with an SVD rank
+/// test). With s the remaining states, δz_D = T δs and A = (M_D T)_s.
+
+#include <Eigen/Dense>
+
+#include <vector>
+
+namespace nhc {
+
+struct ManifoldInput {
+  Eigen::MatrixXd dF_dz, dF_dzp, dg_dz;  ///< at the point; columns over all states z
+  std::vector<bool> differential;        ///< per state
+  std::vector<int> order;                ///< derivative order, for the elimination preference
+  std::vector<bool> multiplier;
+};
+
+struct ManifoldLinearization {
+  std::vector<int> differential, algebraic;  ///< state indices
+  /// Positions in `differential` of the kept (s) and eliminated states.
+  std::vector<int> independent, dependent;
+  Eigen::MatrixXd M_D, M_A, G_hat, T, A;
+  Eigen::PartialPivLU<Eigen::MatrixXd> K;  ///< [E_D  J_A]
+  double K_condition = 0.0;
+  double manifold_residual = 0.0;  ///< max |Ĝ M_D T|
+};
+
+/// Throws MathError when K is singular at the point (`where` names the point).
+ManifoldLinearization linearize_on_manifold(const ManifoldInput& input, double rank_tolerance = 1e-10);
+
+}  // namespace nhc
