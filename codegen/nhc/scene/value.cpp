@@ -17,7 +17,7 @@ std::string shape_text(unsigned rows, unsigned cols) {
 }
 
 Value with_shape(unsigned rows, unsigned cols, std::vector<ex> entries) {
-  return {rows, cols, std::move(entries), std::nullopt};
+  return {rows, cols, std::move(entries), std::nullopt, std::nullopt};
 }
 
 Value entrywise(const Value& a, const Value& b, int sign, const char* what) {
@@ -72,7 +72,8 @@ Value elementary_rotation(int axis, const ex& angle, const JetSpace& jet) {
   Value r = with_shape(3, 3, std::move(m));
   std::vector<ex> w(3, ex(0));
   w[static_cast<unsigned>(axis)] = jet.total_derivative(angle);
-  r.angular_velocity = std::move(w);
+  r.angular_velocity = w;
+  r.body_angular_velocity = std::move(w);
   return r;
 }
 
@@ -146,6 +147,12 @@ Value multiply(const Value& a, const Value& b) {
     std::vector<ex> w(3);
     for (unsigned k = 0; k < 3; ++k) w[k] = (*a.angular_velocity)[k] + rotated.entries[k];
     product.angular_velocity = std::move(w);
+    // Ω(R₁R₂) = R₂ᵀ Ω(R₁) + Ω(R₂)
+    const Value turned = matrix_product(transpose(Value::matrix(3, 3, b.entries)),
+                                        Value::vector(*a.body_angular_velocity));
+    std::vector<ex> body(3);
+    for (unsigned k = 0; k < 3; ++k) body[k] = turned.entries[k] + (*b.body_angular_velocity)[k];
+    product.body_angular_velocity = std::move(body);
   }
   return product;
 }
@@ -156,9 +163,9 @@ Value transpose(const Value& a) {
     for (unsigned j = 0; j < a.cols; ++j) out[j * a.rows + i] = a.at(i, j);
   Value t = with_shape(a.cols, a.rows, std::move(out));
   if (a.angular_velocity) {
-    // ω(Rᵀ) = −Rᵀ ω(R)
-    const Value w = -matrix_product(t, Value::vector(*a.angular_velocity));
-    t.angular_velocity = w.entries;
+    // ω(Rᵀ) = −Ω(R), Ω(Rᵀ) = −ω(R)
+    t.angular_velocity = (-Value::vector(*a.body_angular_velocity)).entries;
+    t.body_angular_velocity = (-Value::vector(*a.angular_velocity)).entries;
   }
   return t;
 }
@@ -227,7 +234,8 @@ Value spatial_angular_velocity(const Value& r, const JetSpace& jet, const Rotati
 }
 
 Value body_angular_velocity(const Value& r, const JetSpace& jet, const RotationCheck& check) {
-  if (!r.angular_velocity) require_rotation(r, check, "omega_body");
+  if (r.body_angular_velocity) return Value::vector(*r.body_angular_velocity);
+  require_rotation(r, check, "omega_body");
   // Ω = Rᵀ ω (Rᵀ Ṙ = Rᵀ [ω]× R = [Rᵀ ω]×)
   return matrix_product(transpose(Value::matrix(3, 3, r.entries)),
                         spatial_angular_velocity(r, jet, check));

@@ -8,8 +8,10 @@
 ///
 /// A 3×3 matrix built from rotx/roty/rotz by products and transposes also carries its spatial
 /// angular velocity ω, where Ṙ Rᵀ = [ω]× (the skew matrix of ω), composed in closed form:
-///   ω(rotx(θ)) = θ' e_x,   ω(R₁R₂) = ω(R₁) + R₁ ω(R₂),   ω(Rᵀ) = −Rᵀ ω(R).
-/// omega(R) then returns it without differentiating R entry by entry: the result has no
+///   ω(rotx(θ)) = θ' e_x,   ω(R₁R₂) = ω(R₁) + R₁ ω(R₂),   ω(Rᵀ) = −Ω(R),
+/// and its body angular velocity Ω, Rᵀ Ṙ = [Ω]×:
+///   Ω(rotx(θ)) = θ' e_x,   Ω(R₁R₂) = R₂ᵀ Ω(R₁) + Ω(R₂),   Ω(Rᵀ) = −ω(R).
+/// omega(R) and omega_body(R) then return them without differentiating R entry by entry: the result has no
 /// sin² + cos² left for the derivation to carry (Goldstein, Classical Mechanics, §4.8).
 
 #include <ginac/ginac.h>
@@ -35,8 +37,9 @@ struct Value {
   std::vector<GiNaC::ex> entries;  ///< row-major, rows × cols
   /// Spatial angular velocity (3 entries) when the value is a rotation composed of rotx/roty/rotz.
   std::optional<std::vector<GiNaC::ex>> angular_velocity;
+  std::optional<std::vector<GiNaC::ex>> body_angular_velocity;  ///< Ω, with angular_velocity
 
-  static Value scalar(const GiNaC::ex& e) { return {1, 1, {e}, std::nullopt}; }
+  static Value scalar(const GiNaC::ex& e) { return {1, 1, {e}, std::nullopt, std::nullopt}; }
   static Value vector(std::vector<GiNaC::ex> entries);
   static Value matrix(unsigned rows, unsigned cols, std::vector<GiNaC::ex> entries);
 
