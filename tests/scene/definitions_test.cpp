@@ -27,11 +27,12 @@ bool same(const ex& a, const ex& b) { return (a - b).expand().normal().is_zero()
 bool same_numerically(const ex& a, const ex& b, const JetSpace& jet) {
   for (int trial = 0; trial < 3; ++trial) {
     GiNaC::exmap point;
-    for (int i = 0; i < 3; ++i)
+    for (int i = 0; i < jet.coordinate_count(); ++i)
       for (int k = 0; k <= 2; ++k) point[jet.q(i, k)] = 0.3 + 0.7 * i - 0.4 * k + 0.37 * trial;
     point[jet.parameter(0)] = 1.3;
     point[jet.parameter(1)] = 0.7;
     point[jet.time()] = 0.2;
+    for (int alpha = 0; alpha < jet.multiplier_count(); ++alpha) point[jet.lambda(alpha, 0)] = 0.9;
     const ex d = GiNaC::evalf((a - b).subs(point));
     if (!GiNaC::is_a<GiNaC::numeric>(d) || std::abs(GiNaC::ex_to<GiNaC::numeric>(d).to_double()) > 1e-12)
       return false;
@@ -160,4 +161,25 @@ TEST_CASE("a chain of 1024 bodies with one definition per body parses", "[scene]
   CHECK(s.coordinate_count() == 2 * n);
   CHECK(s.lagrangian.nops() >= static_cast<std::size_t>(n));
   CHECK(s.warnings.empty());
+}
+
+TEST_CASE("a prescribed motion through t: a bead on a turning rod, every model", "[scene][definitions][derive]") {
+  // p = r (cos Wt, sin Wt): L = m/2 (r'^2 + W^2 r^2), so E_r(L) = m W^2 r - m r''.
+  const nhc::Scene s = nhc::parse_scene(
+      "name = \"rod\"\ncoordinates = [\"r\", \"z\"]\nlagrangian = \"m/2*dot(p', p')\"\n"
+      "constraints = [\"z' - t*r'\"]\ndependent = [\"z\"]\n[parameters]\nm = 2.0\nW = 3.0\n"
+      "[definitions]\np = \"[r*cos(W*t), r*sin(W*t), z]\"\n",
+      "rod.toml");
+  const JetSpace& jet = *s.jet;
+  const ex m = jet.parameter(*jet.parameter_index("m")), W = jet.parameter(*jet.parameter_index("W"));
+  const ex r = jet.q(0, 0), r2 = jet.q(0, 2), l = jet.lambda(0, 0);
+  // chetaev: R_r = E_r(L) + λ ∂f/∂r' = m W² r − m r'' − λ t.
+  CHECK(same_numerically(nhc::derive_model(s, nhc::ModelKind::chetaev).equations[0],
+                         m * W * W * r - m * r2 - l * jet.time(), jet));
+  for (nhc::ModelKind kind : {nhc::ModelKind::vakonomic, nhc::ModelKind::holder, nhc::ModelKind::suslov}) {
+    const auto model = nhc::derive_model(s, kind);
+    REQUIRE(model.applicable);
+    CHECK(model.equations[0].has(W));
+    CHECK(model.equations[0].has(jet.time()));
+  }
 }
