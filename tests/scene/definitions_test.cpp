@@ -11,6 +11,7 @@
 #include "nhc/errors.hpp"
 #include "nhc/scene/expression_parser.hpp"
 #include "nhc/scene/scene.hpp"
+#include "nhc/scene/scene_builder.hpp"
 
 using GiNaC::ex;
 using nhc::JetSpace;
@@ -182,4 +183,18 @@ TEST_CASE("a prescribed motion through t: a bead on a turning rod, every model",
     CHECK(model.equations[0].has(W));
     CHECK(model.equations[0].has(jet.time()));
   }
+}
+
+TEST_CASE("SceneBuilder writes [definitions] and [forces]", "[scene][definitions]") {
+  const nhc::Scene s = nhc::SceneBuilder("cart")
+                           .coordinates({"x", "y"})
+                           .parameter("c", 0.5)
+                           .definition("v", "[x', y']")
+                           .lagrangian("dot(v, v)/2")
+                           .force("x", "-c*x'")
+                           .build();
+  const JetSpace& jet = *s.jet;
+  CHECK(same(s.forces[0], -jet.parameter(0) * jet.q(0, 1)));
+  CHECK(same(s.forces[1], 0));
+  CHECK(same(s.lagrangian, (jet.q(0, 1) * jet.q(0, 1) + jet.q(1, 1) * jet.q(1, 1)) / 2));
 }
