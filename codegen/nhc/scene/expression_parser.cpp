@@ -67,9 +67,6 @@ class Parser {
   /// The input limits on a finished expression: its numbers, its size in nodes (definitions
   /// substituted), its products, and how far it would expand.
   void check_size(const ex& e) const {
-    if (has_large_number(e, true))
-      fail(0, "a number in the expression is too large (beyond double precision or more than " +
-                  std::to_string(kMaxPowerBits) + " bits)");
     std::size_t nodes = 0;
     for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it) {
       if (++nodes > kMaxNodes)
@@ -78,13 +75,21 @@ class Parser {
       if (GiNaC::is_exactly_a<GiNaC::mul>(*it) && it->nops() > kMaxFactors)
         fail(0, "a product of more than " + std::to_string(kMaxFactors) + " factors");
     }
+    if (rules_.node_budget) {
+      if (nodes > *rules_.node_budget)
+        fail(0, "the scene's expressions are larger than " + std::to_string(kMaxSceneNodes) +
+                    " nodes in all (definitions counted at every use)");
+      *rules_.node_budget -= nodes;
+    }
+    if (has_large_number(e, true))
+      fail(0, "a number in the expression is too large (beyond double precision or more than " +
+                  std::to_string(kMaxPowerBits) + " bits)");
     double inner = 0;
     if (std::max(expanded_terms_bound(e, inner), inner) > kMaxExpandedTerms)
       fail(0, "the expression expands to more than " +
                   std::to_string(static_cast<long>(kMaxExpandedTerms)) + " terms");
   }
 
- private:
   [[noreturn]] void fail(std::size_t at, const std::string& message) const {
     throw ExpressionSyntaxError(at, message);
   }

@@ -24,6 +24,7 @@
 #include <ginac/ginac.h>
 
 #include <functional>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -51,6 +52,9 @@ inline constexpr std::size_t kMaxFactors = 64;
 /// Largest expression, in nodes of its tree with definitions substituted: bounds the work of
 /// everything downstream by size, not by a count of terms that a chain of 1024 bodies exceeds.
 inline constexpr std::size_t kMaxNodes = 2000000;
+/// Largest total of kMaxNodes-style counts over all expressions of one scene: definitions used
+/// many times are counted at every use, and each count is work.
+inline constexpr std::size_t kMaxSceneNodes = 20000000;
 /// Longest expression text accepted, in bytes.
 inline constexpr std::size_t kMaxExpressionLength = 100000;
 /// Largest number of terms an expression may expand to (bounded from its structure: (a+b+c)^k
@@ -85,6 +89,8 @@ struct ExpressionRules {
   std::function<std::optional<Value>(const std::string& name)> definition;
   /// Where omega() checks a matrix that is not built from rotx/roty/rotz.
   RotationCheck rotation_check;
+  /// Nodes left for the whole scene (kMaxSceneNodes), shared by its expressions; null: no budget.
+  std::shared_ptr<std::size_t> node_budget;
 };
 
 /// Parse `text` to a scalar; throws ExpressionSyntaxError on any error (a vector or matrix is one).

@@ -171,6 +171,7 @@ class SceneReader {
 
     ExpressionRules plain;  // t, parameters, coordinates; no multipliers
     plain.rotation_check.point = &initial_point;
+    plain.node_budget = std::make_shared<std::size_t>(kMaxSceneNodes);
     DefinitionTable definitions(jet, plain);
     read_definitions(root, definitions);
     const ExpressionRules mechanics = definitions.rules_with_definitions(plain);
