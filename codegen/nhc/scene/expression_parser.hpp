@@ -84,8 +84,8 @@ struct ExpressionRules {
   /// bound stays, twenty times higher.
   bool input_limits = true;
   /// The value of a definition by name, or nullopt when the name is not one (the scene
-  /// loader resolves [definitions] through it, in any order). It may throw
-  /// ExpressionSyntaxError; its offset is then taken as the offset of the name.
+  /// loader resolves [definitions] through it, in any order: definition_table.hpp). An error
+  /// inside the definition comes out as the InputError it throws, located in its own text.
   std::function<std::optional<Value>(const std::string& name)> definition;
   /// Where omega() checks a matrix that is not built from rotx/roty/rotz.
   RotationCheck rotation_check;
