@@ -3,7 +3,7 @@
 //   nhc generate knife_edge_incline.toml --model chetaev --jacobian dense
 // Layout: docs/generated-code.md.
 //
-// Scene knife_edge_incline: coordinates x, y, phi; parameters J, alpha, g, m, omega
+// Scene knife_edge_incline: coordinates x, y, phi; parameters J, alpha, g, m, w
 //   L = 0.5 * m * (y' * y' + x' * x') + 0.5 * J * (phi' * phi') + g * x * m * std::sin(alpha)
 //   f1 = x' * std::sin(phi) - std::cos(phi) * y'
 // Index-1 form: 7 states, 1 hidden constraint.
@@ -96,7 +96,7 @@ inline constexpr int state_order[n_states] = {0, 1, 0, 1, 0, 1, 0};
 /// IDA id: 1.0 differential, 0.0 algebraic.
 inline constexpr double differential_id[n_states] = {1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 0.0};
 inline constexpr const char* residual_names[n_states] = {"R_x", "R_y", "R_phi", "D f1", "chain x' = x'", "chain y' = y'", "chain phi' = phi'"};
-inline constexpr const char* parameter_names[n_parameters] = {"J", "alpha", "g", "m", "omega"};
+inline constexpr const char* parameter_names[n_parameters] = {"J", "alpha", "g", "m", "w"};
 inline constexpr double default_parameters[n_parameters] = {0.5, 0.29999999999999999, 9.8100000000000005, 1.0, 2.0};
 inline constexpr const char* hidden_names[n_hidden] = {"f1"};
 inline constexpr int reference_coordinate[n_reference] = {0, 1};

@@ -111,6 +111,9 @@ DerivedModel derive_model(const MechanicalSystem& system, ModelKind kind) {
       }
       break;
   }
+  // Generalized non-conservative forces: R_i += Q_i in every model (docs/forces.md).
+  for (std::size_t i = 0; i < system.forces.size() && i < equations.size(); ++i)
+    equations[i] += system.forces[i];
   if (model.constraints_are_equations)
     for (std::size_t a = 0; a < system.constraints.size(); ++a)
       model.multipliers.push_back(system.jet.multiplier_name(static_cast<int>(a)));

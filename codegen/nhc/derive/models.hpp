@@ -9,7 +9,8 @@
 /// suslov     R_i = E_i(L) − μ_α E_i(f^α), μ_α = Σ_β ∂L/∂q'^{d_β} [A^{-1}]_{βα},
 ///            A_{αβ} = ∂f^α/∂q'^{d_β}                                        paper eq. (29)
 /// The first three are solved together with f^α = 0; for suslov the constraints are
-/// invariants to monitor.
+/// invariants to monitor. Every model adds the generalized forces Q_i of [forces] to R_i
+/// (docs/forces.md): E_i(L) + Q_i = 0 is Lagrange's d/dt ∂L/∂q_i' − ∂L/∂q_i = Q_i.
 
 #include <ginac/ginac.h>
 
@@ -27,9 +28,10 @@ struct MechanicalSystem {
   GiNaC::ex lagrangian;
   std::vector<GiNaC::ex> constraints;
   std::vector<int> dependent;
+  std::vector<GiNaC::ex> forces = {};  ///< Q_i per coordinate; empty: none
 
   static MechanicalSystem of(const Scene& scene) {
-    return {*scene.jet, scene.lagrangian, scene.constraints, scene.dependent};
+    return {*scene.jet, scene.lagrangian, scene.constraints, scene.dependent, scene.forces};
   }
   /// m_α: highest derivative order of any coordinate in f^α.
   int constraint_order(int alpha) const;

@@ -50,32 +50,46 @@ class Parser {
   Parser(const std::string& text, const JetSpace& jet, const ExpressionRules& rules)
       : text_(text), jet_(jet), rules_(rules) {}
 
-  ex parse() {
+  Value parse() {
     if (rules_.input_limits && text_.size() > kMaxExpressionLength)
       fail(0, "expression longer than " + std::to_string(kMaxExpressionLength) + " characters");
     skip_space();
     if (at_end()) fail(pos_, "empty expression");
-    ex e = expr();
+    Value v = expr();
     skip_space();
     if (!at_end()) fail(pos_, std::string("unexpected '") + text_[pos_] + "'");
-    if (rules_.input_limits && has_large_number(e, true))
-      fail(0, "a number in the expression is too large (beyond double precision or more than " +
-                  std::to_string(kMaxPowerBits) + " bits)");
     if (rules_.input_limits)
-      for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it) {
-        if (GiNaC::is_exactly_a<GiNaC::mul>(*it) && it->nops() > kMaxFactors)
-          fail(0, "a product of more than " + std::to_string(kMaxFactors) + " factors");
-        if (GiNaC::is_exactly_a<GiNaC::add>(*it) && it->nops() > kMaxTerms)
-          fail(0, "a sum of more than " + std::to_string(kMaxTerms) + " terms");
-      }
-    double inner = 0;
-    if (rules_.input_limits && std::max(expanded_terms_bound(e, inner), inner) > kMaxExpandedTerms)
-      fail(0, "the expression expands to more than " +
-                  std::to_string(static_cast<long>(kMaxExpandedTerms)) + " terms");
-    return e;
+      for (const ex& e : v.entries) check_size(e);
+    return v;
   }
 
  private:
+  /// The input limits on a finished expression: its numbers, its size in nodes (definitions
+  /// substituted), its products, and how far it would expand.
+  void check_size(const ex& e) const {
+    std::size_t nodes = 0;
+    for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it) {
+      if (++nodes > kMaxNodes)
+        fail(0, "the expression is larger than " + std::to_string(kMaxNodes) +
+                    " nodes (definitions substituted)");
+      if (GiNaC::is_exactly_a<GiNaC::mul>(*it) && it->nops() > kMaxFactors)
+        fail(0, "a product of more than " + std::to_string(kMaxFactors) + " factors");
+    }
+    if (rules_.node_budget) {
+      if (nodes > *rules_.node_budget)
+        fail(0, "the scene's expressions are larger than " + std::to_string(kMaxSceneNodes) +
+                    " nodes in all (definitions counted at every use)");
+      *rules_.node_budget -= nodes;
+    }
+    if (has_large_number(e, true))
+      fail(0, "a number in the expression is too large (beyond double precision or more than " +
+                  std::to_string(kMaxPowerBits) + " bits)");
+    double inner = 0;
+    if (std::max(expanded_terms_bound(e, inner), inner) > kMaxExpandedTerms)
+      fail(0, "the expression expands to more than " +
+                  std::to_string(static_cast<long>(kMaxExpandedTerms)) + " terms");
+  }
+
   [[noreturn]] void fail(std::size_t at, const std::string& message) const {
     throw ExpressionSyntaxError(at, message);
   }
@@ -198,53 +212,92 @@ class Parser {
 
   // Sums and products are collected and built once: adding term by term copies the growing sum
   // each time, quadratic in the number of terms (sin(1)*sin(2)*…*sin(10000) took 17 s).
-  ex expr() {
+  Value expr() {
     DepthGuard guard(*this);
-    GiNaC::exvector terms{term()};
+    std::vector<Value> terms{term()};
+    std::vector<std::size_t> at{0};
     for (;;) {
       skip_space();
+      const std::size_t op = pos_;
       if (accept('+')) {
         terms.push_back(term());
       } else if (peek() == '-') {
         ++pos_;
         terms.push_back(-term());
       } else {
-        return terms.size() == 1 ? terms.front() : ex(GiNaC::add(terms));
+        break;
       }
+      at.push_back(op);
+    }
+    if (terms.size() == 1) return terms.front();
+    if (std::all_of(terms.begin(), terms.end(), [](const Value& v) { return v.is_scalar(); })) {
+      GiNaC::exvector scalars;
+      scalars.reserve(terms.size());
+      for (const Value& v : terms) scalars.push_back(v.entries[0]);
+      return Value::scalar(GiNaC::add(scalars));
+    }
+    Value sum = terms.front();
+    for (std::size_t k = 1; k < terms.size(); ++k)
+      sum = valued(at[k], [&] { return add(sum, terms[k]); });
+    return sum;
+  }
+
+  /// Shape errors of the value algebra, positioned.
+  template <class F>
+  Value valued(std::size_t at, F&& f) {
+    try {
+      return f();
+    } catch (const ValueError& e) {
+      fail(at, e.what());
     }
   }
 
-  ex term() {
-    GiNaC::exvector factors{unary()};
+  Value term() {
+    std::vector<Value> factors{unary()};
+    std::vector<std::size_t> at{0};
     // The numbers among the factors, multiplied as they come, so that a product of numbers that
     // grows too large is reported at its own operator.
     GiNaC::numeric coefficient = numeric_coefficient(factors.front());
     std::size_t first_operator = std::string::npos;
     for (;;) {
       skip_space();
-      const std::size_t at = pos_;
-      ex factor;
+      const std::size_t op = pos_;
+      Value factor;
       if (accept('*')) {
         factor = unary();
       } else if (accept('/')) {
-        const ex rhs = unary();
-        if (rhs.is_zero()) fail(at, "division by zero");
-        factor = guarded(at, [&] { return GiNaC::pow(rhs, -1); });
+        const Value rhs = unary();
+        if (!rhs.is_scalar()) fail(op, "cannot divide by " + rhs.describe());
+        if (rhs.entries[0].is_zero()) fail(op, "division by zero");
+        factor = Value::scalar(guarded(op, [&] { return GiNaC::pow(rhs.entries[0], -1); }));
       } else {
-        if (factors.size() == 1) return factors.front();
-        return guarded(first_operator, [&] { return ex(GiNaC::mul(factors)); });
+        break;
       }
-      if (first_operator == std::string::npos) first_operator = at;
+      if (first_operator == std::string::npos) first_operator = op;
       coefficient *= numeric_coefficient(factor);
       if (rules_.input_limits && has_large_number(coefficient, false))
-        fail(at, "a number in the result is too large (beyond double precision or more than " +
+        fail(op, "a number in the result is too large (beyond double precision or more than " +
                      std::to_string(kMaxPowerBits) + " bits)");
-      factors.push_back(factor);
+      factors.push_back(std::move(factor));
+      at.push_back(op);
     }
+    if (factors.size() == 1) return factors.front();
+    if (std::all_of(factors.begin(), factors.end(), [](const Value& v) { return v.is_scalar(); })) {
+      GiNaC::exvector scalars;
+      scalars.reserve(factors.size());
+      for (const Value& v : factors) scalars.push_back(v.entries[0]);
+      return Value::scalar(guarded(first_operator, [&] { return ex(GiNaC::mul(scalars)); }));
+    }
+    Value product = factors.front();
+    for (std::size_t k = 1; k < factors.size(); ++k)
+      product = valued(at[k], [&] { return multiply(product, factors[k]); });
+    return product;
   }
 
-  /// The numeric factor of e: e itself when it is a number, a product's coefficient, else 1.
-  static GiNaC::numeric numeric_coefficient(const ex& e) {
+  /// The numeric factor of a scalar: itself when it is a number, a product's coefficient, else 1.
+  static GiNaC::numeric numeric_coefficient(const Value& v) {
+    if (!v.is_scalar()) return 1;
+    const ex& e = v.entries[0];
     if (GiNaC::is_a<GiNaC::numeric>(e)) return GiNaC::ex_to<GiNaC::numeric>(e);
     if (GiNaC::is_exactly_a<GiNaC::mul>(e) && e.nops() > 0 &&
         GiNaC::is_a<GiNaC::numeric>(e.op(e.nops() - 1)))
@@ -252,7 +305,7 @@ class Parser {
     return 1;
   }
 
-  ex unary() {
+  Value unary() {
     DepthGuard guard(*this);
     skip_space();
     if (accept('-')) return -unary();
@@ -260,21 +313,71 @@ class Parser {
     return power();
   }
 
-  ex power() {
-    ex base = primary();
+  Value power() {
+    const std::size_t start = pos_;
+    Value base_value = postfix();
     skip_space();
     const std::size_t at = pos_;
     if (accept('^')) {
-      ex exponent = unary();
+      const Value exponent_value = unary();
+      if (!base_value.is_scalar()) fail(start, "cannot raise " + base_value.describe() + " to a power");
+      if (!exponent_value.is_scalar()) fail(at, "an exponent must be a scalar, not " + exponent_value.describe());
+      const ex& base = base_value.entries[0];
+      const ex& exponent = exponent_value.entries[0];
       check_exponent(base, exponent, at);
       ex result = guarded(at, [&] { return GiNaC::pow(base, exponent); });
       if (rules_.input_limits && !GiNaC::is_a<GiNaC::numeric>(exponent) &&
           exponent_tower(result) > kMaxExponentTower)
         fail(at, "powers with non-numeric exponents nested more than " +
                      std::to_string(kMaxExponentTower) + " deep");
-      return result;
+      return Value::scalar(result);
     }
-    return base;
+    return base_value;
+  }
+
+  /// A component: v[i] (1-based) or M[i, j]; the indices are positive integers.
+  Value postfix() {
+    Value v = primary();
+    skip_space();
+    const std::size_t at = pos_;
+    if (!accept('[')) return v;
+    std::vector<long> indices;
+    do {
+      skip_space();
+      const std::size_t index_at = pos_;
+      const Value index = expr();
+      if (!index.is_scalar() || !GiNaC::is_a<GiNaC::numeric>(index.entries[0]) ||
+          !GiNaC::ex_to<GiNaC::numeric>(index.entries[0]).is_pos_integer() ||
+          GiNaC::ex_to<GiNaC::numeric>(index.entries[0]).to_double() > 1e6)
+        fail(index_at, "an index must be a positive integer (components count from 1)");
+      indices.push_back(GiNaC::ex_to<GiNaC::numeric>(index.entries[0]).to_long());
+    } while (accept(','));
+    if (!accept(']')) fail(pos_, "expected ']' after the index");
+    return valued(at, [&] { return component(v, indices); });
+  }
+
+  /// [a, b, c] is a vector; [[a, b], [c, d]] a matrix whose rows are the inner vectors.
+  Value bracket_literal(std::size_t start) {
+    std::vector<Value> items;
+    do {
+      items.push_back(expr());
+    } while (accept(','));
+    if (!accept(']')) fail(pos_, "expected ']' or ',' in the list");
+    if (std::all_of(items.begin(), items.end(), [](const Value& v) { return v.is_scalar(); })) {
+      if (items.size() < 2) fail(start, "a vector needs at least two components");
+      std::vector<ex> entries;
+      for (const Value& v : items) entries.push_back(v.entries[0]);
+      return Value::vector(std::move(entries));
+    }
+    const unsigned cols = items.front().rows;
+    std::vector<ex> entries;
+    for (const Value& row : items) {
+      if (!row.is_vector() || row.rows != cols)
+        fail(start, "the rows of a matrix must be vectors of one length (got " +
+                        items.front().describe() + " and " + row.describe() + ")");
+      entries.insert(entries.end(), row.entries.begin(), row.entries.end());
+    }
+    return Value::matrix(static_cast<unsigned>(items.size()), cols, std::move(entries));
   }
 
   /// Numeric exponents are bounded: an exact power of a number must stay a reasonable size,
@@ -304,7 +407,7 @@ class Parser {
     return out.str();
   }
 
-  ex primary() {
+  Value primary() {
     DepthGuard guard(*this);
     skip_space();
     const std::size_t start = pos_;
@@ -312,11 +415,15 @@ class Parser {
     const char c = peek();
     if (c == '(') {
       ++pos_;
-      ex inner = expr();
+      Value inner = expr();
       if (!accept(')')) fail(pos_, "expected ')'");
       return inner;
     }
-    if (std::isdigit(static_cast<unsigned char>(c)) || c == '.') return number();
+    if (c == '[') {
+      ++pos_;
+      return bracket_literal(start);
+    }
+    if (std::isdigit(static_cast<unsigned char>(c)) || c == '.') return Value::scalar(number());
     if (is_name_start(c)) {
       while (!at_end() && is_name_char(peek())) ++pos_;
       const std::string name = text_.substr(start, pos_ - start);
@@ -382,7 +489,7 @@ class Parser {
     return result;
   }
 
-  ex call(const std::string& name, std::size_t start) {
+  Value call(const std::string& name, std::size_t start) {
     static const std::map<std::string, std::function<ex(const ex&)>> unary_functions = {
         {"sin", [](const ex& a) { return GiNaC::sin(a); }},
         {"cos", [](const ex& a) { return GiNaC::cos(a); }},
@@ -398,11 +505,11 @@ class Parser {
         {"acos", [](const ex& a) { return GiNaC::acos(a); }},
         {"atan", [](const ex& a) { return GiNaC::atan(a); }},
     };
-    const bool binary = name == "atan2";
-    auto it = unary_functions.find(name);
-    if (!binary && it == unary_functions.end()) fail(start, "unknown function '" + shown(name) + "'");
+    const auto& names = function_names();
+    if (std::find(names.begin(), names.end(), name) == names.end())
+      fail(start, "unknown function '" + shown(name) + "'");
     accept('(');
-    std::vector<ex> args;
+    std::vector<Value> args;
     std::vector<std::size_t> arg_positions;
     do {
       skip_space();
@@ -410,15 +517,49 @@ class Parser {
       args.push_back(expr());
     } while (accept(','));
     if (!accept(')')) fail(pos_, "expected ')' after the arguments of " + name);
+    const bool binary = name == "atan2" || name == "dot" || name == "cross";
     const std::size_t expected = binary ? 2 : 1;
     if (args.size() != expected)
       fail(start, name + " takes " + std::to_string(expected) + " argument" +
                       (expected == 1 ? "" : "s") + ", got " + std::to_string(args.size()));
-    if (binary) return guarded(start, [&] { return GiNaC::atan2(args[0], args[1]); });
-    return guarded(start, [&] { return it->second(args[0]); });
+    if (auto it = unary_functions.find(name); it != unary_functions.end()) {
+      const ex& a = scalar_argument(name, args[0], arg_positions[0]);
+      return Value::scalar(guarded(start, [&] { return it->second(a); }));
+    }
+    if (name == "atan2") {
+      const ex& y = scalar_argument(name, args[0], arg_positions[0]);
+      const ex& x = scalar_argument(name, args[1], arg_positions[1]);
+      return Value::scalar(guarded(start, [&] { return GiNaC::atan2(y, x); }));
+    }
+    return vector_function(name, args, start, arg_positions[0]);
   }
 
-  ex variable(const std::string& name, int primes, std::size_t start) {
+  const ex& scalar_argument(const std::string& name, const Value& v, std::size_t at) {
+    if (!v.is_scalar()) fail(at, name + " takes a scalar, not " + v.describe());
+    return v.entries[0];
+  }
+
+  /// dot cross norm transpose rotx roty rotz omega omega_body (value.hpp).
+  Value vector_function(const std::string& name, const std::vector<Value>& args,
+                        std::size_t start, std::size_t first_argument) {
+    if (name == "rotx" || name == "roty" || name == "rotz") {
+      const ex& angle = scalar_argument(name, args[0], first_argument);
+      const Value r = name == "rotx"   ? rotation_x(angle, jet_)
+                      : name == "roty" ? rotation_y(angle, jet_)
+                                       : rotation_z(angle, jet_);
+      return r;
+    }
+    return valued(start, [&]() -> Value {
+      if (name == "dot") return Value::scalar(dot(args[0], args[1]));
+      if (name == "cross") return cross(args[0], args[1]);
+      if (name == "norm") return Value::scalar(norm(args[0]));
+      if (name == "transpose") return transpose(args[0]);
+      if (name == "omega") return spatial_angular_velocity(args[0], jet_, rules_.rotation_check);
+      return body_angular_velocity(args[0], jet_, rules_.rotation_check);
+    });
+  }
+
+  Value variable(const std::string& name, int primes, std::size_t start) {
     // Printed jet form x_d2 is accepted as a spelling of x''.
     std::string base = name;
     int order = primes;
@@ -437,29 +578,51 @@ class Parser {
     // GiNaC prints π as `Pi` (acos(-1), atan(1)*4 evaluate to it); read it back.
     if (base == "Pi" && !jet_.parameter_index(base) && !known_variable(base)) {
       if (order > 0) fail(start, "'Pi' is a constant and cannot carry primes");
-      return GiNaC::Pi;
+      return Value::scalar(GiNaC::Pi);
     }
     if (base == "t") {
       if (!rules_.allow_time) fail(start, "'t' is not allowed here");
       if (order > 0) fail(start, "'t' cannot be differentiated (primes on 't')");
-      return jet_.time();
+      return Value::scalar(jet_.time());
     }
     if (auto p = jet_.parameter_index(base)) {
       if (order > 0) fail(start, "parameter '" + base + "' cannot carry primes");
-      return jet_.parameter(*p);
+      return Value::scalar(jet_.parameter(*p));
     }
     const auto& coords = jet_.coordinates();
     for (std::size_t i = 0; i < coords.size(); ++i) {
       if (coords[i] != base) continue;
       if (!rules_.allow_coordinates)
         fail(start, "coordinate '" + base + "' is not allowed here (only t and parameters)");
-      return jet_.q(static_cast<int>(i), order);
+      return Value::scalar(jet_.q(static_cast<int>(i), order));
     }
     if (auto alpha = multiplier_index(base); alpha && *alpha < jet_.multiplier_count()) {
       if (!rules_.allow_multipliers) fail(start, "multiplier '" + base + "' is not allowed here");
-      return jet_.lambda(*alpha, order);
+      return Value::scalar(jet_.lambda(*alpha, order));
     }
+    if (rules_.definition)
+      if (std::optional<Value> value = rules_.definition(name)) return defined(name, *value, primes, start);
     fail(start, "unknown name '" + shown(base) + "'");
+  }
+
+  /// A definition's value, differentiated `primes` times with the total derivative D.
+  Value defined(const std::string& name, const Value& value, int primes, std::size_t start) {
+    if (!rules_.allow_coordinates || !rules_.allow_time)
+      for (const ex& e : value.entries) {
+        if (!rules_.allow_coordinates && jet_.highest_coordinate_order(e) >= 0)
+          fail(start, "definition '" + shown(name) + "' involves coordinates, not allowed here "
+                      "(only t and parameters)");
+        if (!rules_.allow_time && e.has(jet_.time()))
+          fail(start, "definition '" + shown(name) + "' involves 't', not allowed here");
+      }
+    if (primes == 0) return value;
+    Value derivative = total_derivative(value, jet_, primes);
+    for (const ex& e : derivative.entries)
+      if (jet_.highest_coordinate_order(e) > kMaxDerivativeOrder)
+        fail(start, "'" + shown(name) + std::string(static_cast<std::size_t>(primes), '\'') +
+                        "' has derivatives of order above the limit of " +
+                        std::to_string(kMaxDerivativeOrder));
+    return derivative;
   }
 
   bool known_variable(const std::string& name) const {
@@ -481,7 +644,22 @@ class Parser {
 
 GiNaC::ex parse_expression(const std::string& text, const JetSpace& jet,
                            const ExpressionRules& rules) {
+  const Value v = Parser(text, jet, rules).parse();
+  if (!v.is_scalar())
+    throw ExpressionSyntaxError(0, "expected a scalar, but the expression is " + v.describe());
+  return v.entries[0];
+}
+
+Value parse_value(const std::string& text, const JetSpace& jet, const ExpressionRules& rules) {
   return Parser(text, jet, rules).parse();
+}
+
+const std::vector<std::string>& function_names() {
+  static const std::vector<std::string> names = {
+      "sin",  "cos",  "tan",  "exp",  "log",  "sqrt",  "abs",      "sinh", "cosh",  "tanh",
+      "asin", "acos", "atan", "atan2", "dot", "cross", "norm", "transpose", "rotx", "roty",
+      "rotz", "omega", "omega_body"};
+  return names;
 }
 
 }  // namespace nhc

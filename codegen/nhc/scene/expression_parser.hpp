@@ -6,21 +6,31 @@
 ///   expr    := term (('+' | '-') term)*
 ///   term    := unary (('*' | '/') unary)*
 ///   unary   := ('+' | '-') unary | power
-///   power   := primary ('^' unary)?
+///   power   := postfix ('^' unary)?
+///   postfix := primary ('[' expr (',' expr)? ']')?
 ///   primary := number | name '\''* | function '(' expr (',' expr)* ')' | '(' expr ')'
+///            | '[' expr (',' expr)* ']'                       a vector, or a matrix of row vectors
+/// Values are scalars, vectors and matrices (value.hpp); `*` is also matrix·vector and
+/// matrix·matrix; `/` and `^` take scalars. Vector functions: dot cross norm transpose, rotations
+/// rotx roty rotz, angular velocities omega omega_body. A name may be a definition (the
+/// scene's [definitions]), with primes for its total derivative (`c'`).
 /// Numbers are read exactly (0.5 → 1/2, 1e-3 → 1/1000) so that derivations stay exact.
 /// Names: `t`, parameters, coordinates with primes (`x''`) or in printed jet form (`x_d2`),
 /// and, where allowed, multipliers `lambda1`… (also with primes or `_d<k>`).
-/// Functions: sin cos tan exp log sqrt abs sinh cosh tanh asin acos atan atan2.
+/// Scalar functions: sin cos tan exp log sqrt abs sinh cosh tanh asin acos atan atan2.
 /// The constant `Pi` is accepted because GiNaC prints π that way (acos(-1) evaluates to it);
 /// a complex constant (sqrt(-4)) is an error.
 
 #include <ginac/ginac.h>
 
+#include <functional>
+#include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
 #include "nhc/jet/jet_space.hpp"
+#include "nhc/scene/value.hpp"
 
 namespace nhc {
 
@@ -36,17 +46,22 @@ inline constexpr int kMaxExpressionDepth = 200;
 /// Highest tower of powers with non-numeric exponents (x^x^x^x^y is 4): GiNaC's normal form,
 /// which derivations use, takes time exponential in it.
 inline constexpr int kMaxExponentTower = 4;
-/// Most factors of one product and terms of one sum: the Euler operator differentiates products
-/// factor by factor (300 factors in x took 11 s to derive, 64 take about a second).
+/// Most factors of one product: the Euler operator differentiates products factor by factor
+/// (300 factors in x took 11 s to derive, 64 take about a second).
 inline constexpr std::size_t kMaxFactors = 64;
-inline constexpr std::size_t kMaxTerms = 1000;
+/// Largest expression, in nodes of its tree with definitions substituted: bounds the work of
+/// everything downstream by size, not by a count of terms that a chain of 1024 bodies exceeds.
+inline constexpr std::size_t kMaxNodes = 2000000;
+/// Largest total of kMaxNodes-style counts over all expressions of one scene: definitions used
+/// many times are counted at every use, and each count is work.
+inline constexpr std::size_t kMaxSceneNodes = 20000000;
 /// Longest expression text accepted, in bytes.
 inline constexpr std::size_t kMaxExpressionLength = 100000;
 /// Largest number of terms an expression may expand to (bounded from its structure: (a+b+c)^k
 /// has at most C(k+2, 2) terms); derivations expand, so a short text such as
-/// (x+y+z+x'+y'+z'+t)^64 with its 10^8 terms would exhaust time and memory, and printing an
-/// expansion of 10^5 terms took seconds.
-inline constexpr double kMaxExpandedTerms = 1e4;
+/// (x+y+z+x'+y'+z'+t)^64 with its 10^8 terms would exhaust time and memory. The bound is loose
+/// for sums of trigonometric products (a bicycle's kinetic energy), hence the margin.
+inline constexpr double kMaxExpandedTerms = 1e6;
 
 /// A parse failure at a 0-based character offset of the expression text.
 class ExpressionSyntaxError : public std::runtime_error {
@@ -68,10 +83,23 @@ struct ExpressionRules {
   /// product of powers prints as y^81, an expansion as larger numbers. Off: only the nesting
   /// bound stays, twenty times higher.
   bool input_limits = true;
+  /// The value of a definition by name, or nullopt when the name is not one (the scene
+  /// loader resolves [definitions] through it, in any order: definition_table.hpp). An error
+  /// inside the definition comes out as the InputError it throws, located in its own text.
+  std::function<std::optional<Value>(const std::string& name)> definition;
+  /// Where omega() checks a matrix that is not built from rotx/roty/rotz.
+  RotationCheck rotation_check;
+  /// Nodes left for the whole scene (kMaxSceneNodes), shared by its expressions; null: no budget.
+  std::shared_ptr<std::size_t> node_budget;
 };
 
-/// Parse `text`; throws ExpressionSyntaxError on any error.
+/// Parse `text` to a scalar; throws ExpressionSyntaxError on any error (a vector or matrix is one).
 GiNaC::ex parse_expression(const std::string& text, const JetSpace& jet,
                            const ExpressionRules& rules = {});
+/// Parse `text` to a value of any shape (a definition).
+Value parse_value(const std::string& text, const JetSpace& jet, const ExpressionRules& rules = {});
+
+/// Names of the scene language's functions (scalar and vector), which no scene name may take.
+const std::vector<std::string>& function_names();
 
 }  // namespace nhc

@@ -45,6 +45,11 @@ struct Scene {
   SimulateSettings simulate;
   std::vector<std::pair<int, GiNaC::ex>> reference;            ///< coordinate → q(t)
   std::vector<std::pair<std::string, GiNaC::ex>> invariants;   ///< name → I(t, q, q', …)
+  /// Generalized non-conservative forces Q_i(t, q, q') of [forces], one per coordinate (0 when
+  /// not given); every model adds Q_i to its residual R_i (docs/forces.md).
+  std::vector<GiNaC::ex> forces;
+  /// "FILE:LINE:COLUMN: warning: …" lines (a definition never used); load_scene prints them.
+  std::vector<std::string> warnings;
 
   int coordinate_count() const { return jet->coordinate_count(); }
   int constraint_count() const { return static_cast<int>(constraints.size()); }
@@ -52,9 +57,11 @@ struct Scene {
   GiNaC::exmap parameter_substitution() const;
 };
 
-/// Reads and validates a scene file. Every problem is an InputError naming FILE:LINE:COLUMN.
+/// Reads and validates a scene file. Every problem is an InputError naming FILE:LINE:COLUMN;
+/// warnings are printed on stderr.
 Scene load_scene(const std::string& path);
-/// Same, from text already in memory; `path` is only used in messages.
+/// Same, from text already in memory; `path` is only used in messages. Warnings stay in
+/// Scene::warnings.
 Scene parse_scene(const std::string& text, const std::string& path);
 
 /// True for C++ keywords and alternative tokens (and, or, …), which a scene may not use as names.

@@ -97,6 +97,15 @@ SceneBuilder& SceneBuilder::invariant(const std::string& name, std::string expre
   return *this;
 }
 
+SceneBuilder& SceneBuilder::definition(const std::string& name, std::string expression) {
+  definitions_.emplace_back(name, std::move(expression));
+  return *this;
+}
+SceneBuilder& SceneBuilder::force(const std::string& coordinate, std::string expression) {
+  forces_.emplace_back(coordinate, std::move(expression));
+  return *this;
+}
+
 std::string SceneBuilder::toml() const {
   std::ostringstream out;
   out << "# scene " << quoted(name_) << ", built in code (nhc::SceneBuilder)\n";
@@ -137,6 +146,11 @@ std::string SceneBuilder::toml() const {
     out << "\n[invariants]\n";
     for (const auto& [name, expression] : invariants_)
       out << quoted(name) << " = " << quoted(expression) << "\n";
+  }
+  for (const auto& [title, entries] : {std::pair{"definitions", &definitions_}, std::pair{"forces", &forces_}}) {
+    if (entries->empty()) continue;
+    out << "\n[" << title << "]\n";
+    for (const auto& [key, expression] : *entries) out << quoted(key) << " = " << quoted(expression) << "\n";
   }
   return out.str();
 }

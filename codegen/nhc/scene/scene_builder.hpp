@@ -55,6 +55,10 @@ class SceneBuilder {
   SceneBuilder& reference(const std::string& coordinate, std::string expression);
   /// [invariants]: a named quantity that should stay constant.
   SceneBuilder& invariant(const std::string& name, std::string expression);
+  /// [definitions]: a named scalar, vector or matrix expression (`"[x, y, r]"`, `"rotz(psi)"`).
+  SceneBuilder& definition(const std::string& name, std::string expression);
+  /// [forces]: the generalized force Q_i(t, q, q') on a coordinate (docs/forces.md).
+  SceneBuilder& force(const std::string& coordinate, std::string expression);
 
   /// The equivalent scene file; `nhc derive`/`generate`/`simulate` read it as it is.
   std::string toml() const;
@@ -78,6 +82,8 @@ class SceneBuilder {
   std::optional<SimulateEntry> simulate_;
   std::vector<std::pair<std::string, std::string>> reference_;
   std::vector<std::pair<std::string, std::string>> invariants_;
+  std::vector<std::pair<std::string, std::string>> definitions_;
+  std::vector<std::pair<std::string, std::string>> forces_;
 };
 
 }  // namespace nhc

@@ -9,6 +9,9 @@
 #include <set>
 #include <sstream>
 
+#include <iostream>
+
+#include "nhc/scene/definition_table.hpp"
 #include "nhc/scene/expression_parser.hpp"
 #include "nhc/scene/tolerances.hpp"
 #include "nhc/scene/scene.hpp"
@@ -76,11 +79,9 @@ bool vanishes_numerically(const GiNaC::ex& e) {
   return true;
 }
 
-const std::set<std::string>& function_names() {
-  static const std::set<std::string> names = {"sin",  "cos",  "tan",  "exp",  "log",
-                                              "sqrt", "abs",  "sinh", "cosh", "tanh",
-                                              "asin", "acos", "atan", "atan2"};
-  return names;
+bool is_function_name(const std::string& name) {
+  const auto& names = function_names();
+  return std::find(names.begin(), names.end(), name) != names.end();
 }
 
 bool looks_like_multiplier(const std::string& name) {
@@ -112,7 +113,8 @@ class SceneReader {
     }
 
     check_keys(root, {"name", "coordinates", "lagrangian", "constraints", "dependent", "models",
-                      "parameters", "initial", "simulate", "reference", "invariants"});
+                      "parameters", "initial", "simulate", "reference", "invariants",
+                      "definitions", "forces"});
 
     Scene scene;
     scene.source_path = path_;
@@ -165,8 +167,15 @@ class SceneReader {
                                            parameter_names);
     scene.parameter_values = parameter_values;
     const JetSpace& jet = *scene.jet;
+    read_initial(root, scene);
+    const GiNaC::exmap initial_point = initial_point_of(scene);
 
-    ExpressionRules mechanics;  // t, parameters, coordinates; no multipliers
+    ExpressionRules plain;  // t, parameters, coordinates; no multipliers
+    plain.rotation_check.point = &initial_point;
+    plain.node_budget = std::make_shared<std::size_t>(kMaxSceneNodes);
+    DefinitionTable definitions(jet, plain);
+    read_definitions(root, definitions);
+    const ExpressionRules mechanics = definitions.rules_with_definitions(plain);
     const toml::node& lagrangian_node = require(root, "lagrangian", "top level");
     scene.lagrangian = expression(lagrangian_node, "lagrangian", jet, mechanics);
     if (jet.highest_coordinate_order(scene.lagrangian) > 1)
@@ -220,12 +229,11 @@ class SceneReader {
       scene.models.assign(std::begin(kAllModels), std::end(kAllModels));
     }
 
-    read_initial(root, scene);
     read_simulate(root, scene);
 
     if (const toml::node* rn = root.get("reference")) {
       const toml::table& ref = table_value(*rn, "reference");
-      ExpressionRules time_only;
+      ExpressionRules time_only = mechanics;
       time_only.allow_coordinates = false;
       for (auto&& [key, value] : ref) {
         const std::string n(key.str());
@@ -248,6 +256,10 @@ class SceneReader {
         scene.invariants.emplace_back(n, expression(value, "invariant", jet, mechanics));
       }
     }
+    read_forces(root, scene, mechanics);
+    definitions.resolve_all();
+    for (const auto& [name, where] : definitions.unused())
+      scene.warnings.push_back(where.str() + ": warning: definition '" + name + "' is never used");
     return scene;
   }
 
@@ -363,7 +375,7 @@ class SceneReader {
     if (n == "t") bad("'t' is time");
     if (n == "Pi") bad("'Pi' is the constant pi in expressions");
     if (looks_like_multiplier(n)) bad("lambda<N> names are reserved for the multipliers");
-    if (function_names().count(n)) bad("it is the name of a function");
+    if (is_function_name(n)) bad("it is the name of a function");
     if (has_jet_suffix(n)) bad("names ending in _d<digits> are reserved for derivatives");
     if (!names_.insert(n).second) bad("the name is used twice");
   }
@@ -391,6 +403,56 @@ class SceneReader {
       throw InputError(expression_location(node, e.offset()),
                        "in " + what + " \"" + printable(text) + "\": " + e.what());
     }
+  }
+
+  /// [definitions]: name = "expression", names checked like parameters, resolved on use.
+  void read_definitions(const toml::table& root, DefinitionTable& definitions) {
+    const toml::node* node = root.get("definitions");
+    if (!node) return;
+    for (auto&& [key, value] : table_value(*node, "definitions")) {
+      const std::string n(key.str());
+      check_variable_name_at(at(key.source()), n, "definition");
+      const std::string text = string_value(value, "definition '" + n + "'");
+      const toml::node* value_node = &value;
+      definitions.add(n, text, [this, value_node](std::size_t offset) {
+        return expression_location(*value_node, offset);
+      });
+    }
+  }
+
+  /// [forces]: coordinate = "Q(t, q, q')", the generalized force of docs/forces.md.
+  void read_forces(const toml::table& root, Scene& scene, const ExpressionRules& rules) {
+    const JetSpace& jet = *scene.jet;
+    scene.forces.assign(static_cast<std::size_t>(jet.coordinate_count()), GiNaC::ex(0));
+    const toml::node* node = root.get("forces");
+    if (!node) return;
+    for (auto&& [key, value] : table_value(*node, "forces")) {
+      const std::string n(key.str());
+      const auto& coords = jet.coordinates();
+      const auto it = std::find(coords.begin(), coords.end(), n);
+      if (it == coords.end())
+        throw InputError(at(key.source()),
+                         "[forces] names '" + printable(n) + "', which is not a coordinate");
+      const GiNaC::ex q = expression(value, "force", jet, rules);
+      if (jet.highest_coordinate_order(q) > 1)
+        fail(value, "a generalized force may depend on t, q and q' only (found a derivative of "
+                    "order " + std::to_string(jet.highest_coordinate_order(q)) + ")");
+      scene.forces[static_cast<std::size_t>(it - coords.begin())] = q;
+    }
+  }
+
+  /// Parameters and given initial values q_i^(k)(t0): where omega() checks a matrix numerically.
+  static GiNaC::exmap initial_point_of(const Scene& scene) {
+    GiNaC::exmap point = scene.parameter_substitution();
+    point[scene.jet->time()] = scene.initial.t0;
+    const auto& coords = scene.jet->coordinates();
+    for (std::size_t i = 0; i < coords.size(); ++i) {
+      const auto it = scene.initial.values.find(coords[i]);
+      if (it == scene.initial.values.end()) continue;
+      for (std::size_t k = 0; k < it->second.size(); ++k)
+        point[scene.jet->q(static_cast<int>(i), static_cast<int>(k))] = it->second[k];
+    }
+    return point;
   }
 
   void read_initial(const toml::table& root, Scene& scene) {
@@ -476,7 +538,9 @@ Scene load_scene(const std::string& path) {
   if (!in) throw InputError({path, 0, 0}, "cannot open the scene file");
   std::ostringstream buffer;
   buffer << in.rdbuf();
-  return parse_scene(buffer.str(), path);
+  Scene scene = parse_scene(buffer.str(), path);
+  for (const std::string& warning : scene.warnings) std::cerr << warning << "\n";
+  return scene;
 }
 
 }  // namespace nhc

@@ -1,0 +1,55 @@
+#pragma once
+/// \file definition_table.hpp
+/// \brief A scene's [definitions]: named values (scalars, vectors, matrices) written in any
+/// order, resolved on first use, so that a definition may use others defined below it.
+///
+/// Each definition is parsed once, with the same rules as the Lagrangian, and substituted where
+/// its name appears (expanded symbolically: the derivation sees coordinates only). A cycle is an
+/// InputError at the definition that closes it; errors inside a definition point into its own
+/// text. Usage is recorded so that a definition that nothing uses can be reported.
+
+#include <functional>
+#include <map>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "nhc/errors.hpp"
+#include "nhc/scene/expression_parser.hpp"
+
+namespace nhc {
+
+class DefinitionTable {
+ public:
+  /// Where an offset of a definition's text is in the scene file.
+  using Locator = std::function<SourceLocation(std::size_t offset)>;
+
+  DefinitionTable(const JetSpace& jet, ExpressionRules rules) : jet_(jet), rules_(std::move(rules)) {}
+
+  void add(const std::string& name, std::string text, Locator locate);
+  /// Rules for an expression that may use the definitions (the table must outlive them).
+  ExpressionRules rules_with_definitions(ExpressionRules rules);
+  /// The value of `name`, or nullopt when it is not a definition.
+  std::optional<Value> resolve(const std::string& name);
+  /// Resolves every definition not resolved yet (so that errors in unused ones are reported).
+  void resolve_all();
+  /// Definitions that no expression outside the table reaches, with their locations.
+  std::vector<std::pair<std::string, SourceLocation>> unused() const;
+
+ private:
+  struct Entry {
+    std::string text;
+    Locator locate;
+    std::optional<Value> value;
+    bool in_progress = false;
+    std::set<std::string> uses;  ///< definitions its text names
+  };
+  const JetSpace& jet_;
+  ExpressionRules rules_;
+  std::map<std::string, Entry> entries_;
+  std::vector<std::string> resolving_;  ///< the chain being resolved, for cycles and usage
+  std::set<std::string> used_from_outside_;
+};
+
+}  // namespace nhc
