@@ -530,8 +530,12 @@ Sample Integrator::initialize(const InitialState& state, double t_next) {
     std::vector<double> scale(n, 1.0);
     for (int i = 0; i < n && i < static_cast<int>(state.given.size()); ++i)
       if (state.given[i]) scale[i] = 0.0;
-    solve_hidden_constraints(s.model, s.p.data(), state.t0, s.y.data(), scale,
-                             initial_point_tolerance(std::vector<double>(s.y.data(), s.y.data() + n)));
+    // The size in the tolerance is over the differential states, the values analyze sees.
+    std::vector<double> differential;
+    for (int i = 0; i < n; ++i)
+      if (s.model.is_differential(i)) differential.push_back(s.y[i]);
+    solve_initial_hidden_constraints(s.model, s.p.data(), state.t0, s.y.data(), scale,
+                                     initial_point_tolerance(differential, s.options.rtol, s.options.atol));
   }
 
   // 2. IDA and IDACalcIC for the algebraic states and y'.
