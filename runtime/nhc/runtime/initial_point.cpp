@@ -53,8 +53,8 @@ ConstraintSolveResult solve_initial_point(const ConstraintFunctions& g, double* 
 
 std::string describe(const InconsistentInitialPoint& f) {
   std::ostringstream s;
-  s << "the initial values of the " << f.model << " model miss " << f.constraint << " at t0 = " << number(f.t0)
-    << " by " << number(f.residual) << " (tolerance " << f.tolerance.describe() << ")";
+  s << "the initial values of the " << f.model << " model violate " << f.constraint << " at t0 = " << number(f.t0)
+    << ": residual " << number(f.residual) << " (tolerance " << f.tolerance.describe() << ")";
   std::vector<std::string> given;
   for (const InvolvedValue& v : f.given) given.push_back(v.name + " = " + number(v.value));
   if (!given.empty()) s << "; it involves the given value" << (given.size() == 1 ? " " : "s ") << join(given);

@@ -52,7 +52,7 @@ struct InconsistentInitialPoint {
   ConstraintSolveStatus status = ConstraintSolveStatus::independent_of_free;
 };
 
-/// "the initial values of the chetaev model miss hidden constraint f1 at t0 = 0 by 2.5e-11
+/// "the initial values of the chetaev model violate hidden constraint f1 at t0 = 0: residual 2.5e-11
 /// (tolerance 1.3e-08 = atol + …); it involves the given values x' = 1, y' = 0.5 and z' = 0.55;
 /// no value that may be changed enters it. Give consistent values, or let --repair-initial
 /// move the given ones to the nearest consistent point"

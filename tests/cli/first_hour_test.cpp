@@ -1,0 +1,119 @@
+// Issue 14, "the first hour of a new user": the reproductions of the issue on Appell–Hamel
+// (examples/appell_hamel.toml, constraint f1 = z' − (b/a)·sqrt(x'² + y'²), b/a = 1/2).
+// One initial-point rule and one message in analyze and simulate (nhc/runtime/initial_point.hpp),
+// no compile and no file on an inconsistent start, --max-steps, -o -, --repair-initial.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "command_runner.hpp"
+
+namespace {
+
+using Catch::Matchers::Contains;
+using nhc::test::file_exists;
+using nhc::test::read_file;
+using nhc::test::Run;
+
+Run nhc_run(const std::string& args, const std::string& dir) {
+  return nhc::test::run(std::string("cd '") + NHC_SOURCE_DIR + "' && NHC_CACHE_DIR='" + NHC_BINARY_DIR +
+                            "/tests/cli/nhc-cache' " + nhc::test::nhc_command() + " " + args,
+                        dir);
+}
+
+/// examples/appell_hamel.toml with `z = [...]` replaced, written to dir/name.
+std::string appell_hamel_with_z(const std::string& dir, const std::string& name, const std::string& z) {
+  std::string text = read_file(std::string(NHC_SOURCE_DIR) + "/examples/appell_hamel.toml");
+  text = std::regex_replace(text, std::regex(R"(\nz = \[0\.0\]\n)"), "\nz = " + z + "\n");
+  const std::string path = dir + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+/// The error lines of a run (standard error without the notes).
+std::string first_error(const std::string& err) { return err.substr(0, err.find('\n')); }
+
+std::vector<double> csv_row(const std::string& csv, int row) {
+  std::istringstream in(csv);
+  std::string line;
+  for (int i = 0; i <= row; ++i) std::getline(in, line);
+  std::getline(in, line);
+  std::vector<double> values;
+  std::istringstream fields(line);
+  std::string field;
+  while (std::getline(fields, field, ',')) values.push_back(std::stod(field));
+  return values;
+}
+
+}  // namespace
+
+TEST_CASE("velocities typed to ten digits are accepted by analyze and simulate alike", "[cli][issue14]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_ten_digits");
+  // z'(0) = sqrt(1.25)/2 = 0.559016994374947…: ten digits miss f1 by 2.5e-11 < atol + rtol = 1.01e-8.
+  const std::string scene = appell_hamel_with_z(dir, "ten_digits.toml", "[0.0, 0.5590169944]");
+  CHECK(nhc_run("analyze '" + scene + "' -m chetaev", dir).exit_code == 0);
+  const Run sim = nhc_run("simulate '" + scene + "' -o '" + dir + "/out.csv'", dir);
+  CHECK(sim.exit_code == 0);
+  CHECK_THAT(sim.out, Contains("201 rows"));
+}
+
+TEST_CASE("a given value that misses a hidden constraint gets the same words in analyze and simulate",
+          "[cli][issue14]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_three_digits");
+  const std::string scene = appell_hamel_with_z(dir, "three_digits.toml", "[0.0, 0.559]");
+  const Run analyze = nhc_run("analyze '" + scene + "' -m chetaev", dir);
+  const Run simulate = nhc_run("simulate '" + scene + "' -o '" + dir + "/out.csv'", dir);
+  CHECK(analyze.exit_code == 3);
+  CHECK(simulate.exit_code == 3);
+  CHECK(first_error(analyze.err) == first_error(simulate.err));
+  // The constraint, its residual 0.559 − sqrt(1.25)/2, the tolerance rule and the given values.
+  CHECK_THAT(simulate.err, Contains("hidden constraint f1") && Contains("residual -1.699437495e-05") &&
+                               Contains("atol + rtol") && Contains("x' = 1") && Contains("y' = 0.5") &&
+                               Contains("z' = 0.559"));
+  // Checked before compiling: no summary, no file (issue 14, item 3).
+  CHECK(simulate.out.empty());
+  CHECK_FALSE(file_exists(dir + "/out.csv"));
+}
+
+TEST_CASE("the runtime applies the same rule when --atol and --rtol loosen it", "[cli][issue14]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_loose");
+  const std::string scene = appell_hamel_with_z(dir, "three_digits.toml", "[0.0, 0.559]");
+  // A miss of 1.7e-5 is within atol = 1e-4.
+  CHECK(nhc_run("simulate '" + scene + "' --atol 1e-4 --rtol 1e-6", dir).exit_code == 0);
+}
+
+TEST_CASE("simulate --repair-initial starts on the constraint", "[cli][issue14]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_repair");
+  const std::string scene = appell_hamel_with_z(dir, "three_digits.toml", "[0.0, 0.559]");
+  const Run r = nhc_run("simulate '" + scene + "' --repair-initial -o -", dir);
+  REQUIRE(r.exit_code == 0);
+  // -o -: the CSV alone on standard output, the summary on standard error.
+  CHECK(r.out.rfind("t,x,x'", 0) == 0);
+  CHECK_THAT(r.err, Contains("nhc simulate:") && Contains("standard output"));
+  // t,x,x',x'',y,y',y'',z,z',...: f1 = z' − sqrt(x'² + y'²)/2 at the first row.
+  const std::vector<double> row = csv_row(r.out, 0);
+  REQUIRE(row.size() > 8);
+  CHECK(std::abs(row[8] - 0.5 * std::hypot(row[2], row[5])) < 1e-12);
+  CHECK(std::abs(row[8] - 0.559) < 1e-4);
+}
+
+TEST_CASE("simulate --max-steps stops with the limit and the time reached", "[cli][issue14]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_max_steps");
+  const Run r = nhc_run("simulate examples/appell_hamel.toml --max-steps 10 -o '" + dir + "/out.csv'", dir);
+  CHECK(r.exit_code == 3);
+  CHECK_THAT(r.err, Contains("step limit (10 steps)") && Contains("reached at t = "));
+  CHECK_THAT(r.out, Contains("the motion up to the failure"));
+  CHECK(nhc_run("simulate examples/appell_hamel.toml --max-steps 0", dir).exit_code == 2);
+}
+
+TEST_CASE("simulate without -o says that no CSV was written", "[cli][issue14]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_no_output");
+  const Run r = nhc_run("simulate examples/particle.toml", dir);
+  CHECK(r.exit_code == 0);
+  CHECK_THAT(r.out, Contains("no CSV written"));
+}
