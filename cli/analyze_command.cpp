@@ -1,11 +1,14 @@
 // nhc analyze SCENE [--model M]... [--format text|json] [--repair-initial] [-o FILE]
 // Pryce's structural analysis of each model, its consistent initial point and the system
-// Jacobian there. Exit 3 (with the reasons in words on standard error) when some model is
-// not applicable, structurally singular, has inconsistent initial data or a singular
-// system Jacobian at t0.
+// Jacobian there, reported per model. Exit 3 (with the reasons in words on standard error) when
+// a requested model — those of --model, else the scene's default model — is not applicable,
+// structurally singular, has inconsistent initial data or a singular system Jacobian at t0; the
+// other models' failures are notes. A requested suslov model without `dependent` is bad input.
+#include <algorithm>
 #include <iostream>
 
 #include "commands.hpp"
+#include "model_requirements.hpp"
 #include "nhc/analysis/model_analysis.hpp"
 #include "nhc/derive/models.hpp"
 #include "nhc/emit/analysis_emitters.hpp"
@@ -50,8 +53,13 @@ CommandRunner add_analyze_command(CLI::App& app) {
     InitializationOptions init;
     init.repair = options->repair;
     std::vector<ModelAnalysis> analyses;
-    for (ModelKind kind : selected_models(scene, options->models))
-      analyses.push_back(analyze_model(scene, derive_model(scene, kind), init));
+    const std::vector<ModelKind> kinds = selected_models(scene, options->models);
+    std::vector<ModelKind> requested = selected_models(scene, options->models);
+    if (options->models.empty()) requested = {default_model(scene)};
+    auto is_requested = [&](ModelKind k) { return std::find(requested.begin(), requested.end(), k) != requested.end(); };
+    for (ModelKind kind : kinds)
+      if (is_requested(kind)) require_model_inputs(scene, kind);
+    for (ModelKind kind : kinds) analyses.push_back(analyze_model(scene, derive_model(scene, kind), init));
     auto write = [&](std::ostream& out) {
       if (options->format == "json") write_analysis_json(out, scene, analyses);
       else write_analysis_text(out, scene, analyses);
@@ -62,6 +70,10 @@ CommandRunner add_analyze_command(CLI::App& app) {
     std::string failures;
     bool repairable = false;
     for (const auto& a : analyses) {
+      if (!is_requested(a.model)) {
+        for (const auto& e : a.errors) std::cerr << "nhc: note: " << e << " (not requested: exit 0)\n";
+        continue;
+      }
       for (const auto& e : a.errors) failures += (failures.empty() ? "" : "\nnhc: error: ") + e;
       repairable = repairable || a.initial_values_repairable;
     }

@@ -2,6 +2,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "model_requirements.hpp"
 #include "nhc/derive/models.hpp"
 #include "nhc/emit/derivation_emitters.hpp"
 #include "nhc/io/atomic_file.hpp"
@@ -42,8 +43,10 @@ CommandRunner add_derive_command(CLI::App& app) {
     if (!options->output.empty()) check_output_file(options->output, {options->scene_path});
     const Scene scene = load_scene(options->scene_path);
     std::vector<DerivedModel> models;
-    for (ModelKind kind : selected_models(scene, options->models))
+    for (ModelKind kind : selected_models(scene, options->models)) {
+      if (!options->models.empty() || scene_lists_model(scene, kind)) require_model_inputs(scene, kind);
       models.push_back(derive_model(scene, kind));
+    }
     auto write = [&](std::ostream& out) {
       if (options->format == "latex") write_derivation_latex(out, scene, models);
       else if (options->format == "json") write_derivation_json(out, scene, models);

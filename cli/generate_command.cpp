@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "model_requirements.hpp"
 #include "nhc/analysis/index1_reduction.hpp"
 #include "nhc/derive/models.hpp"
 #include "nhc/emit/header_emitter.hpp"
@@ -49,6 +50,7 @@ CommandRunner add_generate_command(CLI::App& app) {
     const Scene scene = load_scene(options->scene_path);
     const ModelKind kind =
         model_or_default(scene, options->model);
+    require_model_inputs(scene, kind);
     const DerivedModel derived = derive_model(scene, kind);
     if (!derived.applicable)
       throw MathError("the " + to_string(kind) + " model does not apply to " + scene.name + ": " +

@@ -12,6 +12,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "model_requirements.hpp"
 #include "nhc/analysis/model_analysis.hpp"
 #include "nhc/derive/models.hpp"
 #include "nhc/errors.hpp"
@@ -101,6 +102,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
     const auto load_start = Clock::now();
     const Scene scene = load_scene(options->scene_path);
     const ModelKind kind = model_or_default(scene, options->model);
+    require_model_inputs(scene, kind);
     check_simulate_flags(*options, scene);  // before anything is compiled or written
     const bool csv_to_stdout = options->output == "-";
     if (!options->output.empty() && !csv_to_stdout) check_output_file(options->output, {options->scene_path});

@@ -117,3 +117,38 @@ TEST_CASE("simulate without -o says that no CSV was written", "[cli][issue14]") 
   CHECK(r.exit_code == 0);
   CHECK_THAT(r.out, Contains("no CSV written"));
 }
+
+TEST_CASE("the suslov model without 'dependent' is bad input located in the scene", "[cli][issue14]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_no_dependent");
+  std::string text = read_file(std::string(NHC_SOURCE_DIR) + "/examples/appell_hamel.toml");
+  text = std::regex_replace(text, std::regex(R"(\ndependent = \["z"\]\n)"), "\n");
+  const std::string scene = dir + "/no_dependent.toml";
+  std::ofstream(scene) << text;
+  const std::regex located("^" + scene + R"(:\d+:\d+: error: the suslov model needs one dependent coordinate per constraint.*\n$)");
+  for (const std::string command : {"simulate", "derive", "analyze", "generate"}) {
+    INFO(command);
+    const Run r = nhc_run(command + " '" + scene + "' --model suslov" + (command == "generate" ? " -o '" + dir + "'" : ""), dir);
+    CHECK(r.exit_code == 2);
+    CHECK(std::regex_match(r.err, located));
+  }
+  // The other models of the scene are unaffected: analyze reports suslov as a note, exit 0.
+  const Run all = nhc_run("analyze '" + scene + "'", dir);
+  CHECK(all.exit_code == 0);
+  CHECK_THAT(all.err, Contains("nhc: note: the suslov model is not applicable"));
+}
+
+TEST_CASE("analyze exits 3 only when a requested model fails", "[cli][issue14]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_per_model");
+  std::string text = read_file(std::string(NHC_SOURCE_DIR) + "/examples/appell_hamel_vakonomic_singular.toml");
+  text = std::regex_replace(text, std::regex(R"(\nmodels = \["vakonomic"\]\n)"), "\nmodels = [\"vakonomic\", \"chetaev\"]\n");
+  const std::string scene = dir + "/two_models.toml";
+  std::ofstream(scene) << text;
+  const Run both = nhc_run("analyze '" + scene + "'", dir);  // default model: chetaev
+  CHECK(both.exit_code == 0);
+  CHECK_THAT(both.out, Contains("vakonomic:") && Contains("chetaev:"));
+  CHECK_THAT(both.err, Contains("nhc: note: the system Jacobian of the vakonomic model is singular"));
+  CHECK(nhc_run("analyze '" + scene + "' --model chetaev", dir).exit_code == 0);
+  const Run vakonomic = nhc_run("analyze '" + scene + "' --model vakonomic --model chetaev", dir);
+  CHECK(vakonomic.exit_code == 3);
+  CHECK_THAT(vakonomic.err, Contains("nhc: error: the system Jacobian of the vakonomic model is singular"));
+}
