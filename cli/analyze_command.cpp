@@ -1,4 +1,4 @@
-// nhc analyze SCENE [--model M]... [--format text|json] [--repair-initial] [-o FILE]
+// nhc analyze SCENE [--model M]... [--format text|json] [--repair-initial] [--set P=V]... [-o FILE]
 // Pryce's structural analysis of each model, its consistent initial point and the system
 // Jacobian there, reported per model. Exit 3 (with the reasons in words on standard error) when
 // a requested model — those of --model, else the scene's default model — is not applicable,
@@ -8,6 +8,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "parameter_overrides.hpp"
 #include "model_requirements.hpp"
 #include "nhc/analysis/model_analysis.hpp"
 #include "nhc/derive/models.hpp"
@@ -27,6 +28,7 @@ struct AnalyzeOptions {
   std::string format = "text";
   std::string output;
   bool repair = false;
+  std::vector<std::string> set;
 };
 
 }  // namespace
@@ -45,11 +47,13 @@ CommandRunner add_analyze_command(CLI::App& app) {
   sub->add_flag("--repair-initial", options->repair,
                 "move given initial values that violate a hidden constraint to the nearest "
                 "consistent point instead of failing");
+  add_set_option(sub, options->set);
   sub->add_option("-o,--output", options->output, "write to FILE instead of standard output");
 
   return [options]() {
     if (!options->output.empty()) check_output_file(options->output, {options->scene_path});
-    const Scene scene = load_scene(options->scene_path);
+    Scene scene = load_scene(options->scene_path);
+    apply_parameter_overrides(scene, parse_parameter_overrides(scene, options->set));
     InitializationOptions init;
     init.repair = options->repair;
     std::vector<ModelAnalysis> analyses;

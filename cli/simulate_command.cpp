@@ -1,5 +1,5 @@
 // nhc simulate SCENE [--model M] [--t-end T] [--rtol R] [--atol A] [--max-steps N] [--project]
-//              [--repair-initial] [--outputs N] [-o FILE.csv | -o -] [--plot DIR [--plot-xy a,b]]
+//              [--repair-initial] [--set P=V]... [--outputs N] [-o FILE.csv | -o -] [--plot DIR [--plot-xy a,b]]
 //
 // The whole pipeline on one model: derive, reduce to index 1, generate the header
 // (docs/generated-code.md), compile it with the C++ compiler found at configure time into a
@@ -12,6 +12,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "parameter_overrides.hpp"
 #include "model_requirements.hpp"
 #include "nhc/analysis/model_analysis.hpp"
 #include "nhc/derive/models.hpp"
@@ -37,6 +38,7 @@ struct SimulateOptions {
   long max_steps = 1000000;
   int outputs = 200;
   std::string output;
+  std::vector<std::string> set;
   std::string plot, plot_xy;  // trajectory_plots.hpp
 };
 
@@ -85,6 +87,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   sub->add_option("--max-steps", options->max_steps, "limit on the internal steps of the run (default 1000000)")
       ->check(CLI::Range(1L, 1000000000000L));
+  add_set_option(sub, options->set);
   sub->add_flag("--project", options->project, "project onto the hidden constraints (docs/projection.md)");
   sub->add_flag("--repair-initial", options->repair,
                 "move given initial values that miss a hidden constraint to the nearest consistent point");
@@ -109,7 +112,10 @@ CommandRunner add_simulate_command(CLI::App& app) {
     std::ostream& info = csv_to_stdout ? std::cerr : std::cout;
     PathPlane plane;
     if (!options->plot.empty()) require_gnuplot("--plot"), plane = path_plane(scene, options->plot_xy, "--plot-xy");
-    check_initial_point(scene, kind, options->rtol.value_or(scene.simulate.rtol),
+    const std::vector<ParameterOverride> overrides = parse_parameter_overrides(scene, options->set);
+    Scene scene_set = scene;  // the overridden values for the analysis; the model takes them at run time
+    apply_parameter_overrides(scene_set, overrides);
+    check_initial_point(scene_set, kind, options->rtol.value_or(scene.simulate.rtol),
                         options->atol.value_or(scene.simulate.atol), options->repair);
     const double load_seconds = seconds_since(load_start);
     const jit::LoadedModel built = jit::build(scene, kind);
@@ -127,7 +133,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
     const double t0 = scene.initial.t0, t_end = options->t_end.value_or(scene.simulate.t_end);
     if (!(t_end > t0))
       throw InputError({options->scene_path, 0, 0}, "--t-end " + format(t_end, 17) + " must be after t0 = " + format(t0, 17));
-    const std::vector<double> p = model.default_parameters();
+    const std::vector<double> p = parameters_with_overrides(model, overrides);
     runtime::InitialState initial = initial_state_of(scene, model);
     if (options->repair) initial.given.assign(initial.given.size(), false);  // every value may move
     const runtime::RunResult run =

@@ -152,3 +152,34 @@ TEST_CASE("analyze exits 3 only when a requested model fails", "[cli][issue14]")
   CHECK(vakonomic.exit_code == 3);
   CHECK_THAT(vakonomic.err, Contains("nhc: error: the system Jacobian of the vakonomic model is singular"));
 }
+
+TEST_CASE("parameters set by --set P=V in simulate, analyze, generate and derive", "[cli][issue14]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_set");
+  // g = 0, b = 1/4: z'(0) = (b/a)·|(1, 1/2)| = sqrt(1.25)/4 and Chetaev's v' = −g k/(1 + k²) = 0,
+  // uniform motion (docs/models.md), with the model compiled for the scene's values reused.
+  const Run sim = nhc_run("simulate examples/appell_hamel.toml --set g=0 --set b=0.25 -o -", dir);
+  REQUIRE(sim.exit_code == 0);
+  const std::vector<double> first = csv_row(sim.out, 0), last = csv_row(sim.out, 200);
+  REQUIRE(first.size() > 9);
+  CHECK(std::abs(first[8] - std::sqrt(1.25) / 4) < 1e-12);
+  CHECK(std::abs(last[2] - 1.0) < 1e-9);    // x' stays 1
+  CHECK(std::abs(last[1] - 0.2) < 1e-9);    // x = t
+  CHECK(std::abs(last[7] - 0.2 * std::sqrt(1.25) / 4) < 1e-9);
+
+  const Run analyze = nhc_run("analyze examples/appell_hamel.toml -m chetaev --set b=2", dir);
+  CHECK(analyze.exit_code == 0);
+  CHECK_THAT(analyze.out, Contains("z' = 2.236067977"));  // 2·sqrt(1.25)
+
+  const Run generate = nhc_run("generate examples/appell_hamel.toml --set b=2 -q -o '" + dir + "'", dir);
+  CHECK(generate.exit_code == 0);
+  CHECK_THAT(read_file(dir + "/appell_hamel_chetaev.hpp"), Contains("default_parameters[n_parameters] = {1.0, 2.0,"));
+
+  CHECK(nhc_run("derive examples/appell_hamel.toml --set b=2", dir).exit_code == 0);
+  for (const std::string command : {"simulate", "derive", "analyze", "generate"}) {
+    INFO(command);
+    const Run unknown = nhc_run(command + " examples/appell_hamel.toml --set q=1 -o '" + dir + "/x'", dir);
+    CHECK(unknown.exit_code == 2);
+    CHECK_THAT(unknown.err, Contains("--set: error: --set q=1: 'q' is not a parameter of the scene"));
+    CHECK(nhc_run(command + " examples/appell_hamel.toml --set b=abc", dir).exit_code == 2);
+  }
+}
