@@ -12,6 +12,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "output_selection.hpp"
 #include "parameter_overrides.hpp"
 #include "model_requirements.hpp"
 #include "nhc/analysis/model_analysis.hpp"
@@ -36,7 +37,8 @@ struct SimulateOptions {
   std::optional<double> t_end, rtol, atol;
   bool project = false, repair = false;
   long max_steps = 1000000;
-  int outputs = 200;
+  std::optional<int> outputs;
+  std::string output_times, columns;
   std::string output;
   std::vector<std::string> set;
   std::string plot, plot_xy;  // trajectory_plots.hpp
@@ -91,8 +93,14 @@ CommandRunner add_simulate_command(CLI::App& app) {
   sub->add_flag("--project", options->project, "project onto the hidden constraints (docs/projection.md)");
   sub->add_flag("--repair-initial", options->repair,
                 "move given initial values that miss a hidden constraint to the nearest consistent point");
-  sub->add_option("--outputs", options->outputs, "number of output intervals (default 200)")
-      ->check(CLI::Range(1, 10000000));
+  CLI::Option* outputs = sub->add_option("--outputs", options->outputs,
+                                         "number of output intervals (default: [simulate] outputs, else 200)")
+                             ->check(CLI::Range(1, 10000000));
+  sub->add_option("--output-times", options->output_times,
+                  "START:STEP:END or T1,T2,...: the output times (the last is the end of the run)")
+      ->excludes(outputs)
+      ->excludes("--t-end");
+  sub->add_option("--columns", options->columns, "x,y,...: the CSV columns after t (default: all)");
   sub->add_option("-o,--output", options->output,
                   "CSV file for the solution ('-': standard output, the summary then on standard error)");
   CLI::Option* plot = sub->add_option(
@@ -115,6 +123,13 @@ CommandRunner add_simulate_command(CLI::App& app) {
     const std::vector<ParameterOverride> overrides = parse_parameter_overrides(scene, options->set);
     Scene scene_set = scene;  // the overridden values for the analysis; the model takes them at run time
     apply_parameter_overrides(scene_set, overrides);
+    const double t0 = scene.initial.t0;
+    const std::vector<double> times =
+        options->output_times.empty()
+            ? runtime::output_times(t0, options->t_end.value_or(scene.simulate.t_end),
+                                    options->outputs.value_or(scene.simulate.outputs.value_or(200)))
+            : parse_output_times(options->output_times, t0);
+    const double t_end = times.back();
     check_initial_point(scene_set, kind, options->rtol.value_or(scene.simulate.rtol),
                         options->atol.value_or(scene.simulate.atol), options->repair);
     const double load_seconds = seconds_since(load_start);
@@ -130,22 +145,21 @@ CommandRunner add_simulate_command(CLI::App& app) {
     io.projection = options->project ? runtime::ProjectionMethod::in_place : runtime::ProjectionMethod::none;
     io.progress = true;
     io.max_steps = options->max_steps;
-    const double t0 = scene.initial.t0, t_end = options->t_end.value_or(scene.simulate.t_end);
-    if (!(t_end > t0))
-      throw InputError({options->scene_path, 0, 0}, "--t-end " + format(t_end, 17) + " must be after t0 = " + format(t0, 17));
     const std::vector<double> p = parameters_with_overrides(model, overrides);
+    const std::vector<std::string> columns =
+        options->columns.empty() ? std::vector<std::string>{} : parse_columns(options->columns, csv_columns(model, p));
     runtime::InitialState initial = initial_state_of(scene, model);
     if (options->repair) initial.given.assign(initial.given.size(), false);  // every value may move
     const runtime::RunResult run =
-        runtime::simulate(model, p, initial, runtime::output_times(t0, t_end, options->outputs), io);
+        runtime::simulate(model, p, initial, times, io);
     // No row, no file: a header-only CSV would look like a result.
     const bool write_csv = !options->output.empty() && !run.samples.empty();
     if (write_csv && csv_to_stdout) {
-      runtime::write_csv(std::cout, model, p, run.samples);
+      write_selected_csv(std::cout, model, p, run.samples, columns);
       std::cout.flush();
     } else if (write_csv) {
       write_file_atomically(options->output,
-                            [&](std::ostream& out) { runtime::write_csv(out, model, p, run.samples); });
+                            [&](std::ostream& out) { write_selected_csv(out, model, p, run.samples, columns); });
     }
 
     // Summary.

@@ -4,6 +4,7 @@
 // no compile and no file on an inconsistent start, --max-steps, -o -, --repair-initial.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <regex>
@@ -182,4 +183,37 @@ TEST_CASE("parameters set by --set P=V in simulate, analyze, generate and derive
     CHECK_THAT(unknown.err, Contains("--set: error: --set q=1: 'q' is not a parameter of the scene"));
     CHECK(nhc_run(command + " examples/appell_hamel.toml --set b=abc", dir).exit_code == 2);
   }
+}
+
+TEST_CASE("output times and columns of simulate", "[cli][issue14]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_outputs");
+  // [simulate] outputs = 4: five rows.
+  std::string text = read_file(std::string(NHC_SOURCE_DIR) + "/examples/appell_hamel.toml");
+  text = std::regex_replace(text, std::regex(R"(\nt_end = 0\.2\n)"), "\nt_end = 0.2\noutputs = 4\n");
+  const std::string scene = dir + "/four.toml";
+  std::ofstream(scene) << text;
+  const Run four = nhc_run("simulate '" + scene + "' -o -", dir);
+  REQUIRE(four.exit_code == 0);
+  CHECK(std::count(four.out.begin(), four.out.end(), '\n') == 6);
+
+  // --output-times START:STEP:END, --columns: t first, then the named ones in order. Chetaev:
+  // z'' = k v' = −(b/a)·g k/(1 + k²) = −1.962 (docs/models.md), so z'(t) = z'(0) − 1.962 t.
+  const Run r = nhc_run("simulate examples/appell_hamel.toml --output-times 0:0.05:0.2 --columns \"z',x\" -o -", dir);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.out.rfind("t,z',x\n", 0) == 0);
+  CHECK(std::count(r.out.begin(), r.out.end(), '\n') == 6);
+  const std::vector<double> row = csv_row(r.out, 2);  // t = 0.1
+  REQUIRE(row.size() == 3);
+  CHECK(std::abs(row[0] - 0.1) < 1e-15);
+  CHECK(std::abs(row[1] - (std::sqrt(1.25) / 2 - 0.1962)) < 1e-8);
+
+  const Run list = nhc_run("simulate examples/appell_hamel.toml --output-times 0,0.1,0.15 --columns x -o -", dir);
+  REQUIRE(list.exit_code == 0);
+  CHECK(std::count(list.out.begin(), list.out.end(), '\n') == 4);
+  CHECK_THAT(list.err, Contains("t from 0 to 0.15"));
+
+  CHECK(nhc_run("simulate examples/appell_hamel.toml --columns w", dir).exit_code == 2);
+  CHECK(nhc_run("simulate examples/appell_hamel.toml --output-times 0:0.03:0.2", dir).exit_code == 2);
+  CHECK(nhc_run("simulate examples/appell_hamel.toml --output-times 0.1,0.05", dir).exit_code == 2);
+  CHECK(nhc_run("simulate examples/appell_hamel.toml --output-times 0:0.1:0.2 --t-end 1", dir).exit_code == 2);
 }

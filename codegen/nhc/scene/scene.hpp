@@ -28,6 +28,7 @@ struct SimulateSettings {
   double t_end = 1.0;
   double rtol = 1e-8;
   double atol = 1e-10;
+  std::optional<int> outputs;  ///< output intervals ([simulate] outputs), default 200
 };
 
 struct Scene {

@@ -429,7 +429,7 @@ class SceneReader {
       return;
     }
     const toml::table& table = table_value(*node, "simulate");
-    check_keys(table, {"model", "t_end", "rtol", "atol"});
+    check_keys(table, {"model", "t_end", "rtol", "atol", "outputs"});
     scene.simulate.t_end = scene.initial.t0 + 1.0;
     if (const toml::node* m = table.get("model")) {
       const std::string n = string_value(*m, "simulate model");
@@ -444,6 +444,11 @@ class SceneReader {
       scene.simulate.t_end = number_value(*te, "t_end");
       if (!(scene.simulate.t_end > scene.initial.t0))
         fail(*te, "t_end must be after t0 = " + shortest(scene.initial.t0));
+    }
+    if (const toml::node* n = table.get("outputs")) {
+      const std::optional<int64_t> count = n->value_exact<int64_t>();
+      if (!count || *count < 1 || *count > 10000000) fail(*n, "outputs must be a whole number from 1 to 10000000");
+      scene.simulate.outputs = static_cast<int>(*count);
     }
     for (const char* key : {"rtol", "atol"}) {
       if (const toml::node* tol = table.get(key)) {
