@@ -217,3 +217,14 @@ TEST_CASE("output times and columns of simulate", "[cli][issue14]") {
   CHECK(nhc_run("simulate examples/appell_hamel.toml --output-times 0.1,0.05", dir).exit_code == 2);
   CHECK(nhc_run("simulate examples/appell_hamel.toml --output-times 0:0.1:0.2 --t-end 1", dir).exit_code == 2);
 }
+
+TEST_CASE("report -o DIR on bad input leaves no directory", "[cli][issue14]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_report_bad");
+  for (const std::string args : {"tests/bad/empty_models.toml", "examples/particle.toml --set q=1",
+                                 "examples/particle.toml --tolerances 1e-3:1e-20"}) {
+    INFO(args);
+    const Run r = nhc_run("report " + args + " -o '" + dir + "/report'", dir);
+    CHECK(r.exit_code == 2);
+    CHECK_FALSE(file_exists(dir + "/report"));
+  }
+}
