@@ -6,9 +6,11 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
+#include "nhc/scene/constant_expression.hpp"
 #include "nhc/scene/expression_parser.hpp"
 #include "nhc/scene/tolerances.hpp"
 #include "nhc/scene/scene.hpp"
@@ -164,6 +166,7 @@ class SceneReader {
                                            static_cast<int>(constraint_nodes.size()),
                                            parameter_names);
     scene.parameter_values = parameter_values;
+    for (std::size_t i = 0; i < parameter_names.size(); ++i) constants_[parameter_names[i]] = parameter_values[i];
     const JetSpace& jet = *scene.jet;
 
     ExpressionRules mechanics;  // t, parameters, coordinates; no multipliers
@@ -333,6 +336,7 @@ class SceneReader {
     double v = 0;
     if (node.is_integer()) v = static_cast<double>(*node.value<int64_t>());
     else if (node.is_floating_point()) v = *node.value<double>();
+    else if (node.is_string()) v = constant_value(node, what);  // "pi/8", "v*cos(pi/6)"
     else fail(node, what + " must be a number, not " + type_name(node));
     if (!std::isfinite(v)) fail(node, what + " must be finite");
     return v;
@@ -461,8 +465,18 @@ class SceneReader {
     }
   }
 
+  /// A constant expression (constant_expression.hpp) over pi, e and the parameters read so far.
+  double constant_value(const toml::node& node, const std::string& what) const {
+    try {
+      return evaluate_constant_expression(*node.value<std::string>(), constants_);
+    } catch (const std::invalid_argument& e) {
+      fail(node, what + ": " + e.what());
+    }
+  }
+
   const std::string& text_;
   std::string path_;
+  std::map<std::string, double> constants_;  ///< the parameters, once read
   std::vector<std::string> lines_;
   std::set<std::string> names_;
 };
