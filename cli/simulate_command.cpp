@@ -180,7 +180,12 @@ CommandRunner add_simulate_command(CLI::App& app) {
     if (model.n_hidden() > 0) info << "  max hidden-constraint drift " << format(drift.max_hidden) << "\n";
     for (int k = 0; k < model.n_invariants(); ++k)
       info << "  invariant " << model.table().invariant_names[k] << ": max drift "
-                << format(drift.invariant_drift[k]) << " (relative " << format(drift.invariant_relative[k]) << ")\n";
+                << format(drift.invariant_drift[k])
+                << (drift.invariant_absolute[k]
+                        ? " (absolute: the invariant stays below " + format(runtime::kInvariantScaleFloor) + ")"
+                        : " (relative " + format(drift.invariant_relative[k]) + " to its largest size " +
+                              format(drift.invariant_scale[k]) + ")")
+                << "\n";
     if (write_csv)
       info << "  wrote " << (csv_to_stdout ? std::string("the CSV to standard output") : options->output) << " ("
            << run.samples.size() << " rows" << (run.failure ? ", the motion up to the failure" : "") << ")\n";

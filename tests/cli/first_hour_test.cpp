@@ -228,3 +228,18 @@ TEST_CASE("report -o DIR on bad input leaves no directory", "[cli][issue14]") {
     CHECK_FALSE(file_exists(dir + "/report"));
   }
 }
+
+TEST_CASE("invariant drift is relative to the invariant's size along the run, absolute below a floor",
+          "[cli][issue14]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_invariant_scale");
+  // The particle (examples/particle.toml): speed² = 1 + 4 + 4 = 9 along the run; the constraint
+  // q'·q'' itself as an "invariant" is 0 up to rounding, whose relative drift would be noise.
+  std::string text = read_file(std::string(NHC_SOURCE_DIR) + "/examples/particle.toml");
+  text += "power = \"q1'*q1'' + q2'*q2'' + q3'*q3''\"\n";
+  const std::string scene = dir + "/particle.toml";
+  std::ofstream(scene) << text;
+  const Run r = nhc_run("simulate '" + scene + "'", dir);
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.out, Contains("invariant speed_squared: max drift") && Contains("to its largest size 9)"));
+  CHECK_THAT(r.out, Contains("invariant power: max drift") && Contains("(absolute: the invariant stays below 1e-08)"));
+}
