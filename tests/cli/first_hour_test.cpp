@@ -243,3 +243,17 @@ TEST_CASE("invariant drift is relative to the invariant's size along the run, ab
   CHECK_THAT(r.out, Contains("invariant speed_squared: max drift") && Contains("to its largest size 9)"));
   CHECK_THAT(r.out, Contains("invariant power: max drift") && Contains("(absolute: the invariant stays below 1e-08)"));
 }
+
+TEST_CASE("the suslov summary shows its monitored constraint, zero at t0", "[cli][issue14]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_suslov_monitored");
+  const Run r = nhc_run("simulate examples/appell_hamel.toml --model suslov -o '" + dir + "/s.csv'", dir);
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.out, Contains("monitored constraint f1 (CSV column hidden:1): max |f1|"));
+  // At t0 the run starts on f1 = z' − (b/a)·sqrt(x'² + y'²) = 0, evaluated here from the CSV.
+  const std::string csv = read_file(dir + "/s.csv");
+  CHECK(csv.rfind("t,x,x',x'',y,y',y'',z,z',z'',hidden:1,", 0) == 0);  // no multiplier
+  const std::vector<double> row = csv_row(csv, 0);
+  REQUIRE(row.size() > 10);
+  CHECK(std::abs(row[8] - 0.5 * std::hypot(row[2], row[5])) < 1e-12);
+  CHECK(std::abs(row[10]) < 1e-12);
+}

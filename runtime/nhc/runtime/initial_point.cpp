@@ -62,7 +62,7 @@ std::string describe(const InconsistentInitialPoint& f) {
     s << "; no value that may be changed enters it";
   else if (f.status == ConstraintSolveStatus::stalled || f.status == ConstraintSolveStatus::iteration_limit)
     s << "; Gauss–Newton did not converge for " << join(f.free);
-  s << ". Give consistent values, or let --repair-initial move the given ones to the nearest consistent point";
+  s << ". Give consistent values, or have them repaired to the nearest consistent point (--repair-initial)";
   return s.str();
 }
 
