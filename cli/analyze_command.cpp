@@ -1,4 +1,5 @@
-// nhc analyze SCENE [--model M]... [--format text|json] [--repair-initial] [--set P=V]... [-o FILE]
+// nhc analyze SCENE [--model M]... [--format text|json] [--repair-initial [--write-initial FILE]]
+//             [--set P=V]... [-o FILE]
 // Pryce's structural analysis of each model, its consistent initial point and the system
 // Jacobian there, reported per model. Exit 3 (with the reasons in words on standard error) when
 // a requested model — those of --model, else the scene's default model — is not applicable,
@@ -9,6 +10,7 @@
 
 #include "commands.hpp"
 #include "parameter_overrides.hpp"
+#include "write_initial.hpp"
 #include "model_requirements.hpp"
 #include "nhc/analysis/model_analysis.hpp"
 #include "nhc/derive/models.hpp"
@@ -29,6 +31,7 @@ struct AnalyzeOptions {
   std::string output;
   bool repair = false;
   std::vector<std::string> set;
+  std::string write_initial;
 };
 
 }  // namespace
@@ -47,11 +50,15 @@ CommandRunner add_analyze_command(CLI::App& app) {
   sub->add_flag("--repair-initial", options->repair,
                 "move given initial values that violate a hidden constraint to the nearest "
                 "consistent point instead of failing");
+  sub->add_option("--write-initial", options->write_initial,
+                  "write the consistent initial point of the (first requested) model as an [initial] table")
+      ->needs("--repair-initial");
   add_set_option(sub, options->set);
   sub->add_option("-o,--output", options->output, "write to FILE instead of standard output");
 
   return [options]() {
     if (!options->output.empty()) check_output_file(options->output, {options->scene_path});
+    if (!options->write_initial.empty()) check_output_file(options->write_initial, {options->scene_path});
     Scene scene = load_scene(options->scene_path);
     apply_parameter_overrides(scene, parse_parameter_overrides(scene, options->set));
     InitializationOptions init;
@@ -84,6 +91,15 @@ CommandRunner add_analyze_command(CLI::App& app) {
     if (repairable)
       failures += "\nnhc: note: --repair-initial moves the given values to the nearest consistent point";
     if (!failures.empty()) throw MathError(failures);
+    if (!options->write_initial.empty())
+      for (const auto& a : analyses)
+        if (is_requested(a.model) && a.initial) {
+          write_file_atomically(options->write_initial, [&](std::ostream& out) {
+            write_initial_table(out, scene, to_string(a.model), *a.initial);
+          });
+          std::cerr << "nhc: wrote the " << to_string(a.model) << " model's initial point to " << options->write_initial << "\n";
+          break;
+        }
     return 0;
   };
 }

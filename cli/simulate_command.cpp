@@ -8,6 +8,7 @@
 // end with a diagnostic naming t and exit code 3; the CSV then holds the solution up to there
 // (and is not written when there is no row). Given initial values that miss a hidden constraint
 // are reported before anything is compiled (initial_point.hpp's rule and words, as analyze).
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 
@@ -149,7 +150,10 @@ CommandRunner add_simulate_command(CLI::App& app) {
     const std::vector<std::string> columns =
         options->columns.empty() ? std::vector<std::string>{} : parse_columns(options->columns, csv_columns(model, p));
     runtime::InitialState initial = initial_state_of(scene, model);
-    if (options->repair) initial.given.assign(initial.given.size(), false);  // every value may move
+    if (options->repair)  // every value may move but those pinned by [initial] fixed
+      for (int i = 0; i < model.n_states(); ++i)
+        initial.given[static_cast<std::size_t>(i)] =
+            std::find(scene.initial.fixed.begin(), scene.initial.fixed.end(), model.state_name(i)) != scene.initial.fixed.end();
     const runtime::RunResult run =
         runtime::simulate(model, p, initial, times, io);
     // No row, no file: a header-only CSV would look like a result.

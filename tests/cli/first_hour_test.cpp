@@ -257,3 +257,39 @@ TEST_CASE("the suslov summary shows its monitored constraint, zero at t0", "[cli
   CHECK(std::abs(row[8] - 0.5 * std::hypot(row[2], row[5])) < 1e-12);
   CHECK(std::abs(row[10]) < 1e-12);
 }
+
+TEST_CASE("repair moves only the values not pinned by [initial] fixed, and writes them back", "[cli][issue14]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_pinned_repair");
+  const std::string scene = appell_hamel_with_z(dir, "pinned.toml", "[0.0, 0.559]\nfixed = [\"x'\", \"z'\"]");
+  // x' = 1 and z' = 0.559 pinned: f1 = 0 leaves y' = sqrt((2 z')² − x'²) (b/a = 1/2).
+  const double y_prime = std::sqrt(4 * 0.559 * 0.559 - 1);
+  const Run sim = nhc_run("simulate '" + scene + "' --repair-initial -o -", dir);
+  REQUIRE(sim.exit_code == 0);
+  const std::vector<double> row = csv_row(sim.out, 0);
+  CHECK(row[2] == 1.0);
+  CHECK(row[8] == 0.559);
+  CHECK(std::abs(row[5] - y_prime) < 1e-12);
+
+  const std::string written = dir + "/initial.toml";
+  const Run analyze = nhc_run("analyze '" + scene + "' -m chetaev --repair-initial --write-initial '" + written + "'", dir);
+  REQUIRE(analyze.exit_code == 0);
+  CHECK_THAT(analyze.out, Contains("repaired y'"));
+  const std::string table = read_file(written);
+  CHECK_THAT(table, Contains("[initial]") && Contains("x = [0.0, 1.0]") && Contains("z = [0.0, 0.55900000000000005]") &&
+                        Contains("fixed = [\"x'\", \"z'\"]"));
+  // The written table, pasted into the scene, is consistent: simulate accepts it without repair.
+  std::string text = read_file(std::string(NHC_SOURCE_DIR) + "/examples/appell_hamel.toml");
+  text = text.substr(0, text.find("[initial]")) + table.substr(table.find("[initial]")) + "lambda1 = [0.0]\n" +
+         text.substr(text.find("[simulate]") - 1);
+  const std::string repaired = dir + "/repaired.toml";
+  std::ofstream(repaired) << text;
+  const Run again = nhc_run("simulate '" + repaired + "' -o -", dir);
+  REQUIRE(again.exit_code == 0);
+  CHECK(std::abs(csv_row(again.out, 0)[5] - y_prime) < 1e-12);
+
+  CHECK(nhc_run("analyze '" + scene + "' --write-initial '" + written + "'", dir).exit_code == 2);  // needs repair
+  const std::string bad = appell_hamel_with_z(dir, "bad_pin.toml", "[0.0, 0.559]\nfixed = [\"w'\"]");
+  const Run located = nhc_run("analyze '" + bad + "'", dir);
+  CHECK(located.exit_code == 2);
+  CHECK_THAT(located.err, Contains("fixed names 'w''"));
+}

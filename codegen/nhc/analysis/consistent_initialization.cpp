@@ -221,11 +221,16 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
       runtime::initial_point_tolerance(y, scene.simulate.rtol, scene.simulate.atol);
   runtime::ConstraintSolveResult solve = runtime::solve_initial_point(functions, y.data(), scale, tolerance, options.max_iterations);
   if (!solve.converged() && options.repair) {
-    // Repair: every value free, the minimum-norm correction (the nearest consistent point).
+    // Repair: every value free but the pinned ones ([initial] fixed), the minimum-norm
+    // correction (the nearest consistent point).
     std::vector<double> repaired = y;
-    const runtime::ConstraintSolveResult again = runtime::solve_constraints(
-        functions, repaired.data(), std::vector<double>(static_cast<std::size_t>(count), 1.0), tolerance.solve,
-        options.max_iterations);
+    std::vector<double> repair_scale(static_cast<std::size_t>(count), 1.0);
+    for (int k = 0; k < count; ++k)
+      if (std::find(scene.initial.fixed.begin(), scene.initial.fixed.end(),
+                    result.values[static_cast<std::size_t>(k)].name) != scene.initial.fixed.end())
+        repair_scale[static_cast<std::size_t>(k)] = 0.0;
+    const runtime::ConstraintSolveResult again =
+        runtime::solve_constraints(functions, repaired.data(), repair_scale, tolerance.solve, options.max_iterations);
     if (!again.converged())
       throw MathError("the " + model + " model: no consistent initial point found near the given "
                       "values: " + hidden_names[static_cast<std::size_t>(again.worst)] +

@@ -21,6 +21,8 @@ namespace nhc {
 struct InitialData {
   double t0 = 0.0;
   std::map<std::string, std::vector<double>> values;
+  /// Given values that --repair-initial must not move ([initial] fixed = ["x", "y'"]).
+  std::vector<std::string> fixed;
 };
 
 struct SimulateSettings {

@@ -408,6 +408,10 @@ class SceneReader {
         scene.initial.t0 = number_value(value, "initial t0");
         continue;
       }
+      if (n == "fixed") {
+        for (const toml::node& f : array_value(value, "initial fixed")) fixed_nodes_.push_back(&f);
+        continue;
+      }
       bool known = std::find(jet.coordinates().begin(), jet.coordinates().end(), n) !=
                    jet.coordinates().end();
       for (int a = 0; a < jet.multiplier_count(); ++a) known = known || jet.multiplier_name(a) == n;
@@ -423,6 +427,20 @@ class SceneReader {
       std::vector<double> values;
       for (const toml::node& v : arr) values.push_back(number_value(v, "initial value of " + n));
       scene.initial.values[n] = values;
+    }
+    check_fixed(scene);
+  }
+
+  /// [initial] fixed: each entry a given value, "x" or "x'" (as many primes as its order).
+  void check_fixed(Scene& scene) {
+    for (const toml::node* f : fixed_nodes_) {
+      const std::string name = string_value(*f, "initial fixed entry");
+      const std::size_t primes = name.size() - std::min(name.size(), name.find_last_not_of('\'') + 1);
+      const std::string base = name.substr(0, name.size() - primes);
+      const auto it = scene.initial.values.find(base);
+      if (it == scene.initial.values.end() || primes >= it->second.size())
+        fail(*f, "fixed names '" + printable(name) + "', which is not a value given in [initial]");
+      scene.initial.fixed.push_back(name);
     }
   }
 
@@ -477,6 +495,7 @@ class SceneReader {
   const std::string& text_;
   std::string path_;
   std::map<std::string, double> constants_;  ///< the parameters, once read
+  std::vector<const toml::node*> fixed_nodes_;  ///< [initial] fixed, checked after the values
   std::vector<std::string> lines_;
   std::set<std::string> names_;
 };
