@@ -1,7 +1,9 @@
-// nhc derive SCENE [--model M]... [--format text|latex|json] [-o FILE]
+// nhc derive SCENE [--model M]... [--format text|latex|json] [--set P=V]... [-o FILE]
 #include <iostream>
 
 #include "commands.hpp"
+#include "parameter_overrides.hpp"
+#include "model_requirements.hpp"
 #include "nhc/derive/models.hpp"
 #include "nhc/emit/derivation_emitters.hpp"
 #include "nhc/io/atomic_file.hpp"
@@ -17,6 +19,7 @@ struct DeriveOptions {
   std::vector<std::string> models;
   std::string format = "text";
   std::string output;
+  std::vector<std::string> set;
 };
 
 }  // namespace
@@ -36,14 +39,18 @@ CommandRunner add_derive_command(CLI::App& app) {
       ->check(CLI::IsMember(model_names()));
   sub->add_option("--format,-f", options->format, "output format")
       ->check(CLI::IsMember({"text", "latex", "json"}));
+  add_set_option(sub, options->set);
   sub->add_option("-o,--output", options->output, "write to FILE instead of standard output");
 
   return [options]() {
     if (!options->output.empty()) check_output_file(options->output, {options->scene_path});
-    const Scene scene = load_scene(options->scene_path);
+    Scene scene = load_scene(options->scene_path);
+    apply_parameter_overrides(scene, parse_parameter_overrides(scene, options->set));
     std::vector<DerivedModel> models;
-    for (ModelKind kind : selected_models(scene, options->models))
+    for (ModelKind kind : selected_models(scene, options->models)) {
+      if (!options->models.empty() || scene_lists_model(scene, kind)) require_model_inputs(scene, kind);
       models.push_back(derive_model(scene, kind));
+    }
     auto write = [&](std::ostream& out) {
       if (options->format == "latex") write_derivation_latex(out, scene, models);
       else if (options->format == "json") write_derivation_json(out, scene, models);

@@ -1,4 +1,4 @@
-// nhc generate SCENE [--model M] [--jacobian dense|sparse|none] [-o DIR]
+// nhc generate SCENE [--model M] [--jacobian dense|sparse|none] [--set P=V]... [-o DIR]
 //
 // Writes DIR/<scene>_<model>.hpp (docs/generated-code.md). The model defaults to the scene's
 // [simulate] model, else chetaev when the scene lists it, else the scene's first model: the
@@ -7,6 +7,8 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "parameter_overrides.hpp"
+#include "model_requirements.hpp"
 #include "nhc/analysis/index1_reduction.hpp"
 #include "nhc/derive/models.hpp"
 #include "nhc/emit/header_emitter.hpp"
@@ -25,6 +27,7 @@ struct GenerateOptions {
   std::string directory = ".";
   bool quiet = false;
   bool sensitivities = false;
+  std::vector<std::string> set;
 };
 
 }  // namespace
@@ -45,13 +48,16 @@ CommandRunner add_generate_command(CLI::App& app) {
                   "directory to write <scene>_<model>.hpp into (default: .)");
   sub->add_flag("--sensitivities", options->sensitivities,
                 "also dF/dp and dg/dp for forward sensitivities (docs/generated-code.md)");
+  add_set_option(sub, options->set);
   sub->add_flag("-q,--quiet", options->quiet, "do not print the written file and operation counts");
 
   return [options]() {
     check_output_directory(options->directory, {options->scene_path});
-    const Scene scene = load_scene(options->scene_path);
+    Scene scene = load_scene(options->scene_path);
+    apply_parameter_overrides(scene, parse_parameter_overrides(scene, options->set));
     const ModelKind kind =
         model_or_default(scene, options->model);
+    require_model_inputs(scene, kind);
     const DerivedModel derived = derive_model(scene, kind);
     if (!derived.applicable)
       throw MathError("the " + to_string(kind) + " model does not apply to " + scene.name + ": " +

@@ -19,6 +19,7 @@
 #include <sstream>
 
 #include "commands.hpp"
+#include "parameter_overrides.hpp"
 #include "nhc/derive/models.hpp"
 #include "nhc/emit/derivation_emitters.hpp"
 #include "nhc/errors.hpp"
@@ -53,26 +54,6 @@ struct ReportOptions {
 };
 
 std::string fmt(double v, int precision = 3) { return std::isnan(v) ? std::string("—") : format_number(v, precision); }
-
-/// "NAME=VALUE" → (NAME, VALUE); VALUE kept as text.
-std::pair<std::string, std::string> split_assignment(const std::string& flag, const std::string& text) {
-  const size_t eq = text.find('=');
-  if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
-    throw InputError({flag, 0, 0}, flag + " " + text + ": expected NAME=VALUE");
-  return {text.substr(0, eq), text.substr(eq + 1)};
-}
-
-double parse_number(const std::string& flag, const std::string& text) {
-  size_t used = 0;
-  double v = NAN;
-  try {
-    v = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || !std::isfinite(v)) throw InputError({flag, 0, 0}, flag + ": '" + text + "' is not a number");
-  return v;
-}
 
 std::vector<double> decades_or_throw(const std::string& flag, const std::string& spec) {
   try {
@@ -353,7 +334,7 @@ CommandRunner add_report_command(CLI::App& app) {
   sub->add_option("--t-end", options->t_end, "final time (default: [simulate] t_end)");
   sub->add_option("--outputs", options->outputs, "output intervals where error and drift are measured (default 200)")
       ->check(CLI::PositiveNumber);
-  sub->add_option("--set", options->set, "NAME=VALUE: override a parameter (repeatable)");
+  add_set_option(sub, options->set);
   sub->add_option("--sweep", options->sweep, "NAME=LO:HI: repeat for the parameter at every decade from LO to HI");
   sub->add_option("--repeats", options->repeats, "at most this many timed repeats of a short run (default 5)")
       ->check(CLI::PositiveNumber);

@@ -1,15 +1,24 @@
-// nhc simulate SCENE [--model M] [--t-end T] [--rtol R] [--atol A] [--project] [--sensitivity NAMES] [-o FILE.csv]
-//              [--plot DIR [--plot-xy a,b]]
+// nhc simulate SCENE [--model M] [--t-end T] [--rtol R] [--atol A] [--max-steps N] [--project]
+//              [--repair-initial] [--set P=V]... [--outputs N] [--sensitivity NAMES]
+//              [-o FILE.csv | -o -] [--plot DIR [--plot-xy a,b]]
 //
 // The whole pipeline on one model: derive, reduce to index 1, generate the header
 // (docs/generated-code.md), compile it with the C++ compiler found at configure time into a
 // cached shared object, load it, integrate with nhc::runtime (IDA), write the CSV and print a
 // summary. Numerical failures (the Appell–Hamel stop at t*, singular iteration matrices, NaN)
-// end with a diagnostic naming t and exit code 3; the CSV then holds the solution up to there.
+// end with a diagnostic naming t and exit code 3; the CSV then holds the solution up to there
+// (and is not written when there is no row). Given initial values that miss a hidden constraint
+// are reported before anything is compiled (initial_point.hpp's rule and words, as analyze).
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 
 #include "commands.hpp"
+#include "output_selection.hpp"
+#include "parameter_overrides.hpp"
+#include "model_requirements.hpp"
+#include "nhc/analysis/model_analysis.hpp"
+#include "nhc/derive/models.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/io/atomic_file.hpp"
 #include "nhc/io/output_path.hpp"
@@ -29,9 +38,12 @@ struct SimulateOptions {
   std::string scene_path;
   std::string model;
   std::optional<double> t_end, rtol, atol;
-  bool project = false;
-  int outputs = 200;
+  bool project = false, repair = false;
+  long max_steps = 1000000;
+  std::optional<int> outputs;
+  std::string output_times, columns;
   std::string output;
+  std::vector<std::string> set;
   std::string plot, plot_xy;  // trajectory_plots.hpp
   SensitivityRequest sensitivity;
 };
@@ -51,6 +63,20 @@ void check_simulate_flags(const SimulateOptions& options, const Scene& scene) {
   if (options.atol && !(std::isfinite(*options.atol) && *options.atol > 0)) bad("--atol must be a positive number");
 }
 
+/// Given initial values that miss a hidden constraint: the analysis' words (the same rule as
+/// the runtime, initial_point.hpp), before anything is compiled or written.
+void check_initial_point(Scene scene, ModelKind kind, double rtol, double atol, bool repair) {
+  scene.simulate.rtol = rtol;
+  scene.simulate.atol = atol;
+  InitializationOptions init;
+  init.repair = repair;
+  const ModelAnalysis a = analyze_model(scene, derive_model(scene, kind), init);
+  if (!a.initial_values_repairable) return;
+  std::string message;
+  for (const std::string& e : a.errors) message += (message.empty() ? "" : "\nnhc: error: ") + e;
+  throw MathError(message);
+}
+
 }  // namespace
 
 CommandRunner add_simulate_command(CLI::App& app) {
@@ -65,10 +91,22 @@ CommandRunner add_simulate_command(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   sub->add_option("--atol", options->atol, "absolute tolerance (default: [simulate] atol)")
       ->check(CLI::PositiveNumber);
+  sub->add_option("--max-steps", options->max_steps, "limit on the internal steps of the run (default 1000000)")
+      ->check(CLI::Range(1L, 1000000000000L));
+  add_set_option(sub, options->set);
   sub->add_flag("--project", options->project, "project onto the hidden constraints (docs/projection.md)");
-  sub->add_option("--outputs", options->outputs, "number of output intervals (default 200)")
-      ->check(CLI::Range(1, 10000000));
-  sub->add_option("-o,--output", options->output, "CSV file for the solution");
+  sub->add_flag("--repair-initial", options->repair,
+                "move given initial values that miss a hidden constraint to the nearest consistent point");
+  CLI::Option* outputs = sub->add_option("--outputs", options->outputs,
+                                         "number of output intervals (default: [simulate] outputs, else 200)")
+                             ->check(CLI::Range(1, 10000000));
+  sub->add_option("--output-times", options->output_times,
+                  "START:STEP:END or T1,T2,...: the output times (the last is the end of the run)")
+      ->excludes(outputs)
+      ->excludes("--t-end");
+  sub->add_option("--columns", options->columns, "x,y,...: the CSV columns after t (default: all)");
+  sub->add_option("-o,--output", options->output,
+                  "CSV file for the solution ('-': standard output, the summary then on standard error)");
   CLI::Option* plot = sub->add_option(
       "--plot", options->plot, "directory for plots (SVG, PNG) of the coordinates, path, multipliers and drift");
   sub->add_option("--plot-xy", options->plot_xy, "a,b: the plane of the path plot (default: the first two coordinates)")
@@ -80,10 +118,25 @@ CommandRunner add_simulate_command(CLI::App& app) {
     const auto load_start = Clock::now();
     const Scene scene = load_scene(options->scene_path);
     const ModelKind kind = model_or_default(scene, options->model);
+    require_model_inputs(scene, kind);
     check_simulate_flags(*options, scene);  // before anything is compiled or written
-    if (!options->output.empty()) check_output_file(options->output, {options->scene_path});
+    const bool csv_to_stdout = options->output == "-";
+    if (!options->output.empty() && !csv_to_stdout) check_output_file(options->output, {options->scene_path});
+    std::ostream& info = csv_to_stdout ? std::cerr : std::cout;
     PathPlane plane;
     if (!options->plot.empty()) require_gnuplot("--plot"), plane = path_plane(scene, options->plot_xy, "--plot-xy");
+    const std::vector<ParameterOverride> overrides = parse_parameter_overrides(scene, options->set);
+    Scene scene_set = scene;  // the overridden values for the analysis; the model takes them at run time
+    apply_parameter_overrides(scene_set, overrides);
+    const double t0 = scene.initial.t0;
+    const std::vector<double> times =
+        options->output_times.empty()
+            ? runtime::output_times(t0, options->t_end.value_or(scene.simulate.t_end),
+                                    options->outputs.value_or(scene.simulate.outputs.value_or(200)))
+            : parse_output_times(options->output_times, t0);
+    const double t_end = times.back();
+    check_initial_point(scene_set, kind, options->rtol.value_or(scene.simulate.rtol),
+                        options->atol.value_or(scene.simulate.atol), options->repair);
     const double load_seconds = seconds_since(load_start);
     jit::BuildOptions build_options;
     build_options.sensitivities = !options->sensitivity.names.empty();
@@ -99,59 +152,89 @@ CommandRunner add_simulate_command(CLI::App& app) {
     io.atol = options->atol.value_or(scene.simulate.atol);
     io.projection = options->project ? runtime::ProjectionMethod::in_place : runtime::ProjectionMethod::none;
     io.progress = true;
-    const double t0 = scene.initial.t0, t_end = options->t_end.value_or(scene.simulate.t_end);
-    if (!(t_end > t0))
-      throw InputError({options->scene_path, 0, 0}, "--t-end " + format(t_end, 17) + " must be after t0 = " + format(t0, 17));
-    const std::vector<double> p = model.default_parameters();
-    const std::vector<double> times = runtime::output_times(t0, t_end, options->outputs);
-    const runtime::RunResult run = runtime::simulate(model, p, initial_state_of(scene, model), times, io);
+    io.max_steps = options->max_steps;
+    const std::vector<double> p = parameters_with_overrides(model, overrides);
+    const std::vector<std::string> columns =
+        options->columns.empty() ? std::vector<std::string>{} : parse_columns(options->columns, csv_columns(model, p));
+    runtime::InitialState initial = initial_state_of(scene, model);
+    if (options->repair)  // every value may move but those pinned by [initial] fixed
+      for (int i = 0; i < model.n_states(); ++i)
+        initial.given[static_cast<std::size_t>(i)] =
+            std::find(scene.initial.fixed.begin(), scene.initial.fixed.end(), model.state_name(i)) != scene.initial.fixed.end();
+    const runtime::RunResult run =
+        runtime::simulate(model, p, initial, times, io);
     std::optional<runtime::SensitivityRun> sensitivities;  // --sensitivity: the CSV comes from this run
     if (build_options.sensitivities)
-      sensitivities = run_sensitivities(model, p, initial_state_of(scene, model), times, io, options->sensitivity);
-    if (!options->output.empty())
-      write_file_atomically(options->output, [&](std::ostream& out) {
-        if (sensitivities)
-          runtime::write_sensitivity_csv(out, model, p, parse_sensitivities(model, options->sensitivity.names),
-                                         sensitivities->samples);
-        else
-          runtime::write_csv(out, model, p, run.samples);
-      });
+      sensitivities = run_sensitivities(model, p, initial, times, io, options->sensitivity);
+    auto write_rows = [&](std::ostream& out) {
+      if (sensitivities)
+        runtime::write_sensitivity_csv(out, model, p, parse_sensitivities(model, options->sensitivity.names),
+                                       sensitivities->samples);
+      else
+        write_selected_csv(out, model, p, run.samples, columns);
+    };
+    // No row, no file: a header-only CSV would look like a result.
+    const bool write_csv = !options->output.empty() && !run.samples.empty();
+    if (write_csv && csv_to_stdout) {
+      write_rows(std::cout);
+      std::cout.flush();
+    } else if (write_csv) {
+      write_file_atomically(options->output, write_rows);
+    }
 
     // Summary.
     const runtime::Statistics& st = run.statistics;
     const runtime::DriftReport drift = runtime::measure_drift(model, p, run.samples);
-    std::cout << "nhc simulate: " << scene.name << ", model " << to_string(kind) << ", t from " << t0 << " to "
+    info << "nhc simulate: " << scene.name << ", model " << to_string(kind) << ", t from " << t0 << " to "
               << (run.samples.empty() ? t0 : run.samples.back().t) << " (of " << t_end << "), rtol " << io.rtol
               << ", atol " << io.atol << (options->project ? ", projection" : "") << "\n"
               << "  steps " << st.steps << ", residual evaluations " << st.residual_evaluations
               << ", Jacobian evaluations " << st.jacobian_evaluations << " (" << st.linear_solver << ", "
               << st.jacobian << "), error-test failures " << st.error_test_failures << ", nonlinear failures "
               << st.nonlinear_failures;
-    if (options->project) std::cout << ", projections " << st.projections;
-    std::cout << "\n  time: derive " << format(derive_seconds) << " s, compile " << format(compile_seconds) << " s"
+    if (options->project) info << ", projections " << st.projections;
+    info << "\n  time: derive " << format(derive_seconds) << " s, compile " << format(compile_seconds) << " s"
               << (built.library().reused ? " (cached)" : "") << ", integrate "
               << format(st.initialization_seconds + st.integration_seconds) << " s\n";
-    if (sensitivities) std::cout << describe_sensitivity_cost(*sensitivities, options->sensitivity, st);
-    if (model.n_reference() > 0) std::cout << "  max reference error " << format(drift.max_error) << "\n";
-    if (model.n_hidden() > 0) std::cout << "  max hidden-constraint drift " << format(drift.max_hidden) << "\n";
+    if (sensitivities) info << describe_sensitivity_cost(*sensitivities, options->sensitivity, st);
+    if (model.n_reference() > 0) info << "  max reference error " << format(drift.max_error) << "\n";
+    if (kind == ModelKind::suslov) {
+      // Suslov's model monitors its constraints instead of enforcing them (models.md): their
+      // values are the CSV's hidden:<i> columns, zero at t0 (the start point of nhc analyze).
+      for (int i = 0; i < model.n_hidden(); ++i)
+        info << "  monitored constraint " << model.hidden_name(i) << " (CSV column hidden:" << i + 1
+             << "): max |" << model.hidden_name(i) << "| " << format(drift.max_hidden_each[static_cast<std::size_t>(i)])
+             << " (not enforced by the suslov model)\n";
+    } else if (model.n_hidden() > 0) {
+      info << "  max hidden-constraint drift " << format(drift.max_hidden) << "\n";
+    }
     for (int k = 0; k < model.n_invariants(); ++k)
-      std::cout << "  invariant " << model.table().invariant_names[k] << ": max drift "
-                << format(drift.invariant_drift[k]) << " (relative " << format(drift.invariant_relative[k]) << ")\n";
-    if (!options->output.empty())
-      std::cout << "  wrote " << options->output << " ("
-                << (sensitivities ? sensitivities->samples.size() : run.samples.size()) << " rows)\n";
+      info << "  invariant " << model.table().invariant_names[k] << ": max drift "
+                << format(drift.invariant_drift[k])
+                << (drift.invariant_absolute[k]
+                        ? " (absolute: the invariant stays below " + format(runtime::kInvariantScaleFloor) + ")"
+                        : " (relative " + format(drift.invariant_relative[k]) + " to its largest size " +
+                              format(drift.invariant_scale[k]) + ")")
+                << "\n";
+    if (write_csv)
+      info << "  wrote " << (csv_to_stdout ? std::string("the CSV to standard output") : options->output) << " ("
+           << run.samples.size() << " rows" << (run.failure ? ", the motion up to the failure" : "") << ")\n";
+    else if (!options->output.empty())
+      info << "  no CSV written: the run did not get past t0\n";
+    else
+      info << "  no CSV written (-o FILE.csv, or -o - for standard output)\n";
     if (sensitivities && sensitivities->failure && !run.failure) {
-      std::cout.flush();
+      info.flush();
       std::cerr << "nhc: error: sensitivities: " << sensitivities->failure->what() << "\n";
       return kExitMathFailure;
     }
-    if (!options->plot.empty() && run.samples.empty()) std::cout << "  no plots: the run did not get past t0\n";
+    if (!options->plot.empty() && run.samples.empty()) info << "  no plots: the run did not get past t0\n";
     if (!options->plot.empty() && !run.samples.empty()) {
       write_trajectory_plots(options->plot, scene, model, p, run, plane);
-      std::cout << "  plots in " << options->plot << " (plots.md)\n";
+      info << "  plots in " << options->plot << " (plots.md)\n";
     }
     if (run.failure) {
-      std::cout.flush();
+      info.flush();
       std::cerr << "nhc: error: " << run.failure->what() << "\n";
       return kExitMathFailure;
     }

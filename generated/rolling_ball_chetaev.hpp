@@ -11,13 +11,13 @@
 //
 // Floating-point operations (+, -, *, /, calls) without and with common-subexpression
 // elimination:
-//   residual                         208     142
-//   jacobian                         539     305
+//   residual                         113      90
+//   jacobian                         274     180
 //   hidden_constraints                20      17
 //   hidden_constraints_jacobian       41      29
 //   invariants                        64      28
 //   reference                          0       0
-//   total                            872     521
+//   total                            512     344
 
 #pragma once
 
@@ -109,18 +109,14 @@ inline void residual(double /*t*/, const double* y, const double* yp, const doub
   const double w0 = std::sin(y[6]);
   const double w1 = std::cos(y[6]);
   const double w2 = std::cos(y[4]);
-  const double w3 = y[9] * y[9];
-  const double w4 = w2 * w2;
-  const double w5 = std::sin(y[4]);
-  const double w6 = w5 * w5;
-  const double w7 = w0 * w0;
+  const double w3 = std::sin(y[4]);
   r[0] = y[10] - p[1] * yp[1];  // R_x
   r[1] = y[11] - yp[3] * p[1];  // R_y
   r[2] = p[0] * w0 * y[9] * y[7] - p[0] * w1 * yp[9] - p[0] * yp[5];  // R_psi
-  r[3] = y[11] * w2 * p[2] + p[0] * w0 * w3 * w1 * w4 + p[0] * w0 * w6 * w3 * w1 - p[0] * w0 * w3 * w1 - p[0] * w6 * yp[7] - y[10] * p[2] * w5 - p[0] * w0 * y[9] * y[5] - p[0] * yp[7] * w4;  // R_th
-  r[4] = p[0] * w0 * y[5] * y[7] + w0 * y[11] * p[2] * w5 + p[0] * w0 * y[9] * w1 * 2.0 * y[7] + w0 * y[10] * w2 * p[2] - p[0] * w0 * y[9] * w1 * w4 * 2.0 * y[7] - p[0] * (w1 * w1) * yp[9] - p[0] * yp[5] * w1 - p[0] * w0 * w6 * y[9] * w1 * 2.0 * y[7] - p[0] * w6 * w7 * yp[9] - p[0] * w7 * w4 * yp[9];  // R_ph
-  r[5] = w0 * w2 * p[2] * yp[9] + y[9] * w1 * w2 * p[2] * y[7] + yp[1] - w2 * y[5] * p[2] * y[7] - yp[7] * p[2] * w5 - w0 * y[9] * y[5] * p[2] * w5;  // D f1
-  r[6] = y[9] * w1 * p[2] * w5 * y[7] + yp[7] * w2 * p[2] + yp[3] + w0 * p[2] * w5 * yp[9] + w0 * y[9] * w2 * y[5] * p[2] - y[5] * p[2] * w5 * y[7];  // D f2
+  r[3] = y[11] * w2 * p[2] - p[0] * yp[7] - y[10] * p[2] * w3 - p[0] * w0 * y[9] * y[5];  // R_th
+  r[4] = p[0] * w0 * y[5] * y[7] + w0 * y[11] * p[2] * w3 + w0 * y[10] * w2 * p[2] - p[0] * yp[9] - p[0] * yp[5] * w1;  // R_ph
+  r[5] = w0 * w2 * p[2] * yp[9] + y[9] * w1 * w2 * p[2] * y[7] + yp[1] - w2 * y[5] * p[2] * y[7] - yp[7] * p[2] * w3 - w0 * y[9] * y[5] * p[2] * w3;  // D f1
+  r[6] = y[9] * w1 * p[2] * w3 * y[7] + yp[7] * w2 * p[2] + yp[3] + w0 * p[2] * w3 * yp[9] + w0 * y[9] * w2 * y[5] * p[2] - y[5] * p[2] * w3 * y[7];  // D f2
   r[7] = yp[0] - y[1];  // chain x' = x'
   r[8] = yp[2] - y[3];  // chain y' = y'
   r[9] = yp[4] - y[5];  // chain psi' = psi'
@@ -136,17 +132,10 @@ inline void jacobian(double /*t*/, const double* y, const double* yp, double cj,
   const double w2 = std::sin(y[4]);
   const double w3 = std::sin(y[6]);
   const double w4 = std::cos(y[6]);
-  const double w5 = p[0] * w3 * y[9];
-  const double w6 = p[0] * w3 * y[7] - p[0] * w4 * cj;
-  const double w7 = w4 * w4;
-  const double w8 = y[9] * y[9];
-  const double w9 = w1 * w1;
-  const double w10 = w2 * w2;
-  const double w11 = w3 * w3;
-  const double w12 = p[0] * w3 * y[9] * w4 * 2.0;
-  const double w13 = p[0] * w3 * y[5];
-  const double w14 = p[0] * w3 * w10 * y[9] * w4 * 2.0;
-  const double w15 = p[0] * w3 * y[9] * w4 * w9 * 2.0;
+  const double w5 = -(p[0] * cj);
+  const double w6 = p[0] * w3 * y[9];
+  const double w7 = p[0] * w3 * y[7] - p[0] * w4 * cj;
+  const double w8 = p[0] * w3 * y[5];
   J[7] = cj;  // (7, 0)
   J[12] = w0;  // (0, 1)
   J[17] = cj;  // (5, 1)
@@ -160,28 +149,28 @@ inline void jacobian(double /*t*/, const double* y, const double* yp, double cj,
   J[53] = y[5] * p[2] * w2 * y[7] - y[9] * w4 * p[2] * w2 * y[7] - yp[7] * w1 * p[2] - w3 * p[2] * w2 * yp[9] - w3 * y[9] * w1 * y[5] * p[2];  // (5, 4)
   J[54] = w3 * w1 * p[2] * yp[9] + y[9] * w4 * w1 * p[2] * y[7] - w1 * y[5] * p[2] * y[7] - yp[7] * p[2] * w2 - w3 * y[9] * y[5] * p[2] * w2;  // (6, 4)
   J[57] = cj;  // (9, 4)
-  J[62] = -(p[0] * cj);  // (2, 5)
-  J[63] = -w5;  // (3, 5)
-  J[64] = w6;  // (4, 5)
+  J[62] = w5;  // (2, 5)
+  J[63] = -w6;  // (3, 5)
+  J[64] = w7;  // (4, 5)
   J[65] = -w1 * p[2] * y[7] - w3 * y[9] * p[2] * w2;  // (5, 5)
   J[66] = w3 * y[9] * w1 * p[2] - p[2] * w2 * y[7];  // (6, 5)
   J[69] = -1.0;  // (9, 5)
   J[74] = p[0] * w3 * yp[9] + p[0] * y[9] * w4 * y[7];  // (2, 6)
-  J[75] = p[0] * w7 * w8 * w9 + p[0] * w10 * w7 * w8 + p[0] * w11 * w8 - p[0] * w10 * w11 * w8 - p[0] * w11 * w8 * w9 - p[0] * y[9] * w4 * y[5] - p[0] * w7 * w8;  // (3, 6)
-  J[76] = y[10] * w4 * w1 * p[2] + p[0] * w11 * y[9] * w9 * 2.0 * y[7] + p[0] * w3 * yp[5] + p[0] * w4 * y[5] * y[7] + p[0] * w7 * y[9] * 2.0 * y[7] + p[0] * w3 * w4 * 2.0 * yp[9] + p[0] * w10 * w11 * y[9] * 2.0 * y[7] + y[11] * w4 * p[2] * w2 - p[0] * w3 * w10 * w4 * 2.0 * yp[9] - p[0] * w7 * y[9] * w9 * 2.0 * y[7] - p[0] * w11 * y[9] * 2.0 * y[7] - p[0] * w3 * w4 * w9 * 2.0 * yp[9] - p[0] * w10 * w7 * y[9] * 2.0 * y[7];  // (4, 6)
+  J[75] = -(p[0] * y[9] * w4 * y[5]);  // (3, 6)
+  J[76] = y[10] * w4 * w1 * p[2] + p[0] * w3 * yp[5] + p[0] * w4 * y[5] * y[7] + y[11] * w4 * p[2] * w2;  // (4, 6)
   J[77] = w4 * w1 * p[2] * yp[9] - w3 * y[9] * w1 * p[2] * y[7] - y[9] * w4 * y[5] * p[2] * w2;  // (5, 6)
   J[78] = w4 * p[2] * w2 * yp[9] + y[9] * w4 * w1 * y[5] * p[2] - w3 * y[9] * p[2] * w2 * y[7];  // (6, 6)
   J[82] = cj;  // (10, 6)
-  J[86] = w5;  // (2, 7)
-  J[87] = (-p[0] * w9 - p[0] * w10) * cj;  // (3, 7)
-  J[88] = w12 + w13 - w14 - w15;  // (4, 7)
+  J[86] = w6;  // (2, 7)
+  J[87] = w5;  // (3, 7)
+  J[88] = w8;  // (4, 7)
   J[89] = y[9] * w4 * w1 * p[2] - w1 * y[5] * p[2] - cj * p[2] * w2;  // (5, 7)
   J[90] = w1 * cj * p[2] + y[9] * w4 * p[2] * w2 - y[5] * p[2] * w2;  // (6, 7)
   J[94] = -1.0;  // (10, 7)
   J[107] = cj;  // (11, 8)
-  J[110] = w6;  // (2, 9)
-  J[111] = w14 + w15 - w12 - w13;  // (3, 9)
-  J[112] = p[0] * w3 * w4 * 2.0 * y[7] - p[0] * w3 * w10 * w4 * 2.0 * y[7] - p[0] * w3 * w4 * w9 * 2.0 * y[7] - (p[0] * w7 + p[0] * w11 * w9 + p[0] * w10 * w11) * cj;  // (4, 9)
+  J[110] = w7;  // (2, 9)
+  J[111] = -w8;  // (3, 9)
+  J[112] = w5;  // (4, 9)
   J[113] = w4 * w1 * p[2] * y[7] + w3 * w1 * cj * p[2] - w3 * y[5] * p[2] * w2;  // (5, 9)
   J[114] = w4 * p[2] * w2 * y[7] + w3 * cj * p[2] * w2 + w3 * w1 * y[5] * p[2];  // (6, 9)
   J[119] = -1.0;  // (11, 9)

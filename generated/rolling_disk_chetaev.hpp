@@ -11,12 +11,12 @@
 //
 // Floating-point operations (+, -, *, /, calls) without and with common-subexpression
 // elimination:
-//   residual                         533     321
-//   jacobian                        1374     678
-//   hidden_constraints                32      22
-//   hidden_constraints_jacobian       56      30
+//   residual                         225     170
+//   jacobian                         565     344
+//   hidden_constraints                 8       8
+//   hidden_constraints_jacobian       13      11
 //   invariants                       114      59
-//   total                           2109    1110
+//   total                            925     592
 
 #pragma once
 
@@ -110,22 +110,14 @@ inline void residual(double /*t*/, const double* y, const double* yp, const doub
   const double w3 = y[7] * y[7];
   const double w4 = std::cos(y[6]);
   const double w5 = std::cos(y[4]);
-  const double w6 = std::cos(y[8]);
-  const double w7 = w6 * w6;
-  const double w8 = p[2] * p[2];
-  const double w9 = std::sin(y[8]);
-  const double w10 = w9 * w9;
-  const double w11 = w0 * w0;
-  const double w12 = w2 * w2;
-  const double w13 = w5 * w5;
-  const double w14 = w4 * w4;
+  const double w6 = p[2] * p[2];
   r[0] = w0 * p[1] * w1 * p[2] * w2 + w0 * w3 * p[1] * p[2] * w2 + y[10] - w4 * p[1] * w5 * y[5] * 2.0 * p[2] * y[7] - p[1] * yp[1] - yp[7] * w4 * p[1] * p[2] * w2 - w0 * yp[5] * p[1] * w5 * p[2];  // R_x
   r[1] = y[11] + yp[7] * w4 * p[1] * w5 * p[2] - w0 * p[1] * w5 * w1 * p[2] - w4 * p[1] * y[5] * 2.0 * p[2] * w2 * y[7] - w0 * w3 * p[1] * w5 * p[2] - yp[3] * p[1] - w0 * yp[5] * p[1] * p[2] * w2;  // R_y
-  r[2] = w0 * 0.5 * w7 * w4 * p[1] * y[5] * w8 * y[7] + w0 * 0.5 * w4 * p[1] * w10 * y[5] * w8 * y[7] - w0 * p[1] * w5 * p[2] * yp[1] - yp[5] * 0.5 * w11 * p[1] * w8 - w0 * w12 * w4 * p[1] * y[5] * 2.0 * w8 * y[7] - w12 * yp[5] * w11 * p[1] * w8 - w0 * w4 * p[1] * w13 * y[5] * 2.0 * w8 * y[7] - w0 * 0.5 * p[1] * w8 * yp[9] - yp[5] * w14 * 0.25 * p[1] * w10 * w8 - yp[5] * w14 * w7 * 0.25 * p[1] * w8 - yp[5] * w11 * p[1] * w13 * w8 - w0 * w4 * p[1] * y[5] * w8 * y[7] - w0 * yp[3] * p[1] * p[2] * w2 - 0.5 * y[9] * w4 * p[1] * w8 * y[7];  // R_psi
-  r[3] = p[0] * w0 * p[1] * p[2] + w0 * w12 * w4 * p[1] * w1 * w8 + yp[3] * w4 * p[1] * w5 * p[2] + w0 * w4 * p[1] * w13 * w1 * w8 + 0.5 * y[9] * w4 * p[1] * y[5] * w8 + w0 * 0.5 * w4 * p[1] * w1 * w8 + w0 * w12 * w3 * w4 * p[1] * w8 + w0 * w3 * w4 * p[1] * w13 * w8 - w4 * p[1] * p[2] * w2 * yp[1] - yp[7] * 0.25 * p[1] * w10 * w8 - w0 * w7 * 0.25 * w4 * p[1] * w1 * w8 - w11 * yp[7] * p[1] * w8 - w12 * w14 * yp[7] * p[1] * w8 - w0 * w3 * w4 * p[1] * w8 - w14 * yp[7] * p[1] * w13 * w8 - w0 * 0.25 * w4 * p[1] * w1 * w10 * w8 - yp[7] * w7 * 0.25 * p[1] * w8;  // R_phi
-  r[4] = -w11 * y[11] * p[2] * w2 - w14 * y[11] * p[2] * w2 - w14 * y[10] * w5 * p[2] - 0.5 * p[1] * w8 * yp[9] - w11 * y[10] * w5 * p[2] - w0 * yp[5] * 0.5 * p[1] * w8 - 0.5 * w4 * p[1] * y[5] * w8 * y[7];  // R_ph
-  r[5] = w11 * y[9] * y[5] * p[2] * w2 + w14 * y[9] * y[5] * p[2] * w2 + yp[1] - w11 * w5 * p[2] * yp[9] - w14 * w5 * p[2] * yp[9];  // D f1
-  r[6] = yp[3] - w14 * y[9] * w5 * y[5] * p[2] - w14 * p[2] * w2 * yp[9] - w11 * p[2] * w2 * yp[9] - w11 * y[9] * w5 * y[5] * p[2];  // D f2
+  r[2] = yp[5] * (w4 * w4) * 1.25 * p[1] * w6 - w0 * p[1] * w5 * p[2] * yp[1] - w0 * 2.5 * w4 * p[1] * y[5] * w6 * y[7] - yp[5] * 1.5 * p[1] * w6 - w0 * 0.5 * p[1] * w6 * yp[9] - w0 * yp[3] * p[1] * p[2] * w2 - 0.5 * y[9] * w4 * p[1] * w6 * y[7];  // R_psi
+  r[3] = p[0] * w0 * p[1] * p[2] + w0 * 1.25 * w4 * p[1] * w1 * w6 + yp[3] * w4 * p[1] * w5 * p[2] + 0.5 * y[9] * w4 * p[1] * y[5] * w6 - w4 * p[1] * p[2] * w2 * yp[1] - yp[7] * 1.25 * p[1] * w6;  // R_phi
+  r[4] = -y[10] * w5 * p[2] - y[11] * p[2] * w2 - 0.5 * p[1] * w6 * yp[9] - w0 * yp[5] * 0.5 * p[1] * w6 - 0.5 * w4 * p[1] * y[5] * w6 * y[7];  // R_ph
+  r[5] = y[9] * y[5] * p[2] * w2 + yp[1] - w5 * p[2] * yp[9];  // D f1
+  r[6] = yp[3] - p[2] * w2 * yp[9] - y[9] * w5 * y[5] * p[2];  // D f2
   r[7] = yp[0] - y[1];  // chain x' = x'
   r[8] = yp[2] - y[3];  // chain y' = y'
   r[9] = yp[4] - y[5];  // chain psi' = psi'
@@ -151,29 +143,13 @@ inline void jacobian(double /*t*/, const double* y, const double* yp, double cj,
   const double w12 = w1 * yp[3] * p[1] * w2 * p[2];
   const double w13 = w4 * p[1] * w2 * p[2] * yp[1];
   const double w14 = yp[3] * w4 * p[1] * p[2] * w5;
-  const double w15 = w1 * w1;
+  const double w15 = p[2] * p[2];
   const double w16 = w4 * w4;
-  const double w17 = std::sin(y[8]);
-  const double w18 = w17 * w17;
-  const double w19 = p[2] * p[2];
-  const double w20 = std::cos(y[8]);
-  const double w21 = w20 * w20;
-  const double w22 = w5 * w5;
-  const double w23 = w1 * w22 * w4 * p[1] * 2.0 * w19 * y[7];
-  const double w24 = w2 * w2;
-  const double w25 = w1 * w4 * p[1] * w24 * 2.0 * w19 * y[7];
-  const double w26 = w1 * w22 * w4 * p[1] * y[5] * 2.0 * w19;
-  const double w27 = w1 * w4 * p[1] * w24 * y[5] * 2.0 * w19;
-  const double w28 = 0.5 * y[9] * w4 * p[1] * w19;
-  const double w29 = w1 * w4 * p[1] * y[5] * w19;
-  const double w30 = w1 * 0.5 * w4 * p[1] * w18 * y[5] * w19;
-  const double w31 = w1 * 0.5 * w21 * w4 * p[1] * y[5] * w19;
-  const double w32 = -0.5 * w4 * p[1] * w19 * y[7] - w1 * 0.5 * p[1] * cj * w19;
-  const double w33 = 0.5 * w4 * p[1] * y[5] * w19;
-  const double w34 = w15 * w2 * p[2];
-  const double w35 = w16 * w2 * p[2];
-  const double w36 = w16 * p[2] * w5;
-  const double w37 = w15 * p[2] * w5;
+  const double w17 = 0.5 * y[9] * w4 * p[1] * w15;
+  const double w18 = w1 * 2.5 * w4 * p[1] * y[5] * w15;
+  const double w19 = -0.5 * w4 * p[1] * w15 * y[7] - w1 * 0.5 * p[1] * cj * w15;
+  const double w20 = w1 * w1;
+  const double w21 = 0.5 * w4 * p[1] * y[5] * w15;
   J[7] = cj;  // (7, 0)
   J[12] = w0;  // (0, 1)
   J[14] = -w3;  // (2, 1)
@@ -190,72 +166,62 @@ inline void jacobian(double /*t*/, const double* y, const double* yp, double cj,
   J[49] = w1 * p[1] * w9 * p[2] * w5 + w1 * w10 * p[1] * p[2] * w5 - w4 * p[1] * w2 * y[5] * 2.0 * p[2] * y[7] - yp[7] * w4 * p[1] * p[2] * w5 - w1 * yp[5] * p[1] * w2 * p[2];  // (1, 4)
   J[50] = w11 - w12;  // (2, 4)
   J[51] = -w13 - w14;  // (3, 4)
-  J[52] = w15 * y[10] * p[2] * w5 + w16 * y[10] * p[2] * w5 - w15 * y[11] * w2 * p[2] - w16 * y[11] * w2 * p[2];  // (4, 4)
-  J[53] = w16 * y[9] * w2 * y[5] * p[2] + w16 * p[2] * w5 * yp[9] + w15 * p[2] * w5 * yp[9] + w15 * y[9] * w2 * y[5] * p[2];  // (5, 4)
-  J[54] = w15 * y[9] * y[5] * p[2] * w5 + w16 * y[9] * y[5] * p[2] * w5 - w15 * w2 * p[2] * yp[9] - w16 * w2 * p[2] * yp[9];  // (6, 4)
+  J[52] = y[10] * p[2] * w5 - y[11] * w2 * p[2];  // (4, 4)
+  J[53] = p[2] * w5 * yp[9] + y[9] * w2 * y[5] * p[2];  // (5, 4)
+  J[54] = y[9] * y[5] * p[2] * w5 - w2 * p[2] * yp[9];  // (6, 4)
   J[57] = cj;  // (9, 4)
   J[60] = w1 * p[1] * y[5] * 2.0 * p[2] * w5 - w4 * p[1] * w2 * 2.0 * p[2] * y[7] - w3;  // (0, 5)
   J[61] = -w7 - w1 * p[1] * w2 * y[5] * 2.0 * p[2] - w4 * p[1] * 2.0 * p[2] * w5 * y[7];  // (1, 5)
-  J[62] = w1 * 0.5 * w4 * p[1] * w18 * w19 * y[7] + w1 * 0.5 * w21 * w4 * p[1] * w19 * y[7] - w23 - w1 * w4 * p[1] * w19 * y[7] - w25 - (w22 * w15 * 4.0 * p[1] * w19 + w16 * p[1] * w18 * w19 + w15 * 4.0 * p[1] * w24 * w19 + w16 * w21 * p[1] * w19 + w15 * p[1] * 2.0 * w19) * 0.25 * cj;  // (2, 5)
-  J[63] = w26 + w27 + w28 + w29 - w30 - w31;  // (3, 5)
-  J[64] = w32;  // (4, 5)
-  J[65] = w15 * y[9] * p[2] * w5 + w16 * y[9] * p[2] * w5;  // (5, 5)
-  J[66] = -w15 * y[9] * w2 * p[2] - w16 * y[9] * w2 * p[2];  // (6, 5)
+  J[62] = -w1 * 2.5 * w4 * p[1] * w15 * y[7] - 0.25 * (6.0 * p[1] * w15 - w16 * 5.0 * p[1] * w15) * cj;  // (2, 5)
+  J[63] = w17 + w18;  // (3, 5)
+  J[64] = w19;  // (4, 5)
+  J[65] = y[9] * p[2] * w5;  // (5, 5)
+  J[66] = -(y[9] * w2 * p[2]);  // (6, 5)
   J[69] = -1.0;  // (9, 5)
   J[72] = w4 * p[1] * w9 * p[2] * w5 + w10 * w4 * p[1] * p[2] * w5 + w1 * yp[7] * p[1] * p[2] * w5 + w1 * p[1] * w2 * y[5] * 2.0 * p[2] * y[7] - yp[5] * w4 * p[1] * w2 * p[2];  // (0, 6)
   J[73] = w1 * p[1] * y[5] * 2.0 * p[2] * w5 * y[7] - w4 * p[1] * w2 * w9 * p[2] - yp[5] * w4 * p[1] * p[2] * w5 - w1 * yp[7] * p[1] * w2 * p[2] - w10 * w4 * p[1] * w2 * p[2];  // (1, 6)
-  J[74] = w15 * p[1] * w24 * y[5] * 2.0 * w19 * y[7] + w15 * p[1] * y[5] * w19 * y[7] + w1 * yp[5] * 0.5 * w4 * p[1] * w18 * w19 + w22 * w15 * p[1] * y[5] * 2.0 * w19 * y[7] + w16 * 0.5 * w21 * p[1] * y[5] * w19 * y[7] + w1 * 0.5 * y[9] * p[1] * w19 * y[7] + w1 * yp[5] * 0.5 * w21 * w4 * p[1] * w19 + w16 * 0.5 * p[1] * w18 * y[5] * w19 * y[7] - w13 - w1 * yp[5] * w4 * p[1] * w19 - 0.5 * w4 * p[1] * w19 * yp[9] - w22 * w16 * p[1] * y[5] * 2.0 * w19 * y[7] - w1 * yp[5] * w4 * p[1] * w24 * 2.0 * w19 - w16 * p[1] * y[5] * w19 * y[7] - w14 - w1 * w22 * yp[5] * w4 * p[1] * 2.0 * w19 - 0.5 * w15 * p[1] * w18 * y[5] * w19 * y[7] - w16 * p[1] * w24 * y[5] * 2.0 * w19 * y[7] - 0.5 * w15 * w21 * p[1] * y[5] * w19 * y[7];  // (2, 6)
-  J[75] = w22 * w16 * w10 * p[1] * w19 + w1 * w22 * yp[7] * w4 * p[1] * 2.0 * w19 + w15 * 0.25 * p[1] * w9 * w18 * w19 + w15 * w21 * 0.25 * p[1] * w9 * w19 + w16 * w10 * p[1] * w24 * w19 + w11 + w1 * yp[7] * w4 * p[1] * w24 * 2.0 * w19 + w22 * w16 * p[1] * w9 * w19 + w16 * 0.5 * p[1] * w9 * w19 + w15 * w10 * p[1] * w19 + w16 * p[1] * w24 * w9 * w19 + p[0] * w4 * p[1] * p[2] - w16 * w21 * 0.25 * p[1] * w9 * w19 - w15 * w10 * p[1] * w24 * w19 - w22 * w15 * p[1] * w9 * w19 - w22 * w15 * w10 * p[1] * w19 - w16 * w10 * p[1] * w19 - 0.5 * w15 * p[1] * w9 * w19 - w16 * 0.25 * p[1] * w9 * w18 * w19 - w12 - w1 * yp[7] * w4 * p[1] * 2.0 * w19 - w15 * p[1] * w24 * w9 * w19 - w1 * 0.5 * y[9] * p[1] * y[5] * w19;  // (3, 6)
-  J[76] = w1 * 0.5 * p[1] * y[5] * w19 * y[7] - yp[5] * 0.5 * w4 * p[1] * w19;  // (4, 6)
+  J[74] = w20 * 2.5 * p[1] * y[5] * w15 * y[7] + w1 * 0.5 * y[9] * p[1] * w15 * y[7] - w1 * yp[5] * 2.5 * w4 * p[1] * w15 - w13 - w16 * 2.5 * p[1] * y[5] * w15 * y[7] - 0.5 * w4 * p[1] * w15 * yp[9] - w14;  // (2, 6)
+  J[75] = w11 + p[0] * w4 * p[1] * p[2] + w16 * 1.25 * p[1] * w9 * w15 - w12 - w1 * 0.5 * y[9] * p[1] * y[5] * w15 - w20 * 1.25 * p[1] * w9 * w15;  // (3, 6)
+  J[76] = w1 * 0.5 * p[1] * y[5] * w15 * y[7] - yp[5] * 0.5 * w4 * p[1] * w15;  // (4, 6)
   J[82] = cj;  // (10, 6)
   J[84] = w1 * p[1] * 2.0 * p[2] * w5 * y[7] - w4 * p[1] * w2 * y[5] * 2.0 * p[2] - w6;  // (0, 7)
   J[85] = w8 - w1 * p[1] * w2 * 2.0 * p[2] * y[7] - w4 * p[1] * y[5] * 2.0 * p[2] * w5;  // (1, 7)
-  J[86] = w30 + w31 - w26 - w27 - w28 - w29;  // (2, 7)
-  J[87] = w23 + w25 - w1 * w4 * p[1] * 2.0 * w19 * y[7] - (p[1] * w18 * w19 + w15 * 4.0 * p[1] * w19 + w16 * 4.0 * p[1] * w24 * w19 + w22 * w16 * 4.0 * p[1] * w19 + w21 * p[1] * w19) * 0.25 * cj;  // (3, 7)
-  J[88] = -w33;  // (4, 7)
+  J[86] = -w17 - w18;  // (2, 7)
+  J[87] = -(1.25 * p[1] * cj * w15);  // (3, 7)
+  J[88] = -w21;  // (4, 7)
   J[94] = -1.0;  // (10, 7)
   J[107] = cj;  // (11, 8)
-  J[110] = w32;  // (2, 9)
-  J[111] = w33;  // (3, 9)
-  J[112] = -(0.5 * p[1] * cj * w19);  // (4, 9)
-  J[113] = w16 * y[5] * p[2] * w5 + w15 * y[5] * p[2] * w5 - (w34 + w35) * cj;  // (5, 9)
-  J[114] = -w16 * w2 * y[5] * p[2] - w15 * w2 * y[5] * p[2] - cj * (w36 + w37);  // (6, 9)
+  J[110] = w19;  // (2, 9)
+  J[111] = w21;  // (3, 9)
+  J[112] = -(0.5 * p[1] * cj * w15);  // (4, 9)
+  J[113] = y[5] * p[2] * w5 - w2 * cj * p[2];  // (5, 9)
+  J[114] = -w2 * y[5] * p[2] - cj * p[2] * w5;  // (6, 9)
   J[119] = -1.0;  // (11, 9)
   J[120] = 1.0;  // (0, 10)
-  J[124] = -w34 - w35;  // (4, 10)
+  J[124] = -(w2 * p[2]);  // (4, 10)
   J[133] = 1.0;  // (1, 11)
-  J[136] = -w36 - w37;  // (4, 11)
+  J[136] = -(p[2] * w5);  // (4, 11)
 }
 
 /// Hidden constraints g(t, y) = 0 (derivatives of the equations the index-1 form
 /// differentiated away); they fix consistent initial values and drift during
 /// integration.
 inline void hidden_constraints(double /*t*/, const double* y, const double* p, double* g) noexcept {
-  const double w0 = std::sin(y[6]);
-  const double w1 = w0 * w0;
-  const double w2 = std::cos(y[4]);
-  const double w3 = std::cos(y[6]);
-  const double w4 = w3 * w3;
-  const double w5 = std::sin(y[4]);
-  g[0] = y[1] - w1 * y[9] * w2 * p[2] - w4 * y[9] * w2 * p[2];  // f1
-  g[1] = y[3] - w1 * y[9] * p[2] * w5 - w4 * y[9] * p[2] * w5;  // f2
+  g[0] = y[1] - y[9] * std::cos(y[4]) * p[2];  // f1
+  g[1] = y[3] - y[9] * p[2] * std::sin(y[4]);  // f2
 }
 
 /// G = dg/dy, column-major n_hidden x n_states.
 inline void hidden_constraints_jacobian(double /*t*/, const double* y, const double* p, double* G) noexcept {
   for (int k = 0; k < n_hidden * n_states; ++k) G[k] = 0.0;
-  const double w0 = std::sin(y[6]);
-  const double w1 = w0 * w0;
-  const double w2 = std::sin(y[4]);
-  const double w3 = std::cos(y[6]);
-  const double w4 = w3 * w3;
-  const double w5 = std::cos(y[4]);
+  const double w0 = std::sin(y[4]);
+  const double w1 = std::cos(y[4]);
   G[2] = 1.0;  // (0, 1)
   G[7] = 1.0;  // (1, 3)
-  G[8] = w1 * y[9] * p[2] * w2 + w4 * y[9] * p[2] * w2;  // (0, 4)
-  G[9] = -w1 * y[9] * w5 * p[2] - w4 * y[9] * w5 * p[2];  // (1, 4)
-  G[18] = -w1 * w5 * p[2] - w4 * w5 * p[2];  // (0, 9)
-  G[19] = -w4 * p[2] * w2 - w1 * p[2] * w2;  // (1, 9)
+  G[8] = y[9] * p[2] * w0;  // (0, 4)
+  G[9] = -(y[9] * w1 * p[2]);  // (1, 4)
+  G[18] = -(w1 * p[2]);  // (0, 9)
+  G[19] = -(p[2] * w0);  // (1, 9)
 }
 
 /// The scene's invariants I(t, y, y'), in invariant_names order.

@@ -32,7 +32,7 @@ grep -hoE '"[^"]*"' examples/*.toml | tr -d '"' | sort -u | awk -v dir="$work/ex
 run_target() {
   local target=$1
   "$build/tests/fuzz/nhc_${target}_fuzzer" "$work/$target" \
-    -max_total_time="$seconds" -max_len=4096 -timeout=10 -rss_limit_mb=2048 \
+    -max_total_time="$seconds" -max_len=4096 -timeout=30 -rss_limit_mb=2048 \
     -artifact_prefix="$build/crashes/${target}-" -print_final_stats=1 > "$build/${target}.log" 2>&1
 }
 

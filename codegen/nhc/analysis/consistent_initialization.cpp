@@ -12,6 +12,7 @@
 #include "nhc/jet/expression_printer.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/runtime/constraint_solver.hpp"
+#include "nhc/runtime/initial_point.hpp"
 
 namespace nhc {
 
@@ -216,14 +217,20 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
   std::vector<double> y(x.data(), x.data() + count);
   std::vector<double> scale(static_cast<std::size_t>(count), 0.0);
   for (int k : missing) scale[static_cast<std::size_t>(k)] = 1.0;
-  const double tolerance = runtime::initial_point_tolerance(y);
-  runtime::ConstraintSolveResult solve = runtime::solve_constraints(functions, y.data(), scale, tolerance, options.max_iterations);
+  const runtime::InitialPointTolerance tolerance =
+      runtime::initial_point_tolerance(y, scene.simulate.rtol, scene.simulate.atol);
+  runtime::ConstraintSolveResult solve = runtime::solve_initial_point(functions, y.data(), scale, tolerance, options.max_iterations);
   if (!solve.converged() && options.repair) {
-    // Repair: every value free, the minimum-norm correction (the nearest consistent point).
+    // Repair: every value free but the pinned ones ([initial] fixed), the minimum-norm
+    // correction (the nearest consistent point).
     std::vector<double> repaired = y;
-    const runtime::ConstraintSolveResult again = runtime::solve_constraints(
-        functions, repaired.data(), std::vector<double>(static_cast<std::size_t>(count), 1.0), tolerance,
-        options.max_iterations);
+    std::vector<double> repair_scale(static_cast<std::size_t>(count), 1.0);
+    for (int k = 0; k < count; ++k)
+      if (std::find(scene.initial.fixed.begin(), scene.initial.fixed.end(),
+                    result.values[static_cast<std::size_t>(k)].name) != scene.initial.fixed.end())
+        repair_scale[static_cast<std::size_t>(k)] = 0.0;
+    const runtime::ConstraintSolveResult again =
+        runtime::solve_constraints(functions, repaired.data(), repair_scale, tolerance.solve, options.max_iterations);
     if (!again.converged())
       throw MathError("the " + model + " model: no consistent initial point found near the given "
                       "values: " + hidden_names[static_cast<std::size_t>(again.worst)] +
@@ -241,26 +248,20 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
   } else if (!solve.converged()) {
     const auto worst = static_cast<std::size_t>(solve.worst);
     const Eigen::MatrixXd jg = g.jacobian(g.point(base, Eigen::Map<const Eigen::VectorXd>(y.data(), count)));
-    std::vector<std::string> involved_given, involved_solved;
+    runtime::InconsistentInitialPoint failure;
+    failure.model = model;
+    failure.constraint = hidden_names[worst];
+    failure.residual = solve.residuals[worst];
+    failure.t0 = scene.initial.t0;
+    failure.tolerance = tolerance;
+    failure.status = solve.status;
     for (int k = 0; k < count; ++k) {
       if (jg(solve.worst, k) == 0.0) continue;
       const InitialValue& v = result.values[static_cast<std::size_t>(k)];
-      (v.source == ValueSource::given ? involved_given : involved_solved).push_back(v.name);
+      if (v.source == ValueSource::given) failure.given.push_back({v.name, v.given});
+      else failure.free.push_back(v.name);
     }
-    std::ostringstream s;
-    s << "the initial values violate the " << hidden_names[worst] << " of the " << model << " model, "
-      << to_text(hidden[worst]) << " = 0: residual " << number(solve.residuals[worst])
-      << " at t0 = " << number(scene.initial.t0) << " (tolerance " << number(tolerance) << ")";
-    if (!involved_given.empty())
-      s << "; it involves the given value" << (involved_given.size() == 1 ? " " : "s ") << join_names(involved_given);
-    if (!involved_solved.empty())
-      s << (solve.status == runtime::ConstraintSolveStatus::iteration_limit ||
-                    solve.status == runtime::ConstraintSolveStatus::stalled
-                ? "; Gauss–Newton did not converge"
-                : "")
-        << " for " << join_names(involved_solved);
-    s << ". Give consistent values, or have them repaired to the nearest consistent point";
-    throw InconsistentInitialValues(s.str());
+    throw InconsistentInitialValues(runtime::describe(failure));
   }
   x = Eigen::Map<const Eigen::VectorXd>(y.data(), count);
   const Eigen::VectorXd residual = Eigen::Map<const Eigen::VectorXd>(solve.residuals.data(), functions.count);

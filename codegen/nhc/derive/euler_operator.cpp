@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "nhc/derive/trigonometric_simplification.hpp"
+
 namespace nhc {
 
 namespace {
@@ -23,7 +25,7 @@ GiNaC::ex simplify_expression(const GiNaC::ex& e) {
   const GiNaC::ex expanded = e.expand();
   const GiNaC::ex fraction = expanded.normal().numer_denom();
   const GiNaC::ex combined = fraction.op(0).expand() / fraction.op(1);
-  return node_count(combined) < node_count(expanded) ? combined : expanded;
+  return simplify_trigonometric(node_count(combined) < node_count(expanded) ? combined : expanded);
 }
 
 VariationForm VariationForm::first_variation(const GiNaC::ex& F, const JetSpace& jet) {

@@ -21,6 +21,8 @@ namespace nhc {
 struct InitialData {
   double t0 = 0.0;
   std::map<std::string, std::vector<double>> values;
+  /// Given values that --repair-initial must not move ([initial] fixed = ["x", "y'"]).
+  std::vector<std::string> fixed;
 };
 
 struct SimulateSettings {
@@ -28,6 +30,7 @@ struct SimulateSettings {
   double t_end = 1.0;
   double rtol = 1e-8;
   double atol = 1e-10;
+  std::optional<int> outputs;  ///< output intervals ([simulate] outputs), default 200
 };
 
 struct Scene {

@@ -6,12 +6,14 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
 #include <iostream>
 
 #include "nhc/scene/definition_table.hpp"
+#include "nhc/scene/constant_expression.hpp"
 #include "nhc/scene/expression_parser.hpp"
 #include "nhc/scene/tolerances.hpp"
 #include "nhc/scene/scene.hpp"
@@ -166,6 +168,7 @@ class SceneReader {
                                            static_cast<int>(constraint_nodes.size()),
                                            parameter_names);
     scene.parameter_values = parameter_values;
+    for (std::size_t i = 0; i < parameter_names.size(); ++i) constants_[parameter_names[i]] = parameter_values[i];
     const JetSpace& jet = *scene.jet;
     read_initial(root, scene);
     const GiNaC::exmap initial_point = initial_point_of(scene);
@@ -345,6 +348,7 @@ class SceneReader {
     double v = 0;
     if (node.is_integer()) v = static_cast<double>(*node.value<int64_t>());
     else if (node.is_floating_point()) v = *node.value<double>();
+    else if (node.is_string()) v = constant_value(node, what);  // "pi/8", "v*cos(pi/6)"
     else fail(node, what + " must be a number, not " + type_name(node));
     if (!std::isfinite(v)) fail(node, what + " must be finite");
     return v;
@@ -466,6 +470,10 @@ class SceneReader {
         scene.initial.t0 = number_value(value, "initial t0");
         continue;
       }
+      if (n == "fixed") {
+        for (const toml::node& f : array_value(value, "initial fixed")) fixed_nodes_.push_back(&f);
+        continue;
+      }
       bool known = std::find(jet.coordinates().begin(), jet.coordinates().end(), n) !=
                    jet.coordinates().end();
       for (int a = 0; a < jet.multiplier_count(); ++a) known = known || jet.multiplier_name(a) == n;
@@ -482,6 +490,20 @@ class SceneReader {
       for (const toml::node& v : arr) values.push_back(number_value(v, "initial value of " + n));
       scene.initial.values[n] = values;
     }
+    check_fixed(scene);
+  }
+
+  /// [initial] fixed: each entry a given value, "x" or "x'" (as many primes as its order).
+  void check_fixed(Scene& scene) {
+    for (const toml::node* f : fixed_nodes_) {
+      const std::string name = string_value(*f, "initial fixed entry");
+      const std::size_t primes = name.size() - std::min(name.size(), name.find_last_not_of('\'') + 1);
+      const std::string base = name.substr(0, name.size() - primes);
+      const auto it = scene.initial.values.find(base);
+      if (it == scene.initial.values.end() || primes >= it->second.size())
+        fail(*f, "fixed names '" + printable(name) + "', which is not a value given in [initial]");
+      scene.initial.fixed.push_back(name);
+    }
   }
 
   void read_simulate(const toml::table& root, Scene& scene) {
@@ -491,7 +513,7 @@ class SceneReader {
       return;
     }
     const toml::table& table = table_value(*node, "simulate");
-    check_keys(table, {"model", "t_end", "rtol", "atol"});
+    check_keys(table, {"model", "t_end", "rtol", "atol", "outputs"});
     scene.simulate.t_end = scene.initial.t0 + 1.0;
     if (const toml::node* m = table.get("model")) {
       const std::string n = string_value(*m, "simulate model");
@@ -507,6 +529,11 @@ class SceneReader {
       if (!(scene.simulate.t_end > scene.initial.t0))
         fail(*te, "t_end must be after t0 = " + shortest(scene.initial.t0));
     }
+    if (const toml::node* n = table.get("outputs")) {
+      const std::optional<int64_t> count = n->value_exact<int64_t>();
+      if (!count || *count < 1 || *count > 10000000) fail(*n, "outputs must be a whole number from 1 to 10000000");
+      scene.simulate.outputs = static_cast<int>(*count);
+    }
     for (const char* key : {"rtol", "atol"}) {
       if (const toml::node* tol = table.get(key)) {
         const double v = number_value(*tol, key);
@@ -518,8 +545,19 @@ class SceneReader {
     }
   }
 
+  /// A constant expression (constant_expression.hpp) over pi, e and the parameters read so far.
+  double constant_value(const toml::node& node, const std::string& what) const {
+    try {
+      return evaluate_constant_expression(*node.value<std::string>(), constants_);
+    } catch (const std::invalid_argument& e) {
+      fail(node, what + ": " + e.what());
+    }
+  }
+
   const std::string& text_;
   std::string path_;
+  std::map<std::string, double> constants_;  ///< the parameters, once read
+  std::vector<const toml::node*> fixed_nodes_;  ///< [initial] fixed, checked after the values
   std::vector<std::string> lines_;
   std::set<std::string> names_;
 };

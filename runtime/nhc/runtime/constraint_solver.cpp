@@ -7,12 +7,6 @@
 
 namespace nhc::runtime {
 
-double initial_point_tolerance(const std::vector<double>& y) {
-  double size = 1.0;
-  for (double v : y) size = std::max(size, std::abs(v));
-  return 1e-13 * size;
-}
-
 ConstraintSolveResult solve_constraints(const ConstraintFunctions& functions, double* y,
                                         const std::vector<double>& scale, double tolerance, int max_iterations) {
   ConstraintSolveResult result;

@@ -52,8 +52,4 @@ struct ConstraintSolveResult {
 ConstraintSolveResult solve_constraints(const ConstraintFunctions& g, double* y, const std::vector<double>& scale,
                                         double tolerance, int max_iterations = 50);
 
-/// The tolerance of the consistent initial point (runtime and analysis alike): 1e-13 times the
-/// largest of 1 and the |values|.
-double initial_point_tolerance(const std::vector<double>& y);
-
 }  // namespace nhc::runtime

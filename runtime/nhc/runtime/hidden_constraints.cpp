@@ -75,4 +75,44 @@ HiddenSolveReport solve_hidden_constraints(const Model& model, const double* p, 
   return report;
 }
 
+HiddenSolveReport solve_initial_hidden_constraints(const Model& model, const double* p, double t0, double* y,
+                                                   const std::vector<double>& scale,
+                                                   const InitialPointTolerance& tolerance, int max_iterations) {
+  HiddenSolveReport report;
+  const int m = model.n_hidden(), n = model.n_states();
+  if (m == 0) return report;
+  const auto& tab = model.table();
+  ConstraintFunctions g;
+  g.count = m;
+  g.size = n;
+  g.values = [&](const double* yy, double* out) { tab.hidden_constraints(t0, yy, p, out); };
+  g.jacobian = [&](const double* yy, double* out) { tab.hidden_constraints_jacobian(t0, yy, p, out); };
+  const ConstraintSolveResult r = solve_initial_point(g, y, scale, tolerance, max_iterations);
+  report.iterations = r.iterations;
+  report.residual_before = r.residual_before;
+  report.residual_after = r.residual_after;
+  report.correction = r.correction;
+  if (r.converged()) return report;
+
+  InconsistentInitialPoint failure;
+  failure.model = model.model_name();
+  failure.constraint = "hidden constraint " + model.hidden_name(r.worst);
+  failure.residual = r.residuals.empty() ? r.residual_after : r.residuals[static_cast<std::size_t>(r.worst)];
+  failure.t0 = t0;
+  failure.tolerance = tolerance;
+  failure.status = r.status;
+  std::vector<double> jacobian(static_cast<std::size_t>(m) * static_cast<std::size_t>(n));
+  tab.hidden_constraints_jacobian(t0, y, p, jacobian.data());
+  for (int i = 0; i < n; ++i) {
+    const double entry = jacobian[static_cast<std::size_t>(i) * static_cast<std::size_t>(m) + static_cast<std::size_t>(r.worst)];
+    if (entry == 0.0) continue;
+    if (scale[static_cast<std::size_t>(i)] > 0) failure.free.push_back(model.state_name(i));
+    else failure.given.push_back({model.state_name(i), y[i]});
+  }
+  const FailureKind kind = r.status == ConstraintSolveStatus::gradient_not_finite
+                               ? FailureKind::singular_constraint_gradient
+                               : FailureKind::inconsistent_initial_values;
+  throw SolverError(kind, t0, describe(failure));
+}
+
 }  // namespace nhc::runtime

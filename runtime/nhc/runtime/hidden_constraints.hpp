@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "nhc/runtime/initial_point.hpp"
 #include "nhc/runtime/model.hpp"
 
 namespace nhc::runtime {
@@ -30,5 +31,12 @@ double hidden_residual(const Model& model, const double* p, double t, const doub
 HiddenSolveReport solve_hidden_constraints(const Model& model, const double* p, double t, double* y,
                                            const std::vector<double>& scale, double tolerance,
                                            int max_iterations = 50);
+
+/// The consistent initial point: the states with scale[i] > 0 are solved from g(t0, y) = 0,
+/// the given ones (scale 0) accepted within tolerance.accept (initial_point.hpp). Throws
+/// SolverError(inconsistent_initial_values, t0) with initial_point.hpp's message otherwise.
+HiddenSolveReport solve_initial_hidden_constraints(const Model& model, const double* p, double t0, double* y,
+                                                   const std::vector<double>& scale,
+                                                   const InitialPointTolerance& tolerance, int max_iterations = 50);
 
 }  // namespace nhc::runtime

@@ -297,6 +297,31 @@ struct Integrator::Impl {
     return os.str();
   }
 
+  /// What the index-1 system is solved for, in the scene's words: the derivatives of the
+  /// differential states (x'', z'') and the algebraic states (lambda1), at most six named.
+  std::string solved_quantities() const {
+    std::vector<std::string> names;
+    for (int i = 0; i < n(); ++i) names.push_back(model.is_differential(i) ? model.state_name(i) + "'" : model.state_name(i));
+    std::string s;
+    for (std::size_t k = 0; k < names.size() && k < 6; ++k) s += (k ? ", " : "") + names[k];
+    if (names.size() > 6) s += ", …";
+    return s;
+  }
+
+  /// The state of largest magnitude at the last accepted point when it is beyond 1e8 (the
+  /// quantity that blew up), e.g. "; lambda1 ≈ 4.7e+17 there"; else "".
+  std::string blown_up_state() const {
+    int worst = -1;
+    for (int i = 0; i < n() && i < static_cast<int>(y_last.size()); ++i)
+      if (std::isfinite(y_last[i]) && std::abs(y_last[i]) > 1e8 && (worst < 0 || std::abs(y_last[i]) > std::abs(y_last[worst])))
+        worst = i;
+    if (worst < 0) return "";
+    std::ostringstream os;
+    os.precision(2);
+    os << "; " << model.state_name(worst) << " ≈ " << y_last[worst] << " at the last accepted step";
+    return os.str();
+  }
+
   /// The singular-set monitor closest to zero relative to its start, if any is below `ratio`.
   int near_singular(double tt, const double* yy, double ratio) const {
     const int ns = model.n_singular();
@@ -387,7 +412,7 @@ struct Integrator::Impl {
           os << "the iteration matrix dF/dy + cj dF/dy' is singular at t = " << tt;
           os.precision(3);
           os << " (condition number " << cond << "; null direction " << dominant_states(svd.matrixV().col(s.size() - 1))
-             << "): the index-1 system is not solvable for y' and the algebraic states there";
+             << "): the equations cannot be solved there for " << solved_quantities() << blown_up_state();
           os << " (" << what << ": " << symptom << ")";
           throw SolverError(FailureKind::singular_iteration_matrix, tt, os.str());
         }
@@ -396,8 +421,14 @@ struct Integrator::Impl {
     if (flag == kStepSizeCollapse)
       throw SolverError(FailureKind::convergence, tt,
                         std::string(what) + " failed at t = " + format_time(tt) + ": " + symptom +
-                            "; the solution cannot be continued past this point");
-    sd::check(flag, what, tt, last_message);
+                            "; the solution cannot be continued past this point" + blown_up_state());
+    try {
+      sd::check(flag, what, tt, last_message);
+    } catch (const SolverError& e) {
+      const std::string blown = blown_up_state();
+      if (blown.empty()) throw;
+      throw SolverError(e.kind(), e.t(), e.what() + blown);
+    }
     throw SolverError(FailureKind::other, tt, std::string(what) + " failed at t = " + format_time(tt));
   }
 
@@ -530,8 +561,12 @@ Sample Integrator::initialize(const InitialState& state, double t_next) {
     std::vector<double> scale(n, 1.0);
     for (int i = 0; i < n && i < static_cast<int>(state.given.size()); ++i)
       if (state.given[i]) scale[i] = 0.0;
-    solve_hidden_constraints(s.model, s.p.data(), state.t0, s.y.data(), scale,
-                             initial_point_tolerance(std::vector<double>(s.y.data(), s.y.data() + n)));
+    // The size in the tolerance is over the differential states, the values analyze sees.
+    std::vector<double> differential;
+    for (int i = 0; i < n; ++i)
+      if (s.model.is_differential(i)) differential.push_back(s.y[i]);
+    solve_initial_hidden_constraints(s.model, s.p.data(), state.t0, s.y.data(), scale,
+                                     initial_point_tolerance(differential, s.options.rtol, s.options.atol));
   }
 
   // 2. IDA and IDACalcIC for the algebraic states and y'.

@@ -54,6 +54,8 @@ DriftReport measure_drift(const Model& model, const std::vector<double>& p, cons
   d.max_hidden_each.assign(model.n_hidden(), 0.0);
   d.invariant_drift.assign(model.n_invariants(), 0.0);
   d.invariant_relative.assign(model.n_invariants(), 0.0);
+  d.invariant_scale.assign(model.n_invariants(), 0.0);
+  d.invariant_absolute.assign(model.n_invariants(), false);
   d.max_error_each.assign(model.n_reference(), 0.0);
   if (samples.empty()) return d;
   const Observables first = observe(model, p, samples.front());
@@ -61,13 +63,18 @@ DriftReport measure_drift(const Model& model, const std::vector<double>& p, cons
   for (const Sample& s : samples) {
     const Observables o = observe(model, p, s);
     for (size_t i = 0; i < o.hidden.size(); ++i) worse(d.max_hidden_each[i], o.hidden[i]), worse(d.max_hidden, o.hidden[i]);
-    for (size_t k = 0; k < o.invariants.size(); ++k) worse(d.invariant_drift[k], o.invariants[k] - first.invariants[k]);
+    for (size_t k = 0; k < o.invariants.size(); ++k) {
+      worse(d.invariant_drift[k], o.invariants[k] - first.invariants[k]);
+      worse(d.invariant_scale[k], o.invariants[k]);
+    }
     for (size_t k = 0; k < o.errors.size(); ++k) worse(d.max_error_each[k], o.errors[k]), worse(d.max_error, o.errors[k]);
   }
   for (size_t k = 0; k < d.invariant_drift.size(); ++k) {
-    // Relative to |I(t0)|; absolute when I(t0) = 0 (a pendulum released at its pivot height).
-    const double i0 = std::abs(first.invariants[k]);
-    d.invariant_relative[k] = i0 > 0 ? d.invariant_drift[k] / i0 : d.invariant_drift[k];
+    // Relative to the invariant's size along the run, max_t |I(t)| (not |I(t0)|, which may be
+    // 0 or rounding noise: a pendulum released at its pivot height); absolute below the floor.
+    d.invariant_absolute[k] = !(d.invariant_scale[k] >= kInvariantScaleFloor);
+    d.invariant_relative[k] =
+        d.invariant_absolute[k] ? d.invariant_drift[k] : d.invariant_drift[k] / d.invariant_scale[k];
     d.max_invariant_relative = std::max(d.max_invariant_relative, d.invariant_relative[k]);
   }
   return d;

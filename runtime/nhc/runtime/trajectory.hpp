@@ -21,12 +21,20 @@ struct Observables {
 
 Observables observe(const Model& model, const std::vector<double>& p, const Sample& sample);
 
+/// Below this size along the run an invariant's drift is reported absolute (DriftReport).
+inline constexpr double kInvariantScaleFloor = 1e-8;
+
 /// Maxima along a trajectory.
 struct DriftReport {
   double max_hidden = 0;                  ///< max_t max_i |g_i|
   std::vector<double> max_hidden_each;    ///< per hidden constraint
   std::vector<double> invariant_drift;    ///< max_t |I_k(t) − I_k(t0)|
-  std::vector<double> invariant_relative; ///< invariant_drift / |I_k(t0)| (absolute when I_k(t0) = 0)
+  /// invariant_drift / invariant_scale, or the absolute drift when the scale is below
+  /// kInvariantScaleFloor (an invariant that is zero along the run: a relative drift of a
+  /// value at rounding level would be noise).
+  std::vector<double> invariant_relative;
+  std::vector<double> invariant_scale;    ///< max_t |I_k(t)|: the invariant's size along the run
+  std::vector<bool> invariant_absolute;   ///< invariant_relative holds the absolute drift
   double max_invariant_relative = 0;
   std::vector<double> max_error_each;     ///< per reference coordinate
   double max_error = 0;

@@ -1,0 +1,101 @@
+#include "output_selection.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <ostream>
+#include <sstream>
+
+#include "nhc/errors.hpp"
+#include "parameter_overrides.hpp"
+#include "pipeline.hpp"
+
+namespace nhc::cli {
+
+namespace {
+
+std::vector<std::string> split(const std::string& text, char separator) {
+  std::vector<std::string> parts;
+  std::string part;
+  std::istringstream in(text);
+  while (std::getline(in, part, separator)) parts.push_back(part);
+  if (!text.empty() && text.back() == separator) parts.push_back("");
+  return parts;
+}
+
+[[noreturn]] void bad(const std::string& flag, const std::string& spec, const std::string& why) {
+  throw InputError({flag, 0, 0}, flag + " " + spec + ": " + why);
+}
+
+}  // namespace
+
+std::vector<double> parse_output_times(const std::string& spec, double t0) {
+  const std::string flag = "--output-times";
+  std::vector<double> times;
+  if (spec.find(':') != std::string::npos) {
+    const std::vector<std::string> parts = split(spec, ':');
+    if (parts.size() != 3) bad(flag, spec, "expected START:STEP:END or a list T1,T2,…");
+    const double a = parse_number(flag, parts[0]), h = parse_number(flag, parts[1]), b = parse_number(flag, parts[2]);
+    if (!(h > 0)) bad(flag, spec, "the step must be positive");
+    if (!(b > a)) bad(flag, spec, "the end must be after the start");
+    const double steps = (b - a) / h;
+    const double n = std::round(steps);
+    if (std::abs(steps - n) > 1e-9 * std::max(1.0, n)) bad(flag, spec, "(END − START)/STEP is not a whole number");
+    if (n > 1e7) bad(flag, spec, "more than 10^7 output times");
+    for (long i = 0; i <= static_cast<long>(n); ++i) times.push_back(i == static_cast<long>(n) ? b : a + h * static_cast<double>(i));
+  } else {
+    for (const std::string& part : split(spec, ',')) times.push_back(parse_number(flag, part));
+    for (std::size_t i = 1; i < times.size(); ++i)
+      if (!(times[i] > times[i - 1])) bad(flag, spec, "the times must increase");
+  }
+  if (times.empty()) bad(flag, spec, "no time");
+  if (times.front() < t0) bad(flag, spec, "the first time is before t0 = " + format_number(t0, 17));
+  if (!(times.back() > t0)) bad(flag, spec, "the last time must be after t0 = " + format_number(t0, 17));
+  return times;
+}
+
+std::vector<std::string> csv_columns(const runtime::Model& model, const std::vector<double>& p) {
+  std::ostringstream header;
+  runtime::write_csv(header, model, p, {});
+  std::string line = header.str();
+  if (!line.empty() && line.back() == '\n') line.pop_back();
+  return split(line, ',');
+}
+
+std::vector<std::string> parse_columns(const std::string& spec, const std::vector<std::string>& available) {
+  std::vector<std::string> columns;
+  for (const std::string& name : split(spec, ',')) {
+    if (name == "t") continue;  // always the first column
+    if (std::find(available.begin(), available.end(), name) == available.end()) {
+      std::string known;
+      for (const std::string& a : available) known += (known.empty() ? "" : ", ") + a;
+      bad("--columns", spec, "no column '" + name + "' (columns: " + known + ")");
+    }
+    columns.push_back(name);
+  }
+  return columns;
+}
+
+void write_selected_csv(std::ostream& out, const runtime::Model& model, const std::vector<double>& p,
+                        const std::vector<runtime::Sample>& samples, const std::vector<std::string>& columns) {
+  if (columns.empty()) {
+    runtime::write_csv(out, model, p, samples);
+    return;
+  }
+  std::ostringstream full;
+  runtime::write_csv(full, model, p, samples);
+  std::istringstream in(full.str());
+  std::string line;
+  std::getline(in, line);
+  const std::vector<std::string> header = split(line, ',');
+  std::vector<std::size_t> keep{0};
+  for (const std::string& c : columns)
+    keep.push_back(static_cast<std::size_t>(std::find(header.begin(), header.end(), c) - header.begin()));
+  auto emit = [&](const std::vector<std::string>& fields) {
+    for (std::size_t k = 0; k < keep.size(); ++k) out << (k ? "," : "") << fields.at(keep[k]);
+    out << "\n";
+  };
+  emit(header);
+  while (std::getline(in, line)) emit(split(line, ','));
+}
+
+}  // namespace nhc::cli

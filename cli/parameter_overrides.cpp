@@ -1,0 +1,63 @@
+#include "parameter_overrides.hpp"
+
+#include <cmath>
+
+#include "nhc/errors.hpp"
+#include "nhc/jet/jet_space.hpp"
+
+namespace nhc::cli {
+
+std::pair<std::string, std::string> split_assignment(const std::string& flag, const std::string& text) {
+  const size_t eq = text.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
+    throw InputError({flag, 0, 0}, flag + " " + text + ": expected NAME=VALUE");
+  return {text.substr(0, eq), text.substr(eq + 1)};
+}
+
+double parse_number(const std::string& flag, const std::string& text) {
+  size_t used = 0;
+  double v = NAN;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || !std::isfinite(v)) throw InputError({flag, 0, 0}, flag + ": '" + text + "' is not a number");
+  return v;
+}
+
+void add_set_option(CLI::App* sub, std::vector<std::string>& assignments) {
+  sub->add_option("--set", assignments, "NAME=VALUE: override a parameter of the scene (repeatable)");
+}
+
+std::vector<ParameterOverride> parse_parameter_overrides(const Scene& scene, const std::vector<std::string>& assignments) {
+  std::vector<ParameterOverride> overrides;
+  for (const std::string& a : assignments) {
+    const auto [name, value] = split_assignment("--set", a);
+    if (!scene.jet->parameter_index(name)) {
+      std::string known;
+      for (const std::string& p : scene.jet->parameters()) known += (known.empty() ? "" : ", ") + p;
+      throw InputError({"--set", 0, 0}, "--set " + a + ": '" + name + "' is not a parameter of the scene (" +
+                                            (known.empty() ? std::string("it has none") : "parameters: " + known) + ")");
+    }
+    overrides.push_back({name, parse_number("--set", value)});
+  }
+  return overrides;
+}
+
+void apply_parameter_overrides(Scene& scene, const std::vector<ParameterOverride>& overrides) {
+  for (const ParameterOverride& o : overrides)
+    scene.parameter_values[static_cast<std::size_t>(*scene.jet->parameter_index(o.name))] = o.value;
+}
+
+std::vector<double> parameters_with_overrides(const runtime::Model& model, const std::vector<ParameterOverride>& overrides) {
+  std::vector<double> p = model.default_parameters();
+  for (const ParameterOverride& o : overrides) {
+    const int i = model.parameter_index(o.name);
+    if (i < 0) throw InputError({"--set", 0, 0}, "--set: '" + o.name + "' is not a parameter of the generated model");
+    p[static_cast<std::size_t>(i)] = o.value;
+  }
+  return p;
+}
+
+}  // namespace nhc::cli

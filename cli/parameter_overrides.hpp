@@ -1,0 +1,40 @@
+#pragma once
+/// \file parameter_overrides.hpp
+/// \brief `--set NAME=VALUE` (repeatable), one helper for derive, analyze, generate, simulate and
+/// report: a scene parameter replaced by a value from the command line. Bad assignments and
+/// unknown names are bad input naming the flag (exit 2).
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "nhc/runtime/model.hpp"
+#include "nhc/scene/scene.hpp"
+
+namespace nhc::cli {
+
+struct ParameterOverride {
+  std::string name;
+  double value = 0;
+};
+
+/// "NAME=VALUE" → (NAME, VALUE); VALUE kept as text. InputError naming `flag` otherwise.
+std::pair<std::string, std::string> split_assignment(const std::string& flag, const std::string& text);
+/// A finite number, all of `text`; InputError naming `flag` otherwise.
+double parse_number(const std::string& flag, const std::string& text);
+
+/// Adds `--set NAME=VALUE` to a subcommand, collecting into `assignments`.
+void add_set_option(CLI::App* sub, std::vector<std::string>& assignments);
+
+/// The assignments checked against the scene's [parameters] (the last of repeated names wins).
+std::vector<ParameterOverride> parse_parameter_overrides(const Scene& scene, const std::vector<std::string>& assignments);
+
+/// The scene with its parameter values replaced (derivation, analysis and generated defaults).
+void apply_parameter_overrides(Scene& scene, const std::vector<ParameterOverride>& overrides);
+
+/// The model's default parameters with the overrides (a compiled model reused for any value).
+std::vector<double> parameters_with_overrides(const runtime::Model& model, const std::vector<ParameterOverride>& overrides);
+
+}  // namespace nhc::cli

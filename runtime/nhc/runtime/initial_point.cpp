@@ -1,0 +1,69 @@
+#include "nhc/runtime/initial_point.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace nhc::runtime {
+
+namespace {
+
+std::string number(double v) {
+  std::ostringstream os;
+  os.precision(10);
+  os << v;
+  return os.str();
+}
+
+std::string join(const std::vector<std::string>& items) {
+  std::string s;
+  for (std::size_t i = 0; i < items.size(); ++i)
+    s += (i == 0 ? "" : i + 1 == items.size() ? " and " : ", ") + items[i];
+  return s;
+}
+
+}  // namespace
+
+std::string InitialPointTolerance::describe() const {
+  std::ostringstream os;
+  os.precision(3);
+  os << accept << " = atol + rtol·max(1, |y|) = " << atol << " + " << rtol << "·" << size;
+  return os.str();
+}
+
+InitialPointTolerance initial_point_tolerance(const std::vector<double>& y, double rtol, double atol) {
+  InitialPointTolerance t;
+  t.rtol = rtol;
+  t.atol = atol;
+  for (double v : y)
+    if (std::isfinite(v)) t.size = std::max(t.size, std::abs(v));
+  t.solve = 1e-13 * t.size;
+  t.accept = std::max(t.solve, atol + rtol * t.size);
+  return t;
+}
+
+ConstraintSolveResult solve_initial_point(const ConstraintFunctions& g, double* y, const std::vector<double>& scale,
+                                          const InitialPointTolerance& tolerance, int max_iterations) {
+  ConstraintSolveResult r = solve_constraints(g, y, scale, tolerance.solve, max_iterations);
+  if (!r.converged() && std::isfinite(r.residual_after) && r.residual_after <= tolerance.accept &&
+      r.status != ConstraintSolveStatus::gradient_not_finite)
+    r.status = ConstraintSolveStatus::converged;
+  return r;
+}
+
+std::string describe(const InconsistentInitialPoint& f) {
+  std::ostringstream s;
+  s << "the initial values of the " << f.model << " model violate " << f.constraint << " at t0 = " << number(f.t0)
+    << ": residual " << number(f.residual) << " (tolerance " << f.tolerance.describe() << ")";
+  std::vector<std::string> given;
+  for (const InvolvedValue& v : f.given) given.push_back(v.name + " = " + number(v.value));
+  if (!given.empty()) s << "; it involves the given value" << (given.size() == 1 ? " " : "s ") << join(given);
+  if (f.free.empty())
+    s << "; no value that may be changed enters it";
+  else if (f.status == ConstraintSolveStatus::stalled || f.status == ConstraintSolveStatus::iteration_limit)
+    s << "; Gauss–Newton did not converge for " << join(f.free);
+  s << ". Give consistent values, or have them repaired to the nearest consistent point (--repair-initial)";
+  return s.str();
+}
+
+}  // namespace nhc::runtime

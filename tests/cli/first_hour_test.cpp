@@ -1,0 +1,295 @@
+// Issue 14, "the first hour of a new user": the reproductions of the issue on Appell–Hamel
+// (examples/appell_hamel.toml, constraint f1 = z' − (b/a)·sqrt(x'² + y'²), b/a = 1/2).
+// One initial-point rule and one message in analyze and simulate (nhc/runtime/initial_point.hpp),
+// no compile and no file on an inconsistent start, --max-steps, -o -, --repair-initial.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "command_runner.hpp"
+
+namespace {
+
+using Catch::Matchers::Contains;
+using nhc::test::file_exists;
+using nhc::test::read_file;
+using nhc::test::Run;
+
+Run nhc_run(const std::string& args, const std::string& dir) {
+  return nhc::test::run(std::string("cd '") + NHC_SOURCE_DIR + "' && NHC_CACHE_DIR='" + NHC_BINARY_DIR +
+                            "/tests/cli/nhc-cache' " + nhc::test::nhc_command() + " " + args,
+                        dir);
+}
+
+/// examples/appell_hamel.toml with `z = [...]` replaced, written to dir/name.
+std::string appell_hamel_with_z(const std::string& dir, const std::string& name, const std::string& z) {
+  std::string text = read_file(std::string(NHC_SOURCE_DIR) + "/examples/appell_hamel.toml");
+  text = std::regex_replace(text, std::regex(R"(\nz = \[0\.0\]\n)"), "\nz = " + z + "\n");
+  const std::string path = dir + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+/// The error lines of a run (standard error without the notes).
+std::string first_error(const std::string& err) { return err.substr(0, err.find('\n')); }
+
+std::vector<double> csv_row(const std::string& csv, int row) {
+  std::istringstream in(csv);
+  std::string line;
+  for (int i = 0; i <= row; ++i) std::getline(in, line);
+  std::getline(in, line);
+  std::vector<double> values;
+  std::istringstream fields(line);
+  std::string field;
+  while (std::getline(fields, field, ',')) values.push_back(std::stod(field));
+  return values;
+}
+
+}  // namespace
+
+TEST_CASE("velocities typed to ten digits are accepted by analyze and simulate alike", "[cli][issue14]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_ten_digits");
+  // z'(0) = sqrt(1.25)/2 = 0.559016994374947…: ten digits miss f1 by 2.5e-11 < atol + rtol = 1.01e-8.
+  const std::string scene = appell_hamel_with_z(dir, "ten_digits.toml", "[0.0, 0.5590169944]");
+  CHECK(nhc_run("analyze '" + scene + "' -m chetaev", dir).exit_code == 0);
+  const Run sim = nhc_run("simulate '" + scene + "' -o '" + dir + "/out.csv'", dir);
+  CHECK(sim.exit_code == 0);
+  CHECK_THAT(sim.out, Contains("201 rows"));
+}
+
+TEST_CASE("a given value that misses a hidden constraint gets the same words in analyze and simulate",
+          "[cli][issue14]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_three_digits");
+  const std::string scene = appell_hamel_with_z(dir, "three_digits.toml", "[0.0, 0.559]");
+  const Run analyze = nhc_run("analyze '" + scene + "' -m chetaev", dir);
+  const Run simulate = nhc_run("simulate '" + scene + "' -o '" + dir + "/out.csv'", dir);
+  CHECK(analyze.exit_code == 3);
+  CHECK(simulate.exit_code == 3);
+  CHECK(first_error(analyze.err) == first_error(simulate.err));
+  // The constraint, its residual 0.559 − sqrt(1.25)/2, the tolerance rule and the given values.
+  CHECK_THAT(simulate.err, Contains("hidden constraint f1") && Contains("residual -1.699437495e-05") &&
+                               Contains("atol + rtol") && Contains("x' = 1") && Contains("y' = 0.5") &&
+                               Contains("z' = 0.559"));
+  // Checked before compiling: no summary, no file (issue 14, item 3).
+  CHECK(simulate.out.empty());
+  CHECK_FALSE(file_exists(dir + "/out.csv"));
+}
+
+TEST_CASE("the runtime applies the same rule when --atol and --rtol loosen it", "[cli][issue14]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_loose");
+  const std::string scene = appell_hamel_with_z(dir, "three_digits.toml", "[0.0, 0.559]");
+  // A miss of 1.7e-5 is within atol = 1e-4.
+  CHECK(nhc_run("simulate '" + scene + "' --atol 1e-4 --rtol 1e-6", dir).exit_code == 0);
+}
+
+TEST_CASE("simulate --repair-initial starts on the constraint", "[cli][issue14]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_repair");
+  const std::string scene = appell_hamel_with_z(dir, "three_digits.toml", "[0.0, 0.559]");
+  const Run r = nhc_run("simulate '" + scene + "' --repair-initial -o -", dir);
+  REQUIRE(r.exit_code == 0);
+  // -o -: the CSV alone on standard output, the summary on standard error.
+  CHECK(r.out.rfind("t,x,x'", 0) == 0);
+  CHECK_THAT(r.err, Contains("nhc simulate:") && Contains("standard output"));
+  // t,x,x',x'',y,y',y'',z,z',...: f1 = z' − sqrt(x'² + y'²)/2 at the first row.
+  const std::vector<double> row = csv_row(r.out, 0);
+  REQUIRE(row.size() > 8);
+  CHECK(std::abs(row[8] - 0.5 * std::hypot(row[2], row[5])) < 1e-12);
+  CHECK(std::abs(row[8] - 0.559) < 1e-4);
+}
+
+TEST_CASE("simulate --max-steps stops with the limit and the time reached", "[cli][issue14]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_max_steps");
+  const Run r = nhc_run("simulate examples/appell_hamel.toml --max-steps 10 -o '" + dir + "/out.csv'", dir);
+  CHECK(r.exit_code == 3);
+  CHECK_THAT(r.err, Contains("step limit (10 steps)") && Contains("reached at t = "));
+  CHECK_THAT(r.out, Contains("the motion up to the failure"));
+  CHECK(nhc_run("simulate examples/appell_hamel.toml --max-steps 0", dir).exit_code == 2);
+}
+
+TEST_CASE("simulate without -o says that no CSV was written", "[cli][issue14]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_no_output");
+  const Run r = nhc_run("simulate examples/particle.toml", dir);
+  CHECK(r.exit_code == 0);
+  CHECK_THAT(r.out, Contains("no CSV written"));
+}
+
+TEST_CASE("the suslov model without 'dependent' is bad input located in the scene", "[cli][issue14]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_no_dependent");
+  std::string text = read_file(std::string(NHC_SOURCE_DIR) + "/examples/appell_hamel.toml");
+  text = std::regex_replace(text, std::regex(R"(\ndependent = \["z"\]\n)"), "\n");
+  const std::string scene = dir + "/no_dependent.toml";
+  std::ofstream(scene) << text;
+  const std::regex located("^" + scene + R"(:\d+:\d+: error: the suslov model needs one dependent coordinate per constraint.*\n$)");
+  for (const std::string command : {"simulate", "derive", "analyze", "generate"}) {
+    INFO(command);
+    const Run r = nhc_run(command + " '" + scene + "' --model suslov" + (command == "generate" ? " -o '" + dir + "'" : ""), dir);
+    CHECK(r.exit_code == 2);
+    CHECK(std::regex_match(r.err, located));
+  }
+  // The other models of the scene are unaffected: analyze reports suslov as a note, exit 0.
+  const Run all = nhc_run("analyze '" + scene + "'", dir);
+  CHECK(all.exit_code == 0);
+  CHECK_THAT(all.err, Contains("nhc: note: the suslov model is not applicable"));
+}
+
+TEST_CASE("analyze exits 3 only when a requested model fails", "[cli][issue14]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_per_model");
+  std::string text = read_file(std::string(NHC_SOURCE_DIR) + "/examples/appell_hamel_vakonomic_singular.toml");
+  text = std::regex_replace(text, std::regex(R"(\nmodels = \["vakonomic"\]\n)"), "\nmodels = [\"vakonomic\", \"chetaev\"]\n");
+  const std::string scene = dir + "/two_models.toml";
+  std::ofstream(scene) << text;
+  const Run both = nhc_run("analyze '" + scene + "'", dir);  // default model: chetaev
+  CHECK(both.exit_code == 0);
+  CHECK_THAT(both.out, Contains("vakonomic:") && Contains("chetaev:"));
+  CHECK_THAT(both.err, Contains("nhc: note: the system Jacobian of the vakonomic model is singular"));
+  CHECK(nhc_run("analyze '" + scene + "' --model chetaev", dir).exit_code == 0);
+  const Run vakonomic = nhc_run("analyze '" + scene + "' --model vakonomic --model chetaev", dir);
+  CHECK(vakonomic.exit_code == 3);
+  CHECK_THAT(vakonomic.err, Contains("nhc: error: the system Jacobian of the vakonomic model is singular"));
+}
+
+TEST_CASE("parameters set by --set P=V in simulate, analyze, generate and derive", "[cli][issue14]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_set");
+  // g = 0, b = 1/4: z'(0) = (b/a)·|(1, 1/2)| = sqrt(1.25)/4 and Chetaev's v' = −g k/(1 + k²) = 0,
+  // uniform motion (docs/models.md), with the model compiled for the scene's values reused.
+  const Run sim = nhc_run("simulate examples/appell_hamel.toml --set g=0 --set b=0.25 -o -", dir);
+  REQUIRE(sim.exit_code == 0);
+  const std::vector<double> first = csv_row(sim.out, 0), last = csv_row(sim.out, 200);
+  REQUIRE(first.size() > 9);
+  CHECK(std::abs(first[8] - std::sqrt(1.25) / 4) < 1e-12);
+  CHECK(std::abs(last[2] - 1.0) < 1e-9);    // x' stays 1
+  CHECK(std::abs(last[1] - 0.2) < 1e-9);    // x = t
+  CHECK(std::abs(last[7] - 0.2 * std::sqrt(1.25) / 4) < 1e-9);
+
+  const Run analyze = nhc_run("analyze examples/appell_hamel.toml -m chetaev --set b=2", dir);
+  CHECK(analyze.exit_code == 0);
+  CHECK_THAT(analyze.out, Contains("z' = 2.236067977"));  // 2·sqrt(1.25)
+
+  const Run generate = nhc_run("generate examples/appell_hamel.toml --set b=2 -q -o '" + dir + "'", dir);
+  CHECK(generate.exit_code == 0);
+  CHECK_THAT(read_file(dir + "/appell_hamel_chetaev.hpp"), Contains("default_parameters[n_parameters] = {1.0, 2.0,"));
+
+  CHECK(nhc_run("derive examples/appell_hamel.toml --set b=2", dir).exit_code == 0);
+  for (const std::string command : {"simulate", "derive", "analyze", "generate"}) {
+    INFO(command);
+    const Run unknown = nhc_run(command + " examples/appell_hamel.toml --set q=1 -o '" + dir + "/x'", dir);
+    CHECK(unknown.exit_code == 2);
+    CHECK_THAT(unknown.err, Contains("--set: error: --set q=1: 'q' is not a parameter of the scene"));
+    CHECK(nhc_run(command + " examples/appell_hamel.toml --set b=abc", dir).exit_code == 2);
+  }
+}
+
+TEST_CASE("output times and columns of simulate", "[cli][issue14]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_outputs");
+  // [simulate] outputs = 4: five rows.
+  std::string text = read_file(std::string(NHC_SOURCE_DIR) + "/examples/appell_hamel.toml");
+  text = std::regex_replace(text, std::regex(R"(\nt_end = 0\.2\n)"), "\nt_end = 0.2\noutputs = 4\n");
+  const std::string scene = dir + "/four.toml";
+  std::ofstream(scene) << text;
+  const Run four = nhc_run("simulate '" + scene + "' -o -", dir);
+  REQUIRE(four.exit_code == 0);
+  CHECK(std::count(four.out.begin(), four.out.end(), '\n') == 6);
+
+  // --output-times START:STEP:END, --columns: t first, then the named ones in order. Chetaev:
+  // z'' = k v' = −(b/a)·g k/(1 + k²) = −1.962 (docs/models.md), so z'(t) = z'(0) − 1.962 t.
+  const Run r = nhc_run("simulate examples/appell_hamel.toml --output-times 0:0.05:0.2 --columns \"z',x\" -o -", dir);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.out.rfind("t,z',x\n", 0) == 0);
+  CHECK(std::count(r.out.begin(), r.out.end(), '\n') == 6);
+  const std::vector<double> row = csv_row(r.out, 2);  // t = 0.1
+  REQUIRE(row.size() == 3);
+  CHECK(std::abs(row[0] - 0.1) < 1e-15);
+  CHECK(std::abs(row[1] - (std::sqrt(1.25) / 2 - 0.1962)) < 1e-8);
+
+  const Run list = nhc_run("simulate examples/appell_hamel.toml --output-times 0,0.1,0.15 --columns x -o -", dir);
+  REQUIRE(list.exit_code == 0);
+  CHECK(std::count(list.out.begin(), list.out.end(), '\n') == 4);
+  CHECK_THAT(list.err, Contains("t from 0 to 0.15"));
+
+  CHECK(nhc_run("simulate examples/appell_hamel.toml --columns w", dir).exit_code == 2);
+  CHECK(nhc_run("simulate examples/appell_hamel.toml --output-times 0:0.03:0.2", dir).exit_code == 2);
+  CHECK(nhc_run("simulate examples/appell_hamel.toml --output-times 0.1,0.05", dir).exit_code == 2);
+  CHECK(nhc_run("simulate examples/appell_hamel.toml --output-times 0:0.1:0.2 --t-end 1", dir).exit_code == 2);
+}
+
+TEST_CASE("report -o DIR on bad input leaves no directory", "[cli][issue14]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_report_bad");
+  for (const std::string args : {"tests/bad/empty_models.toml", "examples/particle.toml --set q=1",
+                                 "examples/particle.toml --tolerances 1e-3:1e-20"}) {
+    INFO(args);
+    const Run r = nhc_run("report " + args + " -o '" + dir + "/report'", dir);
+    CHECK(r.exit_code == 2);
+    CHECK_FALSE(file_exists(dir + "/report"));
+  }
+}
+
+TEST_CASE("invariant drift is relative to the invariant's size along the run, absolute below a floor",
+          "[cli][issue14]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_invariant_scale");
+  // The particle (examples/particle.toml): speed² = 1 + 4 + 4 = 9 along the run; the constraint
+  // q'·q'' itself as an "invariant" is 0 up to rounding, whose relative drift would be noise.
+  std::string text = read_file(std::string(NHC_SOURCE_DIR) + "/examples/particle.toml");
+  text += "power = \"q1'*q1'' + q2'*q2'' + q3'*q3''\"\n";
+  const std::string scene = dir + "/particle.toml";
+  std::ofstream(scene) << text;
+  const Run r = nhc_run("simulate '" + scene + "'", dir);
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.out, Contains("invariant speed_squared: max drift") && Contains("to its largest size 9)"));
+  CHECK_THAT(r.out, Contains("invariant power: max drift") && Contains("(absolute: the invariant stays below 1e-08)"));
+}
+
+TEST_CASE("the suslov summary shows its monitored constraint, zero at t0", "[cli][issue14]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_suslov_monitored");
+  const Run r = nhc_run("simulate examples/appell_hamel.toml --model suslov -o '" + dir + "/s.csv'", dir);
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.out, Contains("monitored constraint f1 (CSV column hidden:1): max |f1|"));
+  // At t0 the run starts on f1 = z' − (b/a)·sqrt(x'² + y'²) = 0, evaluated here from the CSV.
+  const std::string csv = read_file(dir + "/s.csv");
+  CHECK(csv.rfind("t,x,x',x'',y,y',y'',z,z',z'',hidden:1,", 0) == 0);  // no multiplier
+  const std::vector<double> row = csv_row(csv, 0);
+  REQUIRE(row.size() > 10);
+  CHECK(std::abs(row[8] - 0.5 * std::hypot(row[2], row[5])) < 1e-12);
+  CHECK(std::abs(row[10]) < 1e-12);
+}
+
+TEST_CASE("repair moves only the values not pinned by [initial] fixed, and writes them back", "[cli][issue14]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_pinned_repair");
+  const std::string scene = appell_hamel_with_z(dir, "pinned.toml", "[0.0, 0.559]\nfixed = [\"x'\", \"z'\"]");
+  // x' = 1 and z' = 0.559 pinned: f1 = 0 leaves y' = sqrt((2 z')² − x'²) (b/a = 1/2).
+  const double y_prime = std::sqrt(4 * 0.559 * 0.559 - 1);
+  const Run sim = nhc_run("simulate '" + scene + "' --repair-initial -o -", dir);
+  REQUIRE(sim.exit_code == 0);
+  const std::vector<double> row = csv_row(sim.out, 0);
+  CHECK(row[2] == 1.0);
+  CHECK(row[8] == 0.559);
+  CHECK(std::abs(row[5] - y_prime) < 1e-12);
+
+  const std::string written = dir + "/initial.toml";
+  const Run analyze = nhc_run("analyze '" + scene + "' -m chetaev --repair-initial --write-initial '" + written + "'", dir);
+  REQUIRE(analyze.exit_code == 0);
+  CHECK_THAT(analyze.out, Contains("repaired y'"));
+  const std::string table = read_file(written);
+  CHECK_THAT(table, Contains("[initial]") && Contains("x = [0.0, 1.0]") && Contains("z = [0.0, 0.55900000000000005]") &&
+                        Contains("fixed = [\"x'\", \"z'\"]"));
+  // The written table, pasted into the scene, is consistent: simulate accepts it without repair.
+  std::string text = read_file(std::string(NHC_SOURCE_DIR) + "/examples/appell_hamel.toml");
+  text = text.substr(0, text.find("[initial]")) + table.substr(table.find("[initial]")) + "lambda1 = [0.0]\n" +
+         text.substr(text.find("[simulate]") - 1);
+  const std::string repaired = dir + "/repaired.toml";
+  std::ofstream(repaired) << text;
+  const Run again = nhc_run("simulate '" + repaired + "' -o -", dir);
+  REQUIRE(again.exit_code == 0);
+  CHECK(std::abs(csv_row(again.out, 0)[5] - y_prime) < 1e-12);
+
+  CHECK(nhc_run("analyze '" + scene + "' --write-initial '" + written + "'", dir).exit_code == 2);  // needs repair
+  const std::string bad = appell_hamel_with_z(dir, "bad_pin.toml", "[0.0, 0.559]\nfixed = [\"w'\"]");
+  const Run located = nhc_run("analyze '" + bad + "'", dir);
+  CHECK(located.exit_code == 2);
+  CHECK_THAT(located.err, Contains("fixed names 'w''"));
+}
