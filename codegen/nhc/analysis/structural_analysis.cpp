@@ -27,7 +27,11 @@ GiNaC::ex differentiated_equation(const StructuralAnalysis& a, int i, int r) {
   GiNaC::ex e = simplify_expression(
       jet.total_derivative(a.system.equations.at(static_cast<std::size_t>(i)), r));
   GiNaC::exmap vanishing;
-  const auto column = unknown_columns(a.system);
+  // analyze_structure fills the lookup once; an analysis assembled by hand gets it here.
+  std::map<std::pair<VariableKind, int>, int> computed;
+  const auto& column = a.column_of_unknown.size() == a.system.unknowns.size()
+                           ? a.column_of_unknown
+                           : (computed = unknown_columns(a.system));
   for (const JetCoordinate& c : jet.jet_coordinates_in(e)) {
     const auto it = column.find({c.kind, c.index});
     if (it == column.end()) continue;
@@ -67,6 +71,7 @@ std::string describe_deficiency(const DaeSystem& system, const StructuralDeficie
 StructuralAnalysis analyze_structure(DaeSystem system) {
   StructuralAnalysis a;
   a.sigma = signature_matrix(system);
+  a.column_of_unknown = unknown_columns(system);
   a.system = std::move(system);
   const auto transversal = highest_value_transversal(a.sigma);
   if (!transversal) {
