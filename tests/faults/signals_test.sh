@@ -7,8 +7,8 @@ nhc=$1 scene=$2 knife_chain=$3 work=$4
 rm -rf "$work" && mkdir -p "$work"
 source "$(dirname "$0")/common.sh"
 set -m  # background jobs keep SIGINT (a script's background jobs otherwise ignore it)
-python3 "$knife_chain" "$work" 8 100 >/dev/null || fail "cannot write the knife-chain scenes"
-big=$work/knife_chain_100.toml   # derivation takes about a second
+python3 "$knife_chain" "$work" 8 192 >/dev/null || fail "cannot write the knife-chain scenes"
+big=$work/knife_chain_192.toml   # deriving, analysing and generating take about a second
 long=$work/knife_chain_8.toml    # integration to t = 5000 takes seconds
 
 # start OUT_DIR CACHE ARGS…: nhc in the background, $pid.
@@ -35,7 +35,7 @@ interrupt() {
   local expected=130; [ "$signal" = TERM ] && expected=143
   [ "$rc" -eq "$expected" ] || fail "$what: exit code $rc after SIG$signal, expected $expected"
   grep -q "interrupted" "$out/stderr" || fail "$what: no message"
-  [ -z "$(find "$out" -name 'out*' -o -name 'report*' 2>/dev/null)" ] || fail "$what: output left: $(ls "$out")"
+  [ -z "$(find "$out" -name 'out*' -o -name 'report*' -o -name '*.hpp' 2>/dev/null)" ] || fail "$what: output left: $(ls "$out")"
   no_leftovers "$what" "$out" "$cache"
   local so
   for so in "$cache"/*.so; do
@@ -47,7 +47,7 @@ interrupt() {
 }
 
 # Deriving: nhc derive, and nhc simulate before anything is compiled.
-start "$work/derive" "$work/derive/cache" derive "$big" -o "$work/derive/out.txt"
+start "$work/derive" "$work/derive/cache" generate "$big" -q -o "$work/derive"
 sleep 0.4; interrupt "derive/INT" INT "$work/derive" "$work/derive/cache"
 start "$work/derive_sim" "$work/derive_sim/cache" simulate "$big" -o "$work/derive_sim/out.csv"
 sleep 0.4; interrupt "simulate while deriving/TERM" TERM "$work/derive_sim" "$work/derive_sim/cache"

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <set>
+#include <utility>
 #include <sstream>
 
 #include "nhc/analysis/numeric_evaluation.hpp"
@@ -43,10 +45,23 @@ class Evaluator {
   Evaluator(std::vector<GiNaC::ex> functions, std::vector<std::string> names,
             std::vector<GiNaC::ex> variables)
       : f_(std::move(functions)), names_(std::move(names)), vars_(std::move(variables)) {
+    // Sparse Jacobian: f_i is differentiated only by the variables that occur in it, so the
+    // work is linear in the size of the constraints rather than in (functions × variables).
+    std::map<GiNaC::ex, std::size_t, GiNaC::ex_is_less> column;
+    for (std::size_t k = 0; k < vars_.size(); ++k) column[vars_[k]] = k;
     for (const auto& f : f_) {
-      std::vector<GiNaC::ex> row;
-      for (const auto& v : vars_) row.push_back(f.diff(GiNaC::ex_to<GiNaC::symbol>(v)));
-      jac_.push_back(row);
+      std::set<std::size_t> occurring;
+      for (auto it = f.preorder_begin(); it != f.preorder_end(); ++it)
+        if (GiNaC::is_a<GiNaC::symbol>(*it)) {
+          const auto c = column.find(*it);
+          if (c != column.end()) occurring.insert(c->second);
+        }
+      std::vector<std::pair<std::size_t, GiNaC::ex>> row;
+      for (std::size_t k : occurring) {
+        GiNaC::ex d = f.diff(GiNaC::ex_to<GiNaC::symbol>(vars_[k]));
+        if (!d.is_zero()) row.emplace_back(k, d);
+      }
+      jac_.push_back(std::move(row));
     }
   }
   GiNaC::exmap point(const GiNaC::exmap& base, const Eigen::VectorXd& x) const {
@@ -61,11 +76,12 @@ class Evaluator {
     return out;
   }
   Eigen::MatrixXd jacobian(const GiNaC::exmap& p) const {
-    Eigen::MatrixXd out(static_cast<Eigen::Index>(f_.size()), static_cast<Eigen::Index>(vars_.size()));
+    Eigen::MatrixXd out = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(f_.size()),
+                                                static_cast<Eigen::Index>(vars_.size()));
     for (std::size_t i = 0; i < f_.size(); ++i)
-      for (std::size_t k = 0; k < vars_.size(); ++k)
+      for (const auto& [k, d] : jac_[i])
         out(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) =
-            evaluate_real(jac_[i][k], p, "the derivative of " + names_[i] + " at t0");
+            evaluate_real(d, p, "the derivative of " + names_[i] + " at t0");
     return out;
   }
 
@@ -73,7 +89,7 @@ class Evaluator {
   std::vector<GiNaC::ex> f_;
   std::vector<std::string> names_;
   std::vector<GiNaC::ex> vars_;
-  std::vector<std::vector<GiNaC::ex>> jac_;
+  std::vector<std::vector<std::pair<std::size_t, GiNaC::ex>>> jac_;  ///< nonzero ∂f_i/∂v_k per row
 };
 
 }  // namespace

@@ -1,6 +1,8 @@
 #include "nhc/analysis/index1_reduction.hpp"
 
 #include <algorithm>
+#include <map>
+#include <set>
 #include <stdexcept>
 
 #include "nhc/analysis/dae_system.hpp"
@@ -66,13 +68,23 @@ Index1System reduce_to_index1(const StructuralAnalysis& a) {
 
   // Hidden constraints D^r f_i, r < c_i (suslov: the monitored constraints on initial data),
   // with their Jacobians in y: the same list the analysis' consistent point satisfies.
+  // Each row is differentiated only by the states that occur in g; the others stay 0, so the
+  // work grows with the size of the constraints, not with (constraints × states) (issue 17).
+  std::map<GiNaC::ex, std::size_t, GiNaC::ex_is_less> state_of_symbol;
+  for (std::size_t k = 0; k < out.y.size(); ++k) state_of_symbol[out.y[k]] = k;
   for (const InitialValueConstraint& c : initial_value_constraints(a)) {
     const GiNaC::ex g = to_state(c.expression);
     out.hidden_constraints.push_back(g);
     out.hidden_constraint_names.push_back(c.name);
-    std::vector<GiNaC::ex> row;
-    for (const auto& yk : out.y) row.push_back(simplify_expression(g.diff(yk)));
-    out.hidden_constraint_jacobian.push_back(row);
+    std::set<std::size_t> occurring;
+    for (auto it = g.preorder_begin(); it != g.preorder_end(); ++it)
+      if (GiNaC::is_a<GiNaC::symbol>(*it)) {
+        const auto found = state_of_symbol.find(*it);
+        if (found != state_of_symbol.end()) occurring.insert(found->second);
+      }
+    std::vector<GiNaC::ex> row(out.y.size(), GiNaC::ex(0));
+    for (std::size_t k : occurring) row[k] = simplify_expression(g.diff(out.y[k]));
+    out.hidden_constraint_jacobian.push_back(std::move(row));
   }
   return out;
 }

@@ -31,11 +31,14 @@ Eigen::MatrixXd evaluate_matrix(const std::vector<std::vector<GiNaC::ex>>& m,
                                 const GiNaC::exmap& point, const std::string& what) {
   const auto rows = static_cast<Eigen::Index>(m.size());
   const auto cols = rows == 0 ? Eigen::Index{0} : static_cast<Eigen::Index>(m[0].size());
-  Eigen::MatrixXd out(rows, cols);
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(rows, cols);
   for (Eigen::Index i = 0; i < rows; ++i)
-    for (Eigen::Index j = 0; j < cols; ++j)
-      out(i, j) = evaluate_real(m[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)], point,
-                                what + " entry (" + std::to_string(i + 1) + "," + std::to_string(j + 1) + ")");
+    for (Eigen::Index j = 0; j < cols; ++j) {
+      const GiNaC::ex& e = m[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)];
+      if (e.is_zero()) continue;  // structural zeros (most of a large sparse system) cost nothing
+      out(i, j) = evaluate_real(e, point, what + " entry (" + std::to_string(i + 1) + "," +
+                                              std::to_string(j + 1) + ")");
+    }
   return out;
 }
 

@@ -1,5 +1,7 @@
 #include "nhc/analysis/signature_matrix.hpp"
 
+#include <set>
+
 namespace nhc {
 
 int signature_entry(const GiNaC::ex& f, const JetSpace& jet, VariableKind kind, int index) {
@@ -14,13 +16,29 @@ int signature_entry(const GiNaC::ex& f, const JetSpace& jet, VariableKind kind, 
 SignatureMatrix signature_matrix(const DaeSystem& system) {
   const int n = system.size();
   SignatureMatrix sigma(n, static_cast<int>(system.unknowns.size()));
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < sigma.cols(); ++j) {
-      const Unknown& u = system.unknowns[static_cast<std::size_t>(j)];
-      sigma(i, j) = signature_entry(system.equations[static_cast<std::size_t>(i)], *system.jet,
-                                    u.kind, u.index);
+  // One pass over each equation's own jet coordinates: only the unknowns that occur in f_i are
+  // tried, so the work is linear in the total size of the equations, not in N^2 (issue 17).
+  const std::map<std::pair<VariableKind, int>, int> column = unknown_columns(system);
+  for (int i = 0; i < n; ++i) {
+    const GiNaC::ex& f = system.equations[static_cast<std::size_t>(i)];
+    std::set<int> occurring;
+    for (const JetCoordinate& c : system.jet->jet_coordinates_in(f)) {
+      const auto it = column.find({c.kind, c.index});
+      if (it != column.end()) occurring.insert(it->second);
     }
+    for (int j : occurring) {
+      const Unknown& u = system.unknowns[static_cast<std::size_t>(j)];
+      sigma(i, j) = signature_entry(f, *system.jet, u.kind, u.index);
+    }
+  }
   return sigma;
+}
+
+std::map<std::pair<VariableKind, int>, int> unknown_columns(const DaeSystem& system) {
+  std::map<std::pair<VariableKind, int>, int> column;
+  for (std::size_t j = 0; j < system.unknowns.size(); ++j)
+    column[{system.unknowns[j].kind, system.unknowns[j].index}] = static_cast<int>(j);
+  return column;
 }
 
 }  // namespace nhc

@@ -9,6 +9,8 @@
 #include <ginac/ginac.h>
 
 #include <limits>
+#include <map>
+#include <utility>
 #include <vector>
 
 #include "nhc/analysis/dae_system.hpp"
@@ -43,5 +45,8 @@ int signature_entry(const GiNaC::ex& f, const JetSpace& jet, VariableKind kind, 
 
 /// σ of a DAE: rows are its equations, columns its unknowns.
 SignatureMatrix signature_matrix(const DaeSystem& system);
+
+/// Column j of each unknown x_j, keyed by its (kind, index).
+std::map<std::pair<VariableKind, int>, int> unknown_columns(const DaeSystem& system);
 
 }  // namespace nhc

@@ -27,15 +27,20 @@ GiNaC::ex differentiated_equation(const StructuralAnalysis& a, int i, int r) {
   GiNaC::ex e = simplify_expression(
       jet.total_derivative(a.system.equations.at(static_cast<std::size_t>(i)), r));
   GiNaC::exmap vanishing;
+  // analyze_structure fills the lookup once; an analysis assembled by hand gets it here.
+  std::map<std::pair<VariableKind, int>, int> computed;
+  const auto& column = a.column_of_unknown.size() == a.system.unknowns.size()
+                           ? a.column_of_unknown
+                           : (computed = unknown_columns(a.system));
   for (const JetCoordinate& c : jet.jet_coordinates_in(e)) {
-    for (int j = 0; j < a.system.size(); ++j) {
-      const Unknown& u = a.system.unknowns[static_cast<std::size_t>(j)];
-      if (u.kind != c.kind || u.index != c.index || c.order <= a.d(j) + r - a.c(i)) continue;
-      const GiNaC::symbol& s = jet.symbol(c);
-      if (!e.diff(s).normal().is_zero())
-        throw std::logic_error("differentiated equation depends on an order above its offset");
-      vanishing[s] = 0;
-    }
+    const auto it = column.find({c.kind, c.index});
+    if (it == column.end()) continue;
+    const int j = it->second;
+    if (c.order <= a.d(j) + r - a.c(i)) continue;
+    const GiNaC::symbol& s = jet.symbol(c);
+    if (!e.diff(s).normal().is_zero())
+      throw std::logic_error("differentiated equation depends on an order above its offset");
+    vanishing[s] = 0;
   }
   if (!vanishing.empty()) e = simplify_expression(e.subs(vanishing, GiNaC::subs_options::no_pattern));
   return e;
@@ -66,6 +71,7 @@ std::string describe_deficiency(const DaeSystem& system, const StructuralDeficie
 StructuralAnalysis analyze_structure(DaeSystem system) {
   StructuralAnalysis a;
   a.sigma = signature_matrix(system);
+  a.column_of_unknown = unknown_columns(system);
   a.system = std::move(system);
   const auto transversal = highest_value_transversal(a.sigma);
   if (!transversal) {

@@ -26,6 +26,8 @@ struct HiddenConstraint {
 struct StructuralAnalysis {
   DaeSystem system;
   SignatureMatrix sigma;
+  /// Column j of each unknown by (kind, index) (unknown_columns), filled by analyze_structure.
+  std::map<std::pair<VariableKind, int>, int> column_of_unknown;
 
   /// No transversal of finite entries: the remaining fields below sigma are empty.
   bool structurally_singular = false;

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include <limits>
+
 #include "nhc/derive/trigonometric_simplification.hpp"
 
 namespace nhc {
@@ -29,11 +31,20 @@ GiNaC::ex simplify_expression(const GiNaC::ex& e) {
 }
 
 VariationForm VariationForm::first_variation(const GiNaC::ex& F, const JetSpace& jet) {
+  // Term by term: each term of a sum is differentiated only by the coordinates it contains, so
+  // a Lagrangian of N bodies costs O(N) derivatives of small terms, not N derivatives of the
+  // whole sum (issue 17). The sum of the partial derivatives is ∂F/∂q_i^(k).
   VariationForm form;
-  for (const auto& c : jet.jet_coordinates_in(F)) {
-    if (c.kind != VariableKind::coordinate) continue;
-    form.add(c.index, c.order, F.diff(jet.symbol(c)));
-  }
+  const auto add_term = [&](const GiNaC::ex& term) {
+    for (const auto& c : jet.jet_coordinates_in(term)) {
+      if (c.kind != VariableKind::coordinate) continue;
+      form.add(c.index, c.order, term.diff(jet.symbol(c)));
+    }
+  };
+  if (GiNaC::is_a<GiNaC::add>(F))
+    for (const auto& term : F) add_term(term);
+  else
+    add_term(F);
   return form;
 }
 
@@ -48,9 +59,11 @@ void VariationForm::add(int i, int k, const GiNaC::ex& term) {
 }
 
 int VariationForm::highest_order(int i) const {
+  // The keys (i, k) are ordered, so the orders of q_i form one contiguous range.
   int k = -1;
-  for (const auto& [key, value] : coefficients_)
-    if (key.first == i && !value.is_zero()) k = std::max(k, key.second);
+  for (auto it = coefficients_.lower_bound({i, std::numeric_limits<int>::min()});
+       it != coefficients_.end() && it->first.first == i; ++it)
+    if (!it->second.is_zero()) k = std::max(k, it->first.second);
   return k;
 }
 

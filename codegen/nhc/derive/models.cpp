@@ -1,5 +1,9 @@
 #include "nhc/derive/models.hpp"
 
+#include <algorithm>
+#include <set>
+#include <utility>
+
 #include "nhc/derive/euler_operator.hpp"
 
 namespace nhc {
@@ -15,6 +19,18 @@ std::vector<ex> add_terms(std::vector<ex> base, const std::vector<ex>& extra) {
   return base;
 }
 
+/// The coordinates q_i^(k) that occur in f, each once, ordered by (i, k).
+std::vector<JetCoordinate> occurring_coordinates(const ex& f, const JetSpace& jet) {
+  std::set<std::pair<int, int>> seen;
+  std::vector<JetCoordinate> out;
+  for (const JetCoordinate& c : jet.jet_coordinates_in(f))
+    if (c.kind == VariableKind::coordinate && seen.insert({c.index, c.order}).second) out.push_back(c);
+  std::sort(out.begin(), out.end(), [](const JetCoordinate& x, const JetCoordinate& y) {
+    return std::make_pair(x.index, x.order) < std::make_pair(y.index, y.order);
+  });
+  return out;
+}
+
 std::vector<ex> vakonomic(const MechanicalSystem& s) {
   ex lambda_f = 0;
   for (std::size_t a = 0; a < s.constraints.size(); ++a)
@@ -27,9 +43,11 @@ std::vector<ex> chetaev(const MechanicalSystem& s) {
   for (std::size_t a = 0; a < s.constraints.size(); ++a) {
     const int alpha = static_cast<int>(a);
     const int m = s.constraint_order(alpha);
-    for (int i = 0; i < s.jet.coordinate_count(); ++i)
-      r[static_cast<std::size_t>(i)] += s.jet.lambda(alpha, 0) * s.constraints[a].diff(
-                                            s.jet.symbol({VariableKind::coordinate, i, m}));
+    // Only the coordinates whose m-th derivative occurs in f^a contribute (∂f/∂q_i^(m) ≡ 0
+    // otherwise): the work per constraint is its own size, not the number of coordinates.
+    for (const JetCoordinate& c : occurring_coordinates(s.constraints[a], s.jet))
+      if (c.order == m)
+        r[static_cast<std::size_t>(c.index)] += s.jet.lambda(alpha, 0) * s.constraints[a].diff(s.jet.symbol(c));
   }
   return r;
 }
@@ -39,9 +57,11 @@ std::vector<ex> holder(const MechanicalSystem& s) {
   for (std::size_t a = 0; a < s.constraints.size(); ++a) {
     const int alpha = static_cast<int>(a);
     const int m = s.constraint_order(alpha);
-    for (int i = 0; i < s.jet.coordinate_count(); ++i) {
-      for (int k = 1; k <= m; ++k) {
-        const ex partial = s.constraints[a].diff(s.jet.symbol({VariableKind::coordinate, i, k}));
+    for (const JetCoordinate& c : occurring_coordinates(s.constraints[a], s.jet)) {
+      const int i = c.index, k = c.order;
+      if (k < 1 || k > m) continue;
+      {
+        const ex partial = s.constraints[a].diff(s.jet.symbol(c));
         // paper eq. (26): (−1)^{k+1} λ^(k) ∂f/∂q^(k) + ((−1)^{k+1} − 1) λ D^k ∂f/∂q^(k)
         r[static_cast<std::size_t>(i)] +=
             sign(k + 1) * s.jet.lambda(alpha, k) * partial +
