@@ -2,6 +2,7 @@
 
 #include <idas/idas.h>
 #include <idas/idas_ls.h>
+#include <sunnonlinsol/sunnonlinsol_newton.h>
 #include <sunmatrix/sunmatrix_dense.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
@@ -12,6 +13,8 @@
 #include <cmath>
 #include <cstring>
 #include <sstream>
+#include <memory>
+#include <type_traits>
 #include <stdexcept>
 
 #include "nhc/runtime/hidden_constraints.hpp"
@@ -57,6 +60,12 @@ class VectorArray {
   int count_ = 0;
   N_Vector* v_ = nullptr;
 };
+
+/// The staggered corrector's Newton solver, owned here so that its convergence test is ours.
+struct NonlinearSolverFree {
+  void operator()(SUNNonlinearSolver solver) const noexcept { SUNNonlinSolFree(solver); }
+};
+using NonlinearSolver = std::unique_ptr<std::remove_pointer_t<SUNNonlinearSolver>, NonlinearSolverFree>;
 
 }  // namespace
 
@@ -105,6 +114,8 @@ struct SensitivityIntegrator::Impl {
   VectorArray yS, ypS;
   sd::Matrix A;
   sd::LinearSolver solver;
+  NonlinearSolver sensitivity_newton;  // before ida: IDAFree runs first and leaves it alone
+  double first_correction = 0;         // the sensitivity corrector's first correction (weighted norm)
   sd::IdaMemory ida;
   bool sparse = false;
   std::string jacobian_kind;
@@ -225,6 +236,30 @@ struct SensitivityIntegrator::Impl {
     return 0;
   }
 
+  /// Convergence test of the staggered sensitivity corrector (SUNNonlinSolConvTestFn). IDAS's own
+  /// (idas_nls_stg.c, SUNDIALS 6.4) accepts the first correction when its rate estimate ssS, kept
+  /// from an earlier step, times the correction is below tol: the sensitivity DAE is linear, so a
+  /// fresh iteration matrix makes that rate ~0, and afterwards every first correction passes
+  /// however stale the matrix (in y: IDAS resets ssS only when cj changes). With the error test
+  /// off nothing else catches the error, and on the knife edge on an incline the sensitivities
+  /// grew to 1e9 by t = 2 (issue 20). Here the rate is measured in every solve, from the second
+  /// correction, as IDAS does for the state (Brenan, Campbell & Petzold 1996, §5.2.2): accept when
+  /// rate/(1-rate)·|δ_m| <= tol, or at once when |δ_0| <= 1e-4 tol.
+  static int sensitivity_convergence_cb(SUNNonlinearSolver solver, N_Vector, N_Vector del, sunrealtype tol,
+                                        N_Vector ewt, void* data) {
+    auto* self = static_cast<Impl*>(data);
+    const double norm = N_VWrmsNorm(del, ewt);
+    int m = 0;
+    if (SUNNonlinSolGetCurIter(solver, &m) != SUN_NLS_SUCCESS) return -1;
+    if (m == 0) {
+      self->first_correction = norm;
+      return norm <= 1e-4 * tol ? SUN_NLS_SUCCESS : SUN_NLS_CONTINUE;
+    }
+    const double rate = std::pow(norm / self->first_correction, 1.0 / m);
+    if (rate > 0.9) return SUN_NLS_CONV_RECVR;  // IDAS's RATEMAX
+    return rate / (1.0 - rate) * norm <= tol ? SUN_NLS_SUCCESS : SUN_NLS_CONTINUE;
+  }
+
   static int jacobian_cb(sunrealtype tt, sunrealtype cj, N_Vector yy, N_Vector ypp, N_Vector, SUNMatrix J, void* data,
                          N_Vector, N_Vector, N_Vector) {
     auto* self = static_cast<Impl*>(data);
@@ -305,6 +340,17 @@ struct SensitivityIntegrator::Impl {
     }
     check(IDASetLinearSolver(ida, solver, A), "attaching the linear solver");
     check(IDASetJacFn(ida, &Impl::jacobian_cb), "setting the Jacobian function");
+  }
+
+  /// Without the sensitivities in the error test, their accuracy rests on the corrector alone:
+  /// replace IDAS's convergence test by sensitivity_convergence_cb. (With the error test on,
+  /// IDAS's cheaper test stays: a poorly converged s fails the error test and the step is retried.)
+  void use_strict_sensitivity_corrector() {
+    sensitivity_newton = NonlinearSolver(SUNNonlinSol_NewtonSens(ns(), y, ctx));
+    if (!sensitivity_newton) throw SolverError(FailureKind::setup, t, "creating the sensitivity corrector failed");
+    check(IDASetNonlinearSolverSensStg(ida, sensitivity_newton.get()), "attaching the sensitivity corrector");
+    check(SUNNonlinSolSetConvTestFn(sensitivity_newton.get(), &Impl::sensitivity_convergence_cb, this),
+          "setting the sensitivity corrector's convergence test");
   }
 
   /// The differential-state components of s(t0): e_i for an initial value, the minimum-norm
@@ -438,6 +484,7 @@ SensitivitySample SensitivityIntegrator::initialize(const InitialState& state, d
   s.create_linear_solver();
   s.check(IDASensInit(s.ida, s.ns(), IDA_STAGGERED, &Impl::sensitivity_residual_cb, s.yS.get(), s.ypS.get()),
           "initialising the sensitivities");
+  if (!s.sensitivity.error_control) s.use_strict_sensitivity_corrector();
   // Tolerances for s_k estimated from the state's, scaled by |θ_k| (IDASensEEtolerances).
   std::vector<double> pbar(static_cast<size_t>(s.ns()), 1.0);
   for (int k = 0; k < s.ns(); ++k) {

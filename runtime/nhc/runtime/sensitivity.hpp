@@ -38,7 +38,8 @@ SensitivityParameter sensitivity_parameter(const Model& model, const std::string
 
 struct SensitivityOptions {
   /// Include the sensitivities in IDAS's local error test (IDASetSensErrCon). Off: the steps are
-  /// chosen for y alone and the sensitivities follow (cheaper, less accurate).
+  /// chosen for y alone and the sensitivities follow (cheaper, less accurate); their corrector
+  /// then iterates until its measured contraction says it has converged (sensitivity.cpp).
   bool error_control = true;
 };
 
