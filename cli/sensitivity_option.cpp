@@ -35,6 +35,18 @@ std::vector<runtime::SensitivityParameter> parse_sensitivities(const runtime::Mo
   return thetas;
 }
 
+void check_sensitivities_given(const runtime::Model& model, const runtime::InitialState& initial,
+                               const std::vector<std::string>& names) {
+  for (const runtime::SensitivityParameter& th : parse_sensitivities(model, names)) {
+    if (th.kind != runtime::SensitivityParameter::Kind::initial_value) continue;
+    const auto i = static_cast<std::size_t>(th.index);
+    if (i >= initial.given.size() || !initial.given[i])
+      throw InputError({"--sensitivity", 0, 0},
+                       th.name + " is not given in the scene: it follows from the hidden constraints and the given "
+                                 "values, so it cannot be varied on its own");
+  }
+}
+
 runtime::SensitivityRun run_sensitivities(const runtime::Model& model, const std::vector<double>& p,
                                           const runtime::InitialState& initial, const std::vector<double>& times,
                                           const runtime::IntegratorOptions& options, const SensitivityRequest& request) {

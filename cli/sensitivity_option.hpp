@@ -24,6 +24,11 @@ void add_sensitivity_options(CLI::App* sub, SensitivityRequest& request);
 std::vector<runtime::SensitivityParameter> parse_sensitivities(const runtime::Model& model,
                                                                const std::vector<std::string>& names);
 
+/// InputError naming --sensitivity for an initial value the scene does not give (the hidden
+/// constraints fix it, so it cannot be varied on its own).
+void check_sensitivities_given(const runtime::Model& model, const runtime::InitialState& initial,
+                               const std::vector<std::string>& names);
+
 /// Runs the sensitivities on the plain run's output times.
 runtime::SensitivityRun run_sensitivities(const runtime::Model& model, const std::vector<double>& p,
                                           const runtime::InitialState& initial, const std::vector<double>& times,

@@ -161,6 +161,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
       for (int i = 0; i < model.n_states(); ++i)
         initial.given[static_cast<std::size_t>(i)] =
             std::find(scene.initial.fixed.begin(), scene.initial.fixed.end(), model.state_name(i)) != scene.initial.fixed.end();
+    if (build_options.sensitivities) check_sensitivities_given(model, initial, options->sensitivity.names);
     const runtime::RunResult run =
         runtime::simulate(model, p, initial, times, io);
     std::optional<runtime::SensitivityRun> sensitivities;  // --sensitivity: the CSV comes from this run
@@ -174,7 +175,9 @@ CommandRunner add_simulate_command(CLI::App& app) {
         write_selected_csv(out, model, p, run.samples, columns);
     };
     // No row, no file: a header-only CSV would look like a result.
-    const bool write_csv = !options->output.empty() && !run.samples.empty();
+    const std::size_t csv_rows = sensitivities ? sensitivities->samples.size() : run.samples.size();
+    const bool csv_cut_short = sensitivities ? sensitivities->failure.has_value() : run.failure.has_value();
+    const bool write_csv = !options->output.empty() && csv_rows > 0;
     if (write_csv && csv_to_stdout) {
       write_rows(std::cout);
       std::cout.flush();
@@ -218,20 +221,20 @@ CommandRunner add_simulate_command(CLI::App& app) {
                 << "\n";
     if (write_csv)
       info << "  wrote " << (csv_to_stdout ? std::string("the CSV to standard output") : options->output) << " ("
-           << run.samples.size() << " rows" << (run.failure ? ", the motion up to the failure" : "") << ")\n";
+           << csv_rows << " rows" << (csv_cut_short ? ", the motion up to the failure" : "") << ")\n";
     else if (!options->output.empty())
-      info << "  no CSV written: the run did not get past t0\n";
+      info << "  no CSV written: the run" << (sensitivities ? " with sensitivities" : "") << " did not get past t0\n";
     else
       info << "  no CSV written (-o FILE.csv, or -o - for standard output)\n";
-    if (sensitivities && sensitivities->failure && !run.failure) {
-      info.flush();
-      std::cerr << "nhc: error: sensitivities: " << sensitivities->failure->what() << "\n";
-      return kExitMathFailure;
-    }
     if (!options->plot.empty() && run.samples.empty()) info << "  no plots: the run did not get past t0\n";
     if (!options->plot.empty() && !run.samples.empty()) {
       write_trajectory_plots(options->plot, scene, model, p, run, plane);
       info << "  plots in " << options->plot << " (plots.md)\n";
+    }
+    if (sensitivities && sensitivities->failure && !run.failure) {  // the plain run's plots are drawn
+      info.flush();
+      std::cerr << "nhc: error: sensitivities: " << sensitivities->failure->what() << "\n";
+      return kExitMathFailure;
     }
     if (run.failure) {
       info.flush();
