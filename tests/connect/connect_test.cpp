@@ -99,7 +99,7 @@ TEST_CASE("more free values than conditions: a minimum-norm solution that reache
   CHECK(found.miss < 1e-9);
 }
 
-TEST_CASE("a free value without influence is named; an unreachable target reports its best miss", "[connect]") {
+TEST_CASE("a free value without influence is named, and an unreachable target reports its best miss", "[connect]") {
   const auto loaded = test::example_model("heisenberg.toml", ModelKind::vakonomic);
   const runtime::Model& model = loaded.model();
   connect::ShootingProblem problem = problem_for(model, "heisenberg.toml");
