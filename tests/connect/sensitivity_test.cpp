@@ -29,15 +29,13 @@ std::vector<double> final_state(const runtime::Model& model, const std::vector<d
   return run.samples.back().y;
 }
 
-/// ∂y(t_end)/∂θ from IDAS against (y(θ + h) − y(θ − h)) / 2h, h = 1e-4 max(1, |θ|), on the
-/// differential states: relative 1e-6 of the largest sensitivity.
-void check_against_differences(const runtime::Model& model, runtime::InitialState initial, double t_end,
-                               const std::vector<std::string>& names) {
+void check_against_differences(const runtime::Model& model, const runtime::InitialState& initial, double t_end,
+                               const std::vector<std::string>& names, const runtime::SensitivityOptions& so) {
   const std::vector<double> p = model.default_parameters();
   std::vector<SensitivityParameter> thetas;
   for (const std::string& name : names) thetas.push_back(runtime::sensitivity_parameter(model, name));
   const runtime::SensitivityRun run =
-      runtime::simulate_sensitivities(model, p, initial, thetas, {initial.t0, t_end}, tight());
+      runtime::simulate_sensitivities(model, p, initial, thetas, {initial.t0, t_end}, tight(), so);
   REQUIRE_FALSE(run.failure);
   const runtime::SensitivitySample& end = run.samples.back();
   for (size_t k = 0; k < thetas.size(); ++k) {
@@ -61,6 +59,19 @@ void check_against_differences(const runtime::Model& model, runtime::InitialStat
                             << ", worst difference " << worst);
     CHECK(largest > 0);
     CHECK(worst <= 1e-6 * largest);
+  }
+}
+
+/// ∂y(t_end)/∂θ from IDAS against (y(θ + h) − y(θ − h)) / 2h, h = 1e-4 max(1, |θ|), on the
+/// differential states: relative 1e-6 of the largest sensitivity; with the sensitivities in the
+/// error test and without.
+void check_against_differences(const runtime::Model& model, const runtime::InitialState& initial, double t_end,
+                               const std::vector<std::string>& names) {
+  for (const bool error_control : {true, false}) {
+    INFO("sensitivity error control " << (error_control ? "on" : "off"));
+    runtime::SensitivityOptions so;
+    so.error_control = error_control;
+    check_against_differences(model, initial, t_end, names, so);
   }
 }
 
