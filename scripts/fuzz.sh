@@ -57,5 +57,12 @@ for target in scene expression; do
   echo "fuzz: nhc_${target}_fuzzer: $(grep -E '^stat::number_of_executed_units' "$log" | awk '{print $2}') inputs," \
     "$(grep -E '^stat::new_units_added' "$log" | awk '{print $2}') new, corpus $(ls "$work/$target" | wc -l) files"
 done
-ls "$build/crashes" | sed 's/^/fuzz: failing input: /' >&2 || true
+# libFuzzer also saves inputs slower than 10 s (slow-unit-*); they are reported, not failures.
+for f in "$build"/crashes/*; do
+  [ -e "$f" ] || continue
+  case $(basename "$f") in
+    *slow-unit-*) echo "fuzz: slow input (over 10 s, under the 30 s limit): $f" >&2 ;;
+    *) echo "fuzz: failing input: $f" >&2 ;;
+  esac
+done
 exit $status
