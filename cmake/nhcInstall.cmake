@@ -1,5 +1,6 @@
-# `cmake --install`: the nhc executable, the codegen, runtime, jit and linearize headers and libraries, the
-# exported targets nhc::nhc, nhc::codegen, nhc::runtime, nhc::jit, nhc::linearize, and a package config with version file
+# `cmake --install`: the nhc executable, the codegen, runtime, jit, linearize, connect (and, when HDF5
+# was found, ensemble) headers and libraries, the exported targets nhc::nhc, nhc::codegen,
+# nhc::runtime, nhc::jit, nhc::linearize, nhc::connect, nhc::ensemble, and a package config with version file
 # and nhc_add_model(), so that find_package(nhc) works (examples/app/).
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
@@ -11,19 +12,34 @@ set_target_properties(nhc_codegen PROPERTIES EXPORT_NAME codegen)
 set_target_properties(nhc_runtime PROPERTIES EXPORT_NAME runtime)
 set_target_properties(nhc_jit PROPERTIES EXPORT_NAME jit)
 set_target_properties(nhc_linearize PROPERTIES EXPORT_NAME linearize)
+set_target_properties(nhc_connect PROPERTIES EXPORT_NAME connect)
+set(nhc_installed_libraries nhc_codegen nhc_runtime nhc_jit nhc_linearize nhc_connect)
+set(nhc_installed_header_trees ${PROJECT_SOURCE_DIR}/codegen/nhc ${PROJECT_SOURCE_DIR}/runtime/nhc
+    ${PROJECT_SOURCE_DIR}/jit/nhc ${PROJECT_SOURCE_DIR}/linearize/nhc ${PROJECT_SOURCE_DIR}/connect/nhc)
+# nhcConfig.cmake looks for the ensemble's dependencies only when the ensemble was installed.
+set(NHC_PACKAGE_HAS_ENSEMBLE OFF)
+set(NHC_PACKAGE_ENSEMBLE_USES_MPI OFF)
+if(TARGET nhc_ensemble)
+  set_target_properties(nhc_ensemble PROPERTIES EXPORT_NAME ensemble)
+  list(APPEND nhc_installed_libraries nhc_ensemble)
+  list(APPEND nhc_installed_header_trees ${PROJECT_SOURCE_DIR}/ensemble/nhc)
+  set(NHC_PACKAGE_HAS_ENSEMBLE ON)
+  if(MPI_C_FOUND)
+    set(NHC_PACKAGE_ENSEMBLE_USES_MPI ON)
+  endif()
+endif()
 set_target_properties(nhc PROPERTIES EXPORT_NAME nhc)
 if(BUILD_SHARED_LIBS)
   set_target_properties(nhc PROPERTIES INSTALL_RPATH "$ORIGIN/../${CMAKE_INSTALL_LIBDIR}")
 endif()
 
-install(TARGETS nhc nhc_codegen nhc_runtime nhc_jit nhc_linearize
+install(TARGETS nhc ${nhc_installed_libraries}
   EXPORT nhcTargets
   RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
-# The trees share the top directory nhc/ (nhc/scene, nhc/derive, …, nhc/runtime, nhc/jit.hpp).
-install(DIRECTORY ${PROJECT_SOURCE_DIR}/codegen/nhc ${PROJECT_SOURCE_DIR}/runtime/nhc
-          ${PROJECT_SOURCE_DIR}/jit/nhc ${PROJECT_SOURCE_DIR}/linearize/nhc
+# The trees share the top directory nhc/ (nhc/scene, nhc/derive, …, nhc/runtime, nhc/jit.hpp, nhc/connect).
+install(DIRECTORY ${nhc_installed_header_trees}
   DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
   FILES_MATCHING PATTERN "*.hpp" PATTERN "*.h")
 

@@ -34,6 +34,7 @@ cd "$work"
 for f in bin/nhc include/nhc/codegen.hpp include/nhc/scene/scene_builder.hpp \
          include/nhc/runtime/runtime.hpp include/nhc/runtime/model_table.h \
          include/nhc/jit.hpp include/nhc/jit/build.hpp \
+         include/nhc/linearize/linearizer.hpp include/nhc/connect/shooting.hpp \
          lib/cmake/nhc/nhcConfig.cmake lib/cmake/nhc/nhcConfigVersion.cmake \
          lib/cmake/nhc/nhcTargets.cmake lib/cmake/nhc/nhcFunctions.cmake; do
   [ -e "prefix/$f" ] || fail "prefix/$f was not installed"
