@@ -158,6 +158,36 @@ TEST_CASE("Rolling disk: the sweep finds the critical spin rate to 1e-8", "[line
   CHECK(reverse.thresholds[0].value == Approx(-critical).epsilon(1e-8));
 }
 
+TEST_CASE("Rolling disk: [initial] written through a parameter follows --at and a sweep of it", "[linearize]") {
+  // ps' = v/r: sweeping the rolling speed v moves the spin rate with it, so the sweep finds the
+  // critical speed v_c = r Omega_c of docs/linearize.md.
+  const std::string dir = nhc::test::scratch_dir("linearize_initial_expressions");
+  const std::string path = perturbed_scene("rolling_disk", "ps = [0.0, 6.0]", "ps = [0.0, \"v/r\"]", dir);
+  std::string text = nhc::test::read_file(path);
+  const std::string inertia = "I3 = 0.125    # m r^2/2";
+  REQUIRE(text.find(inertia) != std::string::npos);
+  text.replace(text.find(inertia), inertia.size(), "I3 = 0.125\nv = 3.0       # rolling speed");
+  std::ofstream(path) << text;
+  const nhc::Scene scene = nhc::load_scene(path);
+  const double m = parameter(scene, "m"), r = parameter(scene, "r"), g = parameter(scene, "g");
+  const double I1 = parameter(scene, "I1"), I3 = parameter(scene, "I3");
+  auto point_value = [](const nhc::Linearization& lin, const std::string& name) {
+    for (const auto& [n, value] : lin.point)
+      if (n == name) return value;
+    FAIL("no " << name << " in the operating point");
+    return 0.0;
+  };
+  CHECK(point_value(nhc::linearize(scene, nhc::ModelKind::chetaev, {}), "ps'") == Approx(3.0 / r).epsilon(1e-15));
+  CHECK(point_value(nhc::linearize(scene, nhc::ModelKind::chetaev, {{"v", 1.0}}), "ps'") == Approx(1.0 / r).epsilon(1e-15));
+  // A value given with --at is kept when a parameter changes after it.
+  CHECK(point_value(nhc::linearize(scene, nhc::ModelKind::chetaev, {{"ps'", 5.0}, {"v", 1.0}}), "ps'") == 5.0);
+  const double critical = r * std::sqrt(m * g * r * I1 / (I3 * (I3 + m * r * r)));
+  const nhc::Linearizer linearizer(scene, nhc::ModelKind::chetaev);
+  const nhc::SweepResult result = nhc::sweep(linearizer, {}, nhc::parse_sweep_range("v=0.25:3:12"));
+  REQUIRE(result.thresholds.size() == 1);
+  CHECK(result.thresholds[0].value == Approx(critical).epsilon(1e-8));
+}
+
 TEST_CASE("Second-order constraint: constant speed with a spring oscillates at sqrt(K), as simulated",
           "[linearize]") {
   const nhc::Scene scene = nhc::load_scene(scene_path("speed_constraint"));
