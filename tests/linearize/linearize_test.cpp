@@ -298,3 +298,38 @@ TEST_CASE("nhc linearize: bad input and non-stationary points are refused in wor
                                  {{"nothing", 1.0}}),
                   nhc::InputError);
 }
+
+TEST_CASE("Whipple bicycle: the benchmark eigenvalues at 5 m/s and the weave and capsize speeds", "[linearize][whipple]") {
+  // Meijaard, Papadopoulos, Ruina and Schwab, Proc. R. Soc. A 463 (2007), Table 2: at v = 5 m/s
+  // castering -14.07838969279822, weave -0.77534188219585 +- 4.46486771378823i, capsize
+  // -0.32286642900409; self-stable between the weave speed 4.29238253634111 and the capsize
+  // speed 6.02426201538837 m/s. The scene's wheel rates are v/rR and v/rF ([initial]), so
+  // sweeping the parameter v moves the whole steady motion.
+  const nhc::Scene scene = nhc::load_scene(std::string(NHC_SOURCE_DIR) + "/examples/whipple/whipple_bicycle.toml");
+  const nhc::Linearizer linearizer(scene, nhc::ModelKind::chetaev);
+  const std::vector<nhc::PointOverride> upright{{"phi'", 0.0}};
+  const nhc::Linearization lin = linearizer.at(upright);
+  const Eigenvalues table2{{-14.07838969279822, 0.0},
+                           {-0.77534188219585, 4.46486771378823},
+                           {-0.77534188219585, -4.46486771378823},
+                           {-0.32286642900409, 0.0}};
+  for (const std::complex<double>& want : table2) {
+    std::complex<double> got = lin.eigenvalues.front();
+    for (const auto& l : lin.eigenvalues)
+      if (std::abs(l - want) < std::abs(got - want)) got = l;
+    INFO("Table 2 eigenvalue " << want << ", nhc " << got);
+    CHECK(std::abs(got - want) <= 1e-10 * std::abs(want));
+  }
+  // The other two eigenvalues are the families of steady motions: heading and forward speed.
+  CHECK(lin.zero_eigenvalues == 2);
+  CHECK(lin.families.size() == 2);
+  CHECK(lin.verdict == nhc::StabilityVerdict::asymptotically_stable);
+
+  const nhc::SweepResult s = nhc::sweep(linearizer, upright, nhc::parse_sweep_range("v=4:7:4"));
+  REQUIRE(s.thresholds.size() == 2);
+  CHECK(s.thresholds[0].value == Approx(4.29238253634111).epsilon(1e-8));
+  CHECK(s.thresholds[0].from == nhc::StabilityVerdict::unstable);
+  CHECK(s.thresholds[0].to == nhc::StabilityVerdict::asymptotically_stable);
+  CHECK(s.thresholds[1].value == Approx(6.02426201538837).epsilon(1e-8));
+  CHECK(s.thresholds[1].to == nhc::StabilityVerdict::unstable);
+}

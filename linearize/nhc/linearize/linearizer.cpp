@@ -285,6 +285,7 @@ Linearizer& Linearizer::operator=(Linearizer&&) noexcept = default;
 
 const Scene& Linearizer::scene() const { return impl_->scene; }
 ModelKind Linearizer::model() const { return impl_->model; }
+const LinearizeOptions& Linearizer::options() const { return impl_->options; }
 
 Linearization Linearizer::at(const std::vector<PointOverride>& overrides) const {
   const Impl& m = *impl_;
