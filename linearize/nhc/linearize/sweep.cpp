@@ -61,17 +61,21 @@ SweepRange parse_sweep_range(const std::string& text, const std::string& flag) {
 /// Which side of a threshold a point lies on, as a number whose sign changes there. Between an
 /// unstable and a stable end this is continuous: the largest real part among the eigenvalues
 /// that are not the steady-motion families' zeros (the `families` of the stable end, taken as
-/// the eigenvalues nearest 0), minus the axis tolerance; the root is where an eigenvalue crosses
-/// the axis, free of the zero tolerance that the verdict applies (a real eigenvalue crossing 0
-/// passes through the zero band, which bisection on the verdict would report as the threshold).
+/// the eigenvalues nearest 0); the root is where an eigenvalue crosses the axis, free of the zero
+/// tolerance that the verdict applies (a real eigenvalue crossing 0 passes through the zero band,
+/// which bisection on the verdict would report as the threshold). Against an asymptotically
+/// stable end the root is Re = 0 itself; against a marginally stable end, whose real parts are 0
+/// up to rounding, it is Re = the axis tolerance, so that rounding cannot pass for instability.
 /// Otherwise it is ±1 by the verdict: "same as the lower end or not".
 class ThresholdSide {
  public:
   ThresholdSide(const Linearization& lower, const Linearization& upper, double tolerance)
-      : lower_(lower.verdict), tolerance_(tolerance) {
+      : lower_(lower.verdict) {
     const bool lower_unstable = lower.verdict == StabilityVerdict::unstable;
     continuous_ = lower_unstable != (upper.verdict == StabilityVerdict::unstable);
-    families_ = (lower_unstable ? upper : lower).families.size();
+    const Linearization& stable = lower_unstable ? upper : lower;
+    families_ = stable.families.size();
+    tolerance_ = stable.verdict == StabilityVerdict::asymptotically_stable ? 0.0 : tolerance;
   }
   bool continuous() const { return continuous_; }
   double operator()(const Linearization& l) const {
@@ -86,7 +90,7 @@ class ThresholdSide {
 
  private:
   StabilityVerdict lower_;
-  double tolerance_;
+  double tolerance_ = 0.0;
   bool continuous_ = false;
   std::size_t families_ = 0;
 };
