@@ -327,9 +327,9 @@ TEST_CASE("Whipple bicycle: the benchmark eigenvalues at 5 m/s and the weave and
 
   const nhc::SweepResult s = nhc::sweep(linearizer, upright, nhc::parse_sweep_range("v=4:7:4"));
   REQUIRE(s.thresholds.size() == 2);
-  CHECK(s.thresholds[0].value == Approx(4.29238253634111).epsilon(1e-8));
+  CHECK(s.thresholds[0].value == Approx(4.29238253634111).epsilon(1e-9));
   CHECK(s.thresholds[0].from == nhc::StabilityVerdict::unstable);
   CHECK(s.thresholds[0].to == nhc::StabilityVerdict::asymptotically_stable);
-  CHECK(s.thresholds[1].value == Approx(6.02426201538837).epsilon(1e-8));
+  CHECK(s.thresholds[1].value == Approx(6.02426201538837).epsilon(1e-9));
   CHECK(s.thresholds[1].to == nhc::StabilityVerdict::unstable);
 }
