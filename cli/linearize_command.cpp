@@ -228,7 +228,9 @@ void write_directory(const std::string& target, const Linearization& lin, const 
   const fs::path parent = dir.parent_path();
   std::error_code ec;
   fs::create_directories(parent, ec);
-  const fs::path tmp = unique_temporary_name((dir.has_filename() ? dir : dir.parent_path()).string());
+  // Registered before it exists: an interrupt at any moment removes it with what it holds.
+  const TemporaryDirectory guard(unique_temporary_name((dir.has_filename() ? dir : dir.parent_path()).string()));
+  const fs::path tmp = guard.path();
   if (!fs::create_directory(tmp, ec) || ec)
     throw InputError({"-o", 0, 0}, "cannot create the directory " + tmp.string() + " beside " + target + ": " + ec.message());
   try {
@@ -245,7 +247,7 @@ void write_directory(const std::string& target, const Linearization& lin, const 
     fs::rename(tmp, dir);
     if (!old.empty()) fs::remove_all(old, ec);
   } catch (...) {
-    fs::remove_all(tmp, ec);
+    guard.remove();
     throw;
   }
 }

@@ -48,6 +48,7 @@ std::vector<ParameterOverride> parse_parameter_overrides(const Scene& scene, con
 void apply_parameter_overrides(Scene& scene, const std::vector<ParameterOverride>& overrides) {
   for (const ParameterOverride& o : overrides)
     scene.parameter_values[static_cast<std::size_t>(*scene.jet->parameter_index(o.name))] = o.value;
+  if (!overrides.empty()) reevaluate_initial_expressions(scene);
 }
 
 std::vector<double> parameters_with_overrides(const runtime::Model& model, const std::vector<ParameterOverride>& overrides) {

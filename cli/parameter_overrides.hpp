@@ -31,7 +31,8 @@ void add_set_option(CLI::App* sub, std::vector<std::string>& assignments);
 /// The assignments checked against the scene's [parameters] (the last of repeated names wins).
 std::vector<ParameterOverride> parse_parameter_overrides(const Scene& scene, const std::vector<std::string>& assignments);
 
-/// The scene with its parameter values replaced (derivation, analysis and generated defaults).
+/// The scene with its parameter values replaced (derivation, analysis and generated defaults),
+/// and its [initial] values written through parameters re-evaluated.
 void apply_parameter_overrides(Scene& scene, const std::vector<ParameterOverride>& overrides);
 
 /// The model's default parameters with the overrides (a compiled model reused for any value).

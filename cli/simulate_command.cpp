@@ -156,7 +156,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
     const std::vector<double> p = parameters_with_overrides(model, overrides);
     const std::vector<std::string> columns =
         options->columns.empty() ? std::vector<std::string>{} : parse_columns(options->columns, csv_columns(model, p));
-    runtime::InitialState initial = initial_state_of(scene, model);
+    runtime::InitialState initial = initial_state_of(scene_set, model);  // [initial] expressions follow --set
     if (options->repair)  // every value may move but those pinned by [initial] fixed
       for (int i = 0; i < model.n_states(); ++i)
         initial.given[static_cast<std::size_t>(i)] =

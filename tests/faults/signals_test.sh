@@ -2,8 +2,8 @@
 # SIGINT and SIGTERM at each phase of a run — deriving, compiling, integrating, writing: nhc exits
 # 128 + the signal, leaves no output, no partial file, no temporary file or directory, no cache
 # entry half-made and no compiler running; the cache still works afterwards.
-# Usage: signals_test.sh NHC SCENE KNIFE_CHAIN_SCRIPT WORK_DIR
-nhc=$1 scene=$2 knife_chain=$3 work=$4
+# Usage: signals_test.sh NHC SCENE KNIFE_CHAIN_SCRIPT WORK_DIR [LINEARIZE_SCENE]
+nhc=$1 scene=$2 knife_chain=$3 work=$4 linearize_scene=${5:-}
 rm -rf "$work" && mkdir -p "$work"
 source "$(dirname "$0")/common.sh"
 set -m  # background jobs keep SIGINT (a script's background jobs otherwise ignore it)
@@ -82,6 +82,17 @@ NHC_CACHE_DIR=$d/cache "$nhc" simulate "$scene" >/dev/null 2>&1 || fail "warming
 start "$d" "$d/cache" report "$scene" --tolerances 1e-3:1e-6 --repeats 1 --quiet -o "$d/report"
 if wait_for "$d" '*/report.tmp*/workprec.csv'; then interrupt "write report/TERM" TERM "$d" "$d/cache"
 else wait "$pid"; fail "write report: the report's directory was not seen being written"; fi
+
+# The directory of nhc linearize -o, while the sweep's files are written into it (gnuplot).
+if [ -n "$linearize_scene" ]; then
+  d=$work/write_linearize
+  start "$d" "$d/cache" linearize "$linearize_scene" --sweep "ps'=0.5:6:12" -o "$d/lin"
+  if wait_for "$d" '*/lin.tmp*'; then
+    interrupt "write linearize/INT" INT "$d" "$d/cache"
+    [ ! -e "$d/lin" ] || fail "write linearize: $d/lin left behind"
+  else wait "$pid"; echo "note: the linearize directory was written before the interrupt could land"; fi
+  rm -rf "$d/cache"  # no model is compiled by linearize: nothing to check below
+fi
 
 # Every cache is sound afterwards: a rerun reuses or rebuilds without a warning.
 for cache in "$work"/*/cache; do

@@ -158,6 +158,36 @@ TEST_CASE("Rolling disk: the sweep finds the critical spin rate to 1e-8", "[line
   CHECK(reverse.thresholds[0].value == Approx(-critical).epsilon(1e-8));
 }
 
+TEST_CASE("Rolling disk: [initial] written through a parameter follows --at and a sweep of it", "[linearize]") {
+  // ps' = v/r: sweeping the rolling speed v moves the spin rate with it, so the sweep finds the
+  // critical speed v_c = r Omega_c of docs/linearize.md.
+  const std::string dir = nhc::test::scratch_dir("linearize_initial_expressions");
+  const std::string path = perturbed_scene("rolling_disk", "ps = [0.0, 6.0]", "ps = [0.0, \"v/r\"]", dir);
+  std::string text = nhc::test::read_file(path);
+  const std::string inertia = "I3 = 0.125    # m r^2/2";
+  REQUIRE(text.find(inertia) != std::string::npos);
+  text.replace(text.find(inertia), inertia.size(), "I3 = 0.125\nv = 3.0       # rolling speed");
+  std::ofstream(path) << text;
+  const nhc::Scene scene = nhc::load_scene(path);
+  const double m = parameter(scene, "m"), r = parameter(scene, "r"), g = parameter(scene, "g");
+  const double I1 = parameter(scene, "I1"), I3 = parameter(scene, "I3");
+  auto point_value = [](const nhc::Linearization& lin, const std::string& name) {
+    for (const auto& [n, value] : lin.point)
+      if (n == name) return value;
+    FAIL("no " << name << " in the operating point");
+    return 0.0;
+  };
+  CHECK(point_value(nhc::linearize(scene, nhc::ModelKind::chetaev, {}), "ps'") == Approx(3.0 / r).epsilon(1e-15));
+  CHECK(point_value(nhc::linearize(scene, nhc::ModelKind::chetaev, {{"v", 1.0}}), "ps'") == Approx(1.0 / r).epsilon(1e-15));
+  // A value given with --at is kept when a parameter changes after it.
+  CHECK(point_value(nhc::linearize(scene, nhc::ModelKind::chetaev, {{"ps'", 5.0}, {"v", 1.0}}), "ps'") == 5.0);
+  const double critical = r * std::sqrt(m * g * r * I1 / (I3 * (I3 + m * r * r)));
+  const nhc::Linearizer linearizer(scene, nhc::ModelKind::chetaev);
+  const nhc::SweepResult result = nhc::sweep(linearizer, {}, nhc::parse_sweep_range("v=0.25:3:12"));
+  REQUIRE(result.thresholds.size() == 1);
+  CHECK(result.thresholds[0].value == Approx(critical).epsilon(1e-8));
+}
+
 TEST_CASE("Second-order constraint: constant speed with a spring oscillates at sqrt(K), as simulated",
           "[linearize]") {
   const nhc::Scene scene = nhc::load_scene(scene_path("speed_constraint"));
@@ -267,4 +297,39 @@ TEST_CASE("nhc linearize: bad input and non-stationary points are refused in wor
   CHECK_THROWS_AS(nhc::linearize(nhc::load_scene(scene_path("rolling_disk")), nhc::ModelKind::chetaev,
                                  {{"nothing", 1.0}}),
                   nhc::InputError);
+}
+
+TEST_CASE("Whipple bicycle: the benchmark eigenvalues at 5 m/s and the weave and capsize speeds", "[linearize][whipple]") {
+  // Meijaard, Papadopoulos, Ruina and Schwab, Proc. R. Soc. A 463 (2007), Table 2: at v = 5 m/s
+  // castering -14.07838969279822, weave -0.77534188219585 +- 4.46486771378823i, capsize
+  // -0.32286642900409; self-stable between the weave speed 4.29238253634111 and the capsize
+  // speed 6.02426201538837 m/s. The scene's wheel rates are v/rR and v/rF ([initial]), so
+  // sweeping the parameter v moves the whole steady motion.
+  const nhc::Scene scene = nhc::load_scene(std::string(NHC_SOURCE_DIR) + "/examples/whipple/whipple_bicycle.toml");
+  const nhc::Linearizer linearizer(scene, nhc::ModelKind::chetaev);
+  const std::vector<nhc::PointOverride> upright{{"phi'", 0.0}};
+  const nhc::Linearization lin = linearizer.at(upright);
+  const Eigenvalues table2{{-14.07838969279822, 0.0},
+                           {-0.77534188219585, 4.46486771378823},
+                           {-0.77534188219585, -4.46486771378823},
+                           {-0.32286642900409, 0.0}};
+  for (const std::complex<double>& want : table2) {
+    std::complex<double> got = lin.eigenvalues.front();
+    for (const auto& l : lin.eigenvalues)
+      if (std::abs(l - want) < std::abs(got - want)) got = l;
+    INFO("Table 2 eigenvalue " << want << ", nhc " << got);
+    CHECK(std::abs(got - want) <= 1e-10 * std::abs(want));
+  }
+  // The other two eigenvalues are the families of steady motions: heading and forward speed.
+  CHECK(lin.zero_eigenvalues == 2);
+  CHECK(lin.families.size() == 2);
+  CHECK(lin.verdict == nhc::StabilityVerdict::asymptotically_stable);
+
+  const nhc::SweepResult s = nhc::sweep(linearizer, upright, nhc::parse_sweep_range("v=4:7:4"));
+  REQUIRE(s.thresholds.size() == 2);
+  CHECK(s.thresholds[0].value == Approx(4.29238253634111).epsilon(1e-9));
+  CHECK(s.thresholds[0].from == nhc::StabilityVerdict::unstable);
+  CHECK(s.thresholds[0].to == nhc::StabilityVerdict::asymptotically_stable);
+  CHECK(s.thresholds[1].value == Approx(6.02426201538837).epsilon(1e-9));
+  CHECK(s.thresholds[1].to == nhc::StabilityVerdict::unstable);
 }

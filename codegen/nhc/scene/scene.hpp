@@ -21,6 +21,9 @@ namespace nhc {
 struct InitialData {
   double t0 = 0.0;
   std::map<std::string, std::vector<double>> values;
+  /// The text of values written as expressions (`thr = [0.0, "v/rR"]`), per entry of `values`
+  /// ("" for a number): reevaluate_initial_expressions() recomputes them from the parameters.
+  std::map<std::string, std::vector<std::string>> expressions;
   /// Given values that --repair-initial must not move ([initial] fixed = ["x", "y'"]).
   std::vector<std::string> fixed;
 };
@@ -66,6 +69,11 @@ Scene load_scene(const std::string& path);
 /// Same, from text already in memory; `path` is only used in messages. Warnings stay in
 /// Scene::warnings.
 Scene parse_scene(const std::string& text, const std::string& path);
+
+/// Recomputes the [initial] values written as expressions from the scene's current parameter
+/// values (after `--set`, `--at` or a sweep changed one), so that a bicycle's wheel rates
+/// `v/rR` follow its speed v. Values given as numbers, or overridden since, are left alone.
+void reevaluate_initial_expressions(Scene& scene);
 
 /// True for C++ keywords and alternative tokens (and, or, …), which a scene may not use as names.
 bool is_cpp_keyword(const std::string& name);

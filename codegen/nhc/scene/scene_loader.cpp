@@ -54,6 +54,17 @@ GiNaC::exmap Scene::parameter_substitution() const {
   return m;
 }
 
+void reevaluate_initial_expressions(Scene& scene) {
+  std::map<std::string, double> names;
+  for (std::size_t p = 0; p < scene.parameter_values.size(); ++p)
+    names[scene.jet->parameters()[p]] = scene.parameter_values[p];
+  for (const auto& [name, texts] : scene.initial.expressions) {
+    std::vector<double>& values = scene.initial.values[name];
+    for (std::size_t k = 0; k < texts.size() && k < values.size(); ++k)
+      if (!texts[k].empty()) values[k] = evaluate_constant_expression(texts[k], names);  // checked when read
+  }
+}
+
 namespace {
 
 /// True when e evaluates to (numerically) zero at several pseudo-random points: catches
@@ -487,8 +498,14 @@ class SceneReader {
         fail(value, "initial values of '" + n + "' go beyond derivative order " +
                         std::to_string(kMaxDerivativeOrder));
       std::vector<double> values;
-      for (const toml::node& v : arr) values.push_back(number_value(v, "initial value of " + n));
+      std::vector<std::string> texts;
+      for (const toml::node& v : arr) {
+        values.push_back(number_value(v, "initial value of " + n));
+        texts.push_back(v.is_string() ? *v.value<std::string>() : std::string());
+      }
       scene.initial.values[n] = values;
+      if (std::any_of(texts.begin(), texts.end(), [](const std::string& e) { return !e.empty(); }))
+        scene.initial.expressions[n] = texts;
     }
     check_fixed(scene);
   }

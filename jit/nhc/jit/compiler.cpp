@@ -242,6 +242,15 @@ fs::path table_include_directory(const fs::path& dir) {
   return include;
 }
 
+/// The user's flags, with -O0 in place of the -O flags for a header above large_header_bytes.
+std::vector<std::string> optimization_flags(const CompileOptions& options, std::size_t header_bytes) {
+  if (options.large_header_bytes == 0 || header_bytes <= options.large_header_bytes) return options.flags;
+  std::vector<std::string> flags{"-O0"};
+  for (const std::string& f : options.flags)
+    if (f.rfind("-O", 0) != 0) flags.push_back(f);
+  return flags;
+}
+
 }  // namespace
 
 fs::path default_cache_directory() { return default_cache_location().path; }
@@ -254,7 +263,7 @@ CompiledLibrary compile_header(const std::string& header_text, const std::string
   const std::string compiler = chosen_compiler(options);
   const double timeout = compile_timeout(options);
   const std::string version = compiler_version(compiler, timeout);
-  std::vector<std::string> flags = options.flags;
+  std::vector<std::string> flags = optimization_flags(options, header_text.size());
   for (std::string& f : contract_flags(version)) flags.push_back(std::move(f));
   for (const fs::path& include : options.include_directories) flags.push_back("-I" + include.string());
   std::string flag_text;

@@ -4,6 +4,7 @@
 /// nhc/runtime/model_table.h) into a shared object in the compile cache (cache.hpp), and
 /// loading it with its checks.
 
+#include <cstddef>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -22,6 +23,11 @@ struct CompileOptions {
   /// Optimization and extra flags; the flags the contract needs (-std=c++17 -fPIC -shared,
   /// hidden visibility, stripped) are always added.
   std::vector<std::string> flags{"-O2"};
+  /// Headers longer than this many bytes are compiled with -O0 in place of the -O flags above:
+  /// GCC's optimizer on megabytes of straight-line code is slower than any integration it would
+  /// speed up (the Whipple bicycle's 4.5 MB header: -O0 29 s and 2.3 GB; -O1 still running
+  /// after 8 min). 0: always the flags as given.
+  std::size_t large_header_bytes = 1000000;
   /// Extra include directories (-I), searched before the one that provides
   /// nhc/runtime/model_table.h (always added: hand-written headers include it).
   std::vector<std::filesystem::path> include_directories;

@@ -14,6 +14,7 @@
 #include "nhc/errors.hpp"
 #include "nhc/linearize/cyclic_reduction.hpp"
 #include "nhc/linearize/manifold_linearization.hpp"
+#include "nhc/linearize/numeric_program.hpp"
 #include "nhc/linearize/spectrum.hpp"
 #include "nhc/linearize/steady_families.hpp"
 
@@ -32,24 +33,56 @@ std::string number(double v) {
 /// parameters and t as a GiNaC substitution.
 struct NumericPoint {
   GiNaC::exmap base;  ///< t and parameters
+  std::vector<double> constants;  ///< the same values: t, then the parameters in JetSpace order
   Eigen::VectorXd z;
   Eigen::VectorXd zp;  ///< per state; 0 for algebraic ones
 };
 
-GiNaC::exmap substitution(const CyclicReduction& r, const NumericPoint& p) {
-  GiNaC::exmap m = p.base;
-  for (std::size_t c = 0; c < r.components.size(); ++c) {
-    const ReducedComponent& z = r.components[c];
-    m[z.value] = p.z(static_cast<Eigen::Index>(c));
-    if (z.differential) m[z.derivative] = p.zp(static_cast<Eigen::Index>(c));
-  }
-  return m;
+/// The inputs of the numeric programs: t, the parameters, then z and z' of the reduced states.
+std::vector<GiNaC::ex> program_inputs(const Scene& scene, const CyclicReduction& r) {
+  std::vector<GiNaC::ex> inputs{scene.jet->time()};
+  for (int q = 0; q < static_cast<int>(scene.parameter_values.size()); ++q) inputs.push_back(scene.jet->parameter(q));
+  for (const ReducedComponent& z : r.components) inputs.push_back(z.value);
+  for (const ReducedComponent& z : r.components)
+    if (z.differential) inputs.push_back(z.derivative);
+  return inputs;
 }
 
-Eigen::MatrixXd as_matrix(const std::vector<std::vector<GiNaC::ex>>& m, std::size_t cols, const GiNaC::exmap& at,
-                          const std::string& what) {
-  if (m.empty()) return Eigen::MatrixXd(0, static_cast<Eigen::Index>(cols));
-  return evaluate_matrix(m, at, what);
+std::vector<double> program_values(const CyclicReduction& r, const NumericPoint& p) {
+  std::vector<double> values = p.constants;
+  for (Eigen::Index c = 0; c < p.z.size(); ++c) values.push_back(p.z(c));
+  for (std::size_t c = 0; c < r.components.size(); ++c)
+    if (r.components[c].differential) values.push_back(p.zp(static_cast<Eigen::Index>(c)));
+  return values;
+}
+
+/// A matrix of expressions as entries of a numeric program (structural zeros skipped).
+struct MatrixOutputs {
+  Eigen::Index rows = 0, cols = 0;
+  std::vector<std::pair<Eigen::Index, Eigen::Index>> entries;  ///< per output, in order
+  int first = 0;                                                ///< index of the first output
+};
+
+MatrixOutputs add_matrix(NumericProgram& program, const std::vector<std::vector<GiNaC::ex>>& m, std::size_t cols) {
+  MatrixOutputs out;
+  out.rows = static_cast<Eigen::Index>(m.size());
+  out.cols = static_cast<Eigen::Index>(cols);
+  out.first = -1;
+  for (std::size_t i = 0; i < m.size(); ++i)
+    for (std::size_t j = 0; j < m[i].size(); ++j) {
+      if (m[i][j].is_zero()) continue;
+      const int k = program.add(m[i][j]);
+      if (out.first < 0) out.first = k;
+      out.entries.emplace_back(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+    }
+  return out;
+}
+
+Eigen::MatrixXd matrix_of(const MatrixOutputs& m, const std::vector<double>& values) {
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(m.rows, m.cols);
+  for (std::size_t k = 0; k < m.entries.size(); ++k)
+    out(m.entries[k].first, m.entries[k].second) = values[static_cast<std::size_t>(m.first) + k];
+  return out;
 }
 
 }  // namespace
@@ -61,6 +94,13 @@ struct Linearizer::Impl {
   StructuralAnalysis analysis;
   Index1System system;
   CyclicReduction reduced;
+  /// The residual and hidden constraints (outputs: g, then F), and dF/dz, dF/dz', dg/dz.
+  std::optional<NumericProgram> functions, jacobians;
+  MatrixOutputs dF_dz, dF_dzp, dg_dz;
+
+  void compile_programs();
+  /// g and F at the point.
+  std::pair<Eigen::VectorXd, Eigen::VectorXd> hidden_and_residual(const NumericPoint& p) const;
 
   NumericPoint operating_point(const Scene& at_scene, Linearization& out) const;
   void check_stationary(const NumericPoint& p, Linearization& out) const;
@@ -83,6 +123,8 @@ NumericPoint Linearizer::Impl::operating_point(const Scene& s, Linearization& ou
   NumericPoint p;
   p.base = s.parameter_substitution();
   p.base[s.jet->time()] = s.initial.t0;
+  p.constants.push_back(s.initial.t0);
+  p.constants.insert(p.constants.end(), s.parameter_values.begin(), s.parameter_values.end());
   GiNaC::exmap full = p.base;
   for (int k = 0; k < system.size(); ++k) {
     full[system.y[static_cast<std::size_t>(k)]] = y0[static_cast<std::size_t>(k)];
@@ -138,13 +180,13 @@ std::optional<Eigen::VectorXd> Linearizer::Impl::velocity(const NumericPoint& p,
   for (int iteration = 0; iteration < 60; ++iteration) {
     double step = 0.0;
     if (!reduced.hidden.empty() && !lin.dependent.empty()) {
-      const Eigen::VectorXd g = evaluate_vector(reduced.hidden, substitution(reduced, q), "a hidden constraint");
+      const Eigen::VectorXd g = hidden_and_residual(q).first;
       const Eigen::VectorXd d = -solver.solve(g);
       for (std::size_t r = 0; r < lin.dependent.size(); ++r)
         q.z(lin.differential[static_cast<std::size_t>(lin.dependent[r])]) += d(static_cast<Eigen::Index>(r));
       step += d.norm();
     }
-    const Eigen::VectorXd F = evaluate_vector(reduced.residuals, substitution(reduced, q), "the residual");
+    const Eigen::VectorXd F = hidden_and_residual(q).second;
     const Eigen::VectorXd u = -lin.K.solve(F);
     for (Eigen::Index k = 0; k < nD; ++k) q.zp(lin.differential[static_cast<std::size_t>(k)]) += u(k);
     for (std::size_t k = 0; k < lin.algebraic.size(); ++k)
@@ -171,7 +213,7 @@ std::vector<SteadyFamily> Linearizer::Impl::families_at(const NumericPoint& p, c
   Eigen::MatrixXd G_dependent(static_cast<Eigen::Index>(reduced.hidden.size()),
                               static_cast<Eigen::Index>(lin.dependent.size()));
   if (G_dependent.size()) {
-    const Eigen::MatrixXd G = evaluate_matrix(reduced.dg_dz, substitution(reduced, p), "hidden-constraint Jacobian");
+    const Eigen::MatrixXd G = matrix_of(dg_dz, jacobians->evaluate(program_values(reduced, p), "the Jacobians"));
     for (std::size_t r = 0; r < lin.dependent.size(); ++r)
       G_dependent.col(static_cast<Eigen::Index>(r)) = G.col(lin.differential[static_cast<std::size_t>(lin.dependent[r])]);
   }
@@ -215,6 +257,26 @@ Linearizer::Linearizer(const Scene& scene, ModelKind model, LinearizeOptions opt
   m.analysis.require_nonsingular();
   m.system = reduce_to_index1(m.analysis);
   m.reduced = reduce_cyclic(m.system, scene.jet->time());
+  m.compile_programs();
+}
+
+void Linearizer::Impl::compile_programs() {
+  const std::vector<GiNaC::ex> inputs = program_inputs(scene, reduced);
+  functions.emplace(inputs);
+  for (const GiNaC::ex& g : reduced.hidden) functions->add(g);
+  for (const GiNaC::ex& f : reduced.residuals) functions->add(f);
+  jacobians.emplace(inputs);
+  const std::size_t n = reduced.components.size();
+  dF_dz = add_matrix(*jacobians, reduced.dF_dz, n);
+  dF_dzp = add_matrix(*jacobians, reduced.dF_dzp, n);
+  dg_dz = add_matrix(*jacobians, reduced.dg_dz, n);
+}
+
+std::pair<Eigen::VectorXd, Eigen::VectorXd> Linearizer::Impl::hidden_and_residual(const NumericPoint& p) const {
+  const std::vector<double> v = functions->evaluate(program_values(reduced, p), "the residual or a hidden constraint");
+  const auto m = static_cast<Eigen::Index>(reduced.hidden.size());
+  const Eigen::Map<const Eigen::VectorXd> all(v.data(), static_cast<Eigen::Index>(v.size()));
+  return {all.head(m), all.tail(static_cast<Eigen::Index>(v.size()) - m)};
 }
 
 Linearizer::~Linearizer() = default;
@@ -223,6 +285,7 @@ Linearizer& Linearizer::operator=(Linearizer&&) noexcept = default;
 
 const Scene& Linearizer::scene() const { return impl_->scene; }
 ModelKind Linearizer::model() const { return impl_->model; }
+const LinearizeOptions& Linearizer::options() const { return impl_->options; }
 
 Linearization Linearizer::at(const std::vector<PointOverride>& overrides) const {
   const Impl& m = *impl_;
@@ -236,10 +299,9 @@ Linearization Linearizer::at(const std::vector<PointOverride>& overrides) const 
   const NumericPoint p = m.operating_point(s, out);
   m.check_stationary(p, out);
 
-  const GiNaC::exmap at = substitution(m.reduced, p);
-  const std::size_t n = m.reduced.components.size();
-  ManifoldInput input{as_matrix(m.reduced.dF_dz, n, at, "dF/dz"), as_matrix(m.reduced.dF_dzp, n, at, "dF/dz'"),
-                      as_matrix(m.reduced.dg_dz, n, at, "dg/dz"), {}, {}, {}};
+  const std::vector<double> jacobians = m.jacobians->evaluate(program_values(m.reduced, p), "dF/dz, dF/dz' or dg/dz");
+  ManifoldInput input{matrix_of(m.dF_dz, jacobians), matrix_of(m.dF_dzp, jacobians), matrix_of(m.dg_dz, jacobians),
+                      {}, {}, {}};
   for (const ReducedComponent& z : m.reduced.components) {
     input.differential.push_back(z.differential);
     input.order.push_back(z.order);

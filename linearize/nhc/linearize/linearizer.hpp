@@ -38,6 +38,7 @@ class Linearizer {
   /// Throws InputError for an unknown override name, MathError for a point that is not
   /// stationary or a singular system there.
   Linearization at(const std::vector<PointOverride>& overrides = {}) const;
+  const LinearizeOptions& options() const;
 
   const Scene& scene() const;
   ModelKind model() const;

@@ -74,11 +74,15 @@ OverrideTarget resolve_override(const Scene& scene, const std::string& name, con
 void apply_override(Scene& scene, const OverrideTarget& target, double value) {
   if (target.parameter) {
     scene.parameter_values.at(static_cast<std::size_t>(target.parameter_index)) = value;
+    reevaluate_initial_expressions(scene);  // [initial] values written through parameters follow
     return;
   }
   std::vector<double>& values = scene.initial.values[target.variable];
   if (static_cast<int>(values.size()) <= target.order) values.resize(static_cast<std::size_t>(target.order) + 1, 0.0);
   values[static_cast<std::size_t>(target.order)] = value;
+  const auto text = scene.initial.expressions.find(target.variable);  // given now: no longer an expression
+  if (text != scene.initial.expressions.end() && static_cast<int>(text->second.size()) > target.order)
+    text->second[static_cast<std::size_t>(target.order)].clear();
 }
 
 double scene_value(const Scene& scene, const OverrideTarget& target) {
