@@ -38,7 +38,8 @@ std::string cell(const std::string& text) {
 bool same_value(double a, double b) { return std::abs(a - b) <= 1e-9 * (1 + std::max(std::abs(a), std::abs(b))); }
 
 bool is_observable(const std::string& column) {
-  return column == "t" || column.rfind("hidden:", 0) == 0 || column.rfind("invariant:", 0) == 0 ||
+  return column == "t" || column.rfind("hidden:", 0) == 0 || column.rfind("constraint:", 0) == 0 ||
+         column.rfind("invariant:", 0) == 0 ||
          column.rfind("error:", 0) == 0;
 }
 
@@ -196,7 +197,7 @@ void write_invariants(std::ostream& md, const std::vector<RanModel>& ran) {
       if (name.rfind("invariant:", 0) == 0)
         md << "| " << r.model->name << " | " << name.substr(10) << " | " << value(r.table.rows.front()[c]) << " | "
            << magnitude(max_deviation(r.table, static_cast<int>(c), true)) << " |\n";
-      if (name.rfind("hidden:", 0) == 0) hidden = std::max(hidden, max_deviation(r.table, static_cast<int>(c), false));
+      if (name.rfind("hidden:", 0) == 0 || name.rfind("constraint:", 0) == 0) hidden = std::max(hidden, max_deviation(r.table, static_cast<int>(c), false));
     }
     md << "| " << r.model->name << " | hidden constraints | | " << (hidden < 0 ? "—" : magnitude(hidden)) << " |\n";
     for (const ConstraintCheck& f : r.model->constraints)

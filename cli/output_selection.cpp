@@ -53,12 +53,15 @@ std::vector<double> parse_output_times(const std::string& spec, double t0) {
   return times;
 }
 
-std::vector<std::string> csv_columns(const runtime::Model& model, const std::vector<double>& p) {
+std::vector<std::string> csv_columns(const runtime::Model& model, const std::vector<double>& p,
+                                     const SceneOutputs& outputs) {
   std::ostringstream header;
   runtime::write_csv(header, model, p, {});
   std::string line = header.str();
   if (!line.empty() && line.back() == '\n') line.pop_back();
-  return split(line, ',');
+  std::vector<std::string> columns = split(line, ',');
+  columns.insert(columns.end(), outputs.names().begin(), outputs.names().end());
+  return columns;
 }
 
 std::vector<std::string> parse_columns(const std::string& spec, const std::vector<std::string>& available) {
@@ -76,8 +79,9 @@ std::vector<std::string> parse_columns(const std::string& spec, const std::vecto
 }
 
 void write_selected_csv(std::ostream& out, const runtime::Model& model, const std::vector<double>& p,
-                        const std::vector<runtime::Sample>& samples, const std::vector<std::string>& columns) {
-  if (columns.empty()) {
+                        const std::vector<runtime::Sample>& samples, const std::vector<std::string>& columns,
+                        const SceneOutputs& outputs) {
+  if (columns.empty() && outputs.empty()) {
     runtime::write_csv(out, model, p, samples);
     return;
   }
@@ -86,8 +90,13 @@ void write_selected_csv(std::ostream& out, const runtime::Model& model, const st
   std::istringstream in(full.str());
   std::string line;
   std::getline(in, line);
-  const std::vector<std::string> header = split(line, ',');
-  std::vector<std::size_t> keep{0};
+  std::vector<std::string> header = split(line, ',');
+  header.insert(header.end(), outputs.names().begin(), outputs.names().end());
+  std::vector<std::size_t> keep;
+  if (columns.empty())
+    for (std::size_t k = 0; k < header.size(); ++k) keep.push_back(k);
+  else
+    keep.push_back(0);
   for (const std::string& c : columns)
     keep.push_back(static_cast<std::size_t>(std::find(header.begin(), header.end(), c) - header.begin()));
   auto emit = [&](const std::vector<std::string>& fields) {
@@ -95,7 +104,18 @@ void write_selected_csv(std::ostream& out, const runtime::Model& model, const st
     out << "\n";
   };
   emit(header);
-  while (std::getline(in, line)) emit(split(line, ','));
+  std::ostringstream number;
+  number.precision(17);  // as runtime::write_csv
+  for (std::size_t row = 0; std::getline(in, line); ++row) {
+    std::vector<std::string> fields = split(line, ',');
+    if (!outputs.empty())
+      for (double v : outputs.evaluate(samples.at(row))) {
+        number.str("");
+        number << v;
+        fields.push_back(number.str());
+      }
+    emit(fields);
+  }
 }
 
 }  // namespace nhc::cli

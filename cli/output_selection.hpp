@@ -1,7 +1,8 @@
 #pragma once
 /// \file output_selection.hpp
 /// \brief What `nhc simulate` writes: the output times (`--outputs N`, `[simulate] outputs = N`,
-/// `--output-times a:h:b` or `t1,t2,…`) and the CSV columns (`--columns x,y`; t always first).
+/// `--output-times a:h:b` or `t1,t2,…`) and the CSV columns (`--columns x,y`; t always first;
+/// the scene's [outputs] after the model's columns).
 /// Bad specifications are bad input naming the flag (exit 2), checked before the run.
 
 #include <iosfwd>
@@ -9,6 +10,7 @@
 #include <vector>
 
 #include "nhc/runtime/runtime.hpp"
+#include "scene_outputs.hpp"
 
 namespace nhc::cli {
 
@@ -16,14 +18,18 @@ namespace nhc::cli {
 /// all at or after t0 with the last after t0.
 std::vector<double> parse_output_times(const std::string& spec, double t0);
 
-/// The columns of the CSV runtime::write_csv writes for `model` (its header line, split).
-std::vector<std::string> csv_columns(const runtime::Model& model, const std::vector<double>& p);
+/// The columns of the CSV runtime::write_csv writes for `model` (its header line, split), then
+/// the scene's [outputs].
+std::vector<std::string> csv_columns(const runtime::Model& model, const std::vector<double>& p,
+                                     const SceneOutputs& outputs);
 
 /// "x,y,lambda1" → the names, each checked against `available` (InputError naming --columns).
 std::vector<std::string> parse_columns(const std::string& spec, const std::vector<std::string>& available);
 
-/// runtime::write_csv restricted to t and `columns` in that order (all when `columns` is empty).
+/// runtime::write_csv with the [outputs] columns appended, restricted to t and `columns` in that
+/// order (all when `columns` is empty).
 void write_selected_csv(std::ostream& out, const runtime::Model& model, const std::vector<double>& p,
-                        const std::vector<runtime::Sample>& samples, const std::vector<std::string>& columns);
+                        const std::vector<runtime::Sample>& samples, const std::vector<std::string>& columns,
+                        const SceneOutputs& outputs);
 
 }  // namespace nhc::cli

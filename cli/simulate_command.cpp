@@ -1,6 +1,6 @@
 // nhc simulate SCENE [--model M] [--t-end T] [--rtol R] [--atol A] [--max-steps N] [--project]
-//              [--repair-initial] [--set P=V]... [--outputs N] [--sensitivity NAMES]
-//              [-o FILE.csv | -o -] [--plot DIR [--plot-xy a,b]]
+//              [--repair-initial] [--set P=V]... [--outputs N | --output-times SPEC]
+//              [--columns NAMES] [--sensitivity NAMES] [-o FILE.csv | -o -] [--plot DIR [--plot-xy a,b]]
 //
 // The whole pipeline on one model: derive, reduce to index 1, generate the header
 // (docs/generated-code.md), compile it with the C++ compiler found at configure time into a
@@ -15,6 +15,7 @@
 
 #include "commands.hpp"
 #include "output_selection.hpp"
+#include "scene_outputs.hpp"
 #include "parameter_overrides.hpp"
 #include "model_requirements.hpp"
 #include "nhc/analysis/model_analysis.hpp"
@@ -154,8 +155,10 @@ CommandRunner add_simulate_command(CLI::App& app) {
     io.progress = true;
     io.max_steps = options->max_steps;
     const std::vector<double> p = parameters_with_overrides(model, overrides);
+    const SceneOutputs outputs(scene, model, p);  // [outputs]: extra CSV columns
     const std::vector<std::string> columns =
-        options->columns.empty() ? std::vector<std::string>{} : parse_columns(options->columns, csv_columns(model, p));
+        options->columns.empty() ? std::vector<std::string>{}
+                                 : parse_columns(options->columns, csv_columns(model, p, outputs));
     runtime::InitialState initial = initial_state_of(scene_set, model);  // [initial] expressions follow --set
     if (options->repair)  // every value may move but those pinned by [initial] fixed
       for (int i = 0; i < model.n_states(); ++i)
@@ -172,7 +175,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
         runtime::write_sensitivity_csv(out, model, p, parse_sensitivities(model, options->sensitivity.names),
                                        sensitivities->samples);
       else
-        write_selected_csv(out, model, p, run.samples, columns);
+        write_selected_csv(out, model, p, run.samples, columns, outputs);
     };
     // No row, no file: a header-only CSV would look like a result.
     const std::size_t csv_rows = sensitivities ? sensitivities->samples.size() : run.samples.size();
@@ -203,11 +206,15 @@ CommandRunner add_simulate_command(CLI::App& app) {
     if (model.n_reference() > 0) info << "  max reference error " << format(drift.max_error) << "\n";
     if (kind == ModelKind::suslov) {
       // Suslov's model monitors its constraints instead of enforcing them (models.md): their
-      // values are the CSV's hidden:<i> columns, zero at t0 (the start point of nhc analyze).
-      for (int i = 0; i < model.n_hidden(); ++i)
-        info << "  monitored constraint " << model.hidden_name(i) << " (CSV column hidden:" << i + 1
-             << "): max |" << model.hidden_name(i) << "| " << format(drift.max_hidden_each[static_cast<std::size_t>(i)])
+      // values are the CSV's constraint:f<i> columns, zero at t0 (the start point of nhc analyze).
+      for (int i = 0; i < model.n_hidden(); ++i) {
+        const std::size_t k = static_cast<std::size_t>(i);
+        info << "  monitored constraint " << model.hidden_name(i)
+             << (k < scene.constraint_texts.size() ? " = " + scene.constraint_texts[k] : std::string()) << " (CSV column "
+             << runtime::hidden_column(model, i) << "): value at t0 " << format(drift.first_hidden_each.at(k))
+             << ", max |" << model.hidden_name(i) << "| " << format(drift.max_hidden_each[k])
              << " (not enforced by the suslov model)\n";
+      }
     } else if (model.n_hidden() > 0) {
       info << "  max hidden-constraint drift " << format(drift.max_hidden) << "\n";
     }
@@ -219,6 +226,11 @@ CommandRunner add_simulate_command(CLI::App& app) {
                         : " (relative " + format(drift.invariant_relative[k]) + " to its largest size " +
                               format(drift.invariant_scale[k]) + ")")
                 << "\n";
+    if (!outputs.empty()) {
+      info << "  outputs (CSV columns, not checked for drift):";
+      for (const std::string& name : outputs.names()) info << " " << name;
+      info << "\n";
+    }
     if (write_csv)
       info << "  wrote " << (csv_to_stdout ? std::string("the CSV to standard output") : options->output) << " ("
            << csv_rows << " rows" << (csv_cut_short ? ", the motion up to the failure" : "") << ")\n";

@@ -50,7 +50,7 @@ std::vector<Plot> trajectory_plots(const runtime::Model& model, const std::strin
                "|g_i|  and  |I(t) - I(t0)|  (log scale)", true, false, {}};
     for (int i = 0; i < model.n_hidden(); ++i)
       drift.curves.push_back({"|g_" + std::to_string(i + 1) + "|: " + model.hidden_name(i), csv, "t",
-                              "hidden:" + std::to_string(i + 1), Transform::magnitude});
+                              runtime::hidden_column(model, i), Transform::magnitude});
     for (int k = 0; k < model.n_invariants(); ++k) {
       const std::string name = model.table().invariant_names[k];
       drift.curves.push_back({name + ": |I(t) - I(t0)|", csv, "t", "invariant:" + name, Transform::drift});

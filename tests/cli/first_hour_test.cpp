@@ -244,18 +244,27 @@ TEST_CASE("invariant drift is relative to the invariant's size along the run, ab
   CHECK_THAT(r.out, Contains("invariant power: max drift") && Contains("(absolute: the invariant stays below 1e-08)"));
 }
 
-TEST_CASE("the suslov summary shows its monitored constraint, zero at t0", "[cli][issue14]") {
+TEST_CASE("the suslov run starts where analyze does and shows its monitored constraint, zero at t0",
+          "[cli][issue14]") {
   const std::string dir = nhc::test::scratch_dir("first_hour_suslov_monitored");
   const Run r = nhc_run("simulate examples/appell_hamel.toml --model suslov -o '" + dir + "/s.csv'", dir);
   REQUIRE(r.exit_code == 0);
-  CHECK_THAT(r.out, Contains("monitored constraint f1 (CSV column hidden:1): max |f1|"));
+  CHECK_THAT(r.out, Contains("monitored constraint f1 = z' - b/a*sqrt(x'^2 + y'^2) (CSV column constraint:f1): "
+                             "value at t0 0, max |f1| 1.96 (not enforced by the suslov model)"));
   // At t0 the run starts on f1 = z' − (b/a)·sqrt(x'² + y'²) = 0, evaluated here from the CSV.
   const std::string csv = read_file(dir + "/s.csv");
-  CHECK(csv.rfind("t,x,x',x'',y,y',y'',z,z',z'',hidden:1,", 0) == 0);  // no multiplier
+  CHECK(csv.rfind("t,x,x',x'',y,y',y'',z,z',z'',constraint:f1,", 0) == 0);  // no multiplier
   const std::vector<double> row = csv_row(csv, 0);
   REQUIRE(row.size() > 10);
   CHECK(std::abs(row[8] - 0.5 * std::hypot(row[2], row[5])) < 1e-12);
   CHECK(std::abs(row[10]) < 1e-12);
+  // The start point is the one nhc analyze --model suslov reports: z' solved, not set to 0.
+  const Run analyze = nhc_run("analyze examples/appell_hamel.toml --model suslov", dir);
+  REQUIRE(analyze.exit_code == 0);
+  std::smatch z_prime;
+  REQUIRE(std::regex_search(analyze.out, z_prime, std::regex(R"(z' = ([0-9.eE+-]+) \(solved\))")));
+  CHECK(std::abs(row[8] - std::stod(z_prime[1].str())) < 1e-9);
+  CHECK(std::abs(row[8] - std::sqrt(1.25) / 2) < 1e-12);
 }
 
 TEST_CASE("repair moves only the values not pinned by [initial] fixed, and writes them back", "[cli][issue14]") {
@@ -292,4 +301,111 @@ TEST_CASE("repair moves only the values not pinned by [initial] fixed, and write
   const Run located = nhc_run("analyze '" + bad + "'", dir);
   CHECK(located.exit_code == 2);
   CHECK_THAT(located.err, Contains("fixed names 'w''"));
+}
+
+namespace {
+
+/// examples/appell_hamel.toml with an [outputs] table appended, written to dir/name.
+std::string appell_hamel_with_outputs(const std::string& dir, const std::string& name, const std::string& outputs) {
+  const std::string path = dir + "/" + name;
+  std::ofstream(path) << read_file(std::string(NHC_SOURCE_DIR) + "/examples/appell_hamel.toml") << "\n[outputs]\n"
+                      << outputs;
+  return path;
+}
+
+std::string csv_header_line(const std::string& csv) { return csv.substr(0, csv.find('\n')); }
+
+}  // namespace
+
+TEST_CASE("[outputs] are CSV columns in file order, not invariants", "[cli][issue14]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_scene_outputs");
+  const std::string scene = appell_hamel_with_outputs(
+      dir, "outputs.toml", "speed = \"sqrt(x'^2 + y'^2)\"\nlift = \"2*lambda1\"\nclimb = \"z''\"\nclock = \"a*t\"\n");
+  const Run r = nhc_run("simulate '" + scene + "' --output-times 0:0.1:0.2 -o -", dir);
+  REQUIRE(r.exit_code == 0);
+  CHECK(csv_header_line(r.out) ==
+        "t,x,x',x'',y,y',y'',z,z',z'',lambda1,hidden:1,invariant:energy,speed,lift,climb,clock");
+  for (int k = 0; k < 3; ++k) {
+    INFO("row " << k);
+    const std::vector<double> row = csv_row(r.out, k);
+    REQUIRE(row.size() == 17);
+    const double t = row[0];
+    // Chetaev: the horizontal speed falls as v' = −g k/(1 + k²), k = b/a = 1/2 (docs/models.md).
+    CHECK(std::abs(row[13] - (std::sqrt(1.25) - 9.81 * 0.5 / 1.25 * t)) < 1e-8);
+    CHECK(std::abs(row[13] - std::hypot(row[2], row[5])) < 1e-14);
+    CHECK(row[14] == 2 * row[10]);
+    CHECK(row[15] == row[9]);  // z'' = k v' = −1.962
+    CHECK(std::abs(row[15] + 1.962) < 1e-8);
+    CHECK(row[16] == t);
+  }
+  // -o -: the CSV alone on standard output; the summary, on standard error, lists the outputs
+  // and checks none of them for drift.
+  CHECK(r.out.find("nhc simulate") == std::string::npos);
+  CHECK_THAT(r.err, Contains("  outputs (CSV columns, not checked for drift): speed lift climb clock\n") &&
+                        Contains("wrote the CSV to standard output (3 rows)"));
+  CHECK(r.err.find("invariant speed") == std::string::npos);
+  CHECK(r.err.find("invariant lift") == std::string::npos);
+
+  // --columns picks outputs like any other column.
+  const Run columns = nhc_run("simulate '" + scene + "' --columns clock,speed,x -o -", dir);
+  REQUIRE(columns.exit_code == 0);
+  CHECK(csv_header_line(columns.out) == "t,clock,speed,x");
+  const std::vector<double> first = csv_row(columns.out, 0);
+  REQUIRE(first.size() == 4);
+  CHECK(std::abs(first[2] - std::sqrt(1.25)) < 1e-14);
+}
+
+TEST_CASE("bad [outputs] are located errors", "[cli][issue14]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_bad_outputs");
+  struct Case {
+    std::string outputs, model, message;
+  };
+  // The [outputs] table starts on line 34 of the written scene; entries follow one per line.
+  const std::vector<Case> cases = {
+      {"speed = \"sqrt(x'^2 + )\"\n", "chetaev", ":35:22: error: in output 'speed' \"sqrt(x'^2 + )\": unexpected ')'"},
+      {"x = \"t\"\n", "chetaev", ":35:1: error: invalid output name 'x': the name is used twice"},
+      {"lambda2 = \"t\"\n", "chetaev", ":35:1: error: invalid output name 'lambda2': lambda<N> names are reserved"},
+      {"w = \"q\"\n", "chetaev", ":35:6: error: in output 'w' \"q\": unknown name 'q'"},
+      {"v = 3\n", "chetaev", ":35:5: error: "},
+      {"speed = \"x'\"\nlift = \"lambda1\"\n", "suslov",
+       ":36:8: error: output 'lift' uses lambda1, which the suslov model does not compute"},
+      {"jerk = \"x'''\"\n", "chetaev", ":35:8: error: output 'jerk' uses x''', which the chetaev model does not compute"},
+  };
+  for (const Case& c : cases) {
+    INFO(c.outputs);
+    const std::string scene = appell_hamel_with_outputs(dir, "bad.toml", c.outputs);
+    const Run r = nhc_run("simulate '" + scene + "' -m " + c.model + " -o '" + dir + "/out.csv'", dir);
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.rfind(scene + c.message, 0) == 0);
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    CHECK_FALSE(file_exists(dir + "/out.csv"));
+  }
+}
+
+TEST_CASE("a singular iteration matrix is reported in the scene's words, with the quantity that blew up",
+          "[cli][issue14]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_singular_matrix");
+  // tests/cli/scenes/vanishing_mass.toml: x' = 1/(1 − t) and lambda1 = 1/(1 − t)², the
+  // iteration matrix singular at t = 1.
+  const Run r = nhc_run("simulate tests/cli/scenes/vanishing_mass.toml --output-times 0:0.25:2 -o '" + dir + "/m.csv'", dir);
+  CHECK(r.exit_code == 3);
+  std::smatch m;
+  REQUIRE(std::regex_search(r.err, m, std::regex(
+      R"(^nhc: error: the iteration matrix of the equations \(dF/dstates \+ cj dF/dstates'\) is singular at t = ([0-9.]+) )"
+      R"(\(condition number [0-9.e+]+; the states it does not determine: lambda1 \(-?1\)\): )"
+      R"(the equations cannot be solved there for x'', y'', lambda1; lambda1 blew up \(lambda1 ≈ [0-9.]+e\+[0-9]+ at the )"
+      R"(last accepted step\))")));
+  CHECK(std::abs(std::stod(m[1].str()) - 1) < 1e-6);
+  CHECK(r.err.find("dF/dy") == std::string::npos);  // IDA's y, y' are not the scene's
+  // The motion up to the failure, against the closed form.
+  CHECK_THAT(r.out, Contains("the motion up to the failure"));
+  const std::string csv = read_file(dir + "/m.csv");
+  CHECK(csv_header_line(csv) == "t,x,x',x'',y,y',y'',lambda1,hidden:1");
+  for (int k = 0; k < 4; ++k) {
+    const std::vector<double> row = csv_row(csv, k);
+    const double t = row[0];
+    INFO("t = " << t);
+    CHECK(std::abs(row[2] - 1 / (1 - t)) < 1e-6 / (1 - t));
+    CHECK(std::abs(row[7] - 1 / ((1 - t) * (1 - t))) < 1e-5 / ((1 - t) * (1 - t)));
+  }
 }

@@ -36,6 +36,13 @@ struct SimulateSettings {
   std::optional<int> outputs;  ///< output intervals ([simulate] outputs), default 200
 };
 
+/// One entry of [outputs]: a named quantity written as a CSV column (not an invariant).
+struct SceneOutput {
+  std::string name;
+  GiNaC::ex expression;   ///< of t, parameters, q, q', …, λ
+  SourceLocation where;   ///< the expression's place in the scene file
+};
+
 struct Scene {
   std::string name;         ///< valid C++ identifier, used for file names
   std::string source_path;  ///< file the scene came from ("" when built in code)
@@ -51,6 +58,7 @@ struct Scene {
   SimulateSettings simulate;
   std::vector<std::pair<int, GiNaC::ex>> reference;            ///< coordinate → q(t)
   std::vector<std::pair<std::string, GiNaC::ex>> invariants;   ///< name → I(t, q, q', …)
+  std::vector<SceneOutput> outputs;                             ///< [outputs], in file order
   /// Generalized non-conservative forces Q_i(t, q, q') of [forces], one per coordinate (0 when
   /// not given); every model adds Q_i to its residual R_i (docs/forces.md).
   std::vector<GiNaC::ex> forces;

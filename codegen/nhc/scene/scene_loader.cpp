@@ -127,7 +127,7 @@ class SceneReader {
 
     check_keys(root, {"name", "coordinates", "lagrangian", "constraints", "dependent", "models",
                       "parameters", "initial", "simulate", "reference", "invariants",
-                      "definitions", "forces"});
+                      "definitions", "forces", "outputs"});
 
     Scene scene;
     scene.source_path = path_;
@@ -270,6 +270,7 @@ class SceneReader {
         scene.invariants.emplace_back(n, expression(value, "invariant", jet, mechanics));
       }
     }
+    read_outputs(root, scene, mechanics);
     read_forces(root, scene, mechanics);
     definitions.resolve_all();
     for (const auto& [name, where] : definitions.unused())
@@ -432,6 +433,25 @@ class SceneReader {
       definitions.add(n, text, [this, value_node](std::size_t offset) {
         return expression_location(*value_node, offset);
       });
+    }
+  }
+
+  /// [outputs]: name = "expression" of t, parameters, coordinates, their derivatives and the
+  /// multipliers; written as CSV columns by nhc simulate, never checked for drift.
+  void read_outputs(const toml::table& root, Scene& scene, ExpressionRules rules) {
+    const toml::node* node = root.get("outputs");
+    if (!node) return;
+    rules.allow_multipliers = true;
+    std::vector<std::pair<const toml::key*, const toml::node*>> entries;  // in file order, the CSV's
+    for (auto&& [key, value] : table_value(*node, "outputs")) entries.emplace_back(&key, &value);
+    std::sort(entries.begin(), entries.end(), [](const auto& a, const auto& b) {
+      const toml::source_position pa = a.first->source().begin, pb = b.first->source().begin;
+      return pa.line != pb.line ? pa.line < pb.line : pa.column < pb.column;
+    });
+    for (const auto& [key, value] : entries) {
+      const std::string n(key->str());
+      check_variable_name_at(at(key->source()), n, "output");
+      scene.outputs.push_back({n, expression(*value, "output '" + n + "'", *scene.jet, rules), at(*value)});
     }
   }
 

@@ -297,11 +297,17 @@ struct Integrator::Impl {
     return os.str();
   }
 
-  /// What the index-1 system is solved for, in the scene's words: the derivatives of the
-  /// differential states (x'', z'') and the algebraic states (lambda1), at most six named.
+  /// What the index-1 system is solved for, in the scene's words: the leading derivatives (x'',
+  /// z'', the derivative of each variable's highest differential state) and the algebraic states
+  /// (lambda1), at most six named.
   std::string solved_quantities() const {
     std::vector<std::string> names;
-    for (int i = 0; i < n(); ++i) names.push_back(model.is_differential(i) ? model.state_name(i) + "'" : model.state_name(i));
+    const auto& tab = model.table();
+    for (int i = 0; i < n(); ++i)
+      if (!model.is_differential(i))
+        names.push_back(model.state_name(i));
+      else if (model.state_index(tab.state_variable[i], tab.state_order[i] + 1) < 0)
+        names.push_back(model.state_name(i) + "'");
     std::string s;
     for (std::size_t k = 0; k < names.size() && k < 6; ++k) s += (k ? ", " : "") + names[k];
     if (names.size() > 6) s += ", …";
@@ -309,7 +315,8 @@ struct Integrator::Impl {
   }
 
   /// The state of largest magnitude at the last accepted point when it is beyond 1e8 (the
-  /// quantity that blew up), e.g. "; lambda1 ≈ 4.7e+17 there"; else "".
+  /// quantity that blew up), e.g. "; lambda1 blew up (lambda1 ≈ 4.7e+17 at the last accepted
+  /// step)"; else "".
   std::string blown_up_state() const {
     int worst = -1;
     for (int i = 0; i < n() && i < static_cast<int>(y_last.size()); ++i)
@@ -318,7 +325,8 @@ struct Integrator::Impl {
     if (worst < 0) return "";
     std::ostringstream os;
     os.precision(2);
-    os << "; " << model.state_name(worst) << " ≈ " << y_last[worst] << " at the last accepted step";
+    os << "; " << model.state_name(worst) << " blew up (" << model.state_name(worst) << " ≈ " << y_last[worst]
+       << " at the last accepted step)";
     return os.str();
   }
 
@@ -409,10 +417,13 @@ struct Integrator::Impl {
         if (lsflag > 0 || !(cond < (flag == kStepSizeCollapse ? 1e10 : 1e12))) {
           std::ostringstream os;
           os.precision(15);
-          os << "the iteration matrix dF/dy + cj dF/dy' is singular at t = " << tt;
+          // Not IDA's "dF/dy + cj dF/dy'": a scene may have a coordinate y. The null direction is
+          // a correction of the states (and, times cj, of their derivatives) that the matrix loses.
+          os << "the iteration matrix of the equations (dF/dstates + cj dF/dstates') is singular at t = " << tt;
           os.precision(3);
-          os << " (condition number " << cond << "; null direction " << dominant_states(svd.matrixV().col(s.size() - 1))
-             << "): the equations cannot be solved there for " << solved_quantities() << blown_up_state();
+          os << " (condition number " << cond << "; the states it does not determine: "
+             << dominant_states(svd.matrixV().col(s.size() - 1)) << "): the equations cannot be solved there for "
+             << solved_quantities() << blown_up_state();
           os << " (" << what << ": " << symptom << ")";
           throw SolverError(FailureKind::singular_iteration_matrix, tt, os.str());
         }
@@ -604,7 +615,7 @@ Sample Integrator::initialize(const InitialState& state, double t_next) {
   if (flag < 0) {
     nonfinite_at_start("consistent initialization");
     // IDACalcIC's first step scale is 1e-3 (t_next - t0): its iteration matrix has cj ~ 1/that.
-    s.fail(flag, "the consistent initialization (IDACalcIC: algebraic states and y')", 1e3 / (t_next - state.t0));
+    s.fail(flag, "the consistent initialization of the algebraic states and the derivatives (IDACalcIC)", 1e3 / (t_next - state.t0));
   }
   s.check(IDAGetConsistentIC(s.ida, s.y, s.yp), "reading the consistent initial values");
   s.remember(state.t0);

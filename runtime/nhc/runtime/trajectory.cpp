@@ -52,6 +52,7 @@ Observables observe(const Model& model, const std::vector<double>& p, const Samp
 DriftReport measure_drift(const Model& model, const std::vector<double>& p, const std::vector<Sample>& samples) {
   DriftReport d;
   d.max_hidden_each.assign(model.n_hidden(), 0.0);
+  d.first_hidden_each.assign(model.n_hidden(), NAN);
   d.invariant_drift.assign(model.n_invariants(), 0.0);
   d.invariant_relative.assign(model.n_invariants(), 0.0);
   d.invariant_scale.assign(model.n_invariants(), 0.0);
@@ -59,6 +60,7 @@ DriftReport measure_drift(const Model& model, const std::vector<double>& p, cons
   d.max_error_each.assign(model.n_reference(), 0.0);
   if (samples.empty()) return d;
   const Observables first = observe(model, p, samples.front());
+  d.first_hidden_each = first.hidden;
   auto worse = [](double& acc, double v) { acc = std::isfinite(v) ? std::max(acc, std::abs(v)) : INFINITY; };
   for (const Sample& s : samples) {
     const Observables o = observe(model, p, s);
@@ -80,6 +82,11 @@ DriftReport measure_drift(const Model& model, const std::vector<double>& p, cons
   return d;
 }
 
+std::string hidden_column(const Model& model, int i) {
+  if (model.model_name() == "suslov") return "constraint:" + model.hidden_name(i);
+  return "hidden:" + std::to_string(i + 1);
+}
+
 std::vector<std::string> csv_header(const Model& model) {
   const auto& tab = model.table();
   std::vector<std::string> h{"t"};
@@ -90,7 +97,7 @@ std::vector<std::string> csv_header(const Model& model) {
       if (tab.state_variable[i] == v) h.push_back(model.state_name(i));
     if (top[v] >= 0) h.push_back(model.state_name(top[v]) + "'");
   }
-  for (int i = 0; i < model.n_hidden(); ++i) h.push_back("hidden:" + std::to_string(i + 1));
+  for (int i = 0; i < model.n_hidden(); ++i) h.push_back(hidden_column(model, i));
   for (int k = 0; k < model.n_invariants(); ++k) h.push_back(std::string("invariant:") + tab.invariant_names[k]);
   for (int k = 0; k < model.n_reference(); ++k) h.push_back("error:" + model.variable_name(tab.reference_coordinate[k]));
   return h;

@@ -28,6 +28,7 @@ inline constexpr double kInvariantScaleFloor = 1e-8;
 struct DriftReport {
   double max_hidden = 0;                  ///< max_t max_i |g_i|
   std::vector<double> max_hidden_each;    ///< per hidden constraint
+  std::vector<double> first_hidden_each;  ///< per hidden constraint, its value at the first sample
   std::vector<double> invariant_drift;    ///< max_t |I_k(t) − I_k(t0)|
   /// invariant_drift / invariant_scale, or the absolute drift when the scale is below
   /// kInvariantScaleFloor (an invariant that is zero along the run: a relative drift of a
@@ -43,8 +44,13 @@ struct DriftReport {
 DriftReport measure_drift(const Model& model, const std::vector<double>& p, const std::vector<Sample>& samples);
 
 /// The CSV header: t, states by name with the highest derivative from y' (x, x', x''), then
-/// multipliers, hidden:<i> (1-based), invariant:<name>, error:<coordinate>.
+/// multipliers, the hidden constraints (hidden_column), invariant:<name>, error:<coordinate>.
 std::vector<std::string> csv_header(const Model& model);
+
+/// The CSV column of hidden constraint i: hidden:<i> (1-based) where the model enforces it; for
+/// the suslov model, which only monitors the scene's constraints, constraint:<name> (f1 for the
+/// scene's first constraint, as nhc derive and analyze name it).
+std::string hidden_column(const Model& model, int i);
 
 /// Writes the trajectory as CSV (17 significant digits), atomically: a temporary file beside
 /// `path` renamed over it. Throws std::runtime_error when the file cannot be written.

@@ -1,0 +1,45 @@
+#pragma once
+/// \file scene_outputs.hpp
+/// \brief The scene's [outputs] (named expressions of t, parameters, coordinates, their
+/// derivatives and the multipliers) evaluated on the samples of a run, as extra CSV columns of
+/// `nhc simulate`. They are not invariants: nothing checks them for drift.
+
+#include <ginac/ginac.h>
+
+#include <string>
+#include <vector>
+
+#include "nhc/runtime/runtime.hpp"
+#include "nhc/scene/scene.hpp"
+
+namespace nhc::cli {
+
+class SceneOutputs {
+ public:
+  SceneOutputs() = default;
+  /// Binds each output to the model's solution with the parameter values `p` (the model's
+  /// order). An output that uses a quantity the model does not compute (a multiplier of the
+  /// suslov model, x''' of a second-order system) is an InputError at the output's expression.
+  SceneOutputs(const Scene& scene, const runtime::Model& model, const std::vector<double>& p);
+
+  bool empty() const noexcept { return names_.empty(); }
+  /// The column names, in the order of [outputs] in the scene file.
+  const std::vector<std::string>& names() const noexcept { return names_; }
+  /// The outputs at one sample; NaN where an expression is not a finite real number there
+  /// (sqrt of a negative number, a division by zero).
+  std::vector<double> evaluate(const runtime::Sample& sample) const;
+
+ private:
+  /// Where a jet symbol's value is found in a sample: y[index] or y'[index].
+  struct Source {
+    GiNaC::ex symbol;
+    bool derivative;
+    int index;
+  };
+  std::vector<std::string> names_;
+  std::vector<GiNaC::ex> expressions_;  // parameters already substituted
+  std::vector<Source> sources_;
+  GiNaC::ex time_;
+};
+
+}  // namespace nhc::cli
