@@ -241,9 +241,8 @@ void time_calls(const std::vector<const nhc::runtime::Model*>& models, const std
     const double* y = runs[m]->run.initial.y.data();
     const double* yp = runs[m]->run.initial.yp.data();
     fs.push_back([&t, &b, t0, y, yp] { t.residual(t0, y, yp, b.p.data(), b.r.data()); });
-    const bool sparse = t.jacobian_values && (io.linear_solver == nhc::runtime::LinearSolverKind::sparse ||
-                                              (io.linear_solver == nhc::runtime::LinearSolverKind::automatic &&
-                                               (!t.jacobian || n >= 40)));
+    // The Jacobian the integrator's run used: the runtime's one rule.
+    const bool sparse = nhc::runtime::uses_sparse_solver(*models[m], io.linear_solver);
     if (sparse) {
       b.J.assign(static_cast<size_t>(std::max(1, t.jacobian_nnz)), 0.0);
       fs.push_back([&t, &b, t0, y, yp, cj] { t.jacobian_values(t0, y, yp, cj, b.p.data(), b.J.data()); });

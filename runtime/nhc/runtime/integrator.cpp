@@ -27,6 +27,19 @@ namespace sd = sun;
 static_assert(SUNDIALS_VERSION_MAJOR == 6,
               "ProjectionMethod::in_place shifts IDA 6's divided difference phi[0] (sun::CloneRecorder)");
 
+bool uses_sparse_solver(const Model& model, LinearSolverKind kind) {
+  switch (kind) {
+    case LinearSolverKind::sparse:
+      if (!model.has_sparse_jacobian())
+        throw ModelError("KLU needs the sparse Jacobian, and this model was generated without it "
+                         "(generate the header with --jacobian sparse)");
+      return true;
+    case LinearSolverKind::dense: return false;
+    case LinearSolverKind::automatic: return model.has_sparse_jacobian();
+  }
+  return false;
+}
+
 namespace {
 
 std::string format_time(double t) {
@@ -242,21 +255,7 @@ struct Integrator::Impl {
 
   void create_linear_solver() {
     const auto& tab = model.table();
-    bool want_sparse = false;
-    switch (options.linear_solver) {
-      case LinearSolverKind::sparse:
-        if (!model.has_sparse_jacobian())
-          throw ModelError("KLU needs the sparse Jacobian, and this model was generated without it");
-        want_sparse = true;
-        break;
-      case LinearSolverKind::dense: want_sparse = false; break;
-      case LinearSolverKind::automatic:
-        // The size policy lives where the header is generated (default_jacobian_kind, emit
-        // layer); the runtime follows what the model carries.
-        want_sparse = model.has_sparse_jacobian();
-        break;
-    }
-    sparse = want_sparse;
+    sparse = uses_sparse_solver(model, options.linear_solver);
     if (sparse) {
       A = sd::Matrix::sparse_csc(n(), n(), tab.jacobian_nnz, ctx);
       solver = sd::LinearSolver::klu(y, A, ctx);

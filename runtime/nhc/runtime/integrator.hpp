@@ -23,6 +23,12 @@ enum class LinearSolverKind {
   sparse,     ///< KLU on the generated compressed-column Jacobian
 };
 
+/// Whether `kind` means KLU for this model: `automatic` follows what the model carries (the size
+/// policy lives where the header is generated, default_jacobian_kind in the emit layer); `sparse`
+/// on a model without the sparse Jacobian is a ModelError. The one rule for the integrator, the
+/// sensitivities and the bench.
+bool uses_sparse_solver(const Model& model, LinearSolverKind kind);
+
 enum class ProjectionMethod {
   none,
   /// After a step whose hidden constraints need a correction larger than projection_threshold

@@ -318,17 +318,7 @@ struct SensitivityIntegrator::Impl {
 
   void create_linear_solver() {
     const auto& tab = model.table();
-    switch (options.linear_solver) {
-      case LinearSolverKind::sparse:
-        if (!model.has_sparse_jacobian())
-          throw ModelError("KLU needs the sparse Jacobian; generate the header with --jacobian sparse");
-        sparse = true;
-        break;
-      case LinearSolverKind::dense: sparse = false; break;
-      case LinearSolverKind::automatic:
-        sparse = model.has_sparse_jacobian() && (n() >= 40 || !model.has_dense_jacobian());
-        break;
-    }
+    sparse = uses_sparse_solver(model, options.linear_solver);
     if (sparse) {
       A = sd::Matrix::sparse_csc(n(), n(), tab.jacobian_nnz, ctx);
       solver = sd::LinearSolver::klu(y, A, ctx);
