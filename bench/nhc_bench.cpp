@@ -155,6 +155,12 @@ struct Json {
   std::string str() { return os.str() + "}"; }
 };
 
+std::string address(const void* p) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%p", p);
+  return text;
+}
+
 std::string vector_json(const std::vector<double>& v) {
   std::ostringstream os;
   os.precision(17);
@@ -224,7 +230,7 @@ Integration integrate(const nhc::runtime::Model& model, const nhc::runtime::Init
 /// One residual and one Jacobian evaluation (the Jacobian the integrator uses) of each model at
 /// the consistent initial point of its run, timed with all models interleaved.
 void time_calls(const std::vector<const nhc::runtime::Model*>& models, const std::vector<Integration*>& runs,
-                const nhc::runtime::IntegratorOptions& io, bool quick) {
+                bool quick) {
   struct Buffers {
     std::vector<double> p, r, J;
   };
@@ -241,9 +247,10 @@ void time_calls(const std::vector<const nhc::runtime::Model*>& models, const std
     const double* y = runs[m]->run.initial.y.data();
     const double* yp = runs[m]->run.initial.yp.data();
     fs.push_back([&t, &b, t0, y, yp] { t.residual(t0, y, yp, b.p.data(), b.r.data()); });
-    // The Jacobian the integrator's run used: the runtime's one rule.
-    const bool sparse = nhc::runtime::uses_sparse_solver(*models[m], io.linear_solver);
-    if (sparse) {
+    // The Jacobian the integrator used in this model's run (its statistics say which): no size
+    // policy of the bench's own (that lives in nhc::default_jacobian_kind).
+    const std::string& used = runs[m]->run.statistics.jacobian;
+    if (used == "generated sparse" || used == "generated sparse (scattered)") {
       b.J.assign(static_cast<size_t>(std::max(1, t.jacobian_nnz)), 0.0);
       fs.push_back([&t, &b, t0, y, yp, cj] { t.jacobian_values(t0, y, yp, cj, b.p.data(), b.J.data()); });
     } else {
@@ -351,6 +358,8 @@ int run(const Options& o) {
   io.rtol = o.rtol > 0 ? o.rtol : scene.simulate.rtol;
   io.atol = o.atol > 0 ? o.atol : scene.simulate.atol;
   io.progress = false;
+  // Both models (generated, hand-written) on the linear solver of the generated header's Jacobian
+  // kind (nhc::default_jacobian_kind unless --jacobian), so that they are compared on equal terms.
   io.linear_solver = sparse ? nhc::runtime::LinearSolverKind::sparse : nhc::runtime::LinearSolverKind::dense;
   const double t_end = o.t_end > 0 ? o.t_end : scene.simulate.t_end;
   Integration gen = integrate(model, initial, t_end, io, o.quick);
@@ -376,9 +385,9 @@ int run(const Options& o) {
         throw std::runtime_error("state " + std::to_string(i) + " is " + hw->state_name(i) + " hand-written, " +
                                  model.state_name(i) + " generated");
     hand = integrate(*hw, initial, t_end, io, o.quick);
-    time_calls({&model, &*hw}, {&gen, &hand}, io, o.quick);
+    time_calls({&model, &*hw}, {&gen, &hand}, o.quick);
   } else {
-    time_calls({&model}, {&gen}, io, o.quick);
+    time_calls({&model}, {&gen}, o.quick);
   }
 
   Json json;
@@ -388,6 +397,7 @@ int run(const Options& o) {
   json.integer("n_coordinates", model.n_coordinates());
   json.integer("n_multipliers", model.n_multipliers());
   json.text("jacobian_kind", sparse ? "sparse" : "dense");
+  json.integer("sparse_jacobian_from_states", nhc::kSparseJacobianFromStates);
   json.integer("jacobian_nnz", model.table().jacobian_nnz);
   json.number("load_s", load_s);
   json.number("derive_s", derive_s);
@@ -418,6 +428,10 @@ int run(const Options& o) {
     json.number("handwritten_compile_s", hw_compile_s);
     json.text("handwritten_library", hw_library_name);
     json.text("generated_library", fs::path(loaded.library().path).filename().string());
+    // Two distinct objects, not one table reached twice (GNU_UNIQUE aliasing): the bench refused
+    // above if the addresses were equal; they are recorded for bench/results.md.
+    json.text("generated_table_address", address(&model.table()));
+    json.text("handwritten_table_address", address(&hw->table()));
     report_integration(json, "handwritten_", hand);
     double diff = 0, scale = 0;
     const std::vector<double>& hy = hand.run.samples.back().y;

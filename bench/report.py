@@ -6,7 +6,6 @@ Usage: report.py JSON_DIR RESULTS_MD PLOT_DATA
   JSON_DIR holds nhc_<scene>.json (nhc_bench), peers_<N|appell_hamel>.json (peers.py),
   env.json (machine, versions, N sets, wall time) and optionally plot.txt (gnuplot's text plot).
 """
-import glob
 import json
 import math
 import os
@@ -86,6 +85,29 @@ def code_bytes(library):
     return total or None
 
 
+def unique_symbols(library):
+    """Number of STB_GNU_UNIQUE symbols in a shared object (readelf -Ws), None if unreadable."""
+    import subprocess
+    try:
+        text = subprocess.run(["readelf", "-Ws", library], capture_output=True, text=True, check=True).stdout
+    except (OSError, subprocess.CalledProcessError):
+        return None
+    return sum(1 for line in text.splitlines() if " UNIQUE " in line)
+
+
+def distinct_objects(d, gen_lib, hw_lib):
+    """Which two loaded objects one hand-written row compares: libraries, table addresses, and
+    whether either could alias the other through GNU_UNIQUE symbols."""
+    g, h = d.get("generated_table_address"), d.get("handwritten_table_address")
+    if not g or not h:
+        return "not recorded"
+    uniq = [unique_symbols(x) if os.path.isfile(x) else None for x in (gen_lib, hw_lib)]
+    uniq_text = "GNU_UNIQUE symbols %s / %s" % tuple("?" if u is None else u for u in uniq)
+    return "`%s`: %s vs `%s`: %s (%s; %s)" % (
+        d.get("generated_library", "?"), g, d.get("handwritten_library", "?"), h,
+        "distinct" if g != h else "**the same table**", uniq_text)
+
+
 def final_difference(nhc, method_result):
     """Max |nhc − SciPy| over the coordinates and velocities at t_end."""
     if not nhc or not method_result or not method_result.get("success"):
@@ -104,6 +126,11 @@ def main(argv):
     peers = {n: load(os.path.join(jdir, "peers_%d.json" % n)) for n in peer_ns}
     examples = {name: load(os.path.join(jdir, "nhc_%s.json" % name)) for name in ("appell_hamel", "particle")}
     peer_ah = load(os.path.join(jdir, "peers_appell_hamel.json"))
+
+    # The size from which nhc generates a sparse Jacobian, as the driver reports it
+    # (nhc::kSparseJacobianFromStates), not a copy of the policy.
+    thresholds = {d.get("sparse_jacobian_from_states") for d in list(nhc.values()) + list(examples.values()) if d}
+    threshold = "/".join(str(t) for t in sorted(thresholds, key=str)) if thresholds else "?"
 
     L = []
     L.append("# Benchmarks: nhc against SymPy/SciPy and hand-written code")
@@ -198,7 +225,8 @@ def main(argv):
     L.append("derive = scene → equations of Chetaev's model; analyse = Pryce's Σ-method and the index-1 "
              "reduction; generate = Jacobian, CSE and the header text. compile = the generated header "
              "with `-std=c++17 -O2 -fPIC -shared` (as `nhc simulate`). integrate = consistent "
-             "initialization and IDA to t_end (dense LU below 40 states, KLU from 40). "
+             "initialization and IDA to t_end (dense LU below %s states, KLU from there: "
+             "`nhc::default_jacobian_kind`). " % threshold +
              "Operations are nhc's count (+, −, ×, ÷, calls) of the whole header.")
     L.append("")
     rows = []
@@ -301,12 +329,11 @@ def main(argv):
              "`tests/runtime/handwritten/appell_hamel_chetaev.hpp`, compiled with the same flags and loaded "
              "the same way. One call at the consistent initial point (best of 9 batches, the two headers' "
              "batches interleaved); code bytes = machine code of the residual and Jacobian functions "
-             "(`nm -S`; – where the library has no symbol table: nhc::jit strips the shared objects it builds, "
-             "which export only the table's entry point). The Jacobian is the one the integrator uses "
-             "(the model's own kind: dense below 40 states, compressed-column values from 40). "
+             "(`nm -S`; – where the library is stripped, as nhc::jit builds them with `-s`). The Jacobian is the one the integrator used (dense below %s states, compressed-column values "
+             "from there). " % threshold +
              "max Δ = largest difference between the final states of the two runs; it is not 0 because the "
              "two libraries are different objects (nhc::jit builds them with hidden visibility, so equal "
-             "namespaces cannot alias).")
+             "namespaces cannot alias; the compared-objects column shows both tables).")
     L.append("")
     rows = []
     out_dir = os.path.dirname(os.path.abspath(jdir))
@@ -315,11 +342,12 @@ def main(argv):
     for label, d, lib_dir in hw_cases:
         if not d or "handwritten_residual_call_s" not in d:
             continue
-        libs = sorted(glob.glob(os.path.join(lib_dir, "*.so")))
-        gen_lib = [x for x in libs if not x.endswith("_handwritten.so")]
-        hw_lib = [x for x in libs if x.endswith("_handwritten.so")]
-        gen_bytes = code_bytes(gen_lib[0]) if gen_lib else None
-        hw_bytes = code_bytes(hw_lib[0]) if hw_lib else None
+        cache = os.path.join(lib_dir, "jit-cache")
+        gen_lib = os.path.join(cache, d.get("generated_library", ""))
+        hw_lib = os.path.join(cache, d.get("handwritten_library", ""))
+        gen_bytes = code_bytes(gen_lib) if os.path.isfile(gen_lib) else None
+        hw_bytes = code_bytes(hw_lib) if os.path.isfile(hw_lib) else None
+        distinct = distinct_objects(d, gen_lib, hw_lib)
         rows.append((label, fmt_s(d["residual_call_s"]), fmt_s(d["handwritten_residual_call_s"]),
                      fmt_x(ratio(d["residual_call_s"], d["handwritten_residual_call_s"])),
                      fmt_s(d["jacobian_call_s"]), fmt_s(d["handwritten_jacobian_call_s"]),
@@ -329,9 +357,10 @@ def main(argv):
                      "%d / %d" % (d["steps"], d["handwritten_steps"]),
                      "%.1e" % d["handwritten_final_difference"], fmt_s(d["compile_s"]),
                      fmt_s(d["handwritten_compile_s"]),
-                     "%s / %s" % (gen_bytes if gen_bytes else "–", hw_bytes if hw_bytes else "–")))
+                     "%s / %s" % (gen_bytes if gen_bytes else "–", hw_bytes if hw_bytes else "–"), distinct))
     L.append(table(["N", "residual", "hand", "ratio", "Jacobian", "hand", "ratio", "integrate", "hand", "ratio",
-                    "steps gen / hand", "max Δ", "compile", "compile hand", "code bytes gen / hand"], rows))
+                    "steps gen / hand", "max Δ", "compile", "compile hand", "code bytes gen / hand",
+                    "compared objects (library: table address)"], rows))
     L.append("")
 
     # ---- examples ----

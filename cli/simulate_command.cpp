@@ -115,7 +115,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
   add_sensitivity_options(sub, options->sensitivity);
 
   return [options]() {
-    // Derive, reduce, generate (dense Jacobian; sparse from 40 states), compile (or reuse), load.
+    // Derive, reduce, generate (Jacobian kind by nhc::default_jacobian_kind), compile (or reuse), load.
     const auto load_start = Clock::now();
     const Scene scene = load_scene(options->scene_path);
     const ModelKind kind = model_or_default(scene, options->model);
