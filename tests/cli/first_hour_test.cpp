@@ -236,12 +236,15 @@ TEST_CASE("invariant drift is relative to the invariant's size along the run, ab
   // q'·q'' itself as an "invariant" is 0 up to rounding, whose relative drift would be noise.
   std::string text = read_file(std::string(NHC_SOURCE_DIR) + "/examples/particle.toml");
   text += "power = \"q1'*q1'' + q2'*q2'' + q3'*q3''\"\n";
+  // q1 = t starts at exactly 0 and grows to 1: its drift is relative to 1, not to I(t0) = 0.
+  text += "position = \"q1\"\n";
   const std::string scene = dir + "/particle.toml";
   std::ofstream(scene) << text;
   const Run r = nhc_run("simulate '" + scene + "'", dir);
   REQUIRE(r.exit_code == 0);
   CHECK_THAT(r.out, Contains("invariant speed_squared: max drift") && Contains("to its largest size 9)"));
   CHECK_THAT(r.out, Contains("invariant power: max drift") && Contains("(absolute: the invariant stays below 1e-08)"));
+  CHECK_THAT(r.out, Contains("invariant position: max drift 1 (relative 1 to its largest size 1)\n"));
 }
 
 TEST_CASE("the suslov run starts where analyze does and shows its monitored constraint, zero at t0",
