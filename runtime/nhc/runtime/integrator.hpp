@@ -25,8 +25,8 @@ enum class LinearSolverKind {
 
 /// Whether `kind` means KLU for this model: `automatic` follows what the model carries (the size
 /// policy lives where the header is generated, default_jacobian_kind in the emit layer); `sparse`
-/// on a model without the sparse Jacobian is a ModelError. The one rule for the integrator, the
-/// sensitivities and the bench.
+/// on a model without the sparse Jacobian is a ModelError. The one rule for the integrator and the
+/// sensitivities (the bench times whichever Jacobian the run's statistics say was used).
 bool uses_sparse_solver(const Model& model, LinearSolverKind kind);
 
 enum class ProjectionMethod {
