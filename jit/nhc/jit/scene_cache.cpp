@@ -115,8 +115,9 @@ std::optional<std::string> checked_payload(const std::string& bytes, const std::
     problem = "not a scene cache entry (damaged)";
     return std::nullopt;
   }
-  if (bytes.size() - pos != *size) {
-    problem = "its payload has " + std::to_string(bytes.size() - pos) + " bytes, not " + std::to_string(*size) +
+  const std::size_t expected = size.value_or(0);
+  if (bytes.size() - pos != expected) {
+    problem = "its payload has " + std::to_string(bytes.size() - pos) + " bytes, not " + std::to_string(expected) +
               " (truncated or damaged)";
     return std::nullopt;
   }
