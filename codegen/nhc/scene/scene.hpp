@@ -36,7 +36,8 @@ struct SimulateSettings {
 struct Scene {
   std::string name;         ///< valid C++ identifier, used for file names
   std::string source_path;  ///< file the scene came from ("" when built in code)
-  /// The text parse_scene() read ("" when built in code). The scene-level cache
+  /// The text parse_scene() read (SceneBuilder's too; "" for a scene assembled field by field
+  /// in code). The scene-level cache
   /// (nhc/jit/scene_cache.hpp) keys on it with the values code may change (parameters, initial
   /// data, settings): code that changes a parsed scene's expressions must clear it.
   std::string source_text;

@@ -11,8 +11,9 @@
 /// The key of an entry is the SHA-256 of nhc's version, the product's name (what the entry holds),
 /// the product's options in words, and the scene's fingerprint: its source text, its file's name
 /// (the generated banner names it) and every value code may change after parsing (parameter values
-/// such as `--set` gives, initial data, [simulate] settings, requested models). A scene built in
-/// code has no source text and is never cached.
+/// such as `--set` gives, initial data, [simulate] settings, requested models). SceneBuilder's
+/// scenes have the text they are built from; a scene assembled field by field in code has none and
+/// is never cached.
 
 #include <filesystem>
 #include <map>
