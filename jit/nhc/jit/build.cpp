@@ -104,15 +104,12 @@ LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& option
   std::optional<std::string> key;
   if (options.scene_cache && scene_cache_enabled())
     key = scene_cache_key(scene, kHeaderProduct, header_options_text(kind, options));
-  std::optional<SceneCache> cache;
-  CompileOptions compile = options.compile;
   if (key) {
-    cache.emplace(options.compile.cache_directory, options.compile.warn);
-    compile.cache_directory = cache->cache_directory();  // both caches in one checked directory
-    if (const std::optional<SceneCacheRecord> record = cache->load(*key))
+    if (const std::optional<SceneCacheRecord> record =
+            SceneCache(options.compile.cache_directory, options.compile.warn).load(*key))
       if (std::optional<CachedHeader> cached = cached_header(*record)) {
         const double lookup_seconds = seconds_since(start);
-        LoadedModel loaded = load_header(cached->header, kind, cached->jacobian, compile);
+        LoadedModel loaded = load_header(cached->header, kind, cached->jacobian, options.compile);
         BuildTimings timings = loaded.timings();
         timings.scene_cache = lookup_seconds;
         timings.scene_cached = true;
@@ -136,11 +133,14 @@ LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& option
   GeneratedHeader header = generate_header(scene, system, header_options);
   const double generate_seconds = seconds_since(start);
 
+  LoadedModel loaded = load_header(header, kind, header_options.jacobian, options.compile);
+  // Stored once the header compiled and loaded, beside the library (the compile cache's checked
+  // directory): a refused or interrupted build leaves no entry.
   start = Clock::now();
-  if (key) cache->store(*key, header_record(header, header_options.jacobian));
+  if (key)
+    SceneCache(loaded.library().path.parent_path(), options.compile.warn)
+        .store(*key, header_record(header, header_options.jacobian));
   const double store_seconds = seconds_since(start);
-
-  LoadedModel loaded = load_header(header, kind, header_options.jacobian, compile);
   BuildTimings timings = loaded.timings();
   timings.derive = derive_seconds;
   timings.generate = generate_seconds;

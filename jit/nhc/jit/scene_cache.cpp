@@ -221,21 +221,21 @@ bool scene_cache_enabled() {
 SceneCache::SceneCache(fs::path cache_directory, Warning warn)
     : requested_(std::move(cache_directory)), warn_(warn ? std::move(warn) : default_warning()) {}
 
-const fs::path& SceneCache::cache_directory() const {
-  if (cache_directory_.empty())
-    cache_directory_ = requested_.empty() ? private_cache_directory(default_cache_location(), warn_)
-                                          : private_cache_directory({requested_, false}, warn_);
-  return cache_directory_;
-}
-
 fs::path SceneCache::entry_path(const std::string& key) const {
-  if (entries_.empty()) entries_ = private_cache_directory({cache_directory() / "scenes", false}, warn_);
+  if (entries_.empty()) {
+    const fs::path base = requested_.empty() ? private_cache_directory(default_cache_location(), warn_)
+                                             : private_cache_directory({requested_, false}, warn_);
+    entries_ = private_cache_directory({base / "scenes", false}, warn_);
+  }
   return entries_ / (key + ".entry");
 }
 
 std::optional<SceneCacheRecord> SceneCache::load(const std::string& key) const {
-  const fs::path path = entry_path(key);
+  // No scenes directory where the cache would be: nothing to find, and nothing is created.
   std::error_code ec;
+  const fs::path base = requested_.empty() ? default_cache_location().path : requested_;
+  if (entries_.empty() && !fs::exists(fs::symlink_status(base / "scenes", ec))) return std::nullopt;
+  const fs::path path = entry_path(key);  // the directories checked before anything in them is read
   if (!fs::exists(fs::symlink_status(path, ec))) return std::nullopt;
   std::string problem;
   std::optional<SceneCacheRecord> record;

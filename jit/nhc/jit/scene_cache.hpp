@@ -61,23 +61,21 @@ class SceneCache {
   explicit SceneCache(std::filesystem::path cache_directory = {}, Warning warn = {});
 
   /// The record stored under `key`; nullopt when there is none, or when the entry fails a check
-  /// (then it is removed, with a warning).
+  /// (then it is removed, with a warning). Creates nothing: a run refused later leaves no cache.
   std::optional<SceneCacheRecord> load(const std::string& key) const;
-  /// Stores `record` under `key` (written to a temporary name and renamed). A failure to write is
-  /// a warning, not an error: the run goes on without the entry.
+  /// Stores `record` under `key` (written to a temporary name and renamed); call it once the
+  /// product has been used successfully (compiled, loaded). A failure to write is a warning, not
+  /// an error: the run goes on without the entry.
   void store(const std::string& key, const SceneCacheRecord& record) const;
 
-  /// The file of the entry under `key` (whether or not it exists).
+  /// The file of the entry under `key` (whether or not it exists); creates and checks the
+  /// directories (private_cache_directory()).
   std::filesystem::path entry_path(const std::string& key) const;
-
-  /// The compile cache's directory, checked (private_cache_directory()) once per object: pass it
-  /// on to the compiler so that both caches use the same one (a replaced temporary fallback too).
-  const std::filesystem::path& cache_directory() const;
 
  private:
   std::filesystem::path requested_;
   Warning warn_;
-  mutable std::filesystem::path cache_directory_, entries_;  // resolved on first use
+  mutable std::filesystem::path entries_;  // resolved on first use
 };
 
 }  // namespace nhc::jit
