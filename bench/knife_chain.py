@@ -60,13 +60,15 @@ def scene_text(n):
     for i in range(1, n + 1):
         coords += ["x%d" % i, "y%d" % i, "th%d" % i]
     lines.append("coordinates = [%s]" % ", ".join('"%s"' % c for c in coords))
+    # Without spaces: the scene reader takes expressions of at most 100000 characters, and the
+    # Lagrangian of N = 1024 has 92500 this way.
     kinetic = []
     for i in range(1, n + 1):
-        kinetic.append("m/2*(x{0}'^2 + y{0}'^2) + J/2*th{0}'^2 + m*g*sin(alpha)*x{0}".format(i))
+        kinetic.append("m/2*(x{0}'^2+y{0}'^2)+J/2*th{0}'^2+m*g*sin(alpha)*x{0}".format(i))
     springs = []
     for i in range(1, n):
-        springs.append(" - k/2*((x{1} - x{0})^2 + (y{1} - y{0} - l)^2)".format(i, i + 1))
-    lines.append('lagrangian = "%s%s"' % (" + ".join(kinetic), "".join(springs)))
+        springs.append("-k/2*((x{1}-x{0})^2+(y{1}-y{0}-l)^2)".format(i, i + 1))
+    lines.append('lagrangian = "%s%s"' % ("+".join(kinetic), "".join(springs)))
     cons = ["x{0}'*sin(th{0}) - y{0}'*cos(th{0})".format(i) for i in range(1, n + 1)]
     lines.append("constraints = [%s]" % ", ".join('"%s"' % c for c in cons))
     lines.append('models = ["chetaev"]')
@@ -98,8 +100,8 @@ def main(argv):
     os.makedirs(outdir, exist_ok=True)
     for arg in argv[2:]:
         n = int(arg)
-        if not 1 <= n <= 512:
-            sys.stderr.write("knife_chain.py: N must be in 1..512, got %d\n" % n)
+        if not 1 <= n <= 1024:
+            sys.stderr.write("knife_chain.py: N must be in 1..1024, got %d\n" % n)
             return 2
         path = os.path.join(outdir, "knife_chain_%d.toml" % n)
         with open(path + ".tmp", "w") as f:

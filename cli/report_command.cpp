@@ -26,6 +26,7 @@
 #include "nhc/io/atomic_directory.hpp"
 #include "nhc/io/atomic_file.hpp"
 #include "nhc/io/output_path.hpp"
+#include "nhc/jit/scene_cache.hpp"
 #include "nhc/scene/scene.hpp"
 #include "nhc/scene/tolerances.hpp"
 #include "pipeline.hpp"
@@ -167,11 +168,31 @@ std::string error_summary(const WorkPrecision& wp) {
   return out.str();
 }
 
+/// The model's equations as `nhc derive` writes them, from the scene cache when the scene is
+/// unchanged (nhc/jit/scene_cache.hpp).
+std::string derivation_text(const Scene& scene, ModelKind kind) {
+  const std::optional<std::string> key =
+      jit::scene_cache_enabled() ? jit::scene_cache_key(scene, "derivation text", "model " + to_string(kind))
+                                 : std::nullopt;
+  std::optional<jit::SceneCache> cache;
+  if (key) {
+    cache.emplace();
+    if (const std::optional<jit::SceneCacheRecord> record = cache->load(*key))
+      if (std::optional<std::string> text = record->get("text")) return *text;
+  }
+  std::ostringstream equations;
+  write_derivation_text(equations, scene, {derive_model(scene, kind)});
+  if (key) {
+    jit::SceneCacheRecord record;
+    record.set("text", equations.str());
+    cache->store(*key, record);
+  }
+  return equations.str();
+}
+
 void write_report(const std::string& path, const Scene& scene, ModelKind kind, const WorkPrecision& wp,
                   const std::vector<std::string>& images) {
-  const DerivedModel derived = derive_model(scene, kind);
-  std::ostringstream equations;
-  write_derivation_text(equations, scene, {derived});
+  const std::string equations = derivation_text(scene, kind);
   const WorkPrecisionSettings& s = wp.settings;
   const bool sweep = !s.sweep_parameter.empty();
 
@@ -281,7 +302,7 @@ void write_report(const std::string& path, const Scene& scene, ModelKind kind, c
     out << "\n\nParameters:";
     for (size_t i = 0; i < wp.parameter_names.size(); ++i)
       out << (i ? "," : "") << " " << wp.parameter_names[i] << " = " << fmt(wp.parameters[i], 6);
-    out << "\n\n```\n" << equations.str() << "```\n";
+    out << "\n\n```\n" << equations << "```\n";
   });
 }
 

@@ -64,18 +64,43 @@ void check_simulate_flags(const SimulateOptions& options, const Scene& scene) {
   if (options.atol && !(std::isfinite(*options.atol) && *options.atol > 0)) bad("--atol must be a positive number");
 }
 
+/// The initial-point check's outcome in the scene cache (nhc/jit/scene_cache.hpp): whether a run
+/// with the same scene, overrides, tolerances, model and --repair-initial passed it before.
+struct InitialPointCheck {
+  std::optional<std::string> key;  ///< none: the scene cache is off, or the scene has no text
+  bool cached = false;
+};
+
 /// Given initial values that miss a hidden constraint: the analysis' words (the same rule as
-/// the runtime, initial_point.hpp), before anything is compiled or written.
-void check_initial_point(Scene scene, ModelKind kind, double rtol, double atol, bool repair) {
+/// the runtime, initial_point.hpp), before anything is compiled or written. A check passed
+/// before (in the scene cache) is not repeated: an unchanged run derives and analyses nothing.
+InitialPointCheck check_initial_point(Scene scene, ModelKind kind, double rtol, double atol, bool repair) {
   scene.simulate.rtol = rtol;
   scene.simulate.atol = atol;
+  InitialPointCheck check;
+  if (jit::scene_cache_enabled())
+    check.key = jit::scene_cache_key(scene, "initial point check",
+                                     "model " + to_string(kind) + ", repair " + (repair ? "yes" : "no"));
+  if (check.key)
+    if (const std::optional<jit::SceneCacheRecord> record = jit::SceneCache().load(*check.key))
+      check.cached = record->get("outcome") == std::string("passed");
+  if (check.cached) return check;
   InitializationOptions init;
   init.repair = repair;
   const ModelAnalysis a = analyze_model(scene, derive_model(scene, kind), init);
-  if (!a.initial_values_repairable) return;
+  if (!a.initial_values_repairable) return check;
   std::string message;
   for (const std::string& e : a.errors) message += (message.empty() ? "" : "\nnhc: error: ") + e;
   throw MathError(message);
+}
+
+/// A passed check stored once the model is built, beside its library: a refused or interrupted
+/// run leaves no entry.
+void remember_check(const InitialPointCheck& check, const jit::LoadedModel& built) {
+  if (!check.key || check.cached) return;
+  jit::SceneCacheRecord record;
+  record.set("outcome", "passed");
+  jit::SceneCache(built.library().path.parent_path()).store(*check.key, record);
 }
 
 }  // namespace
@@ -136,15 +161,19 @@ CommandRunner add_simulate_command(CLI::App& app) {
                                     options->outputs.value_or(scene.simulate.outputs.value_or(200)))
             : parse_output_times(options->output_times, t0);
     const double t_end = times.back();
-    check_initial_point(scene_set, kind, options->rtol.value_or(scene.simulate.rtol),
-                        options->atol.value_or(scene.simulate.atol), options->repair);
+    const InitialPointCheck check =
+        check_initial_point(scene_set, kind, options->rtol.value_or(scene.simulate.rtol),
+                            options->atol.value_or(scene.simulate.atol), options->repair);
     const double load_seconds = seconds_since(load_start);
     jit::BuildOptions build_options;
     build_options.sensitivities = !options->sensitivity.names.empty();
     const jit::LoadedModel built = jit::build(scene, kind, build_options);
+    remember_check(check, built);
     if (build_options.sensitivities) parse_sensitivities(built.model(), options->sensitivity.names);
     const runtime::Model& model = built.model();
-    const double derive_seconds = load_seconds + built.timings().derive + built.timings().generate;
+    const double derive_seconds =
+        load_seconds + built.timings().derive + built.timings().generate + built.timings().scene_cache;
+    const bool scene_cached = check.cached && built.timings().scene_cached;
     const double compile_seconds = built.timings().compile + built.timings().load;
 
     // Integrate.
@@ -199,7 +228,8 @@ CommandRunner add_simulate_command(CLI::App& app) {
               << st.jacobian << "), error-test failures " << st.error_test_failures << ", nonlinear failures "
               << st.nonlinear_failures;
     if (options->project) info << ", projections " << st.projections;
-    info << "\n  time: derive " << format(derive_seconds) << " s, compile " << format(compile_seconds) << " s"
+    info << "\n  time: derive " << format(derive_seconds) << " s" << (scene_cached ? " (scene cache)" : "")
+         << ", compile " << format(compile_seconds) << " s"
               << (built.library().reused ? " (cached)" : "") << ", integrate "
               << format(st.initialization_seconds + st.integration_seconds) << " s\n";
     if (sensitivities) info << describe_sensitivity_cost(*sensitivities, options->sensitivity, st);

@@ -1,6 +1,7 @@
 #include "nhc/derive/models.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <set>
 #include <utility>
 
@@ -114,7 +115,14 @@ int MechanicalSystem::constraint_order(int alpha) const {
   return jet.highest_coordinate_order(constraints.at(static_cast<std::size_t>(alpha)));
 }
 
+namespace {
+std::atomic<long> derivations{0};
+}  // namespace
+
+long derive_model_calls() { return derivations.load(); }
+
 DerivedModel derive_model(const MechanicalSystem& system, ModelKind kind) {
+  ++derivations;
   DerivedModel model;
   model.kind = kind;
   model.constraints = system.constraints;

@@ -48,6 +48,9 @@ struct DerivedModel {
 };
 
 DerivedModel derive_model(const MechanicalSystem& system, ModelKind kind);
+/// How many times derive_model() has run in this process: the scene-level cache's tests check
+/// with it that a warm build derives nothing (nhc/jit/scene_cache.hpp).
+long derive_model_calls();
 inline DerivedModel derive_model(const Scene& scene, ModelKind kind) {
   return derive_model(MechanicalSystem::of(scene), kind);
 }

@@ -46,6 +46,11 @@ struct SceneOutput {
 struct Scene {
   std::string name;         ///< valid C++ identifier, used for file names
   std::string source_path;  ///< file the scene came from ("" when built in code)
+  /// The text parse_scene() read (SceneBuilder's too; "" for a scene assembled field by field
+  /// in code). The scene-level cache
+  /// (nhc/jit/scene_cache.hpp) keys on it with the values code may change (parameters, initial
+  /// data, settings): code that changes a parsed scene's expressions must clear it.
+  std::string source_text;
   std::shared_ptr<JetSpace> jet;
 
   std::vector<double> parameter_values;  ///< in JetSpace parameter order

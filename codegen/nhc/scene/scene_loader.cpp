@@ -602,7 +602,9 @@ class SceneReader {
 }  // namespace
 
 Scene parse_scene(const std::string& text, const std::string& path) {
-  return SceneReader(text, path).read();
+  Scene scene = SceneReader(text, path).read();
+  scene.source_text = text;
+  return scene;
 }
 
 Scene load_scene(const std::string& path) {

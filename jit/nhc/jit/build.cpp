@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <sstream>
 
 #include "nhc/analysis/index1_reduction.hpp"
 #include "nhc/derive/models.hpp"
@@ -23,6 +24,55 @@ ModelIdentity identity_of(const GeneratedHeader& header, ModelKind kind) {
   if (name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
     return {name.substr(0, name.size() - suffix.size()), model};
   return {"", model};
+}
+
+/// The product build() keeps in the scene cache, and the words naming what it depends on
+/// besides the scene (the compile options only matter to the compile cache).
+constexpr const char* kHeaderProduct = "generated header";
+std::string header_options_text(ModelKind kind, const BuildOptions& options) {
+  return "model " + to_string(kind) + ", jacobian " + (options.jacobian ? to_string(*options.jacobian) : "default") +
+         ", sensitivities " + (options.sensitivities ? "yes" : "no");
+}
+
+std::string count_text(const OperationCount& c) {
+  return std::to_string(c.additions) + " " + std::to_string(c.multiplications) + " " + std::to_string(c.divisions) +
+         " " + std::to_string(c.calls);
+}
+
+std::optional<OperationCount> parse_count(const std::string& text) {
+  OperationCount c;
+  std::istringstream in(text);
+  std::string rest;
+  if (!(in >> c.additions >> c.multiplications >> c.divisions >> c.calls) || (in >> rest)) return std::nullopt;
+  return c;
+}
+
+SceneCacheRecord header_record(const GeneratedHeader& header, JacobianKind jacobian) {
+  SceneCacheRecord record;
+  record.set("file_name", header.file_name);
+  record.set("namespace", header.namespace_name);
+  record.set("text", header.text);
+  record.set("operations_before_cse", count_text(header.before_cse));
+  record.set("operations_after_cse", count_text(header.after_cse));
+  record.set("jacobian", to_string(jacobian));
+  return record;
+}
+
+struct CachedHeader {
+  GeneratedHeader header;
+  JacobianKind jacobian;
+};
+
+/// The header in a record; nullopt when a field is missing or malformed.
+std::optional<CachedHeader> cached_header(const SceneCacheRecord& record) {
+  const auto file_name = record.get("file_name"), name = record.get("namespace"), text = record.get("text");
+  const auto before = record.get("operations_before_cse"), after = record.get("operations_after_cse");
+  const auto jacobian_name = record.get("jacobian");
+  if (!file_name || !name || !text || !before || !after || !jacobian_name) return std::nullopt;
+  const std::optional<JacobianKind> jacobian = parse_jacobian_kind(*jacobian_name);
+  const std::optional<OperationCount> before_cse = parse_count(*before), after_cse = parse_count(*after);
+  if (!jacobian || !before_cse || !after_cse) return std::nullopt;
+  return CachedHeader{{*file_name, *name, *text, *before_cse, *after_cse}, *jacobian};
 }
 
 }  // namespace
@@ -49,7 +99,27 @@ LoadedModel load_header(const GeneratedHeader& header, ModelKind kind, JacobianK
 }
 
 LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& options) {
+  // The scene cache first: an unchanged scene skips derive, reduce and generate.
   auto start = Clock::now();
+  std::optional<std::string> key;
+  if (options.scene_cache && scene_cache_enabled())
+    key = scene_cache_key(scene, kHeaderProduct, header_options_text(kind, options));
+  if (key) {
+    if (const std::optional<SceneCacheRecord> record =
+            SceneCache(options.compile.cache_directory, options.compile.warn).load(*key))
+      if (std::optional<CachedHeader> cached = cached_header(*record)) {
+        const double lookup_seconds = seconds_since(start);
+        LoadedModel loaded = load_header(cached->header, kind, cached->jacobian, options.compile);
+        BuildTimings timings = loaded.timings();
+        timings.scene_cache = lookup_seconds;
+        timings.scene_cached = true;
+        return LoadedModel(kind, cached->jacobian, std::move(cached->header), loaded.library(),
+                           runtime::Model(loaded.model()), timings);
+      }
+  }
+  const double lookup_seconds = seconds_since(start);
+
+  start = Clock::now();
   const DerivedModel derived = derive_model(scene, kind);
   if (!derived.applicable)
     throw MathError("the " + to_string(kind) + " model does not apply to " + scene.name + ": " + derived.reason);
@@ -64,9 +134,17 @@ LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& option
   const double generate_seconds = seconds_since(start);
 
   LoadedModel loaded = load_header(header, kind, header_options.jacobian, options.compile);
+  // Stored once the header compiled and loaded, beside the library (the compile cache's checked
+  // directory): a refused or interrupted build leaves no entry.
+  start = Clock::now();
+  if (key)
+    SceneCache(loaded.library().path.parent_path(), options.compile.warn)
+        .store(*key, header_record(header, header_options.jacobian));
+  const double store_seconds = seconds_since(start);
   BuildTimings timings = loaded.timings();
   timings.derive = derive_seconds;
   timings.generate = generate_seconds;
+  timings.scene_cache = lookup_seconds + store_seconds;
   return LoadedModel(kind, header_options.jacobian, std::move(header), loaded.library(),
                      runtime::Model(loaded.model()), timings);
 }

@@ -6,6 +6,7 @@
 
 #include "nhc/emit/header_emitter.hpp"
 #include "nhc/jit/compiler.hpp"
+#include "nhc/jit/scene_cache.hpp"
 #include "nhc/runtime/model.hpp"
 #include "nhc/scene/scene.hpp"
 
@@ -16,15 +17,23 @@ struct BuildOptions {
   std::optional<JacobianKind> jacobian;
   /// Also dF/dp and dg/dp (HeaderOptions::sensitivities), for runtime::SensitivityIntegrator.
   bool sensitivities = false;
+  /// Reuse the header generated for the same scene text, model and options by an earlier build
+  /// (scene_cache.hpp): derivation, reduction and generation are skipped. `NHC_SCENE_CACHE=off`
+  /// turns it off too. A scene without source text (Scene::source_text) is never cached.
+  bool scene_cache = true;
+  /// The compile cache's directory is also the scene cache's.
   CompileOptions compile;
 };
 
 /// Wall time of each stage of build(), in seconds.
 struct BuildTimings {
-  double derive = 0;    ///< derivation and reduction to index 1
-  double generate = 0;  ///< code generation
+  double derive = 0;       ///< derivation and reduction to index 1 (0 when scene_cached)
+  double generate = 0;     ///< code generation (0 when scene_cached)
+  double scene_cache = 0;  ///< looking the header up in the scene cache, and storing it after a miss
   double compile = 0;   ///< compiling, or finding the shared object in the cache
-  double load = 0;      ///< dlopen and table checks
+  double load = 0;         ///< dlopen and table checks
+  /// The header came from the scene cache: nothing was derived, reduced or generated.
+  bool scene_cached = false;
 };
 
 /// A model of a scene, ready to integrate. Owns the loaded library: model() is valid while this
@@ -55,7 +64,8 @@ class LoadedModel {
 };
 
 /// Derives `kind` for the scene (MathError when it does not apply), reduces it to index 1,
-/// generates the header, compiles it (cached) and loads it.
+/// generates the header, compiles it (cached) and loads it. An unchanged scene built before with
+/// the same model and options takes its header from the scene cache instead (scene_cache.hpp).
 LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& options = {});
 
 /// A header already generated (or written by hand) compiled and loaded.

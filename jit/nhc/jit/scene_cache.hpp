@@ -1,0 +1,81 @@
+#pragma once
+/// \file scene_cache.hpp
+/// \brief The scene-level cache: what the symbolic pipeline (derive, analyze, generate) made of
+/// an unchanged scene, so that running it again skips the pipeline. Beside the compile cache
+/// (cache.hpp), in its `scenes/` subdirectory, under the same rules: a private directory, one
+/// file per entry written to a temporary name and renamed (concurrent runs write the same bytes),
+/// every entry checked (a regular file owned by the user and writable by no one else, its key and
+/// the SHA-256 of its payload recorded in it and matching) before anything in it is used. An entry
+/// failing a check is a miss: it is removed with a one-line warning and rebuilt, never trusted.
+///
+/// The key of an entry is the SHA-256 of nhc's version, the product's name (what the entry holds),
+/// the product's options in words, and the scene's fingerprint: its source text, its file's name
+/// (the generated banner names it) and every value code may change after parsing (parameter values
+/// such as `--set` gives, initial data, [simulate] settings, requested models). SceneBuilder's
+/// scenes have the text they are built from; a scene assembled field by field in code has none and
+/// is never cached.
+
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+
+#include "nhc/jit/cache.hpp"
+#include "nhc/scene/scene.hpp"
+
+namespace nhc::jit {
+
+/// Named text fields: the payload of one entry (serialized with lengths, so any bytes round-trip).
+class SceneCacheRecord {
+ public:
+  void set(const std::string& name, std::string value) { fields_[name] = std::move(value); }
+  /// The field, or nullopt when the record lacks it.
+  std::optional<std::string> get(const std::string& name) const;
+
+  std::string serialize() const;
+  /// nullopt when `bytes` is not a serialized record.
+  static std::optional<SceneCacheRecord> parse(const std::string& bytes);
+
+ private:
+  std::map<std::string, std::string> fields_;
+};
+
+/// The scene's fingerprint (see the file comment); nullopt for a scene without source text.
+std::optional<std::string> scene_fingerprint(const Scene& scene);
+
+/// The key of `product` of `scene` with `options` (words naming every option the product depends
+/// on) under nhc `version`: 64 hexadecimal digits; nullopt for a scene without source text.
+std::optional<std::string> scene_cache_key(const Scene& scene, const std::string& product, const std::string& options,
+                                           const std::string& version = NHC_VERSION);
+
+/// False when `$NHC_SCENE_CACHE` is `off` (or `0`): every product is derived again and nothing is
+/// stored (the compile cache still applies).
+bool scene_cache_enabled();
+
+/// The entries under one cache directory.
+class SceneCache {
+ public:
+  /// `cache_directory`: the compile cache's directory (empty: default_cache_location()); the
+  /// entries live in its `scenes/` subdirectory, created and checked on first use. `warn`
+  /// receives the one-line warnings (empty: standard error, as `nhc: warning: …`).
+  explicit SceneCache(std::filesystem::path cache_directory = {}, Warning warn = {});
+
+  /// The record stored under `key`; nullopt when there is none, or when the entry fails a check
+  /// (then it is removed, with a warning). Creates nothing: a run refused later leaves no cache.
+  std::optional<SceneCacheRecord> load(const std::string& key) const;
+  /// Stores `record` under `key` (written to a temporary name and renamed); call it once the
+  /// product has been used successfully (compiled, loaded). A failure to write is a warning, not
+  /// an error: the run goes on without the entry.
+  void store(const std::string& key, const SceneCacheRecord& record) const;
+
+  /// The file of the entry under `key` (whether or not it exists); creates and checks the
+  /// directories (private_cache_directory()).
+  std::filesystem::path entry_path(const std::string& key) const;
+
+ private:
+  std::filesystem::path requested_;
+  Warning warn_;
+  mutable std::filesystem::path entries_;  // resolved on first use
+};
+
+}  // namespace nhc::jit
