@@ -1,6 +1,8 @@
 // nhc generate SCENE [--model M] [--jacobian dense|sparse|none] [--set P=V]... [-o DIR]
+//              [--print-file-name]
 //
-// Writes DIR/<scene>_<model>.hpp (docs/generated-code.md). The model defaults to the scene's
+// Writes DIR/<scene>_<model>.hpp (docs/generated-code.md); with --print-file-name only prints
+// that file name (for build systems: nhc_add_model asks instead of parsing the scene). The model defaults to the scene's
 // [simulate] model, else chetaev when the scene lists it, else the scene's first model: the
 // model one would integrate.
 #include <filesystem>
@@ -27,6 +29,7 @@ struct GenerateOptions {
   std::string directory = ".";
   bool quiet = false;
   bool sensitivities = false;
+  bool print_file_name = false;
   std::vector<std::string> set;
 };
 
@@ -48,15 +51,21 @@ CommandRunner add_generate_command(CLI::App& app) {
                   "directory to write <scene>_<model>.hpp into (default: .)");
   sub->add_flag("--sensitivities", options->sensitivities,
                 "also dF/dp and dg/dp for forward sensitivities (docs/generated-code.md)");
+  sub->add_flag("--print-file-name", options->print_file_name,
+                "print the header's file name (<scene>_<model>.hpp) and write nothing");
   add_set_option(sub, options->set);
   sub->add_flag("-q,--quiet", options->quiet, "do not print the written file and operation counts");
 
   return [options]() {
+    if (options->print_file_name) {
+      const Scene scene = load_scene(options->scene_path);
+      std::cout << generated_header_file_name(scene.name, model_or_default(scene, options->model)) << "\n";
+      return 0;
+    }
     check_output_directory(options->directory, {options->scene_path});
     Scene scene = load_scene(options->scene_path);
     apply_parameter_overrides(scene, parse_parameter_overrides(scene, options->set));
-    const ModelKind kind =
-        model_or_default(scene, options->model);
+    const ModelKind kind = model_or_default(scene, options->model);
     require_model_inputs(scene, kind);
     const DerivedModel derived = derive_model(scene, kind);
     if (!derived.applicable)

@@ -237,6 +237,26 @@ TEST_CASE("a missing scene file and bad flags exit 2", "[cli][bad]") {
   CHECK(r.exit_code == 2);
 }
 
+TEST_CASE("generate --print-file-name names the file generate writes, and writes nothing", "[cli]") {
+  // nhc_add_model's OUT_VAR asks this instead of reading the scene (cmake/nhcFunctions.cmake).
+  for (const std::string model : {"", "vakonomic"}) {
+    const std::string dir = scratch_dir("print-file-name-" + (model.empty() ? std::string("default") : model));
+    const std::string model_flag = model.empty() ? "" : " --model " + model;
+    const Run printed = run(nhc_command() + " generate '" + example("appell_hamel") + "'" + model_flag +
+                                " --print-file-name -o '" + dir + "/out'",
+                            dir);
+    REQUIRE(printed.exit_code == 0);
+    CHECK(list_dir(dir + "/out", ".hpp").empty());
+    const Run written = run(nhc_command() + " generate '" + example("appell_hamel") + "'" + model_flag +
+                                " --quiet -o '" + dir + "/out'",
+                            dir);
+    REQUIRE(written.exit_code == 0);
+    const std::vector<std::string> files = list_dir(dir + "/out", ".hpp");
+    REQUIRE(files.size() == 1);
+    CHECK(printed.out == files[0] + "\n");
+  }
+}
+
 TEST_CASE("JSON output: schema, symbols, and a symbolic round trip", "[cli][json]") {
   for (const char* name : {"particle", "appell_hamel"}) {
     INFO("scene " << name);

@@ -62,6 +62,14 @@ std::string cpp_string_literal(const std::string& text) {
   return out + "\"";
 }
 
+std::string generated_namespace_name(const std::string& scene_name, ModelKind model) {
+  return scene_name + "_" + to_string(model);
+}
+
+std::string generated_header_file_name(const std::string& scene_name, ModelKind model) {
+  return generated_namespace_name(scene_name, model) + ".hpp";
+}
+
 GeneratedHeader generate_header(const Scene& scene, const Index1System& system,
                                 const HeaderOptions& options) {
   if (!system.jet) throw MathError("index-1 system without a jet space");
@@ -78,7 +86,7 @@ GeneratedHeader generate_header(const Scene& scene, const Index1System& system,
   const PreparedModel model = prepare_model(scene, system, options.jacobian, options.sensitivities);
   GeneratedHeader header;
   header.namespace_name = model.namespace_name;
-  header.file_name = header.namespace_name + ".hpp";
+  header.file_name = generated_header_file_name(scene.name, system.model);
   header.text = print_header(scene, system, model);
   header.before_cse = model.before_cse;
   header.after_cse = model.after_cse;

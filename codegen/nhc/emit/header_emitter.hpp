@@ -43,6 +43,13 @@ struct GeneratedHeader {
   OperationCount after_cse;
 };
 
+/// The namespace (inside `nhc_gen`) and the file name of the header of `model` of a scene named
+/// `scene_name`: `<scene>_<model>` and `<scene>_<model>.hpp` (docs/generated-code.md). The one
+/// place these names are made; `nhc generate --print-file-name` prints the second, so that build
+/// systems (nhc_add_model) never reconstruct it.
+std::string generated_namespace_name(const std::string& scene_name, ModelKind model);
+std::string generated_header_file_name(const std::string& scene_name, ModelKind model);
+
 /// Emits the header. Deterministic: the same scene, model and options give the same bytes (the
 /// banner names the scene file without its directory, and no time stamp).
 GeneratedHeader generate_header(const Scene& scene, const Index1System& system,

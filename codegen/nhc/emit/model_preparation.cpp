@@ -303,7 +303,7 @@ PreparedModel prepare_model(const Scene& scene, const Index1System& system, Jaco
                             bool sensitivities) {
   PreparedModel m;
   m.model = to_string(system.model);
-  m.namespace_name = scene.name + "_" + m.model;
+  m.namespace_name = generated_namespace_name(scene.name, system.model);
   m.jacobian = jacobian;
   m.n_states = system.size();
   m.n_parameters = static_cast<int>(system.jet->parameters().size());
