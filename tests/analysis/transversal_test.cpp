@@ -20,7 +20,7 @@ constexpr int X = SignatureMatrix::kAbsent;
 SignatureMatrix matrix(const std::vector<std::vector<int>>& rows) {
   SignatureMatrix s(static_cast<int>(rows.size()), static_cast<int>(rows.size()));
   for (std::size_t i = 0; i < rows.size(); ++i)
-    for (std::size_t j = 0; j < rows.size(); ++j) s(static_cast<int>(i), static_cast<int>(j)) = rows[i][j];
+    for (std::size_t j = 0; j < rows.size(); ++j) s.set(static_cast<int>(i), static_cast<int>(j), rows[i][j]);
   return s;
 }
 
@@ -46,7 +46,7 @@ SignatureMatrix random_matrix(std::mt19937& rng, int n, double absent_probabilit
   std::uniform_int_distribution<int> order(0, 4);
   SignatureMatrix s(n, n);
   for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) s(i, j) = u(rng) < absent_probability ? X : order(rng);
+    for (int j = 0; j < n; ++j) s.set(i, j, u(rng) < absent_probability ? X : order(rng));
   return s;
 }
 

@@ -1,6 +1,7 @@
 #include "nhc/analysis/consistent_initialization.hpp"
 
 #include <Eigen/Dense>
+#include <Eigen/SparseLU>
 
 #include <algorithm>
 #include <cmath>
@@ -75,15 +76,17 @@ class Evaluator {
       out(static_cast<Eigen::Index>(i)) = evaluate_real(f_[i], p, names_[i] + " at t0");
     return out;
   }
-  Eigen::MatrixXd jacobian(const GiNaC::exmap& p) const {
-    Eigen::MatrixXd out = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(f_.size()),
-                                                static_cast<Eigen::Index>(vars_.size()));
+  Eigen::SparseMatrix<double> sparse_jacobian(const GiNaC::exmap& p) const {
+    std::vector<Eigen::Triplet<double>> triplets;
     for (std::size_t i = 0; i < f_.size(); ++i)
       for (const auto& [k, d] : jac_[i])
-        out(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) =
-            evaluate_real(d, p, "the derivative of " + names_[i] + " at t0");
+        triplets.emplace_back(static_cast<int>(i), static_cast<int>(k),
+                              evaluate_real(d, p, "the derivative of " + names_[i] + " at t0"));
+    Eigen::SparseMatrix<double> out(static_cast<Eigen::Index>(f_.size()), static_cast<Eigen::Index>(vars_.size()));
+    out.setFromTriplets(triplets.begin(), triplets.end());
     return out;
   }
+  Eigen::MatrixXd jacobian(const GiNaC::exmap& p) const { return Eigen::MatrixXd(sparse_jacobian(p)); }
 
  private:
   std::vector<GiNaC::ex> f_;
@@ -212,10 +215,15 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
 
   // Missing values no constraint involves keep the guess 0: note them.
   {
-    const Eigen::MatrixXd j0 = hidden.empty() ? Eigen::MatrixXd(0, count) : g.jacobian(g.point(base, x));
+    const Eigen::SparseMatrix<double> j0 =
+        hidden.empty() ? Eigen::SparseMatrix<double>(0, count) : g.sparse_jacobian(g.point(base, x));
+    std::vector<char> involved(static_cast<std::size_t>(count), 0);
+    for (Eigen::Index col = 0; col < j0.outerSize(); ++col)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(j0, col); it; ++it)
+        if (it.value() != 0.0) involved[static_cast<std::size_t>(col)] = 1;
     std::vector<std::string> defaulted;
     for (int k : missing)
-      if (j0.col(k).isZero(0.0)) {
+      if (!involved[static_cast<std::size_t>(k)]) {
         result.values[static_cast<std::size_t>(k)].source = ValueSource::defaulted;
         defaulted.push_back(result.values[static_cast<std::size_t>(k)].name);
       }
@@ -309,9 +317,12 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
   for (int it = 0; it < options.max_iterations; ++it) {
     const GiNaC::exmap p = f.point(base, z);
     const Eigen::VectorXd r = f.values(p);
-    const Eigen::MatrixXd jz = f.jacobian(p);
-    if (!(condition_number(jz) < kSingularCondition)) break;  // the caller reports J
-    const Eigen::VectorXd step = jz.partialPivLu().solve(-r);
+    Eigen::SparseMatrix<double> jz = f.sparse_jacobian(p);
+    if (!(condition_number(jz).value < kSingularCondition)) break;  // the caller reports J
+    jz.makeCompressed();
+    const Eigen::SparseLU<Eigen::SparseMatrix<double>> lu(jz);
+    if (lu.info() != Eigen::Success) break;
+    const Eigen::VectorXd step = lu.solve(-r);
     z += step;
     if (step.norm() <= 1e-12 * (1.0 + z.norm())) {
       result.leading_solved = true;
@@ -326,8 +337,7 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
   for (int j = 0; j < n; ++j) result.leading[static_cast<std::size_t>(j)].value = z(j);
   result.point = f.point(base, z);
   if (!result.leading_solved) {
-    const Eigen::MatrixXd jz = f.jacobian(result.point);
-    if (condition_number(jz) < kSingularCondition)
+    if (condition_number(f.sparse_jacobian(result.point)).value < kSingularCondition)
       throw MathError("the " + model + " model: Newton's method on the equations at t0 did not "
                       "converge for the leading derivatives " +
                       [&] {

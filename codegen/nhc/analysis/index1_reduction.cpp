@@ -8,6 +8,7 @@
 #include "nhc/analysis/dae_system.hpp"
 #include "nhc/analysis/numeric_evaluation.hpp"
 #include "nhc/derive/euler_operator.hpp"
+#include "nhc/jet/symbol_substitution.hpp"
 
 namespace nhc {
 
@@ -46,7 +47,7 @@ Index1System reduce_to_index1(const StructuralAnalysis& a) {
     if (a.d(j) >= 1) out.jet_to_state[sys.unknown_symbol(j, a.d(j))] = out.yp[state(j, a.d(j) - 1)];
   }
   auto to_state = [&](const GiNaC::ex& e) {
-    const GiNaC::ex s = e.subs(out.jet_to_state, GiNaC::subs_options::no_pattern);
+    const GiNaC::ex s = substitute_symbols(e, out.jet_to_state);
     if (!jet.jet_coordinates_in(s).empty())
       throw std::logic_error("index-1 reduction left a jet symbol without a state");
     return s;
