@@ -106,14 +106,14 @@ std::vector<InitialValueConstraint> initial_value_constraints(const StructuralAn
     out.push_back({differentiated_equation(a, h.equation, h.order), h.name, false});
   // suslov: the motion keeps f^α = 0 only if it starts on it (Suslov's equations have the
   // constraints as invariants), so the initial values must satisfy them too.
+  const auto column_of_unknown = unknown_columns(sys);
   for (std::size_t m = 0; m < sys.monitored_constraints.size(); ++m) {
     const GiNaC::ex& f = sys.monitored_constraints[m];
     bool initial_data_only = true;
-    for (const JetCoordinate& c : jet.jet_coordinates_in(f))
-      for (int j = 0; j < sys.size(); ++j)
-        if (sys.unknowns[static_cast<std::size_t>(j)].kind == c.kind &&
-            sys.unknowns[static_cast<std::size_t>(j)].index == c.index && c.order >= a.d(j))
-          initial_data_only = false;
+    for (const JetCoordinate& c : jet.jet_coordinates_in(f)) {
+      const auto column = column_of_unknown.find({c.kind, c.index});
+      if (column != column_of_unknown.end() && c.order >= a.d(column->second)) initial_data_only = false;
+    }
     const std::string& name = sys.monitored_constraint_names[m];
     if (initial_data_only) out.push_back({f, name, true});
     else if (notes)
@@ -142,10 +142,11 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
   };
 
   // Given values the model does not use as initial data.
+  std::map<std::string, int> unknown_named;  // one lookup per given name, not a pass over all unknowns
+  for (int u = 0; u < sys.size(); ++u) unknown_named[sys.unknowns[static_cast<std::size_t>(u)].name] = u;
   for (const auto& [name, vals] : scene.initial.values) {
-    int j = -1;
-    for (int u = 0; u < sys.size(); ++u)
-      if (sys.unknowns[static_cast<std::size_t>(u)].name == name) j = u;
+    const auto named = unknown_named.find(name);
+    const int j = named == unknown_named.end() ? -1 : named->second;
     if (j < 0) {
       result.notes.push_back(name + " is not an unknown of the " + model +
                              " model: its initial values are ignored");
@@ -168,16 +169,14 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
   }
 
   // Values x_j^(k), k < d_j: given ones kept, missing ones unknown (starting guess 0).
+  const auto column_of_unknown = unknown_columns(sys);
   const int count = static_cast<int>(a.initial_values_needed.size());
   Eigen::VectorXd x = Eigen::VectorXd::Zero(count);
   std::vector<GiNaC::ex> vars;
   std::vector<int> missing;
   for (int k = 0; k < count; ++k) {
     const JetCoordinate& c = a.initial_values_needed[static_cast<std::size_t>(k)];
-    int j = 0;
-    while (sys.unknowns[static_cast<std::size_t>(j)].kind != c.kind ||
-           sys.unknowns[static_cast<std::size_t>(j)].index != c.index)
-      ++j;
+    const int j = column_of_unknown.at({c.kind, c.index});
     InitialValue v;
     v.unknown = j;
     v.order = c.order;
@@ -211,6 +210,12 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
   functions.jacobian = [&](const double* y, double* out) {
     Eigen::Map<Eigen::MatrixXd>(out, functions.count, count) =
         g.jacobian(g.point(base, Eigen::Map<const Eigen::VectorXd>(y, count)));
+  };
+  functions.sparse_jacobian = [&](const double* y, std::vector<runtime::SparseEntry>& entries) {
+    const Eigen::SparseMatrix<double> jg = g.sparse_jacobian(g.point(base, Eigen::Map<const Eigen::VectorXd>(y, count)));
+    for (Eigen::Index col = 0; col < jg.outerSize(); ++col)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(jg, col); it; ++it)
+        entries.push_back({static_cast<int>(it.row()), static_cast<int>(col), it.value()});
   };
 
   // Missing values no constraint involves keep the guess 0: note them.
@@ -271,7 +276,8 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
     solve = again;
   } else if (!solve.converged()) {
     const auto worst = static_cast<std::size_t>(solve.worst);
-    const Eigen::MatrixXd jg = g.jacobian(g.point(base, Eigen::Map<const Eigen::VectorXd>(y.data(), count)));
+    const Eigen::SparseMatrix<double, Eigen::RowMajor> jg =
+        g.sparse_jacobian(g.point(base, Eigen::Map<const Eigen::VectorXd>(y.data(), count)));
     runtime::InconsistentInitialPoint failure;
     failure.model = model;
     failure.constraint = hidden_names[worst];
@@ -279,9 +285,9 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
     failure.t0 = scene.initial.t0;
     failure.tolerance = tolerance;
     failure.status = solve.status;
-    for (int k = 0; k < count; ++k) {
-      if (jg(solve.worst, k) == 0.0) continue;
-      const InitialValue& v = result.values[static_cast<std::size_t>(k)];
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(jg, solve.worst); it; ++it) {
+      if (it.value() == 0.0) continue;
+      const InitialValue& v = result.values[static_cast<std::size_t>(it.col())];
       if (v.source == ValueSource::given) failure.given.push_back({v.name, v.given});
       else failure.free.push_back(v.name);
     }
