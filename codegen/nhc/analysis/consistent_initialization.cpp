@@ -325,10 +325,15 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
     const Eigen::VectorXd r = f.values(p);
     Eigen::SparseMatrix<double> jz = f.sparse_jacobian(p);
     if (!(condition_number(jz).value < kSingularCondition)) break;  // the caller reports J
-    jz.makeCompressed();
-    const Eigen::SparseLU<Eigen::SparseMatrix<double>> lu(jz);
-    if (lu.info() != Eigen::Success) break;
-    const Eigen::VectorXd step = lu.solve(-r);
+    Eigen::VectorXd step;
+    if (n <= kExactConditionLimit) {  // small: the dense LU, as the exact condition number is dense too
+      step = Eigen::MatrixXd(jz).partialPivLu().solve(-r);
+    } else {
+      jz.makeCompressed();
+      const Eigen::SparseLU<Eigen::SparseMatrix<double>> lu(jz);
+      if (lu.info() != Eigen::Success) break;
+      step = lu.solve(-r);
+    }
     z += step;
     if (step.norm() <= 1e-12 * (1.0 + z.norm())) {
       result.leading_solved = true;
