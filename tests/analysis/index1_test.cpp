@@ -49,7 +49,7 @@ Matrices evaluate(const Index1System& sys, const GiNaC::exmap& p) {
     m.hidden(static_cast<Eigen::Index>(h)) = eval(sys.hidden_constraints[h], p);
     // The stored Jacobian of the hidden constraint is its derivative in y.
     for (int k = 0; k < sys.size(); ++k)
-      CHECK(eval(sys.hidden_constraint_jacobian[h][static_cast<std::size_t>(k)], p) ==
+      CHECK(eval(sys.hidden_constraint_derivative(h, k), p) ==
             Approx(eval(sys.hidden_constraints[h].diff(sys.y[static_cast<std::size_t>(k)]), p)).margin(1e-12));
   }
   return m;

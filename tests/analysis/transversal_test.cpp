@@ -1,8 +1,9 @@
-// The Hungarian transversal and Pryce's offsets against brute force, and the Σ-method on the
+// The sparse Hungarian transversal and Pryce's offsets against brute force and the dense method, and the Σ-method on the
 // textbook index-3 pendulum (Pryce 2001, §2 example).
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <limits>
 #include <numeric>
 #include <random>
 
@@ -20,7 +21,7 @@ constexpr int X = SignatureMatrix::kAbsent;
 SignatureMatrix matrix(const std::vector<std::vector<int>>& rows) {
   SignatureMatrix s(static_cast<int>(rows.size()), static_cast<int>(rows.size()));
   for (std::size_t i = 0; i < rows.size(); ++i)
-    for (std::size_t j = 0; j < rows.size(); ++j) s(static_cast<int>(i), static_cast<int>(j)) = rows[i][j];
+    for (std::size_t j = 0; j < rows.size(); ++j) s.set(static_cast<int>(i), static_cast<int>(j), rows[i][j]);
   return s;
 }
 
@@ -46,7 +47,7 @@ SignatureMatrix random_matrix(std::mt19937& rng, int n, double absent_probabilit
   std::uniform_int_distribution<int> order(0, 4);
   SignatureMatrix s(n, n);
   for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) s(i, j) = u(rng) < absent_probability ? X : order(rng);
+    for (int j = 0; j < n; ++j) s.set(i, j, u(rng) < absent_probability ? X : order(rng));
   return s;
 }
 
@@ -168,4 +169,118 @@ TEST_CASE("structural deficiency names the offending equations", "[sigma]") {
   CHECK(def.rows == std::vector<int>{0, 1});
   CHECK(def.cols == std::vector<int>{0});
   CHECK(def.matching_size == 2);
+}
+
+namespace {
+
+/// Independent reference: the dense O(n³) Hungarian method on the full n×n cost matrix
+/// hi − σ_ij, with −∞ entries priced above any finite assignment (the method nhc used before
+/// the sparse one). Returns the value of an optimal assignment of finite entries, or nullopt.
+std::optional<long long> dense_hungarian_value(const SignatureMatrix& s) {
+  const int n = s.rows();
+  int lo = std::numeric_limits<int>::max(), hi = std::numeric_limits<int>::min();
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      if (s.present(i, j)) {
+        lo = std::min(lo, s(i, j));
+        hi = std::max(hi, s(i, j));
+      }
+  if (lo > hi) return std::nullopt;
+  const long long forbidden = static_cast<long long>(n) * (static_cast<long long>(hi) - lo + 1) + 1;
+  auto cost = [&](int i, int j) { return s.present(i, j) ? hi - static_cast<long long>(s(i, j)) : forbidden; };
+  const long long inf = std::numeric_limits<long long>::max() / 4;
+  std::vector<long long> u(static_cast<std::size_t>(n + 1), 0), v(static_cast<std::size_t>(n + 1), 0);
+  std::vector<int> p(static_cast<std::size_t>(n + 1), 0), way(static_cast<std::size_t>(n + 1), 0);
+  for (int i = 1; i <= n; ++i) {
+    p[0] = i;
+    int j0 = 0;
+    std::vector<long long> minv(static_cast<std::size_t>(n + 1), inf);
+    std::vector<char> used(static_cast<std::size_t>(n + 1), 0);
+    do {
+      used[static_cast<std::size_t>(j0)] = 1;
+      const int i0 = p[static_cast<std::size_t>(j0)];
+      long long delta = inf;
+      int j1 = 0;
+      for (int j = 1; j <= n; ++j) {
+        if (used[static_cast<std::size_t>(j)]) continue;
+        const long long cur = cost(i0 - 1, j - 1) - u[static_cast<std::size_t>(i0)] - v[static_cast<std::size_t>(j)];
+        if (cur < minv[static_cast<std::size_t>(j)]) {
+          minv[static_cast<std::size_t>(j)] = cur;
+          way[static_cast<std::size_t>(j)] = j0;
+        }
+        if (minv[static_cast<std::size_t>(j)] < delta) {
+          delta = minv[static_cast<std::size_t>(j)];
+          j1 = j;
+        }
+      }
+      for (int j = 0; j <= n; ++j) {
+        if (used[static_cast<std::size_t>(j)]) {
+          u[static_cast<std::size_t>(p[static_cast<std::size_t>(j)])] += delta;
+          v[static_cast<std::size_t>(j)] -= delta;
+        } else {
+          minv[static_cast<std::size_t>(j)] -= delta;
+        }
+      }
+      j0 = j1;
+    } while (p[static_cast<std::size_t>(j0)] != 0);
+    do {
+      const int j1 = way[static_cast<std::size_t>(j0)];
+      p[static_cast<std::size_t>(j0)] = p[static_cast<std::size_t>(j1)];
+      j0 = j1;
+    } while (j0 != 0);
+  }
+  long long value = 0;
+  for (int j = 1; j <= n; ++j) {
+    const int i = p[static_cast<std::size_t>(j)] - 1;
+    if (!s.present(i, j - 1)) return std::nullopt;
+    value += s(i, j - 1);
+  }
+  return value;
+}
+
+/// A sparse random σ: a few entries per row near the diagonal (chain-like) plus scattered ones.
+SignatureMatrix random_sparse_matrix(std::mt19937& rng, int n) {
+  std::uniform_int_distribution<int> order(0, 3), count(0, 3), column(0, n - 1), near(-2, 2), ten(0, 9);
+  SignatureMatrix s(n, n);
+  for (int i = 0; i < n; ++i) {
+    if (ten(rng) > 0) s.set(i, i, order(rng));  // mostly nonsingular, sometimes not
+    for (int k = count(rng); k >= 0; --k) s.set(i, std::clamp(i + near(rng), 0, n - 1), order(rng));
+    if (count(rng) == 0) s.set(i, column(rng), order(rng));
+  }
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("sparse transversal agrees with the dense Hungarian method on larger sparse matrices", "[sigma]") {
+  std::mt19937 rng(1709);
+  int singular = 0, regular = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const int n = 5 + trial % 76;
+    const SignatureMatrix s = random_sparse_matrix(rng, n);
+    const auto expected = dense_hungarian_value(s);
+    const auto t = highest_value_transversal(s);
+    REQUIRE(t.has_value() == expected.has_value());
+    if (!t) {
+      ++singular;
+      REQUIRE(structural_deficiency(s).matching_size < n);
+      continue;
+    }
+    ++regular;
+    REQUIRE(t->value == *expected);
+    std::vector<int> cols = t->column_of_row;
+    std::sort(cols.begin(), cols.end());
+    for (int j = 0; j < n; ++j) REQUIRE(cols[static_cast<std::size_t>(j)] == j);
+    // Offsets from the sparse transversal satisfy Pryce's conditions and LP duality.
+    const Offsets o = pryce_offsets(s, *t);
+    long long sum = 0;
+    for (int i = 0; i < n; ++i) {
+      for (const auto& e : s.row(i))
+        REQUIRE(o.d[static_cast<std::size_t>(e.col)] - o.c[static_cast<std::size_t>(i)] >= e.value);
+      sum += o.d[static_cast<std::size_t>(i)] - o.c[static_cast<std::size_t>(i)];
+    }
+    REQUIRE(sum == t->value);
+  }
+  REQUIRE(singular > 10);
+  REQUIRE(regular > 100);
 }

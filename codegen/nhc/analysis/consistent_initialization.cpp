@@ -1,6 +1,7 @@
 #include "nhc/analysis/consistent_initialization.hpp"
 
 #include <Eigen/Dense>
+#include <Eigen/SparseLU>
 
 #include <algorithm>
 #include <cmath>
@@ -75,15 +76,17 @@ class Evaluator {
       out(static_cast<Eigen::Index>(i)) = evaluate_real(f_[i], p, names_[i] + " at t0");
     return out;
   }
-  Eigen::MatrixXd jacobian(const GiNaC::exmap& p) const {
-    Eigen::MatrixXd out = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(f_.size()),
-                                                static_cast<Eigen::Index>(vars_.size()));
+  Eigen::SparseMatrix<double> sparse_jacobian(const GiNaC::exmap& p) const {
+    std::vector<Eigen::Triplet<double>> triplets;
     for (std::size_t i = 0; i < f_.size(); ++i)
       for (const auto& [k, d] : jac_[i])
-        out(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) =
-            evaluate_real(d, p, "the derivative of " + names_[i] + " at t0");
+        triplets.emplace_back(static_cast<int>(i), static_cast<int>(k),
+                              evaluate_real(d, p, "the derivative of " + names_[i] + " at t0"));
+    Eigen::SparseMatrix<double> out(static_cast<Eigen::Index>(f_.size()), static_cast<Eigen::Index>(vars_.size()));
+    out.setFromTriplets(triplets.begin(), triplets.end());
     return out;
   }
+  Eigen::MatrixXd jacobian(const GiNaC::exmap& p) const { return Eigen::MatrixXd(sparse_jacobian(p)); }
 
  private:
   std::vector<GiNaC::ex> f_;
@@ -103,14 +106,14 @@ std::vector<InitialValueConstraint> initial_value_constraints(const StructuralAn
     out.push_back({differentiated_equation(a, h.equation, h.order), h.name, false});
   // suslov: the motion keeps f^α = 0 only if it starts on it (Suslov's equations have the
   // constraints as invariants), so the initial values must satisfy them too.
+  const auto column_of_unknown = unknown_columns(sys);
   for (std::size_t m = 0; m < sys.monitored_constraints.size(); ++m) {
     const GiNaC::ex& f = sys.monitored_constraints[m];
     bool initial_data_only = true;
-    for (const JetCoordinate& c : jet.jet_coordinates_in(f))
-      for (int j = 0; j < sys.size(); ++j)
-        if (sys.unknowns[static_cast<std::size_t>(j)].kind == c.kind &&
-            sys.unknowns[static_cast<std::size_t>(j)].index == c.index && c.order >= a.d(j))
-          initial_data_only = false;
+    for (const JetCoordinate& c : jet.jet_coordinates_in(f)) {
+      const auto column = column_of_unknown.find({c.kind, c.index});
+      if (column != column_of_unknown.end() && c.order >= a.d(column->second)) initial_data_only = false;
+    }
     const std::string& name = sys.monitored_constraint_names[m];
     if (initial_data_only) out.push_back({f, name, true});
     else if (notes)
@@ -139,10 +142,11 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
   };
 
   // Given values the model does not use as initial data.
+  std::map<std::string, int> unknown_named;  // one lookup per given name, not a pass over all unknowns
+  for (int u = 0; u < sys.size(); ++u) unknown_named[sys.unknowns[static_cast<std::size_t>(u)].name] = u;
   for (const auto& [name, vals] : scene.initial.values) {
-    int j = -1;
-    for (int u = 0; u < sys.size(); ++u)
-      if (sys.unknowns[static_cast<std::size_t>(u)].name == name) j = u;
+    const auto named = unknown_named.find(name);
+    const int j = named == unknown_named.end() ? -1 : named->second;
     if (j < 0) {
       result.notes.push_back(name + " is not an unknown of the " + model +
                              " model: its initial values are ignored");
@@ -165,16 +169,14 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
   }
 
   // Values x_j^(k), k < d_j: given ones kept, missing ones unknown (starting guess 0).
+  const auto column_of_unknown = unknown_columns(sys);
   const int count = static_cast<int>(a.initial_values_needed.size());
   Eigen::VectorXd x = Eigen::VectorXd::Zero(count);
   std::vector<GiNaC::ex> vars;
   std::vector<int> missing;
   for (int k = 0; k < count; ++k) {
     const JetCoordinate& c = a.initial_values_needed[static_cast<std::size_t>(k)];
-    int j = 0;
-    while (sys.unknowns[static_cast<std::size_t>(j)].kind != c.kind ||
-           sys.unknowns[static_cast<std::size_t>(j)].index != c.index)
-      ++j;
+    const int j = column_of_unknown.at({c.kind, c.index});
     InitialValue v;
     v.unknown = j;
     v.order = c.order;
@@ -209,13 +211,24 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
     Eigen::Map<Eigen::MatrixXd>(out, functions.count, count) =
         g.jacobian(g.point(base, Eigen::Map<const Eigen::VectorXd>(y, count)));
   };
+  functions.sparse_jacobian = [&](const double* y, std::vector<runtime::SparseEntry>& entries) {
+    const Eigen::SparseMatrix<double> jg = g.sparse_jacobian(g.point(base, Eigen::Map<const Eigen::VectorXd>(y, count)));
+    for (Eigen::Index col = 0; col < jg.outerSize(); ++col)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(jg, col); it; ++it)
+        entries.push_back({static_cast<int>(it.row()), static_cast<int>(col), it.value()});
+  };
 
   // Missing values no constraint involves keep the guess 0: note them.
   {
-    const Eigen::MatrixXd j0 = hidden.empty() ? Eigen::MatrixXd(0, count) : g.jacobian(g.point(base, x));
+    const Eigen::SparseMatrix<double> j0 =
+        hidden.empty() ? Eigen::SparseMatrix<double>(0, count) : g.sparse_jacobian(g.point(base, x));
+    std::vector<char> involved(static_cast<std::size_t>(count), 0);
+    for (Eigen::Index col = 0; col < j0.outerSize(); ++col)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(j0, col); it; ++it)
+        if (it.value() != 0.0) involved[static_cast<std::size_t>(col)] = 1;
     std::vector<std::string> defaulted;
     for (int k : missing)
-      if (j0.col(k).isZero(0.0)) {
+      if (!involved[static_cast<std::size_t>(k)]) {
         result.values[static_cast<std::size_t>(k)].source = ValueSource::defaulted;
         defaulted.push_back(result.values[static_cast<std::size_t>(k)].name);
       }
@@ -263,7 +276,8 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
     solve = again;
   } else if (!solve.converged()) {
     const auto worst = static_cast<std::size_t>(solve.worst);
-    const Eigen::MatrixXd jg = g.jacobian(g.point(base, Eigen::Map<const Eigen::VectorXd>(y.data(), count)));
+    const Eigen::SparseMatrix<double, Eigen::RowMajor> jg =
+        g.sparse_jacobian(g.point(base, Eigen::Map<const Eigen::VectorXd>(y.data(), count)));
     runtime::InconsistentInitialPoint failure;
     failure.model = model;
     failure.constraint = hidden_names[worst];
@@ -271,9 +285,9 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
     failure.t0 = scene.initial.t0;
     failure.tolerance = tolerance;
     failure.status = solve.status;
-    for (int k = 0; k < count; ++k) {
-      if (jg(solve.worst, k) == 0.0) continue;
-      const InitialValue& v = result.values[static_cast<std::size_t>(k)];
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(jg, solve.worst); it; ++it) {
+      if (it.value() == 0.0) continue;
+      const InitialValue& v = result.values[static_cast<std::size_t>(it.col())];
       if (v.source == ValueSource::given) failure.given.push_back({v.name, v.given});
       else failure.free.push_back(v.name);
     }
@@ -309,9 +323,17 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
   for (int it = 0; it < options.max_iterations; ++it) {
     const GiNaC::exmap p = f.point(base, z);
     const Eigen::VectorXd r = f.values(p);
-    const Eigen::MatrixXd jz = f.jacobian(p);
-    if (!(condition_number(jz) < kSingularCondition)) break;  // the caller reports J
-    const Eigen::VectorXd step = jz.partialPivLu().solve(-r);
+    Eigen::SparseMatrix<double> jz = f.sparse_jacobian(p);
+    if (!(condition_number(jz).value < kSingularCondition)) break;  // the caller reports J
+    Eigen::VectorXd step;
+    if (n <= kExactConditionLimit) {  // small: the dense LU, as the exact condition number is dense too
+      step = Eigen::MatrixXd(jz).partialPivLu().solve(-r);
+    } else {
+      jz.makeCompressed();
+      const Eigen::SparseLU<Eigen::SparseMatrix<double>> lu(jz);
+      if (lu.info() != Eigen::Success) break;
+      step = lu.solve(-r);
+    }
     z += step;
     if (step.norm() <= 1e-12 * (1.0 + z.norm())) {
       result.leading_solved = true;
@@ -326,8 +348,7 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
   for (int j = 0; j < n; ++j) result.leading[static_cast<std::size_t>(j)].value = z(j);
   result.point = f.point(base, z);
   if (!result.leading_solved) {
-    const Eigen::MatrixXd jz = f.jacobian(result.point);
-    if (condition_number(jz) < kSingularCondition)
+    if (condition_number(f.sparse_jacobian(result.point)).value < kSingularCondition)
       throw MathError("the " + model + " model: Newton's method on the equations at t0 did not "
                       "converge for the leading derivatives " +
                       [&] {

@@ -8,6 +8,7 @@
 #include "nhc/analysis/dae_system.hpp"
 #include "nhc/analysis/numeric_evaluation.hpp"
 #include "nhc/derive/euler_operator.hpp"
+#include "nhc/jet/symbol_substitution.hpp"
 
 namespace nhc {
 
@@ -46,7 +47,7 @@ Index1System reduce_to_index1(const StructuralAnalysis& a) {
     if (a.d(j) >= 1) out.jet_to_state[sys.unknown_symbol(j, a.d(j))] = out.yp[state(j, a.d(j) - 1)];
   }
   auto to_state = [&](const GiNaC::ex& e) {
-    const GiNaC::ex s = e.subs(out.jet_to_state, GiNaC::subs_options::no_pattern);
+    const GiNaC::ex s = substitute_symbols(e, out.jet_to_state);
     if (!jet.jet_coordinates_in(s).empty())
       throw std::logic_error("index-1 reduction left a jet symbol without a state");
     return s;
@@ -68,7 +69,7 @@ Index1System reduce_to_index1(const StructuralAnalysis& a) {
 
   // Hidden constraints D^r f_i, r < c_i (suslov: the monitored constraints on initial data),
   // with their Jacobians in y: the same list the analysis' consistent point satisfies.
-  // Each row is differentiated only by the states that occur in g; the others stay 0, so the
+  // Each row is differentiated only by the states that occur in g and stores only those, so the
   // work grows with the size of the constraints, not with (constraints × states) (issue 17).
   std::map<GiNaC::ex, std::size_t, GiNaC::ex_is_less> state_of_symbol;
   for (std::size_t k = 0; k < out.y.size(); ++k) state_of_symbol[out.y[k]] = k;
@@ -82,8 +83,11 @@ Index1System reduce_to_index1(const StructuralAnalysis& a) {
         const auto found = state_of_symbol.find(*it);
         if (found != state_of_symbol.end()) occurring.insert(found->second);
       }
-    std::vector<GiNaC::ex> row(out.y.size(), GiNaC::ex(0));
-    for (std::size_t k : occurring) row[k] = simplify_expression(g.diff(out.y[k]));
+    std::vector<std::pair<int, GiNaC::ex>> row;
+    for (std::size_t k : occurring) {
+      GiNaC::ex derivative = simplify_expression(g.diff(out.y[k]));
+      if (!derivative.is_zero()) row.emplace_back(static_cast<int>(k), std::move(derivative));
+    }
     out.hidden_constraint_jacobian.push_back(std::move(row));
   }
   return out;

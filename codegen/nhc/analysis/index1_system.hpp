@@ -18,6 +18,7 @@
 
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "nhc/jet/jet_space.hpp"
@@ -49,8 +50,16 @@ struct Index1System {
   std::vector<GiNaC::ex> hidden_constraints;
   std::vector<std::string> hidden_constraint_names;
 
-  /// ∂g/∂y of each hidden constraint: hidden_constraint_jacobian[r][k] = ∂g_r/∂y_k.
-  std::vector<std::vector<GiNaC::ex>> hidden_constraint_jacobian;
+  /// ∂g/∂y of each hidden constraint, by rows: the pairs (k, ∂g_r/∂y_k) of the states that
+  /// occur in g_r, by increasing k; the others are 0. Sparse because a chain of N bodies has N
+  /// hidden constraints in 7N states, each involving a few (issue 17).
+  std::vector<std::vector<std::pair<int, GiNaC::ex>>> hidden_constraint_jacobian;
+  /// ∂g_r/∂y_k (0 when y_k does not occur in g_r).
+  GiNaC::ex hidden_constraint_derivative(std::size_t r, int k) const {
+    for (const auto& [state, value] : hidden_constraint_jacobian.at(r))
+      if (state == k) return value;
+    return 0;
+  }
   /// Pryce offsets: c per equation (R_1..R_n, f^1..f^g), d per unknown (q, then λ).
   std::vector<int> c, d;
 

@@ -26,8 +26,11 @@ ModelAnalysis analyze_model(const Scene& scene, const DerivedModel& model,
   }
   try {
     out.initial = consistent_initial_point(scene, a, options);
-    out.jacobian = evaluate_matrix(system_jacobian(a), out.initial->point, "the system Jacobian at t0");
-    out.jacobian_condition = condition_number(*out.jacobian);
+    out.jacobian = evaluate_system_jacobian(system_jacobian_entries(a), a.system.size(), out.initial->point,
+                                            "the system Jacobian at t0");
+    const ConditionNumber condition = condition_number(*out.jacobian);
+    out.jacobian_condition = condition.value;
+    out.jacobian_condition_estimated = condition.estimated;
     if (!(out.jacobian_condition < kSingularCondition)) {
       out.errors.push_back(describe_singular_jacobian(a, *out.jacobian, scene.initial.t0));
     }

@@ -5,7 +5,7 @@
 /// the system Jacobian there with its condition number (system_jacobian.hpp). Failures are
 /// collected as sentences, not thrown, so that the structure can still be shown.
 
-#include <Eigen/Dense>
+#include <Eigen/Sparse>
 
 #include <limits>
 #include <optional>
@@ -25,8 +25,11 @@ struct ModelAnalysis {
   std::optional<StructuralAnalysis> structure;
   std::optional<ConsistentPoint> initial;
   /// System Jacobian at the consistent initial point (rows equations, columns unknowns).
-  std::optional<Eigen::MatrixXd> jacobian;
+  std::optional<Eigen::SparseMatrix<double>> jacobian;
+  /// κ₂ of the Jacobian, or above kExactConditionLimit unknowns a 1-norm estimate of κ₁
+  /// (jacobian_condition_estimated; numeric_evaluation.hpp).
   double jacobian_condition = std::numeric_limits<double>::quiet_NaN();
+  bool jacobian_condition_estimated = false;
   /// Why the model cannot be integrated from the scene's initial data, in words: not
   /// applicable, structurally singular, inconsistent initial values, singular Jacobian at t0.
   std::vector<std::string> errors;

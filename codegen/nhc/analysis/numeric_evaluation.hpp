@@ -6,6 +6,7 @@
 #include <ginac/ginac.h>
 
 #include <Eigen/Dense>
+#include <Eigen/Sparse>
 
 #include <string>
 #include <vector>
@@ -25,5 +26,24 @@ Eigen::VectorXd evaluate_vector(const std::vector<GiNaC::ex>& v, const GiNaC::ex
 
 /// 2-norm condition number σ_max/σ_min; +∞ when σ_min = 0; 1 for an empty matrix.
 double condition_number(const Eigen::MatrixXd& m);
+
+/// Up to this size a sparse matrix's condition number is the exact 2-norm one (dense SVD,
+/// O(n³)); above it, the 1-norm estimate below (docs/analysis.md).
+inline constexpr int kExactConditionLimit = 400;
+
+/// A condition number and how it was obtained.
+struct ConditionNumber {
+  double value = 1.0;
+  bool estimated = false;  ///< false: exact 2-norm κ₂; true: 1-norm estimate of κ₁
+};
+
+/// κ₂ exactly (dense SVD) for n ≤ kExactConditionLimit, else condition_estimate_1norm.
+ConditionNumber condition_number(const Eigen::SparseMatrix<double>& m);
+
+/// κ₁(A) = ‖A‖₁·‖A⁻¹‖₁ with ‖A⁻¹‖₁ estimated from a sparse LU factorization by Hager's method
+/// in Higham's form (Hager 1984; Higham, ACM TOMS 14 (1988) 381–396, Alg. 4.1, LAPACK xLACON):
+/// a few solves with A and Aᵀ, never A⁻¹ itself. The estimate is a lower bound of κ₁, almost
+/// always within a factor 3 of it; κ₁/n ≤ κ₂ ≤ n·κ₁. +∞ when the LU finds an exactly zero pivot.
+double condition_estimate_1norm(const Eigen::SparseMatrix<double>& m);
 
 }  // namespace nhc

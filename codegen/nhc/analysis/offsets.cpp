@@ -16,22 +16,26 @@ Offsets pryce_offsets(const SignatureMatrix& sigma, const Transversal& transvers
   // with a transversal that is not of highest value.
   long long bound = 1;
   for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      if (sigma.present(i, j)) bound += std::abs(static_cast<long long>(sigma(i, j))) + 1;
+    for (const auto& e : sigma.row(i)) bound += std::abs(static_cast<long long>(e.value)) + 1;
   bound *= n + 1;
+  // Transversal entries σ_{i,T(i)}, looked up once.
+  std::vector<int> on_transversal(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i)
+    on_transversal[static_cast<std::size_t>(i)] = sigma(i, transversal.column_of_row[static_cast<std::size_t>(i)]);
+  // Each sweep passes once over the finite entries (row by row): O(entries) per sweep.
   for (long long sweep = 0;; ++sweep) {
     if (sweep > bound)
       throw std::logic_error("Pryce offset iteration did not converge: transversal not of highest value");
-    for (int j = 0; j < n; ++j) {
-      int d = SignatureMatrix::kAbsent;
-      for (int i = 0; i < n; ++i)
-        if (sigma.present(i, j)) d = std::max(d, sigma(i, j) + o.c[static_cast<std::size_t>(i)]);
-      o.d[static_cast<std::size_t>(j)] = d;
-    }
+    std::fill(o.d.begin(), o.d.end(), SignatureMatrix::kAbsent);
+    for (int i = 0; i < n; ++i)
+      for (const auto& e : sigma.row(i)) {
+        int& d = o.d[static_cast<std::size_t>(e.col)];
+        d = std::max(d, e.value + o.c[static_cast<std::size_t>(i)]);
+      }
     bool changed = false;
     for (int i = 0; i < n; ++i) {
       const int j = transversal.column_of_row[static_cast<std::size_t>(i)];
-      const int c = o.d[static_cast<std::size_t>(j)] - sigma(i, j);
+      const int c = o.d[static_cast<std::size_t>(j)] - on_transversal[static_cast<std::size_t>(i)];
       if (c != o.c[static_cast<std::size_t>(i)]) {
         o.c[static_cast<std::size_t>(i)] = c;
         changed = true;

@@ -1,8 +1,36 @@
 #include "nhc/analysis/signature_matrix.hpp"
 
+#include <algorithm>
 #include <set>
+#include <stdexcept>
 
 namespace nhc {
+
+int SignatureMatrix::operator()(int i, int j) const {
+  const std::vector<Entry>& r = row(i);
+  const auto it = std::lower_bound(r.begin(), r.end(), j, [](const Entry& e, int c) { return e.col < c; });
+  return it != r.end() && it->col == j ? it->value : kAbsent;
+}
+
+void SignatureMatrix::set(int i, int j, int value) {
+  if (j < 0 || j >= cols_) throw std::out_of_range("signature matrix column out of range");
+  std::vector<Entry>& r = rows_.at(static_cast<std::size_t>(i));
+  const auto it = std::lower_bound(r.begin(), r.end(), j, [](const Entry& e, int c) { return e.col < c; });
+  const bool found = it != r.end() && it->col == j;
+  if (value == kAbsent) {
+    if (found) r.erase(it);
+  } else if (found) {
+    it->value = value;
+  } else {
+    r.insert(it, Entry{j, value});
+  }
+}
+
+std::size_t SignatureMatrix::entry_count() const {
+  std::size_t count = 0;
+  for (const auto& r : rows_) count += r.size();
+  return count;
+}
 
 int signature_entry(const GiNaC::ex& f, const JetSpace& jet, VariableKind kind, int index) {
   // Orders of the variable that occur syntactically, tried from the highest down.
@@ -28,7 +56,7 @@ SignatureMatrix signature_matrix(const DaeSystem& system) {
     }
     for (int j : occurring) {
       const Unknown& u = system.unknowns[static_cast<std::size_t>(j)];
-      sigma(i, j) = signature_entry(f, *system.jet, u.kind, u.index);
+      sigma.set(i, j, signature_entry(f, *system.jet, u.kind, u.index));
     }
   }
   return sigma;

@@ -22,22 +22,32 @@ class SignatureMatrix {
  public:
   /// σ_ij = −∞.
   static constexpr int kAbsent = std::numeric_limits<int>::min();
+  /// A finite entry σ_{i,col} of one row.
+  struct Entry {
+    int col = 0;
+    int value = 0;
+  };
 
   SignatureMatrix() = default;
-  SignatureMatrix(int rows, int cols)
-      : rows_(rows), cols_(cols), entries_(static_cast<std::size_t>(rows * cols), kAbsent) {}
+  /// All entries −∞. Stored by rows, only the finite entries (sorted by column): a chain of N
+  /// bodies has O(N) of them, and nothing in the Σ-method needs the N² absent ones (issue 17).
+  SignatureMatrix(int rows, int cols) : cols_(cols), rows_(static_cast<std::size_t>(rows)) {}
 
-  int rows() const { return rows_; }
+  int rows() const { return static_cast<int>(rows_.size()); }
   int cols() const { return cols_; }
-  int operator()(int i, int j) const { return entries_[index(i, j)]; }
-  int& operator()(int i, int j) { return entries_[index(i, j)]; }
+  /// σ_ij, or kAbsent; O(log of the row's entries).
+  int operator()(int i, int j) const;
   bool present(int i, int j) const { return (*this)(i, j) != kAbsent; }
+  /// σ_ij = value; kAbsent removes the entry.
+  void set(int i, int j, int value);
+  /// The finite entries of row i, by increasing column.
+  const std::vector<Entry>& row(int i) const { return rows_.at(static_cast<std::size_t>(i)); }
+  /// Number of finite entries.
+  std::size_t entry_count() const;
 
  private:
-  std::size_t index(int i, int j) const { return static_cast<std::size_t>(i * cols_ + j); }
-  int rows_ = 0;
   int cols_ = 0;
-  std::vector<int> entries_;
+  std::vector<std::vector<Entry>> rows_;
 };
 
 /// Highest k with ∂f/∂x^(k) ≢ 0 for the variable (kind, index), or kAbsent.

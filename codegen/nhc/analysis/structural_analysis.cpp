@@ -6,6 +6,7 @@
 
 #include "nhc/derive/euler_operator.hpp"
 #include "nhc/errors.hpp"
+#include "nhc/jet/symbol_substitution.hpp"
 
 namespace nhc {
 
@@ -42,7 +43,7 @@ GiNaC::ex differentiated_equation(const StructuralAnalysis& a, int i, int r) {
       throw std::logic_error("differentiated equation depends on an order above its offset");
     vanishing[s] = 0;
   }
-  if (!vanishing.empty()) e = simplify_expression(e.subs(vanishing, GiNaC::subs_options::no_pattern));
+  if (!vanishing.empty()) e = simplify_expression(substitute_symbols(e, vanishing));
   return e;
 }
 

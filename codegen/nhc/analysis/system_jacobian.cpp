@@ -9,23 +9,53 @@
 
 namespace nhc {
 
-std::vector<std::vector<GiNaC::ex>> system_jacobian(const StructuralAnalysis& a) {
+std::vector<JacobianEntry> system_jacobian_entries(const StructuralAnalysis& a) {
   a.require_nonsingular();
-  const int n = a.system.size();
-  std::vector<std::vector<GiNaC::ex>> jac(static_cast<std::size_t>(n),
-                                          std::vector<GiNaC::ex>(static_cast<std::size_t>(n), 0));
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      if (!a.sigma.present(i, j) || a.d(j) - a.c(i) != a.sigma(i, j)) continue;
-      jac[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] = simplify_expression(
-          a.system.equations[static_cast<std::size_t>(i)].diff(
-              a.system.jet->symbol(a.system.unknown_coordinate(j, a.sigma(i, j)))));
+  std::vector<JacobianEntry> out;
+  for (int i = 0; i < a.system.size(); ++i)
+    for (const auto& e : a.sigma.row(i)) {
+      if (a.d(e.col) - a.c(i) != e.value) continue;
+      GiNaC::ex value = simplify_expression(a.system.equations[static_cast<std::size_t>(i)].diff(
+          a.system.jet->symbol(a.system.unknown_coordinate(e.col, e.value))));
+      if (!value.is_zero()) out.push_back({i, e.col, std::move(value)});
     }
+  return out;
+}
+
+std::vector<std::vector<GiNaC::ex>> system_jacobian(const StructuralAnalysis& a) {
+  const auto n = static_cast<std::size_t>(a.system.size());
+  std::vector<std::vector<GiNaC::ex>> jac(n, std::vector<GiNaC::ex>(n, 0));
+  for (JacobianEntry& e : system_jacobian_entries(a))
+    jac[static_cast<std::size_t>(e.row)][static_cast<std::size_t>(e.col)] = std::move(e.value);
   return jac;
 }
 
-std::string describe_singular_jacobian(const StructuralAnalysis& a, const Eigen::MatrixXd& j,
-                                       double t0) {
+Eigen::SparseMatrix<double> evaluate_system_jacobian(const std::vector<JacobianEntry>& entries, int n,
+                                                     const GiNaC::exmap& point, const std::string& what) {
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(entries.size());
+  for (const JacobianEntry& e : entries)
+    triplets.emplace_back(e.row, e.col,
+                          evaluate_real(e.value, point, what + " entry (" + std::to_string(e.row + 1) + "," +
+                                                            std::to_string(e.col + 1) + ")"));
+  Eigen::SparseMatrix<double> j(n, n);
+  j.setFromTriplets(triplets.begin(), triplets.end());
+  return j;
+}
+
+std::string describe_singular_jacobian(const StructuralAnalysis& a,
+                                       const Eigen::SparseMatrix<double>& sparse, double t0) {
+  if (sparse.rows() > kDescribedSingularLimit) {
+    std::ostringstream s;
+    const double cond = condition_number(sparse).value;
+    s << "the system Jacobian of the " << to_string(a.system.model) << " model is singular at t0 = " << t0
+      << " (1-norm condition estimate ";
+    if (std::isfinite(cond)) s << cond; else s << "infinite";
+    s << ", " << sparse.rows() << " unknowns: above " << kDescribedSingularLimit
+      << ", the dependent equations are not named); the model cannot be integrated from this point";
+    return s.str();
+  }
+  const Eigen::MatrixXd j(sparse);
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(j, Eigen::ComputeFullU | Eigen::ComputeFullV);
   const Eigen::VectorXd& sv = svd.singularValues();
   const Eigen::Index n = j.rows();

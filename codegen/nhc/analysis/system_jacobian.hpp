@@ -9,6 +9,7 @@
 #include <ginac/ginac.h>
 
 #include <Eigen/Dense>
+#include <Eigen/Sparse>
 
 #include <string>
 #include <vector>
@@ -17,16 +18,36 @@
 
 namespace nhc {
 
-/// Symbolic J (rows equations, columns unknowns). Requires a nonsingular structure.
+/// One structurally nonzero entry J_ij.
+struct JacobianEntry {
+  int row = 0;
+  int col = 0;
+  GiNaC::ex value;
+};
+
+/// The entries of J that are not identically zero, row by row: one derivative per finite σ_ij
+/// on d_j − c_i, so the work follows the number of entries of σ (issue 17). Requires a
+/// nonsingular structure.
+std::vector<JacobianEntry> system_jacobian_entries(const StructuralAnalysis& analysis);
+
+/// Symbolic J as a dense n×n array (rows equations, columns unknowns), for small systems.
 std::vector<std::vector<GiNaC::ex>> system_jacobian(const StructuralAnalysis& analysis);
+
+/// J at `point` (symbol → number), sparse; `what` names J in messages.
+Eigen::SparseMatrix<double> evaluate_system_jacobian(const std::vector<JacobianEntry>& entries, int n,
+                                                     const GiNaC::exmap& point, const std::string& what);
+
+/// Up to this size describe_singular_jacobian names the dependent equations from a dense SVD.
+inline constexpr int kDescribedSingularLimit = 2000;
 
 /// J is taken as singular when its condition number exceeds this.
 inline constexpr double kSingularCondition = 1e12;
 
 /// Words for a (numerically) singular J: which equations are dependent in their leading
 /// derivatives (left null vector) and which leading derivatives are not determined
-/// (right null vector), from the SVD.
-std::string describe_singular_jacobian(const StructuralAnalysis& analysis, const Eigen::MatrixXd& j,
-                                       double t0);
+/// (right null vector), from the SVD; above kDescribedSingularLimit unknowns only the size and
+/// the condition number (an SVD would take O(n³)).
+std::string describe_singular_jacobian(const StructuralAnalysis& analysis,
+                                       const Eigen::SparseMatrix<double>& j, double t0);
 
 }  // namespace nhc

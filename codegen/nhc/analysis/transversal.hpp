@@ -4,9 +4,11 @@
 /// T of equations to unknowns maximising Σ_i σ_{i,T(i)} over finite entries (models.md,
 /// "Structural analysis", step 2; Pryce, BIT 41 (2001), §3), found by the Hungarian method.
 ///
-/// The assignment problem is solved by the O(N^3) shortest-augmenting-path form of the
-/// Hungarian method with row and column potentials (Kuhn 1955; Munkres 1957; Jonker &
-/// Volgenant 1987). When no transversal of finite entries exists the system is structurally
+/// The assignment problem is solved on the bipartite graph of the finite entries by the
+/// shortest-augmenting-path form of the Hungarian method with row and column potentials
+/// (Kuhn 1955; Munkres 1957; Jonker & Volgenant 1987), each path found by Dijkstra's method
+/// over the sparse rows and stopped at the first free column (Duff & Koster, SIAM J. Matrix
+/// Anal. Appl. 22 (2001) 973–996): no n×n cost matrix is formed (docs/analysis.md). When no transversal of finite entries exists the system is structurally
 /// singular; structural_deficiency() then names a set of equations that involve too few
 /// unknowns (Hall's condition fails; Kőnig's theorem).
 

@@ -23,10 +23,13 @@ void write_one(JsonWriter& json, const ModelAnalysis& m) {
   if (a)
     for (int i = 0; i < a->sigma.rows(); ++i) {
       json.begin_array();
-      for (int j = 0; j < a->sigma.cols(); ++j) {
-        if (a->sigma.present(i, j)) json.value(a->sigma(i, j));
-        else json.null();
+      int j = 0;  // the row's finite entries, by column, with nulls between
+      for (const auto& e : a->sigma.row(i)) {
+        for (; j < e.col; ++j) json.null();
+        json.value(e.value);
+        ++j;
       }
+      for (; j < a->sigma.cols(); ++j) json.null();
       json.end_array();
     }
   json.end_array();
@@ -57,6 +60,9 @@ void write_one(JsonWriter& json, const ModelAnalysis& m) {
   json.end_array();
   json.key("jacobian_condition");
   if (m.jacobian) json.value(m.jacobian_condition);  // +∞ (exactly singular) prints as null
+  else json.null();
+  json.key("jacobian_condition_estimated");  // true: a 1-norm estimate (above kExactConditionLimit unknowns)
+  if (m.jacobian) json.value(m.jacobian_condition_estimated);
   else json.null();
   json.key("initial_values").begin_object();
   if (m.initial) {

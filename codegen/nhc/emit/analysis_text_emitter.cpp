@@ -3,6 +3,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include "nhc/analysis/numeric_evaluation.hpp"
 #include "nhc/emit/analysis_emitters.hpp"
 #include "nhc/jet/expression_printer.hpp"
 
@@ -20,7 +21,37 @@ std::string number(double v) {
   return s.str();
 }
 
+/// Above this many unknowns σ is listed by rows (finite entries only) instead of as a table,
+/// whose size would grow as n².
+constexpr int kSigmaTableLimit = 40;
+
+void write_sigma_rows(std::ostream& out, const StructuralAnalysis& a) {
+  const bool offsets = !a.structurally_singular;
+  out << "  signature matrix by rows (" << a.sigma.rows() << " equations, " << a.sigma.cols()
+      << " unknowns; only the finite entries, unknown=order" << (offsets ? ", * on a highest-value transversal" : "")
+      << "):\n";
+  for (int i = 0; i < a.sigma.rows(); ++i) {
+    out << "    " << a.system.equation_names[static_cast<std::size_t>(i)] << ":";
+    for (const auto& e : a.sigma.row(i)) {
+      out << " " << a.system.unknowns[static_cast<std::size_t>(e.col)].name << "=" << e.value;
+      if (offsets && a.transversal.column_of_row[static_cast<std::size_t>(i)] == e.col) out << "*";
+    }
+    if (offsets) out << "   c = " << a.c(i);
+    out << "\n";
+  }
+  if (offsets) {
+    out << "    d:";
+    for (int j = 0; j < a.sigma.cols(); ++j)
+      out << " " << a.system.unknowns[static_cast<std::size_t>(j)].name << "=" << a.d(j);
+    out << "\n    (transversal value " << a.transversal.value << ")\n";
+  }
+}
+
 void write_sigma(std::ostream& out, const StructuralAnalysis& a) {
+  if (a.sigma.cols() > kSigmaTableLimit) {
+    write_sigma_rows(out, a);
+    return;
+  }
   std::size_t width = 3, label = 0;
   for (const auto& u : a.system.unknowns) width = std::max(width, u.name.size() + 1);
   for (const auto& e : a.system.equation_names) label = std::max(label, e.size());
@@ -92,6 +123,9 @@ void write_one(std::ostream& out, const Scene& scene, const ModelAnalysis& m) {
   if (m.jacobian) {
     out << "  system Jacobian at t0: condition number "
         << (std::isfinite(m.jacobian_condition) ? number(m.jacobian_condition) : std::string("infinite"))
+        << (m.jacobian_condition_estimated
+                ? " (1-norm estimate: above " + std::to_string(kExactConditionLimit) + " unknowns the exact 2-norm one is not computed)"
+                : std::string())
         << "\n";
   }
   for (const auto& e : m.errors) out << "  error: " << e << "\n";

@@ -4,6 +4,7 @@
 #include "nhc/emit/parameter_jacobian.hpp"
 
 #include <algorithm>
+#include <tuple>
 #include <set>
 
 #include "nhc/emit/cpp_printer.hpp"
@@ -226,13 +227,17 @@ FunctionPlan hidden_constraints_jacobian_function(const Index1System& system, Ex
   const size_t h = system.hidden_constraints.size();
   if (system.hidden_constraint_jacobian.size() != h)
     throw MathError("index-1 system without the Jacobian of its hidden constraints");
-  for (size_t k = 0; k < system.y.size(); ++k)
-    for (size_t r = 0; r < h; ++r) {
-      const GiNaC::ex& entry = system.hidden_constraint_jacobian[r].at(k);
-      if (!entry.is_zero())
-        G.assignments.push_back({"G[" + std::to_string(r + h * k) + "]", dag.add(entry),
-                                 "(" + std::to_string(r) + ", " + std::to_string(k) + ")"});
-    }
+  // Column-major order (k, then r), as the dense G is laid out.
+  std::vector<std::tuple<size_t, size_t, const GiNaC::ex*>> entries;
+  for (size_t r = 0; r < h; ++r)
+    for (const auto& [k, value] : system.hidden_constraint_jacobian[r])
+      entries.emplace_back(static_cast<size_t>(k), r, &value);
+  std::sort(entries.begin(), entries.end(),
+            [](const auto& a, const auto& b) { return std::tie(std::get<0>(a), std::get<1>(a)) < std::tie(std::get<0>(b), std::get<1>(b)); });
+  for (const auto& [k, r, entry] : entries)
+    if (!entry->is_zero())
+      G.assignments.push_back({"G[" + std::to_string(r + h * k) + "]", dag.add(*entry),
+                               "(" + std::to_string(r) + ", " + std::to_string(k) + ")"});
   return G;
 }
 
