@@ -30,6 +30,11 @@ struct CompileOptions {
   /// 1 MB) still compiles at -O2 in about 20 s and its long runs want the optimized code, hence
   /// the threshold above it. 0: always the flags as given.
   std::size_t large_header_bytes = 3000000;
+  /// Headers longer than this many bytes (and at most large_header_bytes) are compiled with -O1
+  /// in place of -O2 or -O3 among the flags: on long straight-line code -O2's further passes
+  /// lengthen the compile and do not shorten the run (bench/compile-time.md, the knife-edge
+  /// chain from N = 64). 0: the flags as given.
+  std::size_t long_header_bytes = 100000;
   /// Translation units a generated header is compiled as, in parallel, and linked into one
   /// library (its banner says it can be split: kTranslationUnitsBanner of
   /// nhc/emit/header_printer.hpp); other headers are always one. 0: automatic, as many as `jobs`
