@@ -91,6 +91,7 @@ inline constexpr int n_singular = 1;
 inline constexpr const char* model_name = "chetaev";
 inline constexpr const char* scene_name = "appell_hamel_orbit";
 
+#if !defined(NHC_PART) || NHC_PART == 0
 /// y[k] holds the state_order[k]-th derivative of variable state_variable[k]
 /// (0..n_coordinates-1: coordinates, then multipliers).
 inline constexpr const char* state_names[n_states] = {"x", "x'", "y", "y'", "z", "z'", "lambda1"};
@@ -105,8 +106,9 @@ inline constexpr const char* hidden_names[n_hidden] = {"f1"};
 inline constexpr const char* invariant_names[n_invariants] = {"energy"};
 inline constexpr int reference_coordinate[n_reference] = {0, 1, 2};
 inline constexpr const char* singular_names[n_singular] = {"y' * y' + x' * x'"};
+#endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1)
+#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2)
 /// F(t, y, y') = 0, IDA form; r has n_states entries.
 inline void residual(double /*t*/, const double* y, const double* yp, const double* p, double* r) noexcept {
   const double w0 = p[1] * p[1];
@@ -121,7 +123,7 @@ inline void residual(double /*t*/, const double* y, const double* yp, const doub
 }
 #endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 0)
+#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1)
 /// J = dF/dy + cj dF/dy', column-major n_states x n_states.
 inline void jacobian(double /*t*/, const double* y, const double* yp, double cj, const double* p, double* J) noexcept {
   for (int k = 0; k < n_states * n_states; ++k) J[k] = 0.0;
@@ -164,7 +166,7 @@ inline void hidden_constraints(double /*t*/, const double* y, const double* p, d
 }
 #endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2)
+#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3)
 /// G = dg/dy, column-major n_hidden x n_states.
 inline void hidden_constraints_jacobian(double /*t*/, const double* y, const double* p, double* G) noexcept {
   for (int k = 0; k < n_hidden * n_states; ++k) G[k] = 0.0;
@@ -175,14 +177,14 @@ inline void hidden_constraints_jacobian(double /*t*/, const double* y, const dou
 }
 #endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 1 : 3)
+#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 1 : 2)
 /// The scene's invariants I(t, y, y'), in invariant_names order.
 inline void invariants(double /*t*/, const double* y, const double* /*yp*/, const double* p, double* out) noexcept {
   out[0] = 0.5 * (y[1] * y[1]) + 0.5 * (y[5] * y[5]) + 0.5 * (y[3] * y[3]) + p[1] * p[1] * 0.5 * (y[2] * y[2] + y[0] * y[0]);  // energy
 }
 #endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 1 : 1)
+#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 0 : 2)
 /// The scene's reference solution q_c(t) for the coordinates reference_coordinate.
 inline void reference(double t, const double* p, double* q) noexcept {
   const double w0 = t * p[1];
@@ -192,7 +194,7 @@ inline void reference(double t, const double* p, double* q) noexcept {
 }
 #endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2)
+#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3)
 /// Quantities that vanish where the equations are singular (bases of square roots,
 /// of negative powers and arguments of logarithms), in singular_names order.
 inline void singular_quantities(double /*t*/, const double* y, const double* /*p*/, double* s) noexcept {
@@ -209,100 +211,100 @@ void table_part_2(nhc_model_table& t) noexcept;
 void table_part_3(nhc_model_table& t) noexcept;
 #if NHC_PART == 0
 void table_part_0(nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 0
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 0
   t.residual = &residual;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 0) == 0
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 0
   t.jacobian = &jacobian;
 #endif
 #if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 3) == 0
   t.hidden_constraints = &hidden_constraints;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 0
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 0
   t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 1 : 3) == 0
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 1 : 2) == 0
   t.invariants = &invariants;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 1 : 1) == 0
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 0 : 2) == 0
   t.reference = &reference;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 0
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 0
   t.singular_quantities = &singular_quantities;
 #endif
 }
 #endif
 #if NHC_PART == 1
 void table_part_1(nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 1
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 1
   t.residual = &residual;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 0) == 1
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 1
   t.jacobian = &jacobian;
 #endif
 #if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 3) == 1
   t.hidden_constraints = &hidden_constraints;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 1
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 1
   t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 1 : 3) == 1
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 1 : 2) == 1
   t.invariants = &invariants;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 1 : 1) == 1
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 0 : 2) == 1
   t.reference = &reference;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 1
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 1
   t.singular_quantities = &singular_quantities;
 #endif
 }
 #endif
 #if NHC_PART == 2
 void table_part_2(nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 2
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 2
   t.residual = &residual;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 0) == 2
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 2
   t.jacobian = &jacobian;
 #endif
 #if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 3) == 2
   t.hidden_constraints = &hidden_constraints;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 2
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 2
   t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 1 : 3) == 2
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 1 : 2) == 2
   t.invariants = &invariants;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 1 : 1) == 2
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 0 : 2) == 2
   t.reference = &reference;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 2
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 2
   t.singular_quantities = &singular_quantities;
 #endif
 }
 #endif
 #if NHC_PART == 3
 void table_part_3(nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 3
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 3
   t.residual = &residual;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 0) == 3
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 3
   t.jacobian = &jacobian;
 #endif
 #if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 3) == 3
   t.hidden_constraints = &hidden_constraints;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 3
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 3
   t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 1 : 3) == 3
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 1 : 2) == 3
   t.invariants = &invariants;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 1 : 1) == 3
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 0 : 2) == 3
   t.reference = &reference;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 3
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 3
   t.singular_quantities = &singular_quantities;
 #endif
 }

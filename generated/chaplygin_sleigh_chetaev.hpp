@@ -89,6 +89,7 @@ inline constexpr int n_singular = 0;
 inline constexpr const char* model_name = "chetaev";
 inline constexpr const char* scene_name = "chaplygin_sleigh";
 
+#if !defined(NHC_PART) || NHC_PART == 0
 /// y[k] holds the state_order[k]-th derivative of variable state_variable[k]
 /// (0..n_coordinates-1: coordinates, then multipliers).
 inline constexpr const char* state_names[n_states] = {"x", "x'", "y", "y'", "th", "th'", "lambda1"};
@@ -101,8 +102,9 @@ inline constexpr const char* parameter_names[n_parameters] = {"J", "a", "b", "k"
 inline constexpr double default_parameters[n_parameters] = {0.20000000000000001, 0.29999999999999999, 0.20000000000000001, 0.050000000000000003, 1.0};
 inline constexpr const char* hidden_names[n_hidden] = {"f1"};
 inline constexpr const char* invariant_names[n_invariants] = {"energy"};
+#endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1)
+#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2)
 /// F(t, y, y') = 0, IDA form; r has n_states entries.
 inline void residual(double /*t*/, const double* y, const double* yp, const double* p, double* r) noexcept {
   const double w0 = std::sin(y[4]);
@@ -118,7 +120,7 @@ inline void residual(double /*t*/, const double* y, const double* yp, const doub
 }
 #endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 0)
+#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1)
 /// J = dF/dy + cj dF/dy', column-major n_states x n_states.
 inline void jacobian(double /*t*/, const double* y, const double* yp, double cj, const double* p, double* J) noexcept {
   for (int k = 0; k < n_states * n_states; ++k) J[k] = 0.0;
@@ -153,7 +155,7 @@ inline void jacobian(double /*t*/, const double* y, const double* yp, double cj,
 }
 #endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3)
+#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 3)
 /// Hidden constraints g(t, y) = 0 (derivatives of the equations the index-1 form
 /// differentiated away); they fix consistent initial values and drift during
 /// integration.
@@ -162,7 +164,7 @@ inline void hidden_constraints(double /*t*/, const double* y, const double* /*p*
 }
 #endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2)
+#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3)
 /// G = dg/dy, column-major n_hidden x n_states.
 inline void hidden_constraints_jacobian(double /*t*/, const double* y, const double* /*p*/, double* G) noexcept {
   for (int k = 0; k < n_hidden * n_states; ++k) G[k] = 0.0;
@@ -174,7 +176,7 @@ inline void hidden_constraints_jacobian(double /*t*/, const double* y, const dou
 }
 #endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 3)
+#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3)
 /// The scene's invariants I(t, y, y'), in invariant_names order.
 inline void invariants(double /*t*/, const double* y, const double* /*yp*/, const double* p, double* out) noexcept {
   const double w0 = y[3] + p[1] * std::cos(y[4]) * y[5];
@@ -192,76 +194,76 @@ void table_part_2(nhc_model_table& t) noexcept;
 void table_part_3(nhc_model_table& t) noexcept;
 #if NHC_PART == 0
 void table_part_0(nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 0
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 0
   t.residual = &residual;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 0) == 0
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 0
   t.jacobian = &jacobian;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 0
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 3) == 0
   t.hidden_constraints = &hidden_constraints;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 0
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 0
   t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 3) == 0
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 0
   t.invariants = &invariants;
 #endif
 }
 #endif
 #if NHC_PART == 1
 void table_part_1(nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 1
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 1
   t.residual = &residual;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 0) == 1
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 1
   t.jacobian = &jacobian;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 1
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 3) == 1
   t.hidden_constraints = &hidden_constraints;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 1
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 1
   t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 3) == 1
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 1
   t.invariants = &invariants;
 #endif
 }
 #endif
 #if NHC_PART == 2
 void table_part_2(nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 2
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 2
   t.residual = &residual;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 0) == 2
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 2
   t.jacobian = &jacobian;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 2
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 3) == 2
   t.hidden_constraints = &hidden_constraints;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 2
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 2
   t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 3) == 2
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 2
   t.invariants = &invariants;
 #endif
 }
 #endif
 #if NHC_PART == 3
 void table_part_3(nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 3
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 3
   t.residual = &residual;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 0) == 3
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 3
   t.jacobian = &jacobian;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 3
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 3) == 3
   t.hidden_constraints = &hidden_constraints;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 3
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 3
   t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 3) == 3
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 3
   t.invariants = &invariants;
 #endif
 }

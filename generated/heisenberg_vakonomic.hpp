@@ -86,6 +86,7 @@ inline constexpr int n_singular = 0;
 inline constexpr const char* model_name = "vakonomic";
 inline constexpr const char* scene_name = "heisenberg";
 
+#if !defined(NHC_PART) || NHC_PART == 0
 /// y[k] holds the state_order[k]-th derivative of variable state_variable[k]
 /// (0..n_coordinates-1: coordinates, then multipliers).
 inline constexpr const char* state_names[n_states] = {"x", "x'", "y", "y'", "z", "lambda1"};
@@ -97,8 +98,9 @@ inline constexpr const char* residual_names[n_states] = {"R_x", "R_y", "R_z", "f
 /// No parameters; C++ has no empty arrays, so one unused placeholder each.
 inline constexpr const char* parameter_names[1] = {nullptr};
 inline constexpr double default_parameters[1] = {0.0};
+#endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1)
+#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2)
 /// F(t, y, y') = 0, IDA form; r has n_states entries.
 inline void residual(double /*t*/, const double* y, const double* yp, const double* /*p*/, double* r) noexcept {
   r[0] = -y[3] * y[5] - yp[5] * 0.5 * y[2] - yp[1];  // R_x
@@ -110,7 +112,7 @@ inline void residual(double /*t*/, const double* y, const double* yp, const doub
 }
 #endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 0)
+#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1)
 /// J = dF/dy + cj dF/dy', column-major n_states x n_states.
 inline void jacobian(double /*t*/, const double* y, const double* yp, double cj, const double* /*p*/, double* J) noexcept {
   for (int k = 0; k < n_states * n_states; ++k) J[k] = 0.0;
@@ -146,40 +148,40 @@ void table_part_2(nhc_model_table& t) noexcept;
 void table_part_3(nhc_model_table& t) noexcept;
 #if NHC_PART == 0
 void table_part_0(nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 0
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 0
   t.residual = &residual;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 0) == 0
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 0
   t.jacobian = &jacobian;
 #endif
 }
 #endif
 #if NHC_PART == 1
 void table_part_1(nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 1
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 1
   t.residual = &residual;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 0) == 1
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 1
   t.jacobian = &jacobian;
 #endif
 }
 #endif
 #if NHC_PART == 2
 void table_part_2(nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 2
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 2
   t.residual = &residual;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 0) == 2
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 2
   t.jacobian = &jacobian;
 #endif
 }
 #endif
 #if NHC_PART == 3
 void table_part_3(nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 3
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 3
   t.residual = &residual;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 0) == 3
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 3
   t.jacobian = &jacobian;
 #endif
 }

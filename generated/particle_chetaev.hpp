@@ -88,6 +88,7 @@ inline constexpr int n_singular = 0;
 inline constexpr const char* model_name = "chetaev";
 inline constexpr const char* scene_name = "particle";
 
+#if !defined(NHC_PART) || NHC_PART == 0
 /// y[k] holds the state_order[k]-th derivative of variable state_variable[k]
 /// (0..n_coordinates-1: coordinates, then multipliers).
 inline constexpr const char* state_names[n_states] = {"q1", "q1'", "q2", "q2'", "q3", "q3'", "lambda1"};
@@ -101,8 +102,9 @@ inline constexpr const char* parameter_names[1] = {nullptr};
 inline constexpr double default_parameters[1] = {0.0};
 inline constexpr const char* invariant_names[n_invariants] = {"speed_squared"};
 inline constexpr int reference_coordinate[n_reference] = {0, 1, 2};
+#endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1)
+#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2)
 /// F(t, y, y') = 0, IDA form; r has n_states entries.
 inline void residual(double /*t*/, const double* y, const double* yp, const double* /*p*/, double* r) noexcept {
   r[0] = y[6] * y[1] - yp[1];  // R_q1
@@ -115,7 +117,7 @@ inline void residual(double /*t*/, const double* y, const double* yp, const doub
 }
 #endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 0)
+#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1)
 /// J = dF/dy + cj dF/dy', column-major n_states x n_states.
 inline void jacobian(double /*t*/, const double* y, const double* yp, double cj, const double* /*p*/, double* J) noexcept {
   for (int k = 0; k < n_states * n_states; ++k) J[k] = 0.0;
@@ -138,14 +140,14 @@ inline void jacobian(double /*t*/, const double* y, const double* yp, double cj,
 }
 #endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2)
+#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 3)
 /// The scene's invariants I(t, y, y'), in invariant_names order.
 inline void invariants(double /*t*/, const double* y, const double* /*yp*/, const double* /*p*/, double* out) noexcept {
   out[0] = y[1] * y[1] + y[5] * y[5] + y[3] * y[3];  // speed_squared
 }
 #endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3)
+#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 3)
 /// The scene's reference solution q_c(t) for the coordinates reference_coordinate.
 inline void reference(double t, const double* /*p*/, double* q) noexcept {
   const double w0 = t * 2.0;
@@ -164,64 +166,64 @@ void table_part_2(nhc_model_table& t) noexcept;
 void table_part_3(nhc_model_table& t) noexcept;
 #if NHC_PART == 0
 void table_part_0(nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 0
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 0
   t.residual = &residual;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 0) == 0
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 0
   t.jacobian = &jacobian;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 0
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 3) == 0
   t.invariants = &invariants;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 0
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 3) == 0
   t.reference = &reference;
 #endif
 }
 #endif
 #if NHC_PART == 1
 void table_part_1(nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 1
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 1
   t.residual = &residual;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 0) == 1
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 1
   t.jacobian = &jacobian;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 1
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 3) == 1
   t.invariants = &invariants;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 1
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 3) == 1
   t.reference = &reference;
 #endif
 }
 #endif
 #if NHC_PART == 2
 void table_part_2(nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 2
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 2
   t.residual = &residual;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 0) == 2
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 2
   t.jacobian = &jacobian;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 2
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 3) == 2
   t.invariants = &invariants;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 2
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 3) == 2
   t.reference = &reference;
 #endif
 }
 #endif
 #if NHC_PART == 3
 void table_part_3(nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 3
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 3
   t.residual = &residual;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 0) == 3
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 3
   t.jacobian = &jacobian;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 3
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 3) == 3
   t.invariants = &invariants;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 3
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 3) == 3
   t.reference = &reference;
 #endif
 }

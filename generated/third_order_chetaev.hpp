@@ -88,6 +88,7 @@ inline constexpr int n_singular = 0;
 inline constexpr const char* model_name = "chetaev";
 inline constexpr const char* scene_name = "third_order";
 
+#if !defined(NHC_PART) || NHC_PART == 0
 /// y[k] holds the state_order[k]-th derivative of variable state_variable[k]
 /// (0..n_coordinates-1: coordinates, then multipliers).
 inline constexpr const char* state_names[n_states] = {"x", "x'", "x''", "y", "y'", "y''", "lambda1"};
@@ -99,8 +100,9 @@ inline constexpr const char* residual_names[n_states] = {"D R_x", "D R_y", "f1",
 inline constexpr const char* parameter_names[n_parameters] = {"c"};
 inline constexpr double default_parameters[n_parameters] = {0.5};
 inline constexpr const char* hidden_names[n_hidden] = {"R_x", "R_y"};
+#endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1)
+#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2)
 /// F(t, y, y') = 0, IDA form; r has n_states entries.
 inline void residual(double /*t*/, const double* y, const double* yp, const double* p, double* r) noexcept {
   r[0] = yp[6] - y[1] - yp[2];  // D R_x
@@ -113,7 +115,7 @@ inline void residual(double /*t*/, const double* y, const double* yp, const doub
 }
 #endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 0)
+#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1)
 /// J = dF/dy + cj dF/dy', column-major n_states x n_states.
 inline void jacobian(double /*t*/, const double* /*y*/, const double* /*yp*/, double cj, const double* p, double* J) noexcept {
   for (int k = 0; k < n_states * n_states; ++k) J[k] = 0.0;
@@ -138,7 +140,7 @@ inline void jacobian(double /*t*/, const double* /*y*/, const double* /*yp*/, do
 }
 #endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3)
+#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 1 : 3)
 /// Hidden constraints g(t, y) = 0 (derivatives of the equations the index-1 form
 /// differentiated away); they fix consistent initial values and drift during
 /// integration.
@@ -148,7 +150,7 @@ inline void hidden_constraints(double /*t*/, const double* y, const double* p, d
 }
 #endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2)
+#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 3)
 /// G = dg/dy, column-major n_hidden x n_states.
 inline void hidden_constraints_jacobian(double /*t*/, const double* /*y*/, const double* p, double* G) noexcept {
   for (int k = 0; k < n_hidden * n_states; ++k) G[k] = 0.0;
@@ -170,64 +172,64 @@ void table_part_2(nhc_model_table& t) noexcept;
 void table_part_3(nhc_model_table& t) noexcept;
 #if NHC_PART == 0
 void table_part_0(nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 0
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 0
   t.residual = &residual;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 0) == 0
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 0
   t.jacobian = &jacobian;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 0
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 1 : 3) == 0
   t.hidden_constraints = &hidden_constraints;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 0
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 3) == 0
   t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
 #endif
 }
 #endif
 #if NHC_PART == 1
 void table_part_1(nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 1
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 1
   t.residual = &residual;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 0) == 1
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 1
   t.jacobian = &jacobian;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 1
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 1 : 3) == 1
   t.hidden_constraints = &hidden_constraints;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 1
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 3) == 1
   t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
 #endif
 }
 #endif
 #if NHC_PART == 2
 void table_part_2(nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 2
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 2
   t.residual = &residual;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 0) == 2
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 2
   t.jacobian = &jacobian;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 2
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 1 : 3) == 2
   t.hidden_constraints = &hidden_constraints;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 2
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 3) == 2
   t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
 #endif
 }
 #endif
 #if NHC_PART == 3
 void table_part_3(nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 3
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 3
   t.residual = &residual;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 0) == 3
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 3
   t.jacobian = &jacobian;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 3
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 1 : 3) == 3
   t.hidden_constraints = &hidden_constraints;
 #endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 3
+#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 3) == 3
   t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
 #endif
 }

@@ -17,6 +17,9 @@ namespace nhc {
 
 namespace {
 
+/// Opens what only the table needs: compiled once, in part 0, when the header is split.
+constexpr const char* kTablePartOnly = "#if !defined(NHC_PART) || NHC_PART == 0";
+
 std::string base_name(const std::string& path) {
   const auto slash = path.find_last_of("/\\");
   return slash == std::string::npos ? path : path.substr(slash + 1);
@@ -103,6 +106,7 @@ void print_metadata(std::ostream& out, const Scene& scene, const Index1System& s
       << "inline constexpr int n_singular = " << m.n_singular << ";\n"
       << "inline constexpr const char* model_name = " << cpp_string_literal(m.model) << ";\n"
       << "inline constexpr const char* scene_name = " << cpp_string_literal(scene.name) << ";\n\n"
+      << kTablePartOnly << "\n"
       << "/// y[k] holds the state_order[k]-th derivative of variable state_variable[k]\n"
       << "/// (0..n_coordinates-1: coordinates, then multipliers).\n"
       << "inline constexpr const char* state_names[n_states] = " << strings(state_names) << ";\n"
@@ -141,6 +145,7 @@ void print_metadata(std::ostream& out, const Scene& scene, const Index1System& s
     for (const auto& q : m.singular) names.push_back(q.name);
     out << "inline constexpr const char* singular_names[n_singular] = " << strings(names) << ";\n";
   }
+  out << "#endif\n";
 }
 
 /// The compressed-column structure of a sparse Jacobian.
@@ -149,11 +154,13 @@ void print_jacobian_structure(std::ostream& out, const PreparedModel& m) {
   const SymbolicJacobian& jacobian = m.symbolic_jacobian;
   out << "\n/// Compressed-column structure of J (the entries not identically zero).\n"
       << "inline constexpr int jacobian_nnz = " << jacobian.rowind.size() << ";\n"
+      << kTablePartOnly << "\n"
       << "inline constexpr int jacobian_colptr[n_states + 1] = " << ints(jacobian.colptr) << ";\n";
   if (jacobian.rowind.empty())
     out << "inline constexpr int jacobian_rowind[1] = {0};  // no nonzeros: placeholder\n";
   else
     out << "inline constexpr int jacobian_rowind[jacobian_nnz] = " << ints(jacobian.rowind) << ";\n";
+  out << "#endif\n";
 }
 
 /// One function: its signature (parameters it does not read as comments) and its body from the
@@ -210,10 +217,10 @@ std::string part_expression(const std::vector<std::vector<int>>& part_of, size_t
 /// The functions, each compiled only in its part when the header is compiled as several
 /// translation units (NHC_PART of NHC_PARTS, docs/generated-code.md), and in each part the
 /// function that enters that part's functions into the table.
-void print_functions(std::ostream& out, const Scene& scene, const PreparedModel& m) {
+void print_functions(std::ostream& out, const Scene& scene, const PreparedModel& m, std::size_t table_bytes) {
   std::vector<std::string> functions;
   for (const FunctionPlan& f : m.functions) functions.push_back(print_function(scene, m, f));
-  const auto part_of = partitions(functions, 0);
+  const auto part_of = partitions(functions, table_bytes);
   for (size_t i = 0; i < functions.size(); ++i)
     out << "\n#if !defined(NHC_PART) || NHC_PART == " << part_expression(part_of, i) << "\n"
         << functions[i] << "#endif\n";
@@ -277,7 +284,7 @@ void print_table(std::ostream& out, const PreparedModel& m) {
       {"residual_parameter_jacobian", pointer("residual_parameter_jacobian")},  // abi_version >= 3
       {"hidden_parameter_jacobian", pointer("hidden_parameter_jacobian")},
   };
-  out << "\n#if !defined(NHC_PART) || NHC_PART == 0\n"
+  out << "\n" << kTablePartOnly << "\n"
       << "/// Everything above as the C table of docs/generated-code.md, filled by field name.\n"
       << "inline nhc_model_table make_model_table() noexcept {\n"
       << "  nhc_model_table t{};\n";
@@ -318,9 +325,11 @@ std::string print_header(const Scene& scene, const Index1System& system, const P
   out << "\n#pragma once\n\n#include <cmath>\n";
   out << "\n" << model_table_text();
   out << "\nnamespace nhc_gen::" << model.namespace_name << " {\n\n";
+  const auto metadata_start = out.tellp();
   print_metadata(out, scene, system, model);
   print_jacobian_structure(out, model);
-  print_functions(out, scene, model);
+  // Part 0 also compiles the metadata and the table: weighed by their text.
+  print_functions(out, scene, model, static_cast<std::size_t>(out.tellp() - metadata_start));
   print_table(out, model);
   out << "\n}  // namespace nhc_gen::" << model.namespace_name << "\n";
   print_export(out, model);
