@@ -75,9 +75,10 @@ struct CompiledLibrary {
   std::filesystem::path path;
   bool reused = false;
   double seconds = 0;  ///< compiling (or finding it in the cache)
-  int translation_units = 1;  ///< the header was compiled as (CompileOptions::translation_units)
+  int translation_units = 1;  ///< it was compiled as (CompileOptions::translation_units)
   /// What the library records of itself (exported as `nhc_model_build_key`): the SHA-256 of
-  /// nhc's version, the compiler, its version, the flags and the header, and the scene and model.
+  /// nhc's version, the compiler, its version, the flags, the number of translation units and the
+  /// header, and the scene and model.
   std::string build_record;
 };
 
