@@ -171,7 +171,7 @@ void table_part_1(nhc_model_table& t) noexcept;
 void table_part_2(nhc_model_table& t) noexcept;
 void table_part_3(nhc_model_table& t) noexcept;
 #if NHC_PART == 0
-void table_part_0(nhc_model_table& t) noexcept {
+void table_part_0([[maybe_unused]] nhc_model_table& t) noexcept {
 #if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 0
   t.residual = &residual;
 #endif
@@ -187,7 +187,7 @@ void table_part_0(nhc_model_table& t) noexcept {
 }
 #endif
 #if NHC_PART == 1
-void table_part_1(nhc_model_table& t) noexcept {
+void table_part_1([[maybe_unused]] nhc_model_table& t) noexcept {
 #if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 1
   t.residual = &residual;
 #endif
@@ -203,7 +203,7 @@ void table_part_1(nhc_model_table& t) noexcept {
 }
 #endif
 #if NHC_PART == 2
-void table_part_2(nhc_model_table& t) noexcept {
+void table_part_2([[maybe_unused]] nhc_model_table& t) noexcept {
 #if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 2
   t.residual = &residual;
 #endif
@@ -219,7 +219,7 @@ void table_part_2(nhc_model_table& t) noexcept {
 }
 #endif
 #if NHC_PART == 3
-void table_part_3(nhc_model_table& t) noexcept {
+void table_part_3([[maybe_unused]] nhc_model_table& t) noexcept {
 #if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 3
   t.residual = &residual;
 #endif

@@ -231,7 +231,7 @@ void print_functions(std::ostream& out, const Scene& scene, const PreparedModel&
     out << "void table_part_" << k << "(nhc_model_table& t) noexcept;\n";
   for (int k = 0; k < kMaxTranslationUnits; ++k) {
     out << "#if NHC_PART == " << k << "\n"
-        << "void table_part_" << k << "(nhc_model_table& " << (functions.empty() ? "/*t*/" : "t") << ") noexcept {\n";
+        << "void table_part_" << k << "([[maybe_unused]] nhc_model_table& t) noexcept {\n";
     for (size_t i = 0; i < functions.size(); ++i)
       out << "#if " << part_expression(part_of, i) << " == " << k << "\n"
           << "  t." << m.functions[i].name << " = &" << m.functions[i].name << ";\n"
