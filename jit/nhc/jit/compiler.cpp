@@ -13,10 +13,10 @@
 #include <cstdlib>
 #include <cstring>
 #include <deque>
-#include <fstream>
-#include <iostream>
 #include <exception>
+#include <fstream>
 #include <functional>
+#include <iostream>
 #include <sstream>
 #include <thread>
 
