@@ -2,9 +2,7 @@
 #include "nhc/emit/header_printer.hpp"
 
 #include <algorithm>
-#include <cctype>
 #include <cstdio>
-#include <map>
 #include <set>
 #include <sstream>
 #include <utility>
@@ -165,77 +163,12 @@ void print_jacobian_structure(std::ostream& out, const PreparedModel& m) {
   out << "#endif\n";
 }
 
-/// Outputs set to one input or constant (`values[k] = cj;`, `= -1.0`, `= p[3]`) by at least
-/// this many assignments of a function are stored by one loop over a table of their indices:
-/// the same stores in less code to compile (bench/compile-time.md).
-constexpr std::size_t kMinIndexTable = 16;
-
-/// Assignments `array[k] = leaf` grouped by the array and the leaf's printed text (an input, a
-/// constant, or the negation of one); the rest, in order, in `rest`.
-struct LeafStores {
-  std::map<std::pair<std::string, std::string>, std::vector<std::string>> indices;  // (array, leaf) -> k
-  std::vector<Assignment> rest;
-};
-
-LeafStores leaf_stores(const ExpressionDag& dag, const std::vector<Assignment>& assignments) {
-  auto operand = [&](int id) { return dag[id].op == OpCode::constant || dag[id].op == OpCode::input; };
-  auto leaf = [&](int id) { return operand(id) || (dag[id].op == OpCode::negate && operand(dag[id].args[0])); };
-  auto indexed = [](const std::string& target) {
-    const auto open = target.find('[');
-    return open != std::string::npos && open + 2 < target.size() && target.back() == ']' &&
-           target.find_first_not_of("0123456789", open + 1) == target.size() - 1;
-  };
-  auto key = [&](const Assignment& a) {
-    return std::make_pair(a.target.substr(0, a.target.find('[')), print_cpp_expression(dag, a.value));
-  };
-  std::map<std::pair<std::string, std::string>, std::size_t> count;
-  for (const Assignment& a : assignments)
-    if (leaf(a.value) && indexed(a.target)) ++count[key(a)];
-  LeafStores out;
-  for (const Assignment& a : assignments) {
-    if (leaf(a.value) && indexed(a.target)) {
-      const auto k = key(a);
-      if (count[k] >= kMinIndexTable) {
-        out.indices[k].push_back(a.target.substr(k.first.size() + 1, a.target.size() - k.first.size() - 2));
-        continue;
-      }
-    }
-    out.rest.push_back(a);
-  }
-  return out;
-}
-
-/// The input a leaf reads ("p" of "-p[3]", "cj"), or "" for a constant.
-std::string leaf_input(const std::string& leaf) {
-  std::size_t begin = leaf.find_first_not_of('-'), end = begin;
-  while (end < leaf.size() && (std::isalnum(static_cast<unsigned char>(leaf[end])) || leaf[end] == '_')) ++end;
-  const std::string name = leaf.substr(begin, end - begin);
-  return name.empty() || std::isdigit(static_cast<unsigned char>(name[0])) ? std::string() : name;
-}
-
-/// One loop per group: `{ static constexpr int at[] = {…}; for (const int k : at) values[k] = cj; }`,
-/// after the other statements (outputs are only written, so the order of the stores is free).
-/// Adds the inputs the leaves read to `used`.
-std::string print_index_tables(const LeafStores& stores, std::set<std::string>& used) {
-  std::string code;
-  for (const auto& [group, indices] : stores.indices) {
-    const auto& [array, leaf] = group;
-    code += "  {  // " + std::to_string(indices.size()) + " entries = " + leaf + "\n" +
-            "    static constexpr int at[] = {" + joined(indices, ", ") + "};\n" +
-            "    for (const int k : at) " + array + "[k] = " + leaf + ";\n  }\n";
-    if (const std::string input = leaf_input(leaf); !input.empty()) used.insert(input);
-  }
-  return code;
-}
-
 /// One function: its signature (parameters it does not read as comments) and its body from the
 /// shared instruction list. Throws MathError when the body reads an input it does not receive.
 std::string print_function(const Scene& scene, const PreparedModel& m, const FunctionPlan& f) {
   std::set<std::string> allowed;
   for (const auto& parameter : f.parameters) allowed.insert(parameter.second);
-  const LeafStores stores = leaf_stores(m.dag, f.assignments);
-  PrintedBlock block = print_cpp_block(m.dag, stores.rest, "  ");
-  block.code += print_index_tables(stores, block.used_inputs);
+  const PrintedBlock block = print_cpp_block(m.dag, f.assignments, "  ");
   for (const std::string& used : block.used_inputs)
     if (!allowed.count(used))
       throw MathError(f.name + " of the " + m.model + " model of " + scene.name + " depends on " + used +
