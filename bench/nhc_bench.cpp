@@ -2,6 +2,7 @@
 //
 //   nhc_bench SCENE --out DIR [--model M] [--jacobian auto|dense|sparse] [--t-end T]
 //             [--rtol R] [--atol A] [--handwritten HEADER [--define NAME=VALUE]...] [--quick]
+//             [--opt "FLAGS"] [--translation-units K] [--unbounded-optimizer]
 //
 // 1. derive + analyse (Pryce, index-1 reduction) + generate the header, timed per stage (best of
 //    several runs when one is short); operation counts before/after CSE, per function;
@@ -14,6 +15,10 @@
 //    state layout) with nhc::jit and the same flags and do 3 and 4 for it too, from the same
 //    initial state, and report how far its final state is from the generated one's (the two
 //    tables must be distinct: different addresses, else the comparison would be of one code).
+// --opt, --translation-units, --unbounded-optimizer: how the generated header is compiled
+// (nhc::jit::CompileOptions: flags taken as given, long_header_bytes = 0; translation_units;
+// bounded_optimizer = false), to compare compile policies (bench/compile-time.md); the
+// hand-written header is always compiled with the defaults.
 // --quick: one run of everything (smoke test). bench/run.sh turns the JSON into bench/results.md.
 #include <sys/wait.h>
 #include <unistd.h>
@@ -52,7 +57,9 @@ double seconds_since(Clock::time_point start) {
 
 struct Options {
   std::string scene, out = "bench-out", model, jacobian = "auto", handwritten;
-  std::vector<std::string> defines;
+  std::vector<std::string> defines, opt;
+  int translation_units = 0;
+  bool unbounded_optimizer = false;
   double t_end = -1, rtol = -1, atol = -1;
   bool quick = false;
 };
@@ -60,7 +67,8 @@ struct Options {
 [[noreturn]] void usage(const std::string& message) {
   std::cerr << "nhc_bench: " << message << "\n"
             << "usage: nhc_bench SCENE --out DIR [--model M] [--jacobian auto|dense|sparse] [--t-end T]\n"
-            << "                 [--rtol R] [--atol A] [--handwritten HEADER [--define NAME=VALUE]...] [--quick]\n";
+            << "                 [--rtol R] [--atol A] [--handwritten HEADER [--define NAME=VALUE]...] [--quick]\n"
+            << "                 [--opt \"FLAGS\"] [--translation-units K] [--unbounded-optimizer]\n";
   std::exit(2);
 }
 
@@ -81,6 +89,11 @@ Options parse(int argc, char** argv) {
     else if (a == "--rtol") o.rtol = std::stod(value());
     else if (a == "--atol") o.atol = std::stod(value());
     else if (a == "--quick") o.quick = true;
+    else if (a == "--opt") {
+      std::istringstream words(value());
+      for (std::string w; words >> w;) o.opt.push_back(w);
+    } else if (a == "--translation-units") o.translation_units = std::stoi(value());
+    else if (a == "--unbounded-optimizer") o.unbounded_optimizer = true;
     else if (!a.empty() && a[0] == '-') usage("unknown option " + a);
     else if (o.scene.empty()) o.scene = a;
     else usage("more than one scene");
@@ -344,8 +357,15 @@ int run(const Options& o) {
   nhc::jit::CompileOptions compile_options;
   compile_options.cache_directory = fs::path(o.out) / "jit-cache";
   fs::remove_all(compile_options.cache_directory, ec);
+  nhc::jit::CompileOptions generated_options = compile_options;
+  if (!o.opt.empty()) {
+    generated_options.flags = o.opt;
+    generated_options.long_header_bytes = 0;  // as given
+  }
+  generated_options.translation_units = o.translation_units;
+  generated_options.bounded_optimizer = !o.unbounded_optimizer;
   const nhc::jit::LoadedModel loaded = nhc::jit::load_header(
-      header, kind_built, sparse ? nhc::JacobianKind::sparse : nhc::JacobianKind::dense, compile_options);
+      header, kind_built, sparse ? nhc::JacobianKind::sparse : nhc::JacobianKind::dense, generated_options);
   const double compile_s = loaded.library().seconds;
   const std::string model_name = nhc::to_string(kind_built);
 
@@ -411,6 +431,7 @@ int run(const Options& o) {
   json.integer("residual_jacobian_joint_ops_after_cse", joint_ops.second);
   json.integer("header_bytes", static_cast<long long>(header.text.size()));
   json.number("compile_s", compile_s);
+  json.integer("translation_units", loaded.library().translation_units);
   json.number("rtol", io.rtol);
   json.number("atol", io.atol);
   json.number("t_end", t_end);

@@ -1,6 +1,7 @@
 // The printing half of the header emitter (header_printer.hpp).
 #include "nhc/emit/header_printer.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <set>
 #include <sstream>
@@ -15,6 +16,9 @@
 namespace nhc {
 
 namespace {
+
+/// Opens what only the table needs: compiled once, in part 0, when the header is split.
+constexpr const char* kTablePartOnly = "#if !defined(NHC_PART) || NHC_PART == 0";
 
 std::string base_name(const std::string& path) {
   const auto slash = path.find_last_of("/\\");
@@ -62,6 +66,7 @@ void print_banner(std::ostream& out, const Scene& scene, const Index1System& sys
       << "//   nhc generate " << sanitize_comment(scene_file) << " --model " << m.model << " --jacobian "
       << to_string(m.jacobian) << (m.sensitivities ? " --sensitivities" : "") << "\n"
       << "// Layout: docs/generated-code.md.\n"
+      << kTranslationUnitsBanner << kMaxTranslationUnits << " translation units (NHC_PART).\n"
       << "//\n"
       << "// Scene " << sanitize_comment(scene.name) << ": coordinates "
       << sanitize_comment(joined(system.jet->coordinates(), ", "));
@@ -101,6 +106,7 @@ void print_metadata(std::ostream& out, const Scene& scene, const Index1System& s
       << "inline constexpr int n_singular = " << m.n_singular << ";\n"
       << "inline constexpr const char* model_name = " << cpp_string_literal(m.model) << ";\n"
       << "inline constexpr const char* scene_name = " << cpp_string_literal(scene.name) << ";\n\n"
+      << kTablePartOnly << "\n"
       << "/// y[k] holds the state_order[k]-th derivative of variable state_variable[k]\n"
       << "/// (0..n_coordinates-1: coordinates, then multipliers).\n"
       << "inline constexpr const char* state_names[n_states] = " << strings(state_names) << ";\n"
@@ -139,6 +145,7 @@ void print_metadata(std::ostream& out, const Scene& scene, const Index1System& s
     for (const auto& q : m.singular) names.push_back(q.name);
     out << "inline constexpr const char* singular_names[n_singular] = " << strings(names) << ";\n";
   }
+  out << "#endif\n";
 }
 
 /// The compressed-column structure of a sparse Jacobian.
@@ -147,16 +154,18 @@ void print_jacobian_structure(std::ostream& out, const PreparedModel& m) {
   const SymbolicJacobian& jacobian = m.symbolic_jacobian;
   out << "\n/// Compressed-column structure of J (the entries not identically zero).\n"
       << "inline constexpr int jacobian_nnz = " << jacobian.rowind.size() << ";\n"
+      << kTablePartOnly << "\n"
       << "inline constexpr int jacobian_colptr[n_states + 1] = " << ints(jacobian.colptr) << ";\n";
   if (jacobian.rowind.empty())
     out << "inline constexpr int jacobian_rowind[1] = {0};  // no nonzeros: placeholder\n";
   else
     out << "inline constexpr int jacobian_rowind[jacobian_nnz] = " << ints(jacobian.rowind) << ";\n";
+  out << "#endif\n";
 }
 
 /// One function: its signature (parameters it does not read as comments) and its body from the
 /// shared instruction list. Throws MathError when the body reads an input it does not receive.
-void print_function(std::ostream& out, const Scene& scene, const PreparedModel& m, const FunctionPlan& f) {
+std::string print_function(const Scene& scene, const PreparedModel& m, const FunctionPlan& f) {
   std::set<std::string> allowed;
   for (const auto& parameter : f.parameters) allowed.insert(parameter.second);
   const PrintedBlock block = print_cpp_block(m.dag, f.assignments, "  ");
@@ -169,9 +178,67 @@ void print_function(std::ostream& out, const Scene& scene, const PreparedModel& 
     const bool read = block.used_inputs.count(name) > 0 || type == "double*";
     parameters.push_back(type + " " + (read ? name : "/*" + name + "*/"));
   }
-  out << "\n"
-      << f.doc << "inline void " << f.name << "(" << joined(parameters, ", ") << ") noexcept {\n"
-      << f.prologue << block.code << "}\n";
+  return f.doc + "inline void " + f.name + "(" + joined(parameters, ", ") + ") noexcept {\n" + f.prologue +
+         block.code + "}\n";
+}
+
+/// For K = 1 .. kMaxTranslationUnits parts, the part (0 .. K-1) of each function: the longest
+/// first onto the part with the least code so far (part 0 also holds the table, counted as
+/// `table_bytes`), so that the parts take about equally long to compile.
+std::vector<std::vector<int>> partitions(const std::vector<std::string>& functions, std::size_t table_bytes) {
+  std::vector<size_t> order(functions.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return functions[a].size() > functions[b].size(); });
+  std::vector<std::vector<int>> part_of;  // [K - 1][function]
+  for (int k = 1; k <= kMaxTranslationUnits; ++k) {
+    std::vector<std::size_t> load(static_cast<size_t>(k), 0);
+    load[0] = table_bytes;
+    std::vector<int> part(functions.size(), 0);
+    for (size_t i : order) {
+      const auto lightest = std::min_element(load.begin(), load.end()) - load.begin();
+      part[i] = static_cast<int>(lightest);
+      load[static_cast<size_t>(lightest)] += functions[i].size();
+    }
+    part_of.push_back(part);
+  }
+  return part_of;
+}
+
+/// The preprocessor expression of the part that defines a function, given its part for every
+/// number of parts (`NHC_PARTS` = 1 .. kMaxTranslationUnits).
+std::string part_expression(const std::vector<std::vector<int>>& part_of, size_t function) {
+  std::string expression;
+  for (size_t k = 0; k + 1 < part_of.size(); ++k)
+    expression += "NHC_PARTS == " + std::to_string(k + 1) + " ? " + std::to_string(part_of[k][function]) + " : ";
+  return "(" + expression + std::to_string(part_of.back()[function]) + ")";
+}
+
+/// The functions, each compiled only in its part when the header is compiled as several
+/// translation units (NHC_PART of NHC_PARTS, docs/generated-code.md), and in each part the
+/// function that enters that part's functions into the table.
+void print_functions(std::ostream& out, const Scene& scene, const PreparedModel& m, std::size_t table_bytes) {
+  std::vector<std::string> functions;
+  for (const FunctionPlan& f : m.functions) functions.push_back(print_function(scene, m, f));
+  const auto part_of = partitions(functions, table_bytes);
+  for (size_t i = 0; i < functions.size(); ++i)
+    out << "\n#if !defined(NHC_PART) || NHC_PART == " << part_expression(part_of, i) << "\n"
+        << functions[i] << "#endif\n";
+  out << "\n#ifdef NHC_PART\n"
+      << "/// Compiled as NHC_PARTS translation units: part k enters the functions it defines into\n"
+      << "/// the table (table_part_k); make_model_table, in part 0, calls them all.\n";
+  for (int k = 0; k < kMaxTranslationUnits; ++k)
+    out << "void table_part_" << k << "(nhc_model_table& t) noexcept;\n";
+  for (int k = 0; k < kMaxTranslationUnits; ++k) {
+    out << "#if NHC_PART == " << k << "\n"
+        << "void table_part_" << k << "([[maybe_unused]] nhc_model_table& t) noexcept {\n";
+    for (size_t i = 0; i < functions.size(); ++i)
+      out << "#if " << part_expression(part_of, i) << " == " << k << "\n"
+          << "  t." << m.functions[i].name << " = &" << m.functions[i].name << ";\n"
+          << "#endif\n";
+    out << "}\n#endif\n";
+  }
+  out << "#endif  // NHC_PART\n";
 }
 
 /// The C table (docs/generated-code.md) filled by field name: every field not named stays zero
@@ -217,23 +284,33 @@ void print_table(std::ostream& out, const PreparedModel& m) {
       {"residual_parameter_jacobian", pointer("residual_parameter_jacobian")},  // abi_version >= 3
       {"hidden_parameter_jacobian", pointer("hidden_parameter_jacobian")},
   };
-  out << "\n/// Everything above as the C table of docs/generated-code.md, filled by field name.\n"
+  out << "\n" << kTablePartOnly << "\n"
+      << "/// Everything above as the C table of docs/generated-code.md, filled by field name.\n"
       << "inline nhc_model_table make_model_table() noexcept {\n"
       << "  nhc_model_table t{};\n";
   for (const auto& [name, value] : fields)
-    if (!value.empty()) out << "  t." << name << " = " << value << ";\n";
-  out << "  return t;\n"
+    if (!value.empty() && value[0] != '&') out << "  t." << name << " = " << value << ";\n";
+  out << "#ifndef NHC_PART\n";
+  for (const auto& [name, value] : fields)
+    if (!value.empty() && value[0] == '&') out << "  t." << name << " = " << value << ";\n";
+  out << "#else\n";
+  for (int k = 0; k < kMaxTranslationUnits; ++k)
+    out << (k ? "#if NHC_PARTS > " + std::to_string(k) + "\n" : "") << "  table_part_" << k << "(t);\n"
+        << (k ? "#endif\n" : "");
+  out << "#endif\n"
+      << "  return t;\n"
       << "}\n"
       << "\n"
       << "inline const nhc_model_table* model_table() noexcept {\n"
       << "  static const nhc_model_table table = make_model_table();\n"
       << "  return &table;\n"
-      << "}\n";
+      << "}\n"
+      << "#endif  // part 0\n";
 }
 
 /// The C entry point, compiled only where NHC_EXPORT_MODEL_TABLE is defined.
 void print_export(std::ostream& out, const PreparedModel& m) {
-  out << "\n#ifdef NHC_EXPORT_MODEL_TABLE\n"
+  out << "\n#if defined(NHC_EXPORT_MODEL_TABLE) && (!defined(NHC_PART) || NHC_PART == 0)\n"
       << "extern \"C\" const nhc_model_table* nhc_model_table_get(void) {\n"
       << "  return nhc_gen::" << m.namespace_name << "::model_table();\n"
       << "}\n"
@@ -248,9 +325,11 @@ std::string print_header(const Scene& scene, const Index1System& system, const P
   out << "\n#pragma once\n\n#include <cmath>\n";
   out << "\n" << model_table_text();
   out << "\nnamespace nhc_gen::" << model.namespace_name << " {\n\n";
+  const auto metadata_start = out.tellp();
   print_metadata(out, scene, system, model);
   print_jacobian_structure(out, model);
-  for (const FunctionPlan& f : model.functions) print_function(out, scene, model, f);
+  // Part 0 also compiles the metadata and the table: weighed by their text.
+  print_functions(out, scene, model, static_cast<std::size_t>(out.tellp() - metadata_start));
   print_table(out, model);
   out << "\n}  // namespace nhc_gen::" << model.namespace_name << "\n";
   print_export(out, model);

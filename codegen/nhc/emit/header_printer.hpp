@@ -11,6 +11,14 @@
 
 namespace nhc {
 
+/// The most translation units a generated header can be compiled as (docs/generated-code.md):
+/// compiled with NHC_PARTS = K (1 .. this) and NHC_PART = k (0 .. K-1), part k defines only its
+/// share of the functions, part 0 the table; the K objects linked together are the model.
+inline constexpr int kMaxTranslationUnits = 4;
+
+/// The banner line that says so, followed by kMaxTranslationUnits (nhc::jit looks for it).
+inline constexpr const char* kTranslationUnitsBanner = "// Compiles as NHC_PARTS = 1 to ";
+
 /// The header's text: banner, the C table's definition (model_table.h), metadata, the
 /// Jacobian's structure, the functions, the table filled by field name and its entry point.
 std::string print_header(const Scene& scene, const Index1System& system, const PreparedModel& model);

@@ -4,17 +4,24 @@
 #include <dlfcn.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <deque>
+#include <exception>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <sstream>
+#include <thread>
 
 #include "nhc/errors.hpp"
+#include "nhc/emit/header_printer.hpp"
 #include "nhc/emit/model_table_text.hpp"
 #include "nhc/io/shell.hpp"
 #include "nhc/io/temporary_files.hpp"
@@ -49,18 +56,74 @@ std::string c_string_body(const std::string& text) {
 /// The translation unit that wraps a model header: the table's entry point and the build record
 /// are the only symbols the shared object exports (every other symbol is hidden), so two models
 /// whose headers use the same namespace can never resolve to each other's table. The header is
-/// included, not compiled as the main file: no "#pragma once in main file" warning.
-std::string translation_unit(const std::string& header_name, const std::string& build_record) {
-  return "// nhc::jit: exports the model table of " + header_name +
-         " and the record of what it was built from\n"
-         "#define NHC_EXPORT_MODEL_TABLE\n"
-         "struct nhc_model_table;\n"
-         "extern \"C\" __attribute__((visibility(\"default\"))) const nhc_model_table* nhc_model_table_get(void);\n"
-         "extern \"C\" __attribute__((visibility(\"default\"))) const char nhc_model_build_key[] = \"" +
-         c_string_body(build_record) +
-         "\";\n"
-         "#include \"" +
-         header_name + "\"\n";
+/// included, not compiled as the main file: no "#pragma once in main file" warning. With
+/// `parts` > 1 it is part `part` of a header compiled as that many translation units (the
+/// header's NHC_PART protocol); the record lives in part 0, with the table.
+std::string translation_unit(const std::string& header_name, const std::string& build_record, int part = 0,
+                             int parts = 1) {
+  std::string text = "// nhc::jit: exports the model table of " + header_name +
+                     " and the record of what it was built from\n"
+                     "#define NHC_EXPORT_MODEL_TABLE\n";
+  if (parts > 1)
+    text += "#define NHC_PARTS " + std::to_string(parts) + "\n#define NHC_PART " + std::to_string(part) + "\n";
+  text += "struct nhc_model_table;\n"
+          "extern \"C\" __attribute__((visibility(\"default\"))) const nhc_model_table* nhc_model_table_get(void);\n";
+  if (part == 0)
+    text += "extern \"C\" __attribute__((visibility(\"default\"))) const char nhc_model_build_key[] = \"" +
+            c_string_body(build_record) + "\";\n";
+  return text + "#include \"" + header_name + "\"\n";
+}
+
+/// The most translation units `header_text` may be compiled as: the number its banner states
+/// (kTranslationUnitsBanner), else 1.
+int splittable_parts(const std::string& header_text) {
+  const std::size_t at = header_text.find(kTranslationUnitsBanner);
+  if (at == std::string::npos) return 1;
+  const int parts = std::atoi(header_text.c_str() + at + std::strlen(kTranslationUnitsBanner));
+  return std::clamp(parts, 1, kMaxTranslationUnits);
+}
+
+int compile_jobs(const CompileOptions& options) {
+  if (options.jobs > 0) return options.jobs;
+  return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+}
+
+/// How many translation units `header_text` is compiled as (CompileOptions::translation_units).
+int chosen_parts(const CompileOptions& options, const std::string& header_text) {
+  const int most = splittable_parts(header_text);
+  if (options.translation_units > 0) return std::min(options.translation_units, most);
+  if (header_text.size() < options.split_from_bytes) return 1;
+  return std::min(compile_jobs(options), most);
+}
+
+/// GCC's caps on its quadratic searches over long straight-line functions (bounded_optimizer):
+/// they change nothing in short functions, where the searches end before the caps.
+std::vector<std::string> optimizer_bounds(const CompileOptions& options, const std::string& compiler_version,
+                                          const std::vector<std::string>& optimization) {
+  if (!options.bounded_optimizer || compiler_version.find("clang") != std::string::npos) return {};
+  if (std::find(optimization.begin(), optimization.end(), "-O0") != optimization.end()) return {};
+  return {"--param=sccvn-max-alias-queries-per-access=50", "--param=max-cselib-memory-locations=50"};
+}
+
+/// Runs `commands` (each writing its own file), at most `jobs` at a time; the first failure is
+/// rethrown once all have ended.
+void run_all(const std::vector<std::function<void()>>& commands, int jobs) {
+  std::vector<std::exception_ptr> errors(commands.size());
+  std::atomic<std::size_t> next{0};
+  auto worker = [&] {
+    for (std::size_t k; (k = next++) < commands.size();) try {
+        commands[k]();
+      } catch (...) {
+        errors[k] = std::current_exception();
+      }
+  };
+  std::vector<std::thread> threads;
+  const std::size_t n = std::min(commands.size(), static_cast<std::size_t>(std::max(1, jobs)));
+  for (std::size_t t = 1; t < n; ++t) threads.emplace_back(worker);
+  worker();
+  for (std::thread& t : threads) t.join();
+  for (const std::exception_ptr& e : errors)
+    if (e) std::rethrow_exception(e);
 }
 
 /// The flags every model library is built with, after the user's optimization flags.
@@ -242,12 +305,18 @@ fs::path table_include_directory(const fs::path& dir) {
   return include;
 }
 
-/// The user's flags, with -O0 in place of the -O flags for a header above large_header_bytes.
+/// The user's flags, with -O0 in place of the -O flags for a header above large_header_bytes,
+/// and -O1 in place of -O2 and -O3 for one above long_header_bytes.
 std::vector<std::string> optimization_flags(const CompileOptions& options, std::size_t header_bytes) {
-  if (options.large_header_bytes == 0 || header_bytes <= options.large_header_bytes) return options.flags;
-  std::vector<std::string> flags{"-O0"};
-  for (const std::string& f : options.flags)
-    if (f.rfind("-O", 0) != 0) flags.push_back(f);
+  const bool large = options.large_header_bytes != 0 && header_bytes > options.large_header_bytes;
+  const bool long_code = options.long_header_bytes != 0 && header_bytes > options.long_header_bytes;
+  if (!large && !long_code) return options.flags;
+  std::vector<std::string> flags;
+  if (large) flags.emplace_back("-O0");
+  for (const std::string& f : options.flags) {
+    if (large && f.rfind("-O", 0) == 0) continue;
+    flags.push_back(f == "-O2" || f == "-O3" ? "-O1" : f);
+  }
   return flags;
 }
 
@@ -264,12 +333,15 @@ CompiledLibrary compile_header(const std::string& header_text, const std::string
   const double timeout = compile_timeout(options);
   const std::string version = compiler_version(compiler, timeout);
   std::vector<std::string> flags = optimization_flags(options, header_text.size());
+  for (std::string& f : optimizer_bounds(options, version, flags)) flags.push_back(std::move(f));
   for (std::string& f : contract_flags(version)) flags.push_back(std::move(f));
   for (const fs::path& include : options.include_directories) flags.push_back("-I" + include.string());
   std::string flag_text;
   for (const std::string& f : flags) flag_text += f + " ";
-  const std::string key = sha256_hex(std::string(NHC_VERSION) + "\n" + model_table_text() + "\n" + compiler +
-                                     "\n" + version + "\n" + flag_text + "\n" + header_text);
+  const int parts = chosen_parts(options, header_text);
+  const std::string key =
+      sha256_hex(std::string(NHC_VERSION) + "\n" + model_table_text() + "\n" + compiler + "\n" + version + "\n" +
+                 flag_text + "\n" + "translation units " + std::to_string(parts) + "\n" + header_text);
   const std::string record =
       "nhc build key " + key + "\nscene " + identity.scene + "\nmodel " + identity.model + "\n";
 
@@ -283,7 +355,7 @@ CompiledLibrary compile_header(const std::string& header_text, const std::string
   std::error_code ec;
   if (fs::exists(fs::symlink_status(library, ec))) {
     const std::string problem = entry_problem(library);
-    if (problem.empty()) return {library, true, elapsed(), record};
+    if (problem.empty()) return {library, true, elapsed(), parts, record};
     warn("cache entry " + library.string() + " rejected: " + problem + "; rebuilding it");
     discard_entry(library);
   }
@@ -291,21 +363,48 @@ CompiledLibrary compile_header(const std::string& header_text, const std::string
   // Names unique to this process and call, registered before they exist: concurrent runs never
   // share a temporary file, and an interrupt removes them (nhc/io/temporary_files.hpp).
   const TemporaryFile header_file(unique_temporary_name((dir / (stem + ".hpp")).string()));
-  const TemporaryFile source_file(unique_temporary_name((dir / (stem + ".cpp")).string()));
   const TemporaryFile out_file(unique_temporary_name(library.string()));
   const TemporaryFile digest_file(unique_temporary_name(digest_path(library).string()));
+  // One source (and, when split, one object) per part, all named before any is written.
+  std::deque<TemporaryFile> sources, objects;  // not movable: a deque keeps them in place
+  for (int k = 0; k < parts; ++k) {
+    sources.emplace_back(unique_temporary_name((dir / (stem + ".cpp")).string()));
+    if (parts > 1) objects.emplace_back(unique_temporary_name((dir / (stem + ".o")).string()));
+  }
   const fs::path out = out_file.path();
   write_text(header_file.path(), header_text);
-  write_text(source_file.path(), translation_unit(fs::path(header_file.path()).filename().string(), record));
-  std::vector<std::string> command{compiler};
-  command.insert(command.end(), flags.begin(), flags.end());
-  command.emplace_back("-o");
-  command.push_back(out.string());
-  for (const char* argument : {"-x", "c++"}) command.emplace_back(argument);
-  command.push_back(source_file.path());
-  run_compiler(command, label, out, dir, timeout);
+  const std::string header_name = fs::path(header_file.path()).filename().string();
+  auto compile_command = [&](const std::string& source, const std::string& output, bool object) {
+    std::vector<std::string> command{compiler};
+    command.insert(command.end(), flags.begin(), flags.end());
+    if (object) command.emplace_back("-c");
+    command.emplace_back("-o");
+    command.push_back(output);
+    for (const char* argument : {"-x", "c++"}) command.emplace_back(argument);
+    command.push_back(source);
+    return command;
+  };
+  std::vector<std::function<void()>> compiles;
+  for (int k = 0; k < parts; ++k) {
+    const fs::path source = sources[static_cast<size_t>(k)].path();
+    write_text(source, translation_unit(header_name, record, k, parts));
+    const fs::path object = parts > 1 ? fs::path(objects[static_cast<size_t>(k)].path()) : out;
+    compiles.emplace_back([&, source, object] {
+      run_compiler(compile_command(source.string(), object.string(), parts > 1), label, object, dir, timeout);
+    });
+  }
+  run_all(compiles, compile_jobs(options));
+  if (parts > 1) {
+    std::vector<std::string> link{compiler};
+    link.insert(link.end(), flags.begin(), flags.end());
+    link.emplace_back("-o");
+    link.push_back(out.string());
+    for (const TemporaryFile& object : objects) link.push_back(object.path());
+    run_compiler(link, label, out, dir, timeout);
+  }
   header_file.remove();
-  source_file.remove();
+  for (const TemporaryFile& file : sources) file.remove();
+  for (const TemporaryFile& file : objects) file.remove();
   const std::optional<std::string> digest = sha256_file_hex(out);
   if (!digest) throw EnvironmentError("cannot read " + out.string() + ": " + std::strerror(errno));
   write_text(digest_file.path(), digest_text(*digest, library.filename().string()));
@@ -313,7 +412,7 @@ CompiledLibrary compile_header(const std::string& header_text, const std::string
   // the same bytes (-s), so either run's pair matches.
   move_into_place(digest_file.path(), digest_path(library));
   move_into_place(out, library);
-  return {library, false, elapsed(), record};
+  return {library, false, elapsed(), parts, record};
 }
 
 CompiledLibrary compile_header_file(const fs::path& header, const CompileOptions& options) {

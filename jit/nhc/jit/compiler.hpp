@@ -30,6 +30,26 @@ struct CompileOptions {
   /// 1 MB) still compiles at -O2 in about 20 s and its long runs want the optimized code, hence
   /// the threshold above it. 0: always the flags as given.
   std::size_t large_header_bytes = 3000000;
+  /// Headers longer than this many bytes (and at most large_header_bytes) are compiled with -O1
+  /// in place of -O2 or -O3 among the flags: on long straight-line code -O2's further passes
+  /// lengthen the compile and do not shorten the run (bench/compile-time.md, the knife-edge
+  /// chain from N = 64). 0: the flags as given.
+  std::size_t long_header_bytes = 100000;
+  /// Translation units a generated header is compiled as, in parallel, and linked into one
+  /// library (its banner says it can be split: kTranslationUnitsBanner of
+  /// nhc/emit/header_printer.hpp); other headers are always one. 0: automatic, as many as `jobs`
+  /// (at most the header's own limit) for a header of at least split_from_bytes, else one.
+  int translation_units = 0;
+  /// The size from which a header is split automatically (bench/compile-time.md: below it the
+  /// second compiler's fixed cost outweighs the halved optimization).
+  std::size_t split_from_bytes = 100000;
+  /// Compiler processes run at once; 0: the number of processors.
+  int jobs = 0;
+  /// With GCC, caps on two optimizer searches that grow with the square of a straight-line
+  /// function's length (alias queries per memory access in value numbering, memory locations
+  /// cselib tracks), which dominate -O2 on generated code (bench/compile-time.md); false: GCC's
+  /// defaults.
+  bool bounded_optimizer = true;
   /// Extra include directories (-I), searched before the one that provides
   /// nhc/runtime/model_table.h (always added: hand-written headers include it).
   std::vector<std::filesystem::path> include_directories;
@@ -55,8 +75,10 @@ struct CompiledLibrary {
   std::filesystem::path path;
   bool reused = false;
   double seconds = 0;  ///< compiling (or finding it in the cache)
+  int translation_units = 1;  ///< it was compiled as (CompileOptions::translation_units)
   /// What the library records of itself (exported as `nhc_model_build_key`): the SHA-256 of
-  /// nhc's version, the compiler, its version, the flags and the header, and the scene and model.
+  /// nhc's version, the compiler, its version, the flags, the number of translation units and the
+  /// header, and the scene and model.
   std::string build_record;
 };
 
