@@ -2,7 +2,6 @@
 // Do not edit: regenerate with
 //   nhc generate chaplygin_sleigh.toml --model chetaev --jacobian dense
 // Layout: docs/generated-code.md.
-// Compiles as NHC_PARTS = 1 to 4 translation units (NHC_PART).
 //
 // Scene chaplygin_sleigh: coordinates x, y, th; parameters J, a, b, k, m
 //   L = 0.5 * J * (th' * th') + 0.5 * m * ((y' + std::cos(th) * a * th') * (y' + std::cos(th) * a * th') + (a * th' * std::sin(th) - x') * (a * th' * std::sin(th) - x'))
@@ -89,7 +88,6 @@ inline constexpr int n_singular = 0;
 inline constexpr const char* model_name = "chetaev";
 inline constexpr const char* scene_name = "chaplygin_sleigh";
 
-#if !defined(NHC_PART) || NHC_PART == 0
 /// y[k] holds the state_order[k]-th derivative of variable state_variable[k]
 /// (0..n_coordinates-1: coordinates, then multipliers).
 inline constexpr const char* state_names[n_states] = {"x", "x'", "y", "y'", "th", "th'", "lambda1"};
@@ -102,9 +100,7 @@ inline constexpr const char* parameter_names[n_parameters] = {"J", "a", "b", "k"
 inline constexpr double default_parameters[n_parameters] = {0.20000000000000001, 0.29999999999999999, 0.20000000000000001, 0.050000000000000003, 1.0};
 inline constexpr const char* hidden_names[n_hidden] = {"f1"};
 inline constexpr const char* invariant_names[n_invariants] = {"energy"};
-#endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2)
 /// F(t, y, y') = 0, IDA form; r has n_states entries.
 inline void residual(double /*t*/, const double* y, const double* yp, const double* p, double* r) noexcept {
   const double w0 = std::sin(y[4]);
@@ -118,9 +114,7 @@ inline void residual(double /*t*/, const double* y, const double* yp, const doub
   r[5] = yp[2] - y[3];  // chain y' = y'
   r[6] = yp[4] - y[5];  // chain th' = th'
 }
-#endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1)
 /// J = dF/dy + cj dF/dy', column-major n_states x n_states.
 inline void jacobian(double /*t*/, const double* y, const double* yp, double cj, const double* p, double* J) noexcept {
   for (int k = 0; k < n_states * n_states; ++k) J[k] = 0.0;
@@ -153,18 +147,14 @@ inline void jacobian(double /*t*/, const double* y, const double* yp, double cj,
   J[42] = -w1;  // (0, 6)
   J[43] = w3;  // (1, 6)
 }
-#endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 3)
 /// Hidden constraints g(t, y) = 0 (derivatives of the equations the index-1 form
 /// differentiated away); they fix consistent initial values and drift during
 /// integration.
 inline void hidden_constraints(double /*t*/, const double* y, const double* /*p*/, double* g) noexcept {
   g[0] = y[3] * std::cos(y[4]) - y[1] * std::sin(y[4]);  // f1
 }
-#endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3)
 /// G = dg/dy, column-major n_hidden x n_states.
 inline void hidden_constraints_jacobian(double /*t*/, const double* y, const double* /*p*/, double* G) noexcept {
   for (int k = 0; k < n_hidden * n_states; ++k) G[k] = 0.0;
@@ -174,103 +164,14 @@ inline void hidden_constraints_jacobian(double /*t*/, const double* y, const dou
   G[3] = w1;  // (0, 3)
   G[4] = -w1 * y[1] - y[3] * w0;  // (0, 4)
 }
-#endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3)
 /// The scene's invariants I(t, y, y'), in invariant_names order.
 inline void invariants(double /*t*/, const double* y, const double* /*yp*/, const double* p, double* out) noexcept {
   const double w0 = y[3] + p[1] * std::cos(y[4]) * y[5];
   const double w1 = p[1] * y[5] * std::sin(y[4]) - y[1];
   out[0] = p[0] * 0.5 * (y[5] * y[5]) + p[4] * 0.5 * (w0 * w0 + w1 * w1);  // energy
 }
-#endif
 
-#ifdef NHC_PART
-/// Compiled as NHC_PARTS translation units: part k enters the functions it defines into
-/// the table (table_part_k); make_model_table, in part 0, calls them all.
-void table_part_0(nhc_model_table& t) noexcept;
-void table_part_1(nhc_model_table& t) noexcept;
-void table_part_2(nhc_model_table& t) noexcept;
-void table_part_3(nhc_model_table& t) noexcept;
-#if NHC_PART == 0
-void table_part_0([[maybe_unused]] nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 0
-  t.residual = &residual;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 0
-  t.jacobian = &jacobian;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 3) == 0
-  t.hidden_constraints = &hidden_constraints;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 0
-  t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 0
-  t.invariants = &invariants;
-#endif
-}
-#endif
-#if NHC_PART == 1
-void table_part_1([[maybe_unused]] nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 1
-  t.residual = &residual;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 1
-  t.jacobian = &jacobian;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 3) == 1
-  t.hidden_constraints = &hidden_constraints;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 1
-  t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 1
-  t.invariants = &invariants;
-#endif
-}
-#endif
-#if NHC_PART == 2
-void table_part_2([[maybe_unused]] nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 2
-  t.residual = &residual;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 2
-  t.jacobian = &jacobian;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 3) == 2
-  t.hidden_constraints = &hidden_constraints;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 2
-  t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 2
-  t.invariants = &invariants;
-#endif
-}
-#endif
-#if NHC_PART == 3
-void table_part_3([[maybe_unused]] nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 3
-  t.residual = &residual;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 3
-  t.jacobian = &jacobian;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 3) == 3
-  t.hidden_constraints = &hidden_constraints;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 3
-  t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 3
-  t.invariants = &invariants;
-#endif
-}
-#endif
-#endif  // NHC_PART
-
-#if !defined(NHC_PART) || NHC_PART == 0
 /// Everything above as the C table of docs/generated-code.md, filled by field name.
 inline nhc_model_table make_model_table() noexcept {
   nhc_model_table t{};
@@ -294,24 +195,11 @@ inline nhc_model_table make_model_table() noexcept {
   t.invariant_names = invariant_names;
   t.residual_names = residual_names;
   t.n_singular = n_singular;
-#ifndef NHC_PART
   t.residual = &residual;
   t.jacobian = &jacobian;
   t.hidden_constraints = &hidden_constraints;
   t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
   t.invariants = &invariants;
-#else
-  table_part_0(t);
-#if NHC_PARTS > 1
-  table_part_1(t);
-#endif
-#if NHC_PARTS > 2
-  table_part_2(t);
-#endif
-#if NHC_PARTS > 3
-  table_part_3(t);
-#endif
-#endif
   return t;
 }
 
@@ -319,11 +207,10 @@ inline const nhc_model_table* model_table() noexcept {
   static const nhc_model_table table = make_model_table();
   return &table;
 }
-#endif  // part 0
 
 }  // namespace nhc_gen::chaplygin_sleigh_chetaev
 
-#if defined(NHC_EXPORT_MODEL_TABLE) && (!defined(NHC_PART) || NHC_PART == 0)
+#ifdef NHC_EXPORT_MODEL_TABLE
 extern "C" const nhc_model_table* nhc_model_table_get(void) {
   return nhc_gen::chaplygin_sleigh_chetaev::model_table();
 }

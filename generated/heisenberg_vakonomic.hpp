@@ -2,7 +2,6 @@
 // Do not edit: regenerate with
 //   nhc generate heisenberg.toml --model vakonomic --jacobian dense
 // Layout: docs/generated-code.md.
-// Compiles as NHC_PARTS = 1 to 4 translation units (NHC_PART).
 //
 // Scene heisenberg: coordinates x, y, z
 //   L = 0.5 * (x' * x') + y' * y' * 0.5
@@ -86,7 +85,6 @@ inline constexpr int n_singular = 0;
 inline constexpr const char* model_name = "vakonomic";
 inline constexpr const char* scene_name = "heisenberg";
 
-#if !defined(NHC_PART) || NHC_PART == 0
 /// y[k] holds the state_order[k]-th derivative of variable state_variable[k]
 /// (0..n_coordinates-1: coordinates, then multipliers).
 inline constexpr const char* state_names[n_states] = {"x", "x'", "y", "y'", "z", "lambda1"};
@@ -98,9 +96,7 @@ inline constexpr const char* residual_names[n_states] = {"R_x", "R_y", "R_z", "f
 /// No parameters; C++ has no empty arrays, so one unused placeholder each.
 inline constexpr const char* parameter_names[1] = {nullptr};
 inline constexpr double default_parameters[1] = {0.0};
-#endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2)
 /// F(t, y, y') = 0, IDA form; r has n_states entries.
 inline void residual(double /*t*/, const double* y, const double* yp, const double* /*p*/, double* r) noexcept {
   r[0] = -y[3] * y[5] - yp[5] * 0.5 * y[2] - yp[1];  // R_x
@@ -110,9 +106,7 @@ inline void residual(double /*t*/, const double* y, const double* yp, const doub
   r[4] = yp[0] - y[1];  // chain x' = x'
   r[5] = yp[2] - y[3];  // chain y' = y'
 }
-#endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1)
 /// J = dF/dy + cj dF/dy', column-major n_states x n_states.
 inline void jacobian(double /*t*/, const double* y, const double* yp, double cj, const double* /*p*/, double* J) noexcept {
   for (int k = 0; k < n_states * n_states; ++k) J[k] = 0.0;
@@ -137,58 +131,7 @@ inline void jacobian(double /*t*/, const double* y, const double* yp, double cj,
   J[31] = y[1] + 0.5 * cj * y[0];  // (1, 5)
   J[32] = w1;  // (2, 5)
 }
-#endif
 
-#ifdef NHC_PART
-/// Compiled as NHC_PARTS translation units: part k enters the functions it defines into
-/// the table (table_part_k); make_model_table, in part 0, calls them all.
-void table_part_0(nhc_model_table& t) noexcept;
-void table_part_1(nhc_model_table& t) noexcept;
-void table_part_2(nhc_model_table& t) noexcept;
-void table_part_3(nhc_model_table& t) noexcept;
-#if NHC_PART == 0
-void table_part_0([[maybe_unused]] nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 0
-  t.residual = &residual;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 0
-  t.jacobian = &jacobian;
-#endif
-}
-#endif
-#if NHC_PART == 1
-void table_part_1([[maybe_unused]] nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 1
-  t.residual = &residual;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 1
-  t.jacobian = &jacobian;
-#endif
-}
-#endif
-#if NHC_PART == 2
-void table_part_2([[maybe_unused]] nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 2
-  t.residual = &residual;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 2
-  t.jacobian = &jacobian;
-#endif
-}
-#endif
-#if NHC_PART == 3
-void table_part_3([[maybe_unused]] nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 3
-  t.residual = &residual;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 3
-  t.jacobian = &jacobian;
-#endif
-}
-#endif
-#endif  // NHC_PART
-
-#if !defined(NHC_PART) || NHC_PART == 0
 /// Everything above as the C table of docs/generated-code.md, filled by field name.
 inline nhc_model_table make_model_table() noexcept {
   nhc_model_table t{};
@@ -208,21 +151,8 @@ inline nhc_model_table make_model_table() noexcept {
   t.differential_id = differential_id;
   t.residual_names = residual_names;
   t.n_singular = n_singular;
-#ifndef NHC_PART
   t.residual = &residual;
   t.jacobian = &jacobian;
-#else
-  table_part_0(t);
-#if NHC_PARTS > 1
-  table_part_1(t);
-#endif
-#if NHC_PARTS > 2
-  table_part_2(t);
-#endif
-#if NHC_PARTS > 3
-  table_part_3(t);
-#endif
-#endif
   return t;
 }
 
@@ -230,11 +160,10 @@ inline const nhc_model_table* model_table() noexcept {
   static const nhc_model_table table = make_model_table();
   return &table;
 }
-#endif  // part 0
 
 }  // namespace nhc_gen::heisenberg_vakonomic
 
-#if defined(NHC_EXPORT_MODEL_TABLE) && (!defined(NHC_PART) || NHC_PART == 0)
+#ifdef NHC_EXPORT_MODEL_TABLE
 extern "C" const nhc_model_table* nhc_model_table_get(void) {
   return nhc_gen::heisenberg_vakonomic::model_table();
 }

@@ -2,7 +2,6 @@
 // Do not edit: regenerate with
 //   nhc generate knife_edge_incline.toml --model chetaev --jacobian dense
 // Layout: docs/generated-code.md.
-// Compiles as NHC_PARTS = 1 to 4 translation units (NHC_PART).
 //
 // Scene knife_edge_incline: coordinates x, y, phi; parameters J, alpha, g, m, w
 //   L = 0.5 * m * (y' * y' + x' * x') + 0.5 * J * (phi' * phi') + g * x * m * std::sin(alpha)
@@ -89,7 +88,6 @@ inline constexpr int n_singular = 0;
 inline constexpr const char* model_name = "chetaev";
 inline constexpr const char* scene_name = "knife_edge_incline";
 
-#if !defined(NHC_PART) || NHC_PART == 0
 /// y[k] holds the state_order[k]-th derivative of variable state_variable[k]
 /// (0..n_coordinates-1: coordinates, then multipliers).
 inline constexpr const char* state_names[n_states] = {"x", "x'", "y", "y'", "phi", "phi'", "lambda1"};
@@ -102,9 +100,7 @@ inline constexpr const char* parameter_names[n_parameters] = {"J", "alpha", "g",
 inline constexpr double default_parameters[n_parameters] = {0.5, 0.29999999999999999, 9.8100000000000005, 1.0, 2.0};
 inline constexpr const char* hidden_names[n_hidden] = {"f1"};
 inline constexpr int reference_coordinate[n_reference] = {0, 1};
-#endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2)
 /// F(t, y, y') = 0, IDA form; r has n_states entries.
 inline void residual(double /*t*/, const double* y, const double* yp, const double* p, double* r) noexcept {
   const double w0 = std::sin(y[4]);
@@ -117,9 +113,7 @@ inline void residual(double /*t*/, const double* y, const double* yp, const doub
   r[5] = yp[2] - y[3];  // chain y' = y'
   r[6] = yp[4] - y[5];  // chain phi' = phi'
 }
-#endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1)
 /// J = dF/dy + cj dF/dy', column-major n_states x n_states.
 inline void jacobian(double /*t*/, const double* y, const double* yp, double cj, const double* p, double* J) noexcept {
   for (int k = 0; k < n_states * n_states; ++k) J[k] = 0.0;
@@ -144,18 +138,14 @@ inline void jacobian(double /*t*/, const double* y, const double* yp, double cj,
   J[42] = w1;  // (0, 6)
   J[43] = -w2;  // (1, 6)
 }
-#endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 2)
 /// Hidden constraints g(t, y) = 0 (derivatives of the equations the index-1 form
 /// differentiated away); they fix consistent initial values and drift during
 /// integration.
 inline void hidden_constraints(double /*t*/, const double* y, const double* /*p*/, double* g) noexcept {
   g[0] = y[1] * std::sin(y[4]) - y[3] * std::cos(y[4]);  // f1
 }
-#endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 3)
 /// G = dg/dy, column-major n_hidden x n_states.
 inline void hidden_constraints_jacobian(double /*t*/, const double* y, const double* /*p*/, double* G) noexcept {
   for (int k = 0; k < n_hidden * n_states; ++k) G[k] = 0.0;
@@ -165,9 +155,7 @@ inline void hidden_constraints_jacobian(double /*t*/, const double* y, const dou
   G[3] = -w1;  // (0, 3)
   G[4] = w1 * y[1] + y[3] * w0;  // (0, 4)
 }
-#endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3)
 /// The scene's reference solution q_c(t) for the coordinates reference_coordinate.
 inline void reference(double t, const double* p, double* q) noexcept {
   const double w0 = t * p[4];
@@ -177,94 +165,7 @@ inline void reference(double t, const double* p, double* q) noexcept {
   q[0] = 0.5 * (w1 * w1) * w2 * p[2] / w3;  // x
   q[1] = 0.5 * (w0 - std::cos(w0) * w1) * w2 * p[2] / w3;  // y
 }
-#endif
 
-#ifdef NHC_PART
-/// Compiled as NHC_PARTS translation units: part k enters the functions it defines into
-/// the table (table_part_k); make_model_table, in part 0, calls them all.
-void table_part_0(nhc_model_table& t) noexcept;
-void table_part_1(nhc_model_table& t) noexcept;
-void table_part_2(nhc_model_table& t) noexcept;
-void table_part_3(nhc_model_table& t) noexcept;
-#if NHC_PART == 0
-void table_part_0([[maybe_unused]] nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 0
-  t.residual = &residual;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 0
-  t.jacobian = &jacobian;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 2) == 0
-  t.hidden_constraints = &hidden_constraints;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 3) == 0
-  t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 0
-  t.reference = &reference;
-#endif
-}
-#endif
-#if NHC_PART == 1
-void table_part_1([[maybe_unused]] nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 1
-  t.residual = &residual;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 1
-  t.jacobian = &jacobian;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 2) == 1
-  t.hidden_constraints = &hidden_constraints;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 3) == 1
-  t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 1
-  t.reference = &reference;
-#endif
-}
-#endif
-#if NHC_PART == 2
-void table_part_2([[maybe_unused]] nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 2
-  t.residual = &residual;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 2
-  t.jacobian = &jacobian;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 2) == 2
-  t.hidden_constraints = &hidden_constraints;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 3) == 2
-  t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 2
-  t.reference = &reference;
-#endif
-}
-#endif
-#if NHC_PART == 3
-void table_part_3([[maybe_unused]] nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 3
-  t.residual = &residual;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 3
-  t.jacobian = &jacobian;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 2) == 3
-  t.hidden_constraints = &hidden_constraints;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 3) == 3
-  t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 3) == 3
-  t.reference = &reference;
-#endif
-}
-#endif
-#endif  // NHC_PART
-
-#if !defined(NHC_PART) || NHC_PART == 0
 /// Everything above as the C table of docs/generated-code.md, filled by field name.
 inline nhc_model_table make_model_table() noexcept {
   nhc_model_table t{};
@@ -288,24 +189,11 @@ inline nhc_model_table make_model_table() noexcept {
   t.reference_coordinate = reference_coordinate;
   t.residual_names = residual_names;
   t.n_singular = n_singular;
-#ifndef NHC_PART
   t.residual = &residual;
   t.jacobian = &jacobian;
   t.hidden_constraints = &hidden_constraints;
   t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
   t.reference = &reference;
-#else
-  table_part_0(t);
-#if NHC_PARTS > 1
-  table_part_1(t);
-#endif
-#if NHC_PARTS > 2
-  table_part_2(t);
-#endif
-#if NHC_PARTS > 3
-  table_part_3(t);
-#endif
-#endif
   return t;
 }
 
@@ -313,11 +201,10 @@ inline const nhc_model_table* model_table() noexcept {
   static const nhc_model_table table = make_model_table();
   return &table;
 }
-#endif  // part 0
 
 }  // namespace nhc_gen::knife_edge_incline_chetaev
 
-#if defined(NHC_EXPORT_MODEL_TABLE) && (!defined(NHC_PART) || NHC_PART == 0)
+#ifdef NHC_EXPORT_MODEL_TABLE
 extern "C" const nhc_model_table* nhc_model_table_get(void) {
   return nhc_gen::knife_edge_incline_chetaev::model_table();
 }

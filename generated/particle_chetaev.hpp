@@ -2,7 +2,6 @@
 // Do not edit: regenerate with
 //   nhc generate particle.toml --model chetaev --jacobian dense
 // Layout: docs/generated-code.md.
-// Compiles as NHC_PARTS = 1 to 4 translation units (NHC_PART).
 //
 // Scene particle: coordinates q1, q2, q3
 //   L = q3' * q3' * 0.5 + 0.5 * (q1' * q1') + 0.5 * (q2' * q2')
@@ -88,7 +87,6 @@ inline constexpr int n_singular = 0;
 inline constexpr const char* model_name = "chetaev";
 inline constexpr const char* scene_name = "particle";
 
-#if !defined(NHC_PART) || NHC_PART == 0
 /// y[k] holds the state_order[k]-th derivative of variable state_variable[k]
 /// (0..n_coordinates-1: coordinates, then multipliers).
 inline constexpr const char* state_names[n_states] = {"q1", "q1'", "q2", "q2'", "q3", "q3'", "lambda1"};
@@ -102,9 +100,7 @@ inline constexpr const char* parameter_names[1] = {nullptr};
 inline constexpr double default_parameters[1] = {0.0};
 inline constexpr const char* invariant_names[n_invariants] = {"speed_squared"};
 inline constexpr int reference_coordinate[n_reference] = {0, 1, 2};
-#endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2)
 /// F(t, y, y') = 0, IDA form; r has n_states entries.
 inline void residual(double /*t*/, const double* y, const double* yp, const double* /*p*/, double* r) noexcept {
   r[0] = y[6] * y[1] - yp[1];  // R_q1
@@ -115,9 +111,7 @@ inline void residual(double /*t*/, const double* y, const double* yp, const doub
   r[5] = yp[2] - y[3];  // chain q2' = q2'
   r[6] = yp[4] - y[5];  // chain q3' = q3'
 }
-#endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1)
 /// J = dF/dy + cj dF/dy', column-major n_states x n_states.
 inline void jacobian(double /*t*/, const double* y, const double* yp, double cj, const double* /*p*/, double* J) noexcept {
   for (int k = 0; k < n_states * n_states; ++k) J[k] = 0.0;
@@ -138,16 +132,12 @@ inline void jacobian(double /*t*/, const double* y, const double* yp, double cj,
   J[43] = y[3];  // (1, 6)
   J[44] = y[5];  // (2, 6)
 }
-#endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 3)
 /// The scene's invariants I(t, y, y'), in invariant_names order.
 inline void invariants(double /*t*/, const double* y, const double* /*yp*/, const double* /*p*/, double* out) noexcept {
   out[0] = y[1] * y[1] + y[5] * y[5] + y[3] * y[3];  // speed_squared
 }
-#endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 3)
 /// The scene's reference solution q_c(t) for the coordinates reference_coordinate.
 inline void reference(double t, const double* /*p*/, double* q) noexcept {
   const double w0 = t * 2.0;
@@ -155,82 +145,7 @@ inline void reference(double t, const double* /*p*/, double* q) noexcept {
   q[1] = w0;  // q2
   q[2] = w0;  // q3
 }
-#endif
 
-#ifdef NHC_PART
-/// Compiled as NHC_PARTS translation units: part k enters the functions it defines into
-/// the table (table_part_k); make_model_table, in part 0, calls them all.
-void table_part_0(nhc_model_table& t) noexcept;
-void table_part_1(nhc_model_table& t) noexcept;
-void table_part_2(nhc_model_table& t) noexcept;
-void table_part_3(nhc_model_table& t) noexcept;
-#if NHC_PART == 0
-void table_part_0([[maybe_unused]] nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 0
-  t.residual = &residual;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 0
-  t.jacobian = &jacobian;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 3) == 0
-  t.invariants = &invariants;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 3) == 0
-  t.reference = &reference;
-#endif
-}
-#endif
-#if NHC_PART == 1
-void table_part_1([[maybe_unused]] nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 1
-  t.residual = &residual;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 1
-  t.jacobian = &jacobian;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 3) == 1
-  t.invariants = &invariants;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 3) == 1
-  t.reference = &reference;
-#endif
-}
-#endif
-#if NHC_PART == 2
-void table_part_2([[maybe_unused]] nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 2
-  t.residual = &residual;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 2
-  t.jacobian = &jacobian;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 3) == 2
-  t.invariants = &invariants;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 3) == 2
-  t.reference = &reference;
-#endif
-}
-#endif
-#if NHC_PART == 3
-void table_part_3([[maybe_unused]] nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 3
-  t.residual = &residual;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 3
-  t.jacobian = &jacobian;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 3) == 3
-  t.invariants = &invariants;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 3) == 3
-  t.reference = &reference;
-#endif
-}
-#endif
-#endif  // NHC_PART
-
-#if !defined(NHC_PART) || NHC_PART == 0
 /// Everything above as the C table of docs/generated-code.md, filled by field name.
 inline nhc_model_table make_model_table() noexcept {
   nhc_model_table t{};
@@ -252,23 +167,10 @@ inline nhc_model_table make_model_table() noexcept {
   t.reference_coordinate = reference_coordinate;
   t.residual_names = residual_names;
   t.n_singular = n_singular;
-#ifndef NHC_PART
   t.residual = &residual;
   t.jacobian = &jacobian;
   t.invariants = &invariants;
   t.reference = &reference;
-#else
-  table_part_0(t);
-#if NHC_PARTS > 1
-  table_part_1(t);
-#endif
-#if NHC_PARTS > 2
-  table_part_2(t);
-#endif
-#if NHC_PARTS > 3
-  table_part_3(t);
-#endif
-#endif
   return t;
 }
 
@@ -276,11 +178,10 @@ inline const nhc_model_table* model_table() noexcept {
   static const nhc_model_table table = make_model_table();
   return &table;
 }
-#endif  // part 0
 
 }  // namespace nhc_gen::particle_chetaev
 
-#if defined(NHC_EXPORT_MODEL_TABLE) && (!defined(NHC_PART) || NHC_PART == 0)
+#ifdef NHC_EXPORT_MODEL_TABLE
 extern "C" const nhc_model_table* nhc_model_table_get(void) {
   return nhc_gen::particle_chetaev::model_table();
 }

@@ -2,7 +2,6 @@
 // Do not edit: regenerate with
 //   nhc generate rolling_ball.toml --model chetaev --jacobian dense
 // Layout: docs/generated-code.md.
-// Compiles as NHC_PARTS = 1 to 4 translation units (NHC_PART).
 //
 // Scene rolling_ball: coordinates x, y, psi, th, ph; parameters J, m, r
 //   L = 0.5 * m * (y' * y' + x' * x') + 0.5 * ((psi' + std::cos(th) * ph') * (psi' + std::cos(th) * ph') + (std::cos(psi) * ph' * std::sin(th) - std::sin(psi) * th') * (std::cos(psi) * ph' * std::sin(th) - std::sin(psi) * th') + (std::sin(psi) * ph' * std::sin(th) + std::cos(psi) * th') * (std::sin(psi) * ph' * std::sin(th) + std::cos(psi) * th')) * J
@@ -91,7 +90,6 @@ inline constexpr int n_singular = 0;
 inline constexpr const char* model_name = "chetaev";
 inline constexpr const char* scene_name = "rolling_ball";
 
-#if !defined(NHC_PART) || NHC_PART == 0
 /// y[k] holds the state_order[k]-th derivative of variable state_variable[k]
 /// (0..n_coordinates-1: coordinates, then multipliers).
 inline constexpr const char* state_names[n_states] = {"x", "x'", "y", "y'", "psi", "psi'", "th", "th'", "ph", "ph'", "lambda1", "lambda2"};
@@ -105,9 +103,7 @@ inline constexpr double default_parameters[n_parameters] = {0.10000000000000001,
 inline constexpr const char* hidden_names[n_hidden] = {"f1", "f2"};
 inline constexpr const char* invariant_names[n_invariants] = {"energy", "spin_x", "spin_y", "spin_z"};
 inline constexpr int reference_coordinate[n_reference] = {0, 1};
-#endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 2)
 /// F(t, y, y') = 0, IDA form; r has n_states entries.
 inline void residual(double /*t*/, const double* y, const double* yp, const double* p, double* r) noexcept {
   const double w0 = std::sin(y[6]);
@@ -127,9 +123,7 @@ inline void residual(double /*t*/, const double* y, const double* yp, const doub
   r[10] = yp[6] - y[7];  // chain th' = th'
   r[11] = yp[8] - y[9];  // chain ph' = ph'
 }
-#endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1)
 /// J = dF/dy + cj dF/dy', column-major n_states x n_states.
 inline void jacobian(double /*t*/, const double* y, const double* yp, double cj, const double* p, double* J) noexcept {
   for (int k = 0; k < n_states * n_states; ++k) J[k] = 0.0;
@@ -187,9 +181,7 @@ inline void jacobian(double /*t*/, const double* y, const double* yp, double cj,
   J[135] = w1 * p[2];  // (3, 11)
   J[136] = w3 * p[2] * w2;  // (4, 11)
 }
-#endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2)
 /// Hidden constraints g(t, y) = 0 (derivatives of the equations the index-1 form
 /// differentiated away); they fix consistent initial values and drift during
 /// integration.
@@ -200,9 +192,7 @@ inline void hidden_constraints(double /*t*/, const double* y, const double* p, d
   g[0] = w0 * y[9] * w1 * p[2] + y[1] - p[2] * w2 * y[7];  // f1
   g[1] = y[3] + w1 * p[2] * y[7] + w0 * y[9] * p[2] * w2;  // f2
 }
-#endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 3)
 /// G = dg/dy, column-major n_hidden x n_states.
 inline void hidden_constraints_jacobian(double /*t*/, const double* y, const double* p, double* G) noexcept {
   for (int k = 0; k < n_hidden * n_states; ++k) G[k] = 0.0;
@@ -221,9 +211,7 @@ inline void hidden_constraints_jacobian(double /*t*/, const double* y, const dou
   G[18] = w1 * w0 * p[2];  // (0, 9)
   G[19] = w1 * p[2] * w2;  // (1, 9)
 }
-#endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 3)
 /// The scene's invariants I(t, y, y'), in invariant_names order.
 inline void invariants(double /*t*/, const double* y, const double* /*yp*/, const double* p, double* out) noexcept {
   const double w0 = std::sin(y[6]);
@@ -239,114 +227,13 @@ inline void invariants(double /*t*/, const double* y, const double* /*yp*/, cons
   out[2] = w5 - w4;  // spin_y
   out[3] = w7;  // spin_z
 }
-#endif
 
-#if !defined(NHC_PART) || NHC_PART == (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 3)
 /// The scene's reference solution q_c(t) for the coordinates reference_coordinate.
 inline void reference(double t, const double* /*p*/, double* q) noexcept {
   q[0] = 0.0;  // x
   q[1] = t;  // y
 }
-#endif
 
-#ifdef NHC_PART
-/// Compiled as NHC_PARTS translation units: part k enters the functions it defines into
-/// the table (table_part_k); make_model_table, in part 0, calls them all.
-void table_part_0(nhc_model_table& t) noexcept;
-void table_part_1(nhc_model_table& t) noexcept;
-void table_part_2(nhc_model_table& t) noexcept;
-void table_part_3(nhc_model_table& t) noexcept;
-#if NHC_PART == 0
-void table_part_0([[maybe_unused]] nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 2) == 0
-  t.residual = &residual;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 0
-  t.jacobian = &jacobian;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 0
-  t.hidden_constraints = &hidden_constraints;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 3) == 0
-  t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 3) == 0
-  t.invariants = &invariants;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 3) == 0
-  t.reference = &reference;
-#endif
-}
-#endif
-#if NHC_PART == 1
-void table_part_1([[maybe_unused]] nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 2) == 1
-  t.residual = &residual;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 1
-  t.jacobian = &jacobian;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 1
-  t.hidden_constraints = &hidden_constraints;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 3) == 1
-  t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 3) == 1
-  t.invariants = &invariants;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 3) == 1
-  t.reference = &reference;
-#endif
-}
-#endif
-#if NHC_PART == 2
-void table_part_2([[maybe_unused]] nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 2) == 2
-  t.residual = &residual;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 2
-  t.jacobian = &jacobian;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 2
-  t.hidden_constraints = &hidden_constraints;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 3) == 2
-  t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 3) == 2
-  t.invariants = &invariants;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 3) == 2
-  t.reference = &reference;
-#endif
-}
-#endif
-#if NHC_PART == 3
-void table_part_3([[maybe_unused]] nhc_model_table& t) noexcept {
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 2 : 2) == 3
-  t.residual = &residual;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 1 : 1) == 3
-  t.jacobian = &jacobian;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 2) == 3
-  t.hidden_constraints = &hidden_constraints;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 1 : NHC_PARTS == 3 ? 2 : 3) == 3
-  t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 3) == 3
-  t.invariants = &invariants;
-#endif
-#if (NHC_PARTS == 1 ? 0 : NHC_PARTS == 2 ? 0 : NHC_PARTS == 3 ? 0 : 3) == 3
-  t.reference = &reference;
-#endif
-}
-#endif
-#endif  // NHC_PART
-
-#if !defined(NHC_PART) || NHC_PART == 0
 /// Everything above as the C table of docs/generated-code.md, filled by field name.
 inline nhc_model_table make_model_table() noexcept {
   nhc_model_table t{};
@@ -371,25 +258,12 @@ inline nhc_model_table make_model_table() noexcept {
   t.reference_coordinate = reference_coordinate;
   t.residual_names = residual_names;
   t.n_singular = n_singular;
-#ifndef NHC_PART
   t.residual = &residual;
   t.jacobian = &jacobian;
   t.hidden_constraints = &hidden_constraints;
   t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
   t.invariants = &invariants;
   t.reference = &reference;
-#else
-  table_part_0(t);
-#if NHC_PARTS > 1
-  table_part_1(t);
-#endif
-#if NHC_PARTS > 2
-  table_part_2(t);
-#endif
-#if NHC_PARTS > 3
-  table_part_3(t);
-#endif
-#endif
   return t;
 }
 
@@ -397,11 +271,10 @@ inline const nhc_model_table* model_table() noexcept {
   static const nhc_model_table table = make_model_table();
   return &table;
 }
-#endif  // part 0
 
 }  // namespace nhc_gen::rolling_ball_chetaev
 
-#if defined(NHC_EXPORT_MODEL_TABLE) && (!defined(NHC_PART) || NHC_PART == 0)
+#ifdef NHC_EXPORT_MODEL_TABLE
 extern "C" const nhc_model_table* nhc_model_table_get(void) {
   return nhc_gen::rolling_ball_chetaev::model_table();
 }

@@ -221,7 +221,7 @@ TEST_CASE("a damaged or unsafe scene-cache entry is rebuilt with a warning, neve
   Builder builder{fresh_cache("scene_cache_damage")};
   const nhc::Scene scene = scene_of(appell_hamel_text());
   REQUIRE(builder.derivations(scene) == 1);
-  const fs::path entry = header_entry(builder, scene, "model chetaev, jacobian default, sensitivities no");
+  const fs::path entry = header_entry(builder, scene, "model chetaev, jacobian default, sensitivities no, split from " + std::to_string(nhc::HeaderOptions{}.split_from_bytes) + " bytes");
   REQUIRE(fs::is_regular_file(entry));
   const std::string good = read_file(entry);
   CHECK((fs::status(entry).permissions() & (fs::perms::group_all | fs::perms::others_all)) == fs::perms::none);

@@ -87,7 +87,7 @@ GeneratedHeader generate_header(const Scene& scene, const Index1System& system,
   GeneratedHeader header;
   header.namespace_name = model.namespace_name;
   header.file_name = generated_header_file_name(scene.name, system.model);
-  header.text = print_header(scene, system, model);
+  header.text = print_header(scene, system, model, options.split_from_bytes);
   header.before_cse = model.before_cse;
   header.after_cse = model.after_cse;
   return header;

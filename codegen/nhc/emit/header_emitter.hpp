@@ -33,6 +33,11 @@ struct HeaderOptions {
   JacobianKind jacobian = JacobianKind::dense;
   /// dF/dp and dg/dp for forward sensitivities (docs/generated-code.md, "Sensitivity additions").
   bool sensitivities = false;
+  /// From this many bytes of function text, the header carries the NHC_PART protocol and may be
+  /// compiled as several translation units (docs/generated-code.md): below it a second
+  /// compiler's fixed cost outweighs the halved optimization (bench/compile-time.md), and the
+  /// small header stays free of it. 0: always.
+  std::size_t split_from_bytes = 100000;
 };
 
 struct GeneratedHeader {

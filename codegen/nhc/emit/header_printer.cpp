@@ -20,6 +20,13 @@ namespace {
 /// Opens what only the table needs: compiled once, in part 0, when the header is split.
 constexpr const char* kTablePartOnly = "#if !defined(NHC_PART) || NHC_PART == 0";
 
+/// The lines around what only part 0 compiles, in a splittable header; a header below
+/// HeaderOptions::split_from_bytes carries none of the NHC_PART protocol.
+std::string part0_begin(bool splittable) { return splittable ? std::string(kTablePartOnly) + "\n" : ""; }
+std::string part0_end(bool splittable, const char* comment = "") {
+  return splittable ? std::string("#endif") + comment + "\n" : "";
+}
+
 std::string base_name(const std::string& path) {
   const auto slash = path.find_last_of("/\\");
   return slash == std::string::npos ? path : path.substr(slash + 1);
@@ -56,7 +63,8 @@ std::string describe_count(const std::string& label, const OperationCount& befor
 
 /// The banner: where the header comes from, the scene, the operation counts. Everything taken
 /// from the scene is sanitised: it lives in `//` comments only.
-void print_banner(std::ostream& out, const Scene& scene, const Index1System& system, const PreparedModel& m) {
+void print_banner(std::ostream& out, const Scene& scene, const Index1System& system, const PreparedModel& m,
+                  bool splittable) {
   const std::string file_name = generated_header_file_name(scene.name, system.model);
   const std::string scene_file =
       scene.source_path.empty() ? std::string("a scene built in code") : base_name(scene.source_path);
@@ -65,9 +73,9 @@ void print_banner(std::ostream& out, const Scene& scene, const Index1System& sys
       << "// Do not edit: regenerate with\n"
       << "//   nhc generate " << sanitize_comment(scene_file) << " --model " << m.model << " --jacobian "
       << to_string(m.jacobian) << (m.sensitivities ? " --sensitivities" : "") << "\n"
-      << "// Layout: docs/generated-code.md.\n"
-      << kTranslationUnitsBanner << kMaxTranslationUnits << " translation units (NHC_PART).\n"
-      << "//\n"
+      << "// Layout: docs/generated-code.md.\n";
+  if (splittable) out << kTranslationUnitsBanner << kMaxTranslationUnits << " translation units (NHC_PART).\n";
+  out << "//\n"
       << "// Scene " << sanitize_comment(scene.name) << ": coordinates "
       << sanitize_comment(joined(system.jet->coordinates(), ", "));
   if (m.n_parameters > 0) out << "; parameters " << sanitize_comment(joined(system.jet->parameters(), ", "));
@@ -84,7 +92,8 @@ void print_banner(std::ostream& out, const Scene& scene, const Index1System& sys
 }
 
 /// Sizes, names and the state layout.
-void print_metadata(std::ostream& out, const Scene& scene, const Index1System& system, const PreparedModel& m) {
+void print_metadata(std::ostream& out, const Scene& scene, const Index1System& system, const PreparedModel& m,
+                    bool splittable) {
   std::vector<std::string> state_names;
   std::vector<int> state_variable, state_order;
   std::vector<double> differential_id;
@@ -106,7 +115,7 @@ void print_metadata(std::ostream& out, const Scene& scene, const Index1System& s
       << "inline constexpr int n_singular = " << m.n_singular << ";\n"
       << "inline constexpr const char* model_name = " << cpp_string_literal(m.model) << ";\n"
       << "inline constexpr const char* scene_name = " << cpp_string_literal(scene.name) << ";\n\n"
-      << kTablePartOnly << "\n"
+      << part0_begin(splittable)
       << "/// y[k] holds the state_order[k]-th derivative of variable state_variable[k]\n"
       << "/// (0..n_coordinates-1: coordinates, then multipliers).\n"
       << "inline constexpr const char* state_names[n_states] = " << strings(state_names) << ";\n"
@@ -145,22 +154,22 @@ void print_metadata(std::ostream& out, const Scene& scene, const Index1System& s
     for (const auto& q : m.singular) names.push_back(q.name);
     out << "inline constexpr const char* singular_names[n_singular] = " << strings(names) << ";\n";
   }
-  out << "#endif\n";
+  out << part0_end(splittable);
 }
 
 /// The compressed-column structure of a sparse Jacobian.
-void print_jacobian_structure(std::ostream& out, const PreparedModel& m) {
+void print_jacobian_structure(std::ostream& out, const PreparedModel& m, bool splittable) {
   if (m.jacobian != JacobianKind::sparse) return;
   const SymbolicJacobian& jacobian = m.symbolic_jacobian;
   out << "\n/// Compressed-column structure of J (the entries not identically zero).\n"
       << "inline constexpr int jacobian_nnz = " << jacobian.rowind.size() << ";\n"
-      << kTablePartOnly << "\n"
+      << part0_begin(splittable)
       << "inline constexpr int jacobian_colptr[n_states + 1] = " << ints(jacobian.colptr) << ";\n";
   if (jacobian.rowind.empty())
     out << "inline constexpr int jacobian_rowind[1] = {0};  // no nonzeros: placeholder\n";
   else
     out << "inline constexpr int jacobian_rowind[jacobian_nnz] = " << ints(jacobian.rowind) << ";\n";
-  out << "#endif\n";
+  out << part0_end(splittable);
 }
 
 /// One function: its signature (parameters it does not read as comments) and its body from the
@@ -214,12 +223,16 @@ std::string part_expression(const std::vector<std::vector<int>>& part_of, size_t
   return "(" + expression + std::to_string(part_of.back()[function]) + ")";
 }
 
-/// The functions, each compiled only in its part when the header is compiled as several
-/// translation units (NHC_PART of NHC_PARTS, docs/generated-code.md), and in each part the
-/// function that enters that part's functions into the table.
-void print_functions(std::ostream& out, const Scene& scene, const PreparedModel& m, std::size_t table_bytes) {
-  std::vector<std::string> functions;
-  for (const FunctionPlan& f : m.functions) functions.push_back(print_function(scene, m, f));
+/// The functions (printed by print_function), in a splittable header each compiled only in its
+/// part when the header is compiled as several translation units (NHC_PART of NHC_PARTS,
+/// docs/generated-code.md), and in each part the function that enters that part's functions
+/// into the table.
+void print_functions(std::ostream& out, const PreparedModel& m, const std::vector<std::string>& functions,
+                     bool splittable, std::size_t table_bytes) {
+  if (!splittable) {
+    for (const std::string& f : functions) out << "\n" << f;
+    return;
+  }
   const auto part_of = partitions(functions, table_bytes);
   for (size_t i = 0; i < functions.size(); ++i)
     out << "\n#if !defined(NHC_PART) || NHC_PART == " << part_expression(part_of, i) << "\n"
@@ -243,7 +256,7 @@ void print_functions(std::ostream& out, const Scene& scene, const PreparedModel&
 
 /// The C table (docs/generated-code.md) filled by field name: every field not named stays zero
 /// (absent), so the order of the members in model_table.h is free.
-void print_table(std::ostream& out, const PreparedModel& m) {
+void print_table(std::ostream& out, const PreparedModel& m, bool splittable) {
   const bool sparse = m.jacobian == JacobianKind::sparse;
   auto pointer = [&](const std::string& function) { return m.has_function(function) ? "&" + function : std::string(); };
   auto field = [](bool present, const std::string& name) { return present ? name : std::string(); };
@@ -284,33 +297,36 @@ void print_table(std::ostream& out, const PreparedModel& m) {
       {"residual_parameter_jacobian", pointer("residual_parameter_jacobian")},  // abi_version >= 3
       {"hidden_parameter_jacobian", pointer("hidden_parameter_jacobian")},
   };
-  out << "\n" << kTablePartOnly << "\n"
+  out << "\n" << part0_begin(splittable)
       << "/// Everything above as the C table of docs/generated-code.md, filled by field name.\n"
       << "inline nhc_model_table make_model_table() noexcept {\n"
       << "  nhc_model_table t{};\n";
   for (const auto& [name, value] : fields)
     if (!value.empty() && value[0] != '&') out << "  t." << name << " = " << value << ";\n";
-  out << "#ifndef NHC_PART\n";
+  if (splittable) out << "#ifndef NHC_PART\n";
   for (const auto& [name, value] : fields)
     if (!value.empty() && value[0] == '&') out << "  t." << name << " = " << value << ";\n";
-  out << "#else\n";
-  for (int k = 0; k < kMaxTranslationUnits; ++k)
-    out << (k ? "#if NHC_PARTS > " + std::to_string(k) + "\n" : "") << "  table_part_" << k << "(t);\n"
-        << (k ? "#endif\n" : "");
-  out << "#endif\n"
-      << "  return t;\n"
+  if (splittable) {
+    out << "#else\n";
+    for (int k = 0; k < kMaxTranslationUnits; ++k)
+      out << (k ? "#if NHC_PARTS > " + std::to_string(k) + "\n" : "") << "  table_part_" << k << "(t);\n"
+          << (k ? "#endif\n" : "");
+    out << "#endif\n";
+  }
+  out << "  return t;\n"
       << "}\n"
       << "\n"
       << "inline const nhc_model_table* model_table() noexcept {\n"
       << "  static const nhc_model_table table = make_model_table();\n"
       << "  return &table;\n"
       << "}\n"
-      << "#endif  // part 0\n";
+      << part0_end(splittable, "  // part 0");
 }
 
 /// The C entry point, compiled only where NHC_EXPORT_MODEL_TABLE is defined.
-void print_export(std::ostream& out, const PreparedModel& m) {
-  out << "\n#if defined(NHC_EXPORT_MODEL_TABLE) && (!defined(NHC_PART) || NHC_PART == 0)\n"
+void print_export(std::ostream& out, const PreparedModel& m, bool splittable) {
+  out << (splittable ? "\n#if defined(NHC_EXPORT_MODEL_TABLE) && (!defined(NHC_PART) || NHC_PART == 0)\n"
+                     : "\n#ifdef NHC_EXPORT_MODEL_TABLE\n")
       << "extern \"C\" const nhc_model_table* nhc_model_table_get(void) {\n"
       << "  return nhc_gen::" << m.namespace_name << "::model_table();\n"
       << "}\n"
@@ -319,20 +335,28 @@ void print_export(std::ostream& out, const PreparedModel& m) {
 
 }  // namespace
 
-std::string print_header(const Scene& scene, const Index1System& system, const PreparedModel& model) {
+std::string print_header(const Scene& scene, const Index1System& system, const PreparedModel& model,
+                         std::size_t split_from_bytes) {
+  std::vector<std::string> functions;
+  std::size_t function_bytes = 0;
+  for (const FunctionPlan& f : model.functions) {
+    functions.push_back(print_function(scene, model, f));
+    function_bytes += functions.back().size();
+  }
+  const bool splittable = function_bytes >= split_from_bytes;
   std::ostringstream out;
-  print_banner(out, scene, system, model);
+  print_banner(out, scene, system, model, splittable);
   out << "\n#pragma once\n\n#include <cmath>\n";
   out << "\n" << model_table_text();
   out << "\nnamespace nhc_gen::" << model.namespace_name << " {\n\n";
   const auto metadata_start = out.tellp();
-  print_metadata(out, scene, system, model);
-  print_jacobian_structure(out, model);
+  print_metadata(out, scene, system, model, splittable);
+  print_jacobian_structure(out, model, splittable);
   // Part 0 also compiles the metadata and the table: weighed by their text.
-  print_functions(out, scene, model, static_cast<std::size_t>(out.tellp() - metadata_start));
-  print_table(out, model);
+  print_functions(out, model, functions, splittable, static_cast<std::size_t>(out.tellp() - metadata_start));
+  print_table(out, model, splittable);
   out << "\n}  // namespace nhc_gen::" << model.namespace_name << "\n";
-  print_export(out, model);
+  print_export(out, model, splittable);
   return out.str();
 }
 

@@ -21,6 +21,9 @@ inline constexpr const char* kTranslationUnitsBanner = "// Compiles as NHC_PARTS
 
 /// The header's text: banner, the C table's definition (model_table.h), metadata, the
 /// Jacobian's structure, the functions, the table filled by field name and its entry point.
-std::string print_header(const Scene& scene, const Index1System& system, const PreparedModel& model);
+/// With at least `split_from_bytes` of functions, also the NHC_PART protocol (and its banner
+/// line), so that nhc::jit may compile it as several translation units.
+std::string print_header(const Scene& scene, const Index1System& system, const PreparedModel& model,
+                         std::size_t split_from_bytes);
 
 }  // namespace nhc

@@ -17,6 +17,9 @@ struct BuildOptions {
   std::optional<JacobianKind> jacobian;
   /// Also dF/dp and dg/dp (HeaderOptions::sensitivities), for runtime::SensitivityIntegrator.
   bool sensitivities = false;
+  /// HeaderOptions::split_from_bytes: from this size the header may be compiled as several
+  /// translation units (compile.translation_units).
+  std::size_t split_from_bytes = HeaderOptions{}.split_from_bytes;
   /// Reuse the header generated for the same scene text, model and options by an earlier build
   /// (scene_cache.hpp): derivation, reduction and generation are skipped. `NHC_SCENE_CACHE=off`
   /// turns it off too. A scene without source text (Scene::source_text) is never cached.

@@ -92,7 +92,6 @@ int compile_jobs(const CompileOptions& options) {
 int chosen_parts(const CompileOptions& options, const std::string& header_text) {
   const int most = splittable_parts(header_text);
   if (options.translation_units > 0) return std::min(options.translation_units, most);
-  if (header_text.size() < options.split_from_bytes) return 1;
   return std::min(compile_jobs(options), most);
 }
 

@@ -36,13 +36,10 @@ struct CompileOptions {
   /// chain from N = 64). 0: the flags as given.
   std::size_t long_header_bytes = 100000;
   /// Translation units a generated header is compiled as, in parallel, and linked into one
-  /// library (its banner says it can be split: kTranslationUnitsBanner of
-  /// nhc/emit/header_printer.hpp); other headers are always one. 0: automatic, as many as `jobs`
-  /// (at most the header's own limit) for a header of at least split_from_bytes, else one.
+  /// library, when its banner says it can be split (kTranslationUnitsBanner of
+  /// nhc/emit/header_printer.hpp: generated headers from HeaderOptions::split_from_bytes); other
+  /// headers are always one. 0: automatic, as many as `jobs`, at most the header's own limit.
   int translation_units = 0;
-  /// The size from which a header is split automatically (bench/compile-time.md: below it the
-  /// second compiler's fixed cost outweighs the halved optimization).
-  std::size_t split_from_bytes = 100000;
   /// Compiler processes run at once; 0: the number of processors.
   int jobs = 0;
   /// With GCC, caps on two optimizer searches that grow with the square of a straight-line
