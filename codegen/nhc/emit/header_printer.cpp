@@ -79,9 +79,12 @@ void print_banner(std::ostream& out, const Scene& scene, const Index1System& sys
       << "// Scene " << sanitize_comment(scene.name) << ": coordinates "
       << sanitize_comment(joined(system.jet->coordinates(), ", "));
   if (m.n_parameters > 0) out << "; parameters " << sanitize_comment(joined(system.jet->parameters(), ", "));
-  out << "\n//   L = " << sanitize_comment(scene_notation(scene.lagrangian, *scene.jet)) << "\n";
+  std::vector<GiNaC::ex> shown{scene.lagrangian};
+  shown.insert(shown.end(), scene.constraints.begin(), scene.constraints.end());
+  const std::vector<std::string> notation = scene_notation(shown, *scene.jet);
+  out << "\n//   L = " << sanitize_comment(notation[0]) << "\n";
   for (size_t a = 0; a < scene.constraints.size(); ++a)
-    out << "//   f" << a + 1 << " = " << sanitize_comment(scene_notation(scene.constraints[a], *scene.jet)) << "\n";
+    out << "//   f" << a + 1 << " = " << sanitize_comment(notation[a + 1]) << "\n";
   out << "// Index-1 form: " << m.n_states << " states, " << m.n_hidden << " hidden constraint"
       << (m.n_hidden == 1 ? "" : "s") << ".\n"
       << "//\n"

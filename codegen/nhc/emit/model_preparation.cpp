@@ -10,6 +10,7 @@
 #include "nhc/emit/cpp_printer.hpp"
 #include "nhc/emit/header_emitter.hpp"
 #include "nhc/errors.hpp"
+#include "nhc/jet/symbol_substitution.hpp"
 
 namespace nhc {
 
@@ -67,7 +68,7 @@ SymbolicJacobian index1_jacobian(const Index1System& system) {
 std::vector<GiNaC::ex> invariants_in_states(const Scene& scene, const Index1System& system) {
   std::vector<GiNaC::ex> out;
   for (const auto& [name, expression] : scene.invariants) {
-    const GiNaC::ex rewritten = expression.subs(system.jet_to_state);
+    const GiNaC::ex rewritten = substitute_symbols(expression, system.jet_to_state);
     for (const JetCoordinate& c : system.jet->jet_coordinates_in(rewritten))
       throw MathError("invariant " + name + " involves " +
                       jet_symbol_name(system.jet->variable_name(c.kind, c.index), c.order) +
@@ -103,9 +104,12 @@ std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> scene_names(const JetSpace& 
 
 }  // namespace
 
-std::string scene_notation(const GiNaC::ex& e, const JetSpace& jet) {
+std::vector<std::string> scene_notation(const std::vector<GiNaC::ex>& expressions, const JetSpace& jet) {
+  // One table of names for all: building it is linear in the jet space (issue 17).
   ExpressionDag dag(scene_names(jet, nullptr));
-  return print_cpp_expression(dag, dag.add(e));
+  std::vector<std::string> printed;
+  for (const GiNaC::ex& e : expressions) printed.push_back(print_cpp_expression(dag, dag.add(e)));
+  return printed;
 }
 
 std::vector<SingularQuantity> singular_quantities(const Index1System& system) {

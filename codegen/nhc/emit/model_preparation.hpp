@@ -50,9 +50,9 @@ struct SingularQuantity {
 };
 std::vector<SingularQuantity> singular_quantities(const Index1System& system);
 
-/// e in C++ syntax with scene names (`0.5 * m * (x' * x' + y' * y')`), the same in every run
-/// (GiNaC's own printing follows its term order, which changes from run to run).
-std::string scene_notation(const GiNaC::ex& e, const JetSpace& jet);
+/// Each expression in C++ syntax with scene names (`0.5 * m * (x' * x' + y' * y')`), the same in
+/// every run (GiNaC's own printing follows its term order, which changes from run to run).
+std::vector<std::string> scene_notation(const std::vector<GiNaC::ex>& expressions, const JetSpace& jet);
 
 /// One emitted function: its signature parameters, the assignments (outputs as instructions
 /// of PreparedModel::dag) and their operation counts.
