@@ -217,7 +217,7 @@ std::pair<long long, long long> joint_residual_jacobian_ops(const nhc::Index1Sys
   nhc::ExpressionDag dag(in);
   std::vector<int> outputs;
   for (const auto& r : system.residuals) outputs.push_back(dag.add(r));
-  for (const auto& e : jac.entries)
+  for (const auto& e : jac.values)
     if (!e.is_zero()) outputs.push_back(dag.add(e));
   return {nhc::tree_operation_count(dag, outputs).total(), nhc::dag_operation_count(dag, outputs).total()};
 }

@@ -134,7 +134,7 @@ TEST_CASE("the symbolic Jacobian is dF/dy + cj dF/dy' with its nonzero structure
       const GiNaC::ex& F = g.system.residuals[static_cast<size_t>(i)];
       const GiNaC::ex expected = F.diff(g.system.y[static_cast<size_t>(j)]) +
                                  jac.cj * F.diff(g.system.yp[static_cast<size_t>(j)]);
-      const GiNaC::ex& entry = jac.entries[static_cast<size_t>(i + j * n)];
+      const GiNaC::ex entry = jac.entry(i, j);
       CHECK((entry - expected).expand().is_zero());
       const bool in_pattern = k < jac.colptr[static_cast<size_t>(j) + 1] &&
                               jac.rowind[static_cast<size_t>(k)] == i;

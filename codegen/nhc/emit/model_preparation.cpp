@@ -38,6 +38,13 @@ std::vector<std::vector<int>> occurring_symbols(const std::vector<GiNaC::ex>& ex
 
 }  // namespace
 
+GiNaC::ex SymbolicJacobian::entry(int i, int j) const {
+  const auto begin = rowind.begin() + colptr[static_cast<size_t>(j)];
+  const auto end = rowind.begin() + colptr[static_cast<size_t>(j) + 1];
+  const auto at = std::lower_bound(begin, end, i);
+  return at != end && *at == i ? values[static_cast<size_t>(at - rowind.begin())] : GiNaC::ex(0);
+}
+
 SymbolicJacobian index1_jacobian(const Index1System& system) {
   SymbolicJacobian jac;
   const int n = system.size();
@@ -50,15 +57,15 @@ SymbolicJacobian index1_jacobian(const Index1System& system) {
     for (int j : in_y[static_cast<size_t>(i)]) rows[static_cast<size_t>(j)].insert(i);
     for (int j : in_yp[static_cast<size_t>(i)]) rows[static_cast<size_t>(j)].insert(i);
   }
-  jac.entries.assign(static_cast<size_t>(n) * static_cast<size_t>(n), GiNaC::ex(0));
   jac.colptr.push_back(0);
   for (int j = 0; j < n; ++j) {
     for (int i : rows[static_cast<size_t>(j)]) {
       const GiNaC::ex& f = system.residuals[static_cast<size_t>(i)];
       GiNaC::ex entry = f.diff(system.y[static_cast<size_t>(j)]) +
                         jac.cj * f.diff(system.yp[static_cast<size_t>(j)]);
-      if (!entry.is_zero()) jac.rowind.push_back(i);
-      jac.entries[static_cast<size_t>(i) + static_cast<size_t>(n) * static_cast<size_t>(j)] = entry;
+      if (entry.is_zero()) continue;
+      jac.rowind.push_back(i);
+      jac.values.push_back(entry);
     }
     jac.colptr.push_back(static_cast<int>(jac.rowind.size()));
   }
@@ -202,7 +209,7 @@ FunctionPlan jacobian_function(const SymbolicJacobian& jacobian, bool dense, Exp
       const int i = jacobian.rowind[static_cast<size_t>(k)];
       const size_t at = static_cast<size_t>(i) + j * n;
       const std::string target = dense ? "J[" + std::to_string(at) + "]" : "values[" + std::to_string(k) + "]";
-      f.assignments.push_back({target, dag.add(jacobian.entries[at]),
+      f.assignments.push_back({target, dag.add(jacobian.values[static_cast<size_t>(k)]),
                                "(" + std::to_string(i) + ", " + std::to_string(j) + ")"});
     }
   return f;
