@@ -112,11 +112,14 @@ void write_csv(std::ostream& out, const Model& model, const std::vector<double>&
   out << '\n';
   const std::vector<int> top = highest_differential_states(model);
   const int unknowns = model.n_coordinates() + model.n_multipliers();
+  // The states of each unknown, in state order: found once, not per row (a search over all
+  // states for each unknown of each row was quadratic: 1.2 s of a 1.4 s run at 3584 states).
+  std::vector<std::vector<int>> states_of(static_cast<size_t>(unknowns));
+  for (int i = 0; i < model.n_states(); ++i) states_of[static_cast<size_t>(tab.state_variable[i])].push_back(i);
   for (const Sample& s : samples) {
     out << s.t;
     for (int v = 0; v < unknowns; ++v) {
-      for (int i = 0; i < model.n_states(); ++i)
-        if (tab.state_variable[i] == v) out << ',' << s.y[i];
+      for (int i : states_of[static_cast<size_t>(v)]) out << ',' << s.y[i];
       if (top[v] >= 0) out << ',' << s.yp[top[v]];
     }
     const Observables o = observe(model, p, s);
