@@ -191,7 +191,13 @@ def goals(jdir, env, load, table, ratio, fmt_x):
         for n in env.get("family2_N", []):
             d = _load(load, jdir, prefix % n)
             if not d:
-                cr.append((n, "–", "–", "–", "–", "–", "failed or timed out (see the run's log)"))
+                why = "no result"
+                try:
+                    with open(os.path.join(jdir, (prefix % n)[:-len(".json")] + ".status")) as f:
+                        why = f.read().strip()
+                except OSError:
+                    pass
+                cr.append((n, "–", "–", "–", "–", "–", why))
                 continue
             cr.append((n, d["n_states"], _s(d["derive_analyse_generate_s"]), _s(d["compile_s"]), d["steps"],
                        _s(d["integrate_s"]), "ok"))

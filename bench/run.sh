@@ -112,18 +112,29 @@ for case in "particle_chain chetaev" "knife_chain vakonomic"; do
   "$python" bench/frontend_scaling.py "$nhc" "$json/frontend_$1_$2.json" --family "$1" --model "$2" \
     --timeout "$stage_timeout" $family2_n || log "frontend_scaling.py failed ($1, $2)"
 done
+# A failed or timed-out nhc_bench run leaves BASE.status (read by bench/report.py) instead of its JSON.
+failed() {
+  local why
+  if [ "$1" = 124 ] || [ "$1" = 137 ]; then why="timed out after $stage_timeout s"
+  else why="failed (exit $1): $(grep -v '^$' "$2.err" | tail -1 | cut -c1-200)"; fi
+  log "nhc_bench on $3: $why"
+  rm -f "$2.json"
+  echo "$why" >"$2.status"
+}
+# shellcheck disable=SC2086
 "$python" bench/particle_chain.py "$out/scenes" $family2_n
 for n in $family2_n; do
   log "nhc, particle chain N = $n (compile + run)"
   timeout -k 10 "$stage_timeout" "$bench" "$out/scenes/particle_chain_$n.toml" --out "$out/nhc/particle_chain_$n" \
-    "${bench_quick[@]}" >"$json/nhc_particle_chain_$n.json" ||
-    { log "nhc_bench failed or timed out on the particle chain at N = $n"; rm -f "$json/nhc_particle_chain_$n.json"; }
+    "${bench_quick[@]}" >"$json/nhc_particle_chain_$n.json" 2>"$json/nhc_particle_chain_$n.err" ||
+    failed "$?" "$json/nhc_particle_chain_$n" "the particle chain at N = $n"
 done
 for n in $family2_n; do
   log "nhc, knife chain vakonomic N = $n (compile + run)"
   timeout -k 10 "$stage_timeout" "$bench" "$out/scenes/knife_chain_$n.toml" --model vakonomic \
-    --out "$out/nhc/vakonomic_$n" "${bench_quick[@]}" >"$json/nhc_knife_chain_vakonomic_$n.json" ||
-    { log "nhc_bench failed or timed out on the vakonomic knife chain at N = $n"; rm -f "$json/nhc_knife_chain_vakonomic_$n.json"; }
+    --out "$out/nhc/vakonomic_$n" "${bench_quick[@]}" >"$json/nhc_knife_chain_vakonomic_$n.json" \
+    2>"$json/nhc_knife_chain_vakonomic_$n.err" ||
+    failed "$?" "$json/nhc_knife_chain_vakonomic_$n" "the vakonomic knife chain at N = $n"
 done
 
 # --- SymPy and SciPy ---
