@@ -1,19 +1,51 @@
 #!/usr/bin/env bash
-# The benchmark suite (issue 9): nhc on the knife-edge chain (bench/knife_chain.py) for N up to
-# 64 and on the paper's two examples, side by side with SymPy (LagrangesMethod, cse, lambdify),
-# SciPy (solve_ivp Radau/BDF) and hand-written residuals and Jacobians. Writes bench/results.md
-# and bench/results-time.svg; everything in them is measured in this run.
+# The benchmark suite (issues 9 and 17): nhc on the knife-edge chain (bench/knife_chain.py) and on
+# the paper's two examples, side by side with SymPy (LagrangesMethod, cse, lambdify), SciPy
+# (solve_ivp Radau/BDF) and hand-written residuals and Jacobians; the front end's scaling to
+# N = 1024 (bench/frontend_scaling.py, cold: scene cache off), the scene-cache warm `nhc simulate`,
+# and the second family (bench/particle_chain.py, second-order constraints; the vakonomic knife
+# chain). Writes bench/results.md (with issue 17's goal table, met / not met) and
+# bench/results-time.svg; everything in them is measured in this run.
 #
-#   bench/run.sh                       # as root on a fresh Debian machine: installs what is missing
-# Environment: NHC_BENCH_BUILD_DIR (default build-bench), NHC_BENCH_N (default "1 2 4 8 16 32 64"),
-# NHC_BENCH_PEER_N (default "1 2 4 8 16"), NHC_BENCH_PEER_TIMEOUT (seconds per peer run, 600),
+#   bench/run.sh            # the full run (hours while the front end is slow at N = 1024)
+#   bench/run.sh --quick    # small N sets, peers at N = 1 and 2 only (CI; under 2 minutes); writes
+#                           # results.md and results-time.svg into $NHC_BENCH_BUILD_DIR/bench-out/
+#                           # instead of bench/ (bench/results.md holds a full run)
+# As root on a fresh Debian machine it installs what is missing.
+# Environment (defaults full / --quick): NHC_BENCH_BUILD_DIR (build-bench),
+# NHC_BENCH_N compile+run with the hand-written limit ("1 2 4 8 16 32 64" / "1 4 16 64"),
+# NHC_BENCH_PEER_N ("1 2 4 8 16" / "1 2"), NHC_BENCH_PEER_TIMEOUT (seconds per peer run, 600),
+# NHC_BENCH_FRONTEND_N ("16 32 64 128 256 512 1024" / "16 32 64 128 256"),
+# NHC_BENCH_FAMILY2_N ("1 2 4 8 16 32 64 128 256" / "1 4 16 64"),
+# NHC_BENCH_WARM_N (512 / 64), NHC_BENCH_STAGE_TIMEOUT (seconds per nhc command, 900 / 60),
 # PYTHON (default /usr/bin/python3, the interpreter Debian's python3-sympy/-scipy belong to).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 start=$(date +%s.%N)
+quick=0
+case "${1:-}" in
+  --quick) quick=1 ;;
+  "") ;;
+  *) echo "bench/run.sh: unknown option $1 (usage: bench/run.sh [--quick])" >&2; exit 2 ;;
+esac
 build=${NHC_BENCH_BUILD_DIR:-build-bench}
-nhc_n=${NHC_BENCH_N:-"1 2 4 8 16 32 64"}
-peer_n=${NHC_BENCH_PEER_N:-"1 2 4 8 16"}
+if [ $quick = 1 ]; then
+  nhc_n=${NHC_BENCH_N:-"1 4 16 64"}
+  peer_n=${NHC_BENCH_PEER_N:-"1 2"}
+  frontend_n=${NHC_BENCH_FRONTEND_N:-"16 32 64 128 256"}
+  family2_n=${NHC_BENCH_FAMILY2_N:-"1 4 16 64"}
+  warm_n=${NHC_BENCH_WARM_N:-64}
+  stage_timeout=${NHC_BENCH_STAGE_TIMEOUT:-60}
+  bench_quick=(--quick)
+else
+  nhc_n=${NHC_BENCH_N:-"1 2 4 8 16 32 64"}
+  peer_n=${NHC_BENCH_PEER_N:-"1 2 4 8 16"}
+  frontend_n=${NHC_BENCH_FRONTEND_N:-"16 32 64 128 256 512 1024"}
+  family2_n=${NHC_BENCH_FAMILY2_N:-"1 2 4 8 16 32 64 128 256"}
+  warm_n=${NHC_BENCH_WARM_N:-512}
+  stage_timeout=${NHC_BENCH_STAGE_TIMEOUT:-900}
+  bench_quick=()
+fi
 peer_timeout=${NHC_BENCH_PEER_TIMEOUT:-600}
 python=${PYTHON:-/usr/bin/python3}
 log() { echo "bench: $*" >&2; }
@@ -38,30 +70,72 @@ fi
 # --- build the driver (the library, the runtime and bench/; not the test suite) ---
 log "building nhc_bench in $build"
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DNHC_BUILD_BENCH=ON >/dev/null
-cmake --build "$build" -j"$(nproc)" --target nhc_bench >/dev/null
+cmake --build "$build" -j"$(nproc)" --target nhc nhc_bench >/dev/null
 bench="$build/bench/nhc_bench"
+nhc="$build/cli/nhc"
 out="$build/bench-out"
 json="$out/json"
 rm -rf "$out"
 mkdir -p "$json" "$out/scenes"
+if [ $quick = 1 ]; then results="$out"; else results=bench; fi
 load_start=$(cut -d' ' -f1-3 /proc/loadavg)
 
 # --- nhc (and the hand-written limit) ---
 # shellcheck disable=SC2086
-"$python" bench/knife_chain.py "$out/scenes" $nhc_n
+"$python" bench/knife_chain.py "$out/scenes" $nhc_n $family2_n
+# Compile + run (nhc_bench) stops at the largest NHC_BENCH_N; each run is limited like a stage.
 for n in $nhc_n; do
   log "nhc, knife chain N = $n"
-  "$bench" "$out/scenes/knife_chain_$n.toml" --out "$out/nhc/$n" \
+  timeout -k 10 "$stage_timeout" "$bench" "$out/scenes/knife_chain_$n.toml" --out "$out/nhc/$n" "${bench_quick[@]}" \
     --handwritten bench/knife_chain_handwritten.hpp --define "NHC_BENCH_CHAIN_N=$n" \
     >"$json/nhc_knife_chain_$n.json" || { log "nhc_bench failed at N = $n"; rm -f "$json/nhc_knife_chain_$n.json"; }
 done
 log "nhc, appell_hamel"
-"$bench" examples/appell_hamel.toml --out "$out/nhc/appell_hamel" \
+timeout -k 10 "$stage_timeout" "$bench" examples/appell_hamel.toml --out "$out/nhc/appell_hamel" "${bench_quick[@]}" \
   --handwritten tests/runtime/handwritten/appell_hamel_chetaev.hpp >"$json/nhc_appell_hamel.json" ||
   { log "nhc_bench failed on appell_hamel"; rm -f "$json/nhc_appell_hamel.json"; }
 log "nhc, particle"
-"$bench" examples/particle.toml --out "$out/nhc/particle" >"$json/nhc_particle.json" ||
+timeout -k 10 "$stage_timeout" "$bench" examples/particle.toml --out "$out/nhc/particle" "${bench_quick[@]}" >"$json/nhc_particle.json" ||
   { log "nhc_bench failed on particle"; rm -f "$json/nhc_particle.json"; }
+
+# --- the front end's scaling, cold (scene cache off), and the scene-cache warm simulate ---
+log "front end, knife chain (chetaev), N = $frontend_n; warm simulate at N = $warm_n"
+# shellcheck disable=SC2086
+"$python" bench/frontend_scaling.py "$nhc" "$json/frontend_knife_chain_chetaev.json" --family knife_chain \
+  --model chetaev --timeout "$stage_timeout" --warm "$warm_n" --warm-timeout "$((2 * stage_timeout))" $frontend_n ||
+  log "frontend_scaling.py failed (knife chain)"
+# --- the second family: second-order constraints (particle chain), the vakonomic knife chain ---
+for case in "particle_chain chetaev" "knife_chain vakonomic"; do
+  set -- $case
+  log "front end, $1 ($2), N = $family2_n"
+  # shellcheck disable=SC2086
+  "$python" bench/frontend_scaling.py "$nhc" "$json/frontend_$1_$2.json" --family "$1" --model "$2" \
+    --timeout "$stage_timeout" $family2_n || log "frontend_scaling.py failed ($1, $2)"
+done
+# A failed or timed-out nhc_bench run leaves BASE.status (read by bench/report.py) instead of its JSON.
+failed() {
+  local why
+  if [ "$1" = 124 ] || [ "$1" = 137 ]; then why="timed out after $stage_timeout s"
+  else why="failed (exit $1): $(grep -v '^$' "$2.err" | tail -1 | cut -c1-200)"; fi
+  log "nhc_bench on $3: $why"
+  rm -f "$2.json"
+  echo "$why" >"$2.status"
+}
+# shellcheck disable=SC2086
+"$python" bench/particle_chain.py "$out/scenes" $family2_n
+for n in $family2_n; do
+  log "nhc, particle chain N = $n (compile + run)"
+  timeout -k 10 "$stage_timeout" "$bench" "$out/scenes/particle_chain_$n.toml" --out "$out/nhc/particle_chain_$n" \
+    "${bench_quick[@]}" >"$json/nhc_particle_chain_$n.json" 2>"$json/nhc_particle_chain_$n.err" ||
+    failed "$?" "$json/nhc_particle_chain_$n" "the particle chain at N = $n"
+done
+for n in $family2_n; do
+  log "nhc, knife chain vakonomic N = $n (compile + run)"
+  timeout -k 10 "$stage_timeout" "$bench" "$out/scenes/knife_chain_$n.toml" --model vakonomic \
+    --out "$out/nhc/vakonomic_$n" "${bench_quick[@]}" >"$json/nhc_knife_chain_vakonomic_$n.json" \
+    2>"$json/nhc_knife_chain_vakonomic_$n.err" ||
+    failed "$?" "$json/nhc_knife_chain_vakonomic_$n" "the vakonomic knife chain at N = $n"
+done
 
 # --- SymPy and SciPy ---
 for n in $peer_n appell_hamel; do
@@ -73,7 +147,7 @@ done
 # --- report and plot ---
 cxx=$(sed -n 's/^CMAKE_CXX_COMPILER:[A-Z]*=//p' "$build/CMakeCache.txt")
 env_json() {
-  NHC_N="$nhc_n" PEER_N="$peer_n" LOAD_START="$load_start" START="$start" \
+  NHC_N="$nhc_n" PEER_N="$peer_n" FAMILY2_N="$family2_n" QUICK="$quick" STAGE_TIMEOUT="$stage_timeout" LOAD_START="$load_start" START="$start" \
   CXX_VERSION="$("${cxx:-c++}" --version | head -1)" "$python" - "$json/env.json" <<'PY'
 import json, os, sys, time
 sys.path.insert(0, "bench")
@@ -98,6 +172,8 @@ env = {
     "sympy": sympy.__version__, "scipy": scipy.__version__, "numpy": numpy.__version__,
     "nhc_N": [int(n) for n in os.environ["NHC_N"].split()],
     "peer_N": [int(n) for n in os.environ["PEER_N"].split()],
+    "family2_N": [int(n) for n in os.environ["FAMILY2_N"].split()],
+    "quick": os.environ["QUICK"] == "1", "stage_timeout_s": float(os.environ["STAGE_TIMEOUT"]),
     "t_end": knife_chain.T_END, "rtol": knife_chain.RTOL, "atol": knife_chain.ATOL,
     "wall_s": time.time() - float(os.environ["START"]),
 }
@@ -106,9 +182,9 @@ with open(sys.argv[1], "w") as f:
 PY
 }
 env_json
-"$python" bench/report.py "$json" bench/results.md "$json/plot.dat"
-gnuplot -e "data='$json/plot.dat'; set terminal svg size 900,540 dynamic font 'sans,12'; set output 'bench/results-time.svg'" bench/plot.gp
+"$python" bench/report.py "$json" "$results/results.md" "$json/plot.dat"
+gnuplot -e "data='$json/plot.dat'; set terminal svg size 900,540 dynamic font 'sans,12'; set output '$results/results-time.svg'" bench/plot.gp
 gnuplot -e "data='$json/plot.dat'; set terminal dumb size 110,36; set output '$json/plot.txt'" bench/plot.gp 2>/dev/null
 env_json
-"$python" bench/report.py "$json" bench/results.md "$json/plot.dat"
-log "wrote bench/results.md and bench/results-time.svg ($(awk -v s="$start" -v e="$(date +%s.%N)" 'BEGIN{printf "%.0f", e-s}') s)"
+"$python" bench/report.py "$json" "$results/results.md" "$json/plot.dat"
+log "wrote $results/results.md and $results/results-time.svg ($(awk -v s="$start" -v e="$(date +%s.%N)" 'BEGIN{printf "%.0f", e-s}') s)"

@@ -1,5 +1,6 @@
 # ctest bench_smoke: the driver on the N = 2 knife-edge chain, generated code against the
-# hand-written limit. Checks that it runs and that both integrate to the same state; no timing.
+# hand-written limit. Checks that it runs and that both integrate to the same state; then the particle
+# chain and the front-end harness at tiny N. No timing.
 file(REMOVE_RECURSE ${OUT})
 execute_process(COMMAND ${PYTHON} ${SOURCE}/knife_chain.py ${OUT} 2 RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
@@ -27,3 +28,35 @@ endif()
 if(diff GREATER 1e-5)
   message(FATAL_ERROR "generated and hand-written final states differ by ${diff}")
 endif()
+
+# The second family: the particle chain (second-order constraints) at N = 2 through the driver.
+execute_process(COMMAND ${PYTHON} ${SOURCE}/particle_chain.py ${OUT} 2 RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "particle_chain.py failed (${rc})")
+endif()
+execute_process(COMMAND ${BENCH} ${OUT}/particle_chain_2.toml --out ${OUT}/particle --quick
+  RESULT_VARIABLE rc OUTPUT_VARIABLE json ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "nhc_bench failed on the particle chain (${rc}): ${err}")
+endif()
+string(JSON states GET "${json}" n_states)
+string(JSON steps GET "${json}" steps)
+if(NOT states EQUAL 10 OR steps LESS 10)
+  message(FATAL_ERROR "particle chain N = 2: expected 10 states and at least 10 steps, got ${states}, ${steps}")
+endif()
+
+# The front-end harness (bench/frontend_scaling.py) on N = 1, 2: every command ok, a slope.
+execute_process(COMMAND ${PYTHON} ${SOURCE}/frontend_scaling.py ${NHC} ${OUT}/frontend.json --timeout 60 1 2
+  RESULT_VARIABLE rc ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "frontend_scaling.py failed (${rc}): ${err}")
+endif()
+file(READ ${OUT}/frontend.json fe)
+foreach(i 0 1)
+  string(JSON status GET "${fe}" rows ${i} status)
+  if(NOT status STREQUAL "ok")
+    message(FATAL_ERROR "frontend_scaling.py row ${i}: ${status}")
+  endif()
+endforeach()
+string(JSON fit GET "${fe}" slope_all)
+message(STATUS "front-end slope over N = 1, 2: ${fit}")
