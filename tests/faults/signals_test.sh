@@ -7,8 +7,8 @@ nhc=$1 scene=$2 knife_chain=$3 work=$4 linearize_scene=${5:-}
 rm -rf "$work" && mkdir -p "$work"
 source "$(dirname "$0")/common.sh"
 set -m  # background jobs keep SIGINT (a script's background jobs otherwise ignore it)
-python3 "$knife_chain" "$work" 8 192 >/dev/null || fail "cannot write the knife-chain scenes"
-big=$work/knife_chain_192.toml   # deriving, analysing and generating take about a second
+python3 "$knife_chain" "$work" 8 1024 >/dev/null || fail "cannot write the knife-chain scenes"
+big=$work/knife_chain_1024.toml  # deriving, analysing and generating take about two seconds
 long=$work/knife_chain_8.toml    # integration to t = 5000 takes seconds
 
 # start OUT_DIR CACHE ARGS…: nhc in the background, $pid.
