@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Set up and build as run.sh does, then run the test suite with ctest and the quick benchmark. Tests labelled `slow`
-# (minutes each: the Whipple bicycle's sweep over its speed) are left out here to keep CI short;
+# (minutes each: the Whipple bicycle's sweep over its speed and its simulation) are left out here to keep CI short;
 # NHC_SLOW_TESTS=1 includes them, or run them alone with `ctest --test-dir build -L slow`.
 set -euo pipefail
 cd "$(dirname "$0")/.."
