@@ -53,6 +53,10 @@ int main(int argc, char** argv) {
   } catch (const nhc::InputError& e) {
     std::cerr << e.what() << "\n";
     return nhc::cli::kExitBadInput;
+  } catch (const nhc::WorkLimitExceeded& e) {
+    // Not located by a layer that knows the scene: still bad input, named as such.
+    std::cerr << "nhc: error: the scene needs too much work: " << e.what() << "\n";
+    return nhc::cli::kExitBadInput;
   } catch (const nhc::MathError& e) {
     std::cerr << "nhc: error: " << e.what() << "\n";
     return nhc::cli::kExitMathFailure;

@@ -13,7 +13,8 @@
 namespace nhc {
 
 Index1System reduce_to_index1(const Scene& scene, const DerivedModel& model) {
-  return reduce_to_index1(analyze_structure(dae_system_of(scene, model)));
+  return refusing_at(scene.file_location(), "reducing the " + to_string(model.kind) + " model to index 1",
+                     [&] { return reduce_to_index1(analyze_structure(dae_system_of(scene, model))); });
 }
 
 Index1System reduce_to_index1(const StructuralAnalysis& a) {

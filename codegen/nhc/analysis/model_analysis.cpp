@@ -8,8 +8,10 @@
 
 namespace nhc {
 
-ModelAnalysis analyze_model(const Scene& scene, const DerivedModel& model,
-                            const InitializationOptions& options) {
+namespace {
+
+ModelAnalysis analyze_derived_model(const Scene& scene, const DerivedModel& model,
+                                    const InitializationOptions& options) {
   ModelAnalysis out;
   out.model = model.kind;
   if (!model.applicable) {
@@ -41,6 +43,14 @@ ModelAnalysis analyze_model(const Scene& scene, const DerivedModel& model,
     out.errors.push_back(e.what());
   }
   return out;
+}
+
+}  // namespace
+
+ModelAnalysis analyze_model(const Scene& scene, const DerivedModel& model,
+                            const InitializationOptions& options) {
+  return refusing_at(scene.file_location(), "analysing the " + to_string(model.kind) + " model",
+                     [&] { return analyze_derived_model(scene, model, options); });
 }
 
 }  // namespace nhc

@@ -4,6 +4,8 @@
 #include <set>
 #include <stdexcept>
 
+#include "nhc/jet/work_budget.hpp"
+
 namespace nhc {
 
 int SignatureMatrix::operator()(int i, int j) const {
@@ -36,7 +38,7 @@ int signature_entry(const GiNaC::ex& f, const JetSpace& jet, VariableKind kind, 
   // Orders of the variable that occur syntactically, tried from the highest down.
   for (int k = jet.highest_order(f, kind, index); k >= 0; --k) {
     const GiNaC::ex partial = f.diff(jet.symbol({kind, index, k}));
-    if (!partial.is_zero() && !partial.normal().is_zero()) return k;
+    if (!partial.is_zero() && !work_budget::is_zero(partial)) return k;
   }
   return SignatureMatrix::kAbsent;
 }

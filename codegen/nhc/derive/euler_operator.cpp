@@ -5,29 +5,23 @@
 #include <limits>
 
 #include "nhc/derive/trigonometric_simplification.hpp"
+#include "nhc/jet/work_budget.hpp"
 
 namespace nhc {
-
-namespace {
-
-/// Number of nodes in an expression tree: a rough measure of how much there is to read.
-std::size_t node_count(const GiNaC::ex& e) {
-  std::size_t n = 0;
-  for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it) ++n;
-  return n;
-}
-
-}  // namespace
 
 GiNaC::ex simplify_expression(const GiNaC::ex& e) {
   // Expanding cancels polynomial terms. Terms over different powers of one radical, such as
   // x'^2 v^-3 - v^-1 with v = sqrt(x'^2 + y'^2), cancel only over a common denominator:
   // normal() finds it, and expanding its numerator shows the cancellation (-y'^2 v^-3).
-  // Keep whichever form is smaller.
-  const GiNaC::ex expanded = e.expand();
+  // Keep whichever form is smaller. Both steps past expansion only make the result smaller, so
+  // large sums skip them (work_budget.hpp decides where).
+  const GiNaC::ex expanded = work_budget::expand(e);
+  if (!work_budget::worth_simplifying(expanded)) return simplify_trigonometric(expanded);
   const GiNaC::ex fraction = expanded.normal().numer_denom();
-  const GiNaC::ex combined = fraction.op(0).expand() / fraction.op(1);
-  return simplify_trigonometric(node_count(combined) < node_count(expanded) ? combined : expanded);
+  const GiNaC::ex combined = work_budget::expand(fraction.op(0)) / fraction.op(1);
+  return simplify_trigonometric(work_budget::node_count(combined) < work_budget::node_count(expanded)
+                                    ? combined
+                                    : expanded);
 }
 
 VariationForm VariationForm::first_variation(const GiNaC::ex& F, const JetSpace& jet) {
@@ -74,7 +68,7 @@ bool VariationForm::integrate_by_parts_once(int i, const JetSpace& jet) {
   coefficients_.erase({i, k});
   // ∫ A δq^(k) dt = [A δq^(k−1)] − ∫ D(A) δq^(k−1) dt, the bracket vanishing at the ends.
   add(i, k - 1, -jet.total_derivative(a));
-  coefficients_[{i, k - 1}] = coefficients_[{i, k - 1}].expand();
+  coefficients_[{i, k - 1}] = work_budget::expand(coefficients_[{i, k - 1}]);
   return true;
 }
 

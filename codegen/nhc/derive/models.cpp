@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "nhc/derive/euler_operator.hpp"
+#include "nhc/jet/work_budget.hpp"
 
 namespace nhc {
 
@@ -88,8 +89,7 @@ bool suslov(const MechanicalSystem& s, std::vector<ex>& r, std::string& reason) 
     for (std::size_t b = 0; b < g; ++b)
       A(static_cast<unsigned>(a), static_cast<unsigned>(b)) = s.constraints[a].diff(
           s.jet.symbol({VariableKind::coordinate, s.dependent[b], 1}));
-  const ex det = A.determinant().normal();
-  if (det.is_zero()) {
+  if (work_budget::is_zero(A.determinant())) {
     std::string names;
     for (int d : s.dependent) names += (names.empty() ? "" : ", ") + s.jet.coordinates()[static_cast<std::size_t>(d)];
     reason = "the matrix A = ∂f/∂q' of the constraints with respect to the first derivatives of "
@@ -102,7 +102,7 @@ bool suslov(const MechanicalSystem& s, std::vector<ex>& r, std::string& reason) 
     for (std::size_t b = 0; b < g; ++b)
       mu += s.lagrangian.diff(s.jet.symbol({VariableKind::coordinate, s.dependent[b], 1})) *
             A_inv(static_cast<unsigned>(b), static_cast<unsigned>(a));
-    mu = mu.normal();
+    mu = work_budget::normal(mu);
     const std::vector<ex> euler_f = euler_operator(s.constraints[a], s.jet);
     for (std::size_t i = 0; i < r.size(); ++i) r[i] -= mu * euler_f[i];
   }

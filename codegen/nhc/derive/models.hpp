@@ -52,7 +52,9 @@ DerivedModel derive_model(const MechanicalSystem& system, ModelKind kind);
 /// with it that a warm build derives nothing (nhc/jit/scene_cache.hpp).
 long derive_model_calls();
 inline DerivedModel derive_model(const Scene& scene, ModelKind kind) {
-  return derive_model(MechanicalSystem::of(scene), kind);
+  return refusing_at(scene.lagrangian_where,
+                     "deriving the " + to_string(kind) + " model from this Lagrangian and the constraints",
+                     [&] { return derive_model(MechanicalSystem::of(scene), kind); });
 }
 
 }  // namespace nhc

@@ -83,7 +83,9 @@ GeneratedHeader generate_header(const Scene& scene, const Index1System& system,
   if (system.residuals.size() != n || system.y.size() != n || system.yp.size() != n)
     throw MathError("inconsistent index-1 system: " + std::to_string(n) + " states, " +
                     std::to_string(system.residuals.size()) + " residuals");
-  const PreparedModel model = prepare_model(scene, system, options.jacobian, options.sensitivities);
+  const PreparedModel model =
+      refusing_at(scene.file_location(), "generating code for the " + to_string(system.model) + " model",
+                  [&] { return prepare_model(scene, system, options.jacobian, options.sensitivities); });
   GeneratedHeader header;
   header.namespace_name = model.namespace_name;
   header.file_name = generated_header_file_name(scene.name, system.model);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <map>
 #include <sstream>
+#include <unordered_map>
 #include <vector>
 
 namespace nhc {
@@ -17,6 +18,21 @@ std::string ginac_text(const ex& e) {
   return out.str();
 }
 
+/// −s for a sum s, term by term: the same terms with the opposite sign, nothing multiplied out
+/// (a printer never expands: work_budget.hpp).
+ex negated_sum(const ex& s) {
+  GiNaC::exvector terms;
+  terms.reserve(s.nops());
+  for (std::size_t i = 0; i < s.nops(); ++i) terms.push_back(-s.op(i));
+  return GiNaC::add(terms);
+}
+
+/// Printed text per subexpression. Printing sorts terms by their text and looks at a sum's
+/// first term to choose its sign, so each subexpression's text is asked for more than once;
+/// remembering it keeps printing linear in the size of the tree instead of exponential in its
+/// depth.
+using TextMemo = std::unordered_map<ex, std::string>;  // std::hash<ex>: GiNaC's cached hash
+
 // GiNaC orders the terms of sums and products by hash values that involve type-info
 // addresses, so its own printer can list them differently from one run to the next. This
 // printer produces the same syntax (readable by parse_expression) with terms and factors
@@ -25,9 +41,10 @@ class CanonicalText {
  public:
   /// Precedence of the context: 0 sum, 1 product factor, 2 power base.
   std::string print(const ex& e, int context = 0) const {
-    if (GiNaC::is_a<GiNaC::add>(e)) return wrap(sum(e), context > 0);
-    if (GiNaC::is_a<GiNaC::mul>(e)) return wrap(product(e), context > 1 || (starts_negative(e) && context > 0));
-    if (GiNaC::is_a<GiNaC::power>(e)) return wrap(power(e), context > 1);
+    if (GiNaC::is_a<GiNaC::add>(e)) return wrap(remembered(e), context > 0);
+    if (GiNaC::is_a<GiNaC::mul>(e))
+      return wrap(remembered(e), context > 1 || (starts_negative(e) && context > 0));
+    if (GiNaC::is_a<GiNaC::power>(e)) return wrap(remembered(e), context > 1);
     if (GiNaC::is_a<GiNaC::numeric>(e)) {
       const GiNaC::numeric& n = GiNaC::ex_to<GiNaC::numeric>(e);
       const bool needs = (n.is_negative() && context > 0) || (!n.is_integer() && context > 1);
@@ -42,6 +59,16 @@ class CanonicalText {
   }
 
  private:
+  mutable TextMemo memo_;
+
+  /// The text of a sum, product or power before the context's parentheses, computed once.
+  const std::string& remembered(const ex& e) const {
+    auto it = memo_.find(e);
+    if (it != memo_.end()) return it->second;
+    std::string text = GiNaC::is_a<GiNaC::add>(e) ? sum(e) : GiNaC::is_a<GiNaC::mul>(e) ? product(e) : power(e);
+    return memo_.emplace(e, std::move(text)).first->second;
+  }
+
   static std::string wrap(const std::string& s, bool parenthesize) {
     return parenthesize ? "(" + s + ")" : s;
   }
@@ -103,7 +130,7 @@ class CanonicalText {
       // A sum factor (normal() picks its sign by term order, which varies between runs) is
       // printed with its first term positive, the sign moved to the coefficient.
       if (GiNaC::is_a<GiNaC::add>(f) && first_term_negative(f)) {
-        f = (-f).expand();
+        f = negated_sum(f);
         coefficient = -coefficient;
       }
       factors.push_back(print(f, 1));
@@ -136,9 +163,9 @@ class CanonicalText {
 class CanonicalLatex {
  public:
   std::string print(const ex& e, int context = 0) const {
-    if (GiNaC::is_a<GiNaC::add>(e)) return wrap(sum(e), context > 0);
-    if (GiNaC::is_a<GiNaC::mul>(e) || is_reciprocal(e)) return wrap(product(e), context > 1);
-    if (GiNaC::is_a<GiNaC::power>(e)) return power(e);
+    if (GiNaC::is_a<GiNaC::add>(e)) return wrap(remembered(e), context > 0);
+    if (GiNaC::is_a<GiNaC::mul>(e) || is_reciprocal(e)) return wrap(remembered(e), context > 1);
+    if (GiNaC::is_a<GiNaC::power>(e)) return remembered(e);
     if (GiNaC::is_a<GiNaC::numeric>(e)) {
       const GiNaC::numeric& n = GiNaC::ex_to<GiNaC::numeric>(e);
       return wrap(number(n), (n.is_negative() && context > 0) || (!n.is_integer() && context > 1));
@@ -150,6 +177,19 @@ class CanonicalLatex {
   }
 
  private:
+  CanonicalText text_;  // sort keys, the same order as the text form
+  mutable TextMemo memo_;
+
+  /// The LaTeX of a sum, product, reciprocal or power before the context's parentheses.
+  const std::string& remembered(const ex& e) const {
+    auto it = memo_.find(e);
+    if (it != memo_.end()) return it->second;
+    std::string text = GiNaC::is_a<GiNaC::add>(e)                       ? sum(e)
+                       : GiNaC::is_a<GiNaC::mul>(e) || is_reciprocal(e) ? product(e)
+                                                                         : power(e);
+    return memo_.emplace(e, std::move(text)).first->second;
+  }
+
   static std::string wrap(const std::string& s, bool parenthesize) {
     return parenthesize ? "\\left(" + s + "\\right)" : s;
   }
@@ -168,7 +208,7 @@ class CanonicalLatex {
   std::string sum(const ex& e) const {
     std::vector<std::pair<std::string, ex>> terms;  // sorted by canonical text
     for (std::size_t i = 0; i < e.nops(); ++i)
-      terms.emplace_back(CanonicalText().print(e.op(i)), e.op(i));
+      terms.emplace_back(text_.print(e.op(i)), e.op(i));
     std::sort(terms.begin(), terms.end(),
               [](const auto& a, const auto& b) { return a.first < b.first; });
     std::string out;
@@ -185,17 +225,17 @@ class CanonicalLatex {
     GiNaC::numeric coefficient = 1;
     std::vector<std::pair<std::string, std::string>> upper, lower;  // (sort key, latex)
     auto add_factor = [&](ex f) {
-      if (GiNaC::is_a<GiNaC::add>(f) && CanonicalText().first_term_negative(f)) {
-        f = (-f).expand();
+      if (GiNaC::is_a<GiNaC::add>(f) && text_.first_term_negative(f)) {
+        f = negated_sum(f);
         coefficient = -coefficient;
       }
       if (GiNaC::is_a<GiNaC::numeric>(f)) {
         coefficient *= GiNaC::ex_to<GiNaC::numeric>(f);
       } else if (is_reciprocal(f)) {
         const ex inverse = GiNaC::pow(f.op(0), -f.op(1));
-        lower.emplace_back(CanonicalText().print(inverse), print(inverse, 1));
+        lower.emplace_back(text_.print(inverse), print(inverse, 1));
       } else {
-        upper.emplace_back(CanonicalText().print(f), print(f, 1));
+        upper.emplace_back(text_.print(f), print(f, 1));
       }
     };
     if (GiNaC::is_a<GiNaC::mul>(e)) {

@@ -1,5 +1,7 @@
 #include "nhc/jet/jet_space.hpp"
 
+#include "nhc/jet/work_budget.hpp"
+
 #include <algorithm>
 #include <set>
 #include <stdexcept>
@@ -124,7 +126,7 @@ GiNaC::ex JetSpace::total_derivative(const GiNaC::ex& e) const {
 
 GiNaC::ex JetSpace::total_derivative(const GiNaC::ex& e, int k) const {
   GiNaC::ex result = e;
-  for (int j = 0; j < k; ++j) result = total_derivative(result).expand();
+  for (int j = 0; j < k; ++j) result = work_budget::expand(total_derivative(result));
   return result;
 }
 

@@ -1,5 +1,7 @@
 #include "nhc/scene/expression_parser.hpp"
 
+#include "nhc/jet/work_budget.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -84,10 +86,9 @@ class Parser {
     if (has_large_number(e, true))
       fail(0, "a number in the expression is too large (beyond double precision or more than " +
                   std::to_string(kMaxPowerBits) + " bits)");
-    double inner = 0;
-    if (std::max(expanded_terms_bound(e, inner), inner) > kMaxExpandedTerms)
+    if (work_budget::expanded_terms(e) > work_budget::kMaxExpandedTerms)
       fail(0, "the expression expands to more than " +
-                  std::to_string(static_cast<long>(kMaxExpandedTerms)) + " terms");
+                  std::to_string(static_cast<long>(work_budget::kMaxExpandedTerms)) + " terms");
   }
 
   [[noreturn]] void fail(std::size_t at, const std::string& message) const {
@@ -114,34 +115,6 @@ class Parser {
     }
     ~DepthGuard() { --p.depth_; }
   };
-
-  /// An upper bound on the number of terms of e.expand(): sums add, products multiply, a power
-  /// with a positive integer exponent k of an n-term base has at most C(n+k-1, k) terms. What
-  /// expand() does not multiply out (function arguments, bases of other powers, exponents) is
-  /// expanded on its own: its bound goes into `inner`. Saturates at infinity.
-  static double expanded_terms_bound(const ex& e, double& inner) {
-    if (GiNaC::is_exactly_a<GiNaC::add>(e)) {
-      double sum = 0;
-      for (std::size_t k = 0; k < e.nops(); ++k) sum += expanded_terms_bound(e.op(k), inner);
-      return sum;
-    }
-    if (GiNaC::is_exactly_a<GiNaC::mul>(e)) {
-      double product = 1;
-      for (std::size_t k = 0; k < e.nops(); ++k) product *= expanded_terms_bound(e.op(k), inner);
-      return product;
-    }
-    if (GiNaC::is_exactly_a<GiNaC::power>(e) && GiNaC::is_a<GiNaC::numeric>(e.op(1)) &&
-        GiNaC::ex_to<GiNaC::numeric>(e.op(1)).is_pos_integer()) {
-      const double n = expanded_terms_bound(e.op(0), inner);
-      const double k = GiNaC::ex_to<GiNaC::numeric>(e.op(1)).to_double();
-      double bound = 1;  // C(n + k - 1, k), as a product of k factors (k is at most 64 here)
-      for (double j = 1; j <= k && bound < 1e300; ++j) bound *= (n - 1 + j) / j;
-      return bound;
-    }
-    for (std::size_t k = 0; k < e.nops(); ++k)
-      inner = std::max(inner, expanded_terms_bound(e.op(k), inner));
-    return 1;
-  }
 
   /// True when a rational number of e has a numerator or denominator of more than kMaxPowerBits
   /// bits or is too large for a double: looking at e's own coefficients (cheap, after each operation) or, with `deep`, at
@@ -207,6 +180,8 @@ class Parser {
       fail(at, "division by zero");
     } catch (const std::domain_error& e) {
       fail(at, std::string("invalid operation: ") + e.what());
+    } catch (const WorkLimitExceeded& e) {
+      fail(at, std::string("too large to work with: ") + e.what());
     }
   }
 

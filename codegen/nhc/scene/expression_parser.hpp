@@ -57,11 +57,8 @@ inline constexpr std::size_t kMaxNodes = 2000000;
 inline constexpr std::size_t kMaxSceneNodes = 20000000;
 /// Longest expression text accepted, in bytes.
 inline constexpr std::size_t kMaxExpressionLength = 100000;
-/// Largest number of terms an expression may expand to (bounded from its structure: (a+b+c)^k
-/// has at most C(k+2, 2) terms); derivations expand, so a short text such as
-/// (x+y+z+x'+y'+z'+t)^64 with its 10^8 terms would exhaust time and memory. The bound is loose
-/// for sums of trigonometric products (a bicycle's kinetic energy), hence the margin.
-inline constexpr double kMaxExpandedTerms = 1e6;
+// How far an expression may expand is the work budget's (nhc/jet/work_budget.hpp): a short text
+// such as (x+y+z+x'+y'+z'+t)^64, with its 10^8 terms, is refused as it is parsed.
 
 /// A parse failure at a 0-based character offset of the expression text.
 class ExpressionSyntaxError : public std::runtime_error {

@@ -55,6 +55,7 @@ struct Scene {
 
   std::vector<double> parameter_values;  ///< in JetSpace parameter order
   GiNaC::ex lagrangian;                  ///< L(t, q, q')
+  SourceLocation lagrangian_where;       ///< where the scene file writes L (refusals point there)
   std::vector<GiNaC::ex> constraints;    ///< f^α(t, q, …, q^(m_α)) = 0
   std::vector<std::string> constraint_texts;
   std::vector<int> dependent;            ///< coordinate indices d_1..d_g (suslov); may be empty
@@ -72,6 +73,8 @@ struct Scene {
 
   int coordinate_count() const { return jet->coordinate_count(); }
   int constraint_count() const { return static_cast<int>(constraints.size()); }
+  /// The scene file as a place for messages about the scene as a whole.
+  SourceLocation file_location() const { return {source_path.empty() ? "scene" : source_path, 0, 0}; }
   /// Parameter symbol → value, for numeric evaluation.
   GiNaC::exmap parameter_substitution() const;
 };

@@ -12,6 +12,7 @@
 
 #include <iostream>
 
+#include "nhc/jet/work_budget.hpp"
 #include "nhc/scene/definition_table.hpp"
 #include "nhc/scene/constant_expression.hpp"
 #include "nhc/scene/expression_parser.hpp"
@@ -192,6 +193,7 @@ class SceneReader {
     const ExpressionRules mechanics = definitions.rules_with_definitions(plain);
     const toml::node& lagrangian_node = require(root, "lagrangian", "top level");
     scene.lagrangian = expression(lagrangian_node, "lagrangian", jet, mechanics);
+    scene.lagrangian_where = at(lagrangian_node);
     if (jet.highest_coordinate_order(scene.lagrangian) > 1)
       fail(lagrangian_node, "the Lagrangian may depend on t, q and q' only (found a derivative "
                             "of order " +
@@ -201,7 +203,7 @@ class SceneReader {
     for (std::size_t a = 0; a < constraint_nodes.size(); ++a) {
       const toml::node& c = *constraint_nodes[a];
       GiNaC::ex f = expression(c, "constraint", jet, mechanics);
-      if (f.expand().normal().is_zero() || vanishes_numerically(f))
+      if (is_zero_at(c, f) || vanishes_numerically(f))
         fail(c, "constraint " + std::to_string(a + 1) + " is identically zero");
       if (jet.highest_coordinate_order(f) < 0)
         fail(c, "constraint " + std::to_string(a + 1) + " does not involve any coordinate");
@@ -418,6 +420,15 @@ class SceneReader {
     } catch (const ExpressionSyntaxError& e) {
       throw InputError(expression_location(node, e.offset()),
                        "in " + what + " \"" + printable(text) + "\": " + e.what());
+    }
+  }
+
+  /// work_budget::is_zero(e) for the expression of `node`, a refusal located there.
+  bool is_zero_at(const toml::node& node, const GiNaC::ex& e) const {
+    try {
+      return work_budget::is_zero(e);
+    } catch (const WorkLimitExceeded& error) {
+      throw error.located(at(node), "checking this expression");
     }
   }
 

@@ -1,6 +1,7 @@
 #include "nhc/linearize/cyclic_reduction.hpp"
 
 #include "nhc/errors.hpp"
+#include "nhc/jet/work_budget.hpp"
 
 namespace nhc {
 
@@ -70,7 +71,7 @@ CyclicReduction reduce_cyclic(const Index1System& system, const GiNaC::ex& time)
     for (std::size_t r = 0; r < system.residuals.size(); ++r) {
       const GiNaC::ex& f = system.residuals[r];
       const bool is_chain = velocity >= 0 && f.has(yp) &&
-                            (f - (yp - system.y[static_cast<std::size_t>(velocity)])).expand().is_zero();
+                            work_budget::is_zero(f - (yp - system.y[static_cast<std::size_t>(velocity)]));
       if (is_chain) chain_row = static_cast<int>(r);
       else if (f.has(y)) appears = true;
     }
