@@ -13,6 +13,8 @@
 #include <iostream>
 #include <thread>
 
+#include <unistd.h>
+
 #include "commands.hpp"
 #include "nhc/errors.hpp"
 #include "pipeline.hpp"
@@ -105,9 +107,63 @@ std::vector<RunRecord> earlier_records(const EnsembleOptions& o, const EnsembleI
   return records;
 }
 
+/// The number of runs the design flags ask for, before any value is made: a grid's product of n
+/// (saturating), or --samples.
+double requested_runs(const EnsembleOptions& o) {
+  if (o.vary.empty()) return o.samples ? static_cast<double>(*o.samples) : 0.0;
+  double runs = 1;
+  for (const std::string& v : o.vary) runs *= static_cast<double>(parse_vary(v).n);
+  return runs;
+}
+
+/// The design flags as written, for messages.
+std::string design_flags(const EnsembleOptions& o) {
+  std::string flags;
+  for (const std::string& v : o.vary) flags += (flags.empty() ? "--vary " : " --vary ") + v;
+  if (o.vary.empty() && o.samples) flags = "--samples " + std::to_string(*o.samples);
+  return flags;
+}
+
+/// Refuses, before anything runs, a design whose results cannot fit: the result file (values,
+/// outcome, final state, drifts and, with --keep trajectories, every output row of every run)
+/// against the free space of the disk it goes to, and the same records in memory against the
+/// machine's memory. Both are estimates from the sizes of the records (ensemble/run.hpp), which
+/// is what grows with the number of runs.
+void check_design_fits(const EnsembleOptions& o, int n_states, int n_invariants, bool keep_trajectories) {
+  const double runs = requested_runs(o);
+  const double variables = static_cast<double>(o.vary.size() + o.sample.size());
+  const double trajectory = keep_trajectories ? 8.0 * (o.outputs + 1) * n_states : 0.0;
+  const double file_per_run = 8.0 * (variables + n_states + n_invariants + 6) + trajectory;
+  const double memory_per_run = sizeof(RunRecord) + 8.0 * (variables + n_states + n_invariants) + 64 + trajectory;
+  const double file_bytes = runs * file_per_run, memory_bytes = runs * memory_per_run;
+  auto bytes_text = [](double b) {
+    const char* units[] = {"bytes", "kB", "MB", "GB", "TB", "PB"};
+    int u = 0;
+    while (b >= 1000 && u < 5) b /= 1000, ++u;
+    return format_number(b, 3) + " " + units[u];
+  };
+  std::error_code ec;
+  const std::filesystem::path dir = std::filesystem::absolute(o.output).parent_path();
+  const std::filesystem::space_info disk = std::filesystem::space(dir, ec);
+  if (!ec && file_bytes > static_cast<double>(disk.available))
+    bad_flag(design_flags(o), format_number(runs, 4) + " runs would write about " + bytes_text(file_bytes) +
+                                  " to " + o.output + ", and " + bytes_text(static_cast<double>(disk.available)) +
+                                  " are free there; make the design smaller");
+  const long pages = sysconf(_SC_PHYS_PAGES), page_size = sysconf(_SC_PAGE_SIZE);
+  const double memory = pages > 0 && page_size > 0 ? static_cast<double>(pages) * static_cast<double>(page_size) : 0;
+  if (memory > 0 && memory_bytes > 0.5 * memory)
+    bad_flag(design_flags(o), format_number(runs, 4) + " runs would hold about " + bytes_text(memory_bytes) +
+                                  " of results in memory, and the machine has " + bytes_text(memory) +
+                                  "; make the design smaller" +
+                                  (keep_trajectories ? " or keep fewer outputs (--outputs)" : ""));
+}
+
 Prepared prepare(const EnsembleOptions& o, int ranks, int threads) {
   const auto start = Clock::now();
   check_flags(o);
+  for (const std::string& v : o.vary) parse_vary(v);  // a malformed flag first, before any estimate
+  // Before the design's values are made: at least one state per run.
+  check_design_fits(o, 1, 0, o.keep == "trajectories");
   Design design = make_design(o);
   const Scene scene = load_scene(o.scene_path);
   const ModelKind kind = model_or_default(scene, o.model);
@@ -119,6 +175,7 @@ Prepared prepare(const EnsembleOptions& o, int ranks, int threads) {
   Prepared p;
   p.built = std::make_unique<jit::LoadedModel>(jit::build(scene, kind));
   const runtime::Model& model = p.built->model();
+  check_design_fits(o, model.n_states(), model.n_invariants(), o.keep == "trajectories");
   RunSpec& spec = p.spec;
   spec.shared_object = p.built->library().path.string();
   spec.parameters = model.default_parameters();
@@ -204,6 +261,29 @@ class Checkpoints {
   bool dirty_ = false;
 };
 
+/// Says once, when the first runs are in (after 2 s), how long the rest will take at their pace,
+/// unless the rest is short.
+class TimeEstimate {
+ public:
+  explicit TimeEstimate(long runs) : runs_(runs) {}
+  void finished(long count) {
+    done_ += count;
+    if (said_ || done_ < 1) return;
+    const double elapsed = seconds_since(start_);
+    if (elapsed < 2.0) return;
+    said_ = true;
+    const double rest = elapsed * static_cast<double>(runs_ - done_) / static_cast<double>(done_);
+    if (rest > 10.0)
+      std::cerr << "nhc ensemble: " << done_ << " of " << runs_ << " runs in " << format_number(elapsed)
+                << " s; at that pace about " << format_number(rest) << " s to go\n";
+  }
+
+ private:
+  long runs_, done_ = 0;
+  bool said_ = false;
+  Clock::time_point start_ = Clock::now();
+};
+
 void print_summary(const EnsembleResults& r, const Prepared& p, long ran, double run_seconds, int workers,
                    const std::string& output) {
   long count[4] = {0, 0, 0, 0};
@@ -265,7 +345,9 @@ int run_ensemble(const EnsembleOptions& o) {
   schedule_options.threads = threads;
   schedule_options.values_per_run = static_cast<int>(spec.targets.size());
   schedule_options.values = [&results](std::int64_t i) { return results.info.design.row(i); };
+  TimeEstimate estimate(static_cast<long>(p.todo.size()));
   schedule_options.on_records = [&](std::vector<RunRecord>&& records) {
+    estimate.finished(static_cast<long>(records.size()));
     for (RunRecord& r : records) results.records[static_cast<std::size_t>(r.index)] = std::move(r);
     checkpoints.touched();
   };

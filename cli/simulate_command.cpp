@@ -69,6 +69,9 @@ void check_simulate_flags(const SimulateOptions& options, const Scene& scene) {
 struct InitialPointCheck {
   std::optional<std::string> key;  ///< none: the scene cache is off, or the scene has no text
   bool cached = false;
+  /// What the analysis found wrong at t0 that does not stop the run before it starts (a system
+  /// Jacobian singular there): the words for a run that then fails at t0.
+  std::vector<std::string> problems_at_t0;
 };
 
 /// Given initial values that miss a hidden constraint: the analysis' words (the same rule as
@@ -88,7 +91,10 @@ InitialPointCheck check_initial_point(Scene scene, ModelKind kind, double rtol, 
   InitializationOptions init;
   init.repair = repair;
   const ModelAnalysis a = analyze_model(scene, derive_model(scene, kind), init);
-  if (!a.initial_values_repairable) return check;
+  if (!a.initial_values_repairable) {
+    check.problems_at_t0 = a.errors;
+    return check;
+  }
   std::string message;
   for (const std::string& e : a.errors) message += (message.empty() ? "" : "\nnhc: error: ") + e;
   throw MathError(message);
@@ -97,10 +103,40 @@ InitialPointCheck check_initial_point(Scene scene, ModelKind kind, double rtol, 
 /// A passed check stored once the model is built, beside its library: a refused or interrupted
 /// run leaves no entry.
 void remember_check(const InitialPointCheck& check, const jit::LoadedModel& built) {
-  if (!check.key || check.cached) return;
+  // A point with problems is analysed again by every run, so that a failure there gets its words.
+  if (!check.key || check.cached || !check.problems_at_t0.empty()) return;
   jit::SceneCacheRecord record;
   record.set("outcome", "passed");
   jit::SceneCache(built.library().path.parent_path()).store(*check.key, record);
+}
+
+/// The run's drift lines: the reference error, the hidden (or, for suslov, monitored) constraints
+/// and the invariants over the samples.
+void write_drift_summary(std::ostream& info, const Scene& scene, const runtime::Model& model, ModelKind kind,
+                         const runtime::DriftReport& drift) {
+  if (model.n_reference() > 0) info << "  max reference error " << format(drift.max_error) << "\n";
+  if (kind == ModelKind::suslov) {
+    // Suslov's model monitors its constraints instead of enforcing them (models.md): their
+    // values are the CSV's constraint:f<i> columns, zero at t0 (the start point of nhc analyze).
+    for (int i = 0; i < model.n_hidden(); ++i) {
+      const std::size_t k = static_cast<std::size_t>(i);
+      info << "  monitored constraint " << model.hidden_name(i)
+           << (k < scene.constraint_texts.size() ? " = " + scene.constraint_texts[k] : std::string()) << " (CSV column "
+           << runtime::hidden_column(model, i) << "): value at t0 " << format(drift.first_hidden_each.at(k))
+           << ", max |" << model.hidden_name(i) << "| " << format(drift.max_hidden_each[k])
+           << " (not enforced by the suslov model)\n";
+    }
+  } else if (model.n_hidden() > 0) {
+    info << "  max hidden-constraint drift " << format(drift.max_hidden) << "\n";
+  }
+  for (int k = 0; k < model.n_invariants(); ++k)
+    info << "  invariant " << model.table().invariant_names[k] << ": max drift "
+              << format(drift.invariant_drift[k])
+              << (drift.invariant_absolute[k]
+                      ? " (absolute: the invariant stays below " + format(runtime::kInvariantScaleFloor) + ")"
+                      : " (relative " + format(drift.invariant_relative[k]) + " to its largest size " +
+                            format(drift.invariant_scale[k]) + ")")
+              << "\n";
 }
 
 }  // namespace
@@ -220,8 +256,13 @@ CommandRunner add_simulate_command(CLI::App& app) {
     // Summary.
     const runtime::Statistics& st = run.statistics;
     const runtime::DriftReport drift = runtime::measure_drift(model, p, run.samples);
-    info << "nhc simulate: " << scene.name << ", model " << to_string(kind) << ", t from " << t0 << " to "
-              << (run.samples.empty() ? t0 : run.samples.back().t) << " (of " << t_end << "), rtol " << io.rtol
+    const bool started = !run.samples.empty();
+    info << "nhc simulate: " << scene.name << ", model " << to_string(kind);
+    if (started)
+      info << ", t from " << t0 << " to " << run.samples.back().t << " (of " << t_end << ")";
+    else
+      info << ", never started: the run stopped at t0 = " << t0 << " (t_end " << t_end << ")";
+    info << ", rtol " << io.rtol
               << ", atol " << io.atol << (options->project ? ", projection" : "") << "\n"
               << "  steps " << st.steps << ", residual evaluations " << st.residual_evaluations
               << ", Jacobian evaluations " << st.jacobian_evaluations << " (" << st.linear_solver << ", "
@@ -233,29 +274,9 @@ CommandRunner add_simulate_command(CLI::App& app) {
               << (built.library().reused ? " (cached)" : "") << ", integrate "
               << format(st.initialization_seconds + st.integration_seconds) << " s\n";
     if (sensitivities) info << describe_sensitivity_cost(*sensitivities, options->sensitivity, st);
-    if (model.n_reference() > 0) info << "  max reference error " << format(drift.max_error) << "\n";
-    if (kind == ModelKind::suslov) {
-      // Suslov's model monitors its constraints instead of enforcing them (models.md): their
-      // values are the CSV's constraint:f<i> columns, zero at t0 (the start point of nhc analyze).
-      for (int i = 0; i < model.n_hidden(); ++i) {
-        const std::size_t k = static_cast<std::size_t>(i);
-        info << "  monitored constraint " << model.hidden_name(i)
-             << (k < scene.constraint_texts.size() ? " = " + scene.constraint_texts[k] : std::string()) << " (CSV column "
-             << runtime::hidden_column(model, i) << "): value at t0 " << format(drift.first_hidden_each.at(k))
-             << ", max |" << model.hidden_name(i) << "| " << format(drift.max_hidden_each[k])
-             << " (not enforced by the suslov model)\n";
-      }
-    } else if (model.n_hidden() > 0) {
-      info << "  max hidden-constraint drift " << format(drift.max_hidden) << "\n";
-    }
-    for (int k = 0; k < model.n_invariants(); ++k)
-      info << "  invariant " << model.table().invariant_names[k] << ": max drift "
-                << format(drift.invariant_drift[k])
-                << (drift.invariant_absolute[k]
-                        ? " (absolute: the invariant stays below " + format(runtime::kInvariantScaleFloor) + ")"
-                        : " (relative " + format(drift.invariant_relative[k]) + " to its largest size " +
-                              format(drift.invariant_scale[k]) + ")")
-                << "\n";
+    // Errors and drifts of a run without a sample would read as zeros: there are none to report.
+    if (started) write_drift_summary(info, scene, model, kind, drift);
+
     if (!outputs.empty()) {
       info << "  outputs (CSV columns, not checked for drift):";
       for (const std::string& name : outputs.names()) info << " " << name;
@@ -280,6 +301,12 @@ CommandRunner add_simulate_command(CLI::App& app) {
     }
     if (run.failure) {
       info.flush();
+      // A run that fails before its first step at a point the analysis found singular: the
+      // analysis' words say why (nhc analyze prints the same), not the solver's symptom.
+      if (!started && !check.problems_at_t0.empty()) {
+        for (const std::string& problem : check.problems_at_t0) std::cerr << "nhc: error: " << problem << "\n";
+        return kExitMathFailure;
+      }
       std::cerr << "nhc: error: " << run.failure->what() << "\n";
       return kExitMathFailure;
     }

@@ -386,7 +386,12 @@ void write_results(const std::string& path, const EnsembleResults& results) {
 EnsembleResults read_results(const std::string& path) {
   silence_hdf5();
   if (H5Fis_hdf5(path.c_str()) <= 0) throw InputError({path, 0, 0}, "not an HDF5 file (or it cannot be read)");
-  Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, "open " + path);
+  // A file that starts as HDF5 but is truncated or damaged fails to open or to read: bad input.
+  const hid_t id = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (id < 0)
+    throw InputError({path, 0, 0}, "the HDF5 file is damaged or truncated: it cannot be opened "
+                                   "(was it written completely by nhc ensemble?)");
+  Handle file(id, H5Fclose, "open " + path);
   const Reader in{path, file};
   try {
     EnsembleResults results;
@@ -396,7 +401,7 @@ EnsembleResults read_results(const std::string& path) {
   } catch (const InputError&) {
     throw;
   } catch (const std::runtime_error& e) {
-    throw InputError({path, 0, 0}, e.what());
+    throw InputError({path, 0, 0}, std::string("the HDF5 file is damaged or not an ensemble of nhc: ") + e.what());
   }
 }
 

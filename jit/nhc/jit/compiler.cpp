@@ -231,6 +231,15 @@ void run_compiler(const std::vector<std::string>& command, const std::string& la
     throw EnvironmentError("the C++ compiler took longer than " + std::to_string(static_cast<long long>(timeout)) +
                            " s on the code of " + label + " and was stopped (raise NHC_COMPILE_TIMEOUT, 0: no limit)\n  " +
                            command_line);
+  // Memory is the machine's, not the code's: cc1plus says "out of memory allocating …" under a
+  // ulimit, "virtual memory exhausted" when the system runs out; the kernel's OOM killer sends 9.
+  const bool out_of_memory = messages.find("out of memory") != std::string::npos ||
+                             messages.find("virtual memory exhausted") != std::string::npos ||
+                             messages.find("Cannot allocate memory") != std::string::npos || r.signal == 9;
+  if (out_of_memory)
+    throw EnvironmentError("the C++ compiler ran out of memory compiling the code of " + label +
+                           (r.signal == 9 ? " (killed by signal 9, as the kernel does when memory runs out)" : "") +
+                           ": free memory or raise the limit (ulimit -v)\n  " + command_line + "\n" + first_errors(messages));
   const std::string reason = system_reason_in(messages);
   if (!reason.empty())
     throw EnvironmentError("cannot compile " + label + " into the cache " + cache.string() + ": " + reason + "\n" +

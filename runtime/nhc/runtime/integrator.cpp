@@ -525,6 +525,36 @@ struct Integrator::Impl {
     ++projections;
   }
 
+  /// IDACalcIC for the algebraic states and y' at t0, asking of itself what the tolerances allow.
+  /// Its Newton iteration stops when the weighted norm of the correction is below epsiccon
+  /// (IDASetNonlinConvCoefIC, default 0.0033 of the error-test norm); with atol 1e-12 on states
+  /// of size 1 to 100 (the Whipple bicycle) that is below what rounding in the residual lets its
+  /// line search reach, and it fails although the point is consistent. On such a failure the
+  /// calculation starts again from the same point with the test 10 and 100 times looser, then
+  /// without the line search; the integrator's first steps correct what is left (their error
+  /// test applies the tolerances in full).
+  int consistent_initialization(double t0, double t_next) {
+    const std::vector<double> y0(y.data(), y.data() + n()), yp0(yp.data(), yp.data() + n());
+    int flag = IDACalcIC(ida, IDA_YA_YDP_INIT, t_next);
+    double coefficient = 0.0033;
+    for (int attempt = 0; attempt < 3 && (flag == IDA_LINESEARCH_FAIL || flag == IDA_CONSTR_FAIL ||
+                                          flag == IDA_CONV_FAIL || flag == IDA_NO_RECOVERY);
+         ++attempt) {
+      if (nonfinite.seen) break;  // a NaN is not a matter of tolerance
+      std::copy(y0.begin(), y0.end(), y.data());
+      std::copy(yp0.begin(), yp0.end(), yp.data());
+      check(IDAReInit(ida, t0, y, yp), "restarting the consistent initialization");
+      if (attempt < 2) {
+        coefficient *= 10;
+        check(IDASetNonlinConvCoefIC(ida, coefficient), "loosening the initialization's convergence test");
+      } else {
+        check(IDASetLineSearchOffIC(ida, SUNTRUE), "turning off the initialization's line search");
+      }
+      flag = IDACalcIC(ida, IDA_YA_YDP_INIT, t_next);
+    }
+    return flag;
+  }
+
   void remember(double tt, bool new_step = true) {
     t = tt;
     std::copy(y.data(), y.data() + n(), y_last.begin());
@@ -610,7 +640,7 @@ Sample Integrator::initialize(const InitialState& state, double t_next) {
   };
   s.y_last.assign(s.y.data(), s.y.data() + n);  // the point a failure is diagnosed at
   s.yp_last.assign(s.yp.data(), s.yp.data() + n);
-  const int flag = IDACalcIC(s.ida, IDA_YA_YDP_INIT, t_next);
+  const int flag = s.consistent_initialization(state.t0, t_next);
   if (flag < 0) {
     nonfinite_at_start("consistent initialization");
     // IDACalcIC's first step scale is 1e-3 (t_next - t0): its iteration matrix has cj ~ 1/that.
