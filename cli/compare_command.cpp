@@ -12,6 +12,7 @@
 #include <regex>
 
 #include "commands.hpp"
+#include "flag_rules.hpp"
 #include "compare_report.hpp"
 #include "nhc/analysis/numeric_evaluation.hpp"
 #include "nhc/errors.hpp"
@@ -152,8 +153,8 @@ ComparedModel run_model(const Scene& scene, ModelKind kind, const CompareSetting
 }
 
 /// Overlaid plots: each coordinate against t, the path, each invariant against t; a curve per model.
-std::vector<Plot> comparison_plots(const CompareSettings& settings, const PathPlane& plane,
-                                   const std::vector<ComparedModel>& models,
+std::vector<Plot> comparison_plots(const std::filesystem::path& dir, const CompareSettings& settings,
+                                   const PathPlane& plane, const std::vector<ComparedModel>& models,
                                    const std::vector<std::string>& invariants) {
   std::vector<std::pair<std::string, std::string>> ran;
   for (const ComparedModel& m : models)
@@ -169,13 +170,15 @@ std::vector<Plot> comparison_plots(const CompareSettings& settings, const PathPl
                               plane, ran));
   for (const std::string& name : invariants) {
     Plot p{"invariant_" + name, "invariant " + name + " against t: " + settings.scene_name, "t", name, false, false, {}};
-    for (const auto& [model, csv] : ran) p.curves.push_back({model, csv, "t", "invariant:" + name});
-    plots.push_back(p);
+    for (const auto& [model, csv] : ran)  // a model that cannot compute it has no such column
+      if (read_csv_table(dir / csv).column("invariant:" + name) >= 0) p.curves.push_back({model, csv, "t", "invariant:" + name});
+    if (!p.curves.empty()) plots.push_back(p);
   }
   return plots;
 }
 
 int run_compare(const CompareOptions& options) {
+  flag_rules::refuse_duplicates(options.models, "--models", "model");
   const Scene scene = load_scene(options.scene_path);
   const CompareSettings settings = settings_of(options, scene);
   const PathPlane plane = path_plane(scene, options.plot_xy, "--plot-xy");
@@ -193,8 +196,8 @@ int run_compare(const CompareOptions& options) {
     throw MathError("nhc compare: no model of " + scene.name + " gets past t0 (see above); nothing written");
 
   std::vector<std::string> invariants;
-  for (const auto& [name, expression] : scene.invariants) invariants.push_back(name);
-  const std::vector<Plot> plots = comparison_plots(settings, plane, models, invariants);
+  for (const SceneQuantity& invariant : scene.invariants) invariants.push_back(invariant.name);
+  const std::vector<Plot> plots = comparison_plots(staging, settings, plane, models, invariants);
   draw_plots(staging, plots);
   const std::string md = compare_markdown(staging, settings, models, plots);
   write_file_atomically((staging / "compare.md").string(), [&](std::ostream& o) { o << md; });
@@ -213,14 +216,14 @@ CommandRunner add_compare_command(CLI::App& app) {
   sub->add_option("--models", options->models, "models to compare, comma-separated (default: the scene's)")
       ->delimiter(',')
       ->check(CLI::IsMember(model_names()));
-  sub->add_option("--t-end", options->t_end, "final time (default: [simulate] t_end)");
-  sub->add_option("--rtol", options->rtol, "relative tolerance (default: [simulate] rtol)")->check(CLI::PositiveNumber);
-  sub->add_option("--atol", options->atol, "absolute tolerance (default: [simulate] atol)")->check(CLI::PositiveNumber);
+  sub->add_option("--t-end", options->t_end, "final time (default: [simulate] t_end)")->check(flag_rules::finite());
+  sub->add_option("--rtol", options->rtol, "relative tolerance (default: [simulate] rtol)")->check(flag_rules::relative_tolerance());
+  sub->add_option("--atol", options->atol, "absolute tolerance (default: [simulate] atol)")->check(flag_rules::absolute_tolerance());
   sub->add_option("--outputs", options->outputs, "number of output intervals (default 200)")
-      ->check(CLI::Range(1, 10000000));
+      ->check(flag_rules::count(1, flag_rules::kMaxOutputs));
   sub->add_option("--tolerance", options->tolerance,
                   "the motions separate where a coordinate differs by more than this (default 1e-6)")
-      ->check(CLI::PositiveNumber);
+      ->check(flag_rules::positive());
   sub->add_option("--plot-xy", options->plot_xy, "a,b: the plane of the path plot (default: the first two coordinates)");
   sub->add_option("-o,--output", options->output, "directory for compare.md, the CSV files and the plots")
       ->required();

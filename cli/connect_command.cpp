@@ -12,6 +12,7 @@
 #include <regex>
 
 #include "commands.hpp"
+#include "flag_rules.hpp"
 #include "nhc/connect/shooting.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/io/atomic_file.hpp"
@@ -144,25 +145,27 @@ CommandRunner add_connect_command(CLI::App& app) {
       "connect", "find the free initial values that take a scene's motion to target states at T (shooting)");
   sub->add_option("SCENE", options->scene_path, "scene file (TOML)")->required();
   sub->add_option("--to", options->to, "target states at T, e.g. x=1,y=0,z=0.25")->delimiter(',')->required();
-  sub->add_option("--t-end", options->t_end, "the time T at which the target is to be reached")->required();
+  sub->add_option("--t-end", options->t_end, "the time T at which the target is to be reached")
+      ->required()
+      ->check(flag_rules::finite());
   sub->add_option("--free", options->free,
                   "the free initial values, e.g. x'(0),y'(0),lambda1(0) (default: every initial value the "
                   "Sigma-method needs that the scene does not give)")
       ->delimiter(',');
   sub->add_option("--segments", options->segments, "multiple shooting on K equal intervals (default 1)")
-      ->check(CLI::Range(1, 1000));
+      ->check(flag_rules::count(1, 1000));
   sub->add_option("--model,-m", options->model, "model (default: the scene's [simulate] model, else chetaev)")
       ->check(CLI::IsMember(model_names()));
   sub->add_option("--rtol", options->rtol, "relative tolerance of the integrations (default: [simulate] rtol)")
-      ->check(CLI::PositiveNumber);
+      ->check(flag_rules::relative_tolerance());
   sub->add_option("--atol", options->atol, "absolute tolerance of the integrations (default: [simulate] atol)")
-      ->check(CLI::PositiveNumber);
+      ->check(flag_rules::absolute_tolerance());
   sub->add_option("--tolerance", options->tolerance, "converged when every |miss| <= E (1 + |target|) (default 1e-9)")
-      ->check(CLI::PositiveNumber);
+      ->check(flag_rules::positive());
   sub->add_option("--max-iterations", options->max_iterations, "Newton iterations (default 50)")
-      ->check(CLI::Range(1, 10000));
+      ->check(flag_rules::count(1, 10000));
   sub->add_option("--outputs", options->outputs, "number of output intervals of the trajectory (default 200)")
-      ->check(CLI::Range(1, 10000000));
+      ->check(flag_rules::count(1, flag_rules::kMaxOutputs));
   sub->add_option("-o,--output", options->output, "CSV file for the trajectory found");
 
   return [options]() {

@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include "commands.hpp"
+#include "flag_rules.hpp"
 #include "nhc/errors.hpp"
 #include "pipeline.hpp"
 
@@ -76,13 +77,7 @@ void check_flags(const EnsembleOptions& o) {
   if (!o.sample.empty() && !o.samples) bad_flag("--sample " + o.sample.front(), "--sample needs --samples N");
   if (o.sample.empty() && o.samples) bad_flag("--samples", "--samples needs --sample NAME=…");
   if (o.keep != "final" && o.keep != "trajectories") bad_flag("--keep " + o.keep, "expected trajectories or final");
-  if (!(o.checkpoint_seconds > 0 && std::isfinite(o.checkpoint_seconds)))
-    bad_flag("--checkpoint-every", "S must be a positive number of seconds");
   if (o.threads < 0) bad_flag("--threads " + std::to_string(o.threads), "N must be at least 1 (0: all cores)");
-  if (o.outputs < 1) bad_flag("--outputs " + std::to_string(o.outputs), "K must be at least 1");
-  if (o.t_end && !std::isfinite(*o.t_end)) bad_flag("--t-end", "T must be a finite number");
-  if (o.rtol && !(*o.rtol > 0 && std::isfinite(*o.rtol))) bad_flag("--rtol", "must be a positive number");
-  if (o.atol && !(*o.atol > 0 && std::isfinite(*o.atol))) bad_flag("--atol", "must be a positive number");
 }
 
 Design make_design(const EnsembleOptions& o) {
@@ -319,7 +314,11 @@ void print_summary(const EnsembleResults& r, const Prepared& p, long ran, double
 
 int run_ensemble(const EnsembleOptions& o) {
   Session session;
-  const int threads = session.uses_mpi() ? 1 : o.threads > 0 ? o.threads : std::max(1u, std::thread::hardware_concurrency());
+  // At most a thread per core: more only share the cores and cost a stack each.
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int threads = session.uses_mpi() ? 1 : o.threads > 0 ? std::min(o.threads, cores) : cores;
+  if (!session.uses_mpi() && o.threads > cores && session.is_root())
+    std::cerr << "nhc ensemble: --threads " << o.threads << " capped at the " << cores << " cores of this machine\n";
   Prepared p;
   int status = kExitOk;
   if (session.is_root()) {
@@ -342,7 +341,7 @@ int run_ensemble(const EnsembleOptions& o) {
   EnsembleResults& results = p.results;
   Checkpoints checkpoints(o.output, results, o.checkpoint_seconds);
   ScheduleOptions schedule_options;
-  schedule_options.threads = threads;
+  schedule_options.threads = static_cast<int>(std::clamp<std::int64_t>(static_cast<std::int64_t>(p.todo.size()), 1, threads));
   schedule_options.values_per_run = static_cast<int>(spec.targets.size());
   schedule_options.values = [&results](std::int64_t i) { return results.info.design.row(i); };
   TimeEstimate estimate(static_cast<long>(p.todo.size()));
@@ -395,15 +394,17 @@ CommandRunner add_ensemble_command(CLI::App& app) {
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   sub->add_option("--samples", o->samples, "N: number of random samples");
   sub->add_option("--seed", o->seed, "S: the seed fixing every sample (default 0)");
-  sub->add_option("--t-end", o->t_end, "final time (default: [simulate] t_end)");
-  sub->add_option("--rtol", o->rtol, "relative tolerance (default: [simulate] rtol)");
-  sub->add_option("--atol", o->atol, "absolute tolerance (default: [simulate] atol)");
-  sub->add_option("--outputs", o->outputs, "K: output intervals per run, for drift and trajectories (default 100)");
+  sub->add_option("--t-end", o->t_end, "final time (default: [simulate] t_end)")->check(flag_rules::finite());
+  sub->add_option("--rtol", o->rtol, "relative tolerance (default: [simulate] rtol)")->check(flag_rules::relative_tolerance());
+  sub->add_option("--atol", o->atol, "absolute tolerance (default: [simulate] atol)")->check(flag_rules::absolute_tolerance());
+  sub->add_option("--outputs", o->outputs, "K: output intervals per run, for drift and trajectories (default 100)")
+      ->check(flag_rules::count(1, flag_rules::kMaxOutputs));
   sub->add_option("--keep", o->keep, "final (default): final states only; trajectories: also the sampled states");
   sub->add_option("-o,--output", o->output, "FILE.h5, the results (HDF5)");
   sub->add_flag("--resume", o->resume, "continue the ensemble in FILE.h5: skip its finished runs");
   sub->add_option("--plot", o->plot, "OUTCOME (t_stop, final:x, drift:energy, …): also draw FILE_OUTCOME.svg/.png");
-  sub->add_option("--checkpoint-every", o->checkpoint_seconds, "S: rewrite FILE.h5 every S seconds while running (default 10)");
+  sub->add_option("--checkpoint-every", o->checkpoint_seconds, "S: rewrite FILE.h5 every S seconds while running (default 10)")
+      ->check(flag_rules::positive());
   sub->add_option("--threads", o->threads, "worker threads without mpirun (default 0: all cores)");
   return [o]() { return run_ensemble(*o); };
 }

@@ -19,6 +19,7 @@
 #include <sstream>
 
 #include "commands.hpp"
+#include "flag_rules.hpp"
 #include "nhc/analysis/structural_analysis.hpp"
 #include "nhc/emit/json_writer.hpp"
 #include "nhc/errors.hpp"
@@ -272,10 +273,13 @@ CommandRunner add_linearize_command(CLI::App& app) {
     const Scene scene = load_scene(flags->scene_path);
     const ModelKind kind = model_or_default(scene, flags->model);
     std::vector<PointOverride> overrides;
+    std::vector<std::string> names;
     for (const std::string& text : flags->at) {
       overrides.push_back(parse_point_override(text));
       resolve_override(scene, overrides.back().name);  // unknown names are bad input, before any work
+      names.push_back(overrides.back().name);
     }
+    flag_rules::refuse_duplicates(names, "--at", "the value of");
     std::optional<SweepRange> range;
     if (!flags->sweep.empty()) {
       range = parse_sweep_range(flags->sweep);

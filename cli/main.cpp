@@ -42,6 +42,16 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
+  } catch (const CLI::ValidationError& e) {
+    // "--rtol: nan is not a positive number" (flag_rules.hpp) in the words of every other bad
+    // flag: "--rtol: error: --rtol nan is not a positive number".
+    const std::string what = e.what();
+    const std::size_t colon = what.find(": ");
+    if (what.rfind("-", 0) == 0 && colon != std::string::npos)
+      std::cerr << what.substr(0, colon) << ": error: " << what.substr(0, colon) << " " << what.substr(colon + 2) << "\n";
+    else
+      std::cerr << "nhc: error: " << what << " (see nhc --help)\n";
+    return nhc::cli::kExitBadInput;
   } catch (const CLI::ParseError& e) {
     std::cerr << "nhc: error: " << e.what() << " (see nhc --help)\n";
     return nhc::cli::kExitBadInput;

@@ -19,6 +19,7 @@
 #include <sstream>
 
 #include "commands.hpp"
+#include "flag_rules.hpp"
 #include "parameter_overrides.hpp"
 #include "nhc/derive/models.hpp"
 #include "nhc/emit/derivation_emitters.hpp"
@@ -347,21 +348,21 @@ CommandRunner add_report_command(CLI::App& app) {
       ->check(CLI::IsMember(model_names()));
   sub->add_option("--tolerances", options->tolerances, "rtol range by decades, loosest first (default 1e-3:1e-12)");
   sub->add_option("--atol-scale", options->atol_scale, "atol = rtol × this (default: the scene's atol/rtol)")
-      ->check(CLI::PositiveNumber);
+      ->check(flag_rules::positive());
   sub->add_option("--jacobian", options->jacobian, "dense, sparse or both (default both)")
       ->check(CLI::IsMember({"dense", "sparse", "both"}));
   sub->add_option("--projection", options->projection, "off, on or both (default both)")
       ->check(CLI::IsMember({"off", "on", "both"}));
-  sub->add_option("--t-end", options->t_end, "final time (default: [simulate] t_end)");
+  sub->add_option("--t-end", options->t_end, "final time (default: [simulate] t_end)")->check(flag_rules::finite());
   sub->add_option("--outputs", options->outputs, "output intervals where error and drift are measured (default 200)")
-      ->check(CLI::PositiveNumber);
+      ->check(flag_rules::count(1, flag_rules::kMaxOutputs));
   add_set_option(sub, options->set);
   sub->add_option("--sweep", options->sweep, "NAME=LO:HI: repeat for the parameter at every decade from LO to HI");
   sub->add_option("--repeats", options->repeats, "at most this many timed repeats of a short run (default 5)")
-      ->check(CLI::PositiveNumber);
+      ->check(flag_rules::count(1, 1000));
   sub->add_option("--reference-rtol", options->reference_rtol,
                   "rtol of the reference run for scenes without [reference] (default 1e-13)")
-      ->check(CLI::PositiveNumber);
+      ->check(flag_rules::relative_tolerance());
   sub->add_option("-o,--output", options->output,
                   "directory for workprec.csv, workprec.svg/.png and report.md (default <scene>-report)");
   sub->add_flag("-q,--quiet", options->quiet, "no summary and no progress lines");

@@ -13,6 +13,33 @@ std::string primed(const std::string& variable, int order) {
   return variable + std::string(static_cast<std::size_t>(order), '\'');
 }
 
+/// Where a jet symbol's value is found in a sample: y[index] or y'[index].
+struct Located {
+  JetCoordinate coordinate;
+  bool derivative;
+  int index;
+};
+
+/// Finds every jet symbol of `e` in the model's samples: the state holding it, else the
+/// derivative y' of the state one order below. Returns the first one the model does not
+/// compute, in scene notation ("" when all are found).
+std::string locate(const JetSpace& jet, const GiNaC::ex& e, const runtime::Model& model, std::vector<Located>& found) {
+  for (const JetCoordinate& c : jet.jet_coordinates_in(e)) {
+    const int variable = c.kind == VariableKind::coordinate ? c.index : model.n_coordinates() + c.index;
+    const bool known = c.kind == VariableKind::coordinate || c.index < model.n_multipliers();
+    const int state = known ? model.state_index(variable, c.order) : -1;
+    const int below = known && c.order > 0 ? model.state_index(variable, c.order - 1) : -1;
+    if (state >= 0)
+      found.push_back({c, false, state});
+    else if (below >= 0 && model.is_differential(below))
+      found.push_back({c, true, below});
+    else
+      return primed(jet.variable_name(c.kind, c.index), c.order) +
+             (known ? "" : " (it has no multiplier " + jet.variable_name(c.kind, c.index) + ")");
+  }
+  return "";
+}
+
 }  // namespace
 
 SceneOutputs::SceneOutputs(const Scene& scene, const runtime::Model& model, const std::vector<double>& p)
@@ -23,29 +50,32 @@ SceneOutputs::SceneOutputs(const Scene& scene, const runtime::Model& model, cons
     const int i = model.parameter_index(jet.parameters()[static_cast<std::size_t>(k)]);
     if (i >= 0) parameters[jet.parameter(k)] = p.at(static_cast<std::size_t>(i));
   }
+  const auto left_out = [&](const SceneQuantity& q, const std::string& what, const std::string& missing) {
+    const std::string why = "uses " + missing + ", which the " + model.model_name() + " model does not compute";
+    if (q.required) throw InputError(q.where, what + " '" + q.name + "' " + why);
+    notes_.push_back("note: " + what + " '" + q.name + "' is left out of the " + model.model_name() +
+                     " model's CSV: it " + why);
+  };
   std::set<JetCoordinate> bound;
   for (const SceneOutput& output : scene.outputs) {
-    for (const JetCoordinate& c : jet.jet_coordinates_in(output.expression)) {
-      if (bound.count(c)) continue;
-      // The state holding this derivative, else the derivative y' of the state one order below.
-      const int variable = c.kind == VariableKind::coordinate ? c.index : model.n_coordinates() + c.index;
-      const bool known = c.kind == VariableKind::coordinate || c.index < model.n_multipliers();
-      const int state = known ? model.state_index(variable, c.order) : -1;
-      const int below = known && c.order > 0 ? model.state_index(variable, c.order - 1) : -1;
-      if (state >= 0) {
-        sources_.push_back({jet.symbol(c), false, state});
-      } else if (below >= 0 && model.is_differential(below)) {
-        sources_.push_back({jet.symbol(c), true, below});
-      } else {
-        const std::string name = primed(jet.variable_name(c.kind, c.index), c.order);
-        throw InputError(output.where, "output '" + output.name + "' uses " + name + ", which the " +
-                                           model.model_name() + " model does not compute" +
-                                           (known ? "" : " (it has no multiplier " + jet.variable_name(c.kind, c.index) + ")"));
-      }
-      bound.insert(c);
+    std::vector<Located> found;
+    if (const std::string missing = locate(jet, output.expression, model, found); !missing.empty()) {
+      left_out(output, "output", missing);
+      continue;
     }
+    for (const Located& l : found)
+      if (bound.insert(l.coordinate).second) sources_.push_back({jet.symbol(l.coordinate), l.derivative, l.index});
     names_.push_back(output.name);
     expressions_.push_back(output.expression.subs(parameters, GiNaC::subs_options::no_pattern));
+  }
+  // The header holds the invariants the model computes (emit's invariants_in_states, which
+  // refuses a required one); the others are named here with the reason.
+  for (const SceneQuantity& invariant : scene.invariants) {
+    bool computed = false;
+    for (int k = 0; k < model.n_invariants(); ++k) computed = computed || invariant.name == model.table().invariant_names[k];
+    std::vector<Located> found;
+    const std::string missing = locate(jet, invariant.expression, model, found);
+    if (!computed) left_out(invariant, "invariant", missing.empty() ? "a quantity" : missing);
   }
 }
 

@@ -19,8 +19,12 @@ class SceneOutputs {
   SceneOutputs() = default;
   /// Binds each output to the model's solution with the parameter values `p` (the model's
   /// order). An output that uses a quantity the model does not compute (a multiplier of the
-  /// suslov model, x''' of a second-order system) is an InputError at the output's expression.
+  /// suslov model, x''' of a second-order system) is left out, with a line in notes(); a
+  /// `required` one is an InputError at the output's expression.
   SceneOutputs(const Scene& scene, const runtime::Model& model, const std::vector<double>& p);
+
+  /// One line per [outputs] or [invariants] entry this model leaves out ("note: …").
+  const std::vector<std::string>& notes() const noexcept { return notes_; }
 
   bool empty() const noexcept { return names_.empty(); }
   /// The column names, in the order of [outputs] in the scene file.
@@ -37,6 +41,7 @@ class SceneOutputs {
     int index;
   };
   std::vector<std::string> names_;
+  std::vector<std::string> notes_;
   std::vector<GiNaC::ex> expressions_;  // parameters already substituted
   std::vector<Source> sources_;
   GiNaC::ex time_;

@@ -14,6 +14,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "flag_rules.hpp"
 #include "output_selection.hpp"
 #include "scene_outputs.hpp"
 #include "parameter_overrides.hpp"
@@ -51,17 +52,12 @@ struct SimulateOptions {
 
 std::string format(double v, int precision = 3) { return format_number(v, precision); }
 
-/// The flags that override [simulate]: finite, tolerances positive, t_end after t0.
+/// The flags that override [simulate], against the scene: t_end after t0.
 void check_simulate_flags(const SimulateOptions& options, const Scene& scene) {
   auto bad = [&](const std::string& message) { throw InputError({options.scene_path, 0, 0}, message); };
-  if (options.t_end) {
-    if (!std::isfinite(*options.t_end)) bad("--t-end must be a finite number");
-    if (!(*options.t_end > scene.initial.t0))
-      bad("--t-end " + format(*options.t_end, 17) + " must be after t0 = " + format(scene.initial.t0, 17));
-  }
-  if (options.rtol && !relative_tolerance_problem(*options.rtol).empty())
-    throw InputError({"--rtol", 0, 0}, "--rtol " + format(*options.rtol) + " " + relative_tolerance_problem(*options.rtol));
-  if (options.atol && !(std::isfinite(*options.atol) && *options.atol > 0)) bad("--atol must be a positive number");
+  // Finite, and the tolerances positive and within reach: the flags' own rules (flag_rules.hpp).
+  if (options.t_end && !(*options.t_end > scene.initial.t0))
+    bad("--t-end " + format(*options.t_end, 17) + " must be after t0 = " + format(scene.initial.t0, 17));
 }
 
 /// The initial-point check's outcome in the scene cache (nhc/jit/scene_cache.hpp): whether a run
@@ -148,20 +144,20 @@ CommandRunner add_simulate_command(CLI::App& app) {
   sub->add_option("SCENE", options->scene_path, "scene file (TOML)")->required();
   sub->add_option("--model,-m", options->model, "model (default: the scene's [simulate] model, else chetaev)")
       ->check(CLI::IsMember(model_names()));
-  sub->add_option("--t-end", options->t_end, "final time (default: [simulate] t_end)");
+  sub->add_option("--t-end", options->t_end, "final time (default: [simulate] t_end)")->check(flag_rules::finite());
   sub->add_option("--rtol", options->rtol, "relative tolerance (default: [simulate] rtol)")
-      ->check(CLI::PositiveNumber);
+      ->check(flag_rules::relative_tolerance());
   sub->add_option("--atol", options->atol, "absolute tolerance (default: [simulate] atol)")
-      ->check(CLI::PositiveNumber);
+      ->check(flag_rules::absolute_tolerance());
   sub->add_option("--max-steps", options->max_steps, "limit on the internal steps of the run (default 1000000)")
-      ->check(CLI::Range(1L, 1000000000000L));
+      ->check(flag_rules::count(1, 1000000000000LL));
   add_set_option(sub, options->set);
   sub->add_flag("--project", options->project, "project onto the hidden constraints (docs/projection.md)");
   sub->add_flag("--repair-initial", options->repair,
                 "move given initial values that miss a hidden constraint to the nearest consistent point");
   CLI::Option* outputs = sub->add_option("--outputs", options->outputs,
                                          "number of output intervals (default: [simulate] outputs, else 200)")
-                             ->check(CLI::Range(1, 10000000));
+                             ->check(flag_rules::count(1, flag_rules::kMaxOutputs));
   sub->add_option("--output-times", options->output_times,
                   "START:STEP:END or T1,T2,...: the output times (the last is the end of the run)")
       ->excludes(outputs)
@@ -221,6 +217,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
     io.max_steps = options->max_steps;
     const std::vector<double> p = parameters_with_overrides(model, overrides);
     const SceneOutputs outputs(scene, model, p);  // [outputs]: extra CSV columns
+    for (const std::string& note : outputs.notes()) std::cerr << note << "\n";
     const std::vector<std::string> columns =
         options->columns.empty() ? std::vector<std::string>{}
                                  : parse_columns(options->columns, csv_columns(model, p, outputs));

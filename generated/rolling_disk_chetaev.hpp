@@ -100,7 +100,7 @@ inline constexpr const char* residual_names[n_states] = {"R_x", "R_y", "R_psi", 
 inline constexpr const char* parameter_names[n_parameters] = {"g", "m", "r"};
 inline constexpr double default_parameters[n_parameters] = {9.8100000000000005, 1.0, 0.5};
 inline constexpr const char* hidden_names[n_hidden] = {"f1", "f2"};
-inline constexpr const char* invariant_names[n_invariants] = {"energy", "lean", "spin_rate", "yaw_rate"};
+inline constexpr const char* invariant_names[n_invariants] = {"energy", "lean", "yaw_rate", "spin_rate"};
 
 /// F(t, y, y') = 0, IDA form; r has n_states entries.
 inline void residual(double /*t*/, const double* y, const double* yp, const double* p, double* r) noexcept {
@@ -240,8 +240,8 @@ inline void invariants(double /*t*/, const double* y, const double* /*yp*/, cons
   const double w11 = w6 * y[5] + y[9];
   out[0] = (w3 * w3 + w4 * w4) * p[1] * 0.125 * w5 + 0.5 * p[1] * (w6 * w6 * (y[7] * y[7]) * w5 + w9 * w9 + w10 * w10) + 0.25 * p[1] * (w11 * w11) * w5 + p[0] * w2 * p[1] * p[2];  // energy
   out[1] = y[6];  // lean
-  out[2] = y[9];  // spin_rate
-  out[3] = y[5];  // yaw_rate
+  out[2] = y[5];  // yaw_rate
+  out[3] = y[9];  // spin_rate
 }
 
 /// Everything above as the C table of docs/generated-code.md, filled by field name.

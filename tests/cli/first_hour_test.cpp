@@ -370,9 +370,11 @@ TEST_CASE("bad [outputs] are located errors", "[cli][issue14]") {
       {"lambda2 = \"t\"\n", "chetaev", ":35:1: error: invalid output name 'lambda2': lambda<N> names are reserved"},
       {"w = \"q\"\n", "chetaev", ":35:6: error: in output 'w' \"q\": unknown name 'q'"},
       {"v = 3\n", "chetaev", ":35:5: error: "},
-      {"speed = \"x'\"\nlift = \"lambda1\"\n", "suslov",
-       ":36:8: error: output 'lift' uses lambda1, which the suslov model does not compute"},
-      {"jerk = \"x'''\"\n", "chetaev", ":35:8: error: output 'jerk' uses x''', which the chetaev model does not compute"},
+      {"speed = \"x'\"\nlift = { expression = \"lambda1\", required = true }\n", "suslov",
+       ":36:23: error: output 'lift' uses lambda1 (it has no multiplier lambda1), which the suslov model does not compute"},
+      {"jerk = { expression = \"x'''\", required = true }\n", "chetaev",
+       ":35:23: error: output 'jerk' uses x''', which the chetaev model does not compute"},
+      {"jerk = { expression = \"x'''\", needed = true }\n", "chetaev", ":35:"},
   };
   for (const Case& c : cases) {
     INFO(c.outputs);
@@ -383,6 +385,37 @@ TEST_CASE("bad [outputs] are located errors", "[cli][issue14]") {
     CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
     CHECK_FALSE(file_exists(dir + "/out.csv"));
   }
+}
+
+TEST_CASE("an output or invariant a model cannot compute is left out of its CSV with a note", "[cli][issue32]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_left_out_outputs");
+  // lambda1 is a state of the chetaev model, not of the suslov model (which has no multipliers);
+  // lambda1' is computed by neither.
+  const std::string scene = appell_hamel_with_outputs(
+      dir, "left_out.toml", "speed = \"x'\"\nlift = \"lambda1\"\nlift_rate = \"lambda1'\"\n");
+  const Run suslov = nhc_run("simulate '" + scene + "' -m suslov -o '" + dir + "/suslov.csv'", dir);
+  REQUIRE(suslov.exit_code == 0);
+  CHECK_THAT(suslov.err, Contains("note: output 'lift' is left out of the suslov model's CSV: it uses lambda1 "
+                                  "(it has no multiplier lambda1), which the suslov model does not compute\n"));
+  CHECK(csv_header_line(read_file(dir + "/suslov.csv")).find("lift") == std::string::npos);
+  CHECK(csv_header_line(read_file(dir + "/suslov.csv")).find("speed") != std::string::npos);
+  const Run chetaev = nhc_run("simulate '" + scene + "' -m chetaev -o '" + dir + "/chetaev.csv'", dir);
+  REQUIRE(chetaev.exit_code == 0);
+  CHECK_THAT(chetaev.err, Contains("note: output 'lift_rate' is left out of the chetaev model's CSV: it uses lambda1'"));
+  CHECK(chetaev.err.find("'lift' is left out") == std::string::npos);
+  const std::string csv = read_file(dir + "/chetaev.csv");
+  std::vector<std::string> names;
+  std::stringstream header(csv_header_line(csv));
+  for (std::string name; std::getline(header, name, ',');) names.push_back(name);
+  CHECK(std::count(names.begin(), names.end(), "lift_rate") == 0);
+  const auto column = [&](const std::string& n) {
+    return static_cast<std::size_t>(std::find(names.begin(), names.end(), n) - names.begin());
+  };
+  // The lift column is the multiplier column itself.
+  const std::vector<double> row = csv_row(csv, 3);
+  REQUIRE(column("lift") < row.size());
+  REQUIRE(column("lambda1") < row.size());
+  CHECK(row[column("lift")] == row[column("lambda1")]);
 }
 
 TEST_CASE("a singular iteration matrix is reported in the scene's words, with the quantity that blew up",

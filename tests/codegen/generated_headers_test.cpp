@@ -131,7 +131,7 @@ TEST_CASE("every compiled header matches its symbolic index-1 system", "[codegen
       CHECK(table.n_parameters == static_cast<int>(s.scene.parameter_values.size()));
       REQUIRE(table.n_hidden == static_cast<int>(system.hidden_constraints.size()));
       CHECK(table.n_invariants == static_cast<int>(s.scene.invariants.size()));
-      CHECK(table.n_reference == static_cast<int>(s.scene.reference.size()));
+      CHECK(table.n_reference == static_cast<int>(s.scene.reference.for_model(system.model).size()));
       for (int k = 0; k < n; ++k) {
         const nhc::StateComponent& state = system.states[static_cast<size_t>(k)];
         CHECK(std::string(table.state_names[k]) == state.name);
@@ -172,7 +172,7 @@ TEST_CASE("every compiled header matches its symbolic index-1 system", "[codegen
           dFdy.push_back(system.residuals[static_cast<size_t>(i)].diff(system.y[static_cast<size_t>(j)]));
           dFdyp.push_back(system.residuals[static_cast<size_t>(i)].diff(system.yp[static_cast<size_t>(j)]));
         }
-      const std::vector<ex> invariants = nhc::invariants_in_states(s.scene, system);
+      const std::vector<nhc::ModelInvariant> invariants = nhc::invariants_in_states(s.scene, system);
       const std::vector<nhc::SingularQuantity> singular = nhc::singular_quantities(system);
       REQUIRE(table.n_singular == static_cast<int>(singular.size()));
 
@@ -240,16 +240,16 @@ TEST_CASE("every compiled header matches its symbolic index-1 system", "[codegen
           std::vector<double> out(static_cast<size_t>(table.n_invariants));
           table.invariants(x.t, x.y.data(), x.yp.data(), x.p.data(), out.data());
           for (int i = 0; i < table.n_invariants; ++i)
-            CHECK(close(out[static_cast<size_t>(i)], evaluate(invariants[static_cast<size_t>(i)], system, x), 1e-12));
+            CHECK(close(out[static_cast<size_t>(i)], evaluate(invariants[static_cast<size_t>(i)].in_states, system, x), 1e-12));
         }
 
         if (table.n_reference > 0) {
           std::vector<double> q(static_cast<size_t>(table.n_reference));
           table.reference(x.t, x.p.data(), q.data());
+          const nhc::SceneReference::Entries reference = s.scene.reference.for_model(system.model);
           for (int i = 0; i < table.n_reference; ++i) {
-            CHECK(table.reference_coordinate[i] == s.scene.reference[static_cast<size_t>(i)].first);
-            CHECK(close(q[static_cast<size_t>(i)],
-                        evaluate(s.scene.reference[static_cast<size_t>(i)].second, system, x), 1e-12));
+            CHECK(table.reference_coordinate[i] == reference[static_cast<size_t>(i)].first);
+            CHECK(close(q[static_cast<size_t>(i)], evaluate(reference[static_cast<size_t>(i)].second, system, x), 1e-12));
           }
         }
 

@@ -145,10 +145,15 @@ TEST_CASE("the symbolic Jacobian is dF/dy + cj dF/dy' with its nonzero structure
   }
 }
 
-TEST_CASE("an invariant the states cannot express is an error", "[codegen]") {
-  const std::string text = std::string(kPendulumLike) + "[invariants]\njerk = \"x'''\"\n";
-  CHECK_THROWS_AS(generate(text, "cart.toml", nhc::ModelKind::chetaev, nhc::JacobianKind::dense),
-                  nhc::MathError);
+TEST_CASE("an invariant the states cannot express is left out, or refused when required", "[codegen]") {
+  const std::string text = std::string(kPendulumLike) + "[invariants]\njerk = \"x'''\"\nspeed = \"x'\"\n";
+  const auto g = generate(text, "cart.toml", nhc::ModelKind::chetaev, nhc::JacobianKind::dense);
+  CHECK(contains(g.header.text, "invariant_names[n_invariants] = {\"speed\"}"));
+  CHECK(!contains(g.header.text, "jerk"));
+  const std::string required =
+      std::string(kPendulumLike) + "[invariants]\njerk = { expression = \"x'''\", required = true }\n";
+  CHECK_THROWS_AS(generate(required, "cart.toml", nhc::ModelKind::chetaev, nhc::JacobianKind::dense),
+                  nhc::InputError);
 }
 
 TEST_CASE("singular-set monitors: Appell-Hamel's horizontal speed", "[codegen]") {

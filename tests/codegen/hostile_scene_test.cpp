@@ -136,8 +136,8 @@ nhc::Scene hostile_scene(const std::string& name, const std::string& source_path
   scene.constraint_texts = {kPayloads[2]};
   scene.dependent = {2};
   scene.models = {nhc::ModelKind::chetaev};
-  scene.reference = {{0, jet.time()}};
-  scene.invariants = {{kPayloads[6], kinetic}, {kPayloads[8], kinetic + potential}};
+  scene.reference.all = {{0, jet.time()}};
+  scene.invariants = {{kPayloads[6], kinetic, {}}, {kPayloads[8], kinetic + potential, {}}};
   return scene;
 }
 

@@ -252,7 +252,7 @@ TEST_CASE("Example 2 (Appell–Hamel), chetaev: energy is conserved", "[derive][
   const JetSpace& jet = *scene.jet;
   const DerivedModel m = nhc::derive_model(scene, ModelKind::chetaev);
   REQUIRE(scene.invariants.size() == 1);
-  const ex E = scene.invariants[0].second;
+  const ex E = scene.invariants[0].expression;
   // On the jet: D(E) = −Σ q_i' R_i + λ f, so D(E) = 0 wherever R = 0 and f = 0.
   ex contracted = 0;
   for (int i = 0; i < 3; ++i) contracted += jet.q(i, 1) * m.equations[i];

@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 #include <ginac/ginac.h>
 
+#include <cmath>
 #include <string>
 
 #include "nhc/jet/jet_space.hpp"
@@ -215,4 +216,37 @@ TEST_CASE("size limits on scene input, not on nhc's own printed output", "[scene
   CHECK(same(parse_expression("x^81", jet, own_output), GiNaC::pow(jet.q(0, 0), 81)));
   CHECK_NOTHROW(parse_expression("(1+x)^128", jet, own_output));
   CHECK_NOTHROW(parse_expression(std::string(1300, '7') + "/3", jet, own_output));
+}
+
+TEST_CASE("inverse hyperbolic functions, checked against their logarithmic forms", "[scene][parser][issue32]") {
+  const JetSpace jet = make_jet();
+  const ex x = jet.q(0, 0);
+  // asinh x = log(x + sqrt(x² + 1)), acosh x = log(x + sqrt(x² − 1)), atanh x = log((1 + x)/(1 − x))/2.
+  for (double v : {0.3, -0.7, 0.95}) {
+    const GiNaC::exmap at{{x, v}};
+    const auto value = [&](const std::string& text) {
+      return GiNaC::ex_to<GiNaC::numeric>(parse_expression(text, jet).subs(at).evalf()).to_double();
+    };
+    CHECK(std::abs(value("asinh(x)") - std::log(v + std::sqrt(v * v + 1))) < 1e-14);
+    CHECK(std::abs(value("atanh(x)") - 0.5 * std::log((1 + v) / (1 - v))) < 1e-14);
+    CHECK(std::abs(value("acosh(2 + x)") - std::log(2 + v + std::sqrt((2 + v) * (2 + v) - 1))) < 1e-14);
+  }
+  // Their derivatives, which the models need: d asinh = 1/sqrt(1 + x²) etc.
+  CHECK(same(parse_expression("asinh(x)", jet).diff(GiNaC::ex_to<GiNaC::symbol>(x)), 1 / GiNaC::sqrt(1 + x * x)));
+  CHECK(same(parse_expression("atanh(x)", jet).diff(GiNaC::ex_to<GiNaC::symbol>(x)), 1 / (1 - x * x)));
+}
+
+TEST_CASE("unknown names and operators come with a hint", "[scene][parser][issue32]") {
+  const JetSpace jet = make_jet();
+  CHECK(error_message("x**2", jet).find("powers are written with ^") != std::string::npos);
+  CHECK(error_offset("m*x**2", jet) == 3);
+  CHECK(error_message("x_dot + y", jet).find("unknown name 'x_dot' (derivatives are written with primes: x')") !=
+        std::string::npos);
+  CHECK(error_message("xdot", jet).find("primes: x'") != std::string::npos);
+  CHECK(error_message("theta_ddot", jet).find("primes: theta''") != std::string::npos);
+  CHECK(error_message("dtheta", jet).find("primes: theta'") != std::string::npos);
+  CHECK(error_message("lambda3", jet).find("the multipliers are lambda1 to lambda2") != std::string::npos);
+  CHECK(error_message("thetta", jet).find("did you mean 'theta'?") != std::string::npos);
+  CHECK(error_message("k1", jet).find("did you mean 'k_1'?") != std::string::npos);
+  CHECK(error_message("zzz", jet).find("(") == std::string::npos);  // nothing close: no hint
 }

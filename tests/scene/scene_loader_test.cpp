@@ -90,12 +90,14 @@ TEST_CASE("the issue's example scene loads", "[scene][loader]") {
   CHECK(s.simulate.t_end == 2.0);
   CHECK(s.simulate.rtol == 1e-8);
   CHECK(s.simulate.atol == 1e-10);
-  REQUIRE(s.reference.size() == 1);
-  CHECK(s.reference[0].first == 0);
-  CHECK(same(s.reference[0].second, jet.time()));
+  REQUIRE(s.reference.all.size() == 1);
+  CHECK(s.reference.per_model.empty());
+  CHECK(s.reference.all[0].first == 0);
+  CHECK(same(s.reference.all[0].second, jet.time()));
   REQUIRE(s.invariants.size() == 1);
-  CHECK(s.invariants[0].first == "energy");
-  CHECK(same(s.invariants[0].second, m / 2 * (xd * xd + yd * yd + zd * zd) + m * g * z));
+  CHECK(s.invariants[0].name == "energy");
+  CHECK(!s.invariants[0].required);
+  CHECK(same(s.invariants[0].expression, m / 2 * (xd * xd + yd * yd + zd * zd) + m * g * z));
 }
 
 TEST_CASE("optional keys take their defaults", "[scene][loader]") {
@@ -171,4 +173,44 @@ TEST_CASE("reserved names are refused", "[scene][loader]") {
   CHECK(!nhc::is_valid_identifier("namespace"));
   CHECK(!nhc::is_valid_identifier(""));
   CHECK(!nhc::is_valid_identifier("x\xc3\xa9"));
+}
+
+TEST_CASE("references per model, invariants with multipliers, required entries", "[scene][loader][issue32]") {
+  const std::string head =
+      "name = \"s\"\ncoordinates = [\"x\", \"y\"]\nlagrangian = \"x'^2 + y'^2\"\nconstraints = [\"x' - y\"]\n";
+  const nhc::Scene s = nhc::parse_scene(head +
+                                            "[reference]\nx = \"t\"\ny = \"1\"\n"
+                                            "[reference.vakonomic]\ny = \"2\"\n"
+                                            "[invariants]\nb = \"lambda1\"\na = { expression = \"x\", required = true }\n",
+                                        "s.toml");
+  const ex t = s.jet->time();
+  REQUIRE(s.reference.all.size() == 2);
+  REQUIRE(s.reference.per_model.size() == 1);
+  const nhc::SceneReference::Entries chetaev = s.reference.for_model(nhc::ModelKind::chetaev);
+  const nhc::SceneReference::Entries vakonomic = s.reference.for_model(nhc::ModelKind::vakonomic);
+  REQUIRE(chetaev.size() == 2);
+  REQUIRE(vakonomic.size() == 2);
+  CHECK(same(chetaev[0].second, t));
+  CHECK(same(chetaev[1].second, 1));
+  CHECK(vakonomic[0].first == 0);
+  CHECK(same(vakonomic[0].second, t));  // the plain table's, for the coordinate the model's omits
+  CHECK(vakonomic[1].first == 1);
+  CHECK(same(vakonomic[1].second, 2));
+  // File order, not the table's alphabetical order.
+  REQUIRE(s.invariants.size() == 2);
+  CHECK(s.invariants[0].name == "b");
+  CHECK(same(s.invariants[0].expression, s.jet->lambda(0, 0)));
+  CHECK(!s.invariants[0].required);
+  CHECK(s.invariants[1].name == "a");
+  CHECK(s.invariants[1].required);
+  CHECK(s.invariants[1].where.line == 12);
+  CHECK(s.invariants[1].where.column == 20);
+
+  // Located refusals.
+  CHECK(error_at(head + "[reference.sideways]\nx = \"t\"\n").line == 5);
+  CHECK(error_at(head + "[reference.chetaev]\nz = \"t\"\n").line == 6);
+  CHECK(error_at(head + "[reference.chetaev.more]\nx = \"t\"\n").line == 5);
+  CHECK(error_at(head + "[invariants]\na = { expression = \"x\", required = 1 }\n").column == 36);
+  CHECK(error_at(head + "[invariants]\na = { expresion = \"x\" }\n").line == 6);
+  CHECK(error_at(head + "[outputs]\na = { required = true }\n").line == 6);
 }

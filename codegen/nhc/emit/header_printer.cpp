@@ -144,12 +144,12 @@ void print_metadata(std::ostream& out, const Scene& scene, const Index1System& s
   }
   if (m.n_invariants > 0) {
     std::vector<std::string> names;
-    for (const auto& inv : scene.invariants) names.push_back(inv.first);
+    for (const auto& inv : m.invariants) names.push_back(inv.name);
     out << "inline constexpr const char* invariant_names[n_invariants] = " << strings(names) << ";\n";
   }
   if (m.n_reference > 0) {
     std::vector<int> coordinates;
-    for (const auto& r : scene.reference) coordinates.push_back(r.first);
+    for (const auto& r : m.reference) coordinates.push_back(r.first);
     out << "inline constexpr int reference_coordinate[n_reference] = " << ints(coordinates) << ";\n";
   }
   if (m.n_singular > 0) {

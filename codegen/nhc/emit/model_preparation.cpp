@@ -72,16 +72,19 @@ SymbolicJacobian index1_jacobian(const Index1System& system) {
   return jac;
 }
 
-std::vector<GiNaC::ex> invariants_in_states(const Scene& scene, const Index1System& system) {
-  std::vector<GiNaC::ex> out;
-  for (const auto& [name, expression] : scene.invariants) {
-    const GiNaC::ex rewritten = substitute_symbols(expression, system.jet_to_state);
-    for (const JetCoordinate& c : system.jet->jet_coordinates_in(rewritten))
-      throw MathError("invariant " + name + " involves " +
-                      jet_symbol_name(system.jet->variable_name(c.kind, c.index), c.order) +
-                      ", which is not a state of the " + to_string(system.model) +
-                      " model (nor the derivative of one)");
-    out.push_back(rewritten);
+std::vector<ModelInvariant> invariants_in_states(const Scene& scene, const Index1System& system) {
+  std::vector<ModelInvariant> out;
+  for (const SceneQuantity& invariant : scene.invariants) {
+    const GiNaC::ex rewritten = substitute_symbols(invariant.expression, system.jet_to_state);
+    const std::vector<JetCoordinate> missing = system.jet->jet_coordinates_in(rewritten);
+    if (missing.empty()) {
+      out.push_back({invariant.name, rewritten});
+    } else if (invariant.required) {
+      const JetCoordinate& c = missing.front();
+      throw InputError(invariant.where, "invariant '" + invariant.name + "' uses " +
+                                            jet_symbol_name(system.jet->variable_name(c.kind, c.index), c.order) +
+                                            ", which the " + to_string(system.model) + " model does not compute");
+    }
   }
   return out;
 }
@@ -252,26 +255,26 @@ FunctionPlan hidden_constraints_jacobian_function(const Index1System& system, Ex
   return G;
 }
 
-FunctionPlan invariants_function(const Scene& scene, const Index1System& system, ExpressionDag& dag) {
+FunctionPlan invariants_function(const std::vector<ModelInvariant>& invariants, ExpressionDag& dag) {
   FunctionPlan f;
   f.name = "invariants";
   f.doc = "/// The scene's invariants I(t, y, y'), in invariant_names order.\n";
   f.parameters = kStateInputs;
   f.parameters.push_back({"double*", "out"});
-  const std::vector<GiNaC::ex> invariants = invariants_in_states(scene, system);
   for (size_t i = 0; i < invariants.size(); ++i)
-    f.assignments.push_back({"out[" + std::to_string(i) + "]", dag.add(invariants[i]),
-                             sanitize_comment(scene.invariants[i].first)});
+    f.assignments.push_back({"out[" + std::to_string(i) + "]", dag.add(invariants[i].in_states),
+                             sanitize_comment(invariants[i].name)});
   return f;
 }
 
-FunctionPlan reference_function(const Scene& scene, const Index1System& system, ExpressionDag& dag) {
+FunctionPlan reference_function(const SceneReference::Entries& reference, const Index1System& system,
+                                ExpressionDag& dag) {
   FunctionPlan f;
   f.name = "reference";
   f.doc = "/// The scene's reference solution q_c(t) for the coordinates reference_coordinate.\n";
   f.parameters = {{"double", "t"}, {"const double*", "p"}, {"double*", "q"}};
-  for (size_t i = 0; i < scene.reference.size(); ++i) {
-    const auto& [coordinate, expression] = scene.reference[i];
+  for (size_t i = 0; i < reference.size(); ++i) {
+    const auto& [coordinate, expression] = reference[i];
     f.assignments.push_back({"q[" + std::to_string(i) + "]", dag.add(expression),
                              sanitize_comment(system.jet->coordinates().at(static_cast<size_t>(coordinate)))});
   }
@@ -326,8 +329,10 @@ PreparedModel prepare_model(const Scene& scene, const Index1System& system, Jaco
   m.n_coordinates = system.jet->coordinate_count();
   m.n_multipliers = system.model == ModelKind::suslov ? 0 : static_cast<int>(scene.constraints.size());
   m.n_hidden = static_cast<int>(system.hidden_constraints.size());
-  m.n_invariants = static_cast<int>(scene.invariants.size());
-  m.n_reference = static_cast<int>(scene.reference.size());
+  m.invariants = invariants_in_states(scene, system);
+  m.n_invariants = static_cast<int>(m.invariants.size());
+  m.reference = scene.reference.for_model(system.model);
+  m.n_reference = static_cast<int>(m.reference.size());
   const bool dense = jacobian == JacobianKind::dense, sparse = jacobian == JacobianKind::sparse;
   if (dense || sparse) m.symbolic_jacobian = index1_jacobian(system);
   m.singular = singular_quantities(system);
@@ -341,8 +346,8 @@ PreparedModel prepare_model(const Scene& scene, const Index1System& system, Jaco
     m.functions.push_back(hidden_constraints_function(system, m.dag));
     m.functions.push_back(hidden_constraints_jacobian_function(system, m.dag));
   }
-  if (m.n_invariants > 0) m.functions.push_back(invariants_function(scene, system, m.dag));
-  if (m.n_reference > 0) m.functions.push_back(reference_function(scene, system, m.dag));
+  if (m.n_invariants > 0) m.functions.push_back(invariants_function(m.invariants, m.dag));
+  if (m.n_reference > 0) m.functions.push_back(reference_function(m.reference, system, m.dag));
   if (m.n_singular > 0) m.functions.push_back(singular_quantities_function(m.singular, m.dag));
   // Sensitivity additions (docs/generated-code.md): only when asked for and the scene has parameters.
   m.sensitivities = sensitivities && m.n_parameters > 0;

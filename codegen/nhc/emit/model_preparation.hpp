@@ -38,9 +38,15 @@ struct SymbolicJacobian {
 SymbolicJacobian index1_jacobian(const Index1System& system);
 
 
-/// The scene's invariants with every jet symbol rewritten as a state (Index1System::jet_to_state).
-/// Throws MathError naming the invariant when it involves a derivative the states do not hold.
-std::vector<GiNaC::ex> invariants_in_states(const Scene& scene, const Index1System& system);
+/// An invariant of the scene as the model computes it.
+struct ModelInvariant {
+  std::string name;
+  GiNaC::ex in_states;  ///< every jet symbol rewritten as a state (Index1System::jet_to_state)
+};
+/// The scene's invariants this model computes. One that involves a quantity the states do not
+/// hold (a multiplier of the suslov model, λ' where λ is algebraic) is left out, and the run
+/// says so (cli/scene_outputs.hpp); a `required` one is an InputError at its expression instead.
+std::vector<ModelInvariant> invariants_in_states(const Scene& scene, const Index1System& system);
 
 /// A quantity whose zeros make the equations singular (runtime additions of
 /// docs/generated-code.md): the base of a square root or negative power, or the argument of a
@@ -77,6 +83,8 @@ struct PreparedModel {
   bool sensitivities = false;  ///< dF/dp and dg/dp emitted
   int n_states = 0, n_parameters = 0, n_coordinates = 0, n_multipliers = 0, n_hidden = 0;
   int n_invariants = 0, n_reference = 0, n_singular = 0;
+  std::vector<ModelInvariant> invariants;             ///< the scene's invariants this model computes
+  SceneReference::Entries reference;                  ///< the scene's closed forms for this model
   SymbolicJacobian symbolic_jacobian;  ///< empty for JacobianKind::none
   std::vector<SingularQuantity> singular;
   /// Every function's assignments lowered into this one DAG, in the order the functions are

@@ -272,7 +272,9 @@ class CanonicalLatex {
         {"sin", "\\sin"},       {"cos", "\\cos"},       {"tan", "\\tan"},
         {"exp", "\\exp"},       {"log", "\\ln"},        {"sinh", "\\sinh"},
         {"cosh", "\\cosh"},     {"tanh", "\\tanh"},     {"asin", "\\arcsin"},
-        {"acos", "\\arccos"},   {"atan", "\\arctan"},   {"atan2", "\\operatorname{atan2}"}};
+        {"acos", "\\arccos"},   {"atan", "\\arctan"},   {"atan2", "\\operatorname{atan2}"},
+        {"asinh", "\\operatorname{arsinh}"}, {"acosh", "\\operatorname{arcosh}"},
+        {"atanh", "\\operatorname{artanh}"}};
     const std::string name = GiNaC::ex_to<GiNaC::function>(e).get_name();
     if (name == "abs") return "\\left|" + print(e.op(0)) + "\\right|";
     auto it = names.find(name);

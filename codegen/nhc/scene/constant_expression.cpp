@@ -114,6 +114,9 @@ class ConstantParser {
     if (f == "sinh") return std::sinh(x);
     if (f == "cosh") return std::cosh(x);
     if (f == "tanh") return std::tanh(x);
+    if (f == "asinh") return std::asinh(x);
+    if (f == "acosh") return std::acosh(x);
+    if (f == "atanh") return std::atanh(x);
     if (f == "exp") return std::exp(x);
     if (f == "log") return std::log(x);
     if (f == "sqrt") return std::sqrt(x);

@@ -413,7 +413,55 @@ class Parser {
       }
       return variable(name, primes, start);
     }
+    if (c == '*' && pos_ > 0 && text_[pos_ - 1] == '*')
+      fail(pos_ - 1, "unexpected '**': powers are written with ^ (x^2)");
     fail(pos_, std::string("unexpected '") + c + "'");
+  }
+
+  /// What the writer of an unknown name probably meant: x' for x_dot, xdot, dx or x_t; x'' for
+  /// x_ddot; the multipliers there are; a known name one or two letters away. "" when nothing is
+  /// close.
+  std::string hint_for(const std::string& name) const {
+    const auto& coords = jet_.coordinates();
+    const auto is_coordinate = [&](const std::string& n) { return std::find(coords.begin(), coords.end(), n) != coords.end(); };
+    static const std::vector<std::pair<std::string, int>> suffixes = {
+        {"_ddot", 2}, {"ddot", 2}, {"_dd", 2}, {"_tt", 2}, {"_dot", 1}, {"dot", 1}, {"_t", 1}, {"d", 1}};
+    for (const auto& [suffix, order] : suffixes)
+      if (name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0 &&
+          is_coordinate(name.substr(0, name.size() - suffix.size())))
+        return "derivatives are written with primes: " + name.substr(0, name.size() - suffix.size()) +
+               std::string(static_cast<std::size_t>(order), '\'');
+    if (name.size() > 1 && name[0] == 'd' && is_coordinate(name.substr(1)))
+      return "derivatives are written with primes: " + name.substr(1) + "'";
+    if (auto alpha = multiplier_index(name); alpha && *alpha >= jet_.multiplier_count())
+      return jet_.multiplier_count() == 0 ? "the scene has no constraints, so no multipliers"
+                                          : "the multipliers are lambda1 to lambda" + std::to_string(jet_.multiplier_count());
+    std::vector<std::string> known(coords.begin(), coords.end());
+    known.insert(known.end(), jet_.parameters().begin(), jet_.parameters().end());
+    std::string best;
+    std::size_t best_distance = name.size() < 4 ? 1 : 2;
+    for (const std::string& k : known)
+      if (const std::size_t d = edit_distance(name, k); d <= best_distance && (best.empty() || d < best_distance)) {
+        best = k;
+        best_distance = d;
+      }
+    return best.empty() ? "" : "did you mean '" + best + "'?";
+  }
+
+  /// Levenshtein distance (names are short).
+  static std::size_t edit_distance(const std::string& a, const std::string& b) {
+    std::vector<std::size_t> row(b.size() + 1);
+    for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i) {
+      std::size_t diagonal = row[0];
+      row[0] = i;
+      for (std::size_t j = 1; j <= b.size(); ++j) {
+        const std::size_t above = row[j];
+        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+        diagonal = above;
+      }
+    }
+    return row[b.size()];
   }
 
   ex number() {
@@ -479,6 +527,9 @@ class Parser {
         {"asin", [](const ex& a) { return GiNaC::asin(a); }},
         {"acos", [](const ex& a) { return GiNaC::acos(a); }},
         {"atan", [](const ex& a) { return GiNaC::atan(a); }},
+        {"asinh", [](const ex& a) { return GiNaC::asinh(a); }},
+        {"acosh", [](const ex& a) { return GiNaC::acosh(a); }},
+        {"atanh", [](const ex& a) { return GiNaC::atanh(a); }},
     };
     const auto& names = function_names();
     if (std::find(names.begin(), names.end(), name) == names.end())
@@ -577,7 +628,8 @@ class Parser {
     }
     if (rules_.definition)
       if (std::optional<Value> value = rules_.definition(name)) return defined(name, *value, primes, start);
-    fail(start, "unknown name '" + shown(base) + "'");
+    const std::string hint = base.size() <= 64 ? hint_for(base) : "";
+    fail(start, "unknown name '" + shown(base) + "'" + (hint.empty() ? "" : " (" + hint + ")"));
   }
 
   /// A definition's value, differentiated `primes` times with the total derivative D.
@@ -632,7 +684,8 @@ Value parse_value(const std::string& text, const JetSpace& jet, const Expression
 const std::vector<std::string>& function_names() {
   static const std::vector<std::string> names = {
       "sin",  "cos",  "tan",  "exp",  "log",  "sqrt",  "abs",      "sinh", "cosh",  "tanh",
-      "asin", "acos", "atan", "atan2", "dot", "cross", "norm", "transpose", "rotx", "roty",
+      "asin", "acos", "atan", "asinh", "acosh", "atanh", "atan2", "dot", "cross", "norm",
+      "transpose", "rotx", "roty",
       "rotz", "omega", "omega_body"};
   return names;
 }

@@ -36,11 +36,28 @@ struct SimulateSettings {
   std::optional<int> outputs;  ///< output intervals ([simulate] outputs), default 200
 };
 
-/// One entry of [outputs]: a named quantity written as a CSV column (not an invariant).
-struct SceneOutput {
+/// One entry of [invariants] or [outputs]: a named quantity of t, parameters, q, q', … and the
+/// multipliers, written as a CSV column. A model that does not compute a quantity it uses (a
+/// multiplier of the suslov model, λ' of the chetaev model) leaves the entry out with a note,
+/// unless the scene marks it `required` (`E = { expression = "…", required = true }`).
+struct SceneQuantity {
   std::string name;
   GiNaC::ex expression;   ///< of t, parameters, q, q', …, λ
   SourceLocation where;   ///< the expression's place in the scene file
+  bool required = false;  ///< a model that cannot compute it is refused, not spared the column
+};
+using SceneOutput = SceneQuantity;
+
+/// [reference]: closed forms q(t) of coordinates, for every model, and per model
+/// ([reference.vakonomic]) where the models' motions differ.
+struct SceneReference {
+  using Entries = std::vector<std::pair<int, GiNaC::ex>>;  ///< coordinate → q(t)
+  Entries all;
+  std::map<ModelKind, Entries> per_model;
+  /// The closed forms for `model`: its own table, completed by the plain one for the coordinates
+  /// it does not name; in coordinate order.
+  Entries for_model(ModelKind model) const;
+  bool empty() const { return all.empty() && per_model.empty(); }
 };
 
 struct Scene {
@@ -62,9 +79,9 @@ struct Scene {
   std::vector<ModelKind> models;         ///< requested models, default all four
   InitialData initial;
   SimulateSettings simulate;
-  std::vector<std::pair<int, GiNaC::ex>> reference;            ///< coordinate → q(t)
-  std::vector<std::pair<std::string, GiNaC::ex>> invariants;   ///< name → I(t, q, q', …)
-  std::vector<SceneOutput> outputs;                             ///< [outputs], in file order
+  SceneReference reference;
+  std::vector<SceneQuantity> invariants;  ///< [invariants]: I(t, q, q', …, λ), checked for drift
+  std::vector<SceneQuantity> outputs;     ///< [outputs], in file order
   /// Generalized non-conservative forces Q_i(t, q, q') of [forces], one per coordinate (0 when
   /// not given); every model adds Q_i to its residual R_i (docs/forces.md).
   std::vector<GiNaC::ex> forces;

@@ -55,6 +55,22 @@ GiNaC::exmap Scene::parameter_substitution() const {
   return m;
 }
 
+SceneReference::Entries SceneReference::for_model(ModelKind model) const {
+  Entries entries = all;
+  if (const auto it = per_model.find(model); it != per_model.end()) {
+    for (const auto& [coordinate, expression] : it->second) {
+      const auto same = std::find_if(entries.begin(), entries.end(),
+                                     [&](const auto& e) { return e.first == coordinate; });
+      if (same != entries.end())
+        same->second = expression;
+      else
+        entries.emplace_back(coordinate, expression);
+    }
+  }
+  std::stable_sort(entries.begin(), entries.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  return entries;
+}
+
 void reevaluate_initial_expressions(Scene& scene) {
   std::map<std::string, double> names;
   for (std::size_t p = 0; p < scene.parameter_values.size(); ++p)
@@ -247,31 +263,9 @@ class SceneReader {
 
     read_simulate(root, scene);
 
-    if (const toml::node* rn = root.get("reference")) {
-      const toml::table& ref = table_value(*rn, "reference");
-      ExpressionRules time_only = mechanics;
-      time_only.allow_coordinates = false;
-      for (auto&& [key, value] : ref) {
-        const std::string n(key.str());
-        auto it = std::find(coordinate_names.begin(), coordinate_names.end(), n);
-        if (it == coordinate_names.end())
-          throw InputError(at(key.source()),
-                           "[reference] names '" + printable(n) + "', which is not a coordinate");
-        scene.reference.emplace_back(static_cast<int>(it - coordinate_names.begin()),
-                                     expression(value, "reference", jet, time_only));
-      }
-    }
-
-    if (const toml::node* in = root.get("invariants")) {
-      const toml::table& inv = table_value(*in, "invariants");
-      for (auto&& [key, value] : inv) {
-        const std::string n(key.str());
-        if (!is_valid_identifier(n))
-          throw InputError(at(key.source()), "invalid invariant name '" + printable(n) +
-                                                 "': it must be a C++ identifier");
-        scene.invariants.emplace_back(n, expression(value, "invariant", jet, mechanics));
-      }
-    }
+    if (const toml::node* rn = root.get("reference")) read_reference(*rn, scene, coordinate_names, mechanics);
+    if (const toml::node* in = root.get("invariants"))
+      scene.invariants = read_quantities(*in, "invariants", "invariant", *scene.jet, multipliers_allowed(mechanics));
     read_outputs(root, scene, mechanics);
     read_forces(root, scene, mechanics);
     definitions.resolve_all();
@@ -449,21 +443,79 @@ class SceneReader {
 
   /// [outputs]: name = "expression" of t, parameters, coordinates, their derivatives and the
   /// multipliers; written as CSV columns by nhc simulate, never checked for drift.
-  void read_outputs(const toml::table& root, Scene& scene, ExpressionRules rules) {
-    const toml::node* node = root.get("outputs");
-    if (!node) return;
+  static ExpressionRules multipliers_allowed(ExpressionRules rules) {
     rules.allow_multipliers = true;
-    std::vector<std::pair<const toml::key*, const toml::node*>> entries;  // in file order, the CSV's
-    for (auto&& [key, value] : table_value(*node, "outputs")) entries.emplace_back(&key, &value);
+    return rules;
+  }
+
+  void read_outputs(const toml::table& root, Scene& scene, const ExpressionRules& rules) {
+    if (const toml::node* node = root.get("outputs"))
+      scene.outputs = read_quantities(*node, "outputs", "output", *scene.jet, multipliers_allowed(rules));
+  }
+
+  /// [invariants] and [outputs]: name = "expression", or name = { expression = "…", required =
+  /// true } for an entry every model must compute; in file order (the CSV's).
+  std::vector<SceneQuantity> read_quantities(const toml::node& node, const std::string& table, const std::string& what,
+                                             const JetSpace& jet, const ExpressionRules& rules) {
+    std::vector<std::pair<const toml::key*, const toml::node*>> entries;
+    for (auto&& [key, value] : table_value(node, table)) entries.emplace_back(&key, &value);
     std::sort(entries.begin(), entries.end(), [](const auto& a, const auto& b) {
       const toml::source_position pa = a.first->source().begin, pb = b.first->source().begin;
       return pa.line != pb.line ? pa.line < pb.line : pa.column < pb.column;
     });
+    std::vector<SceneQuantity> quantities;
     for (const auto& [key, value] : entries) {
       const std::string n(key->str());
-      check_variable_name_at(at(key->source()), n, "output");
-      scene.outputs.push_back({n, expression(*value, "output '" + n + "'", *scene.jet, rules), at(*value)});
+      check_variable_name_at(at(key->source()), n, what);
+      const toml::node* text = value;
+      bool required = false;
+      if (const toml::table* t = value->as_table()) {
+        check_keys(*t, {"expression", "required"});
+        text = &require(*t, "expression", table + "." + n);
+        if (const toml::node* r = t->get("required")) {
+          if (!r->is_boolean()) fail(*r, "required must be true or false");
+          required = r->as_boolean()->get();
+        }
+      }
+      quantities.push_back({n, expression(*text, what + " '" + n + "'", jet, rules), at(*text), required});
     }
+    return quantities;
+  }
+
+  /// [reference]: coordinate = "q(t)" for every model; [reference.<model>] for one model.
+  void read_reference(const toml::node& node, Scene& scene, const std::vector<std::string>& coordinate_names,
+                      const ExpressionRules& mechanics) {
+    ExpressionRules time_only = mechanics;
+    time_only.allow_coordinates = false;
+    const auto read_entries = [&](const toml::table& table, const std::string& where) {
+      SceneReference::Entries entries;
+      for (auto&& [key, value] : table) {
+        const std::string n(key.str());
+        if (value.is_table()) {
+          const auto kind = parse_model_kind(n);
+          if (!kind || where != "reference")
+            throw InputError(at(key.source()),
+                             "[" + where + "." + printable(n) + "]: " +
+                                 (where != "reference" ? "a model's reference holds coordinates only"
+                                                       : "'" + printable(n) + "' is not a model (known: vakonomic, chetaev, holder, suslov)"));
+          continue;
+        }
+        auto it = std::find(coordinate_names.begin(), coordinate_names.end(), n);
+        if (it == coordinate_names.end())
+          throw InputError(at(key.source()),
+                           "[" + where + "] names '" + printable(n) + "', which is not a coordinate");
+        entries.emplace_back(static_cast<int>(it - coordinate_names.begin()),
+                             expression(value, "reference", *scene.jet, time_only));
+      }
+      return entries;
+    };
+    const toml::table& ref = table_value(node, "reference");
+    scene.reference.all = read_entries(ref, "reference");
+    for (auto&& [key, value] : ref)
+      if (const toml::table* model_table = value.as_table()) {
+        const std::string n(key.str());
+        scene.reference.per_model[*parse_model_kind(n)] = read_entries(*model_table, "reference." + n);
+      }
   }
 
   /// [forces]: coordinate = "Q(t, q, q')", the generalized force of docs/forces.md.

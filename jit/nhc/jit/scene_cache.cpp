@@ -195,7 +195,7 @@ std::optional<std::string> scene_fingerprint(const Scene& scene) {
   // What the text alone decides, counted once more: a scene changed in code without clearing
   // its text is caught where its sizes changed.
   out << "\nsizes " << scene.coordinate_count() << " " << scene.parameter_values.size() << " "
-      << scene.constraints.size() << " " << scene.reference.size() << " " << scene.invariants.size() << " "
+      << scene.constraints.size() << " " << scene.reference.all.size() << " " << scene.reference.per_model.size() << " " << scene.invariants.size() << " "
       << scene.forces.size() << "\n";
   return out.str();
 }

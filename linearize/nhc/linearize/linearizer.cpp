@@ -159,10 +159,26 @@ void Linearizer::Impl::check_stationary(const NumericPoint& p, Linearization& ou
   if (worst > options.stationarity) {
     std::size_t c = 0;
     while (reduced.components[c].name != out.worst_state) ++c;
-    throw MathError("the operating point is not stationary: d/dt " + out.worst_state + " = " +
-                    number(p.zp(static_cast<Eigen::Index>(c))) + " (defect " + number(worst) + " > " +
-                    number(options.stationarity) + ", relative to 1 + max |state|); choose [initial] or --at values "
-                    "of an equilibrium or steady motion");
+    const ReducedComponent& z = reduced.components[c];
+    const std::string moving = "the operating point is not stationary: d/dt " + out.worst_state + " = " +
+                               number(p.zp(static_cast<Eigen::Index>(c))) + " (defect " + number(worst) + " > " +
+                               number(options.stationarity) + ", relative to 1 + max |state|)";
+    if (z.order > 0 || z.multiplier)
+      throw MathError(moving + "; choose [initial] or --at values of an equilibrium or steady motion");
+    // A coordinate that moves at the point but is not cyclic: a steady turn or spin (a relative
+    // equilibrium) whose symmetry moves this coordinate together with others (docs/linearize.md,
+    // "Relative equilibria").
+    std::string depends;
+    for (std::size_t i = 0; i < reduced.residuals.size(); ++i)
+      if (reduced.residuals[i].has(z.value)) depends += (depends.empty() ? "" : ", ") + reduced.residual_names[i];
+    for (std::size_t i = 0; i < reduced.hidden.size(); ++i)
+      if (reduced.hidden[i].has(z.value)) depends += (depends.empty() ? "" : ", ") + reduced.hidden_names[i];
+    throw MathError(moving + ": " + z.name + " moves but is not cyclic (" +
+                    (depends.empty() ? std::string("the equations contain it") : "it appears in " + depends) +
+                    "), so this steady motion is not an equilibrium of the system reduced by its cyclic coordinates; "
+                    "if it is a relative equilibrium (a steady turn or spin, " + z.name +
+                    " moving together with other coordinates), write the scene in coordinates where that symmetry is "
+                    "cyclic (docs/linearize.md, \"Relative equilibria\"), or choose a point with " + z.name + "' = 0");
   }
 }
 

@@ -1,0 +1,77 @@
+#include "flag_rules.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <set>
+#include <sstream>
+
+#include "nhc/errors.hpp"
+#include "nhc/scene/tolerances.hpp"
+
+namespace nhc::cli::flag_rules {
+
+namespace {
+
+/// The whole text as a double, or NaN-aware failure: returns false for text that is not one
+/// number ("abc", "1x", "").
+bool parse_number(const std::string& text, double& value) {
+  std::istringstream in(text);
+  in >> value;
+  if (in.fail()) {
+    // istream does not read nan or inf; strtod does.
+    char* end = nullptr;
+    value = std::strtod(text.c_str(), &end);
+    return !text.empty() && end == text.c_str() + text.size();
+  }
+  in >> std::ws;
+  return in.eof();
+}
+
+CLI::Validator number_rule(const std::string& description, std::string (*problem)(double)) {
+  return CLI::Validator(
+      [problem](std::string& text) -> std::string {
+        double value = 0;
+        if (!parse_number(text, value)) return "'" + text + "' is not a number";
+        const std::string why = problem(value);
+        return why.empty() ? std::string() : text + " " + why;
+      },
+      description);
+}
+
+std::string positive_problem(double v) { return std::isfinite(v) && v > 0 ? "" : "is not a positive number"; }
+std::string finite_problem(double v) { return std::isfinite(v) ? "" : "is not a finite number"; }
+std::string relative_problem(double v) {
+  const std::string why = relative_tolerance_problem(v);
+  return why.empty() || why != "must be a positive number" ? why : "is not a positive number";
+}
+
+}  // namespace
+
+CLI::Validator positive() { return number_rule("POSITIVE", positive_problem); }
+CLI::Validator relative_tolerance() { return number_rule("RTOL", relative_problem); }
+CLI::Validator absolute_tolerance() { return number_rule("ATOL", positive_problem); }
+CLI::Validator finite() { return number_rule("NUMBER", finite_problem); }
+
+CLI::Validator count(long long low, long long high) {
+  const std::string range = std::to_string(low) + " to " + std::to_string(high);
+  return CLI::Validator(
+      [low, high, range](std::string& text) -> std::string {
+        long long value = 0;
+        const char* end = text.data() + text.size();
+        const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+        if (text.empty() || ec == std::errc::invalid_argument || ptr != end)
+          return "'" + text + "' is not a whole number";
+        if (ec == std::errc::result_out_of_range || value < low || value > high)
+          return text + " is not a whole number from " + range;
+        return "";
+      },
+      "INT in " + range);
+}
+
+void refuse_duplicates(const std::vector<std::string>& keys, const std::string& flag, const std::string& what) {
+  std::set<std::string> seen;
+  for (const std::string& key : keys)
+    if (!seen.insert(key).second) throw InputError({flag, 0, 0}, what + " '" + key + "' is given twice");
+}
+
+}  // namespace nhc::cli::flag_rules

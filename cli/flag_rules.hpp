@@ -1,0 +1,37 @@
+#pragma once
+/// \file flag_rules.hpp
+/// \brief The rule for each kind of command-line flag, decided once and used by every command
+/// that has the flag: tolerances, positive numbers, counts, lists of models. A value that breaks
+/// a rule is bad input (exit 2) in the same words everywhere, naming the flag:
+/// `nhc: error: --rtol: nan is not a positive number`.
+///
+/// CLI11's own PositiveNumber and Range let NaN through (every comparison with NaN is false)
+/// and print their bounds in full (DBL_MAX in 309 digits); these do neither.
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+#include <vector>
+
+namespace nhc::cli::flag_rules {
+
+/// A finite number greater than 0 (--tolerance, --atol, --atol-scale, --checkpoint-every).
+CLI::Validator positive();
+/// A relative tolerance the arithmetic can honour: positive, finite, at least the machine
+/// epsilon (nhc/scene/tolerances.hpp).
+CLI::Validator relative_tolerance();
+/// An absolute tolerance: a finite number greater than 0.
+CLI::Validator absolute_tolerance();
+/// A finite number (--t-end; whether it lies after t0 is the command's check, with the scene).
+CLI::Validator finite();
+/// A whole number from `low` to `high` (--outputs, --repeats, --segments, --max-iterations).
+CLI::Validator count(long long low, long long high);
+/// The largest number of output intervals any command writes (a row is about 20 doubles per
+/// state; 10^7 rows of a small model are already gigabytes).
+inline constexpr long long kMaxOutputs = 10000000;
+/// Each element of a list flag once (--models chetaev,chetaev would compare a model with
+/// itself; --at x=1 --at x=2 would keep the last): InputError at `flag` otherwise. `keys` are
+/// the elements, or the names of NAME=VALUE elements.
+void refuse_duplicates(const std::vector<std::string>& keys, const std::string& flag, const std::string& what);
+
+}  // namespace nhc::cli::flag_rules

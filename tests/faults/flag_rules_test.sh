@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# One rule per kind of flag (cli/flag_rules.hpp), the same in every command that has the flag:
+# NaN, infinity, zero and tolerances below the machine epsilon are exit 2 in the same words,
+# naming the flag, before anything is compiled or written; list flags refuse duplicates; counts
+# are bounded; no message prints DBL_MAX's 309 digits.
+# Usage: flag_rules_test.sh NHC SOURCE_DIR WORK_DIR
+nhc=$1 src=$2 work=$3
+rm -rf "$work" && mkdir -p "$work"
+source "$(dirname "$0")/common.sh"
+export NHC_CACHE_DIR=$work/cache
+particle=$src/examples/particle.toml
+heisenberg=$src/examples/heisenberg.toml
+
+# flag VALUE WORDS: every command with the flag refuses VALUE with "FLAG: error: FLAG VALUE WORDS".
+refused_everywhere() {
+  local flag=$1 value=$2 words=$3
+  local -a commands=(
+    "simulate $particle"
+    "compare $particle -o $work/out"
+    "connect $heisenberg --to x=1,y=0,z=0.25 --t-end 1"
+    "ensemble $particle --vary m=1:2:2 -o $work/out.h5"
+    "report $particle -o $work/out"
+  )
+  for c in "${commands[@]}"; do
+    # shellcheck disable=SC2086
+    run -- $c "$flag" "$value"
+    [ "$rc" -eq 0 ] && [ "$flag" = --atol-scale ] && continue
+    case "$c:$flag" in report*:--rtol | report*:--atol | connect*:--t-end | report*:--tolerance | simulate*:--tolerance | ensemble*:--tolerance) continue ;; esac
+    if grep -q "requires\|was not expected\|The following argument" <<<"$err"; then continue; fi   # no such flag here
+    expect "${c%% *} $flag $value" 2 "$flag: error: $flag $value $words"
+    checked=$((checked + 1))
+  done
+}
+checked=0
+refused_everywhere --rtol nan "is not a positive number"
+refused_everywhere --atol nan "is not a positive number"
+refused_everywhere --rtol 1e-17 "is below the double-precision machine epsilon"
+refused_everywhere --rtol -1 "is not a positive number"
+refused_everywhere --atol inf "is not a positive number"
+refused_everywhere --t-end nan "is not a finite number"
+refused_everywhere --outputs 0 "is not a whole number from 1 to 10000000"
+refused_everywhere --outputs 100000000 "is not a whole number from 1 to 10000000"
+refused_everywhere --tolerance nan "is not a positive number"
+# --rtol (3 values) and --atol (2) in simulate, compare, connect, ensemble: 20; --t-end in
+# simulate, compare, ensemble, report: 4; --outputs (2) in all five: 10; --tolerance in compare
+# and connect: 2.
+[ "$checked" -eq 36 ] || fail "only $checked command-flag pairs were checked"
+
+run -- report "$particle" --atol-scale nan -o "$work/out"
+expect "report --atol-scale nan" 2 "--atol-scale: error: --atol-scale nan is not a positive number"
+run -- report "$particle" --reference-rtol nan -o "$work/out"
+expect "report --reference-rtol nan" 2 "--reference-rtol: error: --reference-rtol nan is not a positive number"
+run -- connect "$heisenberg" --to x=1,y=0,z=0.25 --t-end 1 --max-iterations 0
+expect "connect --max-iterations 0" 2 "--max-iterations: error: --max-iterations 0 is not a whole number from 1 to 10000"
+run -- ensemble "$particle" --vary m=1:2:2 --checkpoint-every nan -o "$work/out.h5"
+expect "ensemble --checkpoint-every nan" 2 "--checkpoint-every: error: --checkpoint-every nan is not a positive number"
+run -- simulate "$particle" --outputs 1e3
+expect "simulate --outputs 1e3" 2 "--outputs: error: --outputs '1e3' is not a whole number"
+
+# Duplicates in list flags.
+run -- compare "$src/examples/appell_hamel.toml" --models chetaev,chetaev -o "$work/out"
+expect "compare --models chetaev,chetaev" 2 "--models: error: model 'chetaev' is given twice"
+run -- linearize "$src/tests/linearize/scenes/rolling_disk.toml" --at "ps'=5" --at "ps'=6"
+expect "linearize --at twice" 2 "--at: error: the value of 'ps'' is given twice"
+
+# No bound printed in 309 digits.
+run -- simulate "$particle" --rtol -1
+grep -q '[0-9]\{40\}' <<<"$err" && fail "a 40-digit number in: $err"
+
+[ ! -e "$work/out" ] && [ ! -e "$work/out.h5" ] || fail "an output was written despite a refusal"
+[ ! -e "$work/cache" ] || fail "something was compiled despite a refusal"
+echo "checked $checked command-flag pairs"; finish "flag rules test"
