@@ -200,3 +200,33 @@ TEST_CASE("SceneBuilder writes [definitions] and [forces]", "[scene][definitions
   CHECK(same(s.forces[1], 0));
   CHECK(same(s.lagrangian, (jet.q(0, 1) * jet.q(0, 1) + jet.q(1, 1) * jet.q(1, 1)) / 2));
 }
+
+TEST_CASE("long chains of definitions resolve without deep recursion; deep nesting is refused",
+          "[scene][definitions][issue33]") {
+  // d_k = d_{k-1}, 5000 links: resolved leaves first (the recursive descent overflowed the
+  // stack at about 2,400).
+  std::string chain = "[definitions]\nT = \"d4999^2\"\nd0 = \"x'\"\n";
+  for (int k = 1; k < 5000; ++k) chain += "d" + std::to_string(k) + " = \"d" + std::to_string(k - 1) + "\"\n";
+  const nhc::Scene s = scene_with(chain);
+  CHECK(same(s.lagrangian, GiNaC::pow(s.jet->q(0, 1), 2)));
+  CHECK(s.warnings.empty());
+  // The same chain closed into a cycle: named by its ends, on one line.
+  std::string cycle = "[definitions]\nT = \"d4999\"\nd0 = \"d4999 + x\"\n";
+  for (int k = 1; k < 5000; ++k) cycle += "d" + std::to_string(k) + " = \"d" + std::to_string(k - 1) + "\"\n";
+  try {
+    scene_with(cycle);
+    FAIL("a cycle was accepted");
+  } catch (const nhc::InputError& e) {
+    CHECK_THAT(e.what(), Catch::Contains("depends on itself (d4999 -> d4998 -> d4997 -> d4996 -> … (4992 more) -> "
+                                         "d3 -> d2 -> d1 -> d0 -> d4999)"));
+  }
+  // sin(sin(…)) 40 deep: refused at the definition that passes 32.
+  std::string nested = "[definitions]\nT = \"e39\"\ne0 = \"x'\"\n";
+  for (int k = 1; k < 40; ++k) nested += "e" + std::to_string(k) + " = \"sin(e" + std::to_string(k - 1) + ")\"\n";
+  try {
+    scene_with(nested);
+    FAIL("40-deep nesting was accepted");
+  } catch (const nhc::InputError& e) {
+    CHECK_THAT(e.what(), Catch::Contains("in definition 'e33' \"sin(e32)\": functions nested more than 32 deep"));
+  }
+}

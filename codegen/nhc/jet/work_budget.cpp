@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <vector>
 #include <limits>
 #include <sstream>
 
@@ -85,9 +87,33 @@ ex expand(const ex& e) {
   return r;
 }
 
-bool worth_simplifying(const ex& e) { return terms(e) <= kMaxSimplifiedTerms; }
+std::size_t function_nesting(const ex& e, std::size_t limit) {
+  // Iterative, with the depth of each pending node: a user's chain of definitions may nest
+  // thousands deep, more than the call stack holds. Shared subtrees are visited once per depth.
+  std::vector<std::pair<ex, std::size_t>> pending{{e, 0}};
+  std::map<ex, std::size_t, GiNaC::ex_is_less> seen;  // node → deepest depth visited at
+  std::size_t deepest = 0;
+  while (!pending.empty()) {
+    auto [node, depth] = pending.back();
+    pending.pop_back();
+    if (GiNaC::is_a<GiNaC::function>(node)) ++depth;
+    deepest = std::max(deepest, depth);
+    if (deepest > limit) return deepest;
+    const auto it = seen.find(node);
+    if (it != seen.end() && it->second >= depth) continue;
+    seen[node] = depth;
+    for (std::size_t k = 0; k < node.nops(); ++k) pending.emplace_back(node.op(k), depth);
+  }
+  return deepest;
+}
 
-bool worth_trigonometric_simplification(const ex& e) { return terms(e) <= kMaxTrigonometricTerms; }
+bool worth_simplifying(const ex& e) {
+  return terms(e) <= kMaxSimplifiedTerms && function_nesting(e) <= kMaxSimplifiedNesting;
+}
+
+bool worth_trigonometric_simplification(const ex& e) {
+  return terms(e) <= kMaxTrigonometricTerms && function_nesting(e) <= kMaxSimplifiedNesting;
+}
 
 ex normal(const ex& e) { return worth_simplifying(e) ? e.normal() : e; }
 

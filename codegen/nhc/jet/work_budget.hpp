@@ -41,6 +41,15 @@ inline constexpr std::size_t kMaxSimplifiedTerms = 2000;
 /// (bounded by kMaxExpandedTerms), near linear in the terms. The Whipple bicycle's equations need
 /// it up to 6,044 terms: its rear-wheel angle cancels from them only through the identity.
 inline constexpr std::size_t kMaxTrigonometricTerms = 20000;
+/// Deepest nesting of functions (sin(sin(…))) that normal() and sin² + cos² = 1 are applied to:
+/// both work through every function argument, each at every level, so their cost grows with a
+/// power of the depth (a chain of 200 definitions d_k = sin(d_{k-1}) took 50 s in normal()).
+/// Mechanics nests a handful deep (a sqrt of a sum of products of sines).
+inline constexpr std::size_t kMaxSimplifiedNesting = 12;
+
+/// The deepest nesting of function calls in e (0 for a polynomial, 1 for sin(x), 2 for
+/// sqrt(sin(x)), …); stops counting past `limit`.
+std::size_t function_nesting(const GiNaC::ex& e, std::size_t limit = kMaxSimplifiedNesting + 1);
 
 /// An upper bound on the number of terms of e.expand(), also covering every subexpression that
 /// expand() expands on its own (function arguments, bases of non-integer powers, exponents).
@@ -56,10 +65,10 @@ std::size_t node_count(const GiNaC::ex& e);
 /// e.expand(), refused with WorkLimitExceeded when expanded_terms(e) > kMaxExpandedTerms.
 GiNaC::ex expand(const GiNaC::ex& e);
 
-/// True when e (already expanded) is small enough for normal().
+/// True when e (already expanded) is small and shallow enough for normal().
 bool worth_simplifying(const GiNaC::ex& e);
 
-/// True when e (already expanded) is small enough for sin² + cos² = 1.
+/// True when e (already expanded) is small and shallow enough for sin² + cos² = 1.
 bool worth_trigonometric_simplification(const GiNaC::ex& e);
 
 /// e.normal() when worth_simplifying(e), else e unchanged (already a valid form of the value).

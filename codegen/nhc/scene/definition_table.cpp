@@ -1,5 +1,8 @@
 #include "nhc/scene/definition_table.hpp"
 
+#include <algorithm>
+#include <cctype>
+
 namespace nhc {
 
 namespace {
@@ -27,18 +30,14 @@ std::optional<Value> DefinitionTable::resolve(const std::string& name) {
   else entries_.at(resolving_.back()).uses.insert(name);
   if (entry.value) return entry.value;
   if (entry.in_progress) {
-    std::string chain;
-    bool inside = false;
-    for (const std::string& n : resolving_) {
-      inside = inside || n == name;
-      if (inside) chain += n + " -> ";
-    }
-    throw InputError(entry.locate(0), "definition '" + name + "' depends on itself (" + chain +
-                                          name + ")");
+    std::vector<std::string> chain = resolving_;
+    chain.push_back(name);
+    cycle(chain);
   }
   entry.in_progress = true;
   resolving_.push_back(name);
   try {
+    resolve_dependencies_first(name);
     entry.value = parse_value(entry.text, jet_, rules_with_definitions(rules_));
   } catch (const ExpressionSyntaxError& e) {
     resolving_.pop_back();
@@ -53,6 +52,77 @@ std::optional<Value> DefinitionTable::resolve(const std::string& name) {
   resolving_.pop_back();
   entry.in_progress = false;
   return entry.value;
+}
+
+std::vector<std::string> DefinitionTable::named_definitions(const std::string& text) const {
+  std::vector<std::string> names;
+  const auto name_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+  for (std::size_t i = 0; i < text.size();) {
+    if (std::isdigit(static_cast<unsigned char>(text[i]))) {  // a number whole: 1e5 names no e5
+      while (i < text.size() && name_char(text[i])) ++i;
+      continue;
+    }
+    if (!name_char(text[i])) {
+      ++i;
+      continue;
+    }
+    std::size_t end = i;
+    while (end < text.size() && name_char(text[end])) ++end;
+    std::string name = text.substr(i, end - i);
+    if (entries_.count(name) && std::find(names.begin(), names.end(), name) == names.end())
+      names.push_back(std::move(name));
+    i = end;
+  }
+  return names;
+}
+
+void DefinitionTable::resolve_dependencies_first(const std::string& root) {
+  struct Frame {
+    std::string name;
+    std::vector<std::string> uses;
+    std::size_t next = 0;
+  };
+  std::vector<Frame> stack;
+  stack.push_back({root, named_definitions(entries_.at(root).text)});
+  while (!stack.empty()) {
+    Frame& frame = stack.back();
+    if (frame.next < frame.uses.size()) {
+      const std::string used = frame.uses[frame.next++];
+      const Entry& entry = entries_.at(used);
+      const auto on_stack = std::find_if(stack.begin(), stack.end(), [&](const Frame& f) { return f.name == used; });
+      if (on_stack != stack.end()) {
+        std::vector<std::string> chain = resolving_;
+        chain.pop_back();  // root, the first frame
+        for (auto f = stack.begin(); f != stack.end(); ++f) chain.push_back(f->name);
+        chain.push_back(used);
+        cycle(chain);
+      }
+      if (entry.value || entry.in_progress) continue;  // done, or resolving further out: the parse decides
+      stack.push_back({used, named_definitions(entry.text)});
+      continue;
+    }
+    const std::string done = frame.name;
+    stack.pop_back();
+    if (done != root) resolve(done);  // what it uses is resolved: one level deep
+  }
+}
+
+void DefinitionTable::cycle(const std::vector<std::string>& chain) const {
+  const std::string& name = chain.back();
+  std::size_t first = 0;
+  while (chain[first] != name) ++first;
+  // A long cycle is shown by its ends: the message stays one readable line.
+  constexpr std::size_t kShownAtEachEnd = 4;
+  const std::size_t length = chain.size() - 1 - first;
+  std::string text;
+  for (std::size_t k = first; k + 1 < chain.size(); ++k) {
+    const std::size_t at = k - first;
+    if (length > 2 * kShownAtEachEnd && at == kShownAtEachEnd)
+      text += "… (" + std::to_string(length - 2 * kShownAtEachEnd) + " more) -> ";
+    if (length > 2 * kShownAtEachEnd && at >= kShownAtEachEnd && at < length - kShownAtEachEnd) continue;
+    text += chain[k] + " -> ";
+  }
+  throw InputError(entries_.at(name).locate(0), "definition '" + name + "' depends on itself (" + text + name + ")");
 }
 
 void DefinitionTable::resolve_all() {

@@ -45,6 +45,15 @@ class DefinitionTable {
     bool in_progress = false;
     std::set<std::string> uses;  ///< definitions its text names
   };
+  /// The definitions `text` names, each once, in order of appearance.
+  std::vector<std::string> named_definitions(const std::string& text) const;
+  /// Resolves what `root` uses, and what they use, leaves first with an explicit stack: parsing
+  /// `root` then finds its definitions resolved, so a chain d_k = "d_{k-1}" of any length
+  /// recurses one level, not one per link (the stack overflowed at about 2,400 links).
+  void resolve_dependencies_first(const std::string& root);
+  /// The InputError for a cycle: `chain` ends with the definition that closes it.
+  [[noreturn]] void cycle(const std::vector<std::string>& chain) const;
+
   const JetSpace& jet_;
   ExpressionRules rules_;
   std::map<std::string, Entry> entries_;

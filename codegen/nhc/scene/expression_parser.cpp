@@ -77,6 +77,8 @@ class Parser {
       if (GiNaC::is_exactly_a<GiNaC::mul>(*it) && it->nops() > kMaxFactors)
         fail(0, "a product of more than " + std::to_string(kMaxFactors) + " factors");
     }
+    if (work_budget::function_nesting(e, kMaxFunctionNesting + 1) > kMaxFunctionNesting)
+      fail(0, "functions nested more than " + std::to_string(kMaxFunctionNesting) + " deep (definitions substituted)");
     if (rules_.node_budget) {
       if (nodes > *rules_.node_budget)
         fail(0, "the scene's expressions are larger than " + std::to_string(kMaxSceneNodes) +

@@ -52,6 +52,11 @@ inline constexpr std::size_t kMaxFactors = 64;
 /// Largest expression, in nodes of its tree with definitions substituted: bounds the work of
 /// everything downstream by size, not by a count of terms that a chain of 1024 bodies exceeds.
 inline constexpr std::size_t kMaxNodes = 2000000;
+/// Function calls nested deeper than this (definitions substituted) are refused: every
+/// symbolic step recurses through the nesting, and the equations of sin(sin(…)) nested k deep
+/// hold k factors of depth up to k (a chain of 200 definitions d_k = sin(d_{k-1}) took 14 s to
+/// derive). Mechanics nests a handful deep.
+inline constexpr std::size_t kMaxFunctionNesting = 32;
 /// Largest total of kMaxNodes-style counts over all expressions of one scene: definitions used
 /// many times are counted at every use, and each count is work.
 inline constexpr std::size_t kMaxSceneNodes = 20000000;
