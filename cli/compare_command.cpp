@@ -72,6 +72,7 @@ CompareSettings settings_of(const CompareOptions& options, const Scene& scene) {
   if (!std::isfinite(s.t_end) || !(s.t_end > s.t0))
     throw InputError({"--t-end", 0, 0}, format_number(s.t_end, 17) + " must be a finite time after t0 = " +
                                             format_number(s.t0, 17));
+  flag_rules::output_times(s.t0, s.t_end, s.outputs, "--t-end/--outputs");  // they must not collapse
   return s;
 }
 

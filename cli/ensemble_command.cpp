@@ -165,6 +165,7 @@ Prepared prepare(const EnsembleOptions& o, int ranks, int threads) {
   const double t0 = scene.initial.t0, t_end = o.t_end.value_or(scene.simulate.t_end);
   if (!(t_end > t0))
     bad_flag("--t-end " + format_number(t_end, 17), "must be after t0 = " + format_number(t0, 17) + " of " + o.scene_path);
+  flag_rules::output_times(t0, t_end, o.outputs, "--t-end/--outputs");  // they must not collapse
   check_writable(o.output);
 
   Prepared p;

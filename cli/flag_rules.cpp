@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "nhc/errors.hpp"
+#include "nhc/runtime/integrator.hpp"
 #include "nhc/scene/tolerances.hpp"
 
 namespace nhc::cli::flag_rules {
@@ -72,6 +73,19 @@ void refuse_duplicates(const std::vector<std::string>& keys, const std::string& 
   std::set<std::string> seen;
   for (const std::string& key : keys)
     if (!seen.insert(key).second) throw InputError({flag, 0, 0}, what + " '" + key + "' is given twice");
+}
+
+std::vector<double> output_times(double t0, double t_end, long long intervals, const std::string& flags) {
+  std::vector<double> times = runtime::output_times(t0, t_end, static_cast<int>(intervals));
+  if (const auto i = runtime::collapsed_output_time(times)) {
+    std::ostringstream why;
+    why.precision(17);
+    why << intervals << " output intervals from t0 = " << t0 << " to t_end = " << t_end
+        << " are closer than double precision resolves (times " << *i - 1 << " and " << *i << " are both "
+        << times[*i - 1] << "): choose fewer intervals or a span nearer the times' size";
+    throw InputError({flags, 0, 0}, why.str());
+  }
+  return times;
 }
 
 }  // namespace nhc::cli::flag_rules

@@ -34,4 +34,8 @@ inline constexpr long long kMaxOutputs = 10000000;
 /// the elements, or the names of NAME=VALUE elements.
 void refuse_duplicates(const std::vector<std::string>& keys, const std::string& flag, const std::string& what);
 
+/// Equally spaced output times from t0 to t_end, refused (InputError at `flags`) where
+/// consecutive ones collapse in floating point instead of silently writing fewer rows.
+std::vector<double> output_times(double t0, double t_end, long long intervals, const std::string& flags);
+
 }  // namespace nhc::cli::flag_rules

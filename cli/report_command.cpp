@@ -59,7 +59,7 @@ std::string fmt(double v, int precision = 3) { return std::isnan(v) ? std::strin
 
 std::vector<double> decades_or_throw(const std::string& flag, const std::string& spec) {
   try {
-    return decades(spec);
+    return decades(flag, spec);
   } catch (const std::invalid_argument& e) {
     throw InputError({flag, 0, 0}, e.what());
   }
@@ -95,6 +95,7 @@ PreparedReport prepare(const ReportOptions& o) {
   if (!(s.t_end > r.scene.initial.t0))
     throw InputError({o.scene_path, 0, 0}, "--t-end " + fmt(s.t_end, 17) + " must be after t0 = " + fmt(r.scene.initial.t0, 17));
   s.outputs = o.outputs;
+  flag_rules::output_times(r.scene.initial.t0, s.t_end, s.outputs, "--t-end/--outputs");  // they must not collapse
   s.max_repeats = o.repeats;
   s.reference_rtol = o.reference_rtol;
   for (const std::string& j : {std::string("dense"), std::string("sparse")}) {

@@ -189,8 +189,9 @@ CommandRunner add_simulate_command(CLI::App& app) {
     const double t0 = scene.initial.t0;
     const std::vector<double> times =
         options->output_times.empty()
-            ? runtime::output_times(t0, options->t_end.value_or(scene.simulate.t_end),
-                                    options->outputs.value_or(scene.simulate.outputs.value_or(200)))
+            ? flag_rules::output_times(t0, options->t_end.value_or(scene.simulate.t_end),
+                                       options->outputs.value_or(scene.simulate.outputs.value_or(200)),
+                                       "--t-end/--outputs")
             : parse_output_times(options->output_times, t0);
     const double t_end = times.back();
     const InitialPointCheck check =

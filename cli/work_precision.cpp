@@ -24,7 +24,7 @@ namespace nhc::cli {
 
 namespace fs = std::filesystem;
 
-std::vector<double> decades(const std::string& spec) {
+std::vector<double> decades(const std::string& flag, const std::string& spec) {
   auto parse = [&](const std::string& text) {
     size_t used = 0;
     double v = 0;
@@ -34,17 +34,19 @@ std::vector<double> decades(const std::string& spec) {
       used = 0;
     }
     if (used != text.size() || !(v > 0) || !std::isfinite(v))
-      throw std::invalid_argument("--tolerances " + spec + ": '" + text + "' is not a positive number");
+      throw std::invalid_argument(flag + " " + spec + ": '" + text + "' is not a positive number");
     return v;
   };
   const size_t colon = spec.find(':');
   const double hi = parse(spec.substr(0, colon));
   const double lo = colon == std::string::npos ? hi : parse(spec.substr(colon + 1));
-  if (lo > hi) throw std::invalid_argument("--tolerances " + spec + ": give the loosest tolerance first (1e-3:1e-12)");
+  if (lo > hi) throw std::invalid_argument(flag + " " + spec + ": give the larger value first (1e-3:1e-12)");
   std::vector<double> values;
-  // Decades: hi, hi/10, ... down to lo (inclusive within rounding), at most 20.
-  const int n = static_cast<int>(std::floor(std::log10(hi / lo) + 1e-9));
-  if (n > 19) throw std::invalid_argument("--tolerances " + spec + ": more than 20 decades");
+  // Decades: hi, hi/10, ... down to lo (inclusive within rounding), at most 20. The ratio hi/lo
+  // of 1e155:1e-155 overflows; the difference of the logarithms does not.
+  const double span = std::log10(hi) - std::log10(lo);
+  if (span > 19 + 1e-9) throw std::invalid_argument(flag + " " + spec + ": more than 20 decades");
+  const int n = static_cast<int>(std::floor(span + 1e-9));
   for (int k = 0; k <= n; ++k) values.push_back(std::stod(format_number(hi / std::pow(10.0, k), 12)));
   return values;
 }

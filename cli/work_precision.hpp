@@ -35,7 +35,7 @@ WorkPrecision measure_work_precision(const Scene& scene, ModelKind kind, const W
 
 /// rtol values by decades from `spec` = "HI:LO" (e.g. "1e-3:1e-12") or a single value.
 /// Throws std::invalid_argument with a message for a malformed spec.
-std::vector<double> decades(const std::string& spec);
+std::vector<double> decades(const std::string& flag, const std::string& spec);
 
 /// CSV: configuration, jacobian, projection, parameter, value, rtol, atol, error, error_source,
 /// seconds, repeats, steps, residual_evaluations, jacobian_evaluations, linear_solver_setups,

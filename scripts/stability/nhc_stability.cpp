@@ -58,9 +58,9 @@ ProgressSink progress_sink(bool quiet) {
 /// rtol values by decades, "HI:LO" or one value; the case names the flag-like key in errors.
 std::vector<double> decades_of(const std::string& manifest, const std::string& key, const std::string& spec) {
   try {
-    return decades(spec);
+    return decades(key, spec);
   } catch (const std::invalid_argument& e) {
-    throw InputError({manifest, 0, 0}, key + ": " + e.what());
+    throw InputError({manifest, 0, 0}, e.what());
   }
 }
 

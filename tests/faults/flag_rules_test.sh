@@ -57,6 +57,27 @@ expect "ensemble --checkpoint-every nan" 2 "--checkpoint-every: error: --checkpo
 run -- simulate "$particle" --outputs 1e3
 expect "simulate --outputs 1e3" 2 "--outputs: error: --outputs '1e3' is not a whole number"
 
+# Output times: t_end near DBL_MAX keeps every row; times that collapse in floating point are refused.
+run NHC_CACHE_DIR="$work/cache_far" -- simulate "$src/examples/knife_edge.toml" --t-end 1e308 -o "$work/far.csv"
+expect "simulate --t-end 1e308" 0 ""
+[ "$(wc -l < "$work/far.csv")" -eq 202 ] || fail "--t-end 1e308: $(wc -l < "$work/far.csv") lines, want 202"
+rm -f "$work/far.csv"
+sed -e 's/^t0 = .*/t0 = 1e12/' -e 's/^t_end = .*/t_end = 1000000000001.0/' "$src/examples/knife_edge.toml" > "$work/late.toml"
+for c in simulate "compare -o $work/out" "report -o $work/out" "ensemble --vary m=1:2:2 -o $work/out.h5"; do
+  # shellcheck disable=SC2086
+  run -- ${c%% *} "$work/late.toml" ${c#* } --outputs 10000000
+  [ "$c" = simulate ] && run -- simulate "$work/late.toml" --outputs 10000000
+  expect "${c%% *}: collapsing output times" 2 "--t-end/--outputs: error: 10000000 output intervals from t0 = 1000000000000 to t_end = 1000000000001 are closer than double precision resolves"
+done
+
+# report --sweep: the range is checked before any run (1e-155:1e155 overflowed hi/lo and crashed
+# in write_report, leaving its temporary directory); a bad value names --sweep.
+run -- report "$src/examples/knife_edge.toml" --sweep m=1e-155:1e155 -o "$work/out"
+expect "report --sweep m=1e-155:1e155" 2 "--sweep: error: --sweep 1e155:1e-155: more than 20 decades"
+run -- report "$src/examples/knife_edge.toml" --sweep m=abc -o "$work/out"
+expect "report --sweep m=abc" 2 "--sweep: error: --sweep abc: 'abc' is not a positive number"
+no_leftovers "report --sweep" "$work"
+
 # Duplicates in list flags.
 run -- compare "$src/examples/appell_hamel.toml" --models chetaev,chetaev -o "$work/out"
 expect "compare --models chetaev,chetaev" 2 "--models: error: model 'chetaev' is given twice"

@@ -58,13 +58,13 @@ GiNaC::exmap Scene::parameter_substitution() const {
 SceneReference::Entries SceneReference::for_model(ModelKind model) const {
   Entries entries = all;
   if (const auto it = per_model.find(model); it != per_model.end()) {
-    for (const auto& [coordinate, expression] : it->second) {
+    for (const auto& entry : it->second) {
       const auto same = std::find_if(entries.begin(), entries.end(),
-                                     [&](const auto& e) { return e.first == coordinate; });
+                                     [&](const auto& e) { return e.first == entry.first; });
       if (same != entries.end())
-        same->second = expression;
+        same->second = entry.second;
       else
-        entries.emplace_back(coordinate, expression);
+        entries.push_back(entry);
     }
   }
   std::stable_sort(entries.begin(), entries.end(), [](const auto& a, const auto& b) { return a.first < b.first; });

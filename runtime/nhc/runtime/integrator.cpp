@@ -807,8 +807,22 @@ const IntegratorOptions& Integrator::options() const { return impl_->options; }
 
 std::vector<double> output_times(double t0, double t_end, int intervals) {
   std::vector<double> times(intervals + 1);
-  for (int i = 0; i <= intervals; ++i) times[i] = i == intervals ? t_end : t0 + (t_end - t0) * i / intervals;
+  const double span = t_end - t0;
+  for (int i = 0; i <= intervals; ++i) {
+    const double s = static_cast<double>(i) / intervals;
+    // span * i overflows first for t_end near DBL_MAX (1e308 * 2); span itself beyond it.
+    times[i] = i == intervals                                ? t_end
+               : std::isfinite(span * intervals)             ? t0 + span * i / intervals
+               : std::isfinite(span)                         ? t0 + span * s
+                                                             : (1 - s) * t0 + s * t_end;
+  }
   return times;
+}
+
+std::optional<std::size_t> collapsed_output_time(const std::vector<double>& times) {
+  for (std::size_t i = 1; i < times.size(); ++i)
+    if (!(times[i] > times[i - 1])) return i;
+  return std::nullopt;
 }
 
 }  // namespace nhc::runtime

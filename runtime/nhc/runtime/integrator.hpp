@@ -10,6 +10,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <optional>
 #include <vector>
 
 #include "nhc/runtime/errors.hpp"
@@ -145,7 +146,10 @@ class Integrator {
   std::unique_ptr<Impl> impl_;
 };
 
-/// n + 1 equally spaced times from t0 to t_end.
+/// n + 1 equally spaced times from t0 to t_end (for any finite t0 < t_end, none overflows).
 std::vector<double> output_times(double t0, double t_end, int intervals);
+/// The first index i at which times[i] <= times[i - 1]: equally spaced times closer than
+/// double precision resolves at their size (10^7 intervals of 1 s at t0 = 1e12) collapse.
+std::optional<std::size_t> collapsed_output_time(const std::vector<double>& times);
 
 }  // namespace nhc::runtime
