@@ -12,6 +12,7 @@
 #include <regex>
 
 #include "commands.hpp"
+#include "model_requirements.hpp"
 #include "flag_rules.hpp"
 #include "nhc/connect/shooting.hpp"
 #include "nhc/errors.hpp"
@@ -171,6 +172,7 @@ CommandRunner add_connect_command(CLI::App& app) {
   return [options]() {
     const Scene scene = load_scene(options->scene_path);
     const ModelKind kind = model_or_default(scene, options->model);
+    require_model_inputs(scene, kind);  // exit 2 at the scene, as simulate
     if (!std::isfinite(options->t_end) || !(options->t_end > scene.initial.t0))
       throw InputError({"--t-end", 0, 0}, "T = " + format_number(options->t_end, 17) + " must be after t0 = " +
                                               format_number(scene.initial.t0, 17));

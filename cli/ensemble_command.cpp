@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include "commands.hpp"
+#include "model_requirements.hpp"
 #include "flag_rules.hpp"
 #include "nhc/errors.hpp"
 #include "pipeline.hpp"
@@ -162,6 +163,7 @@ Prepared prepare(const EnsembleOptions& o, int ranks, int threads) {
   Design design = make_design(o);
   const Scene scene = load_scene(o.scene_path);
   const ModelKind kind = model_or_default(scene, o.model);
+  require_model_inputs(scene, kind);
   const double t0 = scene.initial.t0, t_end = o.t_end.value_or(scene.simulate.t_end);
   if (!(t_end > t0))
     bad_flag("--t-end " + format_number(t_end, 17), "must be after t0 = " + format_number(t0, 17) + " of " + o.scene_path);

@@ -75,6 +75,15 @@ void refuse_duplicates(const std::vector<std::string>& keys, const std::string& 
     if (!seen.insert(key).second) throw InputError({flag, 0, 0}, what + " '" + key + "' is given twice");
 }
 
+void refuse_empty_values(CLI::App& app) {
+  const CLI::Validator non_empty(
+      [](std::string& text) -> std::string { return text.empty() ? "'' is an empty value: give one, or leave the flag out" : ""; },
+      "");
+  for (CLI::App* sub : app.get_subcommands({}))
+    for (CLI::Option* option : sub->get_options())
+      if (option->get_type_size() > 0 && option->get_name() != "--help") option->check(non_empty);
+}
+
 std::vector<double> output_times(double t0, double t_end, long long intervals, const std::string& flags) {
   std::vector<double> times = runtime::output_times(t0, t_end, static_cast<int>(intervals));
   if (const auto i = runtime::collapsed_output_time(times)) {

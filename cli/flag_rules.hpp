@@ -34,6 +34,10 @@ inline constexpr long long kMaxOutputs = 10000000;
 /// the elements, or the names of NAME=VALUE elements.
 void refuse_duplicates(const std::vector<std::string>& keys, const std::string& flag, const std::string& what);
 
+/// Every option of every subcommand of `app` that takes a value refuses an empty one
+/// (`--output-times ''`, `-o ''` would otherwise act as if the flag were absent).
+void refuse_empty_values(CLI::App& app);
+
 /// Equally spaced output times from t0 to t_end, refused (InputError at `flags`) where
 /// consecutive ones collapse in floating point instead of silently writing fewer rows.
 std::vector<double> output_times(double t0, double t_end, long long intervals, const std::string& flags);

@@ -19,6 +19,7 @@
 #include <sstream>
 
 #include "commands.hpp"
+#include "model_requirements.hpp"
 #include "flag_rules.hpp"
 #include "nhc/analysis/structural_analysis.hpp"
 #include "nhc/emit/json_writer.hpp"
@@ -272,6 +273,7 @@ CommandRunner add_linearize_command(CLI::App& app) {
   return [flags]() {
     const Scene scene = load_scene(flags->scene_path);
     const ModelKind kind = model_or_default(scene, flags->model);
+    require_model_inputs(scene, kind);
     std::vector<PointOverride> overrides;
     std::vector<std::string> names;
     for (const std::string& text : flags->at) {

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "flag_rules.hpp"
 #include "exit_codes.hpp"
 #include "interrupt.hpp"
 #include "nhc/errors.hpp"
@@ -33,6 +34,8 @@ int main(int argc, char** argv) {
   add(nhc::cli::add_plot_command);
   add(nhc::cli::add_connect_command);
   add(nhc::cli::add_linearize_command);
+
+  nhc::cli::flag_rules::refuse_empty_values(app);
 
   try {
     app.parse(argc, argv);

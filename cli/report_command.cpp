@@ -19,6 +19,7 @@
 #include <sstream>
 
 #include "commands.hpp"
+#include "model_requirements.hpp"
 #include "flag_rules.hpp"
 #include "parameter_overrides.hpp"
 #include "nhc/derive/models.hpp"
@@ -83,6 +84,7 @@ struct PreparedReport {
 PreparedReport prepare(const ReportOptions& o) {
   PreparedReport r{load_scene(o.scene_path), ModelKind::chetaev, {}};
   r.kind = model_or_default(r.scene, o.model);
+  require_model_inputs(r.scene, r.kind);
   WorkPrecisionSettings& s = r.settings;
   s.rtols = decades_or_throw("--tolerances", o.tolerances);
   for (double rtol : s.rtols)

@@ -78,6 +78,32 @@ run -- report "$src/examples/knife_edge.toml" --sweep m=abc -o "$work/out"
 expect "report --sweep m=abc" 2 "--sweep: error: --sweep abc: 'abc' is not a positive number"
 no_leftovers "report --sweep" "$work"
 
+# Empty values are refused, not taken as the flag's absence.
+run -- simulate "$particle" --output-times '' -o "$work/out.csv"
+expect "simulate --output-times ''" 2 "--output-times: error: --output-times '' is an empty value"
+run -- simulate "$particle" -o ''
+expect "simulate -o ''" 2 "--output: error: --output '' is an empty value"
+
+# Missing parent directories: created for files and directories alike (parent_directories.hpp).
+run NHC_CACHE_DIR="$work/cache_parents" -- connect "$heisenberg" --to x=1,y=0,z=0.25 --t-end 1 -o "$work/parents/a/x.csv"
+expect "connect -o into a missing directory" 0 ""
+[ -f "$work/parents/a/x.csv" ] || fail "connect did not write into a missing directory"
+run NHC_CACHE_DIR="$work/cache_parents" -- simulate "$particle" -o "$work/parents/b/c/p.csv"
+expect "simulate -o into a missing directory" 0 ""
+[ -f "$work/parents/b/c/p.csv" ] || fail "simulate did not write into a missing directory"
+rm -rf "$work/parents"
+
+# A model's own requirements (suslov: a dependent coordinate per constraint): exit 2 at the scene
+# in every command, as simulate (connect answered exit 3).
+nod=$src/tests/faults/suslov_without_dependent.toml
+for c in "simulate" "connect --to x=1 --t-end 1" "linearize" "report -o $work/out" "ensemble --vary x'(0)=0:1:2 -o $work/out.h5"; do
+  # shellcheck disable=SC2086
+  run -- ${c%% *} "$nod" --model suslov ${c#* }
+  [ "$c" = simulate ] && run -- simulate "$nod" --model suslov
+  [ "$c" = linearize ] && run -- linearize "$nod" --model suslov
+  expect "${c%% *} --model suslov without dependent" 2 "suslov_without_dependent.toml:6:15: error: the suslov model needs one dependent coordinate per constraint"
+done
+
 # Duplicates in list flags.
 run -- compare "$src/examples/appell_hamel.toml" --models chetaev,chetaev -o "$work/out"
 expect "compare --models chetaev,chetaev" 2 "--models: error: model 'chetaev' is given twice"

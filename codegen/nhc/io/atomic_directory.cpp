@@ -1,4 +1,5 @@
 #include "nhc/io/atomic_directory.hpp"
+#include "nhc/io/parent_directories.hpp"
 
 #include <sys/stat.h>
 #include <unistd.h>
@@ -16,41 +17,17 @@ namespace nhc {
 
 namespace fs = std::filesystem;
 
-namespace {
-
-/// Creates the missing ancestors of `path` (outermost first); returns them innermost first.
-std::vector<std::string> create_parents(const fs::path& path) {
-  std::vector<fs::path> missing;
-  std::error_code ec;
-  for (fs::path p = path.parent_path(); !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
-    missing.push_back(p);
-    if (p == p.parent_path()) break;
-  }
-  std::vector<std::string> created;
-  for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
-    if (::mkdir(it->c_str(), 0777) != 0 && errno != EEXIST) {
-      const std::string reason = std::strerror(errno);
-      for (const std::string& c : created) ::rmdir(c.c_str());
-      throw EnvironmentError("cannot create the directory " + it->string() + ": " + reason);
-    }
-    created.insert(created.begin(), it->string());
-  }
-  return created;
-}
-
-}  // namespace
-
 AtomicDirectory::AtomicDirectory(std::string target, std::vector<std::string> inputs)
     : target_(std::move(target)), inputs_(std::move(inputs)) {
   while (target_.size() > 1 && target_.back() == '/') target_.pop_back();
   check_output_directory(target_, inputs_);
-  created_parents_ = create_parents(fs::path(target_));
+  created_parents_ = create_missing_parents(target_);
   // Registered before it exists: an interrupt at any moment removes it (temporary_files.hpp).
   temporary_ = std::make_unique<TemporaryDirectory>(unique_temporary_name(target_));
   if (::mkdir(temporary_->path().c_str(), 0777) != 0) {
     const std::string reason = std::strerror(errno);
     temporary_.reset();
-    for (const std::string& c : created_parents_) ::rmdir(c.c_str());
+    remove_created_parents(created_parents_);
     throw EnvironmentError("cannot create the directory " + target_ + ": " + reason);
   }
 }
@@ -58,7 +35,7 @@ AtomicDirectory::AtomicDirectory(std::string target, std::vector<std::string> in
 AtomicDirectory::~AtomicDirectory() {
   temporary_.reset();  // removes what is left of the temporary directory
   if (!committed_)
-    for (const std::string& c : created_parents_) ::rmdir(c.c_str());  // only when empty
+    remove_created_parents(created_parents_);
 }
 
 const std::string& AtomicDirectory::path() const noexcept { return temporary_->path(); }

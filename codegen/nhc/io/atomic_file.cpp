@@ -1,4 +1,5 @@
 #include "nhc/io/atomic_file.hpp"
+#include "nhc/io/parent_directories.hpp"
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -31,8 +32,21 @@ int sync_file(const std::string& path) {
 
 }  // namespace
 
+/// The temporary file beside `path`, written, synced and renamed over it.
+static void write_into_existing_directory(const std::string& path, const std::function<void(std::ostream&)>& write);
+
 void write_file_atomically(const std::string& path,
                            const std::function<void(std::ostream&)>& write) {
+  const std::vector<std::string> created = create_missing_parents(path);
+  try {
+    write_into_existing_directory(path, write);
+  } catch (...) {
+    remove_created_parents(created);
+    throw;
+  }
+}
+
+static void write_into_existing_directory(const std::string& path, const std::function<void(std::ostream&)>& write) {
   // Registered before it exists: an interrupt at any moment removes it (temporary_files.hpp).
   const TemporaryFile registration(unique_temporary_name(path));
   const std::string& temporary = registration.path();
