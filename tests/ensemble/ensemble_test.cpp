@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 #include <set>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -195,6 +197,21 @@ TEST_CASE("resuming runs only the runs a checkpoint lacks and gives the same fil
   const auto other = run(ensemble("--vary b=0.5:1:3 --resume -o '" + part + "'"), dir);
   CHECK(other.exit_code == 2);
   CHECK(other.err.find("--resume") != std::string::npos);
+  // Nor the same design over a scene edited under the same name (issue 33, item 1): what the
+  // runs were computed from is compared, by the SHA-256 of the scene's text.
+  std::ifstream in(kStopScene);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t at = text.find("lagrangian = \"");
+  REQUIRE(at != std::string::npos);
+  text.insert(at + 14, "2*(");
+  text.insert(text.find('"', at + 17), ")");
+  std::ofstream(dir + "/edited.toml") << text;
+  const auto edited = run("NHC_CACHE_DIR='" + std::string(NHC_BINARY_DIR) + "/tests/scratch/ensemble-cache' " +
+                              nhc_command() + " ensemble '" + dir + "/edited.toml' " + args + "--resume -o '" + part + "'",
+                          dir);
+  INFO(edited.err);
+  CHECK(edited.exit_code == 2);
+  CHECK(edited.err.find("the scene's text differs from the one its runs were computed from") != std::string::npos);
 }
 
 TEST_CASE("bad input: exit 2, the flag named, no FILE.h5", "[ensemble]") {

@@ -109,6 +109,7 @@ void write_attributes(hid_t file, const EnsembleResults& results) {
   attribute(file, "format", std::string(kFormat));
   attribute(file, "scene", i.scene);
   attribute(file, "scene_file", i.scene_file);
+  attribute(file, "scene_digest", i.scene_digest);
   attribute(file, "model", i.model);
   attribute(file, "nhc_version", i.nhc_version);
   attribute(file, "rtol", i.rtol);
@@ -227,6 +228,9 @@ struct Reader {
     check(H5Aread(a, H5T_NATIVE_LLONG, &v), std::string("read attribute ") + name);
     return v;
   }
+  /// The text of an attribute that older files lack: "" when absent.
+  std::string optional_text(const char* name) const { return H5Aexists(file, name) > 0 ? text(name) : std::string(); }
+
   std::string text(const char* name) const {
     Handle a = open_attribute(name);
     Handle type(H5Aget_type(a), H5Tclose, "read a type");
@@ -281,6 +285,7 @@ EnsembleInfo read_info(const Reader& in) {
   EnsembleInfo i;
   i.scene = in.text("scene");
   i.scene_file = in.text("scene_file");
+  i.scene_digest = in.optional_text("scene_digest");
   i.model = in.text("model");
   i.nhc_version = in.text("nhc_version");
   i.rtol = in.number("rtol");
@@ -410,6 +415,11 @@ std::string resume_mismatch(const EnsembleInfo& s, const EnsembleInfo& w) {
     return what + " is " + a + " there, " + b + " now";
   };
   if (s.scene != w.scene) return differ("the scene", s.scene, w.scene);
+  // By content: a scene edited under the same name is another system.
+  if (s.scene_digest.empty()) return "it records no digest of its scene's text (written by an older nhc)";
+  if (s.scene_digest != w.scene_digest)
+    return "the scene's text differs from the one its runs were computed from (SHA-256 " +
+           s.scene_digest.substr(0, 12) + "… there, " + w.scene_digest.substr(0, 12) + "… now)";
   if (s.model != w.model) return differ("the model", s.model, w.model);
   if (s.rtol != w.rtol || s.atol != w.atol) return "the tolerances differ";
   if (s.t0 != w.t0 || s.t_end != w.t_end || s.outputs != w.outputs) return "t0, t_end or --outputs differ";
