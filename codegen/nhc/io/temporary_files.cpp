@@ -8,6 +8,9 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
 #include <cerrno>
 #include <cstring>
 #include <ctime>
@@ -128,6 +131,29 @@ std::string unique_temporary_name(const std::string& path) {
   static const unsigned salt = std::random_device{}() % 1000000u;
   return path + ".tmp" + std::to_string(::getpid()) + "_" + std::to_string(counter++) + "_" +
          std::to_string(salt);
+}
+
+int sweep_stale_temporaries(const std::string& directory, double min_age_seconds) {
+  namespace fs = std::filesystem;
+  int removed = 0;
+  std::error_code ec;
+  const auto now = fs::file_time_type::clock::now();
+  for (fs::directory_iterator it(directory, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    // <name>.tmp<pid>_<counter>_<salt>
+    const std::size_t at = name.rfind(".tmp");
+    if (at == std::string::npos) continue;
+    char* rest = nullptr;
+    const long pid = std::strtol(name.c_str() + at + 4, &rest, 10);
+    if (pid <= 0 || rest == name.c_str() + at + 4 || *rest != '_') continue;
+    if (pid == ::getpid() || ::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;
+    std::error_code time_error;
+    const auto written = fs::last_write_time(it->path(), time_error);
+    if (time_error || std::chrono::duration<double>(now - written).count() < min_age_seconds) continue;
+    std::error_code remove_error;
+    if (fs::remove_all(it->path(), remove_error) > 0 && !remove_error) ++removed;
+  }
+  return removed;
 }
 
 void cleanup_after_signal() noexcept {

@@ -71,6 +71,12 @@ class ChildProcessGroup {
 /// among concurrent processes and among the calls of one process.
 std::string unique_temporary_name(const std::string& path);
 
+/// Removes the temporaries of processes that are gone (kill -9 leaves them; nothing else would)
+/// directly inside `directory`: names made by unique_temporary_name() whose pid no longer runs on
+/// this machine and which are older than `min_age_seconds` (a cache shared over a network may
+/// hold live temporaries of another machine's pids). Returns how many it removed; never throws.
+int sweep_stale_temporaries(const std::string& directory, double min_age_seconds = 600);
+
 /// Async-signal-safe: sends SIGTERM to the registered child process groups and waits for them
 /// (SIGKILL after two seconds), then unlinks every registered temporary file and removes every
 /// registered temporary directory with its files.

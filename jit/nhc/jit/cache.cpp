@@ -1,4 +1,5 @@
 // The private, verified compile cache (cache.hpp).
+#include "nhc/io/temporary_files.hpp"
 #include "nhc/jit/cache.hpp"
 
 #include <sys/stat.h>
@@ -89,6 +90,7 @@ fs::path private_cache_directory(const CacheLocation& location, const Warning& w
     throw EnvironmentError("the compile cache " + dir.string() + " is unusable: " + problem +
                            "; it must be a directory owned by you and writable only by you (chmod 700 it, or "
                            "set NHC_CACHE_DIR to another directory)");
+  sweep_stale_temporaries(dir.string());  // what a killed nhc left behind
   return dir;
 }
 

@@ -1,5 +1,6 @@
 #include "nhc/jit/subprocess.hpp"
 
+#include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
 #include <spawn.h>
@@ -41,6 +42,55 @@ int stop_process_group(pid_t pid) {
   }
   return status;
 }
+
+/// A watchdog that outlives nhc only by a moment: a child of nhc blocked on a pipe that only
+/// nhc writes to. When nhc ends without saying the child's work is over (kill -9 included, which
+/// no handler sees), the kernel closes nhc's end, the read returns, and the watchdog kills the
+/// compiler's process group (the driver and the cc1plus, as, ld it started) before it exits.
+class Lifeline {
+ public:
+  explicit Lifeline(pid_t group) {
+    int fds[2];
+    if (::pipe2(fds, O_CLOEXEC) != 0) return;  // no watchdog: the signal handlers still stop the group
+    const pid_t watchdog = ::fork();
+    if (watchdog == 0) {
+      // Only async-signal-safe calls from here (nhc may have threads).
+      struct sigaction ignore {};
+      ignore.sa_handler = SIG_IGN;
+      for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGPIPE}) ::sigaction(sig, &ignore, nullptr);
+      for (int fd = 0; fd < 1024; ++fd)
+        if (fd != fds[0]) ::close(fd);
+      char byte = 0;
+      ssize_t n;
+      while ((n = ::read(fds[0], &byte, 1)) < 0 && errno == EINTR) {
+      }
+      if (n <= 0) ::kill(-group, SIGKILL);  // nhc is gone, the compile not done
+      ::_exit(0);
+    }
+    ::close(fds[0]);
+    if (watchdog < 0) {
+      ::close(fds[1]);
+      return;
+    }
+    watchdog_ = watchdog;
+    write_end_ = fds[1];
+  }
+  ~Lifeline() {
+    if (watchdog_ <= 0) return;
+    const char done = 1;
+    while (::write(write_end_, &done, 1) < 0 && errno == EINTR) {
+    }
+    ::close(write_end_);
+    while (::waitpid(watchdog_, nullptr, 0) < 0 && errno == EINTR) {
+    }
+  }
+  Lifeline(const Lifeline&) = delete;
+  Lifeline& operator=(const Lifeline&) = delete;
+
+ private:
+  pid_t watchdog_ = -1;
+  int write_end_ = -1;
+};
 
 }  // namespace
 
@@ -107,6 +157,7 @@ ProcessResult run_process(const std::vector<std::string>& argv, std::string& out
   result.started = true;
   const ChildProcessGroup registration(pid);
   ::sigprocmask(SIG_SETMASK, &previous, nullptr);
+  const Lifeline lifeline(pid);  // the group dies with nhc, even by kill -9
 
   const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
                                            std::chrono::duration<double>(timeout_seconds > 0 ? timeout_seconds : 0));
