@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include "commands.hpp"
+#include "failure_report.hpp"
 #include "model_requirements.hpp"
 #include "flag_rules.hpp"
 #include "nhc/jit/sha256.hpp"
@@ -221,21 +222,6 @@ Prepared prepare(const EnsembleOptions& o, int ranks, int threads) {
 }
 
 /// The exit code of the exception in flight, after printing it as main() does.
-int report(std::exception_ptr failure) {
-  try {
-    std::rethrow_exception(failure);
-  } catch (const InputError& e) {
-    std::cerr << e.what() << "\n";
-    return kExitBadInput;
-  } catch (const MathError& e) {
-    std::cerr << "nhc: error: " << e.what() << "\n";
-    return kExitMathFailure;
-  } catch (const std::exception& e) {
-    std::cerr << "nhc: internal error: " << e.what() << "\n";
-    return kExitInternal;
-  }
-}
-
 /// Keeps FILE.h5 current while the ensemble runs: a checkpoint every `interval` seconds, or
 /// rarer when writing takes long (at most 5 % of the time goes to checkpoints).
 class Checkpoints {
@@ -330,7 +316,7 @@ int run_ensemble(const EnsembleOptions& o) {
     try {
       p = prepare(o, session.size(), threads);
     } catch (...) {
-      status = report(std::current_exception());
+      status = report_failure(std::current_exception());
     }
   }
   status = session.broadcast(status);
@@ -366,7 +352,7 @@ int run_ensemble(const EnsembleOptions& o) {
     results.info.wall_seconds = seconds_since(start);
     write_results(o.output, results);
   } catch (...) {
-    const int code = report(std::current_exception());
+    const int code = report_failure(std::current_exception());
     session.abort(code);  // under MPI: the workers would wait for rank 0 for ever
     return code;
   }

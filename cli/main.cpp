@@ -8,6 +8,7 @@
 #include "commands.hpp"
 #include "flag_rules.hpp"
 #include "exit_codes.hpp"
+#include "failure_report.hpp"
 #include "interrupt.hpp"
 #include "nhc/errors.hpp"
 
@@ -63,26 +64,8 @@ int main(int argc, char** argv) {
   try {
     for (auto& [sub, run] : commands)
       if (sub->parsed()) return run();
-  } catch (const nhc::InputError& e) {
-    std::cerr << e.what() << "\n";
-    return nhc::cli::kExitBadInput;
-  } catch (const nhc::WorkLimitExceeded& e) {
-    // Not located by a layer that knows the scene: still bad input, named as such.
-    std::cerr << "nhc: error: the scene needs too much work: " << e.what() << "\n";
-    return nhc::cli::kExitBadInput;
-  } catch (const nhc::MathError& e) {
-    std::cerr << "nhc: error: " << e.what() << "\n";
-    return nhc::cli::kExitMathFailure;
-  } catch (const nhc::EnvironmentError& e) {
-    std::cerr << "nhc: error: " << e.what() << "\n";
-    return nhc::cli::kExitEnvironment;
-  } catch (const std::bad_alloc&) {
-    std::cerr << "nhc: error: out of memory\n";
-    return nhc::cli::kExitEnvironment;
-  } catch (const std::exception& e) {
-    std::cerr << "nhc: internal error: " << e.what() << "\n"
-              << "nhc: this is a bug in nhc; please report it with the command and the scene\n";
-    return nhc::cli::kExitInternal;
+  } catch (...) {
+    return nhc::cli::report_failure(std::current_exception());
   }
   return nhc::cli::kExitInternal;
 }

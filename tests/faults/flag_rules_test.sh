@@ -104,6 +104,16 @@ for c in "simulate" "connect --to x=1 --t-end 1" "linearize" "report -o $work/ou
   expect "${c%% *} --model suslov without dependent" 2 "suslov_without_dependent.toml:6:15: error: the suslov model needs one dependent coordinate per constraint"
 done
 
+# --threads beyond the machine: capped at its cores and at the runs (100000 threads aborted).
+run NHC_CACHE_DIR="$work/cache_threads" -- ensemble "$particle" --vary "q1'(0)=1:2:3" --threads 100000 -o "$work/threads.h5"
+expect "ensemble --threads 100000" 0 "nhc ensemble: --threads 100000 capped at the "
+rm -f "$work/threads.h5"
+
+# Ensemble memory and disk estimated before anything runs: 4000 runs of 10^7 kept outputs (issue 33 item 7:
+# std::bad_alloc after the runs had started).
+run -- ensemble "$particle" --vary "q1'(0)=1:2:4000" --keep trajectories --outputs 10000000 -o "$work/out.h5"
+expect "ensemble --keep trajectories --outputs 10000000" 2 "4000 runs would "
+
 # Duplicates in list flags.
 run -- compare "$src/examples/appell_hamel.toml" --models chetaev,chetaev -o "$work/out"
 expect "compare --models chetaev,chetaev" 2 "--models: error: model 'chetaev' is given twice"

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <system_error>
 #include <thread>
 
 #ifdef NHC_HAVE_MPI
@@ -72,17 +73,26 @@ class LocalWorkers {
   LocalWorkers(int threads, Dispenser& dispenser, const RunFunction& run, const ScheduleOptions& options, int rank,
                Inbox& inbox) {
     running_ = threads;
-    for (int k = 0; k < threads; ++k)
-      threads_.emplace_back([&, rank] {
-        for (std::vector<std::int64_t> chunk; !(chunk = dispenser.next()).empty();)
-          for (std::int64_t i : chunk) {
-            RunRecord r = run(i, options.values(i));
-            r.rank = rank;
-            inbox.add(std::move(r));
-          }
-        --running_;
-        inbox.worker_done();
-      });
+    for (int k = 0; k < threads; ++k) {
+      try {
+        threads_.emplace_back([&, rank] {
+          for (std::vector<std::int64_t> chunk; !(chunk = dispenser.next()).empty();)
+            for (std::int64_t i : chunk) {
+              RunRecord r = run(i, options.values(i));
+              r.rank = rank;
+              inbox.add(std::move(r));
+            }
+          --running_;
+          inbox.worker_done();
+        });
+      } catch (const std::system_error&) {
+        // The machine gives no more threads (a ulimit): the ones started do the work; with
+        // none, the caller hears why (an exception escaping with threads joinable would abort).
+        running_ -= threads - k;
+        if (k == 0) throw;
+        break;
+      }
+    }
   }
   ~LocalWorkers() { join(); }
   bool running() const { return running_ > 0; }
