@@ -47,6 +47,10 @@ for f in "$found"/*; do
   dest=tests/fuzz/corpus/$target/found_$(sha1sum "$f" | cut -c1-16)
   [ "$target" = scene ] && dest=$dest.toml
   [ -e "$dest" ] && continue
+  # An input the corpus already holds (a known slow one, say) is no find.
+  known=no
+  for seed in "$seeds/$target"/*; do cmp -s "$f" "$seed" && { known=yes; break; }; done
+  if [ $known = yes ]; then echo "fuzz_long: ${name%%-*} fuzzer: $(echo "$name" | cut -d- -f2) on an input the corpus holds: $f"; continue; fi
   cp "$f" "$dest"
   echo "fuzz_long: ${name%%-*} fuzzer: $(echo "$name" | cut -d- -f2) -> $dest"
   kept=$((kept + 1))

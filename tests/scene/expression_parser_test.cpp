@@ -250,3 +250,14 @@ TEST_CASE("unknown names and operators come with a hint", "[scene][parser][issue
   CHECK(error_message("k1", jet).find("did you mean 'k_1'?") != std::string::npos);
   CHECK(error_message("zzz", jet).find("(") == std::string::npos);  // nothing close: no hint
 }
+
+TEST_CASE("0 to a non-numeric power is refused where it is written", "[scene][parser][issue26]") {
+  // Found by scripts/fuzz_long.sh: rotz(x^-0^y') differentiated 0^y', whose derivative holds
+  // log(0), and GiNaC's "division by zero" ended nhc as an internal error.
+  const JetSpace jet = make_jet();
+  CHECK(error_message("x + 0^y", jet).find("0 to a power that is not a positive number is undefined") != std::string::npos);
+  CHECK(error_offset("x + 0^y", jet) == 5);
+  CHECK(error_message("rotz(x^-0^y')[1, 1]", jet).find("0 to a power") != std::string::npos);
+  CHECK(error_offset("0^(-1)", jet) == 1);
+  CHECK(parse_expression("0^2 + x", jet).is_equal(jet.q(0, 0)));
+}

@@ -302,6 +302,10 @@ class Parser {
       const ex& base = base_value.entries[0];
       const ex& exponent = exponent_value.entries[0];
       check_exponent(base, exponent, at);
+      // 0^y is 0 for y > 0 and undefined otherwise; its derivative holds log(0) (a crash in
+      // every model). Only a positive number is a meaningful exponent of 0.
+      if (base.is_zero() && !(GiNaC::is_a<GiNaC::numeric>(exponent) && GiNaC::ex_to<GiNaC::numeric>(exponent).is_positive()))
+        fail(at, "0 to a power that is not a positive number is undefined (0^y); write 0 or 1");
       ex result = guarded(at, [&] { return GiNaC::pow(base, exponent); });
       if (rules_.input_limits && !GiNaC::is_a<GiNaC::numeric>(exponent) &&
           exponent_tower(result) > kMaxExponentTower)
@@ -559,7 +563,17 @@ class Parser {
       const ex& x = scalar_argument(name, args[1], arg_positions[1]);
       return Value::scalar(guarded(start, [&] { return GiNaC::atan2(y, x); }));
     }
-    return vector_function(name, args, start, arg_positions[0]);
+    // rotx(a) and omega(R) differentiate their arguments: GiNaC may throw there too (the
+    // derivative of 0^y holds log(0)).
+    try {
+      return vector_function(name, args, start, arg_positions[0]);
+    } catch (const GiNaC::pole_error&) {
+      fail(start, "division by zero in " + name + "'s angular velocity");
+    } catch (const std::overflow_error&) {
+      fail(start, "division by zero in " + name + "'s angular velocity");
+    } catch (const std::domain_error& e) {
+      fail(start, "invalid operation in " + name + "'s angular velocity: " + e.what());
+    }
   }
 
   const ex& scalar_argument(const std::string& name, const Value& v, std::size_t at) {
