@@ -72,7 +72,7 @@ CompareSettings settings_of(const CompareOptions& options, const Scene& scene) {
   if (!std::isfinite(s.t_end) || !(s.t_end > s.t0))
     throw InputError({"--t-end", 0, 0}, format_number(s.t_end, 17) + " must be a finite time after t0 = " +
                                             format_number(s.t0, 17));
-  flag_rules::output_times(s.t0, s.t_end, s.outputs, "--t-end/--outputs");  // they must not collapse
+  s.times = flag_rules::output_times(s.t0, s.t_end, s.outputs, "--t-end/--outputs");
   return s;
 }
 
@@ -138,8 +138,7 @@ ComparedModel run_model(const Scene& scene, ModelKind kind, const CompareSetting
   io.rtol = settings.rtol;
   io.atol = settings.atol;
   const std::vector<double> p = model.default_parameters();
-  const runtime::RunResult run = runtime::simulate(model, p, initial_state_of(scene, model),
-                                                   runtime::output_times(settings.t0, settings.t_end, settings.outputs), io);
+  const runtime::RunResult run = runtime::simulate(model, p, initial_state_of(scene, model), settings.times, io);
   result.steps = run.statistics.steps;
   result.integrate_seconds = run.statistics.initialization_seconds + run.statistics.integration_seconds;
   if (run.samples.size() < 2) {

@@ -39,6 +39,7 @@ struct CompareSettings {
   std::map<std::string, std::vector<double>> given;  ///< the scene's [initial] values
   double t0 = 0, t_end = 0, rtol = 0, atol = 0;
   int outputs = 0;
+  std::vector<double> times;  ///< the outputs + 1 output times, checked not to collapse
   double tolerance = 0;  ///< motions separate where a coordinate differs by more than this
 };
 

@@ -18,6 +18,7 @@
 #include "commands.hpp"
 #include "failure_report.hpp"
 #include "model_requirements.hpp"
+#include "parameter_overrides.hpp"
 #include "flag_rules.hpp"
 #include "nhc/jit/sha256.hpp"
 #include "nhc/errors.hpp"
@@ -186,8 +187,11 @@ Prepared prepare(const EnsembleOptions& o, int ranks, int threads) {
   spec.rtol = o.rtol.value_or(scene.simulate.rtol);
   spec.atol = o.atol.value_or(scene.simulate.atol);
   spec.keep_trajectories = o.keep == "trajectories";
-  for (const VariableSpec& v : design.variables)
-    spec.targets.push_back(resolve_target(model, v.name, (o.vary.empty() ? "--sample " : "--vary ") + v.text));
+  for (const VariableSpec& v : design.variables) {
+    const std::string flag = (o.vary.empty() ? "--sample " : "--vary ") + v.text;
+    refuse_unread_parameter(scene, model, v.name, flag, "varying it would change nothing");
+    spec.targets.push_back(resolve_target(model, v.name, flag));
+  }
 
   EnsembleInfo& info = p.results.info;
   info.scene = scene.name;

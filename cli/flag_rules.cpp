@@ -1,9 +1,12 @@
 #include "flag_rules.hpp"
 
 #include <charconv>
+#include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <set>
 #include <sstream>
+#include <string_view>
 
 #include "nhc/errors.hpp"
 #include "nhc/runtime/integrator.hpp"
@@ -13,19 +16,13 @@ namespace nhc::cli::flag_rules {
 
 namespace {
 
-/// The whole text as a double, or NaN-aware failure: returns false for text that is not one
-/// number ("abc", "1x", "").
+/// The whole text as one number (strtod's syntax, so nan and inf are read and then judged by
+/// the rule); false for text that is not one number ("abc", "1x", "").
 bool parse_number(const std::string& text, double& value) {
-  std::istringstream in(text);
-  in >> value;
-  if (in.fail()) {
-    // istream does not read nan or inf; strtod does.
-    char* end = nullptr;
-    value = std::strtod(text.c_str(), &end);
-    return !text.empty() && end == text.c_str() + text.size();
-  }
-  in >> std::ws;
-  return in.eof();
+  char* end = nullptr;
+  value = std::strtod(text.c_str(), &end);
+  while (end != nullptr && std::isspace(static_cast<unsigned char>(*end))) ++end;
+  return !text.empty() && end != text.c_str() && *end == '\0';
 }
 
 CLI::Validator number_rule(const std::string& description, std::string (*problem)(double)) {
@@ -75,9 +72,21 @@ void refuse_duplicates(const std::vector<std::string>& keys, const std::string& 
     if (!seen.insert(key).second) throw InputError({flag, 0, 0}, what + " '" + key + "' is given twice");
 }
 
+std::string empty_value_message() { return "'' is an empty value: give one, or leave the flag out"; }
+
+std::optional<std::string> empty_inline_value(int argc, const char* const* argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view arg = argv[i];
+    if (arg == "--") break;
+    if (arg.size() > 3 && arg.substr(0, 2) == "--" && arg.find('=') == arg.size() - 1)
+      return std::string(arg.substr(0, arg.size() - 1));
+  }
+  return std::nullopt;
+}
+
 void refuse_empty_values(CLI::App& app) {
   const CLI::Validator non_empty(
-      [](std::string& text) -> std::string { return text.empty() ? "'' is an empty value: give one, or leave the flag out" : ""; },
+      [](std::string& text) -> std::string { return text.empty() ? empty_value_message() : ""; },
       "");
   for (CLI::App* sub : app.get_subcommands({}))
     for (CLI::Option* option : sub->get_options())

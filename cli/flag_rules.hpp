@@ -10,6 +10,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,13 @@ void refuse_duplicates(const std::vector<std::string>& keys, const std::string& 
 /// Every option of every subcommand of `app` that takes a value refuses an empty one
 /// (`--output-times ''`, `-o ''` would otherwise act as if the flag were absent).
 void refuse_empty_values(CLI::App& app);
+
+/// The first argument written `--flag=` with nothing after the `=`, if any (before a lone `--`).
+/// CLI11 would take the next argument as its value (`--t-end= -o out.csv` read `-o` as the time),
+/// so the command refuses it before parsing, in the words of refuse_empty_values().
+std::optional<std::string> empty_inline_value(int argc, const char* const* argv);
+/// The message for an empty value, shared by both checks.
+std::string empty_value_message();
 
 /// Equally spaced output times from t0 to t_end, refused (InputError at `flags`) where
 /// consecutive ones collapse in floating point instead of silently writing fewer rows.

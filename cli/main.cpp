@@ -37,6 +37,10 @@ int main(int argc, char** argv) {
   add(nhc::cli::add_linearize_command);
 
   nhc::cli::flag_rules::refuse_empty_values(app);
+  if (const auto flag = nhc::cli::flag_rules::empty_inline_value(argc, argv)) {
+    std::cerr << *flag << ": error: " << *flag << " " << nhc::cli::flag_rules::empty_value_message() << "\n";
+    return nhc::cli::kExitBadInput;
+  }
 
   try {
     app.parse(argc, argv);

@@ -55,10 +55,16 @@ std::vector<double> parameters_with_overrides(const runtime::Model& model, const
   std::vector<double> p = model.default_parameters();
   for (const ParameterOverride& o : overrides) {
     const int i = model.parameter_index(o.name);
-    if (i < 0) throw InputError({"--set", 0, 0}, "--set: '" + o.name + "' is not a parameter of the generated model");
-    p[static_cast<std::size_t>(i)] = o.value;
+    if (i >= 0) p[static_cast<std::size_t>(i)] = o.value;
   }
   return p;
+}
+
+void refuse_unread_parameter(const Scene& scene, const runtime::Model& model, const std::string& name,
+                             const std::string& flag, const std::string& consequence) {
+  if (scene.jet->parameter_index(name) && model.parameter_index(name) < 0)
+    throw InputError({flag, 0, 0}, "the " + model.model_name() + " model's equations do not contain the parameter '" +
+                                       name + "': " + consequence);
 }
 
 }  // namespace nhc::cli

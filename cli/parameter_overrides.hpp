@@ -36,6 +36,15 @@ std::vector<ParameterOverride> parse_parameter_overrides(const Scene& scene, con
 void apply_parameter_overrides(Scene& scene, const std::vector<ParameterOverride>& overrides);
 
 /// The model's default parameters with the overrides (a compiled model reused for any value).
+/// An override of a scene parameter the model does not read (it occurs in no equation,
+/// invariant or reference, so it does not reach the header) changes nothing there and is
+/// skipped; apply_parameter_overrides() has given it to the scene for its outputs.
 std::vector<double> parameters_with_overrides(const runtime::Model& model, const std::vector<ParameterOverride>& overrides);
+
+/// InputError at `flag` when `name` is a parameter of the scene that `model` does not read:
+/// varying it, or differentiating with respect to it, would change nothing. `consequence`
+/// says so in the flag's terms ("varying it would change nothing").
+void refuse_unread_parameter(const Scene& scene, const runtime::Model& model, const std::string& name,
+                             const std::string& flag, const std::string& consequence);
 
 }  // namespace nhc::cli

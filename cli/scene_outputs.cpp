@@ -46,9 +46,11 @@ SceneOutputs::SceneOutputs(const Scene& scene, const runtime::Model& model, cons
     : time_(scene.jet->time()) {
   const JetSpace& jet = *scene.jet;
   GiNaC::exmap parameters;
+  // The model's values, and the scene's for a parameter only the outputs use (it is not in the
+  // header; --set has given it to the scene).
   for (int k = 0; k < static_cast<int>(jet.parameters().size()); ++k) {
     const int i = model.parameter_index(jet.parameters()[static_cast<std::size_t>(k)]);
-    if (i >= 0) parameters[jet.parameter(k)] = p.at(static_cast<std::size_t>(i));
+    parameters[jet.parameter(k)] = i >= 0 ? p.at(static_cast<std::size_t>(i)) : scene.parameter_values.at(static_cast<std::size_t>(k));
   }
   const auto left_out = [&](const SceneQuantity& q, const std::string& what, const std::string& missing) {
     const std::string why = "uses " + missing + ", which the " + model.model_name() + " model does not compute";

@@ -202,6 +202,8 @@ CommandRunner add_simulate_command(CLI::App& app) {
     build_options.sensitivities = !options->sensitivity.names.empty();
     const jit::LoadedModel built = jit::build(scene, kind, build_options);
     remember_check(check, built);
+    for (const std::string& name : options->sensitivity.names)
+      refuse_unread_parameter(scene, built.model(), name, "--sensitivity", "its sensitivities are all zero");
     if (build_options.sensitivities) parse_sensitivities(built.model(), options->sensitivity.names);
     const runtime::Model& model = built.model();
     const double derive_seconds =
@@ -217,7 +219,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
     io.progress = true;
     io.max_steps = options->max_steps;
     const std::vector<double> p = parameters_with_overrides(model, overrides);
-    const SceneOutputs outputs(scene, model, p);  // [outputs]: extra CSV columns
+    const SceneOutputs outputs(scene_set, model, p);  // [outputs]: extra CSV columns
     for (const std::string& note : outputs.notes()) std::cerr << note << "\n";
     const std::vector<std::string> columns =
         options->columns.empty() ? std::vector<std::string>{}

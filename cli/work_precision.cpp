@@ -15,6 +15,7 @@
 #include "nhc/errors.hpp"
 #include "nhc/io/atomic_file.hpp"
 #include "nhc/io/temporary_files.hpp"
+#include "parameter_overrides.hpp"
 #include "pipeline.hpp"
 #include "nhc/io/shell.hpp"
 #include "nhc/jit.hpp"
@@ -71,16 +72,26 @@ WorkPrecision measure_work_precision(const Scene& scene, ModelKind kind, const W
 
   const std::string scene_file = scene.source_path.empty() ? scene.name : scene.source_path;
   auto check_parameter = [&](const std::string& name) {
-    if (dense.parameter_index(name) < 0) throw InputError({scene_file, 0, 0}, "the scene has no parameter '" + name + "'");
+    if (!scene.jet->parameter_index(name)) throw InputError({scene_file, 0, 0}, "the scene has no parameter '" + name + "'");
   };
-  for (const auto& [name, value] : settings.parameter_overrides) check_parameter(name);
-  if (!settings.sweep_parameter.empty()) check_parameter(settings.sweep_parameter);
+  // A parameter the model does not read is not in its header: setting it changes nothing there
+  // (parameters_with_overrides), sweeping it would measure one motion again and again.
+  WorkPrecisionSettings read = settings;
+  read.parameter_overrides.clear();
+  for (const auto& [name, value] : settings.parameter_overrides) {
+    check_parameter(name);
+    if (dense.parameter_index(name) >= 0) read.parameter_overrides.emplace_back(name, value);
+  }
+  if (!settings.sweep_parameter.empty()) {
+    check_parameter(settings.sweep_parameter);
+    refuse_unread_parameter(scene, dense, settings.sweep_parameter, "--sweep", "sweeping it would change nothing");
+  }
 
   runtime::WorkPrecisionModels models;
   models.dense = &dense;
   if (built.count("sparse")) models.sparse = &built.at("sparse").model();
   static_cast<runtime::WorkPrecision&>(wp) =
-      runtime::measure_work_precision(models, scene.initial.t0, scene.initial.values, settings, progress);
+      runtime::measure_work_precision(models, scene.initial.t0, scene.initial.values, read, progress);
   return wp;
 }
 

@@ -83,6 +83,17 @@ run -- simulate "$particle" --output-times '' -o "$work/out.csv"
 expect "simulate --output-times ''" 2 "--output-times: error: --output-times '' is an empty value"
 run -- simulate "$particle" -o ''
 expect "simulate -o ''" 2 "--output: error: --output '' is an empty value"
+# --flag= with nothing after the '=' took the next argument as its value (--t-end= -o out.csv read
+# -o as the time; --models= chetaev compared chetaev).
+run -- simulate "$particle" --t-end= -o "$work/out.csv"
+expect "simulate --t-end=" 2 "--t-end: error: --t-end '' is an empty value"
+run -- compare "$particle" --models= chetaev -o "$work/out"
+expect "compare --models=" 2 "--models: error: --models '' is an empty value"
+run -- ensemble "$particle" --vary "q1'(0)=1:2:3" --threads= 2 -o "$work/out.h5"
+expect "ensemble --threads=" 2 "--threads: error: --threads '' is an empty value"
+# A missing file is named as missing, not as "not an HDF5 file".
+run -- plot "$work/missing.h5" final:q1
+expect "plot of a missing file" 2 "$work/missing.h5: error: cannot read: No such file or directory"
 
 # Missing parent directories: created for files and directories alike (parent_directories.hpp).
 run NHC_CACHE_DIR="$work/cache_parents" -- connect "$heisenberg" --to x=1,y=0,z=0.25 --t-end 1 -o "$work/parents/a/x.csv"

@@ -205,16 +205,18 @@ TEST_CASE("long chains of definitions resolve without deep recursion; deep nesti
           "[scene][definitions][issue33]") {
   // d_k = d_{k-1}, 5000 links: resolved leaves first (the recursive descent overflowed the
   // stack at about 2,400).
-  std::string chain = "[definitions]\nT = \"d4999^2\"\nd0 = \"x'\"\n";
-  for (int k = 1; k < 5000; ++k) chain += "d" + std::to_string(k) + " = \"d" + std::to_string(k - 1) + "\"\n";
-  const nhc::Scene s = scene_with(chain);
+  // d1 … d4999 of a chain d_k = "d_{k-1}", after a head that sets T and d0.
+  const auto chain_after = [](const std::string& head) {
+    std::string text = "[definitions]\n" + head;
+    for (int k = 1; k < 5000; ++k) text += "d" + std::to_string(k) + " = \"d" + std::to_string(k - 1) + "\"\n";
+    return text;
+  };
+  const nhc::Scene s = scene_with(chain_after("T = \"d4999^2\"\nd0 = \"x'\"\n"));
   CHECK(same(s.lagrangian, GiNaC::pow(s.jet->q(0, 1), 2)));
   CHECK(s.warnings.empty());
   // The same chain closed into a cycle: named by its ends, on one line.
-  std::string cycle = "[definitions]\nT = \"d4999\"\nd0 = \"d4999 + x\"\n";
-  for (int k = 1; k < 5000; ++k) cycle += "d" + std::to_string(k) + " = \"d" + std::to_string(k - 1) + "\"\n";
   try {
-    scene_with(cycle);
+    scene_with(chain_after("T = \"d4999\"\nd0 = \"d4999 + x\"\n"));
     FAIL("a cycle was accepted");
   } catch (const nhc::InputError& e) {
     CHECK_THAT(e.what(), Catch::Contains("depends on itself (d4999 -> d4998 -> d4997 -> d4996 -> … (4992 more) -> "

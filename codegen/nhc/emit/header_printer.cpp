@@ -78,7 +78,9 @@ void print_banner(std::ostream& out, const Scene& scene, const Index1System& sys
   out << "//\n"
       << "// Scene " << sanitize_comment(scene.name) << ": coordinates "
       << sanitize_comment(joined(system.jet->coordinates(), ", "));
-  if (m.n_parameters > 0) out << "; parameters " << sanitize_comment(joined(system.jet->parameters(), ", "));
+  if (m.n_parameters > 0) out << "; parameters " << sanitize_comment(joined(m.parameter_names, ", "));
+  if (const std::size_t unused = system.jet->parameters().size() - m.parameters.size(); unused > 0)
+    out << " (" << unused << " more the model does not read)";
   std::vector<GiNaC::ex> shown{scene.lagrangian};
   shown.insert(shown.end(), scene.constraints.begin(), scene.constraints.end());
   const std::vector<std::string> notation = scene_notation(shown, *scene.jet);
@@ -128,10 +130,10 @@ void print_metadata(std::ostream& out, const Scene& scene, const Index1System& s
       << "inline constexpr double differential_id[n_states] = " << doubles(differential_id) << ";\n"
       << "inline constexpr const char* residual_names[n_states] = " << strings(residual_names) << ";\n";
   if (m.n_parameters > 0) {
-    out << "inline constexpr const char* parameter_names[n_parameters] = " << strings(system.jet->parameters())
-        << ";\n"
-        << "inline constexpr double default_parameters[n_parameters] = " << doubles(scene.parameter_values)
-        << ";\n";
+    std::vector<double> defaults;
+    for (int k : m.parameters) defaults.push_back(scene.parameter_values.at(static_cast<std::size_t>(k)));
+    out << "inline constexpr const char* parameter_names[n_parameters] = " << strings(m.parameter_names) << ";\n"
+        << "inline constexpr double default_parameters[n_parameters] = " << doubles(defaults) << ";\n";
   } else {
     out << "/// No parameters; C++ has no empty arrays, so one unused placeholder each.\n"
         << "inline constexpr const char* parameter_names[1] = {nullptr};\n"

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <tuple>
 #include <set>
+#include <unordered_set>
 
 #include "nhc/emit/cpp_printer.hpp"
 #include "nhc/emit/header_emitter.hpp"
@@ -158,13 +159,33 @@ std::vector<SingularQuantity> singular_quantities(const Index1System& system) {
 
 namespace {
 
+/// The scene's parameters occurring in `expressions`, by index in scene order. Each shared
+/// subexpression is visited once, with an explicit stack (expressions are user-sized).
+std::vector<int> parameters_in(const std::vector<GiNaC::ex>& expressions, const JetSpace& jet) {
+  std::unordered_set<GiNaC::ex, std::hash<GiNaC::ex>, GiNaC::ex_is_equal> seen;
+  std::set<GiNaC::ex, GiNaC::ex_is_less> symbols;
+  std::vector<GiNaC::ex> stack(expressions.begin(), expressions.end());
+  while (!stack.empty()) {
+    const GiNaC::ex e = stack.back();
+    stack.pop_back();
+    if (!seen.insert(e).second) continue;
+    if (GiNaC::is_a<GiNaC::symbol>(e)) symbols.insert(e);
+    for (std::size_t k = 0; k < e.nops(); ++k) stack.push_back(e.op(k));
+  }
+  std::vector<int> read;
+  for (int k = 0; k < static_cast<int>(jet.parameters().size()); ++k)
+    if (symbols.count(jet.parameter(k))) read.push_back(k);
+  return read;
+}
+
 /// The inputs of generated functions by their C++ names.
 std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> function_inputs(const Index1System& system,
+                                                                    const std::vector<int>& parameters,
                                                                     const GiNaC::realsymbol& cj) {
   std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> in;
   in[system.jet->time()] = "t";
-  for (int k = 0; k < static_cast<int>(system.jet->parameters().size()); ++k)
-    in[system.jet->parameter(k)] = "p[" + std::to_string(k) + "]";
+  for (std::size_t k = 0; k < parameters.size(); ++k)
+    in[system.jet->parameter(parameters[k])] = "p[" + std::to_string(k) + "]";
   for (size_t k = 0; k < system.y.size(); ++k) in[system.y[k]] = "y[" + std::to_string(k) + "]";
   for (size_t k = 0; k < system.yp.size(); ++k) in[system.yp[k]] = "yp[" + std::to_string(k) + "]";
   in[cj] = "cj";
@@ -325,7 +346,6 @@ PreparedModel prepare_model(const Scene& scene, const Index1System& system, Jaco
   m.namespace_name = generated_namespace_name(scene.name, system.model);
   m.jacobian = jacobian;
   m.n_states = system.size();
-  m.n_parameters = static_cast<int>(system.jet->parameters().size());
   m.n_coordinates = system.jet->coordinate_count();
   m.n_multipliers = system.model == ModelKind::suslov ? 0 : static_cast<int>(scene.constraints.size());
   m.n_hidden = static_cast<int>(system.hidden_constraints.size());
@@ -337,9 +357,17 @@ PreparedModel prepare_model(const Scene& scene, const Index1System& system, Jaco
   if (dense || sparse) m.symbolic_jacobian = index1_jacobian(system);
   m.singular = singular_quantities(system);
   m.n_singular = static_cast<int>(m.singular.size());
+  // The Jacobians and singular quantities are derivatives and parts of these: they read no more.
+  std::vector<GiNaC::ex> read(system.residuals.begin(), system.residuals.end());
+  read.insert(read.end(), system.hidden_constraints.begin(), system.hidden_constraints.end());
+  for (const ModelInvariant& i : m.invariants) read.push_back(i.in_states);
+  for (const auto& entry : m.reference) read.push_back(entry.second);
+  m.parameters = parameters_in(read, *system.jet);
+  m.n_parameters = static_cast<int>(m.parameters.size());
+  for (int k : m.parameters) m.parameter_names.push_back(system.jet->parameters().at(static_cast<std::size_t>(k)));
 
   // Lowered in the order the functions are printed.
-  m.dag = ExpressionDag(function_inputs(system, m.symbolic_jacobian.cj));
+  m.dag = ExpressionDag(function_inputs(system, m.parameters, m.symbolic_jacobian.cj));
   m.functions.push_back(residual_function(system, m.dag));
   if (dense || sparse) m.functions.push_back(jacobian_function(m.symbolic_jacobian, dense, m.dag));
   if (m.n_hidden > 0) {
@@ -352,7 +380,7 @@ PreparedModel prepare_model(const Scene& scene, const Index1System& system, Jaco
   // Sensitivity additions (docs/generated-code.md): only when asked for and the scene has parameters.
   m.sensitivities = sensitivities && m.n_parameters > 0;
   if (m.sensitivities) {
-    const ParameterJacobian pj = parameter_jacobian(system);
+    const ParameterJacobian pj = parameter_jacobian(system, m.parameters);
     m.functions.push_back(parameter_matrix_function("residual_parameter_jacobian",
                                                     "/// dF/dp, column-major n_states x n_parameters.\n", "Fp",
                                                     m.n_states, m.n_parameters, pj.residual, pj.residual_nonzeros,

@@ -83,6 +83,11 @@ struct PreparedModel {
   bool sensitivities = false;  ///< dF/dp and dg/dp emitted
   int n_states = 0, n_parameters = 0, n_coordinates = 0, n_multipliers = 0, n_hidden = 0;
   int n_invariants = 0, n_reference = 0, n_singular = 0;
+  /// The scene's parameters the functions read, by index into the scene's list, in its order:
+  /// p[k] of the header is scene parameter parameters[k]. One that no equation, invariant or
+  /// reference uses does not reach the header (a scene may carry thousands).
+  std::vector<int> parameters;
+  std::vector<std::string> parameter_names;  ///< their names, in the same order
   std::vector<ModelInvariant> invariants;             ///< the scene's invariants this model computes
   SceneReference::Entries reference;                  ///< the scene's closed forms for this model
   SymbolicJacobian symbolic_jacobian;  ///< empty for JacobianKind::none

@@ -7,13 +7,13 @@ namespace nhc {
 namespace {
 
 /// Column-major ∂e_i/∂p_k of `expressions` with the positions of the entries that are not zero.
-void differentiate(const std::vector<GiNaC::ex>& expressions, const JetSpace& jet,
+void differentiate(const std::vector<GiNaC::ex>& expressions, const JetSpace& jet, const std::vector<int>& parameters,
                    std::vector<GiNaC::ex>& entries, std::vector<int>& nonzeros) {
   const std::size_t rows = expressions.size();
-  const std::size_t columns = jet.parameters().size();
+  const std::size_t columns = parameters.size();
   entries.assign(rows * columns, GiNaC::ex(0));
   for (std::size_t k = 0; k < columns; ++k) {
-    const GiNaC::realsymbol& p = jet.parameter(static_cast<int>(k));
+    const GiNaC::realsymbol& p = jet.parameter(parameters[k]);
     for (std::size_t i = 0; i < rows; ++i) {
       if (!expressions[i].has(p)) continue;
       const GiNaC::ex d = expressions[i].diff(p);
@@ -26,13 +26,13 @@ void differentiate(const std::vector<GiNaC::ex>& expressions, const JetSpace& je
 
 }  // namespace
 
-ParameterJacobian parameter_jacobian(const Index1System& system) {
+ParameterJacobian parameter_jacobian(const Index1System& system, const std::vector<int>& parameters) {
   ParameterJacobian out;
   out.n_states = system.size();
   out.n_hidden = static_cast<int>(system.hidden_constraints.size());
-  out.n_parameters = static_cast<int>(system.jet->parameters().size());
-  differentiate(system.residuals, *system.jet, out.residual, out.residual_nonzeros);
-  differentiate(system.hidden_constraints, *system.jet, out.hidden, out.hidden_nonzeros);
+  out.n_parameters = static_cast<int>(parameters.size());
+  differentiate(system.residuals, *system.jet, parameters, out.residual, out.residual_nonzeros);
+  differentiate(system.hidden_constraints, *system.jet, parameters, out.hidden, out.hidden_nonzeros);
   return out;
 }
 

@@ -13,8 +13,8 @@
 
 namespace nhc {
 
-/// Column-major matrices of partial derivatives with respect to the scene's parameters, in
-/// parameter order. Entries not identically zero are listed in `residual_nonzeros` /
+/// Column-major matrices of partial derivatives with respect to the parameters the header reads
+/// (PreparedModel::parameters), in that order. Entries not identically zero are listed in `residual_nonzeros` /
 /// `hidden_nonzeros` (positions into the column-major arrays, increasing).
 struct ParameterJacobian {
   int n_states = 0, n_hidden = 0, n_parameters = 0;
@@ -23,7 +23,8 @@ struct ParameterJacobian {
   std::vector<int> residual_nonzeros, hidden_nonzeros;
 };
 
-/// dF/dp and dg/dp of `system`; only the parameters occurring in an expression are differentiated.
-ParameterJacobian parameter_jacobian(const Index1System& system);
+/// dF/dp and dg/dp of `system` for the scene parameters `parameters` (indices into the scene's
+/// list); only the parameters occurring in an expression are differentiated.
+ParameterJacobian parameter_jacobian(const Index1System& system, const std::vector<int>& parameters);
 
 }  // namespace nhc

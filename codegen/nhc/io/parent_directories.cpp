@@ -32,6 +32,17 @@ std::vector<std::string> create_missing_parents(const std::string& path) {
   return created;
 }
 
+void check_can_create(const std::string& path) {
+  std::error_code ec;
+  fs::path ancestor = fs::absolute(fs::path(path), ec).parent_path();
+  while (!ancestor.empty() && !fs::exists(ancestor, ec) && ancestor != ancestor.parent_path())
+    ancestor = ancestor.parent_path();
+  errno = 0;
+  if (!fs::is_directory(ancestor, ec)) errno = ENOTDIR;
+  else if (::access(ancestor.c_str(), W_OK | X_OK) != 0 && errno == 0) errno = EACCES;
+  if (errno != 0) throw EnvironmentError("cannot write " + path + ": " + std::strerror(errno));
+}
+
 void remove_created_parents(const std::vector<std::string>& created) {
   for (const std::string& c : created) ::rmdir(c.c_str());  // fails, harmlessly, unless empty
 }

@@ -13,6 +13,11 @@ namespace nhc {
 /// Throws EnvironmentError (and removes what it created) when one cannot be made.
 std::vector<std::string> create_missing_parents(const std::string& path);
 
+/// Throws EnvironmentError naming `path` unless it could be written by the rule above: its
+/// nearest existing ancestor is a directory nhc may create entries in. Creates nothing; for a
+/// command that checks its output before long work (an ensemble) and writes it later.
+void check_can_create(const std::string& path);
+
 /// Removes the directories create_missing_parents() made, innermost first, each only if empty.
 void remove_created_parents(const std::vector<std::string>& created);
 

@@ -8,12 +8,12 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <functional>
 #include <limits>
 
 #include "nhc/errors.hpp"
-#include "nhc/io/temporary_files.hpp"
+#include "nhc/io/atomic_file.hpp"
+#include "nhc/io/parent_directories.hpp"
 
 namespace nhc::ensemble {
 
@@ -359,37 +359,38 @@ std::vector<RunRecord> read_runs(const Reader& in, const EnsembleInfo& i) {
 
 }  // namespace
 
-void check_writable(const std::string& path) {
-  const TemporaryFile probe(unique_temporary_name(path));
-  std::ofstream out(probe.path(), std::ios::binary);
-  if (!out) throw InputError({"-o " + path, 0, 0}, std::string("cannot write: ") + std::strerror(errno));
-}
+void check_writable(const std::string& path) { check_can_create(path); }
 
+/// The file is made in memory (HDF5's core driver, no backing store) and written by the one
+/// atomic writer of nhc: HDF5 never meets a full disk, whose failed flush would leave it a file
+/// it cannot close (it crashed at exit), and disk-full or permission failures read as every
+/// other output's do (exit 4 with the system's reason).
 void write_results(const std::string& path, const EnsembleResults& results) {
   silence_hdf5();
-  // Registered before it exists: an interrupt removes it (nhc/io/temporary_files.hpp).
-  const TemporaryFile temporary(unique_temporary_name(path));
-  try {
-    {
-      Handle file(H5Fcreate(temporary.path().c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
-                  "create " + temporary.path());
-      write_attributes(file, results);
-      write_design(file, results.info.design);
-      write_runs(file, results);
-      if (results.info.keep_trajectories) write_trajectories(file, results);
-      check(H5Fflush(file, H5F_SCOPE_GLOBAL), "flush " + temporary.path());
-    }
-    if (std::rename(temporary.path().c_str(), path.c_str()) != 0)
-      throw InputError({"-o " + path, 0, 0}, std::string("cannot write: ") + std::strerror(errno));
-  } catch (const std::runtime_error& e) {
-    temporary.remove();
-    if (dynamic_cast<const InputError*>(&e)) throw;
-    throw InputError({"-o " + path, 0, 0}, e.what());
+  std::vector<char> image;
+  {  // a failure here is nhc's own (nothing of the machine is involved): it propagates as such
+    Handle access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "make file access properties");
+    check(H5Pset_fapl_core(access, 1 << 16, false), "keep the file in memory");
+    Handle file(H5Fcreate("nhc-ensemble-in-memory.h5", H5F_ACC_TRUNC, H5P_DEFAULT, access), H5Fclose,
+                "create the file in memory");
+    write_attributes(file, results);
+    write_design(file, results.info.design);
+    write_runs(file, results);
+    if (results.info.keep_trajectories) write_trajectories(file, results);
+    check(H5Fflush(file, H5F_SCOPE_GLOBAL), "flush the file in memory");
+    const ssize_t size = H5Fget_file_image(file, nullptr, 0);
+    if (size < 0) throw std::runtime_error("HDF5: cannot measure the file's image");
+    image.resize(static_cast<std::size_t>(size));
+    if (H5Fget_file_image(file, image.data(), image.size()) != size)
+      throw std::runtime_error("HDF5: cannot copy the file's image");
   }
+  write_file_atomically(path, [&](std::ostream& out) { out.write(image.data(), static_cast<std::streamsize>(image.size())); });
 }
 
 EnsembleResults read_results(const std::string& path) {
   silence_hdf5();
+  if (FILE* probe = std::fopen(path.c_str(), "rb")) std::fclose(probe);
+  else throw InputError({path, 0, 0}, std::string("cannot read: ") + std::strerror(errno));
   if (H5Fis_hdf5(path.c_str()) <= 0) throw InputError({path, 0, 0}, "not an HDF5 file (or it cannot be read)");
   // A file that starts as HDF5 but is truncated or damaged fails to open or to read: bad input.
   const hid_t id = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);

@@ -50,13 +50,14 @@ struct EnsembleResults {
   long finished() const;
 };
 
-/// Writes `results` atomically. Throws InputError (flag -o) when the file cannot be written.
+/// Writes `results` atomically, creating missing directories (nhc/io/atomic_file.hpp). Throws
+/// EnvironmentError naming `path` when it cannot be written (disk full, no permission).
 void write_results(const std::string& path, const EnsembleResults& results);
 
 /// Reads a file written by write_results(). Throws InputError naming the file when it is not one.
 EnsembleResults read_results(const std::string& path);
 
-/// Throws InputError (flag -o) unless a file can be created beside `path`; creates nothing.
+/// Throws EnvironmentError naming `path` unless write_results() could create it; creates nothing.
 void check_writable(const std::string& path);
 
 /// Why `stored` is not the same ensemble as `wanted` (scene, model, settings, design), or "".

@@ -127,7 +127,10 @@ void schedule_threads(std::vector<std::int64_t> todo, const RunFunction& run, co
 
 #ifdef NHC_HAVE_MPI
 
-enum Tag : int { kRecords = 1, kWork = 2, kStop = 3 };
+/// Worker → root: kRequest asks for a chunk, kDone carries one finished run's record.
+/// Root → worker: kWork is a chunk, kStop ends the worker. MPI keeps the messages of one
+/// sender in order, so every kDone of a worker arrives before its last kRequest.
+enum Tag : int { kRequest = 1, kWork = 2, kStop = 3, kDone = 4 };
 
 /// Waits for a message without MPI's busy polling (which would take a core from the worker
 /// threads when ranks share a machine): probe, then sleep a little longer each time.
@@ -168,9 +171,19 @@ void manage(const Session& session, std::vector<std::int64_t> todo, const RunFun
   while (active > 0 || local.running()) {
     int flag = 0;
     MPI_Status status;
-    MPI_Iprobe(MPI_ANY_SOURCE, kRecords, MPI_COMM_WORLD, &flag, &status);
-    if (flag) {
+    // Any tag: a worker's records (kDone) are taken in the order it sent them, before its request.
+    MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &status);
+    if (flag && status.MPI_TAG == kDone) {
       const std::vector<char> bytes = receive(status);
+      ByteReader in(bytes);
+      std::vector<RunRecord> records;
+      while (!in.done()) records.push_back(decode_record(in));
+      if (!records.empty()) options.on_records(std::move(records));
+      pause = 10us;
+      continue;
+    }
+    if (flag) {
+      receive(status);  // kRequest: empty
       const std::vector<std::int64_t> chunk = dispenser.next();
       ByteWriter work;
       work.put<std::uint64_t>(chunk.size());
@@ -181,10 +194,6 @@ void manage(const Session& session, std::vector<std::int64_t> todo, const RunFun
       }
       send(work.bytes(), status.MPI_SOURCE, chunk.empty() ? kStop : kWork);
       if (chunk.empty()) --active;
-      ByteReader in(bytes);
-      std::vector<RunRecord> records;
-      while (!in.done()) records.push_back(decode_record(in));
-      if (!records.empty()) options.on_records(std::move(records));
       pause = 10us;
       continue;  // answer every waiting worker before anything else
     }
@@ -200,17 +209,18 @@ void manage(const Session& session, std::vector<std::int64_t> todo, const RunFun
   deliver(inbox, options);
 }
 
-/// Ranks > 0: ask for work with the records of the last chunk, run it, until told to stop.
+/// Ranks > 0: ask for a chunk, run it, until told to stop. Each finished run's record goes to
+/// root at once (a killed rank loses only the run it was doing, not the rest of its chunk; root
+/// checkpoints what arrived).
 void work(const Session& session, const RunFunction& run, const ScheduleOptions& options) {
-  ByteWriter records;  // empty: the first request
   for (;;) {
-    send(records.bytes(), 0, kRecords);
+    std::vector<char> request;
+    send(request, 0, kRequest);
     const MPI_Status status = wait_for_message(0, MPI_ANY_TAG);
     const std::vector<char> bytes = receive(status);
     if (status.MPI_TAG == kStop) return;
     ByteReader in(bytes);
     const auto n = in.get<std::uint64_t>();
-    records = ByteWriter();
     std::vector<double> values;
     for (std::uint64_t k = 0; k < n; ++k) {
       const auto index = in.get<std::int64_t>();
@@ -218,7 +228,9 @@ void work(const Session& session, const RunFunction& run, const ScheduleOptions&
       for (double& v : values) v = in.get<double>();
       RunRecord r = run(index, values.data());
       r.rank = session.rank();
-      encode(records, r);
+      ByteWriter record;
+      encode(record, r);
+      send(record.bytes(), 0, kDone);
     }
   }
 }

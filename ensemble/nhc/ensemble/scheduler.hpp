@@ -7,8 +7,9 @@
 /// kMaxChunk.
 ///
 /// In one process the workers are threads. Under MPI, rank 0 is the manager: its main thread
-/// answers the other ranks (MPI_Send/MPI_Recv: a worker sends the records of its last chunk,
-/// which asks for the next) while its own worker thread runs too; every record arrives at rank 0.
+/// answers the other ranks (MPI_Send/MPI_Recv: a worker asks for a chunk and sends each run's
+/// record as soon as the run ends) while its own worker thread runs too; every record arrives at
+/// rank 0, and a checkpoint there keeps every run a killed rank had finished.
 
 #include <cstdint>
 #include <functional>
