@@ -10,6 +10,7 @@
 #include "nhc/emit/cpp_printer.hpp"
 #include "nhc/emit/cse.hpp"
 #include "nhc/errors.hpp"
+#include "nhc/jet/intermediate.hpp"
 
 namespace {
 
@@ -138,4 +139,24 @@ TEST_CASE("expressions without a C++ counterpart are refused", "[codegen]") {
   CHECK_THROWS_AS(f.dag.add(f.x + stranger), nhc::MathError);
   CHECK_THROWS_AS(f.dag.add(f.x + GiNaC::I), nhc::MathError);
   CHECK_THROWS_AS(f.dag.add(GiNaC::zeta(f.x)), nhc::MathError);
+}
+
+TEST_CASE("named intermediates are lowered once each, in proportion to the structure", "[codegen][intermediate]") {
+  // Issue 27's chain d0 = x' + y + 1, d_k = d_{k-1}^2 + x, written over jet symbols q that the
+  // functions read as states: 24 squarings and 24 additions, not the 2^24-degree expansion.
+  Fixture f;
+  const GiNaC::realsymbol q{"q"}, qd{"q_d1"};
+  f.dag.set_intermediate_substitution({{q, f.x}, {qd, f.y}});
+  ex d = nhc::Intermediate("d0", "d_0", qd + f.t + 1);
+  for (int k = 1; k <= 24; ++k) d = nhc::Intermediate("d" + std::to_string(k), "d", d * d + q);
+  const int once = f.dag.add(d);
+  const int twice = f.dag.add(d * f.a + d);
+  const nhc::OperationCount count = nhc::dag_operation_count(f.dag, {once, twice});
+  CHECK(count.multiplications == 24 + 1);  // each d_{k-1}^2, then d24 * p[0]
+  CHECK(count.additions == 2 + 24 + 1);    // d0, each + q, then + d24
+  CHECK(nhc::dag_operation_count(f.dag, {once}).total() == 2 + 24 + 24);
+  // A chain of 3000 links lowers without recursing once per link.
+  ex c = nhc::Intermediate("c0", "c_0", q);
+  for (int k = 1; k <= 3000; ++k) c = nhc::Intermediate("c" + std::to_string(k), "c", c * q + f.t);
+  CHECK(nhc::dag_operation_count(f.dag, {f.dag.add(c)}).total() == 2 * 3000);
 }

@@ -7,6 +7,7 @@
 #include <tuple>
 
 #include "nhc/errors.hpp"
+#include "nhc/jet/intermediate.hpp"
 
 namespace nhc {
 
@@ -76,7 +77,23 @@ bool Instruction::operator<(const Instruction& o) const {
 ExpressionDag::ExpressionDag(std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> inputs)
     : inputs_(std::move(inputs)) {}
 
-int ExpressionDag::add(const GiNaC::ex& e) { return lower(e); }
+int ExpressionDag::add(const GiNaC::ex& e) {
+  // Named intermediates first, each once and in dependency order (each after those it uses):
+  // one instruction per intermediate, shared by every output, and no recursion per link of a
+  // chain of definitions when e is lowered.
+  for (const GiNaC::ex& d : intermediates_in_order({e}))
+    if (!by_expression_.count(d)) by_expression_.emplace(d, lower_signed(intermediate_expression(d)));
+  return lower(e);
+}
+
+void ExpressionDag::set_intermediate_substitution(GiNaC::exmap substitution) {
+  intermediate_substitution_ = std::move(substitution);
+}
+
+GiNaC::ex ExpressionDag::intermediate_expression(const GiNaC::ex& d) const {
+  const GiNaC::ex& e = GiNaC::ex_to<Intermediate>(d).expression();
+  return intermediate_substitution_.empty() ? e : e.subs(intermediate_substitution_, GiNaC::subs_options::no_pattern);
+}
 
 int ExpressionDag::make(Instruction instruction) {
   // Canonical operand order for the commutative operations: by structural key (then index,
@@ -194,6 +211,8 @@ std::pair<int, bool> ExpressionDag::lower_signed(const GiNaC::ex& e) {
   if (GiNaC::is_exactly_a<GiNaC::numeric>(e)) {
     const double v = to_real(GiNaC::ex_to<GiNaC::numeric>(e), e);
     result = {constant(std::fabs(v)), v < 0};
+  } else if (is_intermediate(e)) {
+    result = lower_signed(intermediate_expression(e));  // add() lowers them first; this is its fallback
   } else if (GiNaC::is_a<GiNaC::symbol>(e)) {
     auto it = inputs_.find(e);
     if (it == inputs_.end())

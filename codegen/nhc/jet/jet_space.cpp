@@ -1,5 +1,6 @@
 #include "nhc/jet/jet_space.hpp"
 
+#include "nhc/jet/intermediate.hpp"
 #include "nhc/jet/work_budget.hpp"
 
 #include <algorithm>
@@ -107,21 +108,22 @@ std::optional<JetCoordinate> JetSpace::classify(const GiNaC::ex& s) const {
 }
 
 std::vector<JetCoordinate> JetSpace::jet_coordinates_in(const GiNaC::ex& e) const {
+  // Through named intermediates (intermediate.hpp), each shared subexpression visited once.
   std::set<JetCoordinate> found;
-  for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it) {
-    if (!GiNaC::is_a<GiNaC::symbol>(*it)) continue;
-    if (auto c = classify(*it)) found.insert(*c);
-  }
+  for (const GiNaC::ex& s : symbols_through(e))
+    if (auto c = classify(s)) found.insert(*c);
   return {found.begin(), found.end()};
 }
 
 GiNaC::ex JetSpace::total_derivative(const GiNaC::ex& e) const {
-  GiNaC::ex result = e.diff(time_);
-  for (const auto& c : jet_coordinates_in(e)) {
-    const auto& s = symbol(c);
-    result += e.diff(s) * symbol({c.kind, c.index, c.order + 1});
-  }
-  return result;
+  // D on the plain symbols: ∂_t, q^(k) → q^(k+1), λ^(k) → λ^(k+1), parameters constant; through
+  // intermediates by TotalDerivative (each intermediate's D computed once).
+  const TotalDerivative D([this](const GiNaC::ex& s) -> GiNaC::ex {
+    if (s.is_equal(time_)) return 1;
+    if (const auto c = classify(s)) return symbol({c->kind, c->index, c->order + 1});
+    return 0;
+  });
+  return D(e);
 }
 
 GiNaC::ex JetSpace::total_derivative(const GiNaC::ex& e, int k) const {

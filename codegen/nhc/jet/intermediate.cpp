@@ -1,0 +1,220 @@
+#include "nhc/jet/intermediate.hpp"
+
+#include <unordered_map>
+#include <unordered_set>
+
+namespace nhc {
+
+namespace {
+
+thread_local bool explicit_derivatives = false;
+
+using ExSet = std::set<GiNaC::ex, GiNaC::ex_is_less>;
+
+/// Visits every distinct subexpression of e once (shared subtrees once), without recursion, and
+/// calls `found` on each intermediate met; does not descend into intermediates' expressions.
+template <class Found>
+void each_intermediate(const GiNaC::ex& e, Found found) {
+  std::unordered_set<GiNaC::ex, std::hash<GiNaC::ex>, GiNaC::ex_is_equal> seen;
+  std::vector<GiNaC::ex> stack{e};
+  while (!stack.empty()) {
+    const GiNaC::ex x = stack.back();
+    stack.pop_back();
+    if (!seen.insert(x).second) continue;
+    if (is_intermediate(x)) {
+      found(x);
+      continue;
+    }
+    for (std::size_t k = 0; k < x.nops(); ++k) stack.push_back(x.op(k));
+  }
+}
+
+/// e's own symbols that are not intermediates (not through them).
+ExSet own_symbols(const GiNaC::ex& e) {
+  ExSet out;
+  std::unordered_set<GiNaC::ex, std::hash<GiNaC::ex>, GiNaC::ex_is_equal> seen;
+  std::vector<GiNaC::ex> stack{e};
+  while (!stack.empty()) {
+    const GiNaC::ex x = stack.back();
+    stack.pop_back();
+    if (!seen.insert(x).second || is_intermediate(x)) continue;
+    if (GiNaC::is_a<GiNaC::symbol>(x)) out.insert(x);
+    for (std::size_t k = 0; k < x.nops(); ++k) stack.push_back(x.op(k));
+  }
+  return out;
+}
+
+/// A derived quantity of `d` (a partial or D d): kept as an expression when small, else an
+/// intermediate named `name`.
+GiNaC::ex keep_or_name(const GiNaC::ex& value, const std::string& name, const std::string& latex) {
+  if (expression_nodes(value) < kInlineBelowNodes) return value;
+  return Intermediate(name, latex, value);
+}
+
+const Intermediate& as_intermediate(const GiNaC::ex& e) { return GiNaC::ex_to<Intermediate>(e); }
+
+}  // namespace
+
+int expression_nodes(const GiNaC::ex& e, int limit) {
+  int count = 0;
+  std::vector<GiNaC::ex> stack{e};
+  while (!stack.empty() && count < limit) {
+    const GiNaC::ex x = stack.back();
+    stack.pop_back();
+    ++count;
+    for (std::size_t k = 0; k < x.nops(); ++k) stack.push_back(x.op(k));
+  }
+  return count;
+}
+
+bool is_intermediate(const GiNaC::ex& e) { return GiNaC::is_a<Intermediate>(e); }
+
+Intermediate::Intermediate(const std::string& name, const std::string& latex, const GiNaC::ex& expression)
+    : GiNaC::realsymbol(name, latex), definition_(std::make_shared<Definition>()) {
+  definition_->name = name;
+  definition_->latex = latex;
+  definition_->expression = expression;
+}
+
+const std::vector<GiNaC::ex>& Intermediate::uses() const {
+  if (!definition_->uses) {
+    auto uses = std::make_unique<std::vector<GiNaC::ex>>(direct_intermediates(definition_->expression));
+    definition_->uses = std::move(uses);
+  }
+  return *definition_->uses;
+}
+
+const ExSet& Intermediate::free_symbols() const {
+  if (definition_->free_symbols) return *definition_->free_symbols;
+  // Dependencies first, so that each intermediate's set is built from finished ones.
+  for (const GiNaC::ex& d : intermediates_in_order({*this})) {
+    const Intermediate& i = as_intermediate(d);
+    if (i.definition_->free_symbols) continue;
+    auto symbols = std::make_unique<ExSet>(own_symbols(i.expression()));
+    for (const GiNaC::ex& used : i.uses()) {
+      const ExSet& theirs = *as_intermediate(used).definition_->free_symbols;
+      symbols->insert(theirs.begin(), theirs.end());
+    }
+    i.definition_->free_symbols = std::move(symbols);
+  }
+  return *definition_->free_symbols;
+}
+
+GiNaC::ex Intermediate::derivative(const GiNaC::symbol& s) const {
+  if (is_equal(s)) return 1;
+  if (explicit_derivatives) return 0;
+  const GiNaC::ex key = s;
+  if (const auto it = definition_->partials.find(key); it != definition_->partials.end()) return it->second;
+  // Through a symbol d does not depend on, nothing: no expression is differentiated.
+  const std::vector<GiNaC::ex> order = intermediates_in_order({*this});  // ends with d itself
+  bool depends = free_symbols().count(key) > 0;
+  for (std::size_t k = 0; !depends && k + 1 < order.size(); ++k) depends = order[k].is_equal(key);
+  GiNaC::ex partial = 0;
+  if (depends) {
+    // The used intermediates first (dependency order), so that the chain rule below finds their
+    // partials memoized instead of recursing once per link of a chain.
+    for (std::size_t k = 0; k + 1 < order.size(); ++k) order[k].diff(s);
+    partial = keep_or_name(definition_->expression.diff(s), "d" + definition_->name + "_d" + s.get_name(),
+                           "\\partial_{" + s.get_name() + "}" + definition_->latex);
+  }
+  definition_->partials.emplace(key, partial);
+  return partial;
+}
+
+GiNaC::ex Intermediate::total_derivative(const TotalDerivative& D) const {
+  if (definition_->total) return *definition_->total;
+  // Dependencies first: D of each used intermediate is memoized before it is needed.
+  for (const GiNaC::ex& d : intermediates_in_order({*this})) {
+    const Intermediate& i = as_intermediate(d);
+    if (i.definition_->total) continue;
+    const GiNaC::ex value = D(i.expression());
+    i.definition_->total = std::make_unique<GiNaC::ex>(
+        keep_or_name(value, i.definition_->name + "_dot", "\\dot{" + i.definition_->latex + "}"));
+  }
+  return *definition_->total;
+}
+
+ExplicitDerivatives::ExplicitDerivatives() : previous_(explicit_derivatives) { explicit_derivatives = true; }
+ExplicitDerivatives::~ExplicitDerivatives() { explicit_derivatives = previous_; }
+
+std::vector<GiNaC::ex> direct_intermediates(const GiNaC::ex& e) {
+  std::vector<GiNaC::ex> out;
+  ExSet seen;
+  each_intermediate(e, [&](const GiNaC::ex& d) {
+    if (seen.insert(d).second) out.push_back(d);
+  });
+  return out;
+}
+
+std::vector<GiNaC::ex> intermediates_in_order(const std::vector<GiNaC::ex>& expressions) {
+  // Depth-first post-order with an explicit stack: an intermediate is emitted after all it uses.
+  std::vector<GiNaC::ex> order;
+  ExSet done, on_stack;
+  for (const GiNaC::ex& root : expressions) {
+    std::vector<std::pair<GiNaC::ex, std::size_t>> stack;
+    const std::vector<GiNaC::ex> roots =
+        is_intermediate(root) ? std::vector<GiNaC::ex>{root} : direct_intermediates(root);
+    for (const GiNaC::ex& r : roots) {
+      if (done.count(r)) continue;
+      stack.emplace_back(r, 0);
+      on_stack.insert(r);
+      while (!stack.empty()) {
+        auto& [d, next] = stack.back();
+        const std::vector<GiNaC::ex>& uses = as_intermediate(d).uses();
+        if (next < uses.size()) {
+          const GiNaC::ex u = uses[next++];
+          if (!done.count(u) && on_stack.insert(u).second) stack.emplace_back(u, 0);
+          continue;
+        }
+        done.insert(d);
+        on_stack.erase(d);
+        order.push_back(d);
+        stack.pop_back();
+      }
+    }
+  }
+  return order;
+}
+
+std::set<GiNaC::ex, GiNaC::ex_is_less> symbols_through(const GiNaC::ex& e) {
+  ExSet out = own_symbols(e);
+  for (const GiNaC::ex& d : direct_intermediates(e)) {
+    const ExSet& theirs = as_intermediate(d).free_symbols();
+    out.insert(theirs.begin(), theirs.end());
+  }
+  return out;
+}
+
+GiNaC::ex expand_intermediates(const GiNaC::ex& e) {
+  GiNaC::exmap expanded;  // intermediate → its fully substituted expression
+  for (const GiNaC::ex& d : intermediates_in_order({e})) {
+    const Intermediate& i = as_intermediate(d);
+    GiNaC::exmap direct;
+    for (const GiNaC::ex& u : i.uses()) direct[u] = expanded.at(u);
+    expanded[d] = direct.empty() ? i.expression() : i.expression().subs(direct, GiNaC::subs_options::no_pattern);
+  }
+  if (is_intermediate(e)) return expanded.at(e);
+  GiNaC::exmap direct;
+  for (const GiNaC::ex& u : direct_intermediates(e)) direct[u] = expanded.at(u);
+  return direct.empty() ? e : e.subs(direct, GiNaC::subs_options::no_pattern);
+}
+
+GiNaC::ex TotalDerivative::operator()(const GiNaC::ex& e) const {
+  GiNaC::ex result = 0;
+  std::vector<GiNaC::ex> explicit_partials;
+  const ExSet symbols = own_symbols(e);
+  const std::vector<GiNaC::ex> intermediates = direct_intermediates(e);
+  {
+    const ExplicitDerivatives explicit_only;
+    for (const GiNaC::ex& z : symbols) {
+      const GiNaC::ex Dz = of_symbol(z);
+      if (!Dz.is_zero()) result += e.diff(GiNaC::ex_to<GiNaC::symbol>(z)) * Dz;
+    }
+    for (const GiNaC::ex& d : intermediates) explicit_partials.push_back(e.diff(GiNaC::ex_to<GiNaC::symbol>(d)));
+  }
+  for (std::size_t k = 0; k < intermediates.size(); ++k)
+    if (!explicit_partials[k].is_zero()) result += explicit_partials[k] * as_intermediate(intermediates[k]).total_derivative(*this);
+  return result;
+}
+
+}  // namespace nhc

@@ -1,0 +1,132 @@
+#pragma once
+/// \file intermediate.hpp
+/// \brief Named intermediate quantities (issue 27): a definition that stays a symbol, with its
+/// expression attached, instead of being substituted into everything that uses it.
+///
+/// An Intermediate d := e(t, p, q^(k), λ^(k), earlier intermediates) is a GiNaC symbol whose
+/// partial derivatives follow the chain rule through e (the way Autolev's intermediate variables
+/// and CasADi's expression graphs keep structure):
+///
+///     ∂d/∂z = ∂e/∂z = ∂e/∂z|_explicit + Σ_{d' in e} ∂e/∂d'|_explicit · ∂d'/∂z,
+///
+/// so GiNaC's own `ex::diff` differentiates any expression over intermediates correctly, with no
+/// change to the code that calls it. Each ∂d/∂z is computed once (memoized in d) and is itself
+/// an intermediate where it is not small (`kInlineBelowNodes`, the one size threshold), so
+/// repeated differentiation (Euler operator, D^k, Jacobians) stays in proportion to the
+/// structure rather than to its expansion. The total derivative D d is memoized the same way
+/// (total_derivative()).
+///
+/// GiNaC functions that only look at an expression's own tree (has, subs, expand, normal,
+/// preorder iteration) treat an intermediate as an independent symbol. Code that asks which jet
+/// variables an expression depends on uses symbols_through(); code that needs the substituted
+/// form uses expand_intermediates() (the `--expand` view, numeric evaluation).
+
+#include <ginac/ginac.h>
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace nhc {
+
+/// Below this many nodes (expression_nodes()) a derivative or total derivative of an
+/// intermediate is kept as an expression; at or above it, it becomes an intermediate itself.
+inline constexpr int kInlineBelowNodes = 8;
+
+/// The size of e as a tree of GiNaC nodes, counted up to `limit` (cheap on large e).
+int expression_nodes(const GiNaC::ex& e, int limit = kInlineBelowNodes);
+
+class Intermediate : public GiNaC::realsymbol {
+ public:
+  /// d := expression, printed as `name` (LaTeX `latex`).
+  Intermediate(const std::string& name, const std::string& latex, const GiNaC::ex& expression);
+
+  const GiNaC::ex& expression() const { return definition_->expression; }
+  const std::string& intermediate_name() const { return definition_->name; }
+  /// The intermediates `expression()` names directly.
+  const std::vector<GiNaC::ex>& uses() const;
+  /// The symbols d depends on that are not intermediates, through the ones it uses; memoized.
+  const std::set<GiNaC::ex, GiNaC::ex_is_less>& free_symbols() const;
+  /// D d, computed once: an intermediate `name_dot` unless small. An intermediate belongs to one
+  /// jet space, so one D serves it.
+  GiNaC::ex total_derivative(const class TotalDerivative& D) const;
+
+  Intermediate* duplicate() const override {
+    auto* copy = new Intermediate(*this);
+    copy->setflag(GiNaC::status_flags::dynallocated);
+    return copy;
+  }
+
+ protected:
+  /// ∂d/∂s by the chain rule through the expression, memoized; 1 for d itself. Under
+  /// ExplicitDerivatives, 0 for every other symbol.
+  GiNaC::ex derivative(const GiNaC::symbol& s) const override;
+
+ private:
+  struct Definition {
+    std::string name, latex;
+    GiNaC::ex expression;
+    mutable std::unique_ptr<std::vector<GiNaC::ex>> uses;  ///< direct intermediates, on demand
+    mutable std::map<GiNaC::ex, GiNaC::ex, GiNaC::ex_is_less> partials;  ///< ∂d/∂s by s
+    mutable std::unique_ptr<GiNaC::ex> total;                          ///< D d, on demand
+    /// Every non-intermediate symbol d depends on, through the intermediates it uses.
+    mutable std::unique_ptr<std::set<GiNaC::ex, GiNaC::ex_is_less>> free_symbols;
+  };
+  std::shared_ptr<Definition> definition_;
+};
+
+/// Whether e is an Intermediate.
+bool is_intermediate(const GiNaC::ex& e);
+
+/// While alive, on this thread, an intermediate's derivative with respect to any symbol but
+/// itself is 0: `e.diff(z)` is then the explicit partial ∂e/∂z|_explicit that treats the
+/// intermediates as independent (needed to write D e without counting a chain twice).
+class ExplicitDerivatives {
+ public:
+  ExplicitDerivatives();
+  ~ExplicitDerivatives();
+  ExplicitDerivatives(const ExplicitDerivatives&) = delete;
+  ExplicitDerivatives& operator=(const ExplicitDerivatives&) = delete;
+
+ private:
+  bool previous_;
+};
+
+/// The intermediates e names directly (not through other intermediates), each once, in the
+/// order found.
+std::vector<GiNaC::ex> direct_intermediates(const GiNaC::ex& e);
+
+/// Every intermediate e depends on, directly or through others, in dependency order (each after
+/// the intermediates its expression uses): the order in which code computes them. Iterative.
+std::vector<GiNaC::ex> intermediates_in_order(const std::vector<GiNaC::ex>& expressions);
+
+/// The symbols (jet variables, t, parameters) e depends on, through its intermediates; not the
+/// intermediates themselves. Memoized per intermediate.
+std::set<GiNaC::ex, GiNaC::ex_is_less> symbols_through(const GiNaC::ex& e);
+
+/// e with every intermediate replaced by its expression, recursively: the fully substituted
+/// form. Each intermediate is expanded once (dependency order, no recursion on chain length).
+GiNaC::ex expand_intermediates(const GiNaC::ex& e);
+
+/// The total derivative D on expressions over intermediates, given D of the plain symbols:
+///
+///     D e = Σ_{z in e} ∂e/∂z|_explicit · D z + Σ_{d in e} ∂e/∂d|_explicit · D d,
+///
+/// where the first sum runs over e's own symbols that are not intermediates and D d is computed
+/// once per intermediate (an intermediate itself unless small). `of_symbol(z)` gives D z: 1 for
+/// t, 0 for a parameter, q^(k+1) for q^(k).
+class TotalDerivative {
+ public:
+  using OfSymbol = std::function<GiNaC::ex(const GiNaC::ex& symbol)>;
+  explicit TotalDerivative(OfSymbol of_symbol) : of_symbol_(std::move(of_symbol)) {}
+  GiNaC::ex operator()(const GiNaC::ex& e) const;
+  GiNaC::ex of_symbol(const GiNaC::ex& s) const { return of_symbol_(s); }
+
+ private:
+  OfSymbol of_symbol_;
+};
+
+}  // namespace nhc
