@@ -13,6 +13,7 @@
 #include "nhc/analysis/numeric_evaluation.hpp"
 #include "nhc/analysis/system_jacobian.hpp"
 #include "nhc/jet/expression_printer.hpp"
+#include "nhc/jet/intermediate.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/runtime/constraint_solver.hpp"
 #include "nhc/runtime/initial_point.hpp"
@@ -52,11 +53,8 @@ class Evaluator {
     for (std::size_t k = 0; k < vars_.size(); ++k) column[vars_[k]] = k;
     for (const auto& f : f_) {
       std::set<std::size_t> occurring;
-      for (auto it = f.preorder_begin(); it != f.preorder_end(); ++it)
-        if (GiNaC::is_a<GiNaC::symbol>(*it)) {
-          const auto c = column.find(*it);
-          if (c != column.end()) occurring.insert(c->second);
-        }
+      for (const GiNaC::ex& symbol : symbols_through(f))  // through named intermediates
+        if (const auto c = column.find(symbol); c != column.end()) occurring.insert(c->second);
       std::vector<std::pair<std::size_t, GiNaC::ex>> row;
       for (std::size_t k : occurring) {
         GiNaC::ex d = f.diff(GiNaC::ex_to<GiNaC::symbol>(vars_[k]));

@@ -8,7 +8,7 @@
 #include "nhc/analysis/dae_system.hpp"
 #include "nhc/analysis/numeric_evaluation.hpp"
 #include "nhc/derive/euler_operator.hpp"
-#include "nhc/jet/symbol_substitution.hpp"
+#include "nhc/jet/intermediate.hpp"
 
 namespace nhc {
 
@@ -48,7 +48,7 @@ Index1System reduce_to_index1(const StructuralAnalysis& a) {
     if (a.d(j) >= 1) out.jet_to_state[sys.unknown_symbol(j, a.d(j))] = out.yp[state(j, a.d(j) - 1)];
   }
   auto to_state = [&](const GiNaC::ex& e) {
-    const GiNaC::ex s = substitute_symbols(e, out.jet_to_state);
+    const GiNaC::ex s = out.in_states(e);
     if (!jet.jet_coordinates_in(s).empty())
       throw std::logic_error("index-1 reduction left a jet symbol without a state");
     return s;
@@ -79,11 +79,8 @@ Index1System reduce_to_index1(const StructuralAnalysis& a) {
     out.hidden_constraints.push_back(g);
     out.hidden_constraint_names.push_back(c.name);
     std::set<std::size_t> occurring;
-    for (auto it = g.preorder_begin(); it != g.preorder_end(); ++it)
-      if (GiNaC::is_a<GiNaC::symbol>(*it)) {
-        const auto found = state_of_symbol.find(*it);
-        if (found != state_of_symbol.end()) occurring.insert(found->second);
-      }
+    for (const GiNaC::ex& symbol : symbols_through(g))
+      if (const auto found = state_of_symbol.find(symbol); found != state_of_symbol.end()) occurring.insert(found->second);
     std::vector<std::pair<int, GiNaC::ex>> row;
     for (std::size_t k : occurring) {
       GiNaC::ex derivative = simplify_expression(g.diff(out.y[k]));

@@ -17,11 +17,14 @@
 #include <ginac/ginac.h>
 
 #include <memory>
+
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "nhc/jet/jet_space.hpp"
+#include "nhc/jet/symbol_substitution.hpp"
 #include "nhc/scene/scene.hpp"
 
 namespace nhc {
@@ -67,6 +70,17 @@ struct Index1System {
   /// Maps a jet symbol x^(k) with k ≤ d_j to its y / yp symbol (to rewrite scene expressions
   /// such as invariants in state variables). Filled by the reduction.
   GiNaC::exmap jet_to_state;
+  /// e rewritten in states by jet_to_state, through named intermediates: each intermediate gets
+  /// one image for the whole system (symbol_substitution.hpp), shared by residuals, hidden
+  /// constraints and invariants alike.
+  GiNaC::ex in_states(const GiNaC::ex& e) const {
+    // Made on first use, when the reduction has filled jet_to_state.
+    if (!state_substitution_) state_substitution_ = std::make_shared<SymbolSubstitution>(jet_to_state);
+    return (*state_substitution_)(e);
+  }
+
+ private:
+  mutable std::shared_ptr<SymbolSubstitution> state_substitution_;
 };
 
 }  // namespace nhc

@@ -82,7 +82,7 @@ int ExpressionDag::add(const GiNaC::ex& e) {
   // one instruction per intermediate, shared by every output, and no recursion per link of a
   // chain of definitions when e is lowered.
   for (const GiNaC::ex& d : intermediates_in_order({e}))
-    if (!by_expression_.count(d)) by_expression_.emplace(d, lower_signed(intermediate_expression(d)));
+    if (!by_expression_.count(d) && !inputs_.count(d)) by_expression_.emplace(d, lower_signed(intermediate_expression(d)));
   return lower(e);
 }
 
@@ -211,7 +211,7 @@ std::pair<int, bool> ExpressionDag::lower_signed(const GiNaC::ex& e) {
   if (GiNaC::is_exactly_a<GiNaC::numeric>(e)) {
     const double v = to_real(GiNaC::ex_to<GiNaC::numeric>(e), e);
     result = {constant(std::fabs(v)), v < 0};
-  } else if (is_intermediate(e)) {
+  } else if (is_intermediate(e) && !inputs_.count(e)) {
     result = lower_signed(intermediate_expression(e));  // add() lowers them first; this is its fallback
   } else if (GiNaC::is_a<GiNaC::symbol>(e)) {
     auto it = inputs_.find(e);

@@ -61,7 +61,8 @@ class ExpressionDag {
 
   /// Lowers e and returns the index of the instruction computing it. Throws MathError for a
   /// symbol that is not an input, a non-real number or a function without a C++ counterpart.
-  /// A named intermediate (nhc/jet/intermediate.hpp) is lowered through its expression, once.
+  /// A named intermediate (nhc/jet/intermediate.hpp) is lowered through its expression, once,
+  /// unless it is an input itself (printed by name: scene notation of the equations).
   int add(const GiNaC::ex& e);
   /// Applied to an intermediate's expression before it is lowered: intermediates are written
   /// over jet variables, the functions' inputs are states (Index1System::jet_to_state).

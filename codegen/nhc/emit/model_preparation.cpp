@@ -11,7 +11,7 @@
 #include "nhc/emit/cpp_printer.hpp"
 #include "nhc/emit/header_emitter.hpp"
 #include "nhc/errors.hpp"
-#include "nhc/jet/symbol_substitution.hpp"
+#include "nhc/jet/intermediate.hpp"
 
 namespace nhc {
 
@@ -29,9 +29,8 @@ std::vector<std::vector<int>> occurring_symbols(const std::vector<GiNaC::ex>& ex
   out.reserve(expressions.size());
   for (const GiNaC::ex& e : expressions) {
     std::set<int> found;
-    for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
-      if (GiNaC::is_a<GiNaC::symbol>(*it))
-        if (const auto at = index.find(*it); at != index.end()) found.insert(at->second);
+    for (const GiNaC::ex& symbol : symbols_through(e))
+      if (const auto at = index.find(symbol); at != index.end()) found.insert(at->second);
     out.emplace_back(found.begin(), found.end());
   }
   return out;
@@ -76,7 +75,7 @@ SymbolicJacobian index1_jacobian(const Index1System& system) {
 std::vector<ModelInvariant> invariants_in_states(const Scene& scene, const Index1System& system) {
   std::vector<ModelInvariant> out;
   for (const SceneQuantity& invariant : scene.invariants) {
-    const GiNaC::ex rewritten = substitute_symbols(invariant.expression, system.jet_to_state);
+    const GiNaC::ex rewritten = system.in_states(invariant.expression);
     const std::vector<JetCoordinate> missing = system.jet->jet_coordinates_in(rewritten);
     if (missing.empty()) {
       out.push_back({invariant.name, rewritten});
@@ -116,8 +115,11 @@ std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> scene_names(const JetSpace& 
 }  // namespace
 
 std::vector<std::string> scene_notation(const std::vector<GiNaC::ex>& expressions, const JetSpace& jet) {
-  // One table of names for all: building it is linear in the jet space (issue 17).
-  ExpressionDag dag(scene_names(jet, nullptr));
+  // One table of names for all: building it is linear in the jet space (issue 17). A named
+  // intermediate is printed by its name (its expression can be exponentially long written out).
+  auto names = scene_names(jet, nullptr);
+  for (const GiNaC::ex& d : intermediates_in_order(expressions)) names[d] = GiNaC::ex_to<Intermediate>(d).intermediate_name();
+  ExpressionDag dag(std::move(names));
   std::vector<std::string> printed;
   for (const GiNaC::ex& e : expressions) printed.push_back(print_cpp_expression(dag, dag.add(e)));
   return printed;
@@ -125,8 +127,8 @@ std::vector<std::string> scene_notation(const std::vector<GiNaC::ex>& expression
 
 std::vector<SingularQuantity> singular_quantities(const Index1System& system) {
   auto depends_on = [](const GiNaC::ex& e, const std::vector<GiNaC::realsymbol>& symbols) {
-    return std::any_of(symbols.begin(), symbols.end(),
-                       [&](const GiNaC::realsymbol& s) { return e.has(s); });
+    const auto through = symbols_through(e);
+    return std::any_of(symbols.begin(), symbols.end(), [&](const GiNaC::realsymbol& s) { return through.count(s) > 0; });
   };
   // Lowered into a DAG of their own: it names them in scene notation, removes duplicates and
   // gives them an order that does not depend on GiNaC's (run-dependent) term order.
@@ -139,6 +141,8 @@ std::vector<SingularQuantity> singular_quantities(const Index1System& system) {
   };
   std::vector<GiNaC::ex> sources = system.residuals;
   sources.insert(sources.end(), system.hidden_constraints.begin(), system.hidden_constraints.end());
+  // The expressions of the intermediates they use hold radicals and logarithms too.
+  for (const GiNaC::ex& d : intermediates_in_order(sources)) sources.push_back(GiNaC::ex_to<Intermediate>(d).expression());
   for (const GiNaC::ex& e : sources)
     for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it) {
       const GiNaC::ex& sub = *it;
@@ -159,18 +163,15 @@ std::vector<SingularQuantity> singular_quantities(const Index1System& system) {
 
 namespace {
 
-/// The scene's parameters occurring in `expressions`, by index in scene order. Each shared
-/// subexpression is visited once, with an explicit stack (expressions are user-sized).
+/// The scene's parameters occurring in `expressions` (through named intermediates), by index
+/// in scene order.
 std::vector<int> parameters_in(const std::vector<GiNaC::ex>& expressions, const JetSpace& jet) {
   std::unordered_set<GiNaC::ex, std::hash<GiNaC::ex>, GiNaC::ex_is_equal> seen;
   std::set<GiNaC::ex, GiNaC::ex_is_less> symbols;
-  std::vector<GiNaC::ex> stack(expressions.begin(), expressions.end());
-  while (!stack.empty()) {
-    const GiNaC::ex e = stack.back();
-    stack.pop_back();
+  for (const GiNaC::ex& e : expressions) {
     if (!seen.insert(e).second) continue;
-    if (GiNaC::is_a<GiNaC::symbol>(e)) symbols.insert(e);
-    for (std::size_t k = 0; k < e.nops(); ++k) stack.push_back(e.op(k));
+    const auto through = symbols_through(e);  // through named intermediates
+    symbols.insert(through.begin(), through.end());
   }
   std::vector<int> read;
   for (int k = 0; k < static_cast<int>(jet.parameters().size()); ++k)

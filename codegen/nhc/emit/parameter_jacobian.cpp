@@ -1,6 +1,9 @@
 #include "nhc/emit/parameter_jacobian.hpp"
 
 #include <cstddef>
+#include <set>
+
+#include "nhc/jet/intermediate.hpp"
 
 namespace nhc {
 
@@ -12,10 +15,12 @@ void differentiate(const std::vector<GiNaC::ex>& expressions, const JetSpace& je
   const std::size_t rows = expressions.size();
   const std::size_t columns = parameters.size();
   entries.assign(rows * columns, GiNaC::ex(0));
+  std::vector<std::set<GiNaC::ex, GiNaC::ex_is_less>> occurring;  // through named intermediates
+  for (const GiNaC::ex& e : expressions) occurring.push_back(symbols_through(e));
   for (std::size_t k = 0; k < columns; ++k) {
     const GiNaC::realsymbol& p = jet.parameter(parameters[k]);
     for (std::size_t i = 0; i < rows; ++i) {
-      if (!expressions[i].has(p)) continue;
+      if (!occurring[i].count(p)) continue;
       const GiNaC::ex d = expressions[i].diff(p);
       if (d.is_zero()) continue;
       entries[i + rows * k] = d;

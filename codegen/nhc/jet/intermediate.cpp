@@ -1,5 +1,6 @@
 #include "nhc/jet/intermediate.hpp"
 
+#include <algorithm>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -65,6 +66,32 @@ int expression_nodes(const GiNaC::ex& e, int limit) {
     for (std::size_t k = 0; k < x.nops(); ++k) stack.push_back(x.op(k));
   }
   return count;
+}
+
+int expanded_nodes(const GiNaC::ex& e, int limit) {
+  int count = 0;
+  std::vector<GiNaC::ex> stack{e};
+  while (!stack.empty() && count < limit) {
+    const GiNaC::ex x = stack.back();
+    stack.pop_back();
+    if (is_intermediate(x)) {
+      count += GiNaC::ex_to<Intermediate>(x).expanded_size(limit);
+      continue;
+    }
+    ++count;
+    for (std::size_t k = 0; k < x.nops(); ++k) stack.push_back(x.op(k));
+  }
+  return std::min(count, limit);
+}
+
+int Intermediate::expanded_size(int limit) const {
+  Definition& d = *definition_;
+  // A size counted under a smaller limit that reached it is only a lower bound.
+  if (d.expanded_nodes < 0 || (d.expanded_nodes >= d.expanded_limit && limit > d.expanded_limit)) {
+    d.expanded_nodes = expanded_nodes(d.expression, limit);
+    d.expanded_limit = limit;
+  }
+  return std::min(d.expanded_nodes, limit);
 }
 
 bool is_intermediate(const GiNaC::ex& e) { return GiNaC::is_a<Intermediate>(e); }
@@ -183,6 +210,13 @@ std::set<GiNaC::ex, GiNaC::ex_is_less> symbols_through(const GiNaC::ex& e) {
     out.insert(theirs.begin(), theirs.end());
   }
   return out;
+}
+
+bool depends_on(const GiNaC::ex& e, const GiNaC::ex& symbol) {
+  if (e.has(symbol)) return true;
+  for (const GiNaC::ex& d : direct_intermediates(e))
+    if (GiNaC::ex_to<Intermediate>(d).free_symbols().count(symbol)) return true;
+  return false;
 }
 
 GiNaC::ex expand_intermediates(const GiNaC::ex& e) {

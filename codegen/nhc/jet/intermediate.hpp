@@ -36,8 +36,19 @@ namespace nhc {
 /// intermediate is kept as an expression; at or above it, it becomes an intermediate itself.
 inline constexpr int kInlineBelowNodes = 8;
 
+/// A definition whose value, substituted, has fewer nodes than this is substituted rather than
+/// kept: small definitions gain more from expansion and simplification (sin² + cos² = 1 across
+/// a rotation's entries) than from sharing. The one policy of where structure pays.
+inline constexpr int kSubstituteDefinitionBelowNodes = 40;
+/// …and whose expansion has at most this many terms (a short product of powers of sums, such
+/// as d4 = (((x' + y + 1)^2 + x)^2 + x)^2 + x, is small as written and large expanded).
+inline constexpr double kSubstituteDefinitionMaxTerms = 16;
+
 /// The size of e as a tree of GiNaC nodes, counted up to `limit` (cheap on large e).
 int expression_nodes(const GiNaC::ex& e, int limit = kInlineBelowNodes);
+/// The same for e with its intermediates substituted, without substituting (each
+/// intermediate's substituted size is counted once and remembered, up to `limit`).
+int expanded_nodes(const GiNaC::ex& e, int limit);
 
 class Intermediate : public GiNaC::realsymbol {
  public:
@@ -46,6 +57,9 @@ class Intermediate : public GiNaC::realsymbol {
 
   const GiNaC::ex& expression() const { return definition_->expression; }
   const std::string& intermediate_name() const { return definition_->name; }
+  const std::string& latex_name() const { return definition_->latex; }
+  /// expanded_nodes(expression(), limit), remembered.
+  int expanded_size(int limit) const;
   /// The intermediates `expression()` names directly.
   const std::vector<GiNaC::ex>& uses() const;
   /// The symbols d depends on that are not intermediates, through the ones it uses; memoized.
@@ -72,6 +86,7 @@ class Intermediate : public GiNaC::realsymbol {
     mutable std::unique_ptr<std::vector<GiNaC::ex>> uses;  ///< direct intermediates, on demand
     mutable std::map<GiNaC::ex, GiNaC::ex, GiNaC::ex_is_less> partials;  ///< ∂d/∂s by s
     mutable std::unique_ptr<GiNaC::ex> total;                          ///< D d, on demand
+    mutable int expanded_nodes = -1, expanded_limit = 0;  ///< expanded_nodes(expression), up to a limit
     /// Every non-intermediate symbol d depends on, through the intermediates it uses.
     mutable std::unique_ptr<std::set<GiNaC::ex, GiNaC::ex_is_less>> free_symbols;
   };
@@ -106,6 +121,9 @@ std::vector<GiNaC::ex> intermediates_in_order(const std::vector<GiNaC::ex>& expr
 /// The symbols (jet variables, t, parameters) e depends on, through its intermediates; not the
 /// intermediates themselves. Memoized per intermediate.
 std::set<GiNaC::ex, GiNaC::ex_is_less> symbols_through(const GiNaC::ex& e);
+
+/// Whether e depends on `symbol`, through its intermediates (GiNaC's has() stops at them).
+bool depends_on(const GiNaC::ex& e, const GiNaC::ex& symbol);
 
 /// e with every intermediate replaced by its expression, recursively: the fully substituted
 /// form. Each intermediate is expanded once (dependency order, no recursion on chain length).

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cctype>
 
+#include "nhc/jet/intermediate.hpp"
+#include "nhc/jet/work_budget.hpp"
+
 namespace nhc {
 
 namespace {
@@ -22,6 +25,28 @@ ExpressionRules DefinitionTable::rules_with_definitions(ExpressionRules rules) {
   return rules;
 }
 
+Value DefinitionTable::named(const std::string& name, Value value) {
+  for (unsigned i = 0; i < value.rows; ++i)
+    for (unsigned j = 0; j < value.cols; ++j) {
+      GiNaC::ex& entry = value.entries[i * value.cols + j];
+      if (GiNaC::is_a<GiNaC::numeric>(entry) || GiNaC::is_a<GiNaC::symbol>(entry)) continue;
+      if (expanded_nodes(entry, kSubstituteDefinitionBelowNodes) < kSubstituteDefinitionBelowNodes) {
+        // Small: substituted, unless its expansion is not (kSubstituteDefinition…, intermediate.hpp).
+        const GiNaC::ex substituted = expand_intermediates(entry);
+        if (work_budget::expanded_terms(substituted) <= kSubstituteDefinitionMaxTerms) {
+          entry = substituted;
+          continue;
+        }
+      }
+      std::string suffix;
+      if (value.rows > 1) suffix += std::to_string(i + 1);
+      if (value.cols > 1) suffix += std::to_string(j + 1);
+      const std::string full = suffix.empty() ? name : name + "_" + suffix;
+      entry = Intermediate(full, suffix.empty() ? name : name + "_{" + suffix + "}", entry);
+    }
+  return value;
+}
+
 std::optional<Value> DefinitionTable::resolve(const std::string& name) {
   const auto it = entries_.find(name);
   if (it == entries_.end()) return std::nullopt;
@@ -39,6 +64,7 @@ std::optional<Value> DefinitionTable::resolve(const std::string& name) {
   try {
     resolve_dependencies_first(name);
     entry.value = parse_value(entry.text, jet_, rules_with_definitions(rules_));
+    if (keep_) entry.value = named(name, *entry.value);
   } catch (const ExpressionSyntaxError& e) {
     resolving_.pop_back();
     entry.in_progress = false;

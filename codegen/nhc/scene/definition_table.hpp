@@ -25,7 +25,9 @@ class DefinitionTable {
   /// Where an offset of a definition's text is in the scene file.
   using Locator = std::function<SourceLocation(std::size_t offset)>;
 
-  DefinitionTable(const JetSpace& jet, ExpressionRules rules) : jet_(jet), rules_(std::move(rules)) {}
+  /// `keep`: each definition's value is a named intermediate (SceneOptions::keep_definitions).
+  DefinitionTable(const JetSpace& jet, ExpressionRules rules, bool keep = false)
+      : jet_(jet), rules_(std::move(rules)), keep_(keep) {}
 
   void add(const std::string& name, std::string text, Locator locate);
   /// Rules for an expression that may use the definitions (the table must outlive them).
@@ -54,8 +56,14 @@ class DefinitionTable {
   /// The InputError for a cycle: `chain` ends with the definition that closes it.
   [[noreturn]] void cycle(const std::vector<std::string>& chain) const;
 
+  /// The value of definition `name` with each entry that is large when substituted
+  /// (kSubstituteDefinitionBelowNodes) made a named intermediate (`v` for a scalar, `v_1`… for a
+  /// vector, `M_12`… for a matrix); smaller entries are substituted.
+  static Value named(const std::string& name, Value value);
+
   const JetSpace& jet_;
   ExpressionRules rules_;
+  bool keep_ = false;
   std::map<std::string, Entry> entries_;
   std::vector<std::string> resolving_;  ///< the chain being resolved, for cycles and usage
   std::set<std::string> used_from_outside_;

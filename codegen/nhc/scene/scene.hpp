@@ -68,6 +68,9 @@ struct Scene {
   /// (nhc/jit/scene_cache.hpp) keys on it with the values code may change (parameters, initial
   /// data, settings): code that changes a parsed scene's expressions must clear it.
   std::string source_text;
+  /// Definitions were kept as named intermediates (SceneOptions), so the expressions below
+  /// name them; a key of the scene cache.
+  bool keep_definitions = false;
   std::shared_ptr<JetSpace> jet;
 
   std::vector<double> parameter_values;  ///< in JetSpace parameter order
@@ -99,9 +102,17 @@ struct Scene {
 /// Reads and validates a scene file. Every problem is an InputError naming FILE:LINE:COLUMN;
 /// warnings are printed on stderr.
 Scene load_scene(const std::string& path);
+/// How a scene is read.
+struct SceneOptions {
+  /// Each scalar definition (each entry of a vector or matrix one) stays a named intermediate
+  /// (nhc/jet/intermediate.hpp) in the expressions that use it, instead of being substituted.
+  /// Not yet the default: docs/intermediates.md lists the stages that handle intermediates.
+  bool keep_definitions = false;
+};
+
 /// Same, from text already in memory; `path` is only used in messages. Warnings stay in
 /// Scene::warnings.
-Scene parse_scene(const std::string& text, const std::string& path);
+Scene parse_scene(const std::string& text, const std::string& path, const SceneOptions& options = {});
 
 /// Recomputes the [initial] values written as expressions from the scene's current parameter
 /// values (after `--set`, `--at` or a sweep changed one), so that a bicycle's wheel rates

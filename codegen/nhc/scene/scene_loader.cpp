@@ -129,7 +129,8 @@ bool has_jet_suffix(const std::string& name) {
 
 class SceneReader {
  public:
-  SceneReader(const std::string& text, std::string path) : text_(text), path_(std::move(path)) {
+  SceneReader(const std::string& text, std::string path, SceneOptions options)
+      : text_(text), path_(std::move(path)), options_(options) {
     std::istringstream lines(text_);
     for (std::string line; std::getline(lines, line);) lines_.push_back(line);
   }
@@ -204,7 +205,8 @@ class SceneReader {
     ExpressionRules plain;  // t, parameters, coordinates; no multipliers
     plain.rotation_check.point = &initial_point;
     plain.node_budget = std::make_shared<std::size_t>(kMaxSceneNodes);
-    DefinitionTable definitions(jet, plain);
+    DefinitionTable definitions(jet, plain, options_.keep_definitions);
+    scene.keep_definitions = options_.keep_definitions;
     read_definitions(root, definitions);
     const ExpressionRules mechanics = definitions.rules_with_definitions(plain);
     const toml::node& lagrangian_node = require(root, "lagrangian", "top level");
@@ -656,6 +658,7 @@ class SceneReader {
 
   const std::string& text_;
   std::string path_;
+  SceneOptions options_;
   std::map<std::string, double> constants_;  ///< the parameters, once read
   std::vector<const toml::node*> fixed_nodes_;  ///< [initial] fixed, checked after the values
   std::vector<std::string> lines_;
@@ -664,8 +667,8 @@ class SceneReader {
 
 }  // namespace
 
-Scene parse_scene(const std::string& text, const std::string& path) {
-  Scene scene = SceneReader(text, path).read();
+Scene parse_scene(const std::string& text, const std::string& path, const SceneOptions& options) {
+  Scene scene = SceneReader(text, path, options).read();
   scene.source_text = text;
   return scene;
 }

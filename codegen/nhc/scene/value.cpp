@@ -4,6 +4,7 @@
 
 #include "nhc/jet/jet_space.hpp"
 #include "nhc/jet/work_budget.hpp"
+#include "nhc/jet/zero_test.hpp"
 
 namespace nhc {
 
@@ -78,23 +79,6 @@ Value elementary_rotation(int axis, const ex& angle, const JetSpace& jet) {
   return r;
 }
 
-/// Values at which to evaluate symbols the check point does not cover: fixed, in [0.25, 1.25).
-double filler(unsigned& state) {
-  state = state * 1103515245u + 12345u;
-  return 0.25 + static_cast<double>((state >> 8) % 10000) / 10000.0;
-}
-
-bool numerically_zero(const ex& e, const GiNaC::exmap& point) {
-  ex value = e.subs(point, GiNaC::subs_options::no_pattern);
-  GiNaC::exmap rest;
-  unsigned state = 777u;
-  for (auto it = value.preorder_begin(); it != value.preorder_end(); ++it)
-    if (GiNaC::is_a<GiNaC::symbol>(*it) && !rest.count(*it)) rest[*it] = filler(state);
-  value = GiNaC::evalf(value.subs(rest, GiNaC::subs_options::no_pattern));
-  if (!GiNaC::is_a<GiNaC::numeric>(value)) return false;
-  return GiNaC::abs(GiNaC::ex_to<GiNaC::numeric>(value)).to_double() < 1e-9;
-}
-
 /// R Rᵀ = I: symbolically where the expansion shows it, else at the check point.
 void require_rotation(const Value& r, const RotationCheck& check, const char* what) {
   if (!r.is_square3())
@@ -107,7 +91,7 @@ void require_rotation(const Value& r, const RotationCheck& check, const char* wh
       if (work_budget::is_zero(deviation)) continue;
       bool zero = false;
       try {
-        zero = numerically_zero(deviation, check.point ? *check.point : empty);
+        zero = vanishes_at_sample_points(deviation, check.point ? *check.point : empty);
       } catch (const std::exception&) {
         zero = false;
       }

@@ -175,6 +175,7 @@ std::optional<std::string> scene_fingerprint(const Scene& scene) {
   out << "text " << counted(scene.source_text) << "\n";
   out << "file " << counted(fs::path(scene.source_path).filename().string()) << "\n";
   out << "name " << counted(scene.name) << "\n";
+  out << "definitions " << (scene.keep_definitions ? "kept" : "substituted") << "\n";
   out << "parameters";
   for (double v : scene.parameter_values) out << " " << exact(v);
   out << "\ninitial t0 " << exact(scene.initial.t0) << "\n";

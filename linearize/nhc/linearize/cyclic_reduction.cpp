@@ -1,15 +1,29 @@
 #include "nhc/linearize/cyclic_reduction.hpp"
 
+#include <algorithm>
+
 #include "nhc/errors.hpp"
+#include "nhc/jet/intermediate.hpp"
+#include "nhc/jet/symbol_substitution.hpp"
+#include "nhc/jet/zero_test.hpp"
 #include "nhc/jet/work_budget.hpp"
 
 namespace nhc {
 
 namespace {
 
+/// Whether f depends on `symbol` as a function. Over named intermediates the form can name a
+/// symbol that cancels (a wheel angle entering only through sin² + cos²), so a dependence the
+/// form shows only through intermediates is confirmed by ∂f/∂symbol at sample points.
+bool truly_depends_on(const GiNaC::ex& f, const GiNaC::ex& symbol) {
+  if (!depends_on(f, symbol)) return false;
+  if (f.has(symbol) && direct_intermediates(f).empty()) return true;
+  return !vanishes_at_sample_points(f.diff(GiNaC::ex_to<GiNaC::symbol>(symbol)));
+}
+
 bool any_has(const std::vector<GiNaC::ex>& expressions, const GiNaC::ex& symbol) {
   for (const GiNaC::ex& e : expressions)
-    if (e.has(symbol)) return true;
+    if (truly_depends_on(e, symbol)) return true;
   return false;
 }
 
@@ -24,11 +38,11 @@ int find_state(const Index1System& system, const StateComponent& s, int order) {
 
 void require_autonomous(const Index1System& system, const GiNaC::ex& time) {
   for (std::size_t r = 0; r < system.residuals.size(); ++r)
-    if (system.residuals[r].has(time))
+    if (depends_on(system.residuals[r], time))
       throw MathError("the residual " + system.residual_names[r] +
                       " depends on t explicitly: a non-autonomous system has no equilibria to linearize about");
   for (std::size_t r = 0; r < system.hidden_constraints.size(); ++r)
-    if (system.hidden_constraints[r].has(time))
+    if (depends_on(system.hidden_constraints[r], time))
       throw MathError("the hidden constraint " + system.hidden_constraint_names[r] +
                       " depends on t explicitly: a non-autonomous system has no equilibria to linearize about");
 }
@@ -70,10 +84,10 @@ CyclicReduction reduce_cyclic(const Index1System& system, const GiNaC::ex& time)
     bool appears = false;
     for (std::size_t r = 0; r < system.residuals.size(); ++r) {
       const GiNaC::ex& f = system.residuals[r];
-      const bool is_chain = velocity >= 0 && f.has(yp) &&
+      const bool is_chain = velocity >= 0 && depends_on(f, yp) &&
                             work_budget::is_zero(f - (yp - system.y[static_cast<std::size_t>(velocity)]));
       if (is_chain) chain_row = static_cast<int>(r);
-      else if (f.has(y)) appears = true;
+      else if (truly_depends_on(f, y)) appears = true;
     }
     if (appears) {
       out.components.push_back(z);
@@ -87,12 +101,21 @@ CyclicReduction reduce_cyclic(const Index1System& system, const GiNaC::ex& time)
       out.components.push_back({yp, GiNaC::ex(0), false, s.name + "'", 1, false});
     }
   }
+  // A cyclic position can still be named inside intermediates, where it cancels: any value
+  // gives the same function, so 0 removes it from what the numeric programs read.
+  GiNaC::exmap cyclic_to_zero;
+  for (int k = 0; k < system.size(); ++k) {
+    const StateComponent& s = system.states[static_cast<std::size_t>(k)];
+    if (std::find(out.cyclic.begin(), out.cyclic.end(), s.name) != out.cyclic.end())
+      cyclic_to_zero[system.y[static_cast<std::size_t>(k)]] = 0;
+  }
+  const SymbolSubstitution without_cyclic(cyclic_to_zero);
   for (std::size_t r = 0; r < system.residuals.size(); ++r)
     if (!drop_residual[r]) {
-      out.residuals.push_back(system.residuals[r]);
+      out.residuals.push_back(without_cyclic(system.residuals[r]));
       out.residual_names.push_back(system.residual_names[r]);
     }
-  out.hidden = system.hidden_constraints;
+  for (const GiNaC::ex& g : system.hidden_constraints) out.hidden.push_back(without_cyclic(g));
   out.hidden_names = system.hidden_constraint_names;
   out.dF_dz = jacobian(out.residuals, out.components, false);
   out.dF_dzp = jacobian(out.residuals, out.components, true);

@@ -12,6 +12,7 @@
 #include "nhc/analysis/structural_analysis.hpp"
 #include "nhc/derive/models.hpp"
 #include "nhc/errors.hpp"
+#include "nhc/jet/intermediate.hpp"
 #include "nhc/linearize/cyclic_reduction.hpp"
 #include "nhc/linearize/manifold_linearization.hpp"
 #include "nhc/linearize/numeric_program.hpp"
@@ -170,9 +171,9 @@ void Linearizer::Impl::check_stationary(const NumericPoint& p, Linearization& ou
     // "Relative equilibria").
     std::string depends;
     for (std::size_t i = 0; i < reduced.residuals.size(); ++i)
-      if (reduced.residuals[i].has(z.value)) depends += (depends.empty() ? "" : ", ") + reduced.residual_names[i];
+      if (depends_on(reduced.residuals[i], z.value)) depends += (depends.empty() ? "" : ", ") + reduced.residual_names[i];
     for (std::size_t i = 0; i < reduced.hidden.size(); ++i)
-      if (reduced.hidden[i].has(z.value)) depends += (depends.empty() ? "" : ", ") + reduced.hidden_names[i];
+      if (depends_on(reduced.hidden[i], z.value)) depends += (depends.empty() ? "" : ", ") + reduced.hidden_names[i];
     throw MathError(moving + ": " + z.name + " moves but is not cyclic (" +
                     (depends.empty() ? std::string("the equations contain it") : "it appears in " + depends) +
                     "), so this steady motion is not an equilibrium of the system reduced by its cyclic coordinates; "
