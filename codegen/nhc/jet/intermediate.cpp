@@ -1,6 +1,7 @@
 #include "nhc/jet/intermediate.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -9,6 +10,11 @@ namespace nhc {
 namespace {
 
 thread_local bool explicit_derivatives = false;
+
+/// Whether any intermediate has been made in this process: until one has, no expression can hold
+/// one, and the searches below return at once (scenes whose definitions are substituted pay
+/// nothing for them).
+std::atomic<bool> any_intermediate{false};
 
 using ExSet = std::set<GiNaC::ex, GiNaC::ex_is_less>;
 
@@ -98,6 +104,7 @@ bool is_intermediate(const GiNaC::ex& e) { return GiNaC::is_a<Intermediate>(e); 
 
 Intermediate::Intermediate(const std::string& name, const std::string& latex, const GiNaC::ex& expression)
     : GiNaC::realsymbol(name, latex), definition_(std::make_shared<Definition>()) {
+  any_intermediate.store(true, std::memory_order_relaxed);
   definition_->name = name;
   definition_->latex = latex;
   definition_->expression = expression;
@@ -166,6 +173,7 @@ ExplicitDerivatives::~ExplicitDerivatives() { explicit_derivatives = previous_; 
 
 std::vector<GiNaC::ex> direct_intermediates(const GiNaC::ex& e) {
   std::vector<GiNaC::ex> out;
+  if (!any_intermediate.load(std::memory_order_relaxed)) return out;
   ExSet seen;
   each_intermediate(e, [&](const GiNaC::ex& d) {
     if (seen.insert(d).second) out.push_back(d);
@@ -176,6 +184,7 @@ std::vector<GiNaC::ex> direct_intermediates(const GiNaC::ex& e) {
 std::vector<GiNaC::ex> intermediates_in_order(const std::vector<GiNaC::ex>& expressions) {
   // Depth-first post-order with an explicit stack: an intermediate is emitted after all it uses.
   std::vector<GiNaC::ex> order;
+  if (!any_intermediate.load(std::memory_order_relaxed)) return order;
   ExSet done, on_stack;
   for (const GiNaC::ex& root : expressions) {
     std::vector<std::pair<GiNaC::ex, std::size_t>> stack;

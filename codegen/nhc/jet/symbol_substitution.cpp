@@ -27,6 +27,9 @@ GiNaC::ex SymbolSubstitution::operator()(const GiNaC::ex& e) const {
 }
 
 GiNaC::ex substitute_symbols(const GiNaC::ex& e, const GiNaC::exmap& symbols) {
+  // Without intermediates, the map as given: copying it (7N symbols of an N-body system) for
+  // every evaluation made the consistent point quadratic in N.
+  if (direct_intermediates(e).empty()) return substitute_plain(e, symbols);
   return SymbolSubstitution(symbols)(e);
 }
 
