@@ -86,13 +86,8 @@ int ExpressionDag::add(const GiNaC::ex& e) {
   return lower(e);
 }
 
-void ExpressionDag::set_intermediate_substitution(GiNaC::exmap substitution) {
-  intermediate_substitution_ = std::move(substitution);
-}
-
-GiNaC::ex ExpressionDag::intermediate_expression(const GiNaC::ex& d) const {
-  const GiNaC::ex& e = GiNaC::ex_to<Intermediate>(d).expression();
-  return intermediate_substitution_.empty() ? e : e.subs(intermediate_substitution_, GiNaC::subs_options::no_pattern);
+const GiNaC::ex& ExpressionDag::intermediate_expression(const GiNaC::ex& d) {
+  return GiNaC::ex_to<Intermediate>(d).expression();
 }
 
 int ExpressionDag::make(Instruction instruction) {

@@ -62,11 +62,10 @@ class ExpressionDag {
   /// Lowers e and returns the index of the instruction computing it. Throws MathError for a
   /// symbol that is not an input, a non-real number or a function without a C++ counterpart.
   /// A named intermediate (nhc/jet/intermediate.hpp) is lowered through its expression, once,
-  /// unless it is an input itself (printed by name: scene notation of the equations).
+  /// unless it is an input itself (printed by name: scene notation of the equations). Its
+  /// expression must be over the inputs too: Index1System::in_states rewrites intermediates
+  /// in states before they get here.
   int add(const GiNaC::ex& e);
-  /// Applied to an intermediate's expression before it is lowered: intermediates are written
-  /// over jet variables, the functions' inputs are states (Index1System::jet_to_state).
-  void set_intermediate_substitution(GiNaC::exmap substitution);
 
   const std::vector<Instruction>& instructions() const { return instructions_; }
   const Instruction& operator[](int id) const { return instructions_[static_cast<size_t>(id)]; }
@@ -80,7 +79,7 @@ class ExpressionDag {
 
  private:
   int lower(const GiNaC::ex& e);
-  GiNaC::ex intermediate_expression(const GiNaC::ex& d) const;
+  static const GiNaC::ex& intermediate_expression(const GiNaC::ex& d);
   /// Lowers e as ±(instruction): returns the instruction and whether the sign is negative.
   std::pair<int, bool> lower_signed(const GiNaC::ex& e);
   std::pair<int, bool> lower_product(const GiNaC::ex& e);
@@ -93,7 +92,6 @@ class ExpressionDag {
   int make_power(int base, int exponent);
 
   std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> inputs_;
-  GiNaC::exmap intermediate_substitution_;
   std::vector<Instruction> instructions_;
   std::map<Instruction, int> by_instruction_;
   std::unordered_map<GiNaC::ex, std::pair<int, bool>, std::hash<GiNaC::ex>, GiNaC::ex_is_equal>

@@ -174,10 +174,7 @@ ExplicitDerivatives::~ExplicitDerivatives() { explicit_derivatives = previous_; 
 std::vector<GiNaC::ex> direct_intermediates(const GiNaC::ex& e) {
   std::vector<GiNaC::ex> out;
   if (!any_intermediate.load(std::memory_order_relaxed)) return out;
-  ExSet seen;
-  each_intermediate(e, [&](const GiNaC::ex& d) {
-    if (seen.insert(d).second) out.push_back(d);
-  });
+  each_intermediate(e, [&](const GiNaC::ex& d) { out.push_back(d); });  // each distinct one once
   return out;
 }
 
