@@ -32,6 +32,7 @@ struct AnalyzeOptions {
   bool repair = false;
   std::vector<std::string> set;
   std::string write_initial;
+  SceneOptions read;
 };
 
 }  // namespace
@@ -54,12 +55,13 @@ CommandRunner add_analyze_command(CLI::App& app) {
                   "write the consistent initial point of the (first requested) model as an [initial] table")
       ->needs("--repair-initial");
   add_set_option(sub, options->set);
+  add_expand_flag(sub, options->read);
   sub->add_option("-o,--output", options->output, "write to FILE instead of standard output");
 
   return [options]() {
     if (!options->output.empty()) check_output_file(options->output, {options->scene_path});
     if (!options->write_initial.empty()) check_output_file(options->write_initial, {options->scene_path});
-    Scene scene = load_scene(options->scene_path);
+    Scene scene = load_scene(options->scene_path, options->read);
     apply_parameter_overrides(scene, parse_parameter_overrides(scene, options->set));
     InitializationOptions init;
     init.repair = options->repair;

@@ -26,6 +26,10 @@ CommandRunner add_plot_command(CLI::App& app);
 CommandRunner add_connect_command(CLI::App& app);
 CommandRunner add_linearize_command(CLI::App& app);
 
+/// `--expand`: read the scene with every definition substituted (SceneOptions), the fully
+/// expanded equations; by default definitions stay named intermediates (docs/intermediates.md).
+void add_expand_flag(CLI::App* sub, SceneOptions& options);
+
 /// The scene's models, or those named by --model flags.
 std::vector<ModelKind> selected_models(const Scene& scene, const std::vector<std::string>& names);
 

@@ -1,4 +1,4 @@
-// nhc derive SCENE [--model M]... [--format text|latex|json] [--set P=V]... [-o FILE]
+// nhc derive SCENE [--model M]... [--format text|latex|json] [--set P=V]... [--expand] [-o FILE]
 #include <iostream>
 
 #include "commands.hpp"
@@ -20,9 +20,17 @@ struct DeriveOptions {
   std::string format = "text";
   std::string output;
   std::vector<std::string> set;
+  SceneOptions read;
 };
 
 }  // namespace
+
+void add_expand_flag(CLI::App* sub, SceneOptions& options) {
+  sub->add_flag_callback(
+      "--expand", [&options] { options.keep_definitions = false; },
+      "substitute every definition into the equations (by default each stays a named quantity, "
+      "listed after the equations)");
+}
 
 std::vector<ModelKind> selected_models(const Scene& scene, const std::vector<std::string>& names) {
   if (names.empty()) return scene.models;
@@ -40,11 +48,12 @@ CommandRunner add_derive_command(CLI::App& app) {
   sub->add_option("--format,-f", options->format, "output format")
       ->check(CLI::IsMember({"text", "latex", "json"}));
   add_set_option(sub, options->set);
+  add_expand_flag(sub, options->read);
   sub->add_option("-o,--output", options->output, "write to FILE instead of standard output");
 
   return [options]() {
     if (!options->output.empty()) check_output_file(options->output, {options->scene_path});
-    Scene scene = load_scene(options->scene_path);
+    Scene scene = load_scene(options->scene_path, options->read);
     apply_parameter_overrides(scene, parse_parameter_overrides(scene, options->set));
     std::vector<DerivedModel> models;
     for (ModelKind kind : selected_models(scene, options->models)) {

@@ -31,6 +31,7 @@ struct GenerateOptions {
   bool sensitivities = false;
   bool print_file_name = false;
   std::vector<std::string> set;
+  SceneOptions read;
 };
 
 }  // namespace
@@ -54,16 +55,17 @@ CommandRunner add_generate_command(CLI::App& app) {
   sub->add_flag("--print-file-name", options->print_file_name,
                 "print the header's file name (<scene>_<model>.hpp) and write nothing");
   add_set_option(sub, options->set);
+  add_expand_flag(sub, options->read);
   sub->add_flag("-q,--quiet", options->quiet, "do not print the written file and operation counts");
 
   return [options]() {
     if (options->print_file_name) {
-      const Scene scene = load_scene(options->scene_path);
+      const Scene scene = load_scene(options->scene_path, options->read);
       std::cout << generated_header_file_name(scene.name, model_or_default(scene, options->model)) << "\n";
       return 0;
     }
     check_output_directory(options->directory, {options->scene_path});
-    Scene scene = load_scene(options->scene_path);
+    Scene scene = load_scene(options->scene_path, options->read);
     apply_parameter_overrides(scene, parse_parameter_overrides(scene, options->set));
     const ModelKind kind = model_or_default(scene, options->model);
     require_model_inputs(scene, kind);

@@ -9,10 +9,13 @@
 #include "flag_rules.hpp"
 #include "exit_codes.hpp"
 #include "failure_report.hpp"
+#include "fixed_address_layout.hpp"
 #include "interrupt.hpp"
 #include "nhc/errors.hpp"
 
 int main(int argc, char** argv) {
+  // The same scene gives the same header in every run (fixed_address_layout.hpp).
+  nhc::cli::run_with_fixed_address_layout(argv);
   // An interrupted run removes its temporary files and exits 130 (interrupt.hpp).
   nhc::cli::install_interrupt_handlers();
   CLI::App app{"nhc, the nonholonomic compiler: derives, analyses, generates and integrates the "

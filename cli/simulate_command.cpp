@@ -48,6 +48,7 @@ struct SimulateOptions {
   std::vector<std::string> set;
   std::string plot, plot_xy;  // trajectory_plots.hpp
   SensitivityRequest sensitivity;
+  SceneOptions read;
 };
 
 std::string format(double v, int precision = 3) { return format_number(v, precision); }
@@ -152,6 +153,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
   sub->add_option("--max-steps", options->max_steps, "limit on the internal steps of the run (default 1000000)")
       ->check(flag_rules::count(1, 1000000000000LL));
   add_set_option(sub, options->set);
+  add_expand_flag(sub, options->read);
   sub->add_flag("--project", options->project, "project onto the hidden constraints (docs/projection.md)");
   sub->add_flag("--repair-initial", options->repair,
                 "move given initial values that miss a hidden constraint to the nearest consistent point");
@@ -174,7 +176,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
   return [options]() {
     // Derive, reduce, generate (Jacobian kind by nhc::default_jacobian_kind), compile (or reuse), load.
     const auto load_start = Clock::now();
-    const Scene scene = load_scene(options->scene_path);
+    const Scene scene = load_scene(options->scene_path, options->read);
     const ModelKind kind = model_or_default(scene, options->model);
     require_model_inputs(scene, kind);
     check_simulate_flags(*options, scene);  // before anything is compiled or written

@@ -4,9 +4,9 @@
 // Layout: docs/generated-code.md.
 //
 // Scene rolling_ball: coordinates x, y, psi, th, ph; parameters J, m, r
-//   L = 0.5 * m * (y' * y' + x' * x') + 0.5 * ((psi' + std::cos(th) * ph') * (psi' + std::cos(th) * ph') + (std::cos(psi) * ph' * std::sin(th) - std::sin(psi) * th') * (std::cos(psi) * ph' * std::sin(th) - std::sin(psi) * th') + (std::sin(psi) * ph' * std::sin(th) + std::cos(psi) * th') * (std::sin(psi) * ph' * std::sin(th) + std::cos(psi) * th')) * J
-//   f1 = x' + r * (std::cos(psi) * ph' * std::sin(th) - std::sin(psi) * th')
-//   f2 = y' + r * (std::sin(psi) * ph' * std::sin(th) + std::cos(psi) * th')
+//   L = y' * y' * 0.5 * m + 0.5 * J * (psi' * psi') + 0.5 * J * (th' * th') + 0.5 * (x' * x') * m + psi' * std::cos(th) * ph' * J + 0.5 * (ph' * ph') * J
+//   f1 = r * std::cos(psi) * ph' * std::sin(th) + x' - r * std::sin(psi) * th'
+//   f2 = r * std::cos(psi) * th' + r * std::sin(psi) * ph' * std::sin(th) + y'
 // Index-1 form: 12 states, 2 hidden constraints.
 //
 // Floating-point operations (+, -, *, /, calls) without and with common-subexpression
@@ -15,9 +15,9 @@
 //   jacobian                         274     180
 //   hidden_constraints                20      17
 //   hidden_constraints_jacobian       41      29
-//   invariants                        64      28
+//   invariants                        41      37
 //   reference                          0       0
-//   total                            512     344
+//   total                            489     353
 
 #pragma once
 
@@ -214,18 +214,14 @@ inline void hidden_constraints_jacobian(double /*t*/, const double* y, const dou
 
 /// The scene's invariants I(t, y, y'), in invariant_names order.
 inline void invariants(double /*t*/, const double* y, const double* /*yp*/, const double* p, double* out) noexcept {
-  const double w0 = std::sin(y[6]);
-  const double w1 = std::sin(y[4]);
-  const double w2 = std::cos(y[4]);
-  const double w3 = w0 * y[9] * w1 + w2 * y[7];
-  const double w4 = w0 * y[9] * w2;
-  const double w5 = w1 * y[7];
-  const double w6 = w4 - w5;
-  const double w7 = y[5] + y[9] * std::cos(y[6]);
-  out[0] = p[0] * 0.5 * (w3 * w3 + w6 * w6 + w7 * w7) + 0.5 * (y[1] * y[1] + y[3] * y[3]) * p[1];  // energy
-  out[1] = w3;  // spin_x
-  out[2] = w5 - w4;  // spin_y
-  out[3] = w7;  // spin_z
+  const double w0 = std::cos(y[6]);
+  const double w1 = std::sin(y[6]);
+  const double w2 = std::sin(y[4]);
+  const double w3 = std::cos(y[4]);
+  out[0] = p[0] * 0.5 * (y[5] * y[5]) + 0.5 * p[1] * (y[3] * y[3]) + p[0] * 0.5 * (y[7] * y[7]) + 0.5 * (y[1] * y[1]) * p[1] + p[0] * 0.5 * (y[9] * y[9]) + p[0] * y[9] * w0 * y[5];  // energy
+  out[1] = w1 * y[9] * w2 + w3 * y[7];  // spin_x
+  out[2] = w2 * y[7] - w1 * y[9] * w3;  // spin_y
+  out[3] = y[5] + y[9] * w0;  // spin_z
 }
 
 /// The scene's reference solution q_c(t) for the coordinates reference_coordinate.

@@ -4,9 +4,9 @@
 // Layout: docs/generated-code.md.
 //
 // Scene rolling_disk: coordinates x, y, psi, phi, ph; parameters g, m, r
-//   L = r * r * m * 0.125 * ((psi' * std::cos(phi) * std::cos(ph) + phi' * std::sin(ph)) * (psi' * std::cos(phi) * std::cos(ph) + phi' * std::sin(ph)) + (phi' * std::cos(ph) - psi' * std::sin(ph) * std::cos(phi)) * (phi' * std::cos(ph) - psi' * std::sin(ph) * std::cos(phi))) + (psi' * std::sin(phi) + ph') * (psi' * std::sin(phi) + ph') * (r * r) * 0.25 * m + 0.5 * (r * r * (std::sin(phi) * std::sin(phi)) * (phi' * phi') + (psi' * r * std::cos(psi) * std::sin(phi) + x' + r * std::sin(psi) * phi' * std::cos(phi)) * (psi' * r * std::cos(psi) * std::sin(phi) + x' + r * std::sin(psi) * phi' * std::cos(phi)) + (r * phi' * std::cos(phi) * std::cos(psi) - psi' * r * std::sin(psi) * std::sin(phi) - y') * (r * phi' * std::cos(phi) * std::cos(psi) - psi' * r * std::sin(psi) * std::sin(phi) - y')) * m - g * r * m * std::cos(phi)
-//   f1 = psi' * r * std::cos(psi) * std::sin(phi) + x' + r * std::sin(psi) * phi' * std::cos(phi) - r * (std::cos(phi) * std::cos(psi) * ph' + std::sin(psi) * phi') * std::cos(phi) - r * std::cos(psi) * std::sin(phi) * (psi' + ph' * std::sin(phi))
-//   f2 = psi' * r * std::sin(psi) * std::sin(phi) + y' - r * phi' * std::cos(phi) * std::cos(psi) - r * (std::sin(psi) * std::cos(phi) * ph' - phi' * std::cos(psi)) * std::cos(phi) - r * std::sin(psi) * std::sin(phi) * (psi' + ph' * std::sin(phi))
+//   L = T - g * r * m * std::cos(phi)
+//   f1 = x' - r * std::cos(psi) * ph'
+//   f2 = y' - r * std::sin(psi) * ph'
 // Index-1 form: 12 states, 2 hidden constraints.
 //
 // Floating-point operations (+, -, *, /, calls) without and with common-subexpression
@@ -15,8 +15,8 @@
 //   jacobian                         565     344
 //   hidden_constraints                 8       8
 //   hidden_constraints_jacobian       13      11
-//   invariants                       114      59
-//   total                            925     592
+//   invariants                        80      67
+//   total                            891     600
 
 #pragma once
 
@@ -226,19 +226,13 @@ inline void hidden_constraints_jacobian(double /*t*/, const double* y, const dou
 
 /// The scene's invariants I(t, y, y'), in invariant_names order.
 inline void invariants(double /*t*/, const double* y, const double* /*yp*/, const double* p, double* out) noexcept {
-  const double w0 = std::cos(y[8]);
-  const double w1 = std::sin(y[8]);
-  const double w2 = std::cos(y[6]);
-  const double w3 = w0 * y[7] - w1 * w2 * y[5];
-  const double w4 = w1 * y[7] + w0 * w2 * y[5];
-  const double w5 = p[2] * p[2];
-  const double w6 = std::sin(y[6]);
-  const double w7 = std::sin(y[4]);
-  const double w8 = std::cos(y[4]);
-  const double w9 = y[3] + w6 * y[5] * p[2] * w7 - w2 * w8 * p[2] * y[7];
-  const double w10 = w2 * p[2] * w7 * y[7] + y[1] + w6 * w8 * y[5] * p[2];
-  const double w11 = w6 * y[5] + y[9];
-  out[0] = (w3 * w3 + w4 * w4) * p[1] * 0.125 * w5 + 0.5 * p[1] * (w6 * w6 * (y[7] * y[7]) * w5 + w9 * w9 + w10 * w10) + 0.25 * p[1] * (w11 * w11) * w5 + p[0] * w2 * p[1] * p[2];  // energy
+  const double w0 = p[2] * p[2];
+  const double w1 = std::sin(y[6]);
+  const double w2 = std::sin(y[4]);
+  const double w3 = std::cos(y[6]);
+  const double w4 = std::cos(y[4]);
+  const double w5 = y[5] * y[5];
+  out[0] = 0.25 * (y[9] * y[9]) * p[1] * w0 + w1 * y[3] * p[1] * y[5] * p[2] * w2 + 0.5 * p[1] * (y[3] * y[3]) + w3 * p[1] * y[1] * p[2] * w2 * y[7] + w1 * p[1] * w4 * y[1] * y[5] * p[2] + 0.5 * (y[1] * y[1]) * p[1] + 0.75 * p[1] * w5 * w0 + 0.625 * (y[7] * y[7]) * p[1] * w0 + w1 * 0.5 * y[9] * p[1] * y[5] * w0 - y[3] * w3 * p[1] * w4 * p[2] * y[7] - 0.625 * (w3 * w3) * p[1] * w5 * w0 + p[0] * w3 * p[1] * p[2];  // energy
   out[1] = y[6];  // lean
   out[2] = y[5];  // yaw_rate
   out[3] = y[9];  // spin_rate

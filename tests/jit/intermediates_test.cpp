@@ -49,6 +49,13 @@ std::vector<double> final_state(const nhc::jit::LoadedModel& built, const nhc::S
   return run.samples.back().y;
 }
 
+/// The scene read with every definition substituted (`--expand`).
+nhc::SceneOptions expanded() {
+  nhc::SceneOptions options;
+  options.keep_definitions = false;
+  return options;
+}
+
 }  // namespace
 
 TEST_CASE("definitions kept as intermediates give the motion of definitions substituted", "[jit][intermediates]") {
@@ -56,10 +63,8 @@ TEST_CASE("definitions kept as intermediates give the motion of definitions subs
        {"constant_speed_definitions.toml", "rolling_ball.toml", "rolling_disk.toml", "chaplygin_sleigh.toml"}) {
     INFO(example);
     const std::string text = read_example(example);
-    const nhc::Scene substituted = nhc::parse_scene(text, example);
-    nhc::SceneOptions keep;
-    keep.keep_definitions = true;
-    const nhc::Scene kept = nhc::parse_scene(text, example, keep);
+    const nhc::Scene substituted = nhc::parse_scene(text, example, expanded());
+    const nhc::Scene kept = nhc::parse_scene(text, example);
     const nhc::ModelKind kind = substituted.simulate.model.value_or(nhc::ModelKind::chetaev);
     const nhc::jit::LoadedModel a = nhc::jit::build(substituted, kind, options_in("intermediates-cache"));
     const nhc::jit::LoadedModel b = nhc::jit::build(kept, kind, options_in("intermediates-cache"));
@@ -86,12 +91,10 @@ std::string definition_chain(int n) {
 TEST_CASE("issue 27's chain of 24 definitions derives and generates in proportion to its length", "[jit][intermediates]") {
   // Substituted, d5 already expands past the term limit (d24 has degree 2^24); kept, each link
   // adds the same few operations to each function: the operations grow linearly with n.
-  CHECK_THROWS_AS(nhc::parse_scene(definition_chain(24), "chain.toml"), nhc::InputError);
-  nhc::SceneOptions keep;
-  keep.keep_definitions = true;
+  CHECK_THROWS_AS(nhc::parse_scene(definition_chain(24), "chain.toml", expanded()), nhc::InputError);
   std::vector<long long> operations;  // n = 6, 12, 18, 24
   for (int n = 6; n <= 24; n += 6) {
-    const nhc::Scene kept = nhc::parse_scene(definition_chain(n), "chain.toml", keep);
+    const nhc::Scene kept = nhc::parse_scene(definition_chain(n), "chain.toml");
     const nhc::jit::LoadedModel built = nhc::jit::build(kept, nhc::ModelKind::chetaev, options_in("intermediates-cache"));
     operations.push_back(built.header().after_cse.total());
     WARN("chain of " << n << ": operations after CSE " << operations.back() << ", header "
@@ -112,9 +115,7 @@ TEST_CASE("the Whipple bicycle with its definitions kept: a small header that co
   // is checked by its energy (T + V, [invariants]), conserved by rolling without slip; the
   // eigenvalues of its upright motion by Meijaard et al.'s Table 2 (tests/linearize).
   const std::string text = read_example("whipple/whipple_bicycle.toml");
-  nhc::SceneOptions keep;
-  keep.keep_definitions = true;
-  const nhc::Scene kept = nhc::parse_scene(text, "whipple_bicycle.toml", keep);
+  const nhc::Scene kept = nhc::parse_scene(text, "whipple_bicycle.toml");
   const nhc::jit::LoadedModel built = nhc::jit::build(kept, nhc::ModelKind::chetaev, options_in("intermediates-cache"));
   WARN("Whipple bicycle, kept: operations after CSE " << built.header().after_cse.total() << ", header "
                                                        << built.header().text.size() << " bytes");
@@ -142,10 +143,8 @@ TEST_CASE("the Whipple bicycle with its definitions kept: a small header that co
 // ctest runs it as jit:whipple_kept_equals_substituted (label slow).
 TEST_CASE("the Whipple bicycle kept and substituted move alike", "[.whipple-kept]") {
   const std::string text = read_example("whipple/whipple_bicycle.toml");
-  nhc::SceneOptions keep;
-  keep.keep_definitions = true;
-  const nhc::Scene kept = nhc::parse_scene(text, "whipple_bicycle.toml", keep);
-  const nhc::Scene substituted = nhc::parse_scene(text, "whipple_bicycle.toml");
+  const nhc::Scene kept = nhc::parse_scene(text, "whipple_bicycle.toml");
+  const nhc::Scene substituted = nhc::parse_scene(text, "whipple_bicycle.toml", expanded());
   const nhc::jit::LoadedModel b = nhc::jit::build(kept, nhc::ModelKind::chetaev, options_in("intermediates-cache"));
   const nhc::jit::LoadedModel a = nhc::jit::build(substituted, nhc::ModelKind::chetaev, options_in("intermediates-cache"));
   WARN("operations after CSE: " << a.header().after_cse.total() << " substituted, " << b.header().after_cse.total() << " kept");

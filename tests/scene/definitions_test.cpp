@@ -201,7 +201,7 @@ TEST_CASE("SceneBuilder writes [definitions] and [forces]", "[scene][definitions
   CHECK(same(s.lagrangian, (jet.q(0, 1) * jet.q(0, 1) + jet.q(1, 1) * jet.q(1, 1)) / 2));
 }
 
-TEST_CASE("long chains of definitions resolve without deep recursion; deep nesting is refused",
+TEST_CASE("long chains of definitions resolve without deep recursion, deep nesting is refused",
           "[scene][definitions][issue33]") {
   // d_k = d_{k-1}, 5000 links: resolved leaves first (the recursive descent overflowed the
   // stack at about 2,400).

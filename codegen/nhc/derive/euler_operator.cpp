@@ -4,25 +4,9 @@
 
 #include <limits>
 
-#include "nhc/derive/trigonometric_simplification.hpp"
 #include "nhc/jet/work_budget.hpp"
 
 namespace nhc {
-
-GiNaC::ex simplify_expression(const GiNaC::ex& e) {
-  // Expanding cancels polynomial terms. Terms over different powers of one radical, such as
-  // x'^2 v^-3 - v^-1 with v = sqrt(x'^2 + y'^2), cancel only over a common denominator:
-  // normal() finds it, and expanding its numerator shows the cancellation (-y'^2 v^-3).
-  // Keep whichever form is smaller. Both steps past expansion only make the result smaller, so
-  // large sums skip them (work_budget.hpp decides where).
-  const GiNaC::ex expanded = work_budget::expand(e);
-  if (!work_budget::worth_simplifying(expanded)) return simplify_trigonometric(expanded);
-  const GiNaC::ex fraction = expanded.normal().numer_denom();
-  const GiNaC::ex combined = work_budget::expand(fraction.op(0)) / fraction.op(1);
-  return simplify_trigonometric(work_budget::node_count(combined) < work_budget::node_count(expanded)
-                                    ? combined
-                                    : expanded);
-}
 
 VariationForm VariationForm::first_variation(const GiNaC::ex& F, const JetSpace& jet) {
   // Term by term: each term of a sum is differentiated only by the coordinates it contains, so

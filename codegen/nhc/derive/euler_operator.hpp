@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "nhc/jet/jet_space.hpp"
+#include "nhc/jet/simplification.hpp"
 
 namespace nhc {
 
@@ -36,10 +37,6 @@ class VariationForm {
  private:
   std::map<std::pair<int, int>, GiNaC::ex> coefficients_;
 };
-
-/// Brings an expression to the canonical form nhc shows and analyses: fully expanded,
-/// so that polynomial cancellations (e.g. λ q''' in the paper's Example 1) show.
-GiNaC::ex simplify_expression(const GiNaC::ex& e);
 
 /// E_i(F), i = 1..n, by repeated integration by parts of δF (the paper's way).
 std::vector<GiNaC::ex> euler_operator(const GiNaC::ex& F, const JetSpace& jet);

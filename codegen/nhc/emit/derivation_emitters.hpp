@@ -11,13 +11,23 @@
 
 namespace nhc {
 
-/// Plain text: per model its residuals R_i = 0 and constraints, in GiNaC syntax.
+/// The named intermediates (kept definitions and the derivatives made from them,
+/// docs/intermediates.md) that the printed expressions use, each after the ones it uses: the
+/// "where" list that follows the equations, as a textbook writes it. Empty when the scene was
+/// read with its definitions substituted (`nhc derive --expand`).
+std::vector<GiNaC::ex> derivation_intermediates(const Scene& scene,
+                                                const std::vector<DerivedModel>& models);
+
+/// Plain text: per model its residuals R_i = 0 and constraints, in GiNaC syntax, then the
+/// intermediates they use ("where d = …").
 void write_derivation_text(std::ostream& out, const Scene& scene,
                            const std::vector<DerivedModel>& models);
 /// A standalone amsmath document, one aligned block per model; compiles with pdflatex.
 void write_derivation_latex(std::ostream& out, const Scene& scene,
                             const std::vector<DerivedModel>& models);
-/// {"scene", "parameters", "symbols", "models"} as documented in README.md.
+/// {"scene", "parameters", "symbols", "definitions", "models"} as documented in README.md;
+/// "definitions" lists the intermediates in dependency order, so that a reader substitutes them
+/// from the last to the first.
 void write_derivation_json(std::ostream& out, const Scene& scene,
                            const std::vector<DerivedModel>& models);
 

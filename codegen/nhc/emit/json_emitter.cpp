@@ -3,6 +3,7 @@
 #include "nhc/emit/derivation_emitters.hpp"
 #include "nhc/jet/expression_printer.hpp"
 #include "nhc/emit/json_writer.hpp"
+#include "nhc/jet/intermediate.hpp"
 
 namespace nhc {
 
@@ -21,6 +22,7 @@ void write_derivation_json(std::ostream& out, const Scene& scene,
   auto note = [&](const GiNaC::ex& e) {
     for (const auto& c : jet.jet_coordinates_in(e)) used.insert(c);
   };
+  const std::vector<GiNaC::ex> where = derivation_intermediates(scene, models);
   for (const DerivedModel& model : models) {
     for (const auto& e : model.equations) note(e);
     for (const auto& e : model.constraints) note(e);
@@ -34,6 +36,16 @@ void write_derivation_json(std::ostream& out, const Scene& scene,
     json.end_object();
   }
   json.end_object();
+
+  json.key("definitions").begin_array();
+  for (const GiNaC::ex& d : where) {
+    const auto& i = GiNaC::ex_to<Intermediate>(d);
+    json.begin_object();
+    json.key("name").value(i.intermediate_name());
+    json.key("expression").value(to_text(i.expression()));
+    json.end_object();
+  }
+  json.end_array();
 
   json.key("models").begin_object();
   for (const DerivedModel& model : models) {

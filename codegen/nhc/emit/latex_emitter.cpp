@@ -1,5 +1,6 @@
 #include "nhc/emit/derivation_emitters.hpp"
 #include "nhc/jet/expression_printer.hpp"
+#include "nhc/jet/intermediate.hpp"
 
 #include <string>
 #include <vector>
@@ -150,6 +151,18 @@ void write_derivation_latex(std::ostream& out, const Scene& scene,
     for (std::size_t a = 0; a < model.constraints.size(); ++a)
       align.equation("f^{" + std::to_string(a + 1) + "}", model.constraints[a],
                      model.constraints_are_equations ? " = 0" : " = 0 \\quad\\text{(monitored)}");
+  }
+  const std::vector<GiNaC::ex> where = derivation_intermediates(scene, models);
+  if (!where.empty()) {
+    out << "\\subsection*{Where}\n"
+           "Each quantity after the ones it uses; $\\partial_z X$ is the partial derivative of $X$ by "
+           "$z$ and $\\dot X$ its time derivative (\\texttt{--format json} lists their expressions, "
+           "\\texttt{nhc derive --expand} substitutes all).\n";
+    AlignWriter align(out);
+    for (const GiNaC::ex& d : where) {
+      const auto& i = GiNaC::ex_to<Intermediate>(d);
+      if (i.origin() == Intermediate::Origin::defined) align.equation(i.latex_name(), i.expression(), "");
+    }
   }
   out << "\\end{document}\n";
 }

@@ -1,5 +1,6 @@
 #include "nhc/emit/derivation_emitters.hpp"
 #include "nhc/jet/expression_printer.hpp"
+#include "nhc/jet/intermediate.hpp"
 
 namespace nhc {
 
@@ -22,6 +23,16 @@ void write_derivation_text(std::ostream& out, const Scene& scene,
     for (std::size_t a = 0; a < model.constraints.size(); ++a)
       out << "  " << (model.constraints_are_equations ? "f" : "monitored f") << a + 1 << " = "
           << to_text(model.constraints[a]) << " = 0\n";
+  }
+  const std::vector<GiNaC::ex> where = derivation_intermediates(scene, models);
+  if (where.empty()) return;
+  // The scene's own quantities; their derivatives go by their names, as a textbook writes ∂T/∂φ.
+  out << "\nwhere (each after the ones it uses; dX_dz stands for the partial derivative of X by z and\n"
+         "X_dot for its time derivative; --format json lists their expressions, --expand substitutes all):\n";
+  for (const GiNaC::ex& d : where) {
+    const auto& i = GiNaC::ex_to<Intermediate>(d);
+    if (i.origin() != Intermediate::Origin::defined) continue;
+    out << "  " << i.intermediate_name() << " = " << to_text(i.expression()) << "\n";
   }
 }
 

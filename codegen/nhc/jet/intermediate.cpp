@@ -5,6 +5,9 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "nhc/jet/simplification.hpp"
+#include "nhc/jet/work_budget.hpp"
+
 namespace nhc {
 
 namespace {
@@ -55,10 +58,16 @@ ExSet own_symbols(const GiNaC::ex& e) {
 /// intermediate named `name`.
 GiNaC::ex keep_or_name(const GiNaC::ex& value, const std::string& name, const std::string& latex) {
   if (expression_nodes(value) < kInlineBelowNodes) return value;
-  return Intermediate(name, latex, value);
+  return Intermediate(name, latex, value, Intermediate::Origin::derivative);
 }
 
 const Intermediate& as_intermediate(const GiNaC::ex& e) { return GiNaC::ex_to<Intermediate>(e); }
+
+/// How s prints in LaTeX (`\dot{x}` for x'), for the names of derivatives.
+std::string latex_of(const GiNaC::symbol& s) {
+  const std::string tex = s.get_TeX_name();
+  return tex.empty() ? s.get_name() : tex;
+}
 
 }  // namespace
 
@@ -102,8 +111,26 @@ int Intermediate::expanded_size(int limit) const {
 
 bool is_intermediate(const GiNaC::ex& e) { return GiNaC::is_a<Intermediate>(e); }
 
-Intermediate::Intermediate(const std::string& name, const std::string& latex, const GiNaC::ex& expression)
+GiNaC::ex substituted_where_small(const GiNaC::ex& e) {
+  if (direct_intermediates(e).empty()) return e;
+  if (expanded_nodes(e, kSubstituteIntoExpressionBelowNodes) >= kSubstituteIntoExpressionBelowNodes) return e;
+  // Small as a tree can still be large expanded: ((x' + y + 1)^2 + x)^2 + … (a chain of squares).
+  GiNaC::ex substituted = expand_intermediates(e);
+  if (work_budget::expanded_terms(substituted) > kSimplifyIntermediateMaxTerms) return e;
+  return substituted;
+}
+
+GiNaC::ex simplified_where_it_pays(const GiNaC::ex& e) {
+  if (GiNaC::is_a<GiNaC::symbol>(e) || GiNaC::is_a<GiNaC::numeric>(e)) return e;
+  if (work_budget::expanded_terms(e) > kSimplifyIntermediateMaxTerms) return e;
+  GiNaC::ex simplified = simplify_expression(e);
+  return work_budget::node_count(simplified) < work_budget::node_count(e) ? simplified : e;
+}
+
+Intermediate::Intermediate(const std::string& name, const std::string& latex, const GiNaC::ex& expression,
+                           Origin origin)
     : GiNaC::realsymbol(name, latex), definition_(std::make_shared<Definition>()) {
+  definition_->origin = origin;
   any_intermediate.store(true, std::memory_order_relaxed);
   definition_->name = name;
   definition_->latex = latex;
@@ -149,7 +176,7 @@ GiNaC::ex Intermediate::derivative(const GiNaC::symbol& s) const {
     // partials memoized instead of recursing once per link of a chain.
     for (std::size_t k = 0; k + 1 < order.size(); ++k) order[k].diff(s);
     partial = keep_or_name(definition_->expression.diff(s), "d" + definition_->name + "_d" + s.get_name(),
-                           "\\partial_{" + s.get_name() + "}" + definition_->latex);
+                           "\\partial_{" + latex_of(s) + "}" + definition_->latex);
   }
   definition_->partials.emplace(key, partial);
   return partial;

@@ -29,6 +29,7 @@ Value DefinitionTable::named(const std::string& name, Value value) {
   for (unsigned i = 0; i < value.rows; ++i)
     for (unsigned j = 0; j < value.cols; ++j) {
       GiNaC::ex& entry = value.entries[i * value.cols + j];
+      entry = simplified_where_it_pays(entry);
       if (GiNaC::is_a<GiNaC::numeric>(entry) || GiNaC::is_a<GiNaC::symbol>(entry)) continue;
       if (expanded_nodes(entry, kSubstituteDefinitionBelowNodes) < kSubstituteDefinitionBelowNodes) {
         // Small: substituted, unless its expansion is not (kSubstituteDefinition…, intermediate.hpp).

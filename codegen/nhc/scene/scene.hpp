@@ -99,16 +99,17 @@ struct Scene {
   GiNaC::exmap parameter_substitution() const;
 };
 
-/// Reads and validates a scene file. Every problem is an InputError naming FILE:LINE:COLUMN;
-/// warnings are printed on stderr.
-Scene load_scene(const std::string& path);
 /// How a scene is read.
 struct SceneOptions {
   /// Each scalar definition (each entry of a vector or matrix one) stays a named intermediate
   /// (nhc/jet/intermediate.hpp) in the expressions that use it, instead of being substituted.
-  /// Not yet the default: docs/intermediates.md lists the stages that handle intermediates.
-  bool keep_definitions = false;
+  /// The default; `false` is the fully substituted form (`nhc derive --expand`).
+  bool keep_definitions = true;
 };
+
+/// Reads and validates a scene file. Every problem is an InputError naming FILE:LINE:COLUMN;
+/// warnings are printed on stderr.
+Scene load_scene(const std::string& path, const SceneOptions& options = {});
 
 /// Same, from text already in memory; `path` is only used in messages. Warnings stay in
 /// Scene::warnings.

@@ -673,7 +673,7 @@ Scene parse_scene(const std::string& text, const std::string& path, const SceneO
   return scene;
 }
 
-Scene load_scene(const std::string& path) {
+Scene load_scene(const std::string& path, const SceneOptions& options) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
     throw InputError({path, 0, 0}, "is a directory, not a scene file");
@@ -681,7 +681,7 @@ Scene load_scene(const std::string& path) {
   if (!in) throw InputError({path, 0, 0}, "cannot open the scene file");
   std::ostringstream buffer;
   buffer << in.rdbuf();
-  Scene scene = parse_scene(buffer.str(), path);
+  Scene scene = parse_scene(buffer.str(), path, options);
   for (const std::string& warning : scene.warnings) std::cerr << warning << "\n";
   return scene;
 }

@@ -1,0 +1,18 @@
+#include "nhc/emit/derivation_emitters.hpp"
+#include "nhc/jet/intermediate.hpp"
+
+namespace nhc {
+
+std::vector<GiNaC::ex> derivation_intermediates(const Scene& scene,
+                                                const std::vector<DerivedModel>& models) {
+  std::vector<GiNaC::ex> printed = {scene.lagrangian};
+  printed.insert(printed.end(), scene.constraints.begin(), scene.constraints.end());
+  for (const DerivedModel& model : models) {
+    if (!model.applicable) continue;
+    printed.insert(printed.end(), model.equations.begin(), model.equations.end());
+    printed.insert(printed.end(), model.constraints.begin(), model.constraints.end());
+  }
+  return intermediates_in_order(printed);
+}
+
+}  // namespace nhc
