@@ -8,7 +8,7 @@
 #include <string>
 
 #include "nhc/emit/cpp_printer.hpp"
-#include "nhc/emit/cse.hpp"
+#include "nhc/jet/expression_dag.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/jet/intermediate.hpp"
 

@@ -340,9 +340,9 @@ TEST_CASE("Whipple bicycle: the sweep over v finds the weave and capsize speeds"
   const std::vector<nhc::PointOverride> upright{{"phi'", 0.0}};
   const nhc::SweepResult s = nhc::sweep(linearizer, upright, nhc::parse_sweep_range("v=4:7:4"));
   REQUIRE(s.thresholds.size() == 2);
-  CHECK(s.thresholds[0].value == Approx(4.29238253634111).epsilon(1e-9));
+  CHECK(s.thresholds[0].value == Approx(4.29238253634111).epsilon(1e-11));
   CHECK(s.thresholds[0].from == nhc::StabilityVerdict::unstable);
   CHECK(s.thresholds[0].to == nhc::StabilityVerdict::asymptotically_stable);
-  CHECK(s.thresholds[1].value == Approx(6.02426201538837).epsilon(1e-9));
+  CHECK(s.thresholds[1].value == Approx(6.02426201538837).epsilon(1e-11));
   CHECK(s.thresholds[1].to == nhc::StabilityVerdict::unstable);
 }

@@ -6,11 +6,13 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <set>
 #include <utility>
 #include <sstream>
 
 #include "nhc/analysis/numeric_evaluation.hpp"
+#include "nhc/analysis/numeric_program.hpp"
 #include "nhc/analysis/system_jacobian.hpp"
 #include "nhc/jet/expression_printer.hpp"
 #include "nhc/jet/intermediate.hpp"
@@ -41,7 +43,11 @@ std::string number(double v) {
 }
 
 /// Evaluation of a vector of expressions and their Jacobian in a list of jet variables, with
-/// the other symbols fixed by a base substitution.
+/// the other symbols fixed by a base substitution. Both are lowered once into NumericProgram's
+/// instruction lists, whose inputs are the symbols the point assigns (in its map order), and
+/// evaluated in doubles at every Newton step: over named intermediates GiNaC's substitution
+/// would rewalk every tree per evaluation (the Whipple bicycle's consistent point took most of
+/// a linearization sweep's time that way).
 class Evaluator {
  public:
   Evaluator(std::vector<GiNaC::ex> functions, std::vector<std::string> names,
@@ -69,17 +75,15 @@ class Evaluator {
     return m;
   }
   Eigen::VectorXd values(const GiNaC::exmap& p) const {
-    Eigen::VectorXd out(static_cast<Eigen::Index>(f_.size()));
-    for (std::size_t i = 0; i < f_.size(); ++i)
-      out(static_cast<Eigen::Index>(i)) = evaluate_real(f_[i], p, names_[i] + " at t0");
-    return out;
+    const std::vector<double> v = programs(p).values.evaluate(inputs_at(p), "a constraint at t0");
+    return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
   }
   Eigen::SparseMatrix<double> sparse_jacobian(const GiNaC::exmap& p) const {
+    const std::vector<double> v = programs(p).jacobian.evaluate(inputs_at(p), "a constraint's derivative at t0");
     std::vector<Eigen::Triplet<double>> triplets;
+    std::size_t next = 0;
     for (std::size_t i = 0; i < f_.size(); ++i)
-      for (const auto& [k, d] : jac_[i])
-        triplets.emplace_back(static_cast<int>(i), static_cast<int>(k),
-                              evaluate_real(d, p, "the derivative of " + names_[i] + " at t0"));
+      for (const auto& entry : jac_[i]) triplets.emplace_back(static_cast<int>(i), static_cast<int>(entry.first), v[next++]);
     Eigen::SparseMatrix<double> out(static_cast<Eigen::Index>(f_.size()), static_cast<Eigen::Index>(vars_.size()));
     out.setFromTriplets(triplets.begin(), triplets.end());
     return out;
@@ -87,10 +91,45 @@ class Evaluator {
   Eigen::MatrixXd jacobian(const GiNaC::exmap& p) const { return Eigen::MatrixXd(sparse_jacobian(p)); }
 
  private:
+  struct Programs {
+    NumericProgram values, jacobian;
+  };
+
+  /// The programs for points that assign the symbols of p; built at the first evaluation (and
+  /// again should a point assign other symbols).
+  const Programs& programs(const GiNaC::exmap& p) const {
+    std::vector<GiNaC::ex> symbols;
+    symbols.reserve(p.size());
+    for (const auto& assignment : p) symbols.push_back(assignment.first);
+    const bool same = programs_ && symbols.size() == inputs_.size() &&
+                      std::equal(symbols.begin(), symbols.end(), inputs_.begin(),
+                                 [](const GiNaC::ex& a, const GiNaC::ex& b) { return a.is_equal(b); });
+    if (same) return *programs_;
+    auto built = std::make_unique<Programs>(Programs{NumericProgram(symbols), NumericProgram(symbols)});
+    for (std::size_t i = 0; i < f_.size(); ++i) {
+      built->values.add(f_[i], names_[i] + " at t0");
+      for (const auto& entry : jac_[i]) built->jacobian.add(entry.second, "the derivative of " + names_[i] + " at t0");
+    }
+    inputs_ = std::move(symbols);
+    programs_ = std::move(built);
+    return *programs_;
+  }
+  /// The point's values in the programs' input order (the map's order).
+  std::vector<double> inputs_at(const GiNaC::exmap& p) const {
+    std::vector<double> values;
+    values.reserve(p.size());
+    for (const auto& [symbol, value] : p)
+      values.push_back(GiNaC::is_a<GiNaC::numeric>(value) ? GiNaC::ex_to<GiNaC::numeric>(value).to_double()
+                                                          : evaluate_real(value, {}, "the value of " + to_text(symbol)));
+    return values;
+  }
+
   std::vector<GiNaC::ex> f_;
   std::vector<std::string> names_;
   std::vector<GiNaC::ex> vars_;
   std::vector<std::vector<std::pair<std::size_t, GiNaC::ex>>> jac_;  ///< nonzero ∂f_i/∂v_k per row
+  mutable std::vector<GiNaC::ex> inputs_;
+  mutable std::unique_ptr<Programs> programs_;
 };
 
 }  // namespace

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "nhc/emit/cse.hpp"
+#include "nhc/jet/expression_dag.hpp"
 
 namespace nhc {
 

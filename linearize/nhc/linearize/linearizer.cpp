@@ -15,7 +15,7 @@
 #include "nhc/jet/intermediate.hpp"
 #include "nhc/linearize/cyclic_reduction.hpp"
 #include "nhc/linearize/manifold_linearization.hpp"
-#include "nhc/linearize/numeric_program.hpp"
+#include "nhc/analysis/numeric_program.hpp"
 #include "nhc/linearize/spectrum.hpp"
 #include "nhc/linearize/steady_families.hpp"
 

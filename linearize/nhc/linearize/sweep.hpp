@@ -42,6 +42,6 @@ struct SweepResult {
 /// swept value), and bisects every interval whose end verdicts differ until its width is at
 /// most `relative_width`·max(|lower|, |upper|). Throws like Linearizer::at, naming the value.
 SweepResult sweep(const Linearizer& linearizer, const std::vector<PointOverride>& overrides,
-                  const SweepRange& range, double relative_width = 1e-10);
+                  const SweepRange& range, double relative_width = 1e-12);
 
 }  // namespace nhc

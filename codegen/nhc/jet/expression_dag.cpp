@@ -1,4 +1,4 @@
-#include "nhc/emit/cse.hpp"
+#include "nhc/jet/expression_dag.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,20 +1,21 @@
 #pragma once
 /// \file numeric_program.hpp
 /// \brief Expressions lowered once into one shared instruction list (the common-subexpression
-/// DAG the code generator prints, nhc/emit/cse.hpp) and evaluated in doubles by walking it.
+/// DAG the code generator prints, nhc/jet/expression_dag.hpp) and evaluated in doubles by walking it.
 ///
 /// The linearizer evaluates the reduced residual, hidden constraints and their Jacobians at many
 /// points (a sweep, its bisections, the chord iterations of steady_families). GiNaC's
 /// substitution re-walks every expression tree each time, which for the Whipple bicycle (a
 /// 1.4 MB derivation) costs seconds per point; the lowered list, with each shared
-/// subexpression computed once, costs milliseconds.
+/// subexpression computed once, costs milliseconds. The consistent initialization's Newton
+/// iterations evaluate through it too (consistent_initialization.cpp).
 
 #include <ginac/ginac.h>
 
 #include <string>
 #include <vector>
 
-#include "nhc/emit/cse.hpp"
+#include "nhc/jet/expression_dag.hpp"
 
 namespace nhc {
 
@@ -24,11 +25,12 @@ class NumericProgram {
   explicit NumericProgram(const std::vector<GiNaC::ex>& inputs);
 
   /// Adds an output; returns its index in evaluate()'s result. Throws MathError for a symbol
-  /// that is not an input or a function without a double counterpart.
-  int add(const GiNaC::ex& e);
+  /// that is not an input or a function without a double counterpart. `label` names the output
+  /// in evaluate()'s errors ("" for its number).
+  int add(const GiNaC::ex& e, std::string label = "");
 
-  /// The outputs at `values` (one per input). Throws MathError naming `what` and the output's
-  /// label when one is not finite.
+  /// The outputs at `values` (one per input). Throws MathError naming the output's label (else
+  /// `what` and its number) when one is not finite.
   std::vector<double> evaluate(const std::vector<double>& values, const std::string& what) const;
 
  private:
@@ -36,6 +38,7 @@ class NumericProgram {
 
   ExpressionDag dag_;
   std::vector<int> outputs_;
+  std::vector<std::string> labels_;
   mutable std::vector<int> order_;         ///< reachable instructions, operands first
   mutable std::vector<int> input_index_;   ///< per instruction: the input it reads, or -1
   mutable bool prepared_ = false;

@@ -1,4 +1,4 @@
-#include "nhc/linearize/numeric_program.hpp"
+#include "nhc/analysis/numeric_program.hpp"
 
 #include <cmath>
 #include <map>
@@ -15,7 +15,7 @@ std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> input_names(const std::vecto
   return names;
 }
 
-/// The C++ functions the lowering names (emit/cse.cpp), as doubles.
+/// The C++ functions the lowering names (jet/expression_dag.cpp), as doubles.
 double call(const std::string& name, const std::vector<double>& a) {
   static const std::map<std::string, double (*)(double)> unary = {
       {"std::sin", std::sin},     {"std::cos", std::cos},     {"std::tan", std::tan},   {"std::exp", std::exp},
@@ -35,8 +35,9 @@ double call(const std::string& name, const std::vector<double>& a) {
 
 NumericProgram::NumericProgram(const std::vector<GiNaC::ex>& inputs) : dag_(input_names(inputs)) {}
 
-int NumericProgram::add(const GiNaC::ex& e) {
+int NumericProgram::add(const GiNaC::ex& e, std::string label) {
   outputs_.push_back(dag_.add(e));
+  labels_.push_back(std::move(label));
   prepared_ = false;
   return static_cast<int>(outputs_.size()) - 1;
 }
@@ -90,7 +91,9 @@ std::vector<double> NumericProgram::evaluate(const std::vector<double>& values, 
   out.reserve(outputs_.size());
   for (std::size_t k = 0; k < outputs_.size(); ++k) {
     const double x = at(outputs_[k]);
-    if (!std::isfinite(x)) throw MathError(what + " is not finite there (output " + std::to_string(k + 1) + ")");
+    if (!std::isfinite(x))
+      throw MathError(labels_[k].empty() ? what + " is not finite there (output " + std::to_string(k + 1) + ")"
+                                         : labels_[k] + " is not finite there");
     out.push_back(x);
   }
   return out;

@@ -1,5 +1,5 @@
 #pragma once
-/// \file cse.hpp
+/// \file expression_dag.hpp
 /// \brief Common-subexpression elimination over GiNaC's expression DAG: expressions are lowered
 /// to one flat, topologically sorted list of instructions in which every distinct subexpression
 /// occurs once (after CasADi's `SXFunction`, which lowers its graph the same way before printing).
