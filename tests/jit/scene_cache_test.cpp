@@ -97,7 +97,8 @@ void write_file(const fs::path& path, const std::string& bytes) {
 }
 
 fs::path header_entry(const Builder& builder, const nhc::Scene& scene, const std::string& options) {
-  const auto key = nhc::jit::scene_cache_key(scene, "generated header", options);
+  const auto key = nhc::jit::scene_cache_key(scene, "generated header", options, NHC_VERSION,
+                                             nhc::jit::FingerprintScope::equations);
   REQUIRE(key);
   return builder.cache / "scenes" / (*key + ".entry");
 }
@@ -125,16 +126,19 @@ TEST_CASE("an unchanged scene builds from the scene cache without deriving", "[j
   CHECK(builder.warnings.empty());
 }
 
-TEST_CASE("any change of scene text, parameters, model, options or version is a scene-cache miss",
+TEST_CASE("any change of the equations' text, parameters, model, options or version is a scene-cache miss",
           "[jit][scene-cache]") {
   Builder builder{fresh_cache("scene_cache_invalidation")};
   const nhc::Scene scene = scene_of(appell_hamel_text());
   REQUIRE(builder.derivations(scene) == 1);
   REQUIRE(builder.derivations(scene) == 0);
 
-  SECTION("a comment added to the text") {
-    CHECK(builder.derivations(scene_of(appell_hamel_text("0.5", "# a comment\n"))) == 1);
+  SECTION("a comment added to the text finds the same header, a changed constraint does not") {
     CHECK(builder.derivations(scene_of(appell_hamel_text("0.5", "# a comment\n"))) == 0);
+    std::string text = appell_hamel_text();
+    text.replace(text.find("z' - b/a"), 8, "z' - 2*b/a");
+    CHECK(builder.derivations(scene_of(text)) == 1);
+    CHECK(builder.derivations(scene_of(text)) == 0);
   }
   SECTION("a parameter changed in the text: the new model has the new value") {
     CHECK(builder.derivations(scene_of(appell_hamel_text("0.25"))) == 1);
@@ -149,13 +153,20 @@ TEST_CASE("any change of scene text, parameters, model, options or version is a 
     CHECK(builder.derivations(set) == 1);
     CHECK(builder.derivations(set) == 0);
   }
-  SECTION("initial data and settings changed in code") {
+  SECTION("initial data and run settings, changed in code or in the text, find the same header") {
+    // The header takes them at run time (issue 27): keyed by what it is made from, it is found
+    // again; the initial-point check, which depends on them, keeps a key of everything.
     nhc::Scene changed = scene;
     changed.initial.values["x"] = {0.0, 2.0};
-    CHECK(builder.derivations(changed) == 1);
+    CHECK(builder.derivations(changed) == 0);
+    CHECK(*nhc::jit::scene_cache_key(changed, "initial point check", "") !=
+          *nhc::jit::scene_cache_key(scene, "initial point check", ""));
     changed = scene;
     changed.simulate.rtol = 1e-6;
-    CHECK(builder.derivations(changed) == 1);
+    CHECK(builder.derivations(changed) == 0);
+    std::string text = appell_hamel_text() + "[simulate]\nt_end = 7.5\n";
+    text.replace(text.find("y = [0.0, 0.5]"), 14, "y = [0.0, 0.25]");
+    CHECK(builder.derivations(scene_of(text)) == 0);
   }
   SECTION("the same text under another file name (the banner names it)") {
     CHECK(builder.derivations(nhc::parse_scene(appell_hamel_text(), "elsewhere/other.toml")) == 1);

@@ -120,6 +120,12 @@ Scene parse_scene(const std::string& text, const std::string& path, const SceneO
 /// `v/rR` follow its speed v. Values given as numbers, or overridden since, are left alone.
 void reevaluate_initial_expressions(Scene& scene);
 
+/// The scene text without the tables that only start or steer a run ([initial], [simulate]),
+/// re-serialized: what the equations and the generated header are made from, so that the scene
+/// cache finds one header for every start and tolerance (nhc/jit/scene_cache.hpp). `text` must
+/// be a scene parse_scene() accepted; text that is not TOML comes back unchanged.
+std::string equations_source(const std::string& text);
+
 /// True for C++ keywords and alternative tokens (and, or, …), which a scene may not use as names.
 bool is_cpp_keyword(const std::string& name);
 /// [A-Za-z_][A-Za-z0-9_]* and not a C++ keyword.

@@ -673,6 +673,20 @@ Scene parse_scene(const std::string& text, const std::string& path, const SceneO
   return scene;
 }
 
+std::string equations_source(const std::string& text) {
+  toml::table root;
+  try {
+    root = toml::parse(text);
+  } catch (const toml::parse_error&) {
+    return text;
+  }
+  root.erase("initial");
+  root.erase("simulate");
+  std::ostringstream out;
+  out << toml::toml_formatter(root);
+  return out.str();
+}
+
 Scene load_scene(const std::string& path, const SceneOptions& options) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))

@@ -104,7 +104,8 @@ LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& option
   auto start = Clock::now();
   std::optional<std::string> key;
   if (options.scene_cache && scene_cache_enabled())
-    key = scene_cache_key(scene, kHeaderProduct, header_options_text(kind, options));
+    key = scene_cache_key(scene, kHeaderProduct, header_options_text(kind, options), NHC_VERSION,
+                          FingerprintScope::equations);
   if (key) {
     if (const std::optional<SceneCacheRecord> record =
             SceneCache(options.compile.cache_directory, options.compile.warn).load(*key))

@@ -169,27 +169,33 @@ std::optional<SceneCacheRecord> SceneCacheRecord::parse(const std::string& bytes
 // ---------------------------------------------------------------------------------------------
 // Keys
 
-std::optional<std::string> scene_fingerprint(const Scene& scene) {
+std::optional<std::string> scene_fingerprint(const Scene& scene, FingerprintScope scope) {
   if (scene.source_text.empty()) return std::nullopt;
+  const bool everything = scope == FingerprintScope::everything;
   std::ostringstream out;
-  out << "text " << counted(scene.source_text) << "\n";
+  out << "scope " << (everything ? "everything" : "equations") << "\n";
+  out << "text " << counted(everything ? scene.source_text : equations_source(scene.source_text)) << "\n";
   out << "file " << counted(fs::path(scene.source_path).filename().string()) << "\n";
   out << "name " << counted(scene.name) << "\n";
   out << "definitions " << (scene.keep_definitions ? "kept" : "substituted") << "\n";
   out << "parameters";
   for (double v : scene.parameter_values) out << " " << exact(v);
-  out << "\ninitial t0 " << exact(scene.initial.t0) << "\n";
-  for (const auto& [name, values] : scene.initial.values) {
-    out << "initial " << counted(name);
-    for (double v : values) out << " " << exact(v);
-    out << "\n";
+  out << "\n";
+  if (everything) {
+    out << "initial t0 " << exact(scene.initial.t0) << "\n";
+    for (const auto& [name, values] : scene.initial.values) {
+      out << "initial " << counted(name);
+      for (double v : values) out << " " << exact(v);
+      out << "\n";
+    }
+    out << "fixed";
+    for (const std::string& name : scene.initial.fixed) out << " " << counted(name);
+    out << "\nsimulate model " << (scene.simulate.model ? to_string(*scene.simulate.model) : "-") << " t_end "
+        << exact(scene.simulate.t_end) << " rtol " << exact(scene.simulate.rtol) << " atol "
+        << exact(scene.simulate.atol) << " outputs "
+        << (scene.simulate.outputs ? std::to_string(*scene.simulate.outputs) : "-") << "\n";
   }
-  out << "fixed";
-  for (const std::string& name : scene.initial.fixed) out << " " << counted(name);
-  out << "\nsimulate model " << (scene.simulate.model ? to_string(*scene.simulate.model) : "-") << " t_end "
-      << exact(scene.simulate.t_end) << " rtol " << exact(scene.simulate.rtol) << " atol "
-      << exact(scene.simulate.atol) << " outputs "
-      << (scene.simulate.outputs ? std::to_string(*scene.simulate.outputs) : "-") << "\nmodels";
+  out << "models";
   for (ModelKind kind : scene.models) out << " " << to_string(kind);
   out << "\ndependent";
   for (int d : scene.dependent) out << " " << d;
@@ -202,8 +208,8 @@ std::optional<std::string> scene_fingerprint(const Scene& scene) {
 }
 
 std::optional<std::string> scene_cache_key(const Scene& scene, const std::string& product, const std::string& options,
-                                           const std::string& version) {
-  const std::optional<std::string> fingerprint = scene_fingerprint(scene);
+                                           const std::string& version, FingerprintScope scope) {
+  const std::optional<std::string> fingerprint = scene_fingerprint(scene, scope);
   if (!fingerprint) return std::nullopt;
   return sha256_hex("nhc scene cache\nversion " + counted(version) + "\nproduct " + counted(product) + "\noptions " +
                     counted(options) + "\n" + *fingerprint);

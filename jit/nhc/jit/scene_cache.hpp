@@ -11,7 +11,11 @@
 /// The key of an entry is the SHA-256 of nhc's version, the product's name (what the entry holds),
 /// the product's options in words, and the scene's fingerprint: its source text, its file's name
 /// (the generated banner names it) and every value code may change after parsing (parameter values
-/// such as `--set` gives, initial data, [simulate] settings, requested models). SceneBuilder's
+/// such as `--set` gives, initial data, [simulate] settings, requested models). The generated
+/// header is keyed by what it is made from (FingerprintScope::equations): the text without
+/// [initial] and [simulate], and no initial data or run settings, which it takes at run time, so
+/// a new start or tolerance reuses it (and the compile cache its library); the initial-point check
+/// keeps the key of everything. SceneBuilder's
 /// scenes have the text they are built from; a scene assembled field by field in code has none and
 /// is never cached.
 
@@ -40,13 +44,25 @@ class SceneCacheRecord {
   std::map<std::string, std::string> fields_;
 };
 
+/// What of a scene a product depends on.
+enum class FingerprintScope {
+  /// Everything: the text and every value code may change (an initial-point check).
+  everything,
+  /// What the equations and the header are made from: the text without [initial] and
+  /// [simulate] (equations_source()), the parameter values (the header's defaults), models,
+  /// dependent coordinates, the definitions' form; not the initial data and run settings, which
+  /// the header takes at run time. A new start or tolerance finds the same header.
+  equations,
+};
+
 /// The scene's fingerprint (see the file comment); nullopt for a scene without source text.
-std::optional<std::string> scene_fingerprint(const Scene& scene);
+std::optional<std::string> scene_fingerprint(const Scene& scene, FingerprintScope scope = FingerprintScope::everything);
 
 /// The key of `product` of `scene` with `options` (words naming every option the product depends
 /// on) under nhc `version`: 64 hexadecimal digits; nullopt for a scene without source text.
 std::optional<std::string> scene_cache_key(const Scene& scene, const std::string& product, const std::string& options,
-                                           const std::string& version = NHC_VERSION);
+                                           const std::string& version = NHC_VERSION,
+                                           FingerprintScope scope = FingerprintScope::everything);
 
 /// False when `$NHC_SCENE_CACHE` is `off` (or `0`): every product is derived again and nothing is
 /// stored (the compile cache still applies).
