@@ -13,9 +13,9 @@
 #include "interrupt.hpp"
 #include "nhc/errors.hpp"
 
-int main(int argc, char** argv) {
-  // The same scene gives the same header in every run (fixed_address_layout.hpp).
-  nhc::cli::run_with_fixed_address_layout(argv);
+namespace {
+
+int run_command_line(int argc, char** argv) {
   // An interrupted run removes its temporary files and exits 130 (interrupt.hpp).
   nhc::cli::install_interrupt_handlers();
   CLI::App app{"nhc, the nonholonomic compiler: derives, analyses, generates and integrates the "
@@ -75,4 +75,17 @@ int main(int argc, char** argv) {
     return nhc::cli::report_failure(std::current_exception());
   }
   return nhc::cli::kExitInternal;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // The same scene gives the same header in every run (fixed_address_layout.hpp).
+  nhc::cli::run_with_fixed_address_layout(argv);
+  // Setting up the command line allocates too: out of memory there is exit 4 in words as well.
+  try {
+    return run_command_line(argc, argv);
+  } catch (...) {
+    return nhc::cli::report_failure(std::current_exception());
+  }
 }

@@ -10,14 +10,14 @@
 //
 // Floating-point operations (+, -, *, /, calls) without and with common-subexpression
 // elimination:
-//   residual                          42      29
-//   jacobian                         163      60
+//   residual                          42      28
+//   jacobian                         163      48
 //   hidden_constraints                 6       6
 //   hidden_constraints_jacobian       14      10
 //   invariants                        15      15
-//   reference                          6       5
+//   reference                          6       4
 //   singular_quantities                3       3
-//   total                            249     128
+//   total                            249     114
 
 #pragma once
 
@@ -109,10 +109,11 @@ inline constexpr const char* singular_names[n_singular] = {"y' * y' + x' * x'"};
 inline void residual(double /*t*/, const double* y, const double* yp, const double* p, double* r) noexcept {
   const double w0 = p[1] * p[1];
   const double w1 = std::sqrt(y[1] * y[1] + y[3] * y[3]);
+  const double w2 = p[0] * y[3];
   r[0] = -w0 * y[0] - p[0] * y[6] * y[1] / w1 - yp[1];  // R_x
-  r[1] = -w0 * y[2] - yp[3] - p[0] * y[3] * y[6] / w1;  // R_y
+  r[1] = -w0 * y[2] - y[6] * w2 / w1 - yp[3];  // R_y
   r[2] = y[6] - yp[5];  // R_z
-  r[3] = yp[5] - p[0] * y[3] * yp[3] / w1 - p[0] * y[1] * yp[1] / w1;  // D f1
+  r[3] = yp[5] - y[1] * (p[0] * yp[1]) / w1 - yp[3] * w2 / w1;  // D f1
   r[4] = yp[0] - y[1];  // chain x' = x'
   r[5] = yp[2] - y[3];  // chain y' = y'
   r[6] = yp[4] - y[5];  // chain z' = z'
@@ -123,30 +124,36 @@ inline void jacobian(double /*t*/, const double* y, const double* yp, double cj,
   for (int k = 0; k < n_states * n_states; ++k) J[k] = 0.0;
   const double w0 = -(p[1] * p[1]);
   const double w1 = y[1] * y[1];
-  const double w2 = y[3] * y[3];
-  const double w3 = w1 + w2;
-  const double w4 = std::sqrt(w3);
-  const double w5 = w4 * w3;
-  const double w6 = p[0] * y[6] / w4;
-  const double w7 = p[0] * y[3] * y[6] * y[1] / w5;
+  const double w2 = p[0] * y[6];
+  const double w3 = y[3] * y[3];
+  const double w4 = w1 + w3;
+  const double w5 = std::sqrt(w4);
+  const double w6 = w5 * w4;
+  const double w7 = cj + w2 / w5;
+  const double w8 = p[0] * y[3];
+  const double w9 = w8 * y[1];
+  const double w10 = w9 * y[6] / w6;
+  const double w11 = p[0] * yp[1];
+  const double w12 = p[0] * y[1];
+  const double w13 = p[0] * yp[3];
   J[0] = w0;  // (0, 0)
   J[4] = cj;  // (4, 0)
-  J[7] = p[0] * w1 * y[6] / w5 - cj - w6;  // (0, 1)
-  J[8] = w7;  // (1, 1)
-  J[10] = p[0] * y[3] * yp[3] * y[1] / w5 + p[0] * w1 * yp[1] / w5 - p[0] * y[1] * cj / w4 - p[0] * yp[1] / w4;  // (3, 1)
+  J[7] = w1 * w2 / w6 - w7;  // (0, 1)
+  J[8] = w10;  // (1, 1)
+  J[10] = w9 * yp[3] / w6 + w1 * w11 / w6 - w11 / w5 - w12 * cj / w5;  // (3, 1)
   J[11] = -1.0;  // (4, 1)
   J[15] = w0;  // (1, 2)
   J[19] = cj;  // (5, 2)
-  J[21] = w7;  // (0, 3)
-  J[22] = p[0] * y[6] * w2 / w5 - cj - w6;  // (1, 3)
-  J[24] = p[0] * y[3] * y[1] * yp[1] / w5 + p[0] * yp[3] * w2 / w5 - p[0] * yp[3] / w4 - p[0] * y[3] * cj / w4;  // (3, 3)
+  J[21] = w10;  // (0, 3)
+  J[22] = w2 * w3 / w6 - w7;  // (1, 3)
+  J[24] = w3 * w13 / w6 + w9 * yp[1] / w6 - w8 * cj / w5 - w13 / w5;  // (3, 3)
   J[26] = -1.0;  // (5, 3)
   J[34] = cj;  // (6, 4)
   J[37] = -cj;  // (2, 5)
   J[38] = cj;  // (3, 5)
   J[41] = -1.0;  // (6, 5)
-  J[42] = -(p[0] * y[1] / w4);  // (0, 6)
-  J[43] = -(p[0] * y[3] / w4);  // (1, 6)
+  J[42] = -(w12 / w5);  // (0, 6)
+  J[43] = -(w8 / w5);  // (1, 6)
   J[44] = 1.0;  // (2, 6)
 }
 
@@ -176,7 +183,7 @@ inline void reference(double t, const double* p, double* q) noexcept {
   const double w0 = t * p[1];
   q[0] = std::cos(w0);  // x
   q[1] = std::sin(w0);  // y
-  q[2] = t * p[0] * p[1];  // z
+  q[2] = p[0] * w0;  // z
 }
 
 /// Quantities that vanish where the equations are singular (bases of square roots,

@@ -11,12 +11,12 @@
 //
 // Floating-point operations (+, -, *, /, calls) without and with common-subexpression
 // elimination:
-//   residual                         225     170
-//   jacobian                         565     344
+//   residual                         225     102
+//   jacobian                         565     164
 //   hidden_constraints                 8       8
-//   hidden_constraints_jacobian       13      11
-//   invariants                        80      67
-//   total                            891     600
+//   hidden_constraints_jacobian       13       9
+//   invariants                        80      54
+//   total                            891     337
 
 #pragma once
 
@@ -104,20 +104,37 @@ inline constexpr const char* invariant_names[n_invariants] = {"energy", "lean", 
 
 /// F(t, y, y') = 0, IDA form; r has n_states entries.
 inline void residual(double /*t*/, const double* y, const double* yp, const double* p, double* r) noexcept {
-  const double w0 = std::sin(y[6]);
-  const double w1 = y[5] * y[5];
-  const double w2 = std::sin(y[4]);
-  const double w3 = y[7] * y[7];
-  const double w4 = std::cos(y[6]);
-  const double w5 = std::cos(y[4]);
-  const double w6 = p[2] * p[2];
-  r[0] = w0 * p[1] * w1 * p[2] * w2 + w0 * w3 * p[1] * p[2] * w2 + y[10] - w4 * p[1] * w5 * y[5] * 2.0 * p[2] * y[7] - p[1] * yp[1] - yp[7] * w4 * p[1] * p[2] * w2 - w0 * yp[5] * p[1] * w5 * p[2];  // R_x
-  r[1] = y[11] + yp[7] * w4 * p[1] * w5 * p[2] - w0 * p[1] * w5 * w1 * p[2] - w4 * p[1] * y[5] * 2.0 * p[2] * w2 * y[7] - w0 * w3 * p[1] * w5 * p[2] - yp[3] * p[1] - w0 * yp[5] * p[1] * p[2] * w2;  // R_y
-  r[2] = yp[5] * (w4 * w4) * 1.25 * p[1] * w6 - w0 * p[1] * w5 * p[2] * yp[1] - w0 * 2.5 * w4 * p[1] * y[5] * w6 * y[7] - yp[5] * 1.5 * p[1] * w6 - w0 * 0.5 * p[1] * w6 * yp[9] - w0 * yp[3] * p[1] * p[2] * w2 - 0.5 * y[9] * w4 * p[1] * w6 * y[7];  // R_psi
-  r[3] = p[0] * w0 * p[1] * p[2] + w0 * 1.25 * w4 * p[1] * w1 * w6 + yp[3] * w4 * p[1] * w5 * p[2] + 0.5 * y[9] * w4 * p[1] * y[5] * w6 - w4 * p[1] * p[2] * w2 * yp[1] - yp[7] * 1.25 * p[1] * w6;  // R_phi
-  r[4] = -y[10] * w5 * p[2] - y[11] * p[2] * w2 - 0.5 * p[1] * w6 * yp[9] - w0 * yp[5] * 0.5 * p[1] * w6 - 0.5 * w4 * p[1] * y[5] * w6 * y[7];  // R_ph
-  r[5] = y[9] * y[5] * p[2] * w2 + yp[1] - w5 * p[2] * yp[9];  // D f1
-  r[6] = yp[3] - p[2] * w2 * yp[9] - y[9] * w5 * y[5] * p[2];  // D f2
+  const double w0 = y[7] * y[7];
+  const double w1 = std::sin(y[6]);
+  const double w2 = p[1] * p[2];
+  const double w3 = w1 * w2;
+  const double w4 = std::sin(y[4]);
+  const double w5 = w3 * w4;
+  const double w6 = y[5] * y[5];
+  const double w7 = std::cos(y[6]);
+  const double w8 = w7 * w2;
+  const double w9 = std::cos(y[4]);
+  const double w10 = w8 * w9;
+  const double w11 = y[5] * y[7];
+  const double w12 = w11 * 2.0;
+  const double w13 = w3 * w9;
+  const double w14 = w8 * w4;
+  const double w15 = p[1] * (p[2] * p[2]);
+  const double w16 = 1.25 * w15;
+  const double w17 = 0.5 * w15;
+  const double w18 = w1 * w17;
+  const double w19 = w7 * w17;
+  const double w20 = w1 * w7;
+  const double w21 = y[9] * y[5];
+  const double w22 = w9 * p[2];
+  const double w23 = p[2] * w4;
+  r[0] = y[10] + (w0 * w5 + (w6 * w5 - (w10 * w12 + (yp[5] * w13 + yp[7] * w14)))) - p[1] * yp[1];  // R_x
+  r[1] = y[11] - (w0 * w13 + w13 * w6 + yp[5] * w5 + w12 * w14 - w10 * yp[7]) - yp[3] * p[1];  // R_y
+  r[2] = yp[5] * (w7 * w7) * w16 - w18 * yp[9] - yp[3] * w5 - w13 * yp[1] - w19 * (y[9] * y[7]) - yp[5] * 1.5 * w15 - 2.5 * w15 * w20 * w11;  // R_psi
+  r[3] = w10 * yp[3] + w6 * w16 * w20 + w19 * w21 + p[0] * w3 - w14 * yp[1] - yp[7] * w16;  // R_phi
+  r[4] = -w19 * w11 - w22 * y[10] - yp[9] * w17 - yp[5] * w18 - w23 * y[11];  // R_ph
+  r[5] = w23 * w21 - w22 * yp[9] + yp[1];  // D f1
+  r[6] = yp[3] - (w22 * w21 + w23 * yp[9]);  // D f2
   r[7] = yp[0] - y[1];  // chain x' = x'
   r[8] = yp[2] - y[3];  // chain y' = y'
   r[9] = yp[4] - y[5];  // chain psi' = psi'
@@ -130,109 +147,134 @@ inline void jacobian(double /*t*/, const double* y, const double* yp, double cj,
   for (int k = 0; k < n_states * n_states; ++k) J[k] = 0.0;
   const double w0 = -(p[1] * cj);
   const double w1 = std::sin(y[6]);
-  const double w2 = std::cos(y[4]);
-  const double w3 = w1 * p[1] * w2 * cj * p[2];
-  const double w4 = std::cos(y[6]);
-  const double w5 = std::sin(y[4]);
-  const double w6 = w4 * p[1] * cj * p[2] * w5;
-  const double w7 = w1 * p[1] * cj * p[2] * w5;
-  const double w8 = w4 * p[1] * w2 * cj * p[2];
-  const double w9 = y[5] * y[5];
-  const double w10 = y[7] * y[7];
-  const double w11 = w1 * p[1] * p[2] * w5 * yp[1];
-  const double w12 = w1 * yp[3] * p[1] * w2 * p[2];
-  const double w13 = w4 * p[1] * w2 * p[2] * yp[1];
-  const double w14 = yp[3] * w4 * p[1] * p[2] * w5;
-  const double w15 = p[2] * p[2];
-  const double w16 = w4 * w4;
-  const double w17 = 0.5 * y[9] * w4 * p[1] * w15;
-  const double w18 = w1 * 2.5 * w4 * p[1] * y[5] * w15;
-  const double w19 = -0.5 * w4 * p[1] * w15 * y[7] - w1 * 0.5 * p[1] * cj * w15;
-  const double w20 = w1 * w1;
-  const double w21 = 0.5 * w4 * p[1] * y[5] * w15;
+  const double w2 = p[1] * p[2];
+  const double w3 = w1 * w2;
+  const double w4 = std::cos(y[4]);
+  const double w5 = w3 * w4;
+  const double w6 = w5 * cj;
+  const double w7 = std::cos(y[6]);
+  const double w8 = w7 * w2;
+  const double w9 = std::sin(y[4]);
+  const double w10 = w8 * w9;
+  const double w11 = cj * w10;
+  const double w12 = w3 * w9;
+  const double w13 = cj * w12;
+  const double w14 = w8 * w4;
+  const double w15 = w14 * cj;
+  const double w16 = y[7] * y[7];
+  const double w17 = y[5] * y[5];
+  const double w18 = y[5] * y[7];
+  const double w19 = w18 * 2.0;
+  const double w20 = w12 * yp[1] - yp[3] * w5;
+  const double w21 = w14 * yp[1];
+  const double w22 = yp[3] * w10;
+  const double w23 = p[2] * w9;
+  const double w24 = w4 * p[2];
+  const double w25 = y[9] * y[5];
+  const double w26 = y[5] * 2.0;
+  const double w27 = 2.0 * y[7];
+  const double w28 = p[1] * (p[2] * p[2]);
+  const double w29 = w7 * w7;
+  const double w30 = 2.5 * w28;
+  const double w31 = w30 * (w1 * w7);
+  const double w32 = 0.5 * w28;
+  const double w33 = w7 * w32;
+  const double w34 = y[9] * w33;
+  const double w35 = w31 * y[5];
+  const double w36 = w1 * w32;
+  const double w37 = -w36 * cj - w33 * y[7];
+  const double w38 = w1 * w1;
+  const double w39 = w30 * w18;
+  const double w40 = 1.25 * w28;
+  const double w41 = w17 * w40;
+  const double w42 = w33 * y[5];
   J[7] = cj;  // (7, 0)
   J[12] = w0;  // (0, 1)
-  J[14] = -w3;  // (2, 1)
-  J[15] = -w6;  // (3, 1)
+  J[14] = -w6;  // (2, 1)
+  J[15] = -w11;  // (3, 1)
   J[17] = cj;  // (5, 1)
   J[19] = -1.0;  // (7, 1)
   J[32] = cj;  // (8, 2)
   J[37] = w0;  // (1, 3)
-  J[38] = -w7;  // (2, 3)
-  J[39] = w8;  // (3, 3)
+  J[38] = -w13;  // (2, 3)
+  J[39] = w15;  // (3, 3)
   J[42] = cj;  // (6, 3)
   J[44] = -1.0;  // (8, 3)
-  J[48] = w1 * p[1] * w2 * w9 * p[2] + w4 * p[1] * y[5] * 2.0 * p[2] * w5 * y[7] + w1 * w10 * p[1] * w2 * p[2] + w1 * yp[5] * p[1] * p[2] * w5 - yp[7] * w4 * p[1] * w2 * p[2];  // (0, 4)
-  J[49] = w1 * p[1] * w9 * p[2] * w5 + w1 * w10 * p[1] * p[2] * w5 - w4 * p[1] * w2 * y[5] * 2.0 * p[2] * y[7] - yp[7] * w4 * p[1] * p[2] * w5 - w1 * yp[5] * p[1] * w2 * p[2];  // (1, 4)
-  J[50] = w11 - w12;  // (2, 4)
-  J[51] = -w13 - w14;  // (3, 4)
-  J[52] = y[10] * p[2] * w5 - y[11] * w2 * p[2];  // (4, 4)
-  J[53] = p[2] * w5 * yp[9] + y[9] * w2 * y[5] * p[2];  // (5, 4)
-  J[54] = y[9] * y[5] * p[2] * w5 - w2 * p[2] * yp[9];  // (6, 4)
+  J[48] = w16 * w5 + w5 * w17 + yp[5] * w12 + w19 * w10 - w14 * yp[7];  // (0, 4)
+  J[49] = w16 * w12 + (w17 * w12 - (w14 * w19 + (yp[5] * w5 + yp[7] * w10)));  // (1, 4)
+  J[50] = w20;  // (2, 4)
+  J[51] = -w21 - w22;  // (3, 4)
+  J[52] = w23 * y[10] - y[11] * w24;  // (4, 4)
+  J[53] = w24 * w25 + w23 * yp[9];  // (5, 4)
+  J[54] = w23 * w25 - w24 * yp[9];  // (6, 4)
   J[57] = cj;  // (9, 4)
-  J[60] = w1 * p[1] * y[5] * 2.0 * p[2] * w5 - w4 * p[1] * w2 * 2.0 * p[2] * y[7] - w3;  // (0, 5)
-  J[61] = -w7 - w1 * p[1] * w2 * y[5] * 2.0 * p[2] - w4 * p[1] * 2.0 * p[2] * w5 * y[7];  // (1, 5)
-  J[62] = -w1 * 2.5 * w4 * p[1] * w15 * y[7] - 0.25 * (6.0 * p[1] * w15 - w16 * 5.0 * p[1] * w15) * cj;  // (2, 5)
-  J[63] = w17 + w18;  // (3, 5)
-  J[64] = w19;  // (4, 5)
-  J[65] = y[9] * p[2] * w5;  // (5, 5)
-  J[66] = -(y[9] * w2 * p[2]);  // (6, 5)
+  J[60] = w26 * w12 - w14 * w27 - w6;  // (0, 5)
+  J[61] = -w10 * w27 - w26 * w5 - w13;  // (1, 5)
+  J[62] = -0.25 * (6.0 * w28 - w29 * 5.0 * w28) * cj - w31 * y[7];  // (2, 5)
+  J[63] = w34 + w35;  // (3, 5)
+  J[64] = w37;  // (4, 5)
+  J[65] = w23 * y[9];  // (5, 5)
+  J[66] = -(w24 * y[9]);  // (6, 5)
   J[69] = -1.0;  // (9, 5)
-  J[72] = w4 * p[1] * w9 * p[2] * w5 + w10 * w4 * p[1] * p[2] * w5 + w1 * yp[7] * p[1] * p[2] * w5 + w1 * p[1] * w2 * y[5] * 2.0 * p[2] * y[7] - yp[5] * w4 * p[1] * w2 * p[2];  // (0, 6)
-  J[73] = w1 * p[1] * y[5] * 2.0 * p[2] * w5 * y[7] - w4 * p[1] * w2 * w9 * p[2] - yp[5] * w4 * p[1] * p[2] * w5 - w1 * yp[7] * p[1] * w2 * p[2] - w10 * w4 * p[1] * w2 * p[2];  // (1, 6)
-  J[74] = w20 * 2.5 * p[1] * y[5] * w15 * y[7] + w1 * 0.5 * y[9] * p[1] * w15 * y[7] - w1 * yp[5] * 2.5 * w4 * p[1] * w15 - w13 - w16 * 2.5 * p[1] * y[5] * w15 * y[7] - 0.5 * w4 * p[1] * w15 * yp[9] - w14;  // (2, 6)
-  J[75] = w11 + p[0] * w4 * p[1] * p[2] + w16 * 1.25 * p[1] * w9 * w15 - w12 - w1 * 0.5 * y[9] * p[1] * y[5] * w15 - w20 * 1.25 * p[1] * w9 * w15;  // (3, 6)
-  J[76] = w1 * 0.5 * p[1] * y[5] * w15 * y[7] - yp[5] * 0.5 * w4 * p[1] * w15;  // (4, 6)
+  J[72] = w16 * w10 + w19 * w5 + w17 * w10 + yp[7] * w12 - yp[5] * w14;  // (0, 6)
+  J[73] = w19 * w12 - w14 * w16 - yp[7] * w5 - yp[5] * w10 - w14 * w17;  // (1, 6)
+  J[74] = w38 * w39 + w36 * (y[9] * y[7]) - w29 * w39 - w21 - w33 * yp[9] - yp[5] * w31 - w22;  // (2, 6)
+  J[75] = w20 + p[0] * w8 + w29 * w41 - w38 * w41 - w36 * w25;  // (3, 6)
+  J[76] = w36 * w18 - yp[5] * w33;  // (4, 6)
   J[82] = cj;  // (10, 6)
-  J[84] = w1 * p[1] * 2.0 * p[2] * w5 * y[7] - w4 * p[1] * w2 * y[5] * 2.0 * p[2] - w6;  // (0, 7)
-  J[85] = w8 - w1 * p[1] * w2 * 2.0 * p[2] * y[7] - w4 * p[1] * y[5] * 2.0 * p[2] * w5;  // (1, 7)
-  J[86] = -w17 - w18;  // (2, 7)
-  J[87] = -(1.25 * p[1] * cj * w15);  // (3, 7)
-  J[88] = -w21;  // (4, 7)
+  J[84] = w27 * w12 - w14 * w26 - w11;  // (0, 7)
+  J[85] = w15 - w26 * w10 - w5 * w27;  // (1, 7)
+  J[86] = -w34 - w35;  // (2, 7)
+  J[87] = -(cj * w40);  // (3, 7)
+  J[88] = -w42;  // (4, 7)
   J[94] = -1.0;  // (10, 7)
   J[107] = cj;  // (11, 8)
-  J[110] = w19;  // (2, 9)
-  J[111] = w21;  // (3, 9)
-  J[112] = -(0.5 * p[1] * cj * w15);  // (4, 9)
-  J[113] = y[5] * p[2] * w5 - w2 * cj * p[2];  // (5, 9)
-  J[114] = -w2 * y[5] * p[2] - cj * p[2] * w5;  // (6, 9)
+  J[110] = w37;  // (2, 9)
+  J[111] = w42;  // (3, 9)
+  J[112] = -(cj * w32);  // (4, 9)
+  J[113] = w23 * y[5] - w24 * cj;  // (5, 9)
+  J[114] = -w23 * cj - w24 * y[5];  // (6, 9)
   J[119] = -1.0;  // (11, 9)
   J[120] = 1.0;  // (0, 10)
-  J[124] = -(w2 * p[2]);  // (4, 10)
+  J[124] = -w24;  // (4, 10)
   J[133] = 1.0;  // (1, 11)
-  J[136] = -(p[2] * w5);  // (4, 11)
+  J[136] = -w23;  // (4, 11)
 }
 
 /// Hidden constraints g(t, y) = 0 (derivatives of the equations the index-1 form
 /// differentiated away); they fix consistent initial values and drift during
 /// integration.
 inline void hidden_constraints(double /*t*/, const double* y, const double* p, double* g) noexcept {
-  g[0] = y[1] - y[9] * std::cos(y[4]) * p[2];  // f1
-  g[1] = y[3] - y[9] * p[2] * std::sin(y[4]);  // f2
+  g[0] = y[1] - std::cos(y[4]) * p[2] * y[9];  // f1
+  g[1] = y[3] - p[2] * std::sin(y[4]) * y[9];  // f2
 }
 
 /// G = dg/dy, column-major n_hidden x n_states.
 inline void hidden_constraints_jacobian(double /*t*/, const double* y, const double* p, double* G) noexcept {
   for (int k = 0; k < n_hidden * n_states; ++k) G[k] = 0.0;
-  const double w0 = std::sin(y[4]);
-  const double w1 = std::cos(y[4]);
+  const double w0 = p[2] * std::sin(y[4]);
+  const double w1 = std::cos(y[4]) * p[2];
   G[2] = 1.0;  // (0, 1)
   G[7] = 1.0;  // (1, 3)
-  G[8] = y[9] * p[2] * w0;  // (0, 4)
-  G[9] = -(y[9] * w1 * p[2]);  // (1, 4)
-  G[18] = -(w1 * p[2]);  // (0, 9)
-  G[19] = -(p[2] * w0);  // (1, 9)
+  G[8] = w0 * y[9];  // (0, 4)
+  G[9] = -(w1 * y[9]);  // (1, 4)
+  G[18] = -w1;  // (0, 9)
+  G[19] = -w0;  // (1, 9)
 }
 
 /// The scene's invariants I(t, y, y'), in invariant_names order.
 inline void invariants(double /*t*/, const double* y, const double* /*yp*/, const double* p, double* out) noexcept {
-  const double w0 = p[2] * p[2];
-  const double w1 = std::sin(y[6]);
-  const double w2 = std::sin(y[4]);
-  const double w3 = std::cos(y[6]);
-  const double w4 = std::cos(y[4]);
-  const double w5 = y[5] * y[5];
-  out[0] = 0.25 * (y[9] * y[9]) * p[1] * w0 + w1 * y[3] * p[1] * y[5] * p[2] * w2 + 0.5 * p[1] * (y[3] * y[3]) + w3 * p[1] * y[1] * p[2] * w2 * y[7] + w1 * p[1] * w4 * y[1] * y[5] * p[2] + 0.5 * (y[1] * y[1]) * p[1] + 0.75 * p[1] * w5 * w0 + 0.625 * (y[7] * y[7]) * p[1] * w0 + w1 * 0.5 * y[9] * p[1] * y[5] * w0 - y[3] * w3 * p[1] * w4 * p[2] * y[7] - 0.625 * (w3 * w3) * p[1] * w5 * w0 + p[0] * w3 * p[1] * p[2];  // energy
+  const double w0 = std::sin(y[6]);
+  const double w1 = p[1] * p[2];
+  const double w2 = w0 * w1;
+  const double w3 = std::cos(y[4]);
+  const double w4 = std::sin(y[4]);
+  const double w5 = 0.5 * p[1];
+  const double w6 = p[1] * (p[2] * p[2]);
+  const double w7 = std::cos(y[6]);
+  const double w8 = w7 * w1;
+  const double w9 = w6 * (y[5] * y[5]);
+  out[0] = w2 * w3 * y[1] * y[5] + y[3] * y[5] * (w2 * w4) + w5 * (y[3] * y[3]) + y[1] * y[1] * w5 + w0 * (0.5 * w6) * (y[9] * y[5]) + y[1] * (w8 * w4) * y[7] + 0.25 * (y[9] * y[9]) * w6 + 0.625 * (y[7] * y[7]) * w6 + 0.75 * w9 - 0.625 * (w7 * w7) * w9 - y[3] * (w8 * w3) * y[7] + p[0] * w8;  // energy
   out[1] = y[6];  // lean
   out[2] = y[5];  // yaw_rate
   out[3] = y[9];  // spin_rate

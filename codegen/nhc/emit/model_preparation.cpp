@@ -1,6 +1,8 @@
 // The symbolic half of the header emitter (model_preparation.hpp).
 #include "nhc/emit/model_preparation.hpp"
 
+#include "nhc/jet/common_arguments.hpp"
+
 #include "nhc/emit/parameter_jacobian.hpp"
 
 #include <algorithm>
@@ -392,6 +394,15 @@ PreparedModel prepare_model(const Scene& scene, const Index1System& system, Jaco
           "Gp", m.n_hidden, m.n_parameters, pj.hidden, pj.hidden_nonzeros,
           {{"double", "t"}, {"const double*", "y"}, {"const double*", "p"}}, m.dag));
   }
+
+  // Pairs of operands common to several sums or products computed once (common_arguments.hpp).
+  std::vector<int> all_outputs;
+  for (const FunctionPlan& f : m.functions)
+    for (const Assignment& a : f.assignments) all_outputs.push_back(a.value);
+  m.dag = share_common_arguments(m.dag, all_outputs);
+  std::size_t next = 0;
+  for (FunctionPlan& f : m.functions)
+    for (Assignment& a : f.assignments) a.value = all_outputs[next++];
 
   for (FunctionPlan& f : m.functions) {
     std::vector<int> outputs;

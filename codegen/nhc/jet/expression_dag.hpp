@@ -67,6 +67,11 @@ class ExpressionDag {
   /// in states before they get here.
   int add(const GiNaC::ex& e);
 
+  /// Appends an instruction whose operands are instructions of this DAG (or returns the equal
+  /// one already there); sums and products get their canonical operand order. For passes that
+  /// rewrite a DAG (common_arguments.hpp).
+  int append(Instruction instruction) { return make(std::move(instruction)); }
+
   const std::vector<Instruction>& instructions() const { return instructions_; }
   const Instruction& operator[](int id) const { return instructions_[static_cast<size_t>(id)]; }
   int size() const { return static_cast<int>(instructions_.size()); }

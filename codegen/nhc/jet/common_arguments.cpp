@@ -1,0 +1,219 @@
+#include "nhc/jet/common_arguments.hpp"
+
+#include <cstdint>
+#include <map>
+#include <queue>
+#include <set>
+#include <tuple>
+#include <utility>
+
+namespace nhc {
+
+namespace {
+
+/// One operand of a sum or product: an instruction of the input DAG (index < N) or a shared pair
+/// made by this pass (index ≥ N); `negated` only in sums.
+struct Operand {
+  int node = 0;
+  bool negated = false;
+};
+
+/// A sum or product of the input DAG whose operands the pass may rewrite.
+struct Site {
+  int instruction = 0;
+  bool sum = false;
+  std::vector<Operand> operands;
+};
+
+/// (sum?, first, second, opposite): first + second or first − second (sums), first · second
+/// (products), first and second ordered by their structural keys.
+using PairId = std::tuple<bool, int, int, bool>;
+
+struct Pair {
+  PairId id;
+  std::uint64_t key = 0;
+  int definition_site = -1;  ///< a site that computes exactly this pair, if any
+};
+
+std::uint64_t mix(std::uint64_t seed, std::uint64_t value) {
+  std::uint64_t z = seed ^ (value + 0x9e3779b97f4a7c15ULL + (seed << 6) + (seed >> 2));
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+class CommonArguments {
+ public:
+  CommonArguments(const ExpressionDag& dag, const std::vector<int>& outputs) : dag_(dag) {
+    for (int id : dag.reachable(outputs)) {
+      const Instruction& in = dag[id];
+      if (in.op != OpCode::sum && in.op != OpCode::product) continue;
+      Site site{id, in.op == OpCode::sum, {}};
+      for (std::size_t k = 0; k < in.args.size(); ++k)
+        site.operands.push_back({in.args[k], in.op == OpCode::sum && in.negated[k]});
+      site_of_.emplace(id, static_cast<int>(sites_.size()));
+      sites_.push_back(std::move(site));
+    }
+    for (int s = 0; s < static_cast<int>(sites_.size()); ++s)
+      if (static_cast<int>(sites_[static_cast<std::size_t>(s)].operands.size()) <= kLargestPairedArity)
+        for_each_pair(s, [&](const PairId& p) { enter(p, s); });
+  }
+
+  void share() {
+    while (!queue_.empty()) {
+      const auto [count, tie, id] = queue_.top();
+      queue_.pop();
+      const auto found = sites_with_.find(id);
+      if (found == sites_with_.end()) continue;
+      const int now = static_cast<int>(found->second.size());
+      if (now != count) {  // stale: its count changed since
+        if (now >= 2) queue_.emplace(now, tie, id);
+        continue;
+      }
+      apply(id);
+    }
+  }
+
+  ExpressionDag rebuild(std::vector<int>& outputs) {
+    ExpressionDag out{{}};
+    const int n = dag_.size();
+    built_.assign(static_cast<std::size_t>(n) + pairs_.size(), -1);
+    for (int id : dag_.reachable(outputs)) build(out, id);
+    for (int& o : outputs) o = built_[static_cast<std::size_t>(o)];
+    return out;
+  }
+
+ private:
+  std::uint64_t key_of(int node) const {
+    return node < dag_.size() ? dag_[node].key : pairs_[static_cast<std::size_t>(node - dag_.size())].key;
+  }
+
+  /// The canonical pair of two operands of one site.
+  PairId pair_of(bool sum, const Operand& a, const Operand& b) const {
+    const bool a_first = std::make_pair(key_of(a.node), a.node) < std::make_pair(key_of(b.node), b.node);
+    const Operand& first = a_first ? a : b;
+    const Operand& second = a_first ? b : a;
+    return {sum, first.node, second.node, sum && first.negated != second.negated};
+  }
+
+  template <class F>
+  void for_each_pair(int s, F&& f) const {
+    const Site& site = sites_[static_cast<std::size_t>(s)];
+    for (std::size_t i = 0; i < site.operands.size(); ++i)
+      for (std::size_t j = i + 1; j < site.operands.size(); ++j)
+        if (site.operands[i].node != site.operands[j].node) f(pair_of(site.sum, site.operands[i], site.operands[j]));
+  }
+
+  static std::uint64_t tie_of(const PairId& p, std::uint64_t first_key, std::uint64_t second_key) {
+    return mix(mix(mix(std::get<0>(p) ? 2 : 1, first_key), second_key), std::get<3>(p) ? 2 : 1);
+  }
+
+  void enter(const PairId& p, int s) {
+    std::set<int>& sites = sites_with_[p];
+    sites.insert(s);
+    if (sites.size() >= 2)
+      queue_.emplace(static_cast<int>(sites.size()), tie_of(p, key_of(std::get<1>(p)), key_of(std::get<2>(p))), p);
+  }
+
+  void leave(const PairId& p, int s) {
+    const auto it = sites_with_.find(p);
+    if (it == sites_with_.end()) return;
+    it->second.erase(s);
+    if (it->second.empty()) sites_with_.erase(it);
+  }
+
+  /// Makes p one instruction used by every site that has it, when that saves an operation: each
+  /// larger site saves one; the pair costs one unless a site computes exactly it.
+  void apply(const PairId& p) {
+    const std::set<int> sites = sites_with_.at(p);
+    const auto [sum, first, second, opposite] = p;
+    // A site of exactly the two operands computes the pair (or, a sum whose first operand is
+    // subtracted, its negative: left as it is).
+    std::vector<int> exact, larger;
+    for (int s : sites) {
+      const Site& site = sites_[static_cast<std::size_t>(s)];
+      if (site.operands.size() > 2) larger.push_back(s);
+      else if (!(site.operands[0].node == first ? site.operands[0] : site.operands[1]).negated) exact.push_back(s);
+    }
+    if (static_cast<int>(larger.size()) - (exact.empty() ? 1 : 0) < 1) return;
+
+    const int node = dag_.size() + static_cast<int>(pairs_.size());
+    pairs_.push_back({p, tie_of(p, key_of(first), key_of(second)), exact.empty() ? -1 : exact.front()});
+    for (int s : sites)
+      if (sites_[static_cast<std::size_t>(s)].operands.size() == 2) leave(p, s);
+    for (int s : larger) {
+      // Leave every pair of the site, replace the two operands by the shared one, enter again.
+      for_each_pair(s, [&](const PairId& q) { leave(q, s); });
+      Site& site = sites_[static_cast<std::size_t>(s)];
+      std::vector<Operand> rest;
+      bool first_negated = false, taken_first = false, taken_second = false;
+      for (const Operand& o : site.operands) {
+        if (!taken_first && o.node == first) {
+          taken_first = true;
+          first_negated = o.negated;
+        } else if (!taken_second && o.node == second) {
+          taken_second = true;
+        } else {
+          rest.push_back(o);
+        }
+      }
+      rest.push_back({node, sum && first_negated});
+      site.operands = std::move(rest);
+      if (static_cast<int>(site.operands.size()) <= kLargestPairedArity)
+        for_each_pair(s, [&](const PairId& q) { enter(q, s); });
+    }
+  }
+
+  int build(ExpressionDag& out, int node) {
+    int& slot = built_[static_cast<std::size_t>(node)];
+    if (slot >= 0) return slot;
+    int result = -1;
+    if (node >= dag_.size()) {
+      const Pair& pair = pairs_[static_cast<std::size_t>(node - dag_.size())];
+      if (pair.definition_site >= 0) {
+        result = build(out, sites_[static_cast<std::size_t>(pair.definition_site)].instruction);
+      } else {
+        const auto [sum, first, second, opposite] = pair.id;
+        Instruction in;
+        in.op = sum ? OpCode::sum : OpCode::product;
+        in.args = {build(out, first), build(out, second)};
+        if (sum) in.negated = {false, opposite};
+        result = out.append(std::move(in));
+      }
+    } else {
+      Instruction in = dag_[node];
+      const auto site = site_of_.find(node);
+      if (site != site_of_.end()) {
+        in.args.clear();
+        in.negated.clear();
+        for (const Operand& o : sites_[static_cast<std::size_t>(site->second)].operands) {
+          in.args.push_back(build(out, o.node));
+          if (in.op == OpCode::sum) in.negated.push_back(o.negated);
+        }
+      } else {
+        for (int& a : in.args) a = build(out, a);
+      }
+      result = out.append(std::move(in));
+    }
+    slot = result;
+    return result;
+  }
+
+  const ExpressionDag& dag_;
+  std::vector<Site> sites_;
+  std::map<int, int> site_of_;  ///< instruction → site
+  std::vector<Pair> pairs_;
+  std::map<PairId, std::set<int>> sites_with_;
+  std::priority_queue<std::tuple<int, std::uint64_t, PairId>> queue_;
+  std::vector<int> built_;
+};
+
+}  // namespace
+
+ExpressionDag share_common_arguments(const ExpressionDag& dag, std::vector<int>& outputs) {
+  CommonArguments pass(dag, outputs);
+  pass.share();
+  return pass.rebuild(outputs);
+}
+
+}  // namespace nhc
