@@ -411,6 +411,18 @@ def main(argv):
             L.append("```")
             L.append("")
 
+    whipple = os.path.join(jdir, "whipple.md")
+    if os.path.exists(whipple):
+        L.append("## The Whipple bicycle beside SymPy's Kane's method")
+        L.append("")
+        L.append("bench/whipple_sympy.py, in this run: SymPy's own bicycle (`test_kane3.test_bicycle` up to "
+                 "`kanes_equations`, then `sympy.cse` of the mass matrix and forcing) and nhc cold "
+                 "(scene cache off, an empty compile cache) on examples/whipple/whipple_bicycle.toml.")
+        L.append("")
+        with open(whipple) as f:
+            L.append(f.read().rstrip("\n"))
+        L.append("")
+
     notes_path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "notes.md")
     if os.path.exists(notes_path):
         with open(notes_path) as f:

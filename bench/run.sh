@@ -144,6 +144,13 @@ for n in $peer_n appell_hamel; do
     { log "peers.py failed or timed out at $n"; rm -f "$json/peers_$n.json"; }
 done
 
+# --- the Whipple bicycle beside SymPy's Kane's method (issue 27; full runs only: SymPy takes seconds) ---
+if [ $quick = 0 ]; then
+  log "Whipple bicycle"
+  timeout "$peer_timeout" "$python" bench/whipple_sympy.py "$nhc" --markdown="$json/whipple.md" >"$json/whipple.log" 2>&1 ||
+    { log "whipple_sympy.py failed or timed out"; rm -f "$json/whipple.md"; }
+fi
+
 # --- report and plot ---
 cxx=$(sed -n 's/^CMAKE_CXX_COMPILER:[A-Z]*=//p' "$build/CMakeCache.txt")
 env_json() {
