@@ -26,10 +26,11 @@ struct CompileOptions {
   /// Headers longer than this many bytes are compiled with -O0 in place of the -O flags above:
   /// GCC's optimizer on megabytes of straight-line code is slower than any integration it would
   /// speed up (the Whipple bicycle's 4.5 MB header: -O0 29 s and 2.3 GB; -O1 still running
-  /// after 8 min). The knife-edge chain at N = 512 (1.3 MB, one residual function of about
-  /// 1 MB) still compiles at -O2 in about 20 s and its long runs want the optimized code, hence
-  /// the threshold above it. 0: always the flags as given.
-  std::size_t large_header_bytes = 3000000;
+  /// after 8 min; with its common arguments shared it is 2.0 MB, and -O1 took over 4 minutes and
+  /// 8 GB before it was stopped). The knife-edge chain at N = 512 (1.3 MB before the sharing, one
+  /// residual function of about 1 MB) still compiles at -O1 in about 20 s and its long runs want
+  /// the optimized code, hence the threshold above it. 0: always the flags as given.
+  std::size_t large_header_bytes = 1500000;
   /// Headers longer than this many bytes (and at most large_header_bytes) are compiled with -O1
   /// in place of -O2 or -O3 among the flags: on long straight-line code -O2's further passes
   /// lengthen the compile and do not shorten the run (bench/compile-time.md, the knife-edge
