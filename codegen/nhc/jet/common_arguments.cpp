@@ -35,13 +35,6 @@ struct Pair {
   int definition_site = -1;  ///< a site that computes exactly this pair, if any
 };
 
-std::uint64_t mix(std::uint64_t seed, std::uint64_t value) {
-  std::uint64_t z = seed ^ (value + 0x9e3779b97f4a7c15ULL + (seed << 6) + (seed >> 2));
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-
 class CommonArguments {
  public:
   CommonArguments(const ExpressionDag& dag, const std::vector<int>& outputs) : dag_(dag) {
@@ -105,7 +98,7 @@ class CommonArguments {
   }
 
   static std::uint64_t tie_of(const PairId& p, std::uint64_t first_key, std::uint64_t second_key) {
-    return mix(mix(mix(std::get<0>(p) ? 2 : 1, first_key), second_key), std::get<3>(p) ? 2 : 1);
+    return mix_keys(mix_keys(mix_keys(std::get<0>(p) ? 2 : 1, first_key), second_key), std::get<3>(p) ? 2 : 1);
   }
 
   void enter(const PairId& p, int s) {

@@ -50,14 +50,6 @@ const std::map<std::string, std::string>& cpp_functions() {
   return table;
 }
 
-/// Deterministic 64-bit mixing (splitmix64 finaliser), the same on every platform and run.
-std::uint64_t mix(std::uint64_t seed, std::uint64_t value) {
-  std::uint64_t z = seed ^ (value + 0x9e3779b97f4a7c15ULL + (seed << 6) + (seed >> 2));
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-
 /// FNV-1a: std::hash<std::string> is not specified to be stable.
 std::uint64_t hash_text(const std::string& text) {
   std::uint64_t h = 0xcbf29ce484222325ULL;
@@ -66,6 +58,13 @@ std::uint64_t hash_text(const std::string& text) {
 }
 
 }  // namespace
+
+std::uint64_t mix_keys(std::uint64_t seed, std::uint64_t value) {
+  std::uint64_t z = seed ^ (value + 0x9e3779b97f4a7c15ULL + (seed << 6) + (seed >> 2));
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
 
 bool Instruction::operator<(const Instruction& o) const {
   return std::make_tuple(op, std::cref(args), std::cref(negated), bits_of(value), exponent,
@@ -111,12 +110,12 @@ int ExpressionDag::make(Instruction instruction) {
       instruction.args[k] = terms[k].second;
     }
   }
-  std::uint64_t key = mix(static_cast<std::uint64_t>(instruction.op) + 1, hash_text(instruction.name));
-  key = mix(key, bits_of(instruction.value));
-  key = mix(key, static_cast<std::uint64_t>(instruction.exponent));
+  std::uint64_t key = mix_keys(static_cast<std::uint64_t>(instruction.op) + 1, hash_text(instruction.name));
+  key = mix_keys(key, bits_of(instruction.value));
+  key = mix_keys(key, static_cast<std::uint64_t>(instruction.exponent));
   for (size_t k = 0; k < instruction.args.size(); ++k) {
-    key = mix(key, key_of(instruction.args[k]));
-    if (instruction.op == OpCode::sum) key = mix(key, instruction.negated[k] ? 2 : 1);
+    key = mix_keys(key, key_of(instruction.args[k]));
+    if (instruction.op == OpCode::sum) key = mix_keys(key, instruction.negated[k] ? 2 : 1);
   }
   instruction.key = key;
 

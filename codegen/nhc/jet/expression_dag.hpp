@@ -35,6 +35,10 @@ enum class OpCode {
   step,           ///< Heaviside step(args[0]): 0, 1/2, 1
 };
 
+/// Deterministic 64-bit mixing of structural keys (splitmix64 finaliser), the same on every
+/// platform and run: Instruction::key, and the keys of passes over the DAG.
+std::uint64_t mix_keys(std::uint64_t seed, std::uint64_t value);
+
 struct Instruction {
   OpCode op = OpCode::constant;
   std::vector<int> args;       ///< operand instruction indices, all smaller than this one's
