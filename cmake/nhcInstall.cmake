@@ -1,4 +1,4 @@
-# `cmake --install`: the nhc executable, the codegen, runtime, jit, linearize, connect (and, when HDF5
+# `cmake --install`: the nhc command and the program it starts, the codegen, runtime, jit, linearize, connect (and, when HDF5
 # was found, ensemble) headers and libraries, the exported targets nhc::nhc, nhc::codegen,
 # nhc::runtime, nhc::jit, nhc::linearize, nhc::connect, nhc::ensemble, and a package config with version file
 # and nhc_add_model(), so that find_package(nhc) works (examples/app/).
@@ -30,8 +30,10 @@ if(TARGET nhc_ensemble)
 endif()
 set_target_properties(nhc PROPERTIES EXPORT_NAME nhc)
 if(BUILD_SHARED_LIBS)
-  set_target_properties(nhc PROPERTIES INSTALL_RPATH "$ORIGIN/../${CMAKE_INSTALL_LIBDIR}")
+  set_target_properties(nhc_main PROPERTIES INSTALL_RPATH "$ORIGIN/../../${CMAKE_INSTALL_LIBDIR}")
 endif()
+# The command bin/nhc starts the program libexec/nhc/nhc-main (cli/launcher.cpp).
+install(TARGETS nhc_main RUNTIME DESTINATION ${CMAKE_INSTALL_LIBEXECDIR}/nhc)
 
 install(TARGETS nhc ${nhc_installed_libraries}
   EXPORT nhcTargets

@@ -59,12 +59,21 @@ SymbolicJacobian index1_jacobian(const Index1System& system) {
     for (int j : in_y[static_cast<size_t>(i)]) rows[static_cast<size_t>(j)].insert(i);
     for (int j : in_yp[static_cast<size_t>(i)]) rows[static_cast<size_t>(j)].insert(i);
   }
+  // Each residual is differentiated only by the symbols it depends on: a derivative walks the
+  // whole expression even where it is zero.
+  const auto has = [](const std::vector<int>& sorted, int j) {
+    return std::binary_search(sorted.begin(), sorted.end(), j);
+  };
+  const auto partial = [](const GiNaC::ex& f, const GiNaC::realsymbol& symbol, bool occurs) {
+    return occurs ? f.diff(symbol) : GiNaC::ex(0);
+  };
   jac.colptr.push_back(0);
   for (int j = 0; j < n; ++j) {
     for (int i : rows[static_cast<size_t>(j)]) {
       const GiNaC::ex& f = system.residuals[static_cast<size_t>(i)];
-      GiNaC::ex entry = f.diff(system.y[static_cast<size_t>(j)]) +
-                        jac.cj * f.diff(system.yp[static_cast<size_t>(j)]);
+      const auto row = static_cast<size_t>(i), column = static_cast<size_t>(j);
+      GiNaC::ex entry = partial(f, system.y[column], has(in_y[row], j)) +
+                        jac.cj * partial(f, system.yp[column], has(in_yp[row], j));
       if (entry.is_zero()) continue;
       jac.rowind.push_back(i);
       jac.values.push_back(entry);

@@ -1,10 +1,10 @@
 #include "nhc/jet/common_arguments.hpp"
 
+#include <algorithm>
 #include <cstdint>
-#include <map>
 #include <queue>
-#include <set>
 #include <tuple>
+#include <unordered_map>
 #include <utility>
 
 namespace nhc {
@@ -28,6 +28,17 @@ struct Site {
 /// (sum?, first, second, opposite): first + second or first − second (sums), first · second
 /// (products), first and second ordered by their structural keys.
 using PairId = std::tuple<bool, int, int, bool>;
+
+struct PairIdHash {
+  std::size_t operator()(const PairId& p) const {
+    const auto [sum, first, second, opposite] = p;
+    return static_cast<std::size_t>(mix_keys(mix_keys(static_cast<std::uint64_t>(first) * 4 + (sum ? 2 : 0) + (opposite ? 1 : 0),
+                                                      static_cast<std::uint64_t>(second)), 0));
+  }
+};
+
+/// The sites a pair occurs in, increasing (a sorted vector: most pairs occur in few sites).
+using Sites = std::vector<int>;
 
 struct Pair {
   PairId id;
@@ -102,8 +113,9 @@ class CommonArguments {
   }
 
   void enter(const PairId& p, int s) {
-    std::set<int>& sites = sites_with_[p];
-    sites.insert(s);
+    Sites& sites = sites_with_[p];
+    const auto at = std::lower_bound(sites.begin(), sites.end(), s);
+    if (at == sites.end() || *at != s) sites.insert(at, s);
     if (sites.size() >= 2)
       queue_.emplace(static_cast<int>(sites.size()), tie_of(p, key_of(std::get<1>(p)), key_of(std::get<2>(p))), p);
   }
@@ -111,14 +123,16 @@ class CommonArguments {
   void leave(const PairId& p, int s) {
     const auto it = sites_with_.find(p);
     if (it == sites_with_.end()) return;
-    it->second.erase(s);
-    if (it->second.empty()) sites_with_.erase(it);
+    Sites& sites = it->second;
+    const auto at = std::lower_bound(sites.begin(), sites.end(), s);
+    if (at != sites.end() && *at == s) sites.erase(at);
+    if (sites.empty()) sites_with_.erase(it);
   }
 
   /// Makes p one instruction used by every site that has it, when that saves an operation: each
   /// larger site saves one; the pair costs one unless a site computes exactly it.
   void apply(const PairId& p) {
-    const std::set<int> sites = sites_with_.at(p);
+    const Sites sites = sites_with_.at(p);
     const auto [sum, first, second, opposite] = p;
     // A site of exactly the two operands computes the pair (or, a sum whose first operand is
     // subtracted, its negative: left as it is).
@@ -194,9 +208,9 @@ class CommonArguments {
 
   const ExpressionDag& dag_;
   std::vector<Site> sites_;
-  std::map<int, int> site_of_;  ///< instruction → site
+  std::unordered_map<int, int> site_of_;  ///< instruction → site
   std::vector<Pair> pairs_;
-  std::map<PairId, std::set<int>> sites_with_;
+  std::unordered_map<PairId, Sites, PairIdHash> sites_with_;
   std::priority_queue<std::tuple<int, std::uint64_t, PairId>> queue_;
   std::vector<int> built_;
 };

@@ -109,7 +109,11 @@ int Intermediate::expanded_size(int limit) const {
   return std::min(d.expanded_nodes, limit);
 }
 
-bool is_intermediate(const GiNaC::ex& e) { return GiNaC::is_a<Intermediate>(e); }
+bool is_intermediate(const GiNaC::ex& e) {
+  // A virtual flag test first: a dynamic_cast that fails compares type names with strcmp, and
+  // the traversals ask this of every node.
+  return e.info(GiNaC::info_flags::symbol) && GiNaC::is_a<Intermediate>(e);
+}
 
 GiNaC::ex substituted_where_small(const GiNaC::ex& e) {
   if (direct_intermediates(e).empty()) return e;
@@ -166,20 +170,39 @@ GiNaC::ex Intermediate::derivative(const GiNaC::symbol& s) const {
   if (explicit_derivatives) return 0;
   const GiNaC::ex key = s;
   if (const auto it = definition_->partials.find(key); it != definition_->partials.end()) return it->second;
-  // Through a symbol d does not depend on, nothing: no expression is differentiated.
-  const std::vector<GiNaC::ex> order = intermediates_in_order({*this});  // ends with d itself
-  bool depends = free_symbols().count(key) > 0;
-  for (std::size_t k = 0; !depends && k + 1 < order.size(); ++k) depends = order[k].is_equal(key);
-  GiNaC::ex partial = 0;
-  if (depends) {
-    // The used intermediates first (dependency order), so that the chain rule below finds their
-    // partials memoized instead of recursing once per link of a chain.
-    for (std::size_t k = 0; k + 1 < order.size(); ++k) order[k].diff(s);
-    partial = keep_or_name(definition_->expression.diff(s), "d" + definition_->name + "_d" + s.get_name(),
-                           "\\partial_{" + latex_of(s) + "}" + definition_->latex);
+  // Through a symbol d does not depend on, nothing: no expression is differentiated. With respect
+  // to a jet variable the memoized free symbols answer; with respect to an intermediate, a search.
+  const bool through_intermediate = is_intermediate(key);
+  const auto depends = [&](const Intermediate& i) {
+    if (!through_intermediate) return i.free_symbols().count(key) > 0;
+    const std::vector<GiNaC::ex> order = intermediates_in_order({i});
+    return std::any_of(order.begin(), order.end(), [&](const GiNaC::ex& u) { return u.is_equal(key); });
+  };
+  // The partials of the intermediates d uses come first, in dependency order, so that the chain
+  // rule finds them memoized instead of recursing once per link of a chain. Only the ones not yet
+  // memoized are visited (depth-first post-order, explicit stack).
+  std::vector<std::pair<const Intermediate*, std::size_t>> stack{{this, 0}};
+  std::unordered_set<const Definition*> visited{definition_.get()};
+  while (!stack.empty()) {
+    auto& [i, next] = stack.back();
+    Definition& di = *i->definition_;
+    if (next == 0 && !depends(*i)) {
+      di.partials.emplace(key, 0);
+      stack.pop_back();
+      continue;
+    }
+    const std::vector<GiNaC::ex>& uses = i->uses();
+    if (next < uses.size()) {
+      const Intermediate& u = as_intermediate(uses[next++]);
+      if (!u.is_equal(s) && !u.definition_->partials.count(key) && visited.insert(u.definition_.get()).second)
+        stack.emplace_back(&u, 0);
+      continue;
+    }
+    di.partials.emplace(key, keep_or_name(di.expression.diff(s), "d" + di.name + "_d" + s.get_name(),
+                                          "\\partial_{" + latex_of(s) + "}" + di.latex));
+    stack.pop_back();
   }
-  definition_->partials.emplace(key, partial);
-  return partial;
+  return definition_->partials.at(key);
 }
 
 GiNaC::ex Intermediate::total_derivative(const TotalDerivative& D) const {

@@ -1,5 +1,6 @@
 #include "nhc/scene/expression_parser.hpp"
 
+#include "nhc/jet/elementary_derivatives.hpp"
 #include "nhc/jet/work_budget.hpp"
 
 #include <algorithm>
@@ -50,7 +51,9 @@ std::optional<int> multiplier_index(const std::string& name) {
 class Parser {
  public:
   Parser(const std::string& text, const JetSpace& jet, const ExpressionRules& rules)
-      : text_(text), jet_(jet), rules_(rules) {}
+      : text_(text), jet_(jet), rules_(rules) {
+    register_elementary_derivatives();  // the functions this parser makes differentiate fast
+  }
 
   Value parse() {
     if (rules_.input_limits && text_.size() > kMaxExpressionLength)

@@ -1,0 +1,50 @@
+// nhc — the command a user runs: starts the nhc program (nhc-main) with address randomization
+// off, so that every run of one scene writes the same code (fixed_address_layout.hpp says why).
+//
+// nhc-main could do this itself by executing itself once more (it does, when started directly),
+// but by then it has loaded some fifty shared libraries (GiNaC, SUNDIALS, HDF5, MPI, OpenSSL),
+// 45 ms on the 2-core CI machine, a tenth of `nhc generate` on the Whipple bicycle. This launcher
+// needs only the C library. Exit 4 (environment) when nhc-main cannot be found or started.
+#include <sys/personality.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <climits>
+#include <cstdio>
+#include <cstring>
+#include <string>
+
+#include "exit_codes.hpp"
+
+namespace {
+
+/// The directory of this executable, from /proc/self/exe ("" when unknown).
+std::string own_directory() {
+  char path[PATH_MAX];
+  const ssize_t n = readlink("/proc/self/exe", path, sizeof path - 1);
+  if (n <= 0) return "";
+  path[n] = '\0';
+  std::string p(path);
+  const std::size_t slash = p.rfind('/');
+  return slash == std::string::npos ? "" : p.substr(0, slash);
+}
+
+}  // namespace
+
+int main(int, char** argv) {
+  const int current = personality(0xffffffff);  // query only
+  if (current != -1 && (current & ADDR_NO_RANDOMIZE) == 0)
+    personality(static_cast<unsigned long>(current) | ADDR_NO_RANDOMIZE);  // refused: goes on randomized
+  const std::string directory = own_directory();
+  // Beside this file in a build tree; under libexec/nhc/ once installed (cmake/nhcInstall.cmake).
+  const std::string candidates[] = {directory + "/nhc-main", directory + "/../" NHC_LIBEXEC_DIR "/nhc/nhc-main"};
+  int error = ENOENT;
+  for (const std::string& program : candidates) {
+    if (directory.empty()) break;
+    execv(program.c_str(), argv);
+    error = errno;
+  }
+  std::fprintf(stderr, "nhc: error: cannot start the nhc program (%s/nhc-main or %s/../%s/nhc/nhc-main): %s\n",
+               directory.c_str(), directory.c_str(), NHC_LIBEXEC_DIR, std::strerror(error));
+  return nhc::cli::kExitEnvironment;
+}
