@@ -54,6 +54,34 @@ void write_eigenvalues(JsonWriter& json, const std::vector<std::complex<double>>
   json.end_array();
 }
 
+/// A matrix as an array of rows.
+void write_matrix(JsonWriter& json, const Eigen::MatrixXd& m) {
+  json.begin_array();
+  for (Eigen::Index r = 0; r < m.rows(); ++r) {
+    json.begin_array();
+    for (Eigen::Index c = 0; c < m.cols(); ++c) json.value(m(r, c));
+    json.end_array();
+  }
+  json.end_array();
+}
+
+/// A matrix with named columns as CSV: a header row of the column names, then one row per
+/// state, led by its name ("state,x,y'" then "x,0.5,1").
+void write_matrix_csv(const fs::path& path, const Eigen::MatrixXd& m, const std::vector<std::string>& rows,
+                      const std::vector<std::string>& columns) {
+  write_file_atomically(path.string(), [&](std::ostream& out) {
+    out.precision(17);
+    out << "state";
+    for (const std::string& c : columns) out << "," << c;
+    out << "\n";
+    for (Eigen::Index r = 0; r < m.rows(); ++r) {
+      out << rows[static_cast<std::size_t>(r)];
+      for (Eigen::Index c = 0; c < m.cols(); ++c) out << "," << m(r, c);
+      out << "\n";
+    }
+  });
+}
+
 void write_json(std::ostream& out, const Linearization& lin, const std::optional<SweepResult>& sweep) {
   JsonWriter json(out);
   json.begin_object();
@@ -74,13 +102,13 @@ void write_json(std::ostream& out, const Linearization& lin, const std::optional
   for (const std::string& s : lin.algebraic) json.value(s);
   json.end_array();
   json.key("basis").value(lin.basis);
-  json.key("A").begin_array();
-  for (Eigen::Index r = 0; r < lin.A.rows(); ++r) {
-    json.begin_array();
-    for (Eigen::Index c = 0; c < lin.A.cols(); ++c) json.value(lin.A(r, c));
-    json.end_array();
-  }
+  json.key("A");
+  write_matrix(json, lin.A);
+  json.key("inputs").begin_array();
+  for (const std::string& u : lin.inputs) json.value(u);
   json.end_array();
+  json.key("B");
+  write_matrix(json, lin.B);
   json.key("eigenvalues");
   write_eigenvalues(json, lin.eigenvalues);
   json.key("zero_eigenvalues").value(lin.zero_eigenvalues);
@@ -120,11 +148,18 @@ void write_text(std::ostream& out, const Linearization& lin, const std::optional
   out << "  cyclic coordinates removed: " << (lin.cyclic.empty() ? "none" : join_names(lin.cyclic)) << "\n";
   out << "  reduced states (" << lin.states.size() << "): " << (lin.states.empty() ? "none" : join_names(lin.states))
       << "\n  basis: " << lin.basis << "\n";
-  out << "  A =\n";
-  for (Eigen::Index r = 0; r < lin.A.rows(); ++r) {
-    out << "   ";
-    for (Eigen::Index c = 0; c < lin.A.cols(); ++c) out << " " << std::setw(16) << full(lin.A(r, c));
-    out << "\n";
+  const auto print = [&](const char* name, const Eigen::MatrixXd& m) {
+    out << "  " << name << " =\n";
+    for (Eigen::Index r = 0; r < m.rows(); ++r) {
+      out << "   ";
+      for (Eigen::Index c = 0; c < m.cols(); ++c) out << " " << std::setw(16) << full(m(r, c));
+      out << "\n";
+    }
+  };
+  print("A", lin.A);
+  if (!lin.inputs.empty()) {
+    out << "  inputs (" << lin.inputs.size() << "): " << join_names(lin.inputs) << "\n";
+    print("B", lin.B);
   }
   out << "  eigenvalues:\n";
   for (const auto& l : lin.eigenvalues) out << "    " << full(l.real()) << (l.imag() < 0 ? " - " : " + ") << full(std::abs(l.imag())) << "i\n";
@@ -237,6 +272,8 @@ void write_directory(const std::string& target, const Linearization& lin, const 
     throw InputError({"-o", 0, 0}, "cannot create the directory " + tmp.string() + " beside " + target + ": " + ec.message());
   try {
     write_file_atomically((tmp / "linearize.json").string(), [&](std::ostream& out) { write_json(out, lin, sweep); });
+    write_matrix_csv(tmp / "A.csv", lin.A, lin.states, lin.states);
+    if (!lin.inputs.empty()) write_matrix_csv(tmp / "B.csv", lin.B, lin.states, lin.inputs);
     if (sweep) {
       write_csv(tmp / "stability.csv", *sweep);
       if (auto note = plot_stability(tmp, *sweep, lin.scene)) notes.push_back(*note);
@@ -268,7 +305,7 @@ CommandRunner add_linearize_command(CLI::App& app) {
       ->allow_extra_args(false);
   sub->add_option("--sweep", flags->sweep, "NAME=a:b:n: n values from a to b of a parameter or initial value");
   sub->add_option("--format", flags->format, "text or json (default text)")->check(CLI::IsMember({"text", "json"}));
-  sub->add_option("-o,--output", flags->output, "directory for linearize.json and, with --sweep, stability.csv/.svg/.png");
+  sub->add_option("-o,--output", flags->output, "directory for linearize.json, A.csv (B.csv with [inputs]) and, with --sweep, stability.csv/.svg/.png");
 
   return [flags]() {
     const Scene scene = load_scene(flags->scene_path);

@@ -2,6 +2,7 @@
 // and against small perturbations integrated with `nhc simulate`.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <cstdlib>
@@ -331,6 +332,43 @@ TEST_CASE("Whipple bicycle: the benchmark eigenvalues at 5 m/s", "[linearize][wh
   CHECK(lin.zero_eigenvalues == 2);
   CHECK(lin.families.size() == 2);
   CHECK(lin.verdict == nhc::StabilityVerdict::asymptotically_stable);
+}
+
+TEST_CASE("Whipple bicycle: B for the lean and steer torques is the inverse of the benchmark's M", "[linearize][whipple]") {
+  // Meijaard et al. (2007), eq. (3.9) with Table 2: M q'' + v C1 q' + (g K0 + v^2 K2) q = f for
+  // q = (phi, delta), f = (T_phi, T_delta), and the mass matrix M independent of v. So the rows
+  // of B for phi'' and delta'' are M^-1. The scene's lean phi is the benchmark's (both rotate
+  // about x forward); its steer delta turns about an axis pointing up, the benchmark's down:
+  // delta = -delta_benchmark and T_delta = -T_delta_benchmark, so B = S M^-1 S, S = diag(1, -1).
+  std::ifstream file(std::string(NHC_SOURCE_DIR) + "/examples/whipple/whipple_bicycle.toml");
+  std::stringstream text;
+  text << file.rdbuf()
+       << "\n[inputs]\nTphi = 0\nTdelta = \"0*t\"\n[forces]\nphi = \"Tphi\"\ndelta = \"Tdelta\"\n";
+  const nhc::Scene scene = nhc::parse_scene(text.str(), "whipple_with_torques.toml");
+  const nhc::Linearization lin = nhc::Linearizer(scene, nhc::ModelKind::chetaev).at({{"phi'", 0.0}});
+  check_meijaard_table2(lin);  // the torques change nothing at u = 0
+  REQUIRE(lin.inputs == std::vector<std::string>{"Tphi", "Tdelta"});
+  REQUIRE(lin.B.rows() == static_cast<Eigen::Index>(lin.states.size()));
+  REQUIRE(lin.B.cols() == 2);
+  Eigen::Matrix2d M;
+  M << 80.81722, 2.31941332208709, 2.31941332208709, 0.29784188199686;
+  Eigen::Matrix2d S = Eigen::Vector2d(1.0, -1.0).asDiagonal();
+  const Eigen::Matrix2d want = S * M.inverse() * S;
+  const std::vector<std::string> rows{"phi'", "delta'"};
+  for (int r = 0; r < 2; ++r) {
+    const auto at = std::find(lin.states.begin(), lin.states.end(), rows[static_cast<std::size_t>(r)]);
+    REQUIRE(at != lin.states.end());
+    const auto row = static_cast<Eigen::Index>(at - lin.states.begin());
+    for (int c = 0; c < 2; ++c) {
+      INFO(rows[static_cast<std::size_t>(r)] << " row, " << lin.inputs[static_cast<std::size_t>(c)] << " column: nhc "
+                                             << lin.B(row, c) << ", S M^-1 S " << want(r, c));
+      CHECK(std::abs(lin.B(row, c) - want(r, c)) <= 1e-10 * std::abs(want(r, c)));
+    }
+  }
+  // The torques move no other velocity's rate independently: every row of B is a combination of
+  // the two above through the constraints, and the position rows are zero.
+  for (Eigen::Index row = 0; row < lin.B.rows(); ++row)
+    if (lin.states[static_cast<std::size_t>(row)].find('\'') == std::string::npos) CHECK(lin.B.row(row).norm() == 0.0);
 }
 
 // Hidden from the discovered tests ([.]); ctest runs it as linearize:whipple_sweep (about 10 s).

@@ -171,6 +171,7 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
 
   GiNaC::exmap base = scene.parameter_substitution();
   base[jet.time()] = scene.initial.t0;
+  for (const auto& [input, value] : scene.input_substitution(scene.initial.t0)) base[input] = value;
 
   auto given_value = [&](int j, int k) -> const double* {
     auto it = scene.initial.values.find(sys.unknowns[static_cast<std::size_t>(j)].name);

@@ -63,12 +63,31 @@ std::string jet_symbol_latex(const std::string& variable, VariableKind kind, int
 }
 
 JetSpace::JetSpace(std::vector<std::string> coordinates, int multiplier_count,
-                   std::vector<std::string> parameters)
+                   std::vector<std::string> parameters, std::vector<std::string> inputs)
     : coordinates_(std::move(coordinates)),
       multiplier_count_(multiplier_count),
       parameter_names_(std::move(parameters)),
-      time_("t") {
+      time_("t"),
+      input_names_(std::move(inputs)) {
   for (const auto& name : parameter_names_) parameters_.emplace_back(name, latex_base(name));
+  for (const auto& name : input_names_) inputs_.emplace_back(name, latex_base(name));
+  input_locations_.assign(input_names_.size(), SourceLocation{"scene", 0, 0});
+}
+
+std::optional<int> JetSpace::input_index(const std::string& name) const {
+  auto it = std::find(input_names_.begin(), input_names_.end(), name);
+  if (it == input_names_.end()) return std::nullopt;
+  return static_cast<int>(it - input_names_.begin());
+}
+
+std::optional<int> JetSpace::input_of(const GiNaC::ex& symbol) const {
+  for (std::size_t k = 0; k < inputs_.size(); ++k)
+    if (symbol.is_equal(inputs_[k])) return static_cast<int>(k);
+  return std::nullopt;
+}
+
+void JetSpace::set_input_location(int k, SourceLocation where) {
+  input_locations_.at(static_cast<size_t>(k)) = std::move(where);
 }
 
 std::string JetSpace::multiplier_name(int alpha) const {
@@ -121,6 +140,13 @@ GiNaC::ex JetSpace::total_derivative(const GiNaC::ex& e) const {
   const TotalDerivative D([this](const GiNaC::ex& s) -> GiNaC::ex {
     if (s.is_equal(time_)) return 1;
     if (const auto c = classify(s)) return symbol({c->kind, c->index, c->order + 1});
+    if (const auto k = input_of(s))
+      throw InputError(input_locations_[static_cast<size_t>(*k)],
+                       "input '" + input_names_[static_cast<size_t>(*k)] +
+                           "' would have to be differentiated in time, and an input's derivative is not known: "
+                           "the model differentiates an expression that uses it (the Lagrangian, or a constraint "
+                           "the index reduction differentiates); inputs may enter [forces] and the constraints "
+                           "the model leaves undifferentiated (docs/models.md, \"Inputs\")");
     return 0;
   });
   return D(e);

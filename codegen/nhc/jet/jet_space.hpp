@@ -1,7 +1,11 @@
 #pragma once
 /// \file jet_space.hpp
-/// \brief The jet space: independent symbols q_i^(k), λ_α^(k), time t and parameters,
+/// \brief The jet space: independent symbols q_i^(k), λ_α^(k), time t, parameters and inputs,
 /// and the total derivative D on it (models.md, "Notation").
+///
+/// An input u (scene [inputs]) is a known signal of time: constant to every derivative but D,
+/// which would need u' — not available, so D of an expression that holds an input throws the
+/// InputError located at the input (models.md, "Inputs").
 ///
 /// D = ∂_t + Σ_{i,k} q_i^(k+1) ∂/∂q_i^(k) + Σ_{α,k} λ_α^(k+1) ∂/∂λ_α^(k).
 /// Jet symbols are created on demand and live as long as the JetSpace.
@@ -14,6 +18,8 @@
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "nhc/errors.hpp"
 
 namespace nhc {
 
@@ -43,7 +49,7 @@ std::string jet_symbol_latex(const std::string& variable, VariableKind kind, int
 class JetSpace {
  public:
   JetSpace(std::vector<std::string> coordinates, int multiplier_count,
-           std::vector<std::string> parameters);
+           std::vector<std::string> parameters, std::vector<std::string> inputs = {});
 
   int coordinate_count() const { return static_cast<int>(coordinates_.size()); }
   int multiplier_count() const { return multiplier_count_; }
@@ -56,6 +62,15 @@ class JetSpace {
   const GiNaC::realsymbol& time() const { return time_; }
   const GiNaC::realsymbol& parameter(int p) const { return parameters_.at(static_cast<size_t>(p)); }
   std::optional<int> parameter_index(const std::string& name) const;
+
+  /// The scene's inputs ([inputs]), in file order: symbols like parameters, but time-varying.
+  const std::vector<std::string>& inputs() const { return input_names_; }
+  const GiNaC::realsymbol& input(int k) const { return inputs_.at(static_cast<size_t>(k)); }
+  std::optional<int> input_index(const std::string& name) const;
+  /// The index of an input symbol, if `symbol` is one.
+  std::optional<int> input_of(const GiNaC::ex& symbol) const;
+  /// Where the scene defines input k: the place D's refusal to differentiate it names.
+  void set_input_location(int k, SourceLocation where);
 
   /// q_i^(k) and λ_α^(k); created on first use.
   GiNaC::ex q(int i, int order) const { return symbol({VariableKind::coordinate, i, order}); }
@@ -87,6 +102,9 @@ class JetSpace {
   std::vector<std::string> parameter_names_;
   GiNaC::realsymbol time_;
   std::vector<GiNaC::realsymbol> parameters_;
+  std::vector<std::string> input_names_;
+  std::vector<GiNaC::realsymbol> inputs_;
+  std::vector<SourceLocation> input_locations_;
   mutable std::map<JetCoordinate, GiNaC::realsymbol> jet_;
   mutable std::map<GiNaC::ex, JetCoordinate, GiNaC::ex_is_less> by_symbol_;
   mutable std::vector<JetCoordinate> creation_order_;

@@ -608,7 +608,7 @@ class Parser {
     // Printed jet form x_d2 is accepted as a spelling of x''.
     std::string base = name;
     int order = primes;
-    if (!jet_.parameter_index(name) && !known_variable(name)) {
+    if (!jet_.parameter_index(name) && !jet_.input_index(name) && !known_variable(name)) {
       if (auto split = split_jet_suffix(name)) {
         if (known_variable(split->first)) {
           if (primes > 0) fail(start, "'" + name + "' cannot take primes as well");
@@ -621,7 +621,7 @@ class Parser {
       fail(start, "derivative order " + std::to_string(order) + " of '" + shown(base) +
                       "' exceeds the limit of " + std::to_string(kMaxDerivativeOrder));
     // GiNaC prints π as `Pi` (acos(-1), atan(1)*4 evaluate to it); read it back.
-    if (base == "Pi" && !jet_.parameter_index(base) && !known_variable(base)) {
+    if (base == "Pi" && !jet_.parameter_index(base) && !jet_.input_index(base) && !known_variable(base)) {
       if (order > 0) fail(start, "'Pi' is a constant and cannot carry primes");
       return Value::scalar(GiNaC::Pi);
     }
@@ -633,6 +633,12 @@ class Parser {
     if (auto p = jet_.parameter_index(base)) {
       if (order > 0) fail(start, "parameter '" + base + "' cannot carry primes");
       return Value::scalar(jet_.parameter(*p));
+    }
+    if (auto k = jet_.input_index(base)) {
+      if (order > 0)
+        fail(start, "input '" + base + "' cannot carry primes: an input's derivative is not known");
+      if (!rules_.allow_coordinates) fail(start, "input '" + base + "' is not allowed here (only t and parameters)");
+      return Value::scalar(jet_.input(*k));
     }
     const auto& coords = jet_.coordinates();
     for (std::size_t i = 0; i < coords.size(); ++i) {

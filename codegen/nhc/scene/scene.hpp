@@ -60,6 +60,15 @@ struct SceneReference {
   bool empty() const { return all.empty() && per_model.empty(); }
 };
 
+/// One entry of [inputs]: a named signal u(t) that drives the model (a torque, a prescribed rate).
+/// The equations hold the symbol u (JetSpace::input); `default_signal` (of t and parameters) is
+/// what it is unless a run replaces it (`nhc simulate --input`, a callback from C++).
+struct SceneInput {
+  std::string name;
+  GiNaC::ex default_signal;
+  SourceLocation where;  ///< the entry in the scene file
+};
+
 struct Scene {
   std::string name;         ///< valid C++ identifier, used for file names
   std::string source_path;  ///< file the scene came from ("" when built in code)
@@ -88,6 +97,8 @@ struct Scene {
   /// Generalized non-conservative forces Q_i(t, q, q') of [forces], one per coordinate (0 when
   /// not given); every model adds Q_i to its residual R_i (docs/forces.md).
   std::vector<GiNaC::ex> forces;
+  /// [inputs], in file order (JetSpace::inputs() order).
+  std::vector<SceneInput> inputs;
   /// "FILE:LINE:COLUMN: warning: …" lines (a definition never used); load_scene prints them.
   std::vector<std::string> warnings;
 
@@ -97,6 +108,11 @@ struct Scene {
   SourceLocation file_location() const { return {source_path.empty() ? "scene" : source_path, 0, 0}; }
   /// Parameter symbol → value, for numeric evaluation.
   GiNaC::exmap parameter_substitution() const;
+  /// Input symbol → its default signal's value at time t (parameters at their values): the
+  /// inputs at the points where nhc evaluates equations itself (the consistent initial point,
+  /// an operating point of `nhc linearize`). Throws MathError naming the input where the signal
+  /// is not a finite number there.
+  GiNaC::exmap input_substitution(double t) const;
 };
 
 /// How a scene is read.

@@ -55,6 +55,20 @@ GiNaC::exmap Scene::parameter_substitution() const {
   return m;
 }
 
+GiNaC::exmap Scene::input_substitution(double t) const {
+  GiNaC::exmap values = parameter_substitution();
+  values[jet->time()] = t;
+  GiNaC::exmap m;
+  for (std::size_t k = 0; k < inputs.size(); ++k) {
+    const GiNaC::ex u = GiNaC::evalf(inputs[k].default_signal.subs(values, GiNaC::subs_options::no_pattern));
+    if (!GiNaC::is_a<GiNaC::numeric>(u) || !GiNaC::ex_to<GiNaC::numeric>(u).is_real() ||
+        !std::isfinite(GiNaC::ex_to<GiNaC::numeric>(u).to_double()))
+      throw MathError("input '" + inputs[k].name + "' is not a finite number at t = " + std::to_string(t));
+    m[jet->input(static_cast<int>(k))] = GiNaC::ex_to<GiNaC::numeric>(u).to_double();
+  }
+  return m;
+}
+
 SceneReference::Entries SceneReference::for_model(ModelKind model) const {
   Entries entries = all;
   if (const auto it = per_model.find(model); it != per_model.end()) {
@@ -145,7 +159,7 @@ class SceneReader {
 
     check_keys(root, {"name", "coordinates", "lagrangian", "constraints", "dependent", "models",
                       "parameters", "initial", "simulate", "reference", "invariants",
-                      "definitions", "forces", "outputs"});
+                      "definitions", "forces", "outputs", "inputs"});
 
     Scene scene;
     scene.source_path = path_;
@@ -193,18 +207,34 @@ class SceneReader {
                       " coordinates: there must be fewer constraints than coordinates");
     }
 
+    // [inputs]: names now (the jet space holds their symbols), default signals once the
+    // parameters are known.
+    std::vector<std::string> input_names;
+    std::vector<std::pair<const toml::node*, SourceLocation>> input_nodes;
+    if (const toml::node* inputs_node = root.get("inputs")) {
+      for (const auto& [key, value] : entries_in_file_order(*inputs_node, "inputs")) {  // the order of u
+        const std::string n(key->str());
+        check_variable_name_at(at(key->source()), n, "input");
+        input_names.push_back(n);
+        input_nodes.emplace_back(value, at(key->source()));
+      }
+    }
+
     scene.jet = std::make_shared<JetSpace>(coordinate_names,
                                            static_cast<int>(constraint_nodes.size()),
-                                           parameter_names);
+                                           parameter_names, input_names);
     scene.parameter_values = parameter_values;
     for (std::size_t i = 0; i < parameter_names.size(); ++i) constants_[parameter_names[i]] = parameter_values[i];
     const JetSpace& jet = *scene.jet;
+    for (std::size_t k = 0; k < input_nodes.size(); ++k)
+      scene.jet->set_input_location(static_cast<int>(k), input_nodes[k].second);
     read_initial(root, scene);
     const GiNaC::exmap initial_point = initial_point_of(scene);
 
     ExpressionRules plain;  // t, parameters, coordinates; no multipliers
     plain.rotation_check.point = &initial_point;
     plain.node_budget = std::make_shared<std::size_t>(kMaxSceneNodes);
+    read_input_signals(input_nodes, scene, plain);
     DefinitionTable definitions(jet, plain, options_.keep_definitions);
     scene.keep_definitions = options_.keep_definitions;
     read_definitions(root, definitions);
@@ -455,18 +485,24 @@ class SceneReader {
       scene.outputs = read_quantities(*node, "outputs", "output", *scene.jet, multipliers_allowed(rules));
   }
 
-  /// [invariants] and [outputs]: name = "expression", or name = { expression = "…", required =
-  /// true } for an entry every model must compute; in file order (the CSV's).
-  std::vector<SceneQuantity> read_quantities(const toml::node& node, const std::string& table, const std::string& what,
-                                             const JetSpace& jet, const ExpressionRules& rules) {
+  /// The entries of a table in the order the file writes them (toml++ keeps tables sorted by key).
+  std::vector<std::pair<const toml::key*, const toml::node*>> entries_in_file_order(const toml::node& node,
+                                                                                    const std::string& table) const {
     std::vector<std::pair<const toml::key*, const toml::node*>> entries;
     for (auto&& [key, value] : table_value(node, table)) entries.emplace_back(&key, &value);
     std::sort(entries.begin(), entries.end(), [](const auto& a, const auto& b) {
       const toml::source_position pa = a.first->source().begin, pb = b.first->source().begin;
       return pa.line != pb.line ? pa.line < pb.line : pa.column < pb.column;
     });
+    return entries;
+  }
+
+  /// [invariants] and [outputs]: name = "expression", or name = { expression = "…", required =
+  /// true } for an entry every model must compute; in file order (the CSV's).
+  std::vector<SceneQuantity> read_quantities(const toml::node& node, const std::string& table, const std::string& what,
+                                             const JetSpace& jet, const ExpressionRules& rules) {
     std::vector<SceneQuantity> quantities;
-    for (const auto& [key, value] : entries) {
+    for (const auto& [key, value] : entries_in_file_order(node, table)) {
       const std::string n(key->str());
       check_variable_name_at(at(key->source()), n, what);
       const toml::node* text = value;
@@ -521,6 +557,22 @@ class SceneReader {
   }
 
   /// [forces]: coordinate = "Q(t, q, q')", the generalized force of docs/forces.md.
+  /// [inputs]: name = "u(t, parameters)" (a number is a constant signal), the default signal.
+  void read_input_signals(const std::vector<std::pair<const toml::node*, SourceLocation>>& nodes, Scene& scene,
+                          const ExpressionRules& plain) {
+    ExpressionRules signal = plain;
+    signal.allow_coordinates = false;  // a signal of time: no q, no other input
+    for (std::size_t k = 0; k < nodes.size(); ++k) {
+      const toml::node& value = *nodes[k].first;
+      const std::string& name = scene.jet->inputs()[k];
+      GiNaC::ex u;
+      if (value.is_number()) u = number_value(value, "input '" + name + "'");
+      else if (value.is_string()) u = expression(value, "input '" + name + "'", *scene.jet, signal);
+      else fail(value, "input '" + name + "' must be a number or an expression of t and the parameters (a string)");
+      scene.inputs.push_back({name, u, nodes[k].second});
+    }
+  }
+
   void read_forces(const toml::table& root, Scene& scene, const ExpressionRules& rules) {
     const JetSpace& jet = *scene.jet;
     scene.forces.assign(static_cast<std::size_t>(jet.coordinate_count()), GiNaC::ex(0));

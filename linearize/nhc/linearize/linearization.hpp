@@ -39,6 +39,10 @@ struct Linearization {
   /// How the basis was chosen, in words.
   std::string basis;
   Eigen::MatrixXd A;
+  /// The scene's inputs ([inputs]) and d(δs)/dt = A δs + B δu: one column per input, rows over
+  /// `states`; the operating point holds each input at its default signal's value at t0.
+  std::vector<std::string> inputs;
+  Eigen::MatrixXd B;
   /// Sorted by real part, largest first, then by imaginary part.
   std::vector<std::complex<double>> eigenvalues;
   /// Eigenvalues counted as zero (|λ| ≤ zero tolerance), and the families of steady motions

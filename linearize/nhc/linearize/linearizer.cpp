@@ -33,16 +33,18 @@ std::string number(double v) {
 /// The state of the reduced system at one point: z, z' of the differential states, and the
 /// parameters and t as a GiNaC substitution.
 struct NumericPoint {
-  GiNaC::exmap base;  ///< t and parameters
-  std::vector<double> constants;  ///< the same values: t, then the parameters in JetSpace order
+  GiNaC::exmap base;  ///< t, parameters and inputs
+  std::vector<double> constants;  ///< the same values: t, the parameters, the inputs in JetSpace order
   Eigen::VectorXd z;
   Eigen::VectorXd zp;  ///< per state; 0 for algebraic ones
 };
 
-/// The inputs of the numeric programs: t, the parameters, then z and z' of the reduced states.
+/// The inputs of the numeric programs: t, the parameters, the scene's inputs, then z and z' of
+/// the reduced states.
 std::vector<GiNaC::ex> program_inputs(const Scene& scene, const CyclicReduction& r) {
   std::vector<GiNaC::ex> inputs{scene.jet->time()};
   for (int q = 0; q < static_cast<int>(scene.parameter_values.size()); ++q) inputs.push_back(scene.jet->parameter(q));
+  for (int k = 0; k < static_cast<int>(scene.inputs.size()); ++k) inputs.push_back(scene.jet->input(k));
   for (const ReducedComponent& z : r.components) inputs.push_back(z.value);
   for (const ReducedComponent& z : r.components)
     if (z.differential) inputs.push_back(z.derivative);
@@ -97,7 +99,7 @@ struct Linearizer::Impl {
   CyclicReduction reduced;
   /// The residual and hidden constraints (outputs: g, then F), and dF/dz, dF/dz', dg/dz.
   std::optional<NumericProgram> functions, jacobians;
-  MatrixOutputs dF_dz, dF_dzp, dg_dz;
+  MatrixOutputs dF_dz, dF_dzp, dg_dz, dF_du;
 
   void compile_programs();
   /// g and F at the point.
@@ -126,6 +128,12 @@ NumericPoint Linearizer::Impl::operating_point(const Scene& s, Linearization& ou
   p.base[s.jet->time()] = s.initial.t0;
   p.constants.push_back(s.initial.t0);
   p.constants.insert(p.constants.end(), s.parameter_values.begin(), s.parameter_values.end());
+  const GiNaC::exmap inputs = s.input_substitution(s.initial.t0);
+  for (int k = 0; k < static_cast<int>(s.inputs.size()); ++k) {
+    const GiNaC::ex& u = s.jet->input(k);
+    p.base[u] = inputs.at(u);
+    p.constants.push_back(GiNaC::ex_to<GiNaC::numeric>(inputs.at(u)).to_double());
+  }
   GiNaC::exmap full = p.base;
   for (int k = 0; k < system.size(); ++k) {
     full[system.y[static_cast<std::size_t>(k)]] = y0[static_cast<std::size_t>(k)];
@@ -287,6 +295,23 @@ void Linearizer::Impl::compile_programs() {
   dF_dz = add_matrix(*jacobians, reduced.dF_dz, n);
   dF_dzp = add_matrix(*jacobians, reduced.dF_dzp, n);
   dg_dz = add_matrix(*jacobians, reduced.dg_dz, n);
+  // dF/du over the scene's inputs. An input in a hidden constraint would move the constraint
+  // manifold with u, which the elimination by Ĝ does not follow: refused.
+  const JetSpace& jet = *scene.jet;
+  std::vector<std::vector<GiNaC::ex>> dF_du_entries;
+  for (const GiNaC::ex& f : reduced.residuals) {
+    std::vector<GiNaC::ex> row;
+    for (int k = 0; k < static_cast<int>(scene.inputs.size()); ++k)
+      row.push_back(depends_on(f, jet.input(k)) ? f.diff(jet.input(k)) : GiNaC::ex(0));
+    dF_du_entries.push_back(std::move(row));
+  }
+  for (std::size_t h = 0; h < reduced.hidden.size(); ++h)
+    for (int k = 0; k < static_cast<int>(scene.inputs.size()); ++k)
+      if (depends_on(reduced.hidden[h], jet.input(k)))
+        throw MathError("input '" + scene.inputs[static_cast<std::size_t>(k)].name + "' enters the hidden constraint " +
+                        reduced.hidden_names[h] + " of the " + to_string(model) +
+                        " model: linearizing with an input that moves the constraint manifold is not supported");
+  dF_du = add_matrix(*jacobians, dF_du_entries, scene.inputs.size());
 }
 
 std::pair<Eigen::VectorXd, Eigen::VectorXd> Linearizer::Impl::hidden_and_residual(const NumericPoint& p) const {
@@ -318,7 +343,7 @@ Linearization Linearizer::at(const std::vector<PointOverride>& overrides) const 
 
   const std::vector<double> jacobians = m.jacobians->evaluate(program_values(m.reduced, p), "dF/dz, dF/dz' or dg/dz");
   ManifoldInput input{matrix_of(m.dF_dz, jacobians), matrix_of(m.dF_dzp, jacobians), matrix_of(m.dg_dz, jacobians),
-                      {}, {}, {}};
+                      matrix_of(m.dF_du, jacobians), {}, {}, {}};
   for (const ReducedComponent& z : m.reduced.components) {
     input.differential.push_back(z.differential);
     input.order.push_back(z.order);
@@ -332,6 +357,8 @@ Linearization Linearizer::at(const std::vector<PointOverride>& overrides) const 
   for (int k : lin.algebraic) out.algebraic.push_back(m.reduced.components[static_cast<std::size_t>(k)].name);
   out.basis = m.describe_basis(lin);
   out.A = lin.A;
+  out.B = lin.B;
+  for (const SceneInput& u : s.inputs) out.inputs.push_back(u.name);
   out.manifold_residual = lin.manifold_residual;
 
   out.eigenvalues = sorted_eigenvalues(out.A);

@@ -12,6 +12,9 @@
 /// positions, coordinates before multipliers), then decreasing column norm, each kept when it
 /// raises the rank of the selected columns of Ĝ (greedy column selection with an SVD rank
 /// test). With s the remaining states, δz_D = T δs and A = (M_D T)_s.
+///
+/// Inputs u enter as E δz' + J δz + F_u δu = 0: [δz_D'; δz_A] gains −K⁻¹ F_u δu, so with
+/// N_D its differential rows, B = (N_D)_s and d(δs)/dt = A δs + B δu (issue 28).
 
 #include <Eigen/Dense>
 
@@ -21,6 +24,7 @@ namespace nhc {
 
 struct ManifoldInput {
   Eigen::MatrixXd dF_dz, dF_dzp, dg_dz;  ///< at the point; columns over all states z
+  Eigen::MatrixXd dF_du;                 ///< columns over the inputs (none: 0 columns)
   std::vector<bool> differential;        ///< per state
   std::vector<int> order;                ///< derivative order, for the elimination preference
   std::vector<bool> multiplier;
@@ -30,7 +34,7 @@ struct ManifoldLinearization {
   std::vector<int> differential, algebraic;  ///< state indices
   /// Positions in `differential` of the kept (s) and eliminated states.
   std::vector<int> independent, dependent;
-  Eigen::MatrixXd M_D, M_A, G_hat, T, A;
+  Eigen::MatrixXd M_D, M_A, G_hat, T, A, B;
   Eigen::PartialPivLU<Eigen::MatrixXd> K;  ///< [E_D  J_A]
   double K_condition = 0.0;
   double manifold_residual = 0.0;  ///< max |Ĝ M_D T|
