@@ -17,6 +17,7 @@
 #include "flag_rules.hpp"
 #include "output_selection.hpp"
 #include "scene_outputs.hpp"
+#include "input_signals.hpp"
 #include "parameter_overrides.hpp"
 #include "model_requirements.hpp"
 #include "nhc/analysis/model_analysis.hpp"
@@ -46,6 +47,7 @@ struct SimulateOptions {
   std::string output_times, columns;
   std::string output;
   std::vector<std::string> set;
+  std::vector<std::string> inputs;  ///< --input NAME=EXPR | NAME=@FILE.csv
   std::string plot, plot_xy;  // trajectory_plots.hpp
   SensitivityRequest sensitivity;
   SceneOptions read;
@@ -153,6 +155,10 @@ CommandRunner add_simulate_command(CLI::App& app) {
   sub->add_option("--max-steps", options->max_steps, "limit on the internal steps of the run (default 1000000)")
       ->check(flag_rules::count(1, 1000000000000LL));
   add_set_option(sub, options->set);
+  sub->add_option("--input", options->inputs,
+                  "NAME=EXPR or NAME=@FILE.csv: replace the default signal of the scene's input NAME by an "
+                  "expression of t and the parameters, or a time series (columns t and NAME, linear "
+                  "interpolation; repeatable)");
   add_expand_flag(sub, options->read);
   sub->add_flag("--project", options->project, "project onto the hidden constraints (docs/projection.md)");
   sub->add_flag("--repair-initial", options->repair,
@@ -196,6 +202,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
                                        "--t-end/--outputs")
             : parse_output_times(options->output_times, t0);
     const double t_end = times.back();
+    const InputSignals input_signals = parse_input_signals(scene_set, options->inputs, t0, t_end);
     const InitialPointCheck check =
         check_initial_point(scene_set, kind, options->rtol.value_or(scene.simulate.rtol),
                             options->atol.value_or(scene.simulate.atol), options->repair);
@@ -233,7 +240,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
             std::find(scene.initial.fixed.begin(), scene.initial.fixed.end(), model.state_name(i)) != scene.initial.fixed.end();
     if (build_options.sensitivities) check_sensitivities_given(model, initial, options->sensitivity.names);
     const runtime::RunResult run =
-        runtime::simulate(model, p, initial, times, io);
+        runtime::simulate(model, p, initial, times, io, {}, input_function(input_signals, model, p));
     std::optional<runtime::SensitivityRun> sensitivities;  // --sensitivity: the CSV comes from this run
     if (build_options.sensitivities)
       sensitivities = run_sensitivities(model, p, initial, times, io, options->sensitivity);

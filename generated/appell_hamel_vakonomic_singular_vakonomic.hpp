@@ -27,7 +27,8 @@
  * copy out. Fill it by field name (zero-initialize, then assign), never by position.
  * abi_version 1: the fields up to `reference`. abi_version 2 appends the fields of the section
  * "Runtime additions" of docs/generated-code.md; read them only when abi_version >= 2.
- * abi_version 3 appends the "Sensitivity additions"; read them only when abi_version >= 3. */
+ * abi_version 3 appends the "Sensitivity additions"; read them only when abi_version >= 3.
+ * abi_version 4 appends the "Input additions"; read them only when abi_version >= 4. */
 #ifndef NHC_MODEL_TABLE_DEFINED
 #define NHC_MODEL_TABLE_DEFINED
 
@@ -67,6 +68,10 @@ struct nhc_model_table {
   /* abi_version >= 3 (Sensitivity additions; null unless generated with sensitivities) */
   void (*residual_parameter_jacobian)(double, const double*, const double*, const double*, double*);
   void (*hidden_parameter_jacobian)(double, const double*, const double*, double*);
+  /* abi_version >= 4 (Input additions): p holds n_parameters parameters, then n_inputs inputs */
+  int n_inputs;
+  const char* const* input_names;
+  void (*default_inputs)(double, const double*, double*);
 };
 
 #ifdef __cplusplus
@@ -85,6 +90,8 @@ inline constexpr int n_hidden = 1;
 inline constexpr int n_invariants = 0;
 inline constexpr int n_reference = 0;
 inline constexpr int n_singular = 1;
+/// p holds n_parameters parameters, then n_inputs inputs.
+inline constexpr int n_inputs = 0;
 inline constexpr const char* model_name = "vakonomic";
 inline constexpr const char* scene_name = "appell_hamel_vakonomic_singular";
 
@@ -202,7 +209,7 @@ inline void singular_quantities(double /*t*/, const double* y, const double* /*p
 /// Everything above as the C table of docs/generated-code.md, filled by field name.
 inline nhc_model_table make_model_table() noexcept {
   nhc_model_table t{};
-  t.abi_version = 3;
+  t.abi_version = 4;
   t.scene_name = scene_name;
   t.model_name = model_name;
   t.n_states = n_states;
@@ -222,6 +229,7 @@ inline nhc_model_table make_model_table() noexcept {
   t.residual_names = residual_names;
   t.n_singular = n_singular;
   t.singular_names = singular_names;
+  t.n_inputs = n_inputs;
   t.residual = &residual;
   t.jacobian = &jacobian;
   t.hidden_constraints = &hidden_constraints;

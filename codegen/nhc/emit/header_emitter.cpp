@@ -73,13 +73,6 @@ std::string generated_header_file_name(const std::string& scene_name, ModelKind 
 GeneratedHeader generate_header(const Scene& scene, const Index1System& system,
                                 const HeaderOptions& options) {
   if (!system.jet) throw MathError("index-1 system without a jet space");
-  // Generated code has no input vector yet: the equations with [inputs] are derived, analysed
-  // and linearized (B) from the symbolic system, not compiled.
-  if (!scene.inputs.empty())
-    throw InputError(scene.inputs.front().where,
-                     "input '" + scene.inputs.front().name +
-                         "': scenes with [inputs] are not compiled into generated code yet; nhc derive, analyze "
-                         "and linearize (A and B) take them");
   // The scene name becomes a namespace and a file name: only a validated identifier may. (Scenes
   // built in code skip the loader's checks; every other name only enters comments and literals.)
   if (!is_valid_identifier(scene.name))

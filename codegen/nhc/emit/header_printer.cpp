@@ -118,6 +118,8 @@ void print_metadata(std::ostream& out, const Scene& scene, const Index1System& s
       << "inline constexpr int n_invariants = " << m.n_invariants << ";\n"
       << "inline constexpr int n_reference = " << m.n_reference << ";\n"
       << "inline constexpr int n_singular = " << m.n_singular << ";\n"
+      << "/// p holds n_parameters parameters, then n_inputs inputs.\n"
+      << "inline constexpr int n_inputs = " << m.n_inputs << ";\n"
       << "inline constexpr const char* model_name = " << cpp_string_literal(m.model) << ";\n"
       << "inline constexpr const char* scene_name = " << cpp_string_literal(scene.name) << ";\n\n"
       << part0_begin(splittable)
@@ -139,6 +141,8 @@ void print_metadata(std::ostream& out, const Scene& scene, const Index1System& s
         << "inline constexpr const char* parameter_names[1] = {nullptr};\n"
         << "inline constexpr double default_parameters[1] = {0.0};\n";
   }
+  if (m.n_inputs > 0)
+    out << "inline constexpr const char* input_names[n_inputs] = " << strings(m.input_names) << ";\n";
   if (m.n_hidden > 0) {
     std::vector<std::string> names = system.hidden_constraint_names;
     names.resize(static_cast<size_t>(m.n_hidden));
@@ -301,6 +305,9 @@ void print_table(std::ostream& out, const PreparedModel& m, bool splittable) {
       {"singular_quantities", pointer("singular_quantities")},
       {"residual_parameter_jacobian", pointer("residual_parameter_jacobian")},  // abi_version >= 3
       {"hidden_parameter_jacobian", pointer("hidden_parameter_jacobian")},
+      {"n_inputs", "n_inputs"},  // abi_version >= 4
+      {"input_names", field(m.n_inputs > 0, "input_names")},
+      {"default_inputs", pointer("default_inputs")},
   };
   out << "\n" << part0_begin(splittable)
       << "/// Everything above as the C table of docs/generated-code.md, filled by field name.\n"

@@ -198,6 +198,9 @@ std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> function_inputs(const Index1
   in[system.jet->time()] = "t";
   for (std::size_t k = 0; k < parameters.size(); ++k)
     in[system.jet->parameter(parameters[k])] = "p[" + std::to_string(k) + "]";
+  // The inputs after the parameters (docs/generated-code.md, "Input additions").
+  for (std::size_t k = 0; k < system.jet->inputs().size(); ++k)
+    in[system.jet->input(static_cast<int>(k))] = "p[" + std::to_string(parameters.size() + k) + "]";
   for (size_t k = 0; k < system.y.size(); ++k) in[system.y[k]] = "y[" + std::to_string(k) + "]";
   for (size_t k = 0; k < system.yp.size(); ++k) in[system.yp[k]] = "yp[" + std::to_string(k) + "]";
   in[cj] = "cj";
@@ -314,6 +317,18 @@ FunctionPlan reference_function(const SceneReference::Entries& reference, const 
   return f;
 }
 
+/// The inputs' default signals u_k(t, p), the values a run uses unless it sets its own.
+FunctionPlan default_inputs_function(const std::vector<SceneInput>& inputs, ExpressionDag& dag) {
+  FunctionPlan f;
+  f.name = "default_inputs";
+  f.doc = "/// The inputs' default signals u(t), in input_names order (what p[n_parameters + k] holds\n"
+          "/// unless the application sets the input).\n";
+  f.parameters = {{"double", "t"}, {"const double*", "p"}, {"double*", "u"}};
+  for (size_t k = 0; k < inputs.size(); ++k)
+    f.assignments.push_back({"u[" + std::to_string(k) + "]", dag.add(inputs[k].default_signal), sanitize_comment(inputs[k].name)});
+  return f;
+}
+
 /// Singular-set monitors (runtime additions): quantities whose zeros make the residual or the
 /// hidden constraints non-smooth; the runtime watches them as root functions.
 FunctionPlan singular_quantities_function(const std::vector<SingularQuantity>& singular, ExpressionDag& dag) {
@@ -374,9 +389,12 @@ PreparedModel prepare_model(const Scene& scene, const Index1System& system, Jaco
   read.insert(read.end(), system.hidden_constraints.begin(), system.hidden_constraints.end());
   for (const ModelInvariant& i : m.invariants) read.push_back(i.in_states);
   for (const auto& entry : m.reference) read.push_back(entry.second);
+  for (const SceneInput& u : scene.inputs) read.push_back(u.default_signal);
   m.parameters = parameters_in(read, *system.jet);
   m.n_parameters = static_cast<int>(m.parameters.size());
   for (int k : m.parameters) m.parameter_names.push_back(system.jet->parameters().at(static_cast<std::size_t>(k)));
+  m.n_inputs = static_cast<int>(scene.inputs.size());
+  for (const SceneInput& u : scene.inputs) m.input_names.push_back(u.name);
 
   // Lowered in the order the functions are printed.
   m.dag = ExpressionDag(function_inputs(system, m.parameters, m.symbolic_jacobian.cj));
@@ -389,6 +407,7 @@ PreparedModel prepare_model(const Scene& scene, const Index1System& system, Jaco
   if (m.n_invariants > 0) m.functions.push_back(invariants_function(m.invariants, m.dag));
   if (m.n_reference > 0) m.functions.push_back(reference_function(m.reference, system, m.dag));
   if (m.n_singular > 0) m.functions.push_back(singular_quantities_function(m.singular, m.dag));
+  if (m.n_inputs > 0) m.functions.push_back(default_inputs_function(scene.inputs, m.dag));
   // Sensitivity additions (docs/generated-code.md): only when asked for and the scene has parameters.
   m.sensitivities = sensitivities && m.n_parameters > 0;
   if (m.sensitivities) {

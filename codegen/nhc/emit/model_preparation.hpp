@@ -88,6 +88,10 @@ struct PreparedModel {
   /// reference uses does not reach the header (a scene may carry thousands).
   std::vector<int> parameters;
   std::vector<std::string> parameter_names;  ///< their names, in the same order
+  /// The scene's inputs ([inputs]), all of them in scene order: p[n_parameters + k] of the
+  /// header is input k (docs/generated-code.md, "Input additions").
+  int n_inputs = 0;
+  std::vector<std::string> input_names;
   std::vector<ModelInvariant> invariants;             ///< the scene's invariants this model computes
   SceneReference::Entries reference;                  ///< the scene's closed forms for this model
   SymbolicJacobian symbolic_jacobian;  ///< empty for JacobianKind::none

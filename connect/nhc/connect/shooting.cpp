@@ -82,6 +82,9 @@ class Shooter {
  private:
   void validate() const {
     const runtime::Model& model = problem_.model;
+    if (model.n_inputs() > 0)  // the shooting Newton needs the sensitivities, which inputs exclude
+      throw runtime::ModelError("boundary-value problems of a model with inputs (" + model.input_name(0) +
+                                (model.n_inputs() > 1 ? ", …" : "") + ") are not supported");
     if (!(problem_.t_end > problem_.initial.t0)) throw std::invalid_argument("T must be after t0");
     if (problem_.conditions.empty()) throw std::invalid_argument("no target conditions");
     if (problem_.free_states.empty()) throw std::invalid_argument("no free initial values");

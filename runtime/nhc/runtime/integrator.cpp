@@ -1,5 +1,7 @@
 #include "nhc/runtime/integrator.hpp"
 
+#include "nhc/runtime/inputs.hpp"
+
 #include <idas/idas.h>  // IDAS, a superset of IDA: one library for plain runs and sensitivities
 #include <idas/idas_ls.h>
 #include <sundials/sundials_config.h>
@@ -91,7 +93,7 @@ InitialState initial_state_from(const Model& model, double t0,
 
 struct Integrator::Impl {
   Model model;
-  std::vector<double> p;
+  InputValues inputs;  ///< the parameters, then the inputs at each evaluation (inputs.hpp)
   IntegratorOptions options;
   std::vector<Event> user_events;
   std::vector<EventHit> hits;
@@ -119,6 +121,7 @@ struct Integrator::Impl {
   int tiny_steps = 0;  // consecutive steps below kTinyStep
   bool have_last_output = false;
   double last_output_t = 0;
+  std::vector<double> last_output_y, last_output_yp;  ///< the sample passed at last_output_t
 
   long projections = 0;
   double init_seconds = 0, integrate_seconds = 0;
@@ -156,12 +159,8 @@ struct Integrator::Impl {
   }
 
   Impl(Model m, std::vector<double> params, IntegratorOptions opts)
-      : model(std::move(m)), p(std::move(params)), options(opts) {
-    if (p.empty()) p = model.default_parameters();
-    if (static_cast<int>(p.size()) != model.n_parameters())
-      throw ModelError("the model has " + std::to_string(model.n_parameters()) + " parameters, " +
-                       std::to_string(p.size()) + " given");
-  }
+      : model(std::move(m)), inputs(model, params.empty() ? model.default_parameters() : std::move(params)),
+        options(opts) {}
 
   int n() const { return model.n_states(); }
   int n_roots() const { return static_cast<int>(user_events.size()) + model.n_singular(); }
@@ -181,7 +180,7 @@ struct Integrator::Impl {
     auto* self = static_cast<Impl*>(data);
     const double* yv = N_VGetArrayPointer(yy);
     double* r = N_VGetArrayPointer(rr);
-    self->model.table().residual(tt, yv, N_VGetArrayPointer(ypp), self->p.data(), r);
+    self->model.table().residual(tt, yv, N_VGetArrayPointer(ypp), self->inputs.at(tt, yv), r);
     for (int i = 0; i < self->n(); ++i)
       if (!std::isfinite(r[i])) {
         self->note_nonfinite(tt, i, false, yv);
@@ -206,17 +205,17 @@ struct Integrator::Impl {
       for (int k = 0; k < tab.jacobian_nnz; ++k) rowind[k] = tab.jacobian_rowind[k];
       values = SUNSparseMatrix_Data(J);
       count = tab.jacobian_nnz;
-      tab.jacobian_values(tt, yv, ypv, cj, self->p.data(), values);
+      tab.jacobian_values(tt, yv, ypv, cj, self->inputs.at(tt, yv), values);
     } else {
       values = SUNDenseMatrix_Data(J);
       count = static_cast<long>(n) * n;
       SUNMatZero(J);
       if (tab.jacobian) {
-        tab.jacobian(tt, yv, ypv, cj, self->p.data(), values);
+        tab.jacobian(tt, yv, ypv, cj, self->inputs.at(tt, yv), values);
       } else {  // scatter the generated sparse Jacobian
         std::vector<double>& nz = self->dense_scratch;
         nz.resize(tab.jacobian_nnz);
-        tab.jacobian_values(tt, yv, ypv, cj, self->p.data(), nz.data());
+        tab.jacobian_values(tt, yv, ypv, cj, self->inputs.at(tt, yv), nz.data());
         for (int j = 0; j < n; ++j)
           for (int k = tab.jacobian_colptr[j]; k < tab.jacobian_colptr[j + 1]; ++k)
             values[tab.jacobian_rowind[k] + static_cast<long>(n) * j] = nz[k];
@@ -238,7 +237,7 @@ struct Integrator::Impl {
     for (int k = 0; k < ne; ++k) gout[k] = self->user_events[k].function(tt, yv, ypv);
     const int ns = self->model.n_singular();
     if (ns > 0) {
-      self->model.table().singular_quantities(tt, yv, self->p.data(), gout + ne);
+      self->model.table().singular_quantities(tt, yv, self->inputs.at(tt, yv), gout + ne);
       for (int k = 0; k < ns; ++k)
         gout[ne + k] = std::abs(gout[ne + k]) - self->options.singularity_threshold * self->singular_scale[k];
     }
@@ -334,7 +333,7 @@ struct Integrator::Impl {
     const int ns = model.n_singular();
     if (ns == 0) return -1;
     std::vector<double> s(ns);
-    model.table().singular_quantities(tt, yy, p.data(), s.data());
+    model.table().singular_quantities(tt, yy, inputs.at(tt, yy), s.data());
     int best = -1;
     double best_ratio = ratio;
     for (int k = 0; k < ns; ++k) {
@@ -350,7 +349,7 @@ struct Integrator::Impl {
     const int m = model.n_hidden();
     if (m == 0) return "";
     std::vector<double> G(static_cast<size_t>(m) * n());
-    model.table().hidden_constraints_jacobian(tt, yy, p.data(), G.data());
+    model.table().hidden_constraints_jacobian(tt, yy, inputs.at(tt, yy), G.data());
     for (int j = 0; j < n(); ++j)
       for (int i = 0; i < m; ++i)
         if (!std::isfinite(G[i + static_cast<size_t>(m) * j]))
@@ -448,20 +447,20 @@ struct Integrator::Impl {
     const auto& tab = model.table();
     Eigen::MatrixXd J = Eigen::MatrixXd::Zero(nn, nn);
     if (tab.jacobian) {
-      tab.jacobian(tt, yy, ypp, cj, p.data(), J.data());
+      tab.jacobian(tt, yy, ypp, cj, inputs.at(tt, yy), J.data());
     } else if (model.has_sparse_jacobian()) {
       std::vector<double> nz(tab.jacobian_nnz);
-      tab.jacobian_values(tt, yy, ypp, cj, p.data(), nz.data());
+      tab.jacobian_values(tt, yy, ypp, cj, inputs.at(tt, yy), nz.data());
       for (int j = 0; j < nn; ++j)
         for (int k = tab.jacobian_colptr[j]; k < tab.jacobian_colptr[j + 1]; ++k) J(tab.jacobian_rowind[k], j) = nz[k];
     } else {
       std::vector<double> y1(yy, yy + nn), yp1(ypp, ypp + nn), r0(nn), r1(nn);
-      tab.residual(tt, yy, ypp, p.data(), r0.data());
+      tab.residual(tt, yy, ypp, inputs.at(tt, yy), r0.data());
       for (int j = 0; j < nn; ++j) {
         const double h = 1e-7 * std::max(1.0, std::abs(yy[j]));
         y1[j] += h;
         yp1[j] += cj * h;
-        tab.residual(tt, y1.data(), yp1.data(), p.data(), r1.data());
+        tab.residual(tt, y1.data(), yp1.data(), inputs.at(tt, y1.data()), r1.data());
         for (int i = 0; i < nn; ++i) J(i, j) = (r1[i] - r0[i]) / h;
         y1[j] = yy[j];
         yp1[j] = ypp[j];
@@ -484,10 +483,10 @@ struct Integrator::Impl {
   double correction_norm(double tt, const double* yy, const std::vector<double>& scale) const {
     const int m = model.n_hidden(), nn = n();
     Eigen::VectorXd g(m);
-    model.table().hidden_constraints(tt, yy, p.data(), g.data());
+    model.table().hidden_constraints(tt, yy, inputs.at(tt, yy), g.data());
     if (!g.allFinite()) return 0;
     Eigen::MatrixXd G(m, nn);
-    model.table().hidden_constraints_jacobian(tt, yy, p.data(), G.data());
+    model.table().hidden_constraints_jacobian(tt, yy, inputs.at(tt, yy), G.data());
     if (!G.allFinite()) return 0;
     Eigen::MatrixXd GD = G * Eigen::VectorXd::Map(scale.data(), nn).asDiagonal();
     Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(GD);
@@ -508,13 +507,13 @@ struct Integrator::Impl {
       // the higher differences (and so y' and the error estimate) stay: the step continues from
       // the projected point without a restart (the analogue of CVODE's projection, CVodeSetProjFn).
       std::vector<double> before(yy, yy + n());
-      solve_hidden_constraints(model, p.data(), tt, yy, scale, 1e-3 * options.atol);
+      solve_hidden_constraints(model, inputs.at(tt, yy), tt, yy, scale, 1e-3 * options.atol);
       double* phi0 = N_VGetArrayPointer(history);
       for (int i = 0; i < n(); ++i) phi0[i] += yy[i] - before[i];
       ++projections;
       return;
     }
-    solve_hidden_constraints(model, p.data(), tt, yy, scale, 1e-3 * options.atol);
+    solve_hidden_constraints(model, inputs.at(tt, yy), tt, yy, scale, 1e-3 * options.atol);
     double h = 0;
     IDAGetLastStep(ida, &h);
     before_restarts = total();
@@ -555,6 +554,32 @@ struct Integrator::Impl {
     return flag;
   }
 
+  /// Restarts IDA at the last output with the inputs as they are now: IDA's steps past that
+  /// time used the old inputs, and a held input that jumps there makes y' jump (IDACalcIC
+  /// recomputes it and the algebraic states, the states themselves stay).
+  void note_output(const Sample& sample) {
+    have_last_output = true;
+    last_output_t = sample.t;
+    last_output_y = sample.y;
+    last_output_yp = sample.yp;
+  }
+
+  void restart_at_last_output() {
+    if (!initialized) return;
+    // Before any output: at the consistent initial point itself.
+    const double t_out = have_last_output ? last_output_t : t;
+    const std::vector<double>& y_out = have_last_output ? last_output_y : y_last;
+    const std::vector<double>& yp_out = have_last_output ? last_output_yp : yp_last;
+    std::copy(y_out.begin(), y_out.end(), y.data());
+    std::copy(yp_out.begin(), yp_out.end(), yp.data());
+    before_restarts = total();
+    check(IDAReInit(ida, t_out, y, yp), "restarting IDA where the inputs change");
+    check(IDACalcIC(ida, IDA_YA_YDP_INIT, t_out + 1e-6 * std::max(1.0, std::abs(t_out))),
+          "recomputing y' and the algebraic states where the inputs change");
+    check(IDAGetConsistentIC(ida, y, yp), "reading the point where the inputs change");
+    remember(t_out, false);
+  }
+
   void remember(double tt, bool new_step = true) {
     t = tt;
     std::copy(y.data(), y.data() + n(), y_last.begin());
@@ -568,6 +593,16 @@ Integrator::Integrator(Model model, std::vector<double> parameters, IntegratorOp
 Integrator::~Integrator() = default;
 Integrator::Integrator(Integrator&&) noexcept = default;
 Integrator& Integrator::operator=(Integrator&&) noexcept = default;
+
+void Integrator::set_inputs(InputFunction u) {
+  impl_->inputs.set_function(std::move(u));
+  impl_->restart_at_last_output();
+}
+
+void Integrator::hold_inputs(std::vector<double> u) {
+  impl_->inputs.hold(std::move(u));
+  impl_->restart_at_last_output();
+}
 
 void Integrator::add_event(Event event) {
   if (impl_->initialized) throw std::logic_error("add_event after initialize");
@@ -605,7 +640,7 @@ Sample Integrator::initialize(const InitialState& state, double t_next) {
     std::vector<double> differential;
     for (int i = 0; i < n; ++i)
       if (s.model.is_differential(i)) differential.push_back(s.y[i]);
-    solve_initial_hidden_constraints(s.model, s.p.data(), state.t0, s.y.data(), scale,
+    solve_initial_hidden_constraints(s.model, s.inputs.at(state.t0, s.y.data()), state.t0, s.y.data(), scale,
                                      initial_point_tolerance(differential, s.options.rtol, s.options.atol));
   }
 
@@ -653,7 +688,7 @@ Sample Integrator::initialize(const InitialState& state, double t_next) {
   const int ns = s.model.n_singular();
   if (ns > 0) {
     s.singular_scale.assign(ns, 0.0);
-    s.model.table().singular_quantities(state.t0, s.y.data(), s.p.data(), s.singular_scale.data());
+    s.model.table().singular_quantities(state.t0, s.y.data(), s.inputs.at(state.t0, s.y.data()), s.singular_scale.data());
     for (int k = 0; k < ns; ++k) {
       s.singular_scale[k] = std::abs(s.singular_scale[k]);
       if (!(s.singular_scale[k] > 0)) s.throw_singular_gradient(state.t0, k, "");
@@ -668,7 +703,10 @@ Sample Integrator::initialize(const InitialState& state, double t_next) {
   }
   s.initialized = true;
   s.init_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return Sample{state.t0, s.y_last, s.yp_last};
+  Sample initial{state.t0, s.y_last, s.yp_last, {}};
+  const double* p = s.inputs.at(state.t0, initial.y.data());
+  initial.u.assign(p + s.model.n_parameters(), p + s.model.n_parameters() + s.model.n_inputs());
+  return initial;
 }
 
 void Integrator::integrate(const std::vector<double>& times, const std::function<void(const Sample&)>& observer) {
@@ -690,22 +728,25 @@ void Integrator::integrate(const std::vector<double>& times, const std::function
   out.yp.resize(n);
   sd::Vector dky = sd::Vector::create(n, s.ctx);
 
+  // Every sample goes out with the inputs at its point, and is remembered as the last output.
+  auto deliver = [&](Sample& sample) {
+    const double* p = s.inputs.at(sample.t, sample.y.data());
+    sample.u.assign(p + s.model.n_parameters(), p + s.model.n_parameters() + s.model.n_inputs());
+    observer(sample);
+    s.note_output(sample);
+  };
   auto emit_current = [&](double tt) {
     out.t = tt;
     out.y.assign(s.y.data(), s.y.data() + n);
     out.yp.assign(s.yp.data(), s.yp.data() + n);
-    observer(out);
-    s.have_last_output = true;
-    s.last_output_t = tt;
+    deliver(out);
   };
   auto emit_last_accepted = [&] {
     if (s.have_last_output && s.last_output_t >= s.t) return;
     out.t = s.t;
     out.y = s.y_last;
     out.yp = s.yp_last;
-    observer(out);
-    s.have_last_output = true;
-    s.last_output_t = s.t;
+    deliver(out);
   };
 
   size_t next = 0;
@@ -714,9 +755,7 @@ void Integrator::integrate(const std::vector<double>& times, const std::function
       out.t = times[next];
       out.y = s.y_last;
       out.yp = s.yp_last;
-      observer(out);
-      s.have_last_output = true;
-      s.last_output_t = times[next];
+      deliver(out);
     }
     ++next;
   }
@@ -743,9 +782,7 @@ void Integrator::integrate(const std::vector<double>& times, const std::function
           out.y.assign(dky.data(), dky.data() + n);
           s.check(IDAGetDky(s.ida, times[next], 1, dky), "interpolating the output");
           out.yp.assign(dky.data(), dky.data() + n);
-          observer(out);
-          s.have_last_output = true;
-          s.last_output_t = out.t;
+          deliver(out);
         }
         ++next;
       }
@@ -802,7 +839,7 @@ Statistics Integrator::statistics() const {
 
 const std::vector<EventHit>& Integrator::events() const { return impl_->hits; }
 const Model& Integrator::model() const { return impl_->model; }
-const std::vector<double>& Integrator::parameters() const { return impl_->p; }
+const std::vector<double>& Integrator::parameters() const { return impl_->inputs.parameters(); }
 const IntegratorOptions& Integrator::options() const { return impl_->options; }
 
 std::vector<double> output_times(double t0, double t_end, int intervals) {

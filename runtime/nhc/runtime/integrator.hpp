@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "nhc/runtime/errors.hpp"
+#include "nhc/runtime/inputs.hpp"
 #include "nhc/runtime/model.hpp"
 
 namespace nhc::runtime {
@@ -82,6 +83,7 @@ InitialState initial_state_from(const Model& model, double t0,
 struct Sample {
   double t = 0;
   std::vector<double> y, yp;
+  std::vector<double> u;  ///< the model's inputs at (t, y), n_inputs of them (inputs.hpp)
 };
 
 /// A user event: the run records (and, if terminal, stops at) each zero of `function`.
@@ -121,6 +123,15 @@ class Integrator {
   Integrator& operator=(Integrator&&) noexcept;
   Integrator(const Integrator&) = delete;
   Integrator& operator=(const Integrator&) = delete;
+
+  /// The model's inputs (scene [inputs]; docs/runtime.md, "Inputs"): by default its default
+  /// signals. set_inputs: u(t, y) from now on, evaluated at every residual and Jacobian call (a
+  /// continuous feedback law). hold_inputs: u constant from now on (sampled-data control:
+  /// integrate to a sampling time, read the state, hold the next u). Called between integrate()
+  /// calls, both restart the integration at the last output time, so that no step taken with
+  /// the old inputs is kept beyond it; before initialize(), they set the inputs it starts with.
+  void set_inputs(InputFunction u);
+  void hold_inputs(std::vector<double> u);
 
   /// Registers an event; call before initialize().
   void add_event(Event event);

@@ -13,8 +13,8 @@ void validate(const nhc_model_table* t, const std::string& origin) {
     throw ModelError("model table of " + origin + ": " + what + " (see docs/generated-code.md)");
   };
   if (!t) fail("null table");
-  if (t->abi_version < 1 || t->abi_version > 3)
-    fail("unsupported ABI version " + std::to_string(t->abi_version) + " (this runtime reads 1 to 3)");
+  if (t->abi_version < 1 || t->abi_version > 4)
+    fail("unsupported ABI version " + std::to_string(t->abi_version) + " (this runtime reads 1 to 4)");
   if (t->n_states <= 0) fail("no states");
   if (!t->residual) fail("no residual function");
   if (!t->state_names || !t->state_variable || !t->state_order || !t->differential_id)
@@ -31,6 +31,9 @@ void validate(const nhc_model_table* t, const std::string& origin) {
     fail("singular-set monitors declared but no function");
   if (t->abi_version >= 3 && t->hidden_parameter_jacobian && !t->residual_parameter_jacobian)
     fail("dg/dp without dF/dp");
+  if (t->abi_version >= 4 && t->n_inputs < 0) fail("negative number of inputs");
+  if (t->abi_version >= 4 && t->n_inputs > 0 && (!t->input_names || !t->default_inputs))
+    fail("inputs declared but their names or default signals are missing");
 }
 
 }  // namespace
@@ -106,6 +109,16 @@ std::string Model::singular_name(int i) const {
 
 std::vector<double> Model::default_parameters() const {
   return std::vector<double>(table_->default_parameters, table_->default_parameters + n_parameters());
+}
+
+int Model::n_inputs() const noexcept { return table_->abi_version >= 4 ? table_->n_inputs : 0; }
+
+std::string Model::input_name(int k) const { return table_->input_names[k]; }
+
+int Model::input_index(const std::string& name) const noexcept {
+  for (int k = 0; k < n_inputs(); ++k)
+    if (name == table_->input_names[k]) return k;
+  return -1;
 }
 
 int Model::parameter_index(const std::string& name) const noexcept {

@@ -56,6 +56,11 @@ class Model {
   std::string singular_name(int i) const;
   std::vector<double> default_parameters() const;
   int parameter_index(const std::string& name) const noexcept;
+  /// The scene's inputs (Input additions, abi_version >= 4; else 0): the generated functions read
+  /// input k at p[n_parameters() + k] (nhc/runtime/inputs.hpp sets them during a run).
+  int n_inputs() const noexcept;
+  std::string input_name(int k) const;
+  int input_index(const std::string& name) const noexcept;  ///< -1 when no input has the name
 
  private:
   Model(const nhc_model_table* table, std::shared_ptr<void> library);

@@ -4,7 +4,8 @@
  * copy out. Fill it by field name (zero-initialize, then assign), never by position.
  * abi_version 1: the fields up to `reference`. abi_version 2 appends the fields of the section
  * "Runtime additions" of docs/generated-code.md; read them only when abi_version >= 2.
- * abi_version 3 appends the "Sensitivity additions"; read them only when abi_version >= 3. */
+ * abi_version 3 appends the "Sensitivity additions"; read them only when abi_version >= 3.
+ * abi_version 4 appends the "Input additions"; read them only when abi_version >= 4. */
 #ifndef NHC_MODEL_TABLE_DEFINED
 #define NHC_MODEL_TABLE_DEFINED
 
@@ -44,6 +45,10 @@ struct nhc_model_table {
   /* abi_version >= 3 (Sensitivity additions; null unless generated with sensitivities) */
   void (*residual_parameter_jacobian)(double, const double*, const double*, const double*, double*);
   void (*hidden_parameter_jacobian)(double, const double*, const double*, double*);
+  /* abi_version >= 4 (Input additions): p holds n_parameters parameters, then n_inputs inputs */
+  int n_inputs;
+  const char* const* input_names;
+  void (*default_inputs)(double, const double*, double*);
 };
 
 #ifdef __cplusplus

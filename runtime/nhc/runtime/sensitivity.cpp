@@ -155,6 +155,11 @@ struct SensitivityIntegrator::Impl {
     if (static_cast<int>(p.size()) != model.n_parameters())
       throw ModelError("the model has " + std::to_string(model.n_parameters()) + " parameters, " +
                        std::to_string(p.size()) + " given");
+    // dF/dp treats each input as independent of the parameters, so a default signal of a
+    // parameter (u = k t) would be missed; inputs set by the application have no dF/dp at all.
+    if (model.n_inputs() > 0)
+      throw ModelError("forward sensitivities of a model with inputs (" + model.input_name(0) +
+                       (model.n_inputs() > 1 ? ", …" : "") + ") are not supported");
     if (thetas.empty()) throw std::invalid_argument("no quantity to differentiate by");
     if (!model.has_dense_jacobian() && !model.has_sparse_jacobian())
       throw ModelError("sensitivities need the generated Jacobian (generate with --jacobian dense or sparse)");

@@ -30,8 +30,16 @@ std::vector<int> highest_differential_states(const Model& model) {
 
 }  // namespace
 
-Observables observe(const Model& model, const std::vector<double>& p, const Sample& s) {
+Observables observe(const Model& model, const std::vector<double>& parameters, const Sample& s) {
   const auto& tab = model.table();
+  // The generated functions read the inputs after the parameters (inputs.hpp): the sample's.
+  std::vector<double> p = parameters;
+  if (model.n_inputs() > 0) {
+    if (static_cast<int>(s.u.size()) != model.n_inputs())
+      throw ModelError("a sample of a model with " + std::to_string(model.n_inputs()) + " inputs carries " +
+                       std::to_string(s.u.size()) + " input values");
+    p.insert(p.end(), s.u.begin(), s.u.end());
+  }
   Observables o;
   o.hidden.resize(model.n_hidden());
   if (model.n_hidden() > 0) tab.hidden_constraints(s.t, s.y.data(), p.data(), o.hidden.data());
@@ -98,6 +106,7 @@ std::vector<std::string> csv_header(const Model& model) {
       if (tab.state_variable[i] == v) h.push_back(model.state_name(i));
     if (top[v] >= 0) h.push_back(model.state_name(top[v]) + "'");
   }
+  for (int k = 0; k < model.n_inputs(); ++k) h.push_back("input:" + model.input_name(k));
   for (int i = 0; i < model.n_hidden(); ++i) h.push_back(hidden_column(model, i));
   for (int k = 0; k < model.n_invariants(); ++k) h.push_back(std::string("invariant:") + tab.invariant_names[k]);
   for (int k = 0; k < model.n_reference(); ++k) h.push_back("error:" + model.variable_name(tab.reference_coordinate[k]));
@@ -138,6 +147,7 @@ void write_csv(std::ostream& out, const Model& model, const std::vector<double>&
       for (int i : states_of[static_cast<size_t>(v)]) append_value(row, s.y[i]);
       if (top[v] >= 0) append_value(row, s.yp[top[v]]);
     }
+    for (double x : s.u) append_value(row, x);
     const Observables o = observe(model, p, s);
     for (double x : o.hidden) append_value(row, x);
     for (double x : o.invariants) append_value(row, x);
@@ -168,10 +178,11 @@ void write_csv(const std::string& path, const Model& model, const std::vector<do
 
 RunResult simulate(const Model& model, const std::vector<double>& p, const InitialState& initial,
                    const std::vector<double>& times, const IntegratorOptions& options,
-                   const std::vector<Event>& events) {
+                   const std::vector<Event>& events, const InputFunction& inputs) {
   RunResult result;
   Integrator integrator(model, p, options);
   for (const Event& e : events) integrator.add_event(e);
+  if (inputs) integrator.set_inputs(inputs);
   try {
     double t_next = initial.t0 + 1.0;
     for (double t : times)

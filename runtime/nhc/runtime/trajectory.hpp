@@ -70,8 +70,9 @@ struct RunResult {
   std::optional<SolverError> failure;
 };
 
+/// `inputs`: u(t, y) for the model's inputs (inputs.hpp); empty: their default signals.
 RunResult simulate(const Model& model, const std::vector<double>& p, const InitialState& initial,
                    const std::vector<double>& times, const IntegratorOptions& options = {},
-                   const std::vector<Event>& events = {});
+                   const std::vector<Event>& events = {}, const InputFunction& inputs = {});
 
 }  // namespace nhc::runtime
