@@ -65,8 +65,8 @@ void write_matrix(JsonWriter& json, const Eigen::MatrixXd& m) {
   json.end_array();
 }
 
-/// A matrix with named columns as CSV: a header row of the column names, then one row per
-/// state, led by its name ("state,x,y'" then "x,0.5,1").
+/// A matrix with named rows and columns as CSV: a header row of the column names, then one row
+/// per row name, led by it ("state,x,y'" then "x,0.5,1").
 void write_matrix_csv(const fs::path& path, const Eigen::MatrixXd& m, const std::vector<std::string>& rows,
                       const std::vector<std::string>& columns) {
   write_file_atomically(path.string(), [&](std::ostream& out) {
@@ -109,6 +109,13 @@ void write_json(std::ostream& out, const Linearization& lin, const std::optional
   json.end_array();
   json.key("B");
   write_matrix(json, lin.B);
+  json.key("outputs").begin_array();
+  for (const std::string& h : lin.outputs) json.value(h);
+  json.end_array();
+  json.key("C");
+  write_matrix(json, lin.C);
+  json.key("D");
+  write_matrix(json, lin.D);
   json.key("eigenvalues");
   write_eigenvalues(json, lin.eigenvalues);
   json.key("zero_eigenvalues").value(lin.zero_eigenvalues);
@@ -160,6 +167,11 @@ void write_text(std::ostream& out, const Linearization& lin, const std::optional
   if (!lin.inputs.empty()) {
     out << "  inputs (" << lin.inputs.size() << "): " << join_names(lin.inputs) << "\n";
     print("B", lin.B);
+  }
+  if (!lin.outputs.empty()) {
+    out << "  outputs (" << lin.outputs.size() << "): " << join_names(lin.outputs) << "\n";
+    print("C", lin.C);
+    if (!lin.inputs.empty()) print("D", lin.D);
   }
   out << "  eigenvalues:\n";
   for (const auto& l : lin.eigenvalues) out << "    " << full(l.real()) << (l.imag() < 0 ? " - " : " + ") << full(std::abs(l.imag())) << "i\n";
@@ -274,6 +286,8 @@ void write_directory(const std::string& target, const Linearization& lin, const 
     write_file_atomically((tmp / "linearize.json").string(), [&](std::ostream& out) { write_json(out, lin, sweep); });
     write_matrix_csv(tmp / "A.csv", lin.A, lin.states, lin.states);
     if (!lin.inputs.empty()) write_matrix_csv(tmp / "B.csv", lin.B, lin.states, lin.inputs);
+    if (!lin.outputs.empty()) write_matrix_csv(tmp / "C.csv", lin.C, lin.outputs, lin.states);
+    if (!lin.outputs.empty() && !lin.inputs.empty()) write_matrix_csv(tmp / "D.csv", lin.D, lin.outputs, lin.inputs);
     if (sweep) {
       write_csv(tmp / "stability.csv", *sweep);
       if (auto note = plot_stability(tmp, *sweep, lin.scene)) notes.push_back(*note);

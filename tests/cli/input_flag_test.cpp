@@ -58,6 +58,15 @@ TEST_CASE("nhc simulate --input: an expression of t and a CSV series replace the
     CHECK(x < 1e-8);
     CHECK(F < 1e-15);
   }
+  SECTION("every model takes the input (the forcing enters each residual undifferentiated)") {
+    for (const std::string model : {"vakonomic", "chetaev", "holder", "suslov"}) {
+      INFO("model " << model);
+      const Run r = run(nhc_command() + " simulate '" + kScene + "' --model " + model +
+                            " --input 'F=sin(3*t)' -o '" + dir + "/x.csv'", dir);
+      REQUIRE(r.exit_code == 0);
+      CHECK(errors(read_file(dir + "/x.csv"), 3.0).first < 1e-8);
+    }
+  }
   SECTION("a CSV series, step 1e-3") {
     {
       std::ofstream series(dir + "/F.csv");

@@ -340,11 +340,8 @@ TEST_CASE("Whipple bicycle: B for the lean and steer torques is the inverse of t
   // of B for phi'' and delta'' are M^-1. The scene's lean phi is the benchmark's (both rotate
   // about x forward); its steer delta turns about an axis pointing up, the benchmark's down:
   // delta = -delta_benchmark and T_delta = -T_delta_benchmark, so B = S M^-1 S, S = diag(1, -1).
-  std::ifstream file(std::string(NHC_SOURCE_DIR) + "/examples/whipple/whipple_bicycle.toml");
-  std::stringstream text;
-  text << file.rdbuf()
-       << "\n[inputs]\nTphi = 0\nTdelta = \"0*t\"\n[forces]\nphi = \"Tphi\"\ndelta = \"Tdelta\"\n";
-  const nhc::Scene scene = nhc::parse_scene(text.str(), "whipple_with_torques.toml");
+  // The example's [inputs] Tphi, Tdelta act through [forces] phi = "Tphi", delta = "Tdelta".
+  const nhc::Scene scene = nhc::load_scene(std::string(NHC_SOURCE_DIR) + "/examples/whipple/whipple_bicycle.toml");
   const nhc::Linearization lin = nhc::Linearizer(scene, nhc::ModelKind::chetaev).at({{"phi'", 0.0}});
   check_meijaard_table2(lin);  // the torques change nothing at u = 0
   REQUIRE(lin.inputs == std::vector<std::string>{"Tphi", "Tdelta"});
@@ -369,6 +366,45 @@ TEST_CASE("Whipple bicycle: B for the lean and steer torques is the inverse of t
   // the two above through the constraints, and the position rows are zero.
   for (Eigen::Index row = 0; row < lin.B.rows(); ++row)
     if (lin.states[static_cast<std::size_t>(row)].find('\'') == std::string::npos) CHECK(lin.B.row(row).norm() == 0.0);
+}
+
+TEST_CASE("Inputs and outputs: the Cartesian pendulum's (A, B, C, D) at the bottom", "[linearize][inputs]") {
+  // L = (x'^2 + y'^2)/2 - g y on the circle x^2 + y^2 = 1, a horizontal force F on x. Chetaev:
+  // x'' = 2 lambda x + F, y'' = -g + 2 lambda y. At the bottom (0, -1), lambda = -g/2 and, to first
+  // order, y = -1 + x^2/2 stays put, so lambda = -g/2 + O(x^2) and x'' = -g x + F: with the
+  // states (x, x') (y and y' eliminated by the hidden constraints), A = [0 1; -g 0], B = [0; 1];
+  // the outputs x, x'' and lambda1 have C = [1 0; -g 0; 0 0], D = [0; 1; 0].
+  const nhc::Scene scene = nhc::parse_scene(R"(name = "cartesian_pendulum"
+coordinates = ["x", "y"]
+lagrangian = "(x'^2 + y'^2)/2 - g*y"
+constraints = ["x^2 + y^2 - 1"]
+[parameters]
+g = 9.81
+[inputs]
+F = "0"
+[forces]
+x = "F"
+[outputs]
+position = "x"
+acceleration = "x''"
+multiplier = "lambda1"
+[initial]
+x = [0.0, 0.0]
+y = [-1.0, 0.0]
+)", "cartesian_pendulum.toml");
+  const double g = 9.81;
+  const nhc::Linearization lin = nhc::linearize(scene, nhc::ModelKind::chetaev);
+  REQUIRE(lin.states == std::vector<std::string>{"x", "x'"});
+  REQUIRE(lin.outputs == std::vector<std::string>{"position", "acceleration", "multiplier"});
+  Eigen::MatrixXd A(2, 2), B(2, 1), C(3, 2), D(3, 1);
+  A << 0, 1, -g, 0;
+  B << 0, 1;
+  C << 1, 0, -g, 0, 0, 0;
+  D << 0, 1, 0;
+  CHECK((lin.A - A).cwiseAbs().maxCoeff() < 1e-12);
+  CHECK((lin.B - B).cwiseAbs().maxCoeff() < 1e-12);
+  CHECK((lin.C - C).cwiseAbs().maxCoeff() < 1e-12);
+  CHECK((lin.D - D).cwiseAbs().maxCoeff() < 1e-12);
 }
 
 // Hidden from the discovered tests ([.]); ctest runs it as linearize:whipple_sweep (about 10 s).

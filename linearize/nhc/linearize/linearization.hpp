@@ -43,6 +43,11 @@ struct Linearization {
   /// `states`; the operating point holds each input at its default signal's value at t0.
   std::vector<std::string> inputs;
   Eigen::MatrixXd B;
+  /// The scene's [outputs] the model computes from the reduced states, and δh = C δs + D δu: a row
+  /// per output (an output of a removed cyclic coordinate, or of something the model does not
+  /// compute, is left out with a note).
+  std::vector<std::string> outputs;
+  Eigen::MatrixXd C, D;
   /// Sorted by real part, largest first, then by imaginary part.
   std::vector<std::complex<double>> eigenvalues;
   /// Eigenvalues counted as zero (|λ| ≤ zero tolerance), and the families of steady motions

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <set>
 #include <sstream>
 
 #include "nhc/analysis/consistent_initialization.hpp"
@@ -81,6 +82,13 @@ MatrixOutputs add_matrix(NumericProgram& program, const std::vector<std::vector<
   return out;
 }
 
+/// The columns `which` of m.
+Eigen::MatrixXd columns_of(const Eigen::MatrixXd& m, const std::vector<int>& which) {
+  Eigen::MatrixXd out(m.rows(), static_cast<Eigen::Index>(which.size()));
+  for (std::size_t c = 0; c < which.size(); ++c) out.col(static_cast<Eigen::Index>(c)) = m.col(which[c]);
+  return out;
+}
+
 Eigen::MatrixXd matrix_of(const MatrixOutputs& m, const std::vector<double>& values) {
   Eigen::MatrixXd out = Eigen::MatrixXd::Zero(m.rows, m.cols);
   for (std::size_t k = 0; k < m.entries.size(); ++k)
@@ -100,6 +108,11 @@ struct Linearizer::Impl {
   /// The residual and hidden constraints (outputs: g, then F), and dF/dz, dF/dz', dg/dz.
   std::optional<NumericProgram> functions, jacobians;
   MatrixOutputs dF_dz, dF_dzp, dg_dz, dF_du;
+  /// The scene's outputs in reduced states: names, dh/dz, dh/dz', dh/du; and the notes on those
+  /// left out.
+  std::vector<std::string> output_names, output_notes;
+  MatrixOutputs dh_dz, dh_dzp, dh_du;
+  void compile_outputs();
 
   void compile_programs();
   /// g and F at the point.
@@ -312,6 +325,46 @@ void Linearizer::Impl::compile_programs() {
                         reduced.hidden_names[h] + " of the " + to_string(model) +
                         " model: linearizing with an input that moves the constraint manifold is not supported");
   dF_du = add_matrix(*jacobians, dF_du_entries, scene.inputs.size());
+  compile_outputs();
+}
+
+void Linearizer::Impl::compile_outputs() {
+  // The symbols the reduced system knows: its states, their derivatives, t, parameters, inputs.
+  std::set<GiNaC::ex, GiNaC::ex_is_less> known{scene.jet->time()};
+  for (int q = 0; q < static_cast<int>(scene.parameter_values.size()); ++q) known.insert(scene.jet->parameter(q));
+  for (int k = 0; k < static_cast<int>(scene.inputs.size()); ++k) known.insert(scene.jet->input(k));
+  for (const ReducedComponent& z : reduced.components) {
+    known.insert(z.value);
+    if (z.differential) known.insert(z.derivative);
+  }
+  std::vector<std::vector<GiNaC::ex>> h_z, h_zp, h_u;
+  for (const SceneQuantity& output : scene.outputs) {
+    const GiNaC::ex h = system.in_states(output.expression);
+    const auto symbols = symbols_through(h);
+    const auto unknown = std::find_if(symbols.begin(), symbols.end(), [&](const GiNaC::ex& s) { return !known.count(s); });
+    if (unknown != symbols.end()) {
+      std::ostringstream symbol;
+      symbol << *unknown;
+      output_notes.push_back("output " + output.name + " is left out of C and D: it uses " + symbol.str() +
+                             ", which the reduced " + to_string(model) +
+                             " system does not hold (a cyclic coordinate, or a derivative the model does not compute)");
+      continue;
+    }
+    output_names.push_back(output.name);
+    std::vector<GiNaC::ex> row_z, row_zp, row_u;
+    for (const ReducedComponent& z : reduced.components) {
+      row_z.push_back(h.diff(GiNaC::ex_to<GiNaC::symbol>(z.value)));
+      row_zp.push_back(z.differential ? h.diff(GiNaC::ex_to<GiNaC::symbol>(z.derivative)) : GiNaC::ex(0));
+    }
+    for (int k = 0; k < static_cast<int>(scene.inputs.size()); ++k) row_u.push_back(h.diff(scene.jet->input(k)));
+    h_z.push_back(std::move(row_z));
+    h_zp.push_back(std::move(row_zp));
+    h_u.push_back(std::move(row_u));
+  }
+  const std::size_t n = reduced.components.size();
+  dh_dz = add_matrix(*jacobians, h_z, n);
+  dh_dzp = add_matrix(*jacobians, h_zp, n);
+  dh_du = add_matrix(*jacobians, h_u, scene.inputs.size());
 }
 
 std::pair<Eigen::VectorXd, Eigen::VectorXd> Linearizer::Impl::hidden_and_residual(const NumericPoint& p) const {
@@ -359,6 +412,17 @@ Linearization Linearizer::at(const std::vector<PointOverride>& overrides) const 
   out.A = lin.A;
   out.B = lin.B;
   for (const SceneInput& u : s.inputs) out.inputs.push_back(u.name);
+  // δh = H_z δz + H_z' δz' + H_u δu with δz_D = T δs, δz_A = M_A T δs + N_A δu,
+  // δz_D' = M_D T δs + N_D δu (manifold_linearization.hpp).
+  out.outputs = m.output_names;
+  for (const std::string& note : m.output_notes) out.notes.push_back(note);
+  {
+    const Eigen::MatrixXd H = matrix_of(m.dh_dz, jacobians), Hp = matrix_of(m.dh_dzp, jacobians);
+    const Eigen::MatrixXd H_D = columns_of(H, lin.differential), H_A = columns_of(H, lin.algebraic);
+    const Eigen::MatrixXd Hp_D = columns_of(Hp, lin.differential);
+    out.C = (H_D * lin.T + H_A * lin.M_A * lin.T + Hp_D * lin.M_D * lin.T).array() + 0.0;
+    out.D = (matrix_of(m.dh_du, jacobians) + H_A * lin.N_A + Hp_D * lin.N_D).array() + 0.0;
+  }
   out.manifold_residual = lin.manifold_residual;
 
   out.eigenvalues = sorted_eigenvalues(out.A);

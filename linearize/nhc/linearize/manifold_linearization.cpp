@@ -91,9 +91,10 @@ ManifoldLinearization linearize_on_manifold(const ManifoldInput& in, double tole
       out.T.row(out.dependent[r]) = dep.row(static_cast<Eigen::Index>(r));
   }
   out.A = rows(out.M_D * out.T, out.independent);
-  if (in.dF_du.cols() > 0)  // + 0.0: no -0 where an input does not act
-    out.B = rows(Eigen::MatrixXd((-out.K.solve(in.dF_du)).topRows(nD)), out.independent).array() + 0.0;
-  else out.B = Eigen::MatrixXd::Zero(out.A.rows(), 0);
+  const Eigen::MatrixXd N = in.dF_du.cols() > 0 ? Eigen::MatrixXd(-out.K.solve(in.dF_du)) : Eigen::MatrixXd::Zero(n, 0);
+  out.N_D = N.topRows(nD);
+  out.N_A = N.bottomRows(nA);
+  out.B = rows(out.N_D, out.independent).array() + 0.0;  // + 0.0: no -0 where an input does not act
   out.manifold_residual = out.G_hat.size() == 0 ? 0.0 : (out.G_hat * out.M_D * out.T).cwiseAbs().maxCoeff();
   return out;
 }

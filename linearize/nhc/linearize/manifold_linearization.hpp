@@ -14,7 +14,9 @@
 /// test). With s the remaining states, δz_D = T δs and A = (M_D T)_s.
 ///
 /// Inputs u enter as E δz' + J δz + F_u δu = 0: [δz_D'; δz_A] gains −K⁻¹ F_u δu, so with
-/// N_D its differential rows, B = (N_D)_s and d(δs)/dt = A δs + B δu (issue 28).
+/// N_D its differential rows, B = (N_D)_s and d(δs)/dt = A δs + B δu (issue 28). Outputs
+/// h(z, z', u) then read δh = C δs + D δu with δz_D = T δs, δz_A = M_A T δs + N_A δu and
+/// δz_D' = M_D T δs + N_D δu (linearizer.cpp).
 
 #include <Eigen/Dense>
 
@@ -35,6 +37,7 @@ struct ManifoldLinearization {
   /// Positions in `differential` of the kept (s) and eliminated states.
   std::vector<int> independent, dependent;
   Eigen::MatrixXd M_D, M_A, G_hat, T, A, B;
+  Eigen::MatrixXd N_D, N_A;  ///< −K⁻¹ F_u: differential rows (δz_D'), algebraic rows (δz_A)
   Eigen::PartialPivLU<Eigen::MatrixXd> K;  ///< [E_D  J_A]
   double K_condition = 0.0;
   double manifold_residual = 0.0;  ///< max |Ĝ M_D T|

@@ -47,7 +47,7 @@ struct SensitivitySample {
   double t = 0;
   std::vector<double> y, yp;
   std::vector<std::vector<double>> s, sp;  ///< s[k][i] = ∂y_i/∂θ_k, sp[k][i] = ∂y'_i/∂θ_k
-  Sample state() const { return Sample{t, y, yp}; }
+  Sample state() const { return Sample{t, y, yp, {}}; }
 };
 
 struct SensitivityStatistics {
