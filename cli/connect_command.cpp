@@ -173,6 +173,7 @@ CommandRunner add_connect_command(CLI::App& app) {
     const Scene scene = load_scene(options->scene_path);
     const ModelKind kind = model_or_default(scene, options->model);
     require_model_inputs(scene, kind);  // exit 2 at the scene, as simulate
+    refuse_inputs(scene, "boundary-value problems", "nhc connect");
     if (!std::isfinite(options->t_end) || !(options->t_end > scene.initial.t0))
       throw InputError({"--t-end", 0, 0}, "T = " + format_number(options->t_end, 17) + " must be after t0 = " +
                                               format_number(scene.initial.t0, 17));

@@ -46,6 +46,14 @@ std::string missing_model_input(const Scene& scene, ModelKind kind) {
          (scene.dependent.size() == 1 ? "" : "s");
 }
 
+void refuse_inputs(const Scene& scene, const std::string& what, const std::string& flag) {
+  if (scene.inputs.empty()) return;
+  throw InputError(scene.inputs.front().where,
+                   what + " of a scene with [inputs] (" + scene.inputs.front().name + (scene.inputs.size() > 1 ? ", …" : "") +
+                       ") are not supported (" + flag + "): the generated dF/dp treats the inputs as independent "
+                       "of the parameters (docs/runtime.md, \"Inputs\")");
+}
+
 bool scene_lists_model(const Scene& scene, ModelKind kind) {
   const std::optional<toml::table> root = scene_table(scene);
   return root && listed_model(*root, kind) != nullptr;

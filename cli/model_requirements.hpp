@@ -19,6 +19,10 @@ std::string missing_model_input(const Scene& scene, ModelKind kind);
 /// when `kind` was asked for (by --model, or listed in the scene's `models`) and lacks its input.
 void require_model_inputs(const Scene& scene, ModelKind kind);
 
+/// Throws InputError at the scene's first input when it has [inputs] and `what` (forward
+/// sensitivities, a boundary-value problem) cannot take them; `flag` names what asked for it.
+void refuse_inputs(const Scene& scene, const std::string& what, const std::string& flag);
+
 /// The models the scene lists by name in its `models` key (not the implicit default, all models).
 bool scene_lists_model(const Scene& scene, ModelKind kind);
 

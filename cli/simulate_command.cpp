@@ -185,6 +185,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
     const Scene scene = load_scene(options->scene_path, options->read);
     const ModelKind kind = model_or_default(scene, options->model);
     require_model_inputs(scene, kind);
+    if (!options->sensitivity.names.empty()) refuse_inputs(scene, "forward sensitivities", "--sensitivity");
     check_simulate_flags(*options, scene);  // before anything is compiled or written
     const bool csv_to_stdout = options->output == "-";
     if (!options->output.empty() && !csv_to_stdout) check_output_file(options->output, {options->scene_path});

@@ -110,3 +110,16 @@ TEST_CASE("nhc simulate --input: bad flags and series are refused at the flag or
     CHECK_FALSE(file_exists(dir + "/x.csv"));
   }
 }
+
+TEST_CASE("nhc simulate --sensitivity and nhc connect refuse a scene with inputs in words", "[cli][inputs]") {
+  const std::string dir = scratch_dir("input_refusals");
+  for (const std::string& command : {std::string(" simulate '") + kScene + "' --sensitivity 'x(0)' -o '" + dir + "/x.csv'",
+                                     std::string(" connect '") + kScene + "' --to x=1 --t-end 1 -o '" + dir + "/x.csv'"}) {
+    INFO(command);
+    const Run r = run(nhc_command() + command, dir);
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find("driven_oscillator.toml:7:1: error:") != std::string::npos);
+    CHECK(r.err.find("of a scene with [inputs] (F) are not supported") != std::string::npos);
+    CHECK_FALSE(file_exists(dir + "/x.csv"));
+  }
+}
