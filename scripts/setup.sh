@@ -13,6 +13,7 @@ packages=(
   gnuplot-nox
   libssl-dev
   libhdf5-dev libopenmpi-dev openmpi-bin
+  pybind11-dev python3-dev python3-numpy python3-pytest
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -1,0 +1,79 @@
+"""nhc.Scene: a scene file loaded, its models derived and analysed (docs/python.md)."""
+import json as _json
+
+from . import _nhc
+
+
+class Derivation:
+    """One model's equations, as `nhc derive` writes them: `text`, `latex` (a standalone
+    document), `json` (parsed: a dict). Jupyter shows the LaTeX equations."""
+
+    def __init__(self, derived):
+        self.model = derived.model
+        self.text = derived.text
+        self.latex = derived.latex
+        self._json_text = derived.json
+
+    @property
+    def json(self):
+        return _json.loads(self._json_text)
+
+    def _repr_latex_(self):
+        # The document's body: Jupyter's MathJax renders the aligned blocks, not the preamble.
+        body = self.latex
+        start, end = body.find("\\begin{document}"), body.rfind("\\end{document}")
+        if start >= 0 and end > start:
+            body = body[start + len("\\begin{document}"):end]
+        return body.strip()
+
+    def __repr__(self):
+        return self.text
+
+
+class Analysis:
+    """`nhc analyze` of one model: `index`, `dof`, `needed` (the initial values it takes),
+    `initial_point` (name -> value at t0: those values, then the leading derivatives) and
+    `condition` (of the system Jacobian there)."""
+
+    def __init__(self, result):
+        self.model = result["model"]
+        self.index = result["index"]
+        self.dof = result["dof"]
+        self.needed = list(result["needed"])
+        self.initial_point = dict(result["initial_point"])
+        self.condition = result["condition"]
+
+    def __repr__(self):
+        return (f"Analysis(model={self.model!r}, index={self.index}, dof={self.dof}, "
+                f"needed={self.needed!r})")
+
+
+class Scene:
+    """A scene (TOML) read and checked: `Scene.load(path, set={...})` or `Scene.from_toml(text)`.
+    Bad input raises nhc.SceneError with the file, line and column."""
+
+    def __init__(self, scene):
+        self._scene = scene
+
+    @classmethod
+    def load(cls, path, set=None, expand=False):
+        return cls(_nhc._Scene.load(str(path), dict(set or {}), expand))
+
+    @classmethod
+    def from_toml(cls, text, path="scene.toml", set=None, expand=False):
+        return cls(_nhc._Scene.from_toml(text, str(path), dict(set or {}), expand))
+
+    name = property(lambda self: self._scene.name)
+    coordinates = property(lambda self: list(self._scene.coordinates))
+    parameters = property(lambda self: dict(self._scene.parameters))
+    inputs = property(lambda self: list(self._scene.inputs))
+    models = property(lambda self: list(self._scene.models))
+
+    def derive(self, model="chetaev"):
+        return Derivation(self._scene.derive(model))
+
+    def analyze(self, model="chetaev"):
+        return Analysis(self._scene.analyze(model))
+
+    def __repr__(self):
+        return f"Scene({self.name!r}, coordinates={self.coordinates!r})"

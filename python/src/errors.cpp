@@ -1,0 +1,52 @@
+#include "errors.hpp"
+
+#include <new>
+#include <string>
+
+#include "nhc/errors.hpp"
+#include "nhc/runtime/errors.hpp"
+
+namespace py = pybind11;
+
+namespace nhc::python {
+
+namespace {
+
+/// Raises nhc.errors.<name>(message, **attributes).
+void raise(const char* name, const std::string& message, const py::dict& attributes = py::dict()) {
+  const py::object type = py::module_::import("nhc.errors").attr(name);
+  const py::object error = type(message, **attributes);
+  PyErr_SetObject(type.ptr(), error.ptr());
+}
+
+}  // namespace
+
+void register_errors(py::module_&) {
+  py::register_exception_translator([](std::exception_ptr failure) {
+    if (!failure) return;
+    try {
+      std::rethrow_exception(failure);
+    } catch (const InputError& e) {
+      py::dict where;
+      where["file"] = e.where().file;
+      where["line"] = e.where().line;
+      where["column"] = e.where().column;
+      raise("SceneError", e.what(), where);
+    } catch (const WorkLimitExceeded& e) {
+      raise("SceneError", std::string("the scene needs too much work: ") + e.what());
+    } catch (const runtime::SolverError& e) {
+      py::dict at;
+      at["t"] = e.t();
+      raise("MathError", e.what(), at);
+    } catch (const MathError& e) {
+      raise("MathError", e.what());
+    } catch (const EnvironmentError& e) {
+      raise("HostError", e.what());
+    } catch (const std::bad_alloc&) {
+      raise("HostError", "out of memory");
+    }
+    // Anything else goes on to pybind11's own translators (RuntimeError with the message).
+  });
+}
+
+}  // namespace nhc::python

@@ -1,0 +1,12 @@
+// _nhc: the C++ side of the Python package nhc (python/nhc/__init__.py shapes it; docs/python.md).
+#include <pybind11/pybind11.h>
+
+#include "errors.hpp"
+#include "scene.hpp"
+
+PYBIND11_MODULE(_nhc, m) {
+  m.doc() = "nhc, the nonholonomic compiler: C++ bindings (use the package nhc)";
+  m.attr("__version__") = NHC_VERSION;
+  nhc::python::register_errors(m);
+  nhc::python::register_scene(m);
+}
