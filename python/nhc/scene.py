@@ -2,6 +2,7 @@
 import json as _json
 
 from . import _nhc
+from .model import Linearization, Model
 
 
 class Derivation:
@@ -74,6 +75,14 @@ class Scene:
 
     def analyze(self, model="chetaev"):
         return Analysis(self._scene.analyze(model))
+
+    def build(self, model="chetaev"):
+        """The model derived, compiled (both caches) and loaded: an nhc.Model."""
+        return Model(_nhc._build(self._scene, model))
+
+    def linearize(self, model="chetaev", at=None):
+        """Linear stability at the scene's [initial] with `at` values replaced (as --at)."""
+        return Linearization(_nhc._linearize(self._scene, model, {k: float(v) for k, v in (at or {}).items()}))
 
     def __repr__(self):
         return f"Scene({self.name!r}, coordinates={self.coordinates!r})"

@@ -2,6 +2,7 @@
 #include <pybind11/pybind11.h>
 
 #include "errors.hpp"
+#include "model.hpp"
 #include "scene.hpp"
 
 PYBIND11_MODULE(_nhc, m) {
@@ -9,4 +10,5 @@ PYBIND11_MODULE(_nhc, m) {
   m.attr("__version__") = NHC_VERSION;
   nhc::python::register_errors(m);
   nhc::python::register_scene(m);
+  nhc::python::register_model(m);
 }

@@ -126,32 +126,43 @@ void append_value(std::string& row, double x) {
 
 }  // namespace
 
-void write_csv(std::ostream& out, const Model& model, const std::vector<double>& p,
-               const std::vector<Sample>& samples) {
+CsvRows::CsvRows(const Model& model, std::vector<double> parameters)
+    : model_(model), parameters_(std::move(parameters)), top_(highest_differential_states(model)) {
   const auto& tab = model.table();
-  const std::vector<std::string> header = csv_header(model);
-  for (size_t c = 0; c < header.size(); ++c) out << (c ? "," : "") << header[c];
-  out << '\n';
-  const std::vector<int> top = highest_differential_states(model);
   const int unknowns = model.n_coordinates() + model.n_multipliers();
   // The states of each unknown, in state order: found once, not per row (a search over all
   // states for each unknown of each row was quadratic: 1.2 s of a 1.4 s run at 3584 states).
-  std::vector<std::vector<int>> states_of(static_cast<size_t>(unknowns));
-  for (int i = 0; i < model.n_states(); ++i) states_of[static_cast<size_t>(tab.state_variable[i])].push_back(i);
+  states_of_.resize(static_cast<size_t>(unknowns));
+  for (int i = 0; i < model.n_states(); ++i) states_of_[static_cast<size_t>(tab.state_variable[i])].push_back(i);
+}
+
+void CsvRows::row(const Sample& s, std::vector<double>& out) const {
+  out.clear();
+  out.push_back(s.t);
+  for (std::size_t v = 0; v < states_of_.size(); ++v) {
+    for (int i : states_of_[v]) out.push_back(s.y[static_cast<std::size_t>(i)]);
+    if (top_[v] >= 0) out.push_back(s.yp[static_cast<std::size_t>(top_[v])]);
+  }
+  out.insert(out.end(), s.u.begin(), s.u.end());
+  const Observables o = observe(model_, parameters_, s);
+  out.insert(out.end(), o.hidden.begin(), o.hidden.end());
+  out.insert(out.end(), o.invariants.begin(), o.invariants.end());
+  out.insert(out.end(), o.errors.begin(), o.errors.end());
+}
+
+void write_csv(std::ostream& out, const Model& model, const std::vector<double>& p,
+               const std::vector<Sample>& samples) {
+  const std::vector<std::string> header = csv_header(model);
+  for (size_t c = 0; c < header.size(); ++c) out << (c ? "," : "") << header[c];
+  out << '\n';
+  const CsvRows rows(model, p);
+  std::vector<double> values;
   std::string row;
   for (const Sample& s : samples) {
+    rows.row(s, values);
     row.clear();
-    append_value(row, s.t);
+    for (double x : values) append_value(row, x);
     row.erase(0, 1);  // the first column has no comma
-    for (int v = 0; v < unknowns; ++v) {
-      for (int i : states_of[static_cast<size_t>(v)]) append_value(row, s.y[i]);
-      if (top[v] >= 0) append_value(row, s.yp[top[v]]);
-    }
-    for (double x : s.u) append_value(row, x);
-    const Observables o = observe(model, p, s);
-    for (double x : o.hidden) append_value(row, x);
-    for (double x : o.invariants) append_value(row, x);
-    for (double x : o.errors) append_value(row, x);
     row += '\n';
     out << row;
   }

@@ -47,6 +47,20 @@ DriftReport measure_drift(const Model& model, const std::vector<double>& p, cons
 /// multipliers, the hidden constraints (hidden_column), invariant:<name>, error:<coordinate>.
 std::vector<std::string> csv_header(const Model& model);
 
+/// The numbers of one CSV row per sample, in csv_header's order (write_csv prints them; the
+/// Python package hands them over as arrays).
+class CsvRows {
+ public:
+  CsvRows(const Model& model, std::vector<double> parameters);
+  void row(const Sample& sample, std::vector<double>& out) const;
+
+ private:
+  const Model& model_;
+  std::vector<double> parameters_;
+  std::vector<int> top_;                     ///< per unknown: its highest differential state, or -1
+  std::vector<std::vector<int>> states_of_;  ///< per unknown: its states, in state order
+};
+
 /// The CSV column of hidden constraint i: hidden:<i> (1-based) where the model enforces it; for
 /// the suslov model, which only monitors the scene's constraints, constraint:<name> (f1 for the
 /// scene's first constraint, as nhc derive and analyze name it).

@@ -1,0 +1,215 @@
+#include "model.hpp"
+
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <memory>
+
+#include "nhc/errors.hpp"
+#include "nhc/jit.hpp"
+#include "nhc/linearize.hpp"
+#include "nhc/runtime/runtime.hpp"
+#include "nhc/scene/scene.hpp"
+
+namespace py = pybind11;
+
+namespace nhc::python {
+
+namespace {
+
+/// A built model with the scene it came from (its initial data and names).
+struct BuiltModel {
+  Scene scene;
+  std::shared_ptr<jit::LoadedModel> loaded;
+  const runtime::Model& model() const { return loaded->model(); }
+};
+
+ModelKind model_named(const std::string& name) {
+  const std::optional<ModelKind> kind = parse_model_kind(name);
+  if (!kind)
+    throw InputError({"model", 0, 0}, "unknown model '" + name + "' (known: vakonomic, chetaev, holder, suslov)");
+  return *kind;
+}
+
+BuiltModel build(const Scene& scene, const std::string& model) {
+  const ModelKind kind = model_named(model);
+  py::gil_scoped_release unlocked;
+  return BuiltModel{scene, std::make_shared<jit::LoadedModel>(jit::build(scene, kind))};
+}
+
+/// One run: the CSV's columns as a matrix (rows: output times) and the summary.
+py::dict simulate(const BuiltModel& built, double t_end, double rtol, double atol, int outputs,
+                  const std::optional<std::vector<double>>& output_times) {
+  const runtime::Model& model = built.model();
+  const double t0 = built.scene.initial.t0;
+  std::vector<double> times = output_times ? *output_times : runtime::output_times(t0, t_end, outputs);
+  if (times.empty() || !(times.back() > t0))
+    throw InputError({"t_end", 0, 0}, "the run must end after t0 = " + std::to_string(t0));
+  runtime::IntegratorOptions options;
+  options.rtol = rtol;
+  options.atol = atol;
+  const std::vector<double> p = model.default_parameters();
+  runtime::RunResult run;
+  {
+    py::gil_scoped_release unlocked;
+    run = runtime::simulate(model, p, runtime::initial_state_from(model, t0, built.scene.initial.values), times,
+                            options);
+  }
+  if (run.failure && run.samples.empty()) throw *run.failure;
+  const std::vector<std::string> columns = runtime::csv_header(model);
+  py::array_t<double> data({static_cast<py::ssize_t>(run.samples.size()), static_cast<py::ssize_t>(columns.size())});
+  auto rows = data.mutable_unchecked<2>();
+  const runtime::CsvRows csv(model, p);
+  std::vector<double> values;
+  for (std::size_t r = 0; r < run.samples.size(); ++r) {
+    csv.row(run.samples[r], values);
+    for (std::size_t c = 0; c < values.size(); ++c)
+      rows(static_cast<py::ssize_t>(r), static_cast<py::ssize_t>(c)) = values[c];
+  }
+  const runtime::Statistics& st = run.statistics;
+  py::dict summary;
+  summary["steps"] = st.steps;
+  summary["residual_evaluations"] = st.residual_evaluations;
+  summary["jacobian_evaluations"] = st.jacobian_evaluations;
+  summary["error_test_failures"] = st.error_test_failures;
+  summary["nonlinear_failures"] = st.nonlinear_failures;
+  summary["linear_solver"] = st.linear_solver;
+  summary["jacobian"] = st.jacobian;
+  summary["derive_seconds"] = built.loaded->timings().derive + built.loaded->timings().generate;
+  summary["compile_seconds"] = built.loaded->timings().compile + built.loaded->timings().load;
+  summary["integrate_seconds"] = st.initialization_seconds + st.integration_seconds;
+  const runtime::DriftReport drift = runtime::measure_drift(model, p, run.samples);
+  summary["hidden_drift"] = drift.max_hidden;
+  summary["reference_error"] = drift.max_error;
+  py::dict invariant_drift;
+  for (int k = 0; k < model.n_invariants(); ++k)
+    invariant_drift[py::str(model.table().invariant_names[k])] = drift.invariant_drift[static_cast<std::size_t>(k)];
+  summary["invariant_drift"] = invariant_drift;
+  py::dict out;
+  out["columns"] = columns;
+  out["data"] = data;
+  out["summary"] = summary;
+  if (run.failure) {  // the samples up to the failure are kept; the caller raises with them
+    out["failure"] = std::string(run.failure->what());
+    out["failure_t"] = run.failure->t();
+  }
+  return out;
+}
+
+std::vector<double> vector_of(const py::array_t<double, py::array::c_style | py::array::forcecast>& a, int n,
+                              const char* what) {
+  if (a.ndim() != 1 || a.shape(0) != n)
+    throw InputError({what, 0, 0}, std::string(what) + " must be a vector of " + std::to_string(n) + " numbers");
+  return std::vector<double>(a.data(), a.data() + n);
+}
+
+py::array_t<double> residual(const BuiltModel& built, double t, const py::array_t<double, py::array::c_style | py::array::forcecast>& y,
+                             const py::array_t<double, py::array::c_style | py::array::forcecast>& yp) {
+  const runtime::Model& model = built.model();
+  const int n = model.n_states();
+  const std::vector<double> yv = vector_of(y, n, "y"), ypv = vector_of(yp, n, "yp");
+  runtime::InputValues inputs(model, model.default_parameters());
+  py::array_t<double> r(n);
+  model.table().residual(t, yv.data(), ypv.data(), inputs.at(t, yv.data()), r.mutable_data());
+  return r;
+}
+
+py::array_t<double> jacobian(const BuiltModel& built, double t, const py::array_t<double, py::array::c_style | py::array::forcecast>& y,
+                             const py::array_t<double, py::array::c_style | py::array::forcecast>& yp, double cj) {
+  const runtime::Model& model = built.model();
+  const int n = model.n_states();
+  const std::vector<double> yv = vector_of(y, n, "y"), ypv = vector_of(yp, n, "yp");
+  runtime::InputValues inputs(model, model.default_parameters());
+  const nhc_model_table& tab = model.table();
+  std::vector<double> column_major(static_cast<std::size_t>(n) * static_cast<std::size_t>(n), 0.0);
+  if (tab.jacobian) {
+    tab.jacobian(t, yv.data(), ypv.data(), cj, inputs.at(t, yv.data()), column_major.data());
+  } else if (model.has_sparse_jacobian()) {
+    std::vector<double> values(static_cast<std::size_t>(tab.jacobian_nnz));
+    tab.jacobian_values(t, yv.data(), ypv.data(), cj, inputs.at(t, yv.data()), values.data());
+    for (int j = 0; j < n; ++j)
+      for (int k = tab.jacobian_colptr[j]; k < tab.jacobian_colptr[j + 1]; ++k)
+        column_major[static_cast<std::size_t>(tab.jacobian_rowind[k] + n * j)] = values[static_cast<std::size_t>(k)];
+  } else {
+    throw MathError("the model was generated without a Jacobian");
+  }
+  py::array_t<double> J({n, n});
+  auto out = J.mutable_unchecked<2>();
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) out(i, j) = column_major[static_cast<std::size_t>(i + n * j)];
+  return J;
+}
+
+py::array_t<double> matrix(const Eigen::MatrixXd& m) {
+  py::array_t<double> out({static_cast<py::ssize_t>(m.rows()), static_cast<py::ssize_t>(m.cols())});
+  auto view = out.mutable_unchecked<2>();
+  for (Eigen::Index i = 0; i < m.rows(); ++i)
+    for (Eigen::Index j = 0; j < m.cols(); ++j) view(i, j) = m(i, j);
+  return out;
+}
+
+py::dict linearization(const Linearization& lin) {
+  py::dict out;
+  out["states"] = lin.states;
+  out["A"] = matrix(lin.A);
+  out["inputs"] = lin.inputs;
+  out["B"] = matrix(lin.B);
+  out["outputs"] = lin.outputs;
+  out["C"] = matrix(lin.C);
+  out["D"] = matrix(lin.D);
+  out["eigenvalues"] = lin.eigenvalues;
+  out["verdict"] = to_string(lin.verdict);
+  out["zero_eigenvalues"] = lin.zero_eigenvalues;
+  py::list families;
+  for (const SteadyFamily& f : lin.families) families.append(f.description);
+  out["families"] = families;
+  out["point"] = lin.point;
+  out["notes"] = lin.notes;
+  return out;
+}
+
+std::vector<PointOverride> overrides_of(const std::map<std::string, double>& at) {
+  std::vector<PointOverride> out;
+  for (const auto& [name, value] : at) out.push_back({name, value});
+  return out;
+}
+
+}  // namespace
+
+void register_model(py::module_& m) {
+  py::class_<BuiltModel>(m, "_Model")
+      .def_property_readonly("state_names",
+                             [](const BuiltModel& b) {
+                               std::vector<std::string> names;
+                               for (int i = 0; i < b.model().n_states(); ++i) names.push_back(b.model().state_name(i));
+                               return names;
+                             })
+      .def_property_readonly("parameters",
+                             [](const BuiltModel& b) {
+                               std::map<std::string, double> out;
+                               const std::vector<double> p = b.model().default_parameters();
+                               for (int k = 0; k < b.model().n_parameters(); ++k)
+                                 out[b.model().table().parameter_names[k]] = p[static_cast<std::size_t>(k)];
+                               return out;
+                             })
+      .def_property_readonly("model_name", [](const BuiltModel& b) { return b.model().model_name(); })
+      .def("simulate", &simulate, py::arg("t_end"), py::arg("rtol"), py::arg("atol"), py::arg("outputs"),
+           py::arg("output_times") = std::nullopt)
+      .def("residual", &residual, py::arg("t"), py::arg("y"), py::arg("yp"))
+      .def("jacobian", &jacobian, py::arg("t"), py::arg("y"), py::arg("yp"), py::arg("cj"));
+
+  m.def("_build", &build, py::arg("scene"), py::arg("model"));
+  m.def(
+      "_linearize",
+      [](const Scene& scene, const std::string& model, const std::map<std::string, double>& at) {
+        Linearization lin;
+        {
+          py::gil_scoped_release unlocked;
+          lin = linearize(scene, model_named(model), overrides_of(at));
+        }
+        return linearization(lin);
+      },
+      py::arg("scene"), py::arg("model"), py::arg("at"));
+}
+
+}  // namespace nhc::python

@@ -1,0 +1,97 @@
+"""nhc.Model, nhc.Run and Scene.linearize, each against an independent answer: closed forms,
+finite differences, the benchmark's Table 2."""
+import math
+import threading
+
+import numpy as np
+import pytest
+
+import nhc
+
+OSCILLATOR = """
+name = "oscillator"
+coordinates = ["x"]
+lagrangian = "x'^2/2 - k*x^2/2"
+[parameters]
+k = 4.0
+[initial]
+x = [1.0, 0.0]
+[invariants]
+energy = "x'^2/2 + k*x^2/2"
+"""
+
+
+def test_simulate_follows_the_closed_form():
+    # x'' = -k x from x = 1 at rest: x = cos(sqrt(k) t), energy k/2.
+    run = nhc.Scene.from_toml(OSCILLATOR).build("chetaev").simulate(t_end=5, rtol=1e-10, atol=1e-12, outputs=100)
+    assert run.columns[:4] == ["t", "x", "x'", "x''"]
+    assert len(run) == 101 and run.to_numpy().shape == (101, len(run.columns))
+    assert np.max(np.abs(run["x"] - np.cos(2.0 * run.t))) < 1e-8
+    assert np.max(np.abs(run["x'"] + 2.0 * np.sin(2.0 * run.t))) < 1e-7
+    assert run.summary["steps"] > 0
+    assert run.summary["invariant_drift"]["energy"] < 1e-7
+    with pytest.raises(KeyError, match="no column 'v'"):
+        run["v"]
+
+
+def test_output_times_and_set():
+    scene = nhc.Scene.from_toml(OSCILLATOR, set={"k": 9.0})
+    run = scene.build("chetaev").simulate(output_times=np.array([0.0, 0.5, 1.0]), rtol=1e-10, atol=1e-12)
+    assert list(run.t) == [0.0, 0.5, 1.0]
+    assert run["x"] == pytest.approx(np.cos(3.0 * run.t), abs=1e-8)
+
+
+def test_residual_and_jacobian_agree_with_finite_differences():
+    model = nhc.Scene.from_toml(OSCILLATOR).build("chetaev")
+    rng = np.random.default_rng(7)
+    y, yp, cj, h = rng.normal(size=2), rng.normal(size=2), 3.0, 1e-6
+    J = model.jacobian(0.3, y, yp, cj)
+    for j in range(2):
+        e = np.zeros(2)
+        e[j] = h
+        dy = (model.residual(0.3, y + e, yp) - model.residual(0.3, y - e, yp)) / (2 * h)
+        dyp = (model.residual(0.3, y, yp + e) - model.residual(0.3, y, yp - e)) / (2 * h)
+        assert J[:, j] == pytest.approx(dy + cj * dyp, abs=1e-8)
+    with pytest.raises(nhc.SceneError, match="vector of 2 numbers"):
+        model.residual(0.0, np.zeros(3), np.zeros(2))
+
+
+def test_a_failure_is_a_math_error_at_its_time(source):
+    # Appell-Hamel (chetaev) stops where the horizontal speed vanishes: t* = v0 (a^2 + b^2) / (g a b).
+    model = nhc.Scene.load(source / "examples" / "appell_hamel.toml").build("chetaev")
+    with pytest.raises(nhc.MathError) as caught:
+        model.simulate(t_end=1.0, rtol=1e-10, atol=1e-12)
+    t_star = math.hypot(1.0, 0.5) * (1.0 + 0.25) / (9.81 * 0.5)
+    assert caught.value.t == pytest.approx(t_star, rel=1e-5)
+    assert caught.value.run.t[-1] <= caught.value.t
+
+
+def test_linearize_gives_the_benchmark_eigenvalues_and_b(source):
+    # Meijaard et al. (2007), Table 2 at 5 m/s; B's lean and steer rows are S M^-1 S (docs/linearize.md).
+    lin = nhc.Scene.load(source / "examples" / "whipple" / "whipple_bicycle.toml").linearize(at={"phi'": 0.0})
+    for want in [-14.07838969279822, -0.77534188219585 + 4.46486771378823j, -0.32286642900409]:
+        assert np.min(np.abs(lin.eigenvalues - want)) < 1e-10 * abs(want)
+    M = np.array([[80.81722, 2.31941332208709], [2.31941332208709, 0.29784188199686]])
+    S = np.diag([1.0, -1.0])
+    rows = [lin.states.index("phi'"), lin.states.index("delta'")]
+    assert lin.B[rows, :] == pytest.approx(S @ np.linalg.inv(M) @ S, rel=1e-10)
+    assert lin.inputs == ["Tphi", "Tdelta"]
+    assert lin.verdict == "asymptotically_stable"
+
+
+def test_two_threads_simulate_at_once():
+    scene = nhc.Scene.from_toml(OSCILLATOR)
+    model = scene.build("chetaev")
+    alone = model.simulate(t_end=3, rtol=1e-10, atol=1e-12)
+    results = [None, None]
+
+    def work(k):
+        results[k] = model.simulate(t_end=3, rtol=1e-10, atol=1e-12)
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(2)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    for run in results:
+        assert np.array_equal(run.to_numpy(), alone.to_numpy())
