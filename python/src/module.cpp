@@ -1,9 +1,9 @@
 // _nhc: the C++ side of the Python package nhc (python/nhc/__init__.py shapes it; docs/python.md).
 #include <pybind11/pybind11.h>
 
-#include "errors.hpp"
-#include "model.hpp"
-#include "scene.hpp"
+#include "error_translation.hpp"
+#include "model_bindings.hpp"
+#include "scene_bindings.hpp"
 
 PYBIND11_MODULE(_nhc, m) {
   m.doc() = "nhc, the nonholonomic compiler: C++ bindings (use the package nhc)";

@@ -1,5 +1,5 @@
 #pragma once
-/// \file model.hpp
+/// \file model_bindings.hpp
 /// \brief nhc.Model's C++ side: a scene's model built (nhc::jit: derived, compiled, both caches,
 /// loaded) and run (nhc::runtime), its runs as numpy arrays, its residual and Jacobian for the
 /// caller's own solvers; and nhc.Scene.linearize (nhc::linearize). The GIL is released while

@@ -1,4 +1,4 @@
-#include "scene.hpp"
+#include "scene_bindings.hpp"
 
 #include <pybind11/stl.h>
 

@@ -1,4 +1,4 @@
-#include "model.hpp"
+#include "model_bindings.hpp"
 
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>

@@ -1,5 +1,5 @@
 #pragma once
-/// \file scene.hpp
+/// \file scene_bindings.hpp
 /// \brief nhc.Scene's C++ side: loading a scene, deriving and analysing its models (the work of
 /// `nhc derive` and `nhc analyze`, from the same library functions), with the GIL released
 /// while GiNaC works.

@@ -1,5 +1,5 @@
 #pragma once
-/// \file errors.hpp
+/// \file error_translation.hpp
 /// \brief nhc's C++ failures as the Python exceptions of nhc/errors.py, with the words of the
 /// command line: InputError → nhc.SceneError (.file, .line, .column), MathError and
 /// runtime::SolverError → nhc.MathError (.t when known), EnvironmentError and out of memory →
