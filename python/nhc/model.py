@@ -117,3 +117,20 @@ class Linearization:
 
     def __repr__(self):
         return f"Linearization(states={self.states!r}, verdict={self.verdict!r})"
+
+
+class Sweep:
+    """`nhc linearize --sweep` over equally spaced values: `values`, `points` (a Linearization
+    each), `verdicts`, `eigenvalues` (one complex array per value) and `thresholds` (the refined
+    values where the verdict changes: dicts with value, from, to)."""
+
+    def __init__(self, name, result):
+        self.name = name
+        self.points = [Linearization(p) for p in result["points"]]
+        self.values = _np.array([p["value"] for p in result["points"]])
+        self.verdicts = [p.verdict for p in self.points]
+        self.eigenvalues = [p.eigenvalues for p in self.points]
+        self.thresholds = [dict(t) for t in result["thresholds"]]
+
+    def __repr__(self):
+        return f"Sweep({self.name!r}, {len(self.values)} values, thresholds={[t['value'] for t in self.thresholds]})"

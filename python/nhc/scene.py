@@ -2,7 +2,10 @@
 import json as _json
 
 from . import _nhc
-from .model import Linearization, Model
+import numpy as _np
+
+from .errors import SceneError
+from .model import Linearization, Model, Sweep
 
 
 class Derivation:
@@ -83,6 +86,17 @@ class Scene:
     def linearize(self, model="chetaev", at=None):
         """Linear stability at the scene's [initial] with `at` values replaced (as --at)."""
         return Linearization(_nhc._linearize(self._scene, model, {k: float(v) for k, v in (at or {}).items()}))
+
+    def sweep(self, model, name, values, at=None):
+        """Linearizes at each of `values` (equally spaced, as np.linspace gives) of the parameter
+        or initial value `name`, and refines where the verdict changes: an nhc.Sweep."""
+        values = _np.asarray(values, dtype=float).ravel()
+        if len(values) < 2 or not _np.all(_np.diff(values) > 0):
+            raise SceneError("sweep values must be at least two, increasing")
+        if _np.max(_np.abs(_np.diff(values) - (values[-1] - values[0]) / (len(values) - 1))) > 1e-9 * _np.max(_np.abs(values)):
+            raise SceneError("sweep values must be equally spaced (np.linspace)")
+        at = {k: float(v) for k, v in (at or {}).items()}
+        return Sweep(name, _nhc._sweep(self._scene, model, name, values[0], values[-1], len(values), at))
 
     def __repr__(self):
         return f"Scene({self.name!r}, coordinates={self.coordinates!r})"

@@ -200,6 +200,36 @@ void register_model(py::module_& m) {
 
   m.def("_build", &build, py::arg("scene"), py::arg("model"));
   m.def(
+      "_sweep",
+      [](const Scene& scene, const std::string& model, const std::string& name, double first, double last, int count,
+         const std::map<std::string, double>& at) {
+        SweepResult result;
+        {
+          py::gil_scoped_release unlocked;
+          const Linearizer linearizer(scene, model_named(model));
+          result = sweep(linearizer, overrides_of(at), SweepRange{name, first, last, count});
+        }
+        py::list points, thresholds;
+        for (const SweepPoint& p : result.points) {
+          py::dict point = linearization(p.linearization);
+          point["value"] = p.value;
+          points.append(point);
+        }
+        for (const VerdictChange& t : result.thresholds) {
+          py::dict change;
+          change["value"] = t.value;
+          change["from"] = to_string(t.from);
+          change["to"] = to_string(t.to);
+          thresholds.append(change);
+        }
+        py::dict out;
+        out["points"] = points;
+        out["thresholds"] = thresholds;
+        return out;
+      },
+      py::arg("scene"), py::arg("model"), py::arg("name"), py::arg("first"), py::arg("last"), py::arg("count"),
+      py::arg("at"));
+  m.def(
       "_linearize",
       [](const Scene& scene, const std::string& model, const std::map<std::string, double>& at) {
         Linearization lin;

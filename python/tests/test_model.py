@@ -95,3 +95,23 @@ def test_two_threads_simulate_at_once():
         thread.join()
     for run in results:
         assert np.array_equal(run.to_numpy(), alone.to_numpy())
+
+
+def test_sweep_finds_the_weave_and_capsize_speeds(source):
+    # Meijaard et al. (2007), Table 2: weave 4.29238253634111, capsize 6.02426201538837 m/s.
+    bike = nhc.Scene.load(source / "examples" / "whipple" / "whipple_bicycle.toml")
+    sw = bike.sweep("chetaev", "v", np.linspace(4, 7, 4), at={"phi'": 0})
+    assert sw.verdicts == ["unstable", "asymptotically_stable", "asymptotically_stable", "unstable"]
+    speeds = [t["value"] for t in sw.thresholds]
+    assert speeds == pytest.approx([4.29238253634111, 6.02426201538837], rel=1e-10)
+    with pytest.raises(nhc.SceneError, match="equally spaced"):
+        bike.sweep("chetaev", "v", [4.0, 4.5, 7.0])
+
+
+def test_compare_runs_every_model():
+    # Without constraints every model is Lagrange's equations: each follows cos(2t).
+    runs = nhc.compare(nhc.Scene.from_toml(OSCILLATOR), ["chetaev", "vakonomic", "holder"], t_end=2, rtol=1e-10,
+                       atol=1e-12)
+    assert sorted(runs) == ["chetaev", "holder", "vakonomic"]
+    for run in runs.values():
+        assert np.max(np.abs(run["x"] - np.cos(2.0 * run.t))) < 1e-8
