@@ -73,13 +73,16 @@ class Model:
         self._model = built
 
     state_names = property(lambda self: list(self._model.state_names))
+    inputs = property(lambda self: list(self._model.inputs))
     parameters = property(lambda self: dict(self._model.parameters))
     name = property(lambda self: self._model.model_name)
 
-    def simulate(self, t_end=1.0, rtol=1e-8, atol=1e-10, outputs=200, output_times=None):
-        """Integrates from the scene's [initial]; a Run. A failure raises nhc.MathError with .t."""
+    def simulate(self, t_end=1.0, rtol=1e-8, atol=1e-10, outputs=200, output_times=None, inputs=None):
+        """Integrates from the scene's [initial]; a Run. A failure raises nhc.MathError with .t.
+        `inputs`: u(t, y) -> the model's inputs (self.inputs order), called at every residual
+        evaluation with y in state_names order; without it, the scene's default signals."""
         times = None if output_times is None else [float(t) for t in _np.asarray(output_times).ravel()]
-        result = self._model.simulate(float(t_end), float(rtol), float(atol), int(outputs), times)
+        result = self._model.simulate(float(t_end), float(rtol), float(atol), int(outputs), times, inputs)
         if "failure" in result:
             error = MathError(result["failure"], t=result["failure_t"])
             error.run = Run(result)  # the motion up to the failure

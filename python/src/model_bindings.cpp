@@ -3,7 +3,10 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
+#include <cmath>
 #include <memory>
+#include <optional>
 
 #include "nhc/errors.hpp"
 #include "nhc/jit.hpp"
@@ -38,8 +41,37 @@ BuiltModel build(const Scene& scene, const std::string& model) {
 }
 
 /// One run: the CSV's columns as a matrix (rows: output times) and the summary.
+/// u(t, y) from a Python callable returning the model's inputs, called with the GIL held. An
+/// exception in it cannot cross the integrator (C): it is kept, the inputs become NaN (so the
+/// residual is not finite and the run stops), and simulate raises it afterwards.
+struct PythonInputs {
+  py::function f;
+  int n_states = 0, n_inputs = 0;
+  std::shared_ptr<std::optional<py::error_already_set>> failure =
+      std::make_shared<std::optional<py::error_already_set>>();
+
+  void operator()(double t, const double* y, double* u) const {
+    py::gil_scoped_acquire locked;
+    if (*failure) {
+      std::fill(u, u + n_inputs, std::nan(""));
+      return;
+    }
+    try {
+      const py::array_t<double> state(n_states, y);
+      const py::array_t<double, py::array::c_style | py::array::forcecast> values(f(t, state));
+      if (values.size() != n_inputs)
+        throw py::value_error("the inputs function returned " + std::to_string(values.size()) + " values, the model has " +
+                              std::to_string(n_inputs) + " inputs");
+      std::copy(values.data(), values.data() + n_inputs, u);
+    } catch (py::error_already_set& e) {
+      failure->emplace(std::move(e));
+      std::fill(u, u + n_inputs, std::nan(""));
+    }
+  }
+};
+
 py::dict simulate(const BuiltModel& built, double t_end, double rtol, double atol, int outputs,
-                  const std::optional<std::vector<double>>& output_times) {
+                  const std::optional<std::vector<double>>& output_times, const std::optional<py::function>& inputs) {
   const runtime::Model& model = built.model();
   const double t0 = built.scene.initial.t0;
   std::vector<double> times = output_times ? *output_times : runtime::output_times(t0, t_end, outputs);
@@ -49,12 +81,21 @@ py::dict simulate(const BuiltModel& built, double t_end, double rtol, double ato
   options.rtol = rtol;
   options.atol = atol;
   const std::vector<double> p = model.default_parameters();
+  runtime::InputFunction input_function;
+  std::shared_ptr<std::optional<py::error_already_set>> input_failure;
+  if (inputs) {
+    if (model.n_inputs() == 0) throw InputError({"inputs", 0, 0}, "the scene has no [inputs]");
+    PythonInputs python_inputs{*inputs, model.n_states(), model.n_inputs()};
+    input_failure = python_inputs.failure;
+    input_function = python_inputs;
+  }
   runtime::RunResult run;
   {
     py::gil_scoped_release unlocked;
     run = runtime::simulate(model, p, runtime::initial_state_from(model, t0, built.scene.initial.values), times,
-                            options);
+                            options, {}, input_function);
   }
+  if (input_failure && *input_failure) throw std::move(**input_failure);
   if (run.failure && run.samples.empty()) throw *run.failure;
   const std::vector<std::string> columns = runtime::csv_header(model);
   py::array_t<double> data({static_cast<py::ssize_t>(run.samples.size()), static_cast<py::ssize_t>(columns.size())});
@@ -194,7 +235,13 @@ void register_model(py::module_& m) {
                              })
       .def_property_readonly("model_name", [](const BuiltModel& b) { return b.model().model_name(); })
       .def("simulate", &simulate, py::arg("t_end"), py::arg("rtol"), py::arg("atol"), py::arg("outputs"),
-           py::arg("output_times") = std::nullopt)
+           py::arg("output_times") = std::nullopt, py::arg("inputs") = std::nullopt)
+      .def_property_readonly("inputs",
+                             [](const BuiltModel& b) {
+                               std::vector<std::string> names;
+                               for (int k = 0; k < b.model().n_inputs(); ++k) names.push_back(b.model().input_name(k));
+                               return names;
+                             })
       .def("residual", &residual, py::arg("t"), py::arg("y"), py::arg("yp"))
       .def("jacobian", &jacobian, py::arg("t"), py::arg("y"), py::arg("yp"), py::arg("cj"));
 

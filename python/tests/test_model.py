@@ -115,3 +115,33 @@ def test_compare_runs_every_model():
     assert sorted(runs) == ["chetaev", "holder", "vakonomic"]
     for run in runs.values():
         assert np.max(np.abs(run["x"] - np.cos(2.0 * run.t))) < 1e-8
+
+
+DRIVEN = """
+name = "driven"
+coordinates = ["x"]
+lagrangian = "x'^2/2 - x^2/2"
+[inputs]
+F = "0"
+[forces]
+x = "F"
+[initial]
+x = [1.0, 0.5]
+"""
+
+
+def test_inputs_from_a_python_function():
+    # x'' = -x + F. A feedback F = -2 x' is critical damping: x = (x0 + (v0 + x0) t) e^-t.
+    model = nhc.Scene.from_toml(DRIVEN).build("chetaev")
+    assert model.inputs == ["F"]
+    velocity = model.state_names.index("x'")
+    run = model.simulate(t_end=5, rtol=1e-10, atol=1e-12, inputs=lambda t, y: [-2.0 * y[velocity]])
+    assert np.max(np.abs(run["x"] - (1.0 + 1.5 * run.t) * np.exp(-run.t))) < 1e-8
+    assert run["input:F"] == pytest.approx(-2.0 * run["x'"], abs=1e-12)
+    # An exception in the function comes out as itself.
+    def broken(t, y):
+        raise ZeroDivisionError("no input here")
+    with pytest.raises(ZeroDivisionError, match="no input here"):
+        model.simulate(t_end=1, inputs=broken)
+    with pytest.raises(ValueError, match="returned 2 values"):
+        model.simulate(t_end=1, inputs=lambda t, y: [0.0, 1.0])
