@@ -77,12 +77,15 @@ class Model:
     parameters = property(lambda self: dict(self._model.parameters))
     name = property(lambda self: self._model.model_name)
 
-    def simulate(self, t_end=1.0, rtol=1e-8, atol=1e-10, outputs=200, output_times=None, inputs=None):
+    def simulate(self, t_end=1.0, rtol=1e-8, atol=1e-10, outputs=200, output_times=None, inputs=None,
+                 max_steps=1000000):
         """Integrates from the scene's [initial]; a Run. A failure raises nhc.MathError with .t.
         `inputs`: u(t, y) -> the model's inputs (self.inputs order), called at every residual
-        evaluation with y in state_names order; without it, the scene's default signals."""
+        evaluation with y in state_names order; without it, the scene's default signals.
+        Ctrl-C (KeyboardInterrupt) stops a long run."""
         times = None if output_times is None else [float(t) for t in _np.asarray(output_times).ravel()]
-        result = self._model.simulate(float(t_end), float(rtol), float(atol), int(outputs), times, inputs)
+        result = self._model.simulate(float(t_end), float(rtol), float(atol), int(outputs), times, inputs,
+                                      int(max_steps))
         if "failure" in result:
             error = MathError(result["failure"], t=result["failure_t"])
             error.run = Run(result)  # the motion up to the failure

@@ -71,7 +71,8 @@ struct PythonInputs {
 };
 
 py::dict simulate(const BuiltModel& built, double t_end, double rtol, double atol, int outputs,
-                  const std::optional<std::vector<double>>& output_times, const std::optional<py::function>& inputs) {
+                  const std::optional<std::vector<double>>& output_times, const std::optional<py::function>& inputs,
+                  long max_steps) {
   const runtime::Model& model = built.model();
   const double t0 = built.scene.initial.t0;
   std::vector<double> times = output_times ? *output_times : runtime::output_times(t0, t_end, outputs);
@@ -80,6 +81,17 @@ py::dict simulate(const BuiltModel& built, double t_end, double rtol, double ato
   runtime::IntegratorOptions options;
   options.rtol = rtol;
   options.atol = atol;
+  options.max_steps = max_steps;
+  // Ctrl-C: Python's handler only records the signal while the GIL is released; every 256 steps
+  // the run takes the GIL and lets Python act on it (KeyboardInterrupt), then stops.
+  auto interrupted = std::make_shared<std::optional<py::error_already_set>>();
+  options.stop_requested = [interrupted, steps = 0L]() mutable {
+    if (++steps % 256 != 0) return false;
+    py::gil_scoped_acquire locked;
+    if (PyErr_CheckSignals() == 0) return false;
+    interrupted->emplace();
+    return true;
+  };
   const std::vector<double> p = model.default_parameters();
   runtime::InputFunction input_function;
   std::shared_ptr<std::optional<py::error_already_set>> input_failure;
@@ -96,6 +108,7 @@ py::dict simulate(const BuiltModel& built, double t_end, double rtol, double ato
                             options, {}, input_function);
   }
   if (input_failure && *input_failure) throw std::move(**input_failure);
+  if (*interrupted) throw std::move(**interrupted);
   if (run.failure && run.samples.empty()) throw *run.failure;
   const std::vector<std::string> columns = runtime::csv_header(model);
   py::array_t<double> data({static_cast<py::ssize_t>(run.samples.size()), static_cast<py::ssize_t>(columns.size())});
@@ -235,7 +248,7 @@ void register_model(py::module_& m) {
                              })
       .def_property_readonly("model_name", [](const BuiltModel& b) { return b.model().model_name(); })
       .def("simulate", &simulate, py::arg("t_end"), py::arg("rtol"), py::arg("atol"), py::arg("outputs"),
-           py::arg("output_times") = std::nullopt, py::arg("inputs") = std::nullopt)
+           py::arg("output_times") = std::nullopt, py::arg("inputs") = std::nullopt, py::arg("max_steps") = 1000000)
       .def_property_readonly("inputs",
                              [](const BuiltModel& b) {
                                std::vector<std::string> names;

@@ -145,3 +145,19 @@ def test_inputs_from_a_python_function():
         model.simulate(t_end=1, inputs=broken)
     with pytest.raises(ValueError, match="returned 2 values"):
         model.simulate(t_end=1, inputs=lambda t, y: [0.0, 1.0])
+
+
+def test_ctrl_c_stops_a_long_run():
+    # A run of about 3 10^6 steps (seconds): SIGINT to this process after 0.2 s must end it with
+    # KeyboardInterrupt, as Ctrl-C would.
+    import os
+    import signal
+
+    model = nhc.Scene.from_toml(OSCILLATOR).build("chetaev")
+    timer = threading.Timer(0.2, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            model.simulate(t_end=1e5, outputs=100000, max_steps=10**9)
+    finally:
+        timer.cancel()

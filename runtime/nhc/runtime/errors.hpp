@@ -21,6 +21,7 @@ enum class FailureKind {
   convergence,                   ///< the corrector does not converge, step size underflow
   error_test,                    ///< repeated local error test failures
   too_many_steps,                ///< the step limit was reached
+  stopped,                       ///< IntegratorOptions::stop_requested said so (an interrupt)
   other,
 };
 

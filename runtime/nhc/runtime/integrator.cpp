@@ -788,6 +788,8 @@ void Integrator::integrate(const std::vector<double>& times, const std::function
       }
       s.remember(tret);
       progress.update(tret);
+      if (s.options.stop_requested && s.options.stop_requested())
+        throw SolverError(FailureKind::stopped, tret, "the run was stopped at t = " + format_time(tret));
       double h_last = 0;
       IDAGetLastStep(s.ida, &h_last);
       s.tiny_steps = std::abs(h_last) < kTinyStep * std::max(1.0, std::abs(tret)) ? s.tiny_steps + 1 : 0;

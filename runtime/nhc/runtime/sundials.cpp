@@ -22,6 +22,7 @@ const char* to_string(FailureKind kind) {
     case FailureKind::convergence: return "convergence failure";
     case FailureKind::error_test: return "error test failure";
     case FailureKind::too_many_steps: return "too many steps";
+    case FailureKind::stopped: return "stopped";
     case FailureKind::other: break;
   }
   return "numerical failure";
