@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "compiled_headers.hpp"
+#include "nhc/emit/model_table_text.hpp"
 #include "nhc/analysis/index1_reduction.hpp"
 #include "nhc/derive/models.hpp"
 #include "nhc/emit/header_emitter.hpp"
@@ -120,7 +121,7 @@ TEST_CASE("every compiled header matches its symbolic index-1 system", "[codegen
       const int n = system.size();
 
       // Metadata.
-      REQUIRE(table.abi_version == 3);
+      REQUIRE(table.abi_version == nhc::kModelTableAbiVersion);
       // Sensitivity additions only with HeaderOptions::sensitivities (not asked for here).
       CHECK(table.residual_parameter_jacobian == nullptr);
       CHECK(table.hidden_parameter_jacobian == nullptr);
