@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 
+#include "model_argument.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/jit.hpp"
 #include "nhc/linearize.hpp"
@@ -26,13 +27,6 @@ struct BuiltModel {
   std::shared_ptr<jit::LoadedModel> loaded;
   const runtime::Model& model() const { return loaded->model(); }
 };
-
-ModelKind model_named(const std::string& name) {
-  const std::optional<ModelKind> kind = parse_model_kind(name);
-  if (!kind)
-    throw InputError({"model", 0, 0}, "unknown model '" + name + "' (known: vakonomic, chetaev, holder, suslov)");
-  return *kind;
-}
 
 BuiltModel build(const Scene& scene, const std::string& model) {
   const ModelKind kind = model_named(model);

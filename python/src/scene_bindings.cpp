@@ -7,6 +7,7 @@
 #include "nhc/analysis/model_analysis.hpp"
 #include "nhc/derive/models.hpp"
 #include "nhc/emit/derivation_emitters.hpp"
+#include "model_argument.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/scene/scene.hpp"
 
@@ -15,13 +16,6 @@ namespace py = pybind11;
 namespace nhc::python {
 
 namespace {
-
-ModelKind model_named(const std::string& name) {
-  const std::optional<ModelKind> kind = parse_model_kind(name);
-  if (!kind)
-    throw InputError({"model", 0, 0}, "unknown model '" + name + "' (known: vakonomic, chetaev, holder, suslov)");
-  return *kind;
-}
 
 /// --set NAME=VALUE for a scene in memory: the values replace the parameters', and the [initial]
 /// values written through parameters follow (as in the command line).

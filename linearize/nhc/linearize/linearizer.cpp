@@ -5,6 +5,7 @@
 #include <optional>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 #include "nhc/analysis/consistent_initialization.hpp"
 #include "nhc/analysis/dae_system.hpp"
@@ -79,13 +80,6 @@ MatrixOutputs add_matrix(NumericProgram& program, const std::vector<std::vector<
       if (out.first < 0) out.first = k;
       out.entries.emplace_back(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
     }
-  return out;
-}
-
-/// The columns `which` of m.
-Eigen::MatrixXd columns_of(const Eigen::MatrixXd& m, const std::vector<int>& which) {
-  Eigen::MatrixXd out(m.rows(), static_cast<Eigen::Index>(which.size()));
-  for (std::size_t c = 0; c < which.size(); ++c) out.col(static_cast<Eigen::Index>(c)) = m.col(which[c]);
   return out;
 }
 
@@ -412,17 +406,10 @@ Linearization Linearizer::at(const std::vector<PointOverride>& overrides) const 
   out.A = lin.A;
   out.B = lin.B;
   for (const SceneInput& u : s.inputs) out.inputs.push_back(u.name);
-  // δh = H_z δz + H_z' δz' + H_u δu with δz_D = T δs, δz_A = M_A T δs + N_A δu,
-  // δz_D' = M_D T δs + N_D δu (manifold_linearization.hpp).
   out.outputs = m.output_names;
   for (const std::string& note : m.output_notes) out.notes.push_back(note);
-  {
-    const Eigen::MatrixXd H = matrix_of(m.dh_dz, jacobians), Hp = matrix_of(m.dh_dzp, jacobians);
-    const Eigen::MatrixXd H_D = columns_of(H, lin.differential), H_A = columns_of(H, lin.algebraic);
-    const Eigen::MatrixXd Hp_D = columns_of(Hp, lin.differential);
-    out.C = (H_D * lin.T + H_A * lin.M_A * lin.T + Hp_D * lin.M_D * lin.T).array() + 0.0;
-    out.D = (matrix_of(m.dh_du, jacobians) + H_A * lin.N_A + Hp_D * lin.N_D).array() + 0.0;
-  }
+  std::tie(out.C, out.D) = output_matrices(lin, matrix_of(m.dh_dz, jacobians), matrix_of(m.dh_dzp, jacobians),
+                                           matrix_of(m.dh_du, jacobians));
   out.manifold_residual = lin.manifold_residual;
 
   out.eigenvalues = sorted_eigenvalues(out.A);

@@ -99,4 +99,13 @@ ManifoldLinearization linearize_on_manifold(const ManifoldInput& in, double tole
   return out;
 }
 
+std::pair<Eigen::MatrixXd, Eigen::MatrixXd> output_matrices(const ManifoldLinearization& lin, const Eigen::MatrixXd& H,
+                                                            const Eigen::MatrixXd& H_prime, const Eigen::MatrixXd& H_u) {
+  const Eigen::MatrixXd H_D = columns(H, lin.differential), H_A = columns(H, lin.algebraic);
+  const Eigen::MatrixXd H_prime_D = columns(H_prime, lin.differential);
+  Eigen::MatrixXd C = (H_D + H_A * lin.M_A + H_prime_D * lin.M_D) * lin.T;
+  Eigen::MatrixXd D = H_u + H_A * lin.N_A + H_prime_D * lin.N_D;
+  return {C.array() + 0.0, D.array() + 0.0};  // + 0.0: no -0 where an output does not move
+}
+
 }  // namespace nhc

@@ -20,6 +20,7 @@
 
 #include <Eigen/Dense>
 
+#include <utility>
 #include <vector>
 
 namespace nhc {
@@ -45,5 +46,11 @@ struct ManifoldLinearization {
 
 /// Throws MathError when K is singular at the point (`where` names the point).
 ManifoldLinearization linearize_on_manifold(const ManifoldInput& input, double rank_tolerance = 1e-10);
+
+/// Outputs h(z, z', u) with H = ∂h/∂z, H' = ∂h/∂z', H_u = ∂h/∂u at the point (columns over all
+/// states z, and over the inputs): δh = C δs + D δu, C = (H_D + H_A M_A + H'_D M_D) T and
+/// D = H_u + H_A N_A + H'_D N_D.
+std::pair<Eigen::MatrixXd, Eigen::MatrixXd> output_matrices(const ManifoldLinearization& lin, const Eigen::MatrixXd& H,
+                                                            const Eigen::MatrixXd& H_prime, const Eigen::MatrixXd& H_u);
 
 }  // namespace nhc
