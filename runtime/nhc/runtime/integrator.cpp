@@ -554,9 +554,7 @@ struct Integrator::Impl {
     return flag;
   }
 
-  /// Restarts IDA at the last output with the inputs as they are now: IDA's steps past that
-  /// time used the old inputs, and a held input that jumps there makes y' jump (IDACalcIC
-  /// recomputes it and the algebraic states, the states themselves stay).
+  /// The sample last passed to the observer: where restart_at_last_output() starts again.
   void note_output(const Sample& sample) {
     have_last_output = true;
     last_output_t = sample.t;
@@ -564,6 +562,9 @@ struct Integrator::Impl {
     last_output_yp = sample.yp;
   }
 
+  /// Restarts IDA at the last output with the inputs as they are now: IDA's steps past that
+  /// time used the old inputs, and a held input that jumps there makes y' jump (IDACalcIC
+  /// recomputes it and the algebraic states, the states themselves stay).
   void restart_at_last_output() {
     if (!initialized) return;
     // Before any output: at the consistent initial point itself.
