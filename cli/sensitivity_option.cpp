@@ -21,29 +21,19 @@ void add_sensitivity_options(CLI::App* sub, SensitivityRequest& request) {
 
 std::vector<runtime::SensitivityParameter> parse_sensitivities(const runtime::Model& model,
                                                                const std::vector<std::string>& names) {
-  std::vector<runtime::SensitivityParameter> thetas;
-  for (const std::string& name : names) {
-    try {
-      thetas.push_back(runtime::sensitivity_parameter(model, name));
-    } catch (const std::invalid_argument& e) {
-      throw InputError({"--sensitivity", 0, 0}, e.what());
-    }
-    for (size_t k = 0; k + 1 < thetas.size(); ++k)
-      if (thetas[k].kind == thetas.back().kind && thetas[k].index == thetas.back().index)
-        throw InputError({"--sensitivity", 0, 0}, name + " is named twice");
+  try {
+    return runtime::sensitivity_parameters(model, names);
+  } catch (const std::invalid_argument& e) {
+    throw InputError({"--sensitivity", 0, 0}, e.what());
   }
-  return thetas;
 }
 
 void check_sensitivities_given(const runtime::Model& model, const runtime::InitialState& initial,
                                const std::vector<std::string>& names) {
-  for (const runtime::SensitivityParameter& th : parse_sensitivities(model, names)) {
-    if (th.kind != runtime::SensitivityParameter::Kind::initial_value) continue;
-    const auto i = static_cast<std::size_t>(th.index);
-    if (i >= initial.given.size() || !initial.given[i])
-      throw InputError({"--sensitivity", 0, 0},
-                       th.name + " is not given in the scene: it follows from the hidden constraints and the given "
-                                 "values, so it cannot be varied on its own");
+  try {
+    runtime::require_given(parse_sensitivities(model, names), initial);
+  } catch (const std::invalid_argument& e) {
+    throw InputError({"--sensitivity", 0, 0}, e.what());
   }
 }
 

@@ -60,7 +60,8 @@ class Run:
 
     def _coordinates(self):
         # The order-0 columns of the coordinates: names without primes, before the multipliers.
-        return [c for c in self.columns[1:] if "'" not in c and ":" not in c and not c.startswith("lambda")]
+        return [c for c in self.columns[1:]
+                if "'" not in c and ":" not in c and not c.startswith(("lambda", "d("))]
 
     def __repr__(self):
         return f"Run({len(self)} rows, columns={self.columns!r})"
@@ -78,14 +79,17 @@ class Model:
     name = property(lambda self: self._model.model_name)
 
     def simulate(self, t_end=1.0, rtol=1e-8, atol=1e-10, outputs=200, output_times=None, inputs=None,
-                 max_steps=1000000):
+                 max_steps=1000000, sensitivity=None):
         """Integrates from the scene's [initial]; a Run. A failure raises nhc.MathError with .t.
         `inputs`: u(t, y) -> the model's inputs (self.inputs order), called at every residual
         evaluation with y in state_names order; without it, the scene's default signals.
+        `sensitivity`: names of parameters and given initial values (["alpha", "x'(0)"]): the run
+        also carries the forward sensitivities (IDAS) as columns "d(x)/d(alpha)", "d(x')/d(x'(0))".
         Ctrl-C (KeyboardInterrupt) stops a long run."""
         times = None if output_times is None else [float(t) for t in _np.asarray(output_times).ravel()]
+        names = None if sensitivity is None else [sensitivity] if isinstance(sensitivity, str) else list(sensitivity)
         result = self._model.simulate(float(t_end), float(rtol), float(atol), int(outputs), times, inputs,
-                                      int(max_steps))
+                                      int(max_steps), names)
         if "failure" in result:
             error = MathError(result["failure"], t=result["failure_t"])
             error.run = Run(result)  # the motion up to the failure

@@ -5,8 +5,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <memory>
+#include <mutex>
 #include <optional>
+#include <stdexcept>
 
 #include "model_argument.hpp"
 #include "nhc/errors.hpp"
@@ -21,17 +24,42 @@ namespace nhc::python {
 
 namespace {
 
+/// The same model generated with dF/dp as well (jit::BuildOptions::sensitivities), built on the
+/// first simulate(sensitivity=…) that needs it; shared by the copies of a BuiltModel.
+struct SensitivityBuild {
+  std::mutex building;
+  std::shared_ptr<jit::LoadedModel> loaded;
+};
+
 /// A built model with the scene it came from (its initial data and names).
 struct BuiltModel {
   Scene scene;
+  ModelKind kind;
   std::shared_ptr<jit::LoadedModel> loaded;
+  std::shared_ptr<SensitivityBuild> with_sensitivities = std::make_shared<SensitivityBuild>();
   const runtime::Model& model() const { return loaded->model(); }
+
+  /// The loaded model for `thetas`: this one unless a parameter is among them and dF/dp is
+  /// missing. Called with the GIL released.
+  const runtime::Model& model_for(const std::vector<runtime::SensitivityParameter>& thetas) const {
+    const bool needs_dp = std::any_of(thetas.begin(), thetas.end(), [](const runtime::SensitivityParameter& th) {
+      return th.kind == runtime::SensitivityParameter::Kind::parameter;
+    });
+    if (!needs_dp || model().has_parameter_jacobian()) return model();
+    const std::lock_guard<std::mutex> lock(with_sensitivities->building);
+    if (!with_sensitivities->loaded) {
+      jit::BuildOptions options;
+      options.sensitivities = true;
+      with_sensitivities->loaded = std::make_shared<jit::LoadedModel>(jit::build(scene, kind, options));
+    }
+    return with_sensitivities->loaded->model();
+  }
 };
 
 BuiltModel build(const Scene& scene, const std::string& model) {
   const ModelKind kind = model_named(model);
   py::gil_scoped_release unlocked;
-  return BuiltModel{scene, std::make_shared<jit::LoadedModel>(jit::build(scene, kind))};
+  return BuiltModel{scene, kind, std::make_shared<jit::LoadedModel>(jit::build(scene, kind))};
 }
 
 /// One run: the CSV's columns as a matrix (rows: output times) and the summary.
@@ -64,9 +92,127 @@ struct PythonInputs {
   }
 };
 
+/// Ctrl-C: Python's handler only records the signal while the GIL is released; every `every`
+/// calls the run takes the GIL and lets Python act on it (KeyboardInterrupt), then stops.
+struct InterruptCheck {
+  long every = 256;
+  long calls = 0;
+  std::shared_ptr<std::optional<py::error_already_set>> raised =
+      std::make_shared<std::optional<py::error_already_set>>();
+
+  bool operator()() {
+    if (++calls % every != 0) return false;
+    py::gil_scoped_acquire locked;
+    if (PyErr_CheckSignals() == 0) return false;
+    raised->emplace();
+    return true;
+  }
+};
+
+/// The summary of a run: IDA's counters, the time split, the drift of the samples.
+py::dict summary_of(const BuiltModel& built, const runtime::Model& model, const std::vector<double>& p,
+                    const runtime::Statistics& st, const std::vector<runtime::Sample>& samples) {
+  py::dict summary;
+  summary["steps"] = st.steps;
+  summary["residual_evaluations"] = st.residual_evaluations;
+  summary["jacobian_evaluations"] = st.jacobian_evaluations;
+  summary["error_test_failures"] = st.error_test_failures;
+  summary["nonlinear_failures"] = st.nonlinear_failures;
+  summary["linear_solver"] = st.linear_solver;
+  summary["jacobian"] = st.jacobian;
+  summary["derive_seconds"] = built.loaded->timings().derive + built.loaded->timings().generate;
+  summary["compile_seconds"] = built.loaded->timings().compile + built.loaded->timings().load;
+  summary["integrate_seconds"] = st.initialization_seconds + st.integration_seconds;
+  const runtime::DriftReport drift = runtime::measure_drift(model, p, samples);
+  summary["hidden_drift"] = drift.max_hidden;
+  summary["reference_error"] = drift.max_error;
+  py::dict invariant_drift;
+  for (int k = 0; k < model.n_invariants(); ++k)
+    invariant_drift[py::str(model.table().invariant_names[k])] = drift.invariant_drift[static_cast<std::size_t>(k)];
+  summary["invariant_drift"] = invariant_drift;
+  return summary;
+}
+
+/// The CSV's columns (and `extra` ones, filled by `extra_values` per sample) as a matrix whose
+/// rows are the output times.
+py::array_t<double> data_of(const runtime::Model& model, const std::vector<double>& p,
+                            const std::vector<runtime::Sample>& samples, std::size_t n_columns,
+                            const std::function<void(std::size_t, std::vector<double>&)>& extra_values = {}) {
+  py::array_t<double> data({static_cast<py::ssize_t>(samples.size()), static_cast<py::ssize_t>(n_columns)});
+  auto rows = data.mutable_unchecked<2>();
+  const runtime::CsvRows csv(model, p);
+  std::vector<double> values, extra;
+  for (std::size_t r = 0; r < samples.size(); ++r) {
+    csv.row(samples[r], values);
+    if (extra_values) extra_values(r, extra), values.insert(values.end(), extra.begin(), extra.end());
+    for (std::size_t c = 0; c < values.size(); ++c)
+      rows(static_cast<py::ssize_t>(r), static_cast<py::ssize_t>(c)) = values[c];
+  }
+  return data;
+}
+
+/// The result dict Model.simulate turns into a Run; a failure after some samples is reported in
+/// it (the caller raises with the samples kept), one before any is thrown.
+py::dict result_of(const std::vector<std::string>& columns, py::array_t<double> data, py::dict summary,
+                   const std::optional<runtime::SolverError>& failure) {
+  py::dict out;
+  out["columns"] = columns;
+  out["data"] = std::move(data);
+  out["summary"] = std::move(summary);
+  if (failure) {
+    out["failure"] = std::string(failure->what());
+    out["failure_t"] = failure->t();
+  }
+  return out;
+}
+
+/// simulate(sensitivity=[names]): the run with IDAS's forward sensitivities; the columns are the
+/// plain ones followed by d(<state>)/d(<name>) (runtime::sensitivity_csv_header).
+py::dict simulate_sensitivities(const BuiltModel& built, const std::vector<std::string>& names,
+                                const std::vector<double>& times, runtime::IntegratorOptions options,
+                                InterruptCheck interrupt) {
+  const runtime::Model& plain = built.model();
+  if (plain.n_inputs() > 0)
+    throw InputError({"sensitivity", 0, 0}, "forward sensitivities do not take a scene with [inputs] (" +
+                                                plain.input_name(0) + (plain.n_inputs() > 1 ? ", …" : "") + ")");
+  std::vector<runtime::SensitivityParameter> thetas;
+  const runtime::InitialState initial =
+      runtime::initial_state_from(plain, built.scene.initial.t0, built.scene.initial.values);
+  try {
+    thetas = runtime::sensitivity_parameters(plain, names);
+    if (thetas.empty()) throw std::invalid_argument("no quantity to differentiate by");
+    runtime::require_given(thetas, initial);
+  } catch (const std::invalid_argument& e) {
+    throw InputError({"sensitivity", 0, 0}, e.what());
+  }
+  interrupt.every = 1;  // asked once per output, not per step
+  options.stop_requested = interrupt;
+  const std::vector<double> p = plain.default_parameters();
+  runtime::SensitivityRun run;
+  const runtime::Model* model = nullptr;
+  {
+    py::gil_scoped_release unlocked;
+    model = &built.model_for(thetas);
+    run = runtime::simulate_sensitivities(*model, p, initial, thetas, times, options);
+  }
+  if (*interrupt.raised) throw std::move(**interrupt.raised);
+  if (run.failure && run.samples.empty()) throw *run.failure;
+  std::vector<std::string> columns = runtime::csv_header(*model);
+  const std::vector<std::string> sensitivity_columns = runtime::sensitivity_csv_header(*model, thetas);
+  columns.insert(columns.end(), sensitivity_columns.begin(), sensitivity_columns.end());
+  std::vector<runtime::Sample> states;
+  for (const runtime::SensitivitySample& s : run.samples) states.push_back(s.state());
+  py::array_t<double> data = data_of(*model, p, states, columns.size(), [&](std::size_t r, std::vector<double>& v) {
+    runtime::sensitivity_values(*model, run.samples[r], v);
+  });
+  py::dict summary = summary_of(built, *model, p, run.statistics.state, states);
+  summary["sensitivity_residual_evaluations"] = run.statistics.sensitivity_residual_evaluations;
+  return result_of(columns, std::move(data), std::move(summary), run.failure);
+}
+
 py::dict simulate(const BuiltModel& built, double t_end, double rtol, double atol, int outputs,
                   const std::optional<std::vector<double>>& output_times, const std::optional<py::function>& inputs,
-                  long max_steps) {
+                  long max_steps, const std::optional<std::vector<std::string>>& sensitivity) {
   const runtime::Model& model = built.model();
   const double t0 = built.scene.initial.t0;
   std::vector<double> times = output_times ? *output_times : runtime::output_times(t0, t_end, outputs);
@@ -76,16 +222,12 @@ py::dict simulate(const BuiltModel& built, double t_end, double rtol, double ato
   options.rtol = rtol;
   options.atol = atol;
   options.max_steps = max_steps;
-  // Ctrl-C: Python's handler only records the signal while the GIL is released; every 256 steps
-  // the run takes the GIL and lets Python act on it (KeyboardInterrupt), then stops.
-  auto interrupted = std::make_shared<std::optional<py::error_already_set>>();
-  options.stop_requested = [interrupted, steps = 0L]() mutable {
-    if (++steps % 256 != 0) return false;
-    py::gil_scoped_acquire locked;
-    if (PyErr_CheckSignals() == 0) return false;
-    interrupted->emplace();
-    return true;
-  };
+  const InterruptCheck interrupt;
+  if (sensitivity) {
+    if (inputs) throw InputError({"inputs", 0, 0}, "forward sensitivities do not take inputs");
+    return simulate_sensitivities(built, *sensitivity, times, options, interrupt);
+  }
+  options.stop_requested = interrupt;
   const std::vector<double> p = model.default_parameters();
   runtime::InputFunction input_function;
   std::shared_ptr<std::optional<py::error_already_set>> input_failure;
@@ -102,46 +244,11 @@ py::dict simulate(const BuiltModel& built, double t_end, double rtol, double ato
                             options, {}, input_function);
   }
   if (input_failure && *input_failure) throw std::move(**input_failure);
-  if (*interrupted) throw std::move(**interrupted);
+  if (*interrupt.raised) throw std::move(**interrupt.raised);
   if (run.failure && run.samples.empty()) throw *run.failure;
   const std::vector<std::string> columns = runtime::csv_header(model);
-  py::array_t<double> data({static_cast<py::ssize_t>(run.samples.size()), static_cast<py::ssize_t>(columns.size())});
-  auto rows = data.mutable_unchecked<2>();
-  const runtime::CsvRows csv(model, p);
-  std::vector<double> values;
-  for (std::size_t r = 0; r < run.samples.size(); ++r) {
-    csv.row(run.samples[r], values);
-    for (std::size_t c = 0; c < values.size(); ++c)
-      rows(static_cast<py::ssize_t>(r), static_cast<py::ssize_t>(c)) = values[c];
-  }
-  const runtime::Statistics& st = run.statistics;
-  py::dict summary;
-  summary["steps"] = st.steps;
-  summary["residual_evaluations"] = st.residual_evaluations;
-  summary["jacobian_evaluations"] = st.jacobian_evaluations;
-  summary["error_test_failures"] = st.error_test_failures;
-  summary["nonlinear_failures"] = st.nonlinear_failures;
-  summary["linear_solver"] = st.linear_solver;
-  summary["jacobian"] = st.jacobian;
-  summary["derive_seconds"] = built.loaded->timings().derive + built.loaded->timings().generate;
-  summary["compile_seconds"] = built.loaded->timings().compile + built.loaded->timings().load;
-  summary["integrate_seconds"] = st.initialization_seconds + st.integration_seconds;
-  const runtime::DriftReport drift = runtime::measure_drift(model, p, run.samples);
-  summary["hidden_drift"] = drift.max_hidden;
-  summary["reference_error"] = drift.max_error;
-  py::dict invariant_drift;
-  for (int k = 0; k < model.n_invariants(); ++k)
-    invariant_drift[py::str(model.table().invariant_names[k])] = drift.invariant_drift[static_cast<std::size_t>(k)];
-  summary["invariant_drift"] = invariant_drift;
-  py::dict out;
-  out["columns"] = columns;
-  out["data"] = data;
-  out["summary"] = summary;
-  if (run.failure) {  // the samples up to the failure are kept; the caller raises with them
-    out["failure"] = std::string(run.failure->what());
-    out["failure_t"] = run.failure->t();
-  }
-  return out;
+  return result_of(columns, data_of(model, p, run.samples, columns.size()),
+                   summary_of(built, model, p, run.statistics, run.samples), run.failure);
 }
 
 std::vector<double> vector_of(const py::array_t<double, py::array::c_style | py::array::forcecast>& a, int n,
@@ -242,7 +349,8 @@ void register_model(py::module_& m) {
                              })
       .def_property_readonly("model_name", [](const BuiltModel& b) { return b.model().model_name(); })
       .def("simulate", &simulate, py::arg("t_end"), py::arg("rtol"), py::arg("atol"), py::arg("outputs"),
-           py::arg("output_times") = std::nullopt, py::arg("inputs") = std::nullopt, py::arg("max_steps") = 1000000)
+           py::arg("output_times") = std::nullopt, py::arg("inputs") = std::nullopt, py::arg("max_steps") = 1000000,
+           py::arg("sensitivity") = std::nullopt)
       .def_property_readonly("inputs",
                              [](const BuiltModel& b) {
                                std::vector<std::string> names;

@@ -161,3 +161,41 @@ def test_ctrl_c_stops_a_long_run():
             model.simulate(t_end=1e5, outputs=100000, max_steps=10**9)
     finally:
         timer.cancel()
+
+
+def test_sensitivities_follow_the_closed_form():
+    # x = x0 cos(w t) + v0 sin(w t)/w with w = sqrt(k), x0 = 1, v0 = 0, k = 4:
+    # dx/dk = -t sin(w t)/(2 w), dx/dx0 = cos(w t), dx/dv0 = sin(w t)/w.
+    model = nhc.Scene.from_toml(OSCILLATOR).build("chetaev")
+    run = model.simulate(t_end=3, rtol=1e-10, atol=1e-12, outputs=60, sensitivity=["k", "x(0)", "x'(0)"])
+    t, w = run.t, 2.0
+    assert run["x"] == pytest.approx(np.cos(w * t), abs=1e-8)
+    assert run["d(x)/d(k)"] == pytest.approx(-t * np.sin(w * t) / (2 * w), abs=1e-7)
+    assert run["d(x')/d(k)"] == pytest.approx(-(np.sin(w * t) + w * t * np.cos(w * t)) / (2 * w), abs=1e-7)
+    assert run["d(x)/d(x(0))"] == pytest.approx(np.cos(w * t), abs=1e-7)
+    assert run["d(x)/d(x'(0))"] == pytest.approx(np.sin(w * t) / w, abs=1e-7)
+    assert run.summary["sensitivity_residual_evaluations"] > 0
+    assert [c for c in run.columns if c.startswith("d(")][:2] == ["d(x)/d(k)", "d(x')/d(k)"]
+
+
+def test_sensitivity_names_are_checked():
+    model = nhc.Scene.from_toml(OSCILLATOR).build("chetaev")
+    with pytest.raises(nhc.SceneError, match="unknown parameter m"):
+        model.simulate(t_end=1, sensitivity=["m"])
+    with pytest.raises(nhc.SceneError, match="named twice"):
+        model.simulate(t_end=1, sensitivity=["k", "k"])
+    with pytest.raises(nhc.SceneError, match="sensitivity"):
+        model.simulate(t_end=1, sensitivity=[])
+
+
+def test_sensitivity_to_the_slope_of_the_incline(source):
+    # examples/knife_edge_incline.toml: x = g sin(alpha)/(2 w^2) sin^2(w t), so
+    # dx/dalpha = g cos(alpha)/(2 w^2) sin^2(w t); y' = 0 at the start is not given (the constraint fixes it).
+    scene = nhc.Scene.load(source / "examples/knife_edge_incline.toml")
+    model = scene.build("chetaev")
+    run = model.simulate(t_end=1, rtol=1e-10, atol=1e-12, outputs=40, sensitivity=["alpha", "x'(0)"])
+    g, alpha, w = 9.81, 0.3, 2.0
+    expected = g * math.cos(alpha) / (2 * w**2) * np.sin(w * run.t) ** 2
+    assert run["d(x)/d(alpha)"] == pytest.approx(expected, abs=1e-6)
+    with pytest.raises(nhc.SceneError, match="y'\\(0\\) is not given"):
+        model.simulate(t_end=1, sensitivity=["y'(0)"])

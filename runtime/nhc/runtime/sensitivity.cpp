@@ -102,6 +102,28 @@ SensitivityParameter sensitivity_parameter(const Model& model, const std::string
   return theta;
 }
 
+std::vector<SensitivityParameter> sensitivity_parameters(const Model& model, const std::vector<std::string>& names) {
+  std::vector<SensitivityParameter> thetas;
+  for (const std::string& name : names) {
+    thetas.push_back(sensitivity_parameter(model, name));
+    for (size_t k = 0; k + 1 < thetas.size(); ++k)
+      if (thetas[k].kind == thetas.back().kind && thetas[k].index == thetas.back().index)
+        throw std::invalid_argument(name + " is named twice");
+  }
+  return thetas;
+}
+
+void require_given(const std::vector<SensitivityParameter>& thetas, const InitialState& initial) {
+  for (const SensitivityParameter& th : thetas) {
+    if (th.kind != SensitivityParameter::Kind::initial_value) continue;
+    const auto i = static_cast<std::size_t>(th.index);
+    if (i >= initial.given.size() || !initial.given[i])
+      throw std::invalid_argument(th.name +
+                                  " is not given in the scene: it follows from the hidden constraints and the given "
+                                  "values, so it cannot be varied on its own");
+  }
+}
+
 struct SensitivityIntegrator::Impl {
   Model model;
   std::vector<double> p;
@@ -536,6 +558,8 @@ void SensitivityIntegrator::integrate(const std::vector<double>& times,
     s.check(IDAGetSens(s.ida, &tret, s.yS.get()), "reading the sensitivities");
     s.check(IDAGetSensDky(s.ida, tret, 1, s.ypS.get()), "reading the sensitivities' derivatives");
     observer(s.current(tret));
+    if (s.options.stop_requested && s.options.stop_requested())
+      throw SolverError(FailureKind::stopped, tret, "the run was stopped at t = " + format_time(tret));
     if (flag == IDA_ROOT_RETURN) {
       std::vector<int> found(static_cast<size_t>(s.model.n_singular()), 0);
       s.check(IDAGetRootInfo(s.ida, found.data()), "reading the monitors");
@@ -611,6 +635,14 @@ std::vector<std::string> sensitivity_csv_header(const Model& model, const std::v
   return header;
 }
 
+void sensitivity_values(const Model& model, const SensitivitySample& sample, std::vector<double>& values) {
+  values.clear();
+  const auto columns = state_columns(model);
+  for (size_t k = 0; k < sample.s.size(); ++k)
+    for (const auto& [state, derivative] : columns)
+      values.push_back(derivative ? sample.sp[k][static_cast<size_t>(state)] : sample.s[k][static_cast<size_t>(state)]);
+}
+
 void write_sensitivity_csv(std::ostream& out, const Model& model, const std::vector<double>& p,
                            const std::vector<SensitivityParameter>& thetas,
                            const std::vector<SensitivitySample>& samples) {
@@ -626,13 +658,13 @@ void write_sensitivity_csv(std::ostream& out, const Model& model, const std::vec
   out << line;
   for (const std::string& name : sensitivity_csv_header(model, thetas)) out << ',' << name;
   out << '\n';
-  const auto columns = state_columns(model);
   const auto precision = out.precision(17);
+  std::vector<double> values;
   for (const SensitivitySample& s : samples) {
     std::getline(lines, line);
     out << line;
-    for (size_t k = 0; k < thetas.size(); ++k)
-      for (const auto& [state, derivative] : columns) out << ',' << (derivative ? s.sp[k][state] : s.s[k][state]);
+    sensitivity_values(model, s, values);
+    for (double v : values) out << ',' << v;
     out << '\n';
   }
   out.precision(precision);

@@ -36,6 +36,13 @@ struct SensitivityParameter {
 /// algebraic state, whose initial value is not free).
 SensitivityParameter sensitivity_parameter(const Model& model, const std::string& name);
 
+/// sensitivity_parameter of each name; std::invalid_argument also for a name given twice.
+std::vector<SensitivityParameter> sensitivity_parameters(const Model& model, const std::vector<std::string>& names);
+
+/// std::invalid_argument in words for an initial-value θ whose state `initial` does not give: the
+/// hidden constraints fix it from the given values, so it cannot be varied on its own.
+void require_given(const std::vector<SensitivityParameter>& thetas, const InitialState& initial);
+
 struct SensitivityOptions {
   /// Include the sensitivities in IDAS's local error test (IDASetSensErrCon). Off: the steps are
   /// chosen for y alone and the sensitivities follow (cheaper, less accurate); their corrector
@@ -97,6 +104,9 @@ SensitivityRun simulate_sensitivities(const Model& model, const std::vector<doub
 /// Column names `d(<column>)/d(<θ>)` for every state column of csv_header (x, x', x'' …,
 /// multipliers), θ by θ.
 std::vector<std::string> sensitivity_csv_header(const Model& model, const std::vector<SensitivityParameter>& thetas);
+
+/// The values of sensitivity_csv_header's columns at one sample.
+void sensitivity_values(const Model& model, const SensitivitySample& sample, std::vector<double>& values);
 
 /// write_csv's columns followed by the sensitivity columns.
 void write_sensitivity_csv(std::ostream& out, const Model& model, const std::vector<double>& p,
