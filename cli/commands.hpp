@@ -25,6 +25,7 @@ CommandRunner add_ensemble_command(CLI::App& app);
 CommandRunner add_plot_command(CLI::App& app);
 CommandRunner add_connect_command(CLI::App& app);
 CommandRunner add_linearize_command(CLI::App& app);
+CommandRunner add_animate_command(CLI::App& app);
 
 /// `--expand`: read the scene with every definition substituted (SceneOptions), the fully
 /// expanded equations; by default definitions stay named intermediates (docs/intermediates.md).

@@ -38,6 +38,7 @@ int run_command_line(int argc, char** argv) {
   add(nhc::cli::add_plot_command);
   add(nhc::cli::add_connect_command);
   add(nhc::cli::add_linearize_command);
+  add(nhc::cli::add_animate_command);
 
   nhc::cli::flag_rules::refuse_empty_values(app);
   if (const auto flag = nhc::cli::flag_rules::empty_inline_value(argc, argv)) {

@@ -1,6 +1,6 @@
 #include "model_requirements.hpp"
 
-#include <toml++/toml.h>
+#include "nhc/scene/scene_toml.hpp"
 
 #include <optional>
 

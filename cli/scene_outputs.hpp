@@ -11,12 +11,12 @@
 
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/scene/scene.hpp"
+#include "sample_expressions.hpp"
 
 namespace nhc::cli {
 
 class SceneOutputs {
  public:
-  SceneOutputs() = default;
   /// Binds each output to the model's solution with the parameter values `p` (the model's
   /// order). An output that uses a quantity the model does not compute (a multiplier of the
   /// suslov model, x''' of a second-order system) is left out, with a line in notes(); a
@@ -34,17 +34,9 @@ class SceneOutputs {
   std::vector<double> evaluate(const runtime::Sample& sample) const;
 
  private:
-  /// Where a jet symbol's value is found in a sample: y[index] or y'[index].
-  struct Source {
-    GiNaC::ex symbol;
-    bool derivative;
-    int index;
-  };
   std::vector<std::string> names_;
   std::vector<std::string> notes_;
-  std::vector<GiNaC::ex> expressions_;  // parameters already substituted
-  std::vector<Source> sources_;
-  GiNaC::ex time_;
+  SampleExpressions expressions_;
 };
 
 }  // namespace nhc::cli

@@ -30,6 +30,7 @@
 #include "nhc/scene/scene.hpp"
 #include "nhc/scene/tolerances.hpp"
 #include "pipeline.hpp"
+#include "run_flags.hpp"
 #include "trajectory_plots.hpp"
 #include "sensitivity_option.hpp"
 
@@ -38,30 +39,14 @@ namespace nhc::cli {
 namespace {
 
 struct SimulateOptions {
-  std::string scene_path;
-  std::string model;
-  std::optional<double> t_end, rtol, atol;
-  bool project = false, repair = false;
-  long max_steps = 1000000;
-  std::optional<int> outputs;
-  std::string output_times, columns;
+  RunFlags run;
+  std::string columns;
   std::string output;
-  std::vector<std::string> set;
-  std::vector<std::string> inputs;  ///< --input NAME=EXPR | NAME=@FILE.csv
   std::string plot, plot_xy;  // trajectory_plots.hpp
   SensitivityRequest sensitivity;
-  SceneOptions read;
 };
 
 std::string format(double v, int precision = 3) { return format_number(v, precision); }
-
-/// The flags that override [simulate], against the scene: t_end after t0.
-void check_simulate_flags(const SimulateOptions& options, const Scene& scene) {
-  auto bad = [&](const std::string& message) { throw InputError({options.scene_path, 0, 0}, message); };
-  // Finite, and the tolerances positive and within reach: the flags' own rules (flag_rules.hpp).
-  if (options.t_end && !(*options.t_end > scene.initial.t0))
-    bad("--t-end " + format(*options.t_end, 17) + " must be after t0 = " + format(scene.initial.t0, 17));
-}
 
 /// The initial-point check's outcome in the scene cache (nhc/jit/scene_cache.hpp): whether a run
 /// with the same scene, overrides, tolerances, model and --repair-initial passed it before.
@@ -144,32 +129,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
   auto options = std::make_shared<SimulateOptions>();
   CLI::App* sub = app.add_subcommand(
       "simulate", "derive, generate, compile and integrate one model of a scene with SUNDIALS IDA");
-  sub->add_option("SCENE", options->scene_path, "scene file (TOML)")->required();
-  sub->add_option("--model,-m", options->model, "model (default: the scene's [simulate] model, else chetaev)")
-      ->check(CLI::IsMember(model_names()));
-  sub->add_option("--t-end", options->t_end, "final time (default: [simulate] t_end)")->check(flag_rules::finite());
-  sub->add_option("--rtol", options->rtol, "relative tolerance (default: [simulate] rtol)")
-      ->check(flag_rules::relative_tolerance());
-  sub->add_option("--atol", options->atol, "absolute tolerance (default: [simulate] atol)")
-      ->check(flag_rules::absolute_tolerance());
-  sub->add_option("--max-steps", options->max_steps, "limit on the internal steps of the run (default 1000000)")
-      ->check(flag_rules::count(1, 1000000000000LL));
-  add_set_option(sub, options->set);
-  sub->add_option("--input", options->inputs,
-                  "NAME=EXPR or NAME=@FILE.csv: replace the default signal of the scene's input NAME by an "
-                  "expression of t and the parameters, or a time series (columns t and NAME, linear "
-                  "interpolation; repeatable)");
-  add_expand_flag(sub, options->read);
-  sub->add_flag("--project", options->project, "project onto the hidden constraints (docs/projection.md)");
-  sub->add_flag("--repair-initial", options->repair,
-                "move given initial values that miss a hidden constraint to the nearest consistent point");
-  CLI::Option* outputs = sub->add_option("--outputs", options->outputs,
-                                         "number of output intervals (default: [simulate] outputs, else 200)")
-                             ->check(flag_rules::count(1, flag_rules::kMaxOutputs));
-  sub->add_option("--output-times", options->output_times,
-                  "START:STEP:END or T1,T2,...: the output times (the last is the end of the run)")
-      ->excludes(outputs)
-      ->excludes("--t-end");
+  add_run_flags(sub, options->run);
   sub->add_option("--columns", options->columns, "x,y,...: the CSV columns after t (default: all)");
   sub->add_option("-o,--output", options->output,
                   "CSV file for the solution ('-': standard output, the summary then on standard error)");
@@ -182,31 +142,26 @@ CommandRunner add_simulate_command(CLI::App& app) {
   return [options]() {
     // Derive, reduce, generate (Jacobian kind by nhc::default_jacobian_kind), compile (or reuse), load.
     const auto load_start = Clock::now();
-    const Scene scene = load_scene(options->scene_path, options->read);
-    const ModelKind kind = model_or_default(scene, options->model);
+    const Scene scene = load_scene(options->run.scene_path, options->run.read);
+    const ModelKind kind = model_or_default(scene, options->run.model);
     require_model_inputs(scene, kind);
     if (!options->sensitivity.names.empty()) refuse_inputs(scene, "forward sensitivities", "--sensitivity");
-    check_simulate_flags(*options, scene);  // before anything is compiled or written
+    check_run_flags(options->run, scene);  // before anything is compiled or written
     const bool csv_to_stdout = options->output == "-";
-    if (!options->output.empty() && !csv_to_stdout) check_output_file(options->output, {options->scene_path});
+    if (!options->output.empty() && !csv_to_stdout) check_output_file(options->output, {options->run.scene_path});
     std::ostream& info = csv_to_stdout ? std::cerr : std::cout;
     PathPlane plane;
     if (!options->plot.empty()) require_gnuplot("--plot"), plane = path_plane(scene, options->plot_xy, "--plot-xy");
-    const std::vector<ParameterOverride> overrides = parse_parameter_overrides(scene, options->set);
+    const std::vector<ParameterOverride> overrides = parse_parameter_overrides(scene, options->run.set);
     Scene scene_set = scene;  // the overridden values for the analysis; the model takes them at run time
     apply_parameter_overrides(scene_set, overrides);
     const double t0 = scene.initial.t0;
-    const std::vector<double> times =
-        options->output_times.empty()
-            ? flag_rules::output_times(t0, options->t_end.value_or(scene.simulate.t_end),
-                                       options->outputs.value_or(scene.simulate.outputs.value_or(200)),
-                                       "--t-end/--outputs")
-            : parse_output_times(options->output_times, t0);
+    const std::vector<double> times = run_output_times(options->run, scene);
     const double t_end = times.back();
-    const InputSignals input_signals = parse_input_signals(scene_set, options->inputs, t0, t_end);
+    const InputSignals input_signals = parse_input_signals(scene_set, options->run.inputs, t0, t_end);
     const InitialPointCheck check =
-        check_initial_point(scene_set, kind, options->rtol.value_or(scene.simulate.rtol),
-                            options->atol.value_or(scene.simulate.atol), options->repair);
+        check_initial_point(scene_set, kind, options->run.rtol.value_or(scene.simulate.rtol),
+                            options->run.atol.value_or(scene.simulate.atol), options->run.repair);
     const double load_seconds = seconds_since(load_start);
     jit::BuildOptions build_options;
     build_options.sensitivities = !options->sensitivity.names.empty();
@@ -222,23 +177,15 @@ CommandRunner add_simulate_command(CLI::App& app) {
     const double compile_seconds = built.timings().compile + built.timings().load;
 
     // Integrate.
-    runtime::IntegratorOptions io;
-    io.rtol = options->rtol.value_or(scene.simulate.rtol);
-    io.atol = options->atol.value_or(scene.simulate.atol);
-    io.projection = options->project ? runtime::ProjectionMethod::in_place : runtime::ProjectionMethod::none;
+    runtime::IntegratorOptions io = run_integrator_options(options->run, scene);
     io.progress = true;
-    io.max_steps = options->max_steps;
     const std::vector<double> p = parameters_with_overrides(model, overrides);
     const SceneOutputs outputs(scene_set, model, p);  // [outputs]: extra CSV columns
     for (const std::string& note : outputs.notes()) std::cerr << note << "\n";
     const std::vector<std::string> columns =
         options->columns.empty() ? std::vector<std::string>{}
                                  : parse_columns(options->columns, csv_columns(model, p, outputs));
-    runtime::InitialState initial = initial_state_of(scene_set, model);  // [initial] expressions follow --set
-    if (options->repair)  // every value may move but those pinned by [initial] fixed
-      for (int i = 0; i < model.n_states(); ++i)
-        initial.given[static_cast<std::size_t>(i)] =
-            std::find(scene.initial.fixed.begin(), scene.initial.fixed.end(), model.state_name(i)) != scene.initial.fixed.end();
+    const runtime::InitialState initial = run_initial_state(options->run, scene_set, model);
     if (build_options.sensitivities) check_sensitivities_given(model, initial, options->sensitivity.names);
     const runtime::RunResult run =
         runtime::simulate(model, p, initial, times, io, {}, input_function(input_signals, model, p));
@@ -273,12 +220,12 @@ CommandRunner add_simulate_command(CLI::App& app) {
     else
       info << ", never started: the run stopped at t0 = " << t0 << " (t_end " << t_end << ")";
     info << ", rtol " << io.rtol
-              << ", atol " << io.atol << (options->project ? ", projection" : "") << "\n"
+              << ", atol " << io.atol << (options->run.project ? ", projection" : "") << "\n"
               << "  steps " << st.steps << ", residual evaluations " << st.residual_evaluations
               << ", Jacobian evaluations " << st.jacobian_evaluations << " (" << st.linear_solver << ", "
               << st.jacobian << "), error-test failures " << st.error_test_failures << ", nonlinear failures "
               << st.nonlinear_failures;
-    if (options->project) info << ", projections " << st.projections;
+    if (options->run.project) info << ", projections " << st.projections;
     info << "\n  time: derive " << format(derive_seconds) << " s" << (scene_cached ? " (scene cache)" : "")
          << ", compile " << format(compile_seconds) << " s"
               << (built.library().reused ? " (cached)" : "") << ", integrate "

@@ -14,7 +14,8 @@ packages=(
   libssl-dev
   libhdf5-dev libopenmpi-dev openmpi-bin
   pybind11-dev python3-dev python3-numpy python3-pytest
-  python3-nbclient python3-ipykernel python3-matplotlib
+  python3-nbclient python3-ipykernel python3-matplotlib python3-pil
+  libjs-three chromium
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -14,6 +14,7 @@
 #include "nhc/jet/jet_space.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/scene/model_kind.hpp"
+#include "nhc/scene/scene_visual.hpp"
 
 namespace nhc {
 
@@ -99,6 +100,8 @@ struct Scene {
   std::vector<GiNaC::ex> forces;
   /// [inputs], in file order (JetSpace::inputs() order).
   std::vector<SceneInput> inputs;
+  /// [visual], in file order: what `nhc animate` draws.
+  std::vector<SceneVisual> visuals;
   /// "FILE:LINE:COLUMN: warning: …" lines (a definition never used); load_scene prints them.
   std::vector<std::string> warnings;
 

@@ -1,8 +1,9 @@
 // Reads scene TOML files (toml++) into Scene, validating every key and expression.
 // Each problem becomes an InputError with the file, line and column of the offending value.
-#include <toml++/toml.h>
+#include "nhc/scene/scene_toml.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -159,7 +160,7 @@ class SceneReader {
 
     check_keys(root, {"name", "coordinates", "lagrangian", "constraints", "dependent", "models",
                       "parameters", "initial", "simulate", "reference", "invariants",
-                      "definitions", "forces", "outputs", "inputs"});
+                      "definitions", "forces", "outputs", "inputs", "visual"});
 
     Scene scene;
     scene.source_path = path_;
@@ -300,6 +301,7 @@ class SceneReader {
       scene.invariants = read_quantities(*in, "invariants", "invariant", *scene.jet, multipliers_allowed(mechanics));
     read_outputs(root, scene, mechanics);
     read_forces(root, scene, mechanics);
+    read_visuals(root, scene, mechanics);
     definitions.resolve_all();
     for (const auto& [name, where] : definitions.unused())
       scene.warnings.push_back(where.str() + ": warning: definition '" + name + "' is never used");
@@ -520,6 +522,109 @@ class SceneReader {
     return quantities;
   }
 
+  /// A value of the scene language (value.hpp) written at `node`: a string, a number (a scalar)
+  /// or an array of numbers and strings (a vector).
+  Value value_at(const toml::node& node, const std::string& what, const JetSpace& jet, const ExpressionRules& rules) {
+    if (node.is_number()) return Value::scalar(GiNaC::ex(number_value(node, what)));
+    if (const toml::array* entries = node.as_array()) {
+      std::vector<GiNaC::ex> vector;
+      for (const toml::node& entry : *entries)
+        vector.push_back(entry.is_string() ? expression(entry, what, jet, rules) : GiNaC::ex(number_value(entry, what)));
+      if (vector.size() < 2) fail(node, what + " must have at least two entries");
+      return Value::vector(std::move(vector));
+    }
+    const std::string text = string_value(node, what);
+    try {
+      return parse_value(text, jet, rules);
+    } catch (const ExpressionSyntaxError& e) {
+      throw InputError(expression_location(node, e.offset()), "in " + what + " \"" + printable(text) + "\": " + e.what());
+    }
+  }
+
+  /// [visual]: name = { shape = "sphere", radius = "r", center = "c", … } (scene_visual.hpp),
+  /// each value checked for its kind: a scalar, a 3-vector, a rotation (R Rᵀ = I
+  /// symbolically, else at the initial point).
+  void read_visuals(const toml::table& root, Scene& scene, const ExpressionRules& rules) {
+    const toml::node* node = root.get("visual");
+    if (!node) return;
+    for (const auto& [key, value] : entries_in_file_order(*node, "visual")) {
+      const std::string n(key->str());
+      if (!is_valid_identifier(n))
+        throw InputError(at(key->source()), "invalid visual name '" + printable(n) +
+                                                "': it must match [A-Za-z_][A-Za-z0-9_]* (at most 64 characters)");
+      const std::string what = "visual '" + n + "'";
+      const toml::table& table = table_value(*value, what);
+      SceneVisual visual;
+      visual.name = n;
+      visual.where = at(key->source());
+      const std::string shape_name = string_value(require(table, "shape", what), what + " shape");
+      const std::optional<VisualShape> shape = parse_visual_shape(shape_name);
+      if (!shape)
+        fail(*table.get("shape"), "unknown shape '" + printable(shape_name) + "' (known: " + visual_shape_names() + ")");
+      visual.shape = *shape;
+      std::set<std::string> allowed{"shape", "color", "opacity"};
+      for (const VisualKey& k : visual_keys(visual.shape)) allowed.insert(k.name);
+      if (visual.shape == VisualShape::cylinder) allowed.insert("axis");
+      check_keys(table, allowed);
+      for (const VisualKey& k : visual_keys(visual.shape)) {
+        const toml::node* entry = table.get(k.name);
+        if (!entry) {
+          if (k.required) require(table, k.name, what + ", shape " + shape_name);
+          continue;
+        }
+        const std::string entry_what = what + " " + k.name;
+        const Value v = value_at(*entry, entry_what, *scene.jet, rules);
+        check_visual_value(*entry, entry_what, k.kind, v, rules);
+        visual.values.emplace(k.name, v);
+        visual.value_where.emplace(k.name, at(*entry));
+      }
+      if (const toml::node* axis = table.get("axis")) {
+        const std::string a = string_value(*axis, what + " axis");
+        if (a != "x" && a != "y" && a != "z") fail(*axis, what + " axis must be \"x\", \"y\" or \"z\"");
+        visual.axis = a[0] - 'x';
+      }
+      if (const toml::node* color = table.get("color")) visual.color = color_value(*color, what + " color");
+      if (const toml::node* opacity = table.get("opacity")) {
+        visual.opacity = number_value(*opacity, what + " opacity");
+        if (!(visual.opacity >= 0 && visual.opacity <= 1)) fail(*opacity, what + " opacity must be between 0 and 1");
+      }
+      scene.visuals.push_back(std::move(visual));
+    }
+  }
+
+  void check_visual_value(const toml::node& node, const std::string& what, VisualValueKind kind, const Value& v,
+                          const ExpressionRules& rules) const {
+    switch (kind) {
+      case VisualValueKind::scalar:
+        if (!v.is_scalar()) fail(node, what + " must be a scalar, got " + v.describe());
+        break;
+      case VisualValueKind::vector:
+        if (!(v.rows == 3 && v.cols == 1)) fail(node, what + " must be a 3-vector, got " + v.describe());
+        break;
+      case VisualValueKind::rotation:
+        if (!v.is_square3()) fail(node, what + " must be a 3x3 rotation matrix, got " + v.describe());
+        if (!v.angular_velocity) {  // not built from rotx/roty/rotz: check R Rᵀ = I
+          try {
+            require_rotation(v, rules.rotation_check, what.c_str());
+          } catch (const ValueError& e) {
+            fail(node, e.what());
+          }
+        }
+        break;
+    }
+  }
+
+  /// "#rgb" or "#rrggbb", as "#rrggbb".
+  std::string color_value(const toml::node& node, const std::string& what) const {
+    const std::string c = string_value(node, what);
+    const bool hex = c.size() > 1 && c[0] == '#' &&
+                     std::all_of(c.begin() + 1, c.end(), [](unsigned char ch) { return std::isxdigit(ch) != 0; });
+    if (!hex || (c.size() != 4 && c.size() != 7))
+      fail(node, what + " must be \"#rrggbb\" or \"#rgb\" (hexadecimal), not \"" + printable(c) + "\"");
+    if (c.size() == 7) return c;
+    return std::string{'#', c[1], c[1], c[2], c[2], c[3], c[3]};
+  }
+
   /// [reference]: coordinate = "q(t)" for every model; [reference.<model>] for one model.
   void read_reference(const toml::node& node, Scene& scene, const std::vector<std::string>& coordinate_names,
                       const ExpressionRules& mechanics) {
@@ -734,6 +839,7 @@ std::string equations_source(const std::string& text) {
   }
   root.erase("initial");
   root.erase("simulate");
+  root.erase("visual");  // drawn from the run, not part of the equations
   std::ostringstream out;
   out << toml::toml_formatter(root);
   return out.str();

@@ -79,7 +79,8 @@ Value elementary_rotation(int axis, const ex& angle, const JetSpace& jet) {
   return r;
 }
 
-/// R Rᵀ = I: symbolically where the expansion shows it, else at the check point.
+}  // namespace
+
 void require_rotation(const Value& r, const RotationCheck& check, const char* what) {
   if (!r.is_square3())
     throw ValueError(std::string(what) + " needs a 3x3 rotation matrix, got " + r.describe());
@@ -101,8 +102,6 @@ void require_rotation(const Value& r, const RotationCheck& check, const char* wh
                          std::to_string(j + 1) + ", at the initial point)");
     }
 }
-
-}  // namespace
 
 Value Value::vector(std::vector<ex> entries) {
   const auto n = static_cast<unsigned>(entries.size());

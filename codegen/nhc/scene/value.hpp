@@ -77,6 +77,10 @@ Value rotation_z(const GiNaC::ex& angle, const JetSpace& jet);
 struct RotationCheck {
   const GiNaC::exmap* point = nullptr;
 };
+/// ValueError in words unless r is a 3×3 rotation: R Rᵀ = I symbolically where the expansion
+/// shows it, else at check.point. `what` names the user of r in the message ("omega").
+void require_rotation(const Value& r, const RotationCheck& check, const char* what);
+
 /// Spatial angular velocity ω, Ṙ Rᵀ = [ω]×; body angular velocity Rᵀ ω, Rᵀ Ṙ = [Ω]×.
 Value spatial_angular_velocity(const Value& r, const JetSpace& jet, const RotationCheck& check);
 Value body_angular_velocity(const Value& r, const JetSpace& jet, const RotationCheck& check);

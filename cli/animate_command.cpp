@@ -1,0 +1,84 @@
+// nhc animate SCENE [--model M] [the run flags of nhc simulate] -o DIR
+//
+// Runs one model as `nhc simulate` does and writes DIR/index.html: the scene's [visual] shapes
+// moving along the run, a self-contained page with three.js beside it (docs/animate.md). A run
+// that fails part way still gets its page (the motion up to the failure) and exits 3.
+#include <iostream>
+
+#include "animation_page.hpp"
+#include "commands.hpp"
+#include "input_signals.hpp"
+#include "model_requirements.hpp"
+#include "nhc/errors.hpp"
+#include "nhc/jit.hpp"
+#include "nhc/runtime/runtime.hpp"
+#include "parameter_overrides.hpp"
+#include "pipeline.hpp"
+#include "run_flags.hpp"
+#include "visual_samples.hpp"
+
+namespace nhc::cli {
+
+namespace {
+
+struct AnimateOptions {
+  RunFlags run;
+  std::string output;
+};
+
+}  // namespace
+
+CommandRunner add_animate_command(CLI::App& app) {
+  auto options = std::make_shared<AnimateOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "animate", "run one model of a scene and write a 3-D view of its [visual] shapes: DIR/index.html for a browser");
+  add_run_flags(sub, options->run);
+  sub->add_option("-o,--output", options->output, "directory for the page (index.html with three.js beside it)")
+      ->required();
+
+  return [options]() {
+    const RunFlags& flags = options->run;
+    const Scene scene = load_scene(flags.scene_path, flags.read);
+    if (scene.visuals.empty())
+      throw InputError(scene.file_location(),
+                       "the scene has no [visual] table: nothing to draw (shapes: " + visual_shape_names() +
+                           "; docs/animate.md)");
+    const ModelKind kind = model_or_default(scene, flags.model);
+    require_model_inputs(scene, kind);
+    check_run_flags(flags, scene);
+    const std::vector<ParameterOverride> overrides = parse_parameter_overrides(scene, flags.set);
+    Scene scene_set = scene;  // the overridden values for the shapes; the model takes them at run time
+    apply_parameter_overrides(scene_set, overrides);
+    const std::vector<double> times = run_output_times(flags, scene);
+    const InputSignals input_signals = parse_input_signals(scene_set, flags.inputs, scene.initial.t0, times.back());
+
+    const jit::LoadedModel built = jit::build(scene, kind);
+    const runtime::Model& model = built.model();
+    runtime::IntegratorOptions io = run_integrator_options(flags, scene);
+    io.progress = true;
+    const std::vector<double> p = parameters_with_overrides(model, overrides);
+    const runtime::RunResult run = runtime::simulate(model, p, run_initial_state(flags, scene_set, model), times, io, {},
+                                                     input_function(input_signals, model, p));
+    if (run.samples.empty()) {
+      std::cerr << "nhc: error: " << (run.failure ? run.failure->what() : "the run has no sample") << "\n"
+                << "  no page written: the run did not get past t0\n";
+      return kExitMathFailure;
+    }
+    AnimationContent content{scene.name, to_string(kind), {}, visual_tracks(scene_set, model, p, run.samples)};
+    for (const runtime::Sample& s : run.samples) content.times.push_back(s.t);
+    write_animation_page(options->output, content, {flags.scene_path});
+
+    std::cout << "nhc animate: " << scene.name << ", model " << to_string(kind) << ", t from " << content.times.front()
+              << " to " << content.times.back() << ", " << content.times.size() << " samples, " << scene.visuals.size()
+              << " shape" << (scene.visuals.size() == 1 ? "" : "s") << "\n  wrote " << options->output
+              << "/index.html (open it in a browser; #t=1.5 opens it paused at t = 1.5)\n";
+    if (run.failure) {
+      std::cout.flush();
+      std::cerr << "nhc: error: " << run.failure->what() << " (the page shows the motion up to there)\n";
+      return kExitMathFailure;
+    }
+    return kExitOk;
+  };
+}
+
+}  // namespace nhc::cli

@@ -1,0 +1,48 @@
+#pragma once
+/// \file run_flags.hpp
+/// \brief The flags of a run shared by `nhc simulate` and `nhc animate`: the scene, the model,
+/// the time span and outputs, the tolerances, parameter and input overrides.
+
+#include <CLI/CLI.hpp>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "nhc/runtime/runtime.hpp"
+#include "nhc/scene/scene.hpp"
+
+namespace nhc::cli {
+
+struct RunFlags {
+  std::string scene_path;
+  std::string model;
+  std::optional<double> t_end, rtol, atol;
+  bool project = false, repair = false;
+  long max_steps = 1000000;
+  std::optional<int> outputs;
+  std::string output_times;
+  std::vector<std::string> set;
+  std::vector<std::string> inputs;  ///< --input NAME=EXPR | NAME=@FILE.csv
+  SceneOptions read;
+};
+
+/// Registers SCENE, --model, --t-end, --rtol, --atol, --max-steps, --set, --input, --expand,
+/// --project, --repair-initial, --outputs and --output-times on `sub`.
+void add_run_flags(CLI::App* sub, RunFlags& flags);
+
+/// The flags that override [simulate], against the scene: --t-end after t0.
+void check_run_flags(const RunFlags& flags, const Scene& scene);
+
+/// The output times: --output-times, else t0 to --t-end ([simulate] t_end) in --outputs
+/// ([simulate] outputs, else 200) intervals. InputError naming the flag for a bad one.
+std::vector<double> run_output_times(const RunFlags& flags, const Scene& scene);
+
+/// IDA's options: the tolerances of the flags, else of [simulate]; --project, --max-steps.
+runtime::IntegratorOptions run_integrator_options(const RunFlags& flags, const Scene& scene);
+
+/// The initial state from [initial] of `scene_set` (the scene after --set); with
+/// --repair-initial every value may move but those [initial] fixed pins.
+runtime::InitialState run_initial_state(const RunFlags& flags, const Scene& scene_set, const runtime::Model& model);
+
+}  // namespace nhc::cli

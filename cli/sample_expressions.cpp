@@ -1,0 +1,75 @@
+#include "sample_expressions.hpp"
+
+#include <cmath>
+
+#include "nhc/jet/intermediate.hpp"
+
+namespace nhc::cli {
+
+namespace {
+
+std::string primed(const std::string& variable, int order) {
+  return variable + std::string(static_cast<std::size_t>(order), '\'');
+}
+
+}  // namespace
+
+SampleExpressions::SampleExpressions(const Scene& scene, const runtime::Model& model, const std::vector<double>& p)
+    : scene_(&scene), model_(&model) {
+  const JetSpace& jet = *scene.jet;
+  // The model's values, and the scene's for a parameter only these expressions use (it is not
+  // in the header; --set has given it to the scene).
+  for (int k = 0; k < static_cast<int>(jet.parameters().size()); ++k) {
+    const int i = model.parameter_index(jet.parameters()[static_cast<std::size_t>(k)]);
+    parameters_[jet.parameter(k)] =
+        i >= 0 ? p.at(static_cast<std::size_t>(i)) : scene.parameter_values.at(static_cast<std::size_t>(k));
+  }
+}
+
+std::string SampleExpressions::add(const GiNaC::ex& expression) {
+  const JetSpace& jet = *scene_->jet;
+  const runtime::Model& model = *model_;
+  const GiNaC::ex e = expand_intermediates(expression);
+  // Every jet symbol of e in the model's samples: the state holding it, else the derivative y'
+  // of the state one order below.
+  std::vector<Source> found;
+  for (const JetCoordinate& c : jet.jet_coordinates_in(e)) {
+    const int variable = c.kind == VariableKind::coordinate ? c.index : model.n_coordinates() + c.index;
+    const bool known = c.kind == VariableKind::coordinate || c.index < model.n_multipliers();
+    const int state = known ? model.state_index(variable, c.order) : -1;
+    const int below = known && c.order > 0 ? model.state_index(variable, c.order - 1) : -1;
+    if (state >= 0)
+      found.push_back({jet.symbol(c), false, state});
+    else if (below >= 0 && model.is_differential(below))
+      found.push_back({jet.symbol(c), true, below});
+    else
+      return primed(jet.variable_name(c.kind, c.index), c.order) +
+             (known ? "" : " (it has no multiplier " + jet.variable_name(c.kind, c.index) + ")");
+  }
+  for (const Source& s : found)
+    if (bound_.insert(s.symbol).second) sources_.push_back(s);
+  expressions_.push_back(e.subs(parameters_, GiNaC::subs_options::no_pattern));
+  return "";
+}
+
+std::vector<double> SampleExpressions::evaluate(const runtime::Sample& sample) const {
+  GiNaC::exmap values;
+  values[scene_->jet->time()] = sample.t;
+  for (const Source& s : sources_)
+    values[s.symbol] = (s.derivative ? sample.yp : sample.y)[static_cast<std::size_t>(s.index)];
+  std::vector<double> out;
+  out.reserve(expressions_.size());
+  for (const GiNaC::ex& e : expressions_) {
+    double v = NAN;
+    try {
+      const GiNaC::ex value = e.subs(values, GiNaC::subs_options::no_pattern).evalf();
+      if (GiNaC::is_a<GiNaC::numeric>(value) && value.info(GiNaC::info_flags::real))
+        v = GiNaC::ex_to<GiNaC::numeric>(value).to_double();
+    } catch (const std::exception&) {  // a pole: 1/x at x = 0
+    }
+    out.push_back(std::isfinite(v) ? v : NAN);
+  }
+  return out;
+}
+
+}  // namespace nhc::cli

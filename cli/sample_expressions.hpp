@@ -1,0 +1,49 @@
+#pragma once
+/// \file sample_expressions.hpp
+/// \brief Expressions of the scene (t, parameters, coordinates and their derivatives, the
+/// multipliers, definitions) evaluated on the samples of a run: the values of [outputs] and of
+/// [visual] (scene_outputs.hpp, visual_samples.hpp).
+
+#include <ginac/ginac.h>
+
+#include <string>
+#include <vector>
+
+#include "nhc/runtime/runtime.hpp"
+#include "nhc/scene/scene.hpp"
+
+namespace nhc::cli {
+
+class SampleExpressions {
+ public:
+  /// Parameters take the model's values `p` (the model's order), and the scene's for one the
+  /// model does not read.
+  SampleExpressions(const Scene& scene, const runtime::Model& model, const std::vector<double>& p);
+
+  /// Adds e (its definitions substituted); its value is evaluate()'s entry number size() - 1.
+  /// When the model does not compute a quantity e uses (a multiplier of the suslov model,
+  /// x''' of a second-order system), e is not added and that quantity is returned in scene
+  /// notation ("x'''"); "" when e was added.
+  std::string add(const GiNaC::ex& e);
+
+  std::size_t size() const noexcept { return expressions_.size(); }
+  /// The expressions' values at one sample; NaN where one is not a finite real number there
+  /// (sqrt of a negative number, a division by zero).
+  std::vector<double> evaluate(const runtime::Sample& sample) const;
+
+ private:
+  /// Where a jet symbol's value is found in a sample: y[index] or y'[index].
+  struct Source {
+    GiNaC::ex symbol;
+    bool derivative;
+    int index;
+  };
+  const Scene* scene_;
+  const runtime::Model* model_;
+  GiNaC::exmap parameters_;
+  std::vector<GiNaC::ex> expressions_;  // parameters already substituted
+  std::vector<Source> sources_;
+  GiNaC::exset bound_;
+};
+
+}  // namespace nhc::cli

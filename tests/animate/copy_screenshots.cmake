@@ -1,0 +1,11 @@
+# cmake -DFROM=<build>/tests/animate -DTO=<source>/docs/animate -P copy_screenshots.cmake
+file(GLOB shots "${FROM}/*/*-t*.png")
+if(NOT shots)
+  message(FATAL_ERROR "no screenshots in ${FROM}: run ctest -L browser first")
+endif()
+file(MAKE_DIRECTORY "${TO}")
+foreach(shot IN LISTS shots)
+  get_filename_component(name "${shot}" NAME)
+  file(COPY_FILE "${shot}" "${TO}/${name}")
+  message(STATUS "docs/animate/${name}")
+endforeach()
