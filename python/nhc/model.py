@@ -15,7 +15,15 @@ class Run:
         self.columns = list(result["columns"])
         self._data = _np.asarray(result["data"])
         self._index = {name: k for k, name in enumerate(self.columns)}
-        self.summary = dict(result["summary"])
+        self._summary = result["summary"]  # built on first use
+
+    @property
+    def summary(self):
+        """steps, evaluations, the time split and the drift (hidden constraints, reference,
+        invariants): a dict, measured on first use."""
+        if callable(self._summary):
+            self._summary = self._summary()
+        return self._summary
 
     @property
     def t(self):

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -37,7 +38,14 @@ struct BuiltModel {
   ModelKind kind;
   std::shared_ptr<jit::LoadedModel> loaded;
   std::shared_ptr<SensitivityBuild> with_sensitivities = std::make_shared<SensitivityBuild>();
+  /// runtime::csv_header(model()) as Python strings, made on first use; created, read and
+  /// destroyed with the GIL held (BuiltModel lives in Python objects).
+  std::shared_ptr<py::tuple> csv_columns = std::make_shared<py::tuple>();
   const runtime::Model& model() const { return loaded->model(); }
+  const py::tuple& columns() const {
+    if (csv_columns->empty()) *csv_columns = py::cast(runtime::csv_header(model()));
+    return *csv_columns;
+  }
 
   /// The loaded model for `thetas`: this one unless a parameter is among them and dF/dp is
   /// missing. Called with the GIL released.
@@ -58,8 +66,12 @@ struct BuiltModel {
 
 BuiltModel build(const Scene& scene, const std::string& model) {
   const ModelKind kind = model_named(model);
-  py::gil_scoped_release unlocked;
-  return BuiltModel{scene, kind, std::make_shared<jit::LoadedModel>(jit::build(scene, kind))};
+  std::shared_ptr<jit::LoadedModel> loaded;
+  {
+    py::gil_scoped_release unlocked;
+    loaded = std::make_shared<jit::LoadedModel>(jit::build(scene, kind));
+  }
+  return BuiltModel{scene, kind, std::move(loaded)};  // with the GIL: it holds Python objects
 }
 
 /// One run: the CSV's columns as a matrix (rows: output times) and the summary.
@@ -109,28 +121,45 @@ struct InterruptCheck {
   }
 };
 
-/// The summary of a run: IDA's counters, the time split, the drift of the samples.
-py::dict summary_of(const BuiltModel& built, const runtime::Model& model, const std::vector<double>& p,
-                    const runtime::Statistics& st, const std::vector<runtime::Sample>& samples) {
-  py::dict summary;
-  summary["steps"] = st.steps;
-  summary["residual_evaluations"] = st.residual_evaluations;
-  summary["jacobian_evaluations"] = st.jacobian_evaluations;
-  summary["error_test_failures"] = st.error_test_failures;
-  summary["nonlinear_failures"] = st.nonlinear_failures;
-  summary["linear_solver"] = st.linear_solver;
-  summary["jacobian"] = st.jacobian;
-  summary["derive_seconds"] = built.loaded->timings().derive + built.loaded->timings().generate;
-  summary["compile_seconds"] = built.loaded->timings().compile + built.loaded->timings().load;
-  summary["integrate_seconds"] = st.initialization_seconds + st.integration_seconds;
-  const runtime::DriftReport drift = runtime::measure_drift(model, p, samples);
-  summary["hidden_drift"] = drift.max_hidden;
-  summary["reference_error"] = drift.max_error;
-  py::dict invariant_drift;
-  for (int k = 0; k < model.n_invariants(); ++k)
-    invariant_drift[py::str(model.table().invariant_names[k])] = drift.invariant_drift[static_cast<std::size_t>(k)];
-  summary["invariant_drift"] = invariant_drift;
-  return summary;
+/// The summary of a run (IDA's counters, the time split, the drift of the samples), built when
+/// it is first read (Run.summary): a loop of runs that never reads it does not pay for it.
+/// `extra` entries (the sensitivities' counters) are added to it.
+py::cpp_function summary_of(const BuiltModel& built, const runtime::Model& model, std::vector<double> p,
+                            const runtime::Statistics& st, std::vector<runtime::Sample> samples,
+                            std::map<std::string, long> extra = {}) {
+  struct Run {
+    std::vector<double> p;
+    runtime::Statistics statistics;
+    std::vector<runtime::Sample> samples;
+    std::map<std::string, long> extra;
+  };
+  auto run = std::make_shared<Run>(Run{std::move(p), st, std::move(samples), std::move(extra)});
+  // The libraries that own `model` (the plain one, or the one with dF/dp) stay loaded as long as
+  // the function lives; the timings are the plain build's.
+  const jit::BuildTimings timings = built.loaded->timings();
+  return py::cpp_function([keep = built.loaded, keep_sensitivities = built.with_sensitivities, timings, &model, run]() {
+    const runtime::Statistics& st = run->statistics;
+    py::dict summary;
+    summary["steps"] = st.steps;
+    summary["residual_evaluations"] = st.residual_evaluations;
+    summary["jacobian_evaluations"] = st.jacobian_evaluations;
+    summary["error_test_failures"] = st.error_test_failures;
+    summary["nonlinear_failures"] = st.nonlinear_failures;
+    summary["linear_solver"] = st.linear_solver;
+    summary["jacobian"] = st.jacobian;
+    summary["derive_seconds"] = timings.derive + timings.generate;
+    summary["compile_seconds"] = timings.compile + timings.load;
+    summary["integrate_seconds"] = st.initialization_seconds + st.integration_seconds;
+    for (const auto& [name, value] : run->extra) summary[py::str(name)] = value;
+    const runtime::DriftReport drift = runtime::measure_drift(model, run->p, run->samples);
+    summary["hidden_drift"] = drift.max_hidden;
+    summary["reference_error"] = drift.max_error;
+    py::dict invariant_drift;
+    for (int k = 0; k < model.n_invariants(); ++k)
+      invariant_drift[py::str(model.table().invariant_names[k])] = drift.invariant_drift[static_cast<std::size_t>(k)];
+    summary["invariant_drift"] = invariant_drift;
+    return summary;
+  });
 }
 
 /// The CSV's columns (and `extra` ones, filled by `extra_values` per sample) as a matrix whose
@@ -153,10 +182,10 @@ py::array_t<double> data_of(const runtime::Model& model, const std::vector<doubl
 
 /// The result dict Model.simulate turns into a Run; a failure after some samples is reported in
 /// it (the caller raises with the samples kept), one before any is thrown.
-py::dict result_of(const std::vector<std::string>& columns, py::array_t<double> data, py::dict summary,
+py::dict result_of(py::object columns, py::array_t<double> data, py::cpp_function summary,
                    const std::optional<runtime::SolverError>& failure) {
   py::dict out;
-  out["columns"] = columns;
+  out["columns"] = std::move(columns);
   out["data"] = std::move(data);
   out["summary"] = std::move(summary);
   if (failure) {
@@ -205,9 +234,10 @@ py::dict simulate_sensitivities(const BuiltModel& built, const std::vector<std::
   py::array_t<double> data = data_of(*model, p, states, columns.size(), [&](std::size_t r, std::vector<double>& v) {
     runtime::sensitivity_values(*model, run.samples[r], v);
   });
-  py::dict summary = summary_of(built, *model, p, run.statistics.state, states);
-  summary["sensitivity_residual_evaluations"] = run.statistics.sensitivity_residual_evaluations;
-  return result_of(columns, std::move(data), std::move(summary), run.failure);
+  return result_of(py::cast(columns), std::move(data),
+                   summary_of(built, *model, p, run.statistics.state, std::move(states),
+                              {{"sensitivity_residual_evaluations", run.statistics.sensitivity_residual_evaluations}}),
+                   run.failure);
 }
 
 py::dict simulate(const BuiltModel& built, double t_end, double rtol, double atol, int outputs,
@@ -246,9 +276,10 @@ py::dict simulate(const BuiltModel& built, double t_end, double rtol, double ato
   if (input_failure && *input_failure) throw std::move(**input_failure);
   if (*interrupt.raised) throw std::move(**interrupt.raised);
   if (run.failure && run.samples.empty()) throw *run.failure;
-  const std::vector<std::string> columns = runtime::csv_header(model);
-  return result_of(columns, data_of(model, p, run.samples, columns.size()),
-                   summary_of(built, model, p, run.statistics, run.samples), run.failure);
+  const py::tuple& columns = built.columns();
+  py::array_t<double> data = data_of(model, p, run.samples, columns.size());
+  return result_of(columns, std::move(data), summary_of(built, model, p, run.statistics, std::move(run.samples)),
+                   run.failure);
 }
 
 std::vector<double> vector_of(const py::array_t<double, py::array::c_style | py::array::forcecast>& a, int n,

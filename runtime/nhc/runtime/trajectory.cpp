@@ -31,31 +31,38 @@ std::vector<int> highest_differential_states(const Model& model) {
 }  // namespace
 
 Observables observe(const Model& model, const std::vector<double>& parameters, const Sample& s) {
+  Observables o;
+  std::vector<double> scratch;
+  observe(model, parameters, s, o, scratch);
+  return o;
+}
+
+void observe(const Model& model, const std::vector<double>& parameters, const Sample& s, Observables& o,
+             std::vector<double>& scratch) {
   const auto& tab = model.table();
   // The generated functions read the inputs after the parameters (inputs.hpp): the sample's.
-  std::vector<double> p = parameters;
+  const double* p = parameters.data();
   if (model.n_inputs() > 0) {
     if (static_cast<int>(s.u.size()) != model.n_inputs())
       throw ModelError("a sample of a model with " + std::to_string(model.n_inputs()) + " inputs carries " +
                        std::to_string(s.u.size()) + " input values");
-    p.insert(p.end(), s.u.begin(), s.u.end());
+    scratch.assign(parameters.begin(), parameters.end());
+    scratch.insert(scratch.end(), s.u.begin(), s.u.end());
+    p = scratch.data();
   }
-  Observables o;
   o.hidden.resize(model.n_hidden());
-  if (model.n_hidden() > 0) tab.hidden_constraints(s.t, s.y.data(), p.data(), o.hidden.data());
+  if (model.n_hidden() > 0) tab.hidden_constraints(s.t, s.y.data(), p, o.hidden.data());
   o.invariants.resize(model.n_invariants());
-  if (model.n_invariants() > 0) tab.invariants(s.t, s.y.data(), s.yp.data(), p.data(), o.invariants.data());
+  if (model.n_invariants() > 0) tab.invariants(s.t, s.y.data(), s.yp.data(), p, o.invariants.data());
   const int nr = model.n_reference();
+  o.errors.resize(nr);
   if (nr > 0) {
-    std::vector<double> q(nr);
-    tab.reference(s.t, p.data(), q.data());
-    o.errors.resize(nr);
+    tab.reference(s.t, p, o.errors.data());  // q_c(t), then the error in place
     for (int k = 0; k < nr; ++k) {
       const int i = model.state_index(tab.reference_coordinate[k], 0);
-      o.errors[k] = i >= 0 ? s.y[i] - q[k] : NAN;
+      o.errors[k] = i >= 0 ? s.y[i] - o.errors[k] : NAN;
     }
   }
-  return o;
 }
 
 DriftReport measure_drift(const Model& model, const std::vector<double>& p, const std::vector<Sample>& samples) {
@@ -144,7 +151,8 @@ void CsvRows::row(const Sample& s, std::vector<double>& out) const {
     if (top_[v] >= 0) out.push_back(s.yp[static_cast<std::size_t>(top_[v])]);
   }
   out.insert(out.end(), s.u.begin(), s.u.end());
-  const Observables o = observe(model_, parameters_, s);
+  observe(model_, parameters_, s, observed_, scratch_);
+  const Observables& o = observed_;
   out.insert(out.end(), o.hidden.begin(), o.hidden.end());
   out.insert(out.end(), o.invariants.begin(), o.invariants.end());
   out.insert(out.end(), o.errors.begin(), o.errors.end());

@@ -21,6 +21,11 @@ struct Observables {
 
 Observables observe(const Model& model, const std::vector<double>& p, const Sample& sample);
 
+/// The same into `o`, whose storage (and `scratch`'s) is reused from sample to sample: a loop
+/// over a run's samples allocates nothing after the first (CsvRows).
+void observe(const Model& model, const std::vector<double>& p, const Sample& sample, Observables& o,
+             std::vector<double>& scratch);
+
 /// Below this size along the run an invariant's drift is reported absolute (DriftReport).
 inline constexpr double kInvariantScaleFloor = 1e-8;
 
@@ -48,7 +53,7 @@ DriftReport measure_drift(const Model& model, const std::vector<double>& p, cons
 std::vector<std::string> csv_header(const Model& model);
 
 /// The numbers of one CSV row per sample, in csv_header's order (write_csv prints them; the
-/// Python package hands them over as arrays).
+/// Python package hands them over as arrays). One object per thread: row() reuses its storage.
 class CsvRows {
  public:
   CsvRows(const Model& model, std::vector<double> parameters);
@@ -59,6 +64,8 @@ class CsvRows {
   std::vector<double> parameters_;
   std::vector<int> top_;                     ///< per unknown: its highest differential state, or -1
   std::vector<std::vector<int>> states_of_;  ///< per unknown: its states, in state order
+  mutable Observables observed_;             ///< storage reused by row()
+  mutable std::vector<double> scratch_;
 };
 
 /// The CSV column of hidden constraint i: hidden:<i> (1-based) where the model enforces it; for
