@@ -1,6 +1,10 @@
 // nhc — the nonholonomic compiler: command-line entry point.
 // Exit codes: 0 ok, 1 internal error (a bug: please report), 2 bad input, 3 numerical or
 // mathematical failure, 4 environment (file system, compiler, loader, cache).
+#include <unistd.h>
+
+#include <cstdlib>
+#include <exception>
 #include <iostream>
 #include <new>
 #include <vector>
@@ -14,6 +18,28 @@
 #include "nhc/errors.hpp"
 
 namespace {
+
+/// Out of memory before main (the static objects of the libraries and of CLI11 allocate): an
+/// environment failure in words, exit 4, instead of std::terminate's abort. Installed by the
+/// first static initializer of the program (init_priority 101 runs before the others).
+[[noreturn]] void terminate_in_words() {
+  if (std::exception_ptr failure = std::current_exception()) {
+    try {
+      std::rethrow_exception(failure);
+    } catch (const std::bad_alloc&) {
+      static const char message[] = "nhc: error: out of memory while starting: free memory or raise the limit (ulimit -v)\n";
+      (void)!write(2, message, sizeof message - 1);
+      _exit(nhc::cli::kExitEnvironment);
+    } catch (...) {
+    }
+  }
+  std::abort();
+}
+
+struct TerminateInWords {
+  TerminateInWords() { std::set_terminate(terminate_in_words); }
+};
+__attribute__((init_priority(101))) const TerminateInWords terminate_in_words_installed;
 
 int run_command_line(int argc, char** argv) {
   // An interrupted run removes its temporary files and exits 130 (interrupt.hpp).

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "nhc/errors.hpp"
 #include "nhc/jet/intermediate.hpp"
 
 namespace nhc::cli {
@@ -49,26 +50,53 @@ std::string SampleExpressions::add(const GiNaC::ex& expression) {
   for (const Source& s : found)
     if (bound_.insert(s.symbol).second) sources_.push_back(s);
   expressions_.push_back(e.subs(parameters_, GiNaC::subs_options::no_pattern));
+  program_.reset();
+  substitute_ = false;
   return "";
 }
 
 std::vector<double> SampleExpressions::evaluate(const runtime::Sample& sample) const {
-  GiNaC::exmap values;
-  values[scene_->jet->time()] = sample.t;
-  for (const Source& s : sources_)
-    values[s.symbol] = (s.derivative ? sample.yp : sample.y)[static_cast<std::size_t>(s.index)];
-  std::vector<double> out;
-  out.reserve(expressions_.size());
-  for (const GiNaC::ex& e : expressions_) {
-    double v = NAN;
+  if (!program_ && !substitute_) {
+    std::vector<GiNaC::ex> inputs{scene_->jet->time()};
+    for (const Source& s : sources_) inputs.push_back(s.symbol);
     try {
-      const GiNaC::ex value = e.subs(values, GiNaC::subs_options::no_pattern).evalf();
-      if (GiNaC::is_a<GiNaC::numeric>(value) && value.info(GiNaC::info_flags::real))
-        v = GiNaC::ex_to<GiNaC::numeric>(value).to_double();
-    } catch (const std::exception&) {  // a pole: 1/x at x = 0
+      program_ = std::make_unique<NumericProgram>(inputs);
+      for (const GiNaC::ex& e : expressions_) program_->add(e);
+    } catch (const MathError&) {  // a function without a double counterpart: GiNaC evaluates
+      program_.reset();
+      substitute_ = true;
     }
-    out.push_back(std::isfinite(v) ? v : NAN);
   }
+  std::vector<double> out;
+  if (program_) {
+    std::vector<double> values{sample.t};
+    for (const Source& s : sources_)
+      values.push_back((s.derivative ? sample.yp : sample.y)[static_cast<std::size_t>(s.index)]);
+    try {
+      out = program_->values_at(values);
+    } catch (const MathError&) {  // as above, found while evaluating
+      program_.reset();
+      substitute_ = true;
+    }
+  }
+  if (!program_) {
+    GiNaC::exmap values;
+    values[scene_->jet->time()] = sample.t;
+    for (const Source& s : sources_)
+      values[s.symbol] = (s.derivative ? sample.yp : sample.y)[static_cast<std::size_t>(s.index)];
+    for (const GiNaC::ex& e : expressions_) {
+      double v = NAN;
+      try {
+        const GiNaC::ex value = e.subs(values, GiNaC::subs_options::no_pattern).evalf();
+        if (GiNaC::is_a<GiNaC::numeric>(value) && value.info(GiNaC::info_flags::real))
+          v = GiNaC::ex_to<GiNaC::numeric>(value).to_double();
+      } catch (const std::exception&) {  // a pole: 1/x at x = 0
+      }
+      out.push_back(v);
+    }
+  }
+  for (double& v : out)
+    if (!std::isfinite(v)) v = NAN;
   return out;
 }
 

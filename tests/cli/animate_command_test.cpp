@@ -68,7 +68,10 @@ TEST_CASE("nhc animate: the page holds the shapes along the run", "[cli][animate
   CHECK(file_exists(dir + "/page/OrbitControls.js"));
   const std::string page = read_file(dir + "/page/index.html");
   const std::vector<double> t = array_after(page, "t");
-  const std::vector<double> th = column(read_file(dir + "/run.csv"), "th");
+  const std::string csv = read_file(dir + "/run.csv");
+  const std::vector<double> th = column(csv, "th");
+  const std::vector<double> th_rate = column(csv, "th'"), w5 = column(csv, "w5_out");
+  for (std::size_t k = 0; k < th.size(); ++k) CHECK(w5[k] == Approx(std::pow(th[k] + th_rate[k] + 1, 5)).epsilon(1e-12));
   REQUIRE(t.size() == 61);
   REQUIRE(th.size() == 61);
   const std::size_t ball = page.find("\"name\":\"ball\"");

@@ -51,6 +51,15 @@ void NumericProgram::prepare() const {
 }
 
 std::vector<double> NumericProgram::evaluate(const std::vector<double>& values, const std::string& what) const {
+  std::vector<double> out = values_at(values);
+  for (std::size_t k = 0; k < out.size(); ++k)
+    if (!std::isfinite(out[k]))
+      throw MathError(labels_[k].empty() ? what + " is not finite there (output " + std::to_string(k + 1) + ")"
+                                         : labels_[k] + " is not finite there");
+  return out;
+}
+
+std::vector<double> NumericProgram::values_at(const std::vector<double>& values) const {
   if (!prepared_) prepare();
   std::vector<double> v(static_cast<std::size_t>(dag_.size()), 0.0);
   std::vector<double> arguments;
@@ -89,13 +98,7 @@ std::vector<double> NumericProgram::evaluate(const std::vector<double>& values, 
   }
   std::vector<double> out;
   out.reserve(outputs_.size());
-  for (std::size_t k = 0; k < outputs_.size(); ++k) {
-    const double x = at(outputs_[k]);
-    if (!std::isfinite(x))
-      throw MathError(labels_[k].empty() ? what + " is not finite there (output " + std::to_string(k + 1) + ")"
-                                         : labels_[k] + " is not finite there");
-    out.push_back(x);
-  }
+  for (int id : outputs_) out.push_back(at(id));
   return out;
 }
 

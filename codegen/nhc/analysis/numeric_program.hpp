@@ -32,6 +32,8 @@ class NumericProgram {
   /// The outputs at `values` (one per input). Throws MathError naming the output's label (else
   /// `what` and its number) when one is not finite.
   std::vector<double> evaluate(const std::vector<double>& values, const std::string& what) const;
+  /// The outputs at `values` as they come: inf and NaN where an output is not finite there.
+  std::vector<double> values_at(const std::vector<double>& values) const;
 
  private:
   void prepare() const;
