@@ -27,13 +27,11 @@ SampleExpressions::SampleExpressions(const Scene& scene, const runtime::Model& m
   }
 }
 
-std::string SampleExpressions::add(const GiNaC::ex& expression) {
+std::string SampleExpressions::locate(const GiNaC::ex& e, std::vector<Source>& found) const {
   const JetSpace& jet = *scene_->jet;
   const runtime::Model& model = *model_;
-  const GiNaC::ex e = expand_intermediates(expression);
   // Every jet symbol of e in the model's samples: the state holding it, else the derivative y'
   // of the state one order below.
-  std::vector<Source> found;
   for (const JetCoordinate& c : jet.jet_coordinates_in(e)) {
     const int variable = c.kind == VariableKind::coordinate ? c.index : model.n_coordinates() + c.index;
     const bool known = c.kind == VariableKind::coordinate || c.index < model.n_multipliers();
@@ -47,6 +45,18 @@ std::string SampleExpressions::add(const GiNaC::ex& expression) {
       return primed(jet.variable_name(c.kind, c.index), c.order) +
              (known ? "" : " (it has no multiplier " + jet.variable_name(c.kind, c.index) + ")");
   }
+  return "";
+}
+
+std::string SampleExpressions::missing(const GiNaC::ex& expression) const {
+  std::vector<Source> found;
+  return locate(expand_intermediates(expression), found);
+}
+
+std::string SampleExpressions::add(const GiNaC::ex& expression) {
+  const GiNaC::ex e = expand_intermediates(expression);
+  std::vector<Source> found;
+  if (std::string missing = locate(e, found); !missing.empty()) return missing;
   for (const Source& s : found)
     if (bound_.insert(s.symbol).second) sources_.push_back(s);
   expressions_.push_back(e.subs(parameters_, GiNaC::subs_options::no_pattern));

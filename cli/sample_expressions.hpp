@@ -29,6 +29,9 @@ class SampleExpressions {
   /// notation ("x'''"); "" when e was added.
   std::string add(const GiNaC::ex& e);
 
+  /// The quantity e uses that the model does not compute, as add() would name it; "" when none.
+  std::string missing(const GiNaC::ex& e) const;
+
   std::size_t size() const noexcept { return expressions_.size(); }
   /// The expressions' values at one sample; NaN where one is not a finite real number there
   /// (sqrt of a negative number, a division by zero).
@@ -41,6 +44,10 @@ class SampleExpressions {
     bool derivative;
     int index;
   };
+  /// Finds the sources of e's jet symbols (appended to `found`); the first quantity the model
+  /// does not compute, or "".
+  std::string locate(const GiNaC::ex& e, std::vector<Source>& found) const;
+
   const Scene* scene_;
   const runtime::Model* model_;
   GiNaC::exmap parameters_;

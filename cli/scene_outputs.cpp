@@ -24,12 +24,11 @@ SceneOutputs::SceneOutputs(const Scene& scene, const runtime::Model& model, cons
   }
   // The header holds the invariants the model computes (emit's invariants_in_states, which
   // refuses a required one); the others are named here with the reason.
-  SampleExpressions probe(scene, model, std::vector<double>(static_cast<std::size_t>(model.n_parameters()), 0.0));
   for (const SceneQuantity& invariant : scene.invariants) {
     bool computed = false;
     for (int k = 0; k < model.n_invariants(); ++k) computed = computed || invariant.name == model.table().invariant_names[k];
     if (computed) continue;
-    const std::string missing = probe.add(invariant.expression);
+    const std::string missing = expressions_.missing(invariant.expression);
     left_out(invariant, "invariant", missing.empty() ? "a quantity" : missing);
   }
 }
