@@ -45,20 +45,23 @@ CommandRunner add_animate_command(CLI::App& app) {
                            "; docs/animate.md)");
     const ModelKind kind = model_or_default(scene, flags.model);
     require_model_inputs(scene, kind);
-    check_run_flags(flags, scene);
+    check_run_flags(flags, scene, kind);
     const std::vector<ParameterOverride> overrides = parse_parameter_overrides(scene, flags.set);
     Scene scene_set = scene;  // the overridden values for the shapes; the model takes them at run time
     apply_parameter_overrides(scene_set, overrides);
     const std::vector<double> times = run_output_times(flags, scene);
     const InputSignals input_signals = parse_input_signals(scene_set, flags.inputs, scene.initial.t0, times.back());
 
-    const jit::LoadedModel built = jit::build(scene, kind);
+    jit::BuildOptions build_options;
+    build_options.variational = variational_integrator(flags);
+    const jit::LoadedModel built = jit::build(scene, kind, build_options);
     const runtime::Model& model = built.model();
     runtime::IntegratorOptions io = run_integrator_options(flags, scene);
     io.progress = true;
     const std::vector<double> p = parameters_with_overrides(model, overrides);
-    const runtime::RunResult run = runtime::simulate(model, p, run_initial_state(flags, scene_set, model), times, io, {},
-                                                     input_function(input_signals, model, p));
+    const runtime::RunResult run = run_with_flags(flags, model, p, run_initial_state(flags, scene_set, model), times,
+                                                  io, input_function(input_signals, model, p))
+                                       .run;
     if (run.samples.empty()) {
       std::cerr << "nhc: error: " << (run.failure ? run.failure->what() : "the run has no sample") << "\n"
                 << "  no page written: the run did not get past t0\n";

@@ -29,6 +29,7 @@ struct GenerateOptions {
   std::string directory = ".";
   bool quiet = false;
   bool sensitivities = false;
+  bool variational = false;
   bool print_file_name = false;
   std::vector<std::string> set;
   SceneOptions read;
@@ -52,6 +53,8 @@ CommandRunner add_generate_command(CLI::App& app) {
                   "directory to write <scene>_<model>.hpp into (default: .)");
   sub->add_flag("--sensitivities", options->sensitivities,
                 "also dF/dp and dg/dp for forward sensitivities (docs/generated-code.md)");
+  sub->add_flag("--variational", options->variational,
+                "also the discrete Lagrange-d'Alembert step of the chetaev model (docs/variational.md)");
   sub->add_flag("--print-file-name", options->print_file_name,
                 "print the header's file name (<scene>_<model>.hpp) and write nothing");
   add_set_option(sub, options->set);
@@ -77,6 +80,7 @@ CommandRunner add_generate_command(CLI::App& app) {
     HeaderOptions header_options;
     header_options.jacobian = *parse_jacobian_kind(options->jacobian);
     header_options.sensitivities = options->sensitivities;
+    header_options.variational = options->variational;
     const GeneratedHeader header = generate_header(scene, system, header_options);
 
     std::error_code ignored;  // an unwritable directory is reported by the write below

@@ -39,13 +39,57 @@ void add_run_flags(CLI::App* sub, RunFlags& flags) {
                   "START:STEP:END or T1,T2,...: the output times (the last is the end of the run)")
       ->excludes(outputs)
       ->excludes("--t-end");
+  sub->add_option("--integrator", flags.integrator,
+                  "ida (BDF, adaptive; the default) or variational (discrete Lagrange-d'Alembert, fixed --step; "
+                  "docs/variational.md)")
+      ->check(CLI::IsMember({"ida", "variational"}));
+  sub->add_option("--step", flags.step, "the fixed step of --integrator variational")->check(flag_rules::positive());
 }
 
-void check_run_flags(const RunFlags& flags, const Scene& scene) {
+void check_run_flags(const RunFlags& flags, const Scene& scene, ModelKind kind) {
   // Finite, and the tolerances positive and within reach: the flags' own rules (flag_rules.hpp).
   if (flags.t_end && !(*flags.t_end > scene.initial.t0))
     throw InputError({flags.scene_path, 0, 0}, "--t-end " + format_number(*flags.t_end, 17) + " must be after t0 = " +
                                                    format_number(scene.initial.t0, 17));
+  const SourceLocation here{flags.scene_path, 0, 0};
+  if (!variational_integrator(flags)) {
+    if (flags.step) throw InputError(here, "--step is the fixed step of --integrator variational; IDA chooses its own");
+    return;
+  }
+  if (!flags.step) throw InputError(here, "--integrator variational needs --step H (the fixed step)");
+  if (kind != ModelKind::chetaev)
+    throw InputError(here, "--integrator variational takes the chetaev model, not " + to_string(kind) +
+                               " (docs/variational.md: the discrete Lagrange-d'Alembert equations are the chetaev "
+                               "model's; discrete vakonomic equations are not generated)");
+  if (flags.project)
+    throw InputError(here, "--project applies to IDA: the variational integrator solves the discrete constraints "
+                           "at every step");
+  const double t_end = run_output_times(flags, scene).back();
+  const long steps = runtime::variational_steps_needed(scene.initial.t0, t_end, *flags.step);
+  if (steps < 0 || steps > flags.max_steps)
+    throw InputError(here, "--step " + format_number(*flags.step, 6) + " takes " +
+                               (steps < 0 ? std::string("too many") : std::to_string(steps)) + " steps to t = " +
+                               format_number(t_end, 6) + ", more than --max-steps " + std::to_string(flags.max_steps));
+}
+
+FlaggedRun run_with_flags(const RunFlags& flags, const runtime::Model& model, const std::vector<double>& p,
+                          const runtime::InitialState& initial, const std::vector<double>& times,
+                          const runtime::IntegratorOptions& io, const runtime::InputFunction& inputs) {
+  FlaggedRun out;
+  if (!variational_integrator(flags)) {
+    out.run = runtime::simulate(model, p, initial, times, io, {}, inputs);
+    return out;
+  }
+  runtime::VariationalOptions vo;
+  vo.step = *flags.step;
+  vo.max_steps = flags.max_steps;
+  vo.initialization = io;
+  vo.progress = io.progress;
+  vo.stop_requested = io.stop_requested;
+  runtime::VariationalRun run = runtime::simulate_variational(model, p, initial, times, vo, inputs);
+  out.run = std::move(run.run);
+  out.max_discrete_constraint = run.max_discrete_constraint;
+  return out;
 }
 
 std::vector<double> run_output_times(const RunFlags& flags, const Scene& scene) {

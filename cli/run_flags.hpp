@@ -24,15 +24,31 @@ struct RunFlags {
   std::string output_times;
   std::vector<std::string> set;
   std::vector<std::string> inputs;  ///< --input NAME=EXPR | NAME=@FILE.csv
+  std::string integrator = "ida";   ///< --integrator ida | variational
+  std::optional<double> step;       ///< --step H of the variational integrator
   SceneOptions read;
 };
 
 /// Registers SCENE, --model, --t-end, --rtol, --atol, --max-steps, --set, --input, --expand,
-/// --project, --repair-initial, --outputs and --output-times on `sub`.
+/// --project, --repair-initial, --outputs, --output-times, --integrator and --step on `sub`.
 void add_run_flags(CLI::App* sub, RunFlags& flags);
 
-/// The flags that override [simulate], against the scene: --t-end after t0.
-void check_run_flags(const RunFlags& flags, const Scene& scene);
+/// The flags that override [simulate], against the scene: --t-end after t0; --integrator
+/// variational with --step, the chetaev model, no --project, and a step count within --max-steps.
+void check_run_flags(const RunFlags& flags, const Scene& scene, ModelKind kind);
+
+/// --integrator variational.
+inline bool variational_integrator(const RunFlags& flags) { return flags.integrator == "variational"; }
+
+/// A run as the flags ask for it: IDA, or the variational integrator (docs/variational.md), whose
+/// largest discrete-constraint residual comes with it.
+struct FlaggedRun {
+  runtime::RunResult run;
+  std::optional<double> max_discrete_constraint;  ///< the variational integrator's
+};
+FlaggedRun run_with_flags(const RunFlags& flags, const runtime::Model& model, const std::vector<double>& p,
+                          const runtime::InitialState& initial, const std::vector<double>& times,
+                          const runtime::IntegratorOptions& io, const runtime::InputFunction& inputs);
 
 /// The output times: --output-times, else t0 to --t-end ([simulate] t_end) in --outputs
 /// ([simulate] outputs, else 200) intervals. InputError naming the flag for a bad one.

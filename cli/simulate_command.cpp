@@ -146,7 +146,11 @@ CommandRunner add_simulate_command(CLI::App& app) {
     const ModelKind kind = model_or_default(scene, options->run.model);
     require_model_inputs(scene, kind);
     if (!options->sensitivity.names.empty()) refuse_inputs(scene, "forward sensitivities", "--sensitivity");
-    check_run_flags(options->run, scene);  // before anything is compiled or written
+    check_run_flags(options->run, scene, kind);  // before anything is compiled or written
+    const bool variational = variational_integrator(options->run);
+    if (variational && !options->sensitivity.names.empty())
+      throw InputError({options->run.scene_path, 0, 0},
+                       "--sensitivity integrates with IDAS; it does not go with --integrator variational");
     const bool csv_to_stdout = options->output == "-";
     if (!options->output.empty() && !csv_to_stdout) check_output_file(options->output, {options->run.scene_path});
     std::ostream& info = csv_to_stdout ? std::cerr : std::cout;
@@ -165,6 +169,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
     const double load_seconds = seconds_since(load_start);
     jit::BuildOptions build_options;
     build_options.sensitivities = !options->sensitivity.names.empty();
+    build_options.variational = variational;
     const jit::LoadedModel built = jit::build(scene, kind, build_options);
     remember_check(check, built);
     for (const std::string& name : options->sensitivity.names)
@@ -187,8 +192,9 @@ CommandRunner add_simulate_command(CLI::App& app) {
                                  : parse_columns(options->columns, csv_columns(model, p, outputs));
     const runtime::InitialState initial = run_initial_state(options->run, scene_set, model);
     if (build_options.sensitivities) check_sensitivities_given(model, initial, options->sensitivity.names);
-    const runtime::RunResult run =
-        runtime::simulate(model, p, initial, times, io, {}, input_function(input_signals, model, p));
+    const FlaggedRun flagged =
+        run_with_flags(options->run, model, p, initial, times, io, input_function(input_signals, model, p));
+    const runtime::RunResult& run = flagged.run;
     std::optional<runtime::SensitivityRun> sensitivities;  // --sensitivity: the CSV comes from this run
     if (build_options.sensitivities)
       sensitivities = run_sensitivities(model, p, initial, times, io, options->sensitivity);
@@ -219,12 +225,17 @@ CommandRunner add_simulate_command(CLI::App& app) {
       info << ", t from " << t0 << " to " << run.samples.back().t << " (of " << t_end << ")";
     else
       info << ", never started: the run stopped at t0 = " << t0 << " (t_end " << t_end << ")";
-    info << ", rtol " << io.rtol
-              << ", atol " << io.atol << (options->run.project ? ", projection" : "") << "\n"
-              << "  steps " << st.steps << ", residual evaluations " << st.residual_evaluations
-              << ", Jacobian evaluations " << st.jacobian_evaluations << " (" << st.linear_solver << ", "
-              << st.jacobian << "), error-test failures " << st.error_test_failures << ", nonlinear failures "
-              << st.nonlinear_failures;
+    if (variational)
+      info << ", variational integrator (discrete Lagrange-d'Alembert, midpoint), step " << *options->run.step
+           << "\n  steps " << st.steps << ", Newton iterations " << st.nonlinear_iterations
+           << ", residual evaluations " << st.residual_evaluations << ", Jacobian evaluations "
+           << st.jacobian_evaluations << " (" << st.linear_solver << ", " << st.jacobian << ")";
+    else
+      info << ", rtol " << io.rtol << ", atol " << io.atol << (options->run.project ? ", projection" : "") << "\n"
+           << "  steps " << st.steps << ", residual evaluations " << st.residual_evaluations
+           << ", Jacobian evaluations " << st.jacobian_evaluations << " (" << st.linear_solver << ", "
+           << st.jacobian << "), error-test failures " << st.error_test_failures << ", nonlinear failures "
+           << st.nonlinear_failures;
     if (options->run.project) info << ", projections " << st.projections;
     info << "\n  time: derive " << format(derive_seconds) << " s" << (scene_cached ? " (scene cache)" : "")
          << ", compile " << format(compile_seconds) << " s"
@@ -233,6 +244,10 @@ CommandRunner add_simulate_command(CLI::App& app) {
     if (sensitivities) info << describe_sensitivity_cost(*sensitivities, options->sensitivity, st);
     // Errors and drifts of a run without a sample would read as zeros: there are none to report.
     if (started) write_drift_summary(info, scene, model, kind, drift);
+    if (started && flagged.max_discrete_constraint)
+      info << "  max discrete-constraint residual " << format(*flagged.max_discrete_constraint)
+           << " (the constraints the steps solve; the hidden constraints above are evaluated at the\n"
+              "  node velocities (q_{k+1} - q_{k-1})/2h and their interpolants, O(h^2): docs/variational.md)\n";
 
     if (!outputs.empty()) {
       info << "  outputs (CSV columns, not checked for drift):";

@@ -27,7 +27,8 @@
  * abi_version 1: the fields up to `reference`. abi_version 2 appends the fields of the section
  * "Runtime additions" of docs/generated-code.md; read them only when abi_version >= 2.
  * abi_version 3 appends the "Sensitivity additions"; read them only when abi_version >= 3.
- * abi_version 4 appends the "Input additions"; read them only when abi_version >= 4. */
+ * abi_version 4 appends the "Input additions"; read them only when abi_version >= 4.
+ * abi_version 5 appends the "Variational additions"; read them only when abi_version >= 5. */
 #ifndef NHC_MODEL_TABLE_DEFINED
 #define NHC_MODEL_TABLE_DEFINED
 
@@ -71,6 +72,14 @@ struct nhc_model_table {
   int n_inputs;
   const char* const* input_names;
   void (*default_inputs)(double, const double*, double*);
+  /* abi_version >= 5 (Variational additions; null unless generated with them): the discrete
+   * Lagrange-d'Alembert step of docs/variational.md, in x = (q_{k+1}, lambda_k) */
+  void (*momentum)(double, const double*, const double*, double*);
+  void (*variational_residual)(double, double, double, const double*, const double*, const double*, const double*,
+                               const double*, double*);
+  void (*variational_jacobian)(double, double, double, const double*, const double*, const double*, const double*,
+                               const double*, double*);
+  void (*variational_momentum)(double, double, const double*, const double*, const double*, double*);
 };
 
 #ifdef __cplusplus
@@ -166,7 +175,7 @@ inline void hidden_constraints_jacobian(double /*t*/, const double* y, const dou
 /// Everything above as the C table of docs/generated-code.md, filled by field name.
 inline nhc_model_table make_model_table() noexcept {
   nhc_model_table t{};
-  t.abi_version = 4;
+  t.abi_version = 5;
   t.scene_name = scene_name;
   t.model_name = model_name;
   t.n_states = n_states;

@@ -85,7 +85,8 @@ GeneratedHeader generate_header(const Scene& scene, const Index1System& system,
                     std::to_string(system.residuals.size()) + " residuals");
   const PreparedModel model =
       refusing_at(scene.file_location(), "generating code for the " + to_string(system.model) + " model",
-                  [&] { return prepare_model(scene, system, options.jacobian, options.sensitivities); });
+                  [&] { return prepare_model(scene, system, options.jacobian, options.sensitivities,
+                                                       options.variational); });
   GeneratedHeader header;
   header.namespace_name = model.namespace_name;
   header.file_name = generated_header_file_name(scene.name, system.model);

@@ -33,6 +33,9 @@ struct HeaderOptions {
   JacobianKind jacobian = JacobianKind::dense;
   /// dF/dp and dg/dp for forward sensitivities (docs/generated-code.md, "Sensitivity additions").
   bool sensitivities = false;
+  /// The discrete Lagrange–d'Alembert step of the chetaev model for `--integrator variational`
+  /// (docs/generated-code.md, "Variational additions"; docs/variational.md).
+  bool variational = false;
   /// From this many bytes of function text, the header carries the NHC_PART protocol and may be
   /// compiled as several translation units (docs/generated-code.md): below it a second
   /// compiler's fixed cost outweighs the halved optimization (bench/compile-time.md), and the

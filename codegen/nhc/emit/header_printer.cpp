@@ -72,7 +72,8 @@ void print_banner(std::ostream& out, const Scene& scene, const Index1System& sys
       << sanitize_comment(scene_file) << ", model " << m.model << ".\n"
       << "// Do not edit: regenerate with\n"
       << "//   nhc generate " << sanitize_comment(scene_file) << " --model " << m.model << " --jacobian "
-      << to_string(m.jacobian) << (m.sensitivities ? " --sensitivities" : "") << "\n"
+      << to_string(m.jacobian) << (m.sensitivities ? " --sensitivities" : "")
+      << (m.variational ? " --variational" : "") << "\n"
       << "// Layout: docs/generated-code.md.\n";
   if (splittable) out << kTranslationUnitsBanner << kMaxTranslationUnits << " translation units (NHC_PART).\n";
   out << "//\n"
@@ -308,6 +309,10 @@ void print_table(std::ostream& out, const PreparedModel& m, bool splittable) {
       {"n_inputs", "n_inputs"},  // abi_version >= 4
       {"input_names", field(m.n_inputs > 0, "input_names")},
       {"default_inputs", pointer("default_inputs")},
+      {"momentum", pointer("momentum")},  // abi_version >= 5
+      {"variational_residual", pointer("variational_residual")},
+      {"variational_jacobian", pointer("variational_jacobian")},
+      {"variational_momentum", pointer("variational_momentum")},
   };
   out << "\n" << part0_begin(splittable)
       << "/// Everything above as the C table of docs/generated-code.md, filled by field name.\n"

@@ -4,8 +4,10 @@
 #include "nhc/jet/common_arguments.hpp"
 
 #include "nhc/emit/parameter_jacobian.hpp"
+#include "nhc/derive/discrete_lagrange_dalembert.hpp"
 
 #include <algorithm>
+#include <optional>
 #include <tuple>
 #include <set>
 #include <unordered_set>
@@ -193,8 +195,20 @@ std::vector<int> parameters_in(const std::vector<GiNaC::ex>& expressions, const 
 /// The inputs of generated functions by their C++ names.
 std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> function_inputs(const Index1System& system,
                                                                     const std::vector<int>& parameters,
-                                                                    const GiNaC::realsymbol& cj) {
+                                                                    const GiNaC::realsymbol& cj,
+                                                                    const DiscreteLagrangeDAlembert* step) {
   std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> in;
+  if (step) {  // Variational additions (docs/generated-code.md)
+    in[step->h] = "h";
+    in[step->w] = "impulse_weight";
+    const auto name = [&](const std::vector<GiNaC::realsymbol>& symbols, const std::string& array) {
+      for (std::size_t k = 0; k < symbols.size(); ++k) in[symbols[k]] = array + "[" + std::to_string(k) + "]";
+    };
+    name(step->q_previous, "q_previous");
+    name(step->q, "q");
+    name(step->momentum_in, "m");
+    name(step->x, "x");
+  }
   in[system.jet->time()] = "t";
   for (std::size_t k = 0; k < parameters.size(); ++k)
     in[system.jet->parameter(parameters[k])] = "p[" + std::to_string(k) + "]";
@@ -360,6 +374,79 @@ FunctionPlan parameter_matrix_function(const std::string& name, const std::strin
   return f;
 }
 
+/// The continuous momentum ∂L/∂q'(t, y): the variational integrator's first discrete momentum.
+FunctionPlan momentum_function(const DiscreteLagrangeDAlembert& step, const Index1System& system, ExpressionDag& dag) {
+  FunctionPlan f;
+  f.name = "momentum";
+  f.doc = "/// The momentum dL/dq'(t, y), one per coordinate (Variational additions).\n";
+  f.parameters = {{"double", "t"}, {"const double*", "y"}, {"const double*", "p"}, {"double*", "m"}};
+  for (std::size_t i = 0; i < step.momentum.size(); ++i)
+    f.assignments.push_back({"m[" + std::to_string(i) + "]", dag.add(system.in_states(step.momentum[i])),
+                             sanitize_comment(system.jet->coordinates().at(i))});
+  return f;
+}
+
+const std::vector<std::pair<std::string, std::string>> kStepInputs = {
+    {"double", "t"},         {"double", "h"},       {"double", "impulse_weight"}, {"const double*", "q_previous"},
+    {"const double*", "q"}, {"const double*", "m"}, {"const double*", "x"},       {"const double*", "p"}};
+
+/// The discrete Lagrange–d'Alembert residual in x = (q_{k+1}, λ_k) (discrete_lagrange_dalembert.hpp).
+FunctionPlan variational_residual_function(const DiscreteLagrangeDAlembert& step, const Index1System& system,
+                                           ExpressionDag& dag) {
+  FunctionPlan f;
+  f.name = "variational_residual";
+  f.doc = "/// The discrete Lagrange-d'Alembert step r(x) = 0 in x = (q_{k+1}, lambda_k), n_coordinates +\n"
+          "/// n_multipliers entries (docs/variational.md).\n";
+  f.parameters = kStepInputs;
+  f.parameters.push_back({"double*", "r"});
+  const int n = system.jet->coordinate_count();
+  for (std::size_t i = 0; i < step.residual.size(); ++i) {
+    const int k = static_cast<int>(i);
+    const std::string name = k < n ? "R_" + system.jet->coordinates().at(i) : "f" + std::to_string(k - n + 1);
+    f.assignments.push_back({"r[" + std::to_string(i) + "]", dag.add(step.residual[i]), sanitize_comment(name)});
+  }
+  return f;
+}
+
+/// dr/dx of the step, column-major, zero-filled; only the entries whose x_j occurs are formed.
+FunctionPlan variational_jacobian_function(const DiscreteLagrangeDAlembert& step, ExpressionDag& dag) {
+  FunctionPlan f;
+  f.name = "variational_jacobian";
+  f.doc = "/// dr/dx of variational_residual, column-major (n_coordinates + n_multipliers)^2.\n";
+  f.parameters = kStepInputs;
+  f.parameters.push_back({"double*", "J"});
+  const std::size_t size = step.x.size();
+  f.prologue = "  for (int k = 0; k < " + std::to_string(size * size) + "; ++k) J[k] = 0.0;\n";
+  const auto occurring = occurring_symbols(step.residual, step.x);
+  std::vector<std::tuple<std::size_t, std::size_t, GiNaC::ex>> entries;  // (column, row, value)
+  for (std::size_t i = 0; i < size; ++i)
+    for (int j : occurring[i]) {
+      const GiNaC::ex value = step.residual[i].diff(step.x[static_cast<std::size_t>(j)]);
+      if (!value.is_zero()) entries.emplace_back(static_cast<std::size_t>(j), i, value);
+    }
+  std::sort(entries.begin(), entries.end(), [](const auto& a, const auto& b) {
+    return std::tie(std::get<0>(a), std::get<1>(a)) < std::tie(std::get<0>(b), std::get<1>(b));
+  });
+  for (const auto& [j, i, value] : entries)
+    f.assignments.push_back({"J[" + std::to_string(i + size * j) + "]", dag.add(value),
+                             "(" + std::to_string(i) + ", " + std::to_string(j) + ")"});
+  return f;
+}
+
+/// m_{k+1} after a step.
+FunctionPlan variational_momentum_function(const DiscreteLagrangeDAlembert& step, const Index1System& system,
+                                           ExpressionDag& dag) {
+  FunctionPlan f;
+  f.name = "variational_momentum";
+  f.doc = "/// The discrete momentum m_{k+1} at q_{k+1} after the step from q_k to x.\n";
+  f.parameters = {{"double", "t"}, {"double", "h"}, {"const double*", "q"}, {"const double*", "x"},
+                  {"const double*", "p"}, {"double*", "m_next"}};
+  for (std::size_t i = 0; i < step.momentum_out.size(); ++i)
+    f.assignments.push_back({"m_next[" + std::to_string(i) + "]", dag.add(step.momentum_out[i]),
+                             sanitize_comment(system.jet->coordinates().at(i))});
+  return f;
+}
+
 }  // namespace
 
 bool PreparedModel::has_function(const std::string& name) const {
@@ -367,7 +454,7 @@ bool PreparedModel::has_function(const std::string& name) const {
 }
 
 PreparedModel prepare_model(const Scene& scene, const Index1System& system, JacobianKind jacobian,
-                            bool sensitivities) {
+                            bool sensitivities, bool variational) {
   PreparedModel m;
   m.model = to_string(system.model);
   m.namespace_name = generated_namespace_name(scene.name, system.model);
@@ -390,6 +477,20 @@ PreparedModel prepare_model(const Scene& scene, const Index1System& system, Jaco
   for (const ModelInvariant& i : m.invariants) read.push_back(i.in_states);
   for (const auto& entry : m.reference) read.push_back(entry.second);
   for (const SceneInput& u : scene.inputs) read.push_back(u.default_signal);
+  // Variational additions (docs/generated-code.md): the chetaev model's discrete step.
+  std::optional<DiscreteLagrangeDAlembert> step;
+  if (variational) {
+    if (system.model != ModelKind::chetaev)
+      throw InputError(scene.file_location(),
+                       "the variational integrator takes the chetaev model, not the " + to_string(system.model) +
+                           " model (docs/variational.md: discrete " +
+                           (system.model == ModelKind::vakonomic ? "vakonomic equations are not generated"
+                                                                  : "equations of this model are not generated") +
+                           "; use --model chetaev or --integrator ida)");
+    step = discrete_lagrange_dalembert(scene);
+    read.insert(read.end(), step->residual.begin(), step->residual.end());
+  }
+  m.variational = step.has_value();
   m.parameters = parameters_in(read, *system.jet);
   m.n_parameters = static_cast<int>(m.parameters.size());
   for (int k : m.parameters) m.parameter_names.push_back(system.jet->parameters().at(static_cast<std::size_t>(k)));
@@ -397,7 +498,7 @@ PreparedModel prepare_model(const Scene& scene, const Index1System& system, Jaco
   for (const SceneInput& u : scene.inputs) m.input_names.push_back(u.name);
 
   // Lowered in the order the functions are printed.
-  m.dag = ExpressionDag(function_inputs(system, m.parameters, m.symbolic_jacobian.cj));
+  m.dag = ExpressionDag(function_inputs(system, m.parameters, m.symbolic_jacobian.cj, step ? &*step : nullptr));
   m.functions.push_back(residual_function(system, m.dag));
   if (dense || sparse) m.functions.push_back(jacobian_function(m.symbolic_jacobian, dense, m.dag));
   if (m.n_hidden > 0) {
@@ -421,6 +522,12 @@ PreparedModel prepare_model(const Scene& scene, const Index1System& system, Jaco
           "hidden_parameter_jacobian", "/// dg/dp of the hidden constraints, column-major n_hidden x n_parameters.\n",
           "Gp", m.n_hidden, m.n_parameters, pj.hidden, pj.hidden_nonzeros,
           {{"double", "t"}, {"const double*", "y"}, {"const double*", "p"}}, m.dag));
+  }
+  if (step) {
+    m.functions.push_back(momentum_function(*step, system, m.dag));
+    m.functions.push_back(variational_residual_function(*step, system, m.dag));
+    m.functions.push_back(variational_jacobian_function(*step, m.dag));
+    m.functions.push_back(variational_momentum_function(*step, system, m.dag));
   }
 
   // Pairs of operands common to several sums or products computed once (common_arguments.hpp).

@@ -81,6 +81,7 @@ struct PreparedModel {
   std::string namespace_name;  ///< `<scene>_<model>`
   JacobianKind jacobian;
   bool sensitivities = false;  ///< dF/dp and dg/dp emitted
+  bool variational = false;    ///< the discrete Lagrange–d'Alembert step emitted
   int n_states = 0, n_parameters = 0, n_coordinates = 0, n_multipliers = 0, n_hidden = 0;
   int n_invariants = 0, n_reference = 0, n_singular = 0;
   /// The scene's parameters the functions read, by index into the scene's list, in its order:
@@ -106,8 +107,10 @@ struct PreparedModel {
 };
 
 /// The symbolic preparation of the header of `system` (an index-1 form of `scene`);
-/// `sensitivities`: also dF/dp and dg/dp (docs/generated-code.md, "Sensitivity additions").
+/// `sensitivities`: also dF/dp and dg/dp (docs/generated-code.md, "Sensitivity additions");
+/// `variational`: also the discrete Lagrange–d'Alembert step of the chetaev model ("Variational
+/// additions"; an InputError for another model or a scene the method does not take).
 PreparedModel prepare_model(const Scene& scene, const Index1System& system, JacobianKind jacobian,
-                            bool sensitivities = false);
+                            bool sensitivities = false, bool variational = false);
 
 }  // namespace nhc

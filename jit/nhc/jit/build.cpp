@@ -31,7 +31,8 @@ ModelIdentity identity_of(const GeneratedHeader& header, ModelKind kind) {
 constexpr const char* kHeaderProduct = "generated header";
 std::string header_options_text(ModelKind kind, const BuildOptions& options) {
   return "model " + to_string(kind) + ", jacobian " + (options.jacobian ? to_string(*options.jacobian) : "default") +
-         ", sensitivities " + (options.sensitivities ? "yes" : "no") + ", split from " +
+         ", sensitivities " + (options.sensitivities ? "yes" : "no") +
+         (options.variational ? ", variational step" : "") + ", split from " +
          std::to_string(options.split_from_bytes) + " bytes";
 }
 
@@ -132,6 +133,7 @@ LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& option
   HeaderOptions header_options;
   header_options.jacobian = options.jacobian.value_or(default_jacobian_kind(system.size()));
   header_options.sensitivities = options.sensitivities;
+  header_options.variational = options.variational;
   header_options.split_from_bytes = options.split_from_bytes;
   GeneratedHeader header = generate_header(scene, system, header_options);
   const double generate_seconds = seconds_since(start);

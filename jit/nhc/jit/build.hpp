@@ -17,6 +17,9 @@ struct BuildOptions {
   std::optional<JacobianKind> jacobian;
   /// Also dF/dp and dg/dp (HeaderOptions::sensitivities), for runtime::SensitivityIntegrator.
   bool sensitivities = false;
+  /// Also the discrete Lagrange–d'Alembert step (HeaderOptions::variational), for
+  /// runtime::simulate_variational.
+  bool variational = false;
   /// HeaderOptions::split_from_bytes: from this size the header may be compiled as several
   /// translation units (compile.translation_units).
   std::size_t split_from_bytes = HeaderOptions{}.split_from_bytes;

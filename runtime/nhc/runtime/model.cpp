@@ -13,8 +13,8 @@ void validate(const nhc_model_table* t, const std::string& origin) {
     throw ModelError("model table of " + origin + ": " + what + " (see docs/generated-code.md)");
   };
   if (!t) fail("null table");
-  if (t->abi_version < 1 || t->abi_version > 4)
-    fail("unsupported ABI version " + std::to_string(t->abi_version) + " (this runtime reads 1 to 4)");
+  if (t->abi_version < 1 || t->abi_version > 5)
+    fail("unsupported ABI version " + std::to_string(t->abi_version) + " (this runtime reads 1 to 5)");
   if (t->n_states <= 0) fail("no states");
   if (!t->residual) fail("no residual function");
   if (!t->state_names || !t->state_variable || !t->state_order || !t->differential_id)
@@ -34,6 +34,9 @@ void validate(const nhc_model_table* t, const std::string& origin) {
   if (t->abi_version >= 4 && t->n_inputs < 0) fail("negative number of inputs");
   if (t->abi_version >= 4 && t->n_inputs > 0 && (!t->input_names || !t->default_inputs))
     fail("inputs declared but their names or default signals are missing");
+  if (t->abi_version >= 5 && t->variational_residual &&
+      (!t->momentum || !t->variational_jacobian || !t->variational_momentum))
+    fail("a variational step without its Jacobian or momenta");
 }
 
 }  // namespace
@@ -67,6 +70,10 @@ bool Model::has_parameter_jacobian() const noexcept {
   return table_->n_parameters == 0 ||
          (table_->abi_version >= 3 && table_->residual_parameter_jacobian != nullptr &&
           (table_->n_hidden == 0 || table_->hidden_parameter_jacobian != nullptr));
+}
+
+bool Model::has_variational_step() const noexcept {
+  return table_->abi_version >= 5 && table_->variational_residual != nullptr;
 }
 
 int Model::n_singular() const noexcept {

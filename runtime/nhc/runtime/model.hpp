@@ -41,6 +41,10 @@ class Model {
   /// dF/dp generated (Sensitivity additions, abi_version >= 3; always true without parameters).
   bool has_parameter_jacobian() const noexcept;
 
+  /// The discrete Lagrange–d'Alembert step generated (Variational additions, abi_version >= 5):
+  /// what `simulate_variational` (variational.hpp) integrates with.
+  bool has_variational_step() const noexcept;
+
   bool has_dense_jacobian() const noexcept { return table_->jacobian != nullptr; }
   bool has_sparse_jacobian() const noexcept;
 

@@ -8,4 +8,5 @@
 #include "nhc/runtime/model_table.h"
 #include "nhc/runtime/sensitivity.hpp"
 #include "nhc/runtime/trajectory.hpp"
+#include "nhc/runtime/variational.hpp"
 #include "nhc/runtime/work_precision.hpp"

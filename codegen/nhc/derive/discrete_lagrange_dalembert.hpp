@@ -1,0 +1,53 @@
+#pragma once
+/// \file discrete_lagrange_dalembert.hpp
+/// \brief The discrete Lagrange–d'Alembert equations of a scene (docs/variational.md): one step
+/// of a variational integrator for the chetaev model with constraints of order 0 or 1, built from
+/// the scene's own expressions (definitions stay intermediates).
+///
+/// Midpoint discrete Lagrangian L_d(q_a, q_b) = h L(t + h/2, (q_a + q_b)/2, (q_b − q_a)/h), forces
+/// Q at the same midpoint split half to each end (Marsden & West 2001, Sect. 3.2). In the
+/// position–momentum form, with m_k the discrete momentum arriving at q_k, the step from
+/// (q_{k−1}, q_k, m_k) solves for x = (q_{k+1}, λ_k):
+///
+///   R_i = (m_k,i − ∂L/∂q'_i|₊)/h + ½ ∂L/∂q_i|₊ + ½ Q_i|₊ + w λ_α A^α_i(t_k, q_k, v_k) = 0,
+///   C_α = f^α(t_k + h/2, (q_k + q_{k+1})/2, (q_{k+1} − q_k)/h) = 0      (order 1)
+///   C_α = f^α(t_k + h, q_{k+1}) = 0                                      (order 0),
+///
+/// where |₊ is the midpoint of (q_k, q_{k+1}), A^α_i = ∂f^α/∂q_i^(m_α) the constraint force of
+/// the chetaev model (models.md) at the node, v_k = (q_{k+1} − q_{k−1})/(2h) (A does not depend
+/// on it for constraints linear in the velocities), and w = 1 (½ on the first step, whose
+/// momentum is the continuous one at t0 and meets half of the node's impulse). The constraint
+/// forces act at the nodes and the constraints hold on the steps: McLachlan & Perlmutter,
+/// J. Nonlinear Sci. 16 (2006), eqs. (3.4)–(3.5). Then
+///
+///   m_{k+1,i} = ∂L/∂q'_i|₊ + (h/2)(∂L/∂q_i|₊ + Q_i|₊).
+///
+/// R is the discrete equation divided by h, so that it tends to the chetaev residual
+/// E_i(L) + Q_i + λ_α A^α_i as h → 0 and λ_k approximates λ(t_k).
+
+#include <ginac/ginac.h>
+
+#include <vector>
+
+#include "nhc/scene/scene.hpp"
+
+namespace nhc {
+
+struct DiscreteLagrangeDAlembert {
+  GiNaC::realsymbol h{"h"}, w{"w"};
+  /// q_{k−1}, q_k, m_k (n each) and the unknowns x = (q_{k+1}, λ_k) (n + g).
+  std::vector<GiNaC::realsymbol> q_previous, q, momentum_in, x;
+  /// R_1..R_n, then C_1..C_g: of t (= t_k), h, w, parameters, inputs and the symbols above.
+  std::vector<GiNaC::ex> residual;
+  /// m_{k+1}: of t, h, q, x.
+  std::vector<GiNaC::ex> momentum_out;
+  /// The continuous momentum ∂L/∂q'_i(t, q, q') in jet symbols (the first step's m_0).
+  std::vector<GiNaC::ex> momentum;
+};
+
+/// The step of `scene`'s chetaev model. InputError at the scene file when the scene has
+/// constraints of order above 1 or a Lagrangian or force of order above 1 (the method needs
+/// L(t, q, q') and Q(t, q, q')).
+DiscreteLagrangeDAlembert discrete_lagrange_dalembert(const Scene& scene);
+
+}  // namespace nhc

@@ -1,0 +1,297 @@
+// The variational integrator's run loop (variational.hpp, docs/variational.md).
+#include "nhc/runtime/variational.hpp"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "nhc/runtime/progress_bar.hpp"
+
+namespace nhc::runtime {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+std::string number(double v) {
+  std::ostringstream os;
+  os.precision(12);
+  os << v;
+  return os.str();
+}
+
+/// A node of the discrete trajectory: q_k, its velocity and acceleration, the multipliers.
+struct Node {
+  double t = 0;
+  std::vector<double> q, v, a, lambda;
+};
+
+/// Where the states of a model hold q, q', q'' and λ (-1 where it holds none).
+struct StateLayout {
+  int n = 0, g = 0;
+  std::vector<int> variable, order;  // per state
+
+  explicit StateLayout(const Model& model) : n(model.n_coordinates()), g(model.n_multipliers()) {
+    for (int i = 0; i < model.n_states(); ++i) {
+      variable.push_back(model.table().state_variable[i]);
+      order.push_back(model.table().state_order[i]);
+    }
+  }
+
+  /// The initial node from IDA's consistent point.
+  Node node(const Sample& s) const {
+    Node x;
+    x.t = s.t;
+    x.q.assign(static_cast<std::size_t>(n), 0.0);
+    x.v = x.a = x.q;
+    x.lambda.assign(static_cast<std::size_t>(g), 0.0);
+    for (std::size_t i = 0; i < variable.size(); ++i) {
+      const int j = variable[i];
+      if (j >= n) {
+        if (order[i] == 0) x.lambda[static_cast<std::size_t>(j - n)] = s.y[i];
+        continue;
+      }
+      const auto c = static_cast<std::size_t>(j);
+      if (order[i] == 0) x.q[c] = s.y[i];
+      if (order[i] == 0 && x.v[c] == 0.0) x.v[c] = s.yp[i];
+      if (order[i] == 1) x.v[c] = s.y[i], x.a[c] = s.yp[i];
+    }
+    return x;
+  }
+
+  /// The sample at t in [a.t, b.t]: q by the cubic Hermite polynomial through (q, v) at both
+  /// nodes, v its derivative, q'' and λ linear (a node itself at s = 0 and s = 1).
+  void sample(double t, const Node& a, const Node& b, Sample& out) const {
+    const double h = b.t - a.t;
+    const double s = h > 0 ? std::clamp((t - a.t) / h, 0.0, 1.0) : 0.0;
+    const double s2 = s * s, s3 = s2 * s;
+    const double h00 = 2 * s3 - 3 * s2 + 1, h10 = s3 - 2 * s2 + s, h01 = -2 * s3 + 3 * s2, h11 = s3 - s2;
+    const double d00 = (6 * s2 - 6 * s) / h, d10 = 3 * s2 - 4 * s + 1, d01 = -d00, d11 = 3 * s2 - 2 * s;
+    out.t = t;
+    out.y.assign(variable.size(), 0.0);
+    out.yp.assign(variable.size(), 0.0);
+    for (std::size_t i = 0; i < variable.size(); ++i) {
+      const int j = variable[i];
+      if (j >= n) {
+        const auto c = static_cast<std::size_t>(j - n);
+        if (order[i] == 0) out.y[i] = (1 - s) * a.lambda[c] + s * b.lambda[c];
+        continue;
+      }
+      const auto c = static_cast<std::size_t>(j);
+      const double q = h00 * a.q[c] + h10 * h * a.v[c] + h01 * b.q[c] + h11 * h * b.v[c];
+      const double v = h > 0 ? d00 * a.q[c] + d10 * a.v[c] + d01 * b.q[c] + d11 * b.v[c] : a.v[c];
+      const double acc = (1 - s) * a.a[c] + s * b.a[c];
+      const double values[] = {q, v, acc, 0.0};
+      const int o = std::min(order[i], 2);
+      out.y[i] = values[o];
+      out.yp[i] = values[o + 1];
+    }
+  }
+};
+
+/// One Newton solve of the generated step r(x) = 0 (dense LU; the step is small: n + g unknowns).
+class StepSolver {
+ public:
+  StepSolver(const Model& model, const VariationalOptions& options)
+      : model_(model), table_(model.table()), options_(options), n_(model.n_coordinates()),
+        size_(model.n_coordinates() + model.n_multipliers()), r_(size_), dx_(size_), J_(size_, size_), lu_(size_) {}
+
+  /// Solves for x (its guess in, the solution out); throws SolverError at a failure.
+  void solve(double t, double h, double w, const double* q_previous, const double* q, const double* m,
+             const double* p, Eigen::VectorXd& x, Statistics& st) {
+    double last_correction = 0;
+    for (int iteration = 0; iteration < options_.max_newton_iterations; ++iteration) {
+      residual(t, h, w, q_previous, q, m, x, p, st);
+      table_.variational_jacobian(t, h, w, q_previous, q, m, x.data(), p, J_.data());
+      ++st.jacobian_evaluations;
+      if (!J_.allFinite())
+        throw SolverError(FailureKind::nonfinite_residual, t,
+                          "the Jacobian of the variational step from t = " + number(t) + " is not finite");
+      lu_.compute(J_);
+      dx_ = lu_.solve(-r_);
+      ++st.nonlinear_iterations;
+      if (!dx_.allFinite() || lu_.matrixLU().diagonal().cwiseAbs().minCoeff() == 0.0)
+        throw SolverError(FailureKind::singular_iteration_matrix, t,
+                          "the Jacobian of the variational step from t = " + number(t) +
+                              " is singular (a constraint gradient vanishing there, or a step h = " + number(h) +
+                              " at which the discrete equations degenerate)");
+      x += dx_;
+      last_correction = 0;
+      for (int i = 0; i < size_; ++i)
+        last_correction = std::max(last_correction, std::abs(dx_[i]) / (1 + std::abs(x[i])));
+      if (last_correction <= options_.newton_tolerance) return;
+    }
+    ++st.nonlinear_failures;
+    throw SolverError(FailureKind::convergence, t,
+                      "Newton's method did not converge on the variational step from t = " + number(t) + " (" +
+                          std::to_string(options_.max_newton_iterations) + " iterations, last relative correction " +
+                          number(last_correction) + ", largest residual " + largest_residual() +
+                          "); try a smaller step (--step) or IDA (--integrator ida)");
+  }
+
+  /// r(x) into r(), with the check that it is finite.
+  void residual(double t, double h, double w, const double* q_previous, const double* q, const double* m,
+                const Eigen::VectorXd& x, const double* p, Statistics& st) {
+    table_.variational_residual(t, h, w, q_previous, q, m, x.data(), p, r_.data());
+    ++st.residual_evaluations;
+    for (int i = 0; i < size_; ++i)
+      if (!std::isfinite(r_[i]))
+        throw SolverError(FailureKind::nonfinite_residual, t,
+                          "the variational step from t = " + number(t) + " gives a non-finite " + name(i));
+  }
+
+  const Eigen::VectorXd& r() const { return r_; }
+
+ private:
+  std::string name(int i) const {
+    return i < n_ ? "R_" + model_.variable_name(i) : "f" + std::to_string(i - n_ + 1);
+  }
+  std::string largest_residual() const {
+    Eigen::Index at = 0;
+    const double value = r_.cwiseAbs().maxCoeff(&at);
+    return name(static_cast<int>(at)) + " = " + number(value);
+  }
+
+  const Model& model_;
+  const nhc_model_table& table_;
+  const VariationalOptions& options_;
+  int n_, size_;
+  Eigen::VectorXd r_, dx_;
+  Eigen::MatrixXd J_;
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
+};
+
+}  // namespace
+
+long variational_steps_needed(double t0, double t_end, double h) {
+  const double intervals = (t_end - t0) / h;
+  if (!std::isfinite(intervals) || intervals > 1e15) return -1;
+  // A t_end within rounding of a node is that node.
+  return static_cast<long>(std::ceil(intervals * (1 - 1e-12))) + 1;
+}
+
+VariationalRun simulate_variational(const Model& model, const std::vector<double>& p, const InitialState& initial,
+                                    const std::vector<double>& times, const VariationalOptions& options,
+                                    const InputFunction& inputs) {
+  if (!model.has_variational_step())
+    throw ModelError("model " + model.scene_name() + "_" + model.model_name() +
+                     " was generated without the variational step (nhc generate --variational)");
+  const double h = options.step;
+  if (!(h > 0) || !std::isfinite(h)) throw std::invalid_argument("the variational step must be positive, not " + number(h));
+  if (times.empty()) throw std::invalid_argument("no output times");
+  VariationalRun out;
+  RunResult& result = out.run;
+  Statistics& st = result.statistics;
+  st.linear_solver = "dense";
+  st.jacobian = "generated dense (variational step)";
+
+  const std::vector<double> parameters = p.empty() ? model.default_parameters() : p;
+  const auto init_start = Clock::now();
+  {
+    Integrator integrator(model, parameters, options.initialization);
+    if (inputs) integrator.set_inputs(inputs);
+    try {
+      result.initial = integrator.initialize(initial, initial.t0 + h);
+    } catch (const SolverError& e) {
+      result.failure = e;
+      st.initialization_seconds = seconds_since(init_start);
+      return out;
+    }
+  }
+  st.initialization_seconds = seconds_since(init_start);
+  const double t0 = result.initial.t;
+  const long steps = variational_steps_needed(t0, times.back(), h);
+  if (steps < 0 || steps > options.max_steps) {
+    result.failure = SolverError(FailureKind::too_many_steps, t0,
+                                 "a fixed step h = " + number(h) + " from t = " + number(t0) + " to " +
+                                     number(times.back()) + " takes " +
+                                     (steps < 0 ? std::string("too many") : std::to_string(steps)) +
+                                     " steps, more than the limit of " + std::to_string(options.max_steps));
+    return out;
+  }
+
+  const auto start = Clock::now();
+  const nhc_model_table& table = model.table();
+  const StateLayout layout(model);
+  const int n = layout.n, g = layout.g;
+  const auto nn = static_cast<std::size_t>(n);
+  InputValues values(model, parameters);
+  if (inputs) values.set_function(inputs);
+  StepSolver solver(model, options);
+  ProgressBar progress(t0, times.back(), options.progress);
+
+  Node previous = layout.node(result.initial);  // the last completed node
+  std::vector<double> q_previous(nn), q = previous.q, m(nn), m_next(nn), y_last = result.initial.y;
+  for (std::size_t i = 0; i < nn; ++i) q_previous[i] = q[i] - h * previous.v[i];
+  table.momentum(t0, y_last.data(), values.at(t0, y_last.data()), m.data());
+  Eigen::VectorXd x(n + g);
+  for (int i = 0; i < n; ++i) x[i] = q[static_cast<std::size_t>(i)] + h * previous.v[static_cast<std::size_t>(i)];
+  for (int a = 0; a < g; ++a) x[n + a] = previous.lambda[static_cast<std::size_t>(a)];
+
+  std::size_t next_time = 0;
+  Sample sample;
+  const auto emit_through = [&](const Node& a, const Node& b) {
+    const double slack = 1e-12 * std::max(1.0, std::abs(b.t));
+    for (; next_time < times.size() && times[next_time] <= b.t + slack; ++next_time) {
+      layout.sample(std::max(times[next_time], a.t), a, b, sample);
+      sample.t = times[next_time];
+      const double* pu = values.at(sample.t, sample.y.data());
+      sample.u.assign(pu + model.n_parameters(), pu + model.n_parameters() + model.n_inputs());
+      result.samples.push_back(sample);
+    }
+  };
+  try {
+    for (long k = 0; k < steps; ++k) {
+      const double t = t0 + static_cast<double>(k) * h;
+      if (options.stop_requested && options.stop_requested())
+        throw SolverError(FailureKind::stopped, t, "stopped at t = " + number(t) + " (interrupted)");
+      const double* pk = values.at(t + h / 2, y_last.data());
+      const double w = k == 0 ? 0.5 : 1.0;  // the first step meets half the impulse at t0
+      solver.solve(t, h, w, q_previous.data(), q.data(), m.data(), pk, x, st);
+      solver.residual(t, h, w, q_previous.data(), q.data(), m.data(), x, pk, st);
+      for (int a = 0; a < g; ++a)
+        out.max_discrete_constraint = std::max(out.max_discrete_constraint, std::abs(solver.r()[n + a]));
+      table.variational_momentum(t, h, q.data(), x.data(), pk, m_next.data());
+      ++st.steps;
+      if (k > 0) {  // node k is complete: its velocity needs q_{k+1}
+        Node node;
+        node.t = t;
+        node.q = q;
+        node.v.resize(nn);
+        node.a.resize(nn);
+        for (std::size_t i = 0; i < nn; ++i) {
+          node.v[i] = (x[static_cast<Eigen::Index>(i)] - q_previous[i]) / (2 * h);
+          node.a[i] = (x[static_cast<Eigen::Index>(i)] - 2 * q[i] + q_previous[i]) / (h * h);
+        }
+        node.lambda.assign(x.data() + n, x.data() + n + g);
+        emit_through(previous, node);
+        layout.sample(t, node, node, sample);
+        y_last = sample.y;
+        previous = std::move(node);
+      }
+      // Shift the window and predict the next step: q_{k+2} ≈ 2 q_{k+1} − q_k.
+      for (std::size_t i = 0; i < nn; ++i) {
+        q_previous[i] = q[i];
+        q[i] = x[static_cast<Eigen::Index>(i)];
+        x[static_cast<Eigen::Index>(i)] = 2 * q[i] - q_previous[i];
+      }
+      m.swap(m_next);
+      progress.update(t);
+    }
+  } catch (const SolverError& e) {
+    result.failure = e;
+  }
+  out.steps = st.steps;
+  st.integration_seconds = seconds_since(start);
+  return out;
+}
+
+}  // namespace nhc::runtime

@@ -1,0 +1,54 @@
+#pragma once
+/// \file variational.hpp
+/// \brief Integrating a generated model with its discrete Lagrange–d'Alembert step
+/// (docs/variational.md): a fixed step h, Newton's method on the generated residual and
+/// Jacobian at every step, the samples in the states of the IDA path.
+///
+/// The step (Variational additions of docs/generated-code.md) gives q_{k+1} and λ_k from q_{k−1},
+/// q_k and the discrete momentum m_k. A sample between two nodes interpolates q by the cubic
+/// Hermite polynomial through (q_k, v_k) and (q_{k+1}, v_{k+1}), with the node velocities
+/// v_k = (q_{k+1} − q_{k−1})/(2h), and λ and q'' linearly; at a node it is the node itself.
+
+#include <functional>
+#include <vector>
+
+#include "nhc/runtime/integrator.hpp"
+#include "nhc/runtime/trajectory.hpp"
+
+namespace nhc::runtime {
+
+struct VariationalOptions {
+  double step = 0;  ///< h > 0
+  /// Steps over the whole run; a run that needs more is refused before its first step.
+  long max_steps = 1000000;
+  int max_newton_iterations = 20;
+  /// Newton has converged when every correction |Δx_i| ≤ newton_tolerance (1 + |x_i|).
+  double newton_tolerance = 1e-12;
+  /// The consistent initial point is IDA's (IntegratorOptions::rtol, atol).
+  IntegratorOptions initialization;
+  bool progress = false;  ///< as IntegratorOptions::progress
+  std::function<bool()> stop_requested;  ///< as IntegratorOptions::stop_requested, asked every step
+};
+
+/// What a variational run gives besides the samples.
+struct VariationalRun {
+  RunResult run;
+  /// max over the steps of |C_α|, the discrete constraints the step solves (order 1 at the step's
+  /// midpoint, order 0 at its end): rounding level when Newton converged.
+  double max_discrete_constraint = 0;
+  long steps = 0;
+};
+
+/// The steps a run from t0 through t_end takes with step h (one beyond t_end gives the last node
+/// its velocity).
+long variational_steps_needed(double t0, double t_end, double h);
+
+/// Runs `model` (generated with the variational step: Model::has_variational_step, else a
+/// ModelError) from `initial` through `times`. Failures (no consistent initial point, Newton not
+/// converging, a non-finite residual, the step limit, a stop request) are kept in
+/// run.failure with the samples before them.
+VariationalRun simulate_variational(const Model& model, const std::vector<double>& p, const InitialState& initial,
+                                    const std::vector<double>& times, const VariationalOptions& options,
+                                    const InputFunction& inputs = {});
+
+}  // namespace nhc::runtime
