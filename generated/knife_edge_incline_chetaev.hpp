@@ -74,7 +74,7 @@ struct nhc_model_table {
   const char* const* input_names;
   void (*default_inputs)(double, const double*, double*);
   /* abi_version >= 5 (Variational additions; null unless generated with them): the discrete
-   * Lagrange-d'Alembert step of docs/variational.md, in x = (q_{k+1}, lambda_k) */
+   * Lagrange-d'Alembert step of docs/variational.md, in x = (q_{k+1} - q_k, lambda_k) */
   void (*momentum)(double, const double*, const double*, double*);
   void (*variational_residual)(double, double, double, const double*, const double*, const double*, const double*,
                                const double*, double*);

@@ -48,7 +48,7 @@ DiscreteLagrangeDAlembert discrete_lagrange_dalembert(const Scene& scene) {
   const JetSpace& jet = *scene.jet;
   const int n = jet.coordinate_count(), g = scene.constraint_count();
   DiscreteLagrangeDAlembert d;
-  d.q_previous = symbols("qprev", n);
+  d.increment_previous = symbols("dqprev", n);
   d.q = symbols("qk", n);
   d.momentum_in = symbols("mk", n);
   d.x = symbols("x", n + g);
@@ -60,12 +60,12 @@ DiscreteLagrangeDAlembert discrete_lagrange_dalembert(const Scene& scene) {
   midpoint_map[t] = t + h / 2;
   end_map[t] = t + h;
   for (int i = 0; i < n; ++i) {
-    const ex qk = d.q[static_cast<std::size_t>(i)], qn = d.x[static_cast<std::size_t>(i)];
-    midpoint_map[jet.q(i, 0)] = (qk + qn) / 2;
-    midpoint_map[jet.q(i, 1)] = (qn - qk) / h;
+    const ex qk = d.q[static_cast<std::size_t>(i)], dq = d.x[static_cast<std::size_t>(i)];
+    midpoint_map[jet.q(i, 0)] = qk + dq / 2;
+    midpoint_map[jet.q(i, 1)] = dq / h;
     node_map[jet.q(i, 0)] = qk;
-    node_map[jet.q(i, 1)] = (qn - d.q_previous[static_cast<std::size_t>(i)]) / (2 * h);
-    end_map[jet.q(i, 0)] = qn;
+    node_map[jet.q(i, 1)] = (dq + d.increment_previous[static_cast<std::size_t>(i)]) / (2 * h);
+    end_map[jet.q(i, 0)] = qk + dq;
   }
   const SymbolSubstitution midpoint(midpoint_map), node(node_map), end(end_map);
 

@@ -7,14 +7,16 @@
 /// Midpoint discrete Lagrangian L_d(q_a, q_b) = h L(t + h/2, (q_a + q_b)/2, (q_b − q_a)/h), forces
 /// Q at the same midpoint split half to each end (Marsden & West 2001, Sect. 3.2). In the
 /// position–momentum form, with m_k the discrete momentum arriving at q_k, the step from
-/// (q_{k−1}, q_k, m_k) solves for x = (q_{k+1}, λ_k):
+/// (q_k, m_k) and the previous increment Δq_{k−1} = q_k − q_{k−1} solves for x = (Δq_k, λ_k),
+/// Δq_k = q_{k+1} − q_k (increments, not positions: a velocity Δq/h then loses no digits to
+/// q_{k+1} − q_k when a coordinate such as a wheel's angle grows large):
 ///
 ///   R_i = (m_k,i − ∂L/∂q'_i|₊)/h + ½ ∂L/∂q_i|₊ + ½ Q_i|₊ + w λ_α A^α_i(t_k, q_k, v_k) = 0,
 ///   C_α = f^α(t_k + h/2, (q_k + q_{k+1})/2, (q_{k+1} − q_k)/h) = 0      (order 1)
 ///   C_α = f^α(t_k + h, q_{k+1}) = 0                                      (order 0),
 ///
 /// where |₊ is the midpoint of (q_k, q_{k+1}), A^α_i = ∂f^α/∂q_i^(m_α) the constraint force of
-/// the chetaev model (models.md) at the node, v_k = (q_{k+1} − q_{k−1})/(2h) (A does not depend
+/// the chetaev model (models.md) at the node, v_k = (Δq_k + Δq_{k−1})/(2h) (A does not depend
 /// on it for constraints linear in the velocities), and w = 1 (½ on the first step, whose
 /// momentum is the continuous one at t0 and meets half of the node's impulse). The constraint
 /// forces act at the nodes and the constraints hold on the steps: McLachlan & Perlmutter,
@@ -35,8 +37,8 @@ namespace nhc {
 
 struct DiscreteLagrangeDAlembert {
   GiNaC::realsymbol h{"h"}, w{"w"};
-  /// q_{k−1}, q_k, m_k (n each) and the unknowns x = (q_{k+1}, λ_k) (n + g).
-  std::vector<GiNaC::realsymbol> q_previous, q, momentum_in, x;
+  /// Δq_{k−1}, q_k, m_k (n each) and the unknowns x = (Δq_k, λ_k) (n + g).
+  std::vector<GiNaC::realsymbol> increment_previous, q, momentum_in, x;
   /// R_1..R_n, then C_1..C_g: of t (= t_k), h, w, parameters, inputs and the symbols above.
   std::vector<GiNaC::ex> residual;
   /// m_{k+1}: of t, h, q, x.

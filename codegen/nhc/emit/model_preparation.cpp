@@ -204,7 +204,7 @@ std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> function_inputs(const Index1
     const auto name = [&](const std::vector<GiNaC::realsymbol>& symbols, const std::string& array) {
       for (std::size_t k = 0; k < symbols.size(); ++k) in[symbols[k]] = array + "[" + std::to_string(k) + "]";
     };
-    name(step->q_previous, "q_previous");
+    name(step->increment_previous, "dq_previous");
     name(step->q, "q");
     name(step->momentum_in, "m");
     name(step->x, "x");
@@ -387,15 +387,15 @@ FunctionPlan momentum_function(const DiscreteLagrangeDAlembert& step, const Inde
 }
 
 const std::vector<std::pair<std::string, std::string>> kStepInputs = {
-    {"double", "t"},         {"double", "h"},       {"double", "impulse_weight"}, {"const double*", "q_previous"},
+    {"double", "t"},         {"double", "h"},       {"double", "impulse_weight"}, {"const double*", "dq_previous"},
     {"const double*", "q"}, {"const double*", "m"}, {"const double*", "x"},       {"const double*", "p"}};
 
-/// The discrete Lagrange–d'Alembert residual in x = (q_{k+1}, λ_k) (discrete_lagrange_dalembert.hpp).
+/// The discrete Lagrange–d'Alembert residual in x = (Δq_k, λ_k) (discrete_lagrange_dalembert.hpp).
 FunctionPlan variational_residual_function(const DiscreteLagrangeDAlembert& step, const Index1System& system,
                                            ExpressionDag& dag) {
   FunctionPlan f;
   f.name = "variational_residual";
-  f.doc = "/// The discrete Lagrange-d'Alembert step r(x) = 0 in x = (q_{k+1}, lambda_k), n_coordinates +\n"
+  f.doc = "/// The discrete Lagrange-d'Alembert step r(x) = 0 in x = (q_{k+1} - q_k, lambda_k), n_coordinates +\n"
           "/// n_multipliers entries (docs/variational.md).\n";
   f.parameters = kStepInputs;
   f.parameters.push_back({"double*", "r"});

@@ -105,7 +105,7 @@ LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& option
   auto start = Clock::now();
   std::optional<std::string> key;
   if (options.scene_cache && scene_cache_enabled())
-    key = scene_cache_key(scene, kHeaderProduct, header_options_text(kind, options), NHC_VERSION,
+    key = scene_cache_key(scene, kHeaderProduct, header_options_text(kind, options), scene_cache_version(),
                           FingerprintScope::equations);
   if (key) {
     if (const std::optional<SceneCacheRecord> record =

@@ -1,6 +1,8 @@
 // The scene-level cache: verified entries of what the symbolic pipeline made of a scene (scene_cache.hpp).
 #include "nhc/jit/scene_cache.hpp"
 
+#include "nhc/jit/generator_fingerprint.hpp"
+
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -205,6 +207,10 @@ std::optional<std::string> scene_fingerprint(const Scene& scene, FingerprintScop
       << scene.constraints.size() << " " << scene.reference.all.size() << " " << scene.reference.per_model.size() << " " << scene.invariants.size() << " "
       << scene.forces.size() << "\n";
   return out.str();
+}
+
+std::string scene_cache_version() {
+  return std::string(NHC_VERSION) + ", generator " + NHC_GENERATOR_FINGERPRINT;
 }
 
 std::optional<std::string> scene_cache_key(const Scene& scene, const std::string& product, const std::string& options,

@@ -58,10 +58,14 @@ enum class FingerprintScope {
 /// The scene's fingerprint (see the file comment); nullopt for a scene without source text.
 std::optional<std::string> scene_fingerprint(const Scene& scene, FingerprintScope scope = FingerprintScope::everything);
 
+/// What made the products: NHC_VERSION and the SHA-256 of the code generator's sources (a build
+/// from other sources of the same version derives again instead of reusing what it did not make).
+std::string scene_cache_version();
+
 /// The key of `product` of `scene` with `options` (words naming every option the product depends
 /// on) under nhc `version`: 64 hexadecimal digits; nullopt for a scene without source text.
 std::optional<std::string> scene_cache_key(const Scene& scene, const std::string& product, const std::string& options,
-                                           const std::string& version = NHC_VERSION,
+                                           const std::string& version = scene_cache_version(),
                                            FingerprintScope scope = FingerprintScope::everything);
 
 /// False when `$NHC_SCENE_CACHE` is `off` (or `0`): every product is derived again and nothing is

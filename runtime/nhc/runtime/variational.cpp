@@ -97,6 +97,9 @@ struct StateLayout {
   }
 };
 
+/// Corrections up to this many times the Newton tolerance that stop shrinking are rounding noise.
+constexpr double kRoundingLevelFactor = 1000;
+
 /// One Newton solve of the generated step r(x) = 0 (dense LU; the step is small: n + g unknowns).
 class StepSolver {
  public:
@@ -105,12 +108,12 @@ class StepSolver {
         size_(model.n_coordinates() + model.n_multipliers()), r_(size_), dx_(size_), J_(size_, size_), lu_(size_) {}
 
   /// Solves for x (its guess in, the solution out); throws SolverError at a failure.
-  void solve(double t, double h, double w, const double* q_previous, const double* q, const double* m,
+  void solve(double t, double h, double w, const double* dq_previous, const double* q, const double* m,
              const double* p, Eigen::VectorXd& x, Statistics& st) {
-    double last_correction = 0;
+    double last_correction = 0, previous_correction = 0;
     for (int iteration = 0; iteration < options_.max_newton_iterations; ++iteration) {
-      residual(t, h, w, q_previous, q, m, x, p, st);
-      table_.variational_jacobian(t, h, w, q_previous, q, m, x.data(), p, J_.data());
+      residual(t, h, w, dq_previous, q, m, x, p, st);
+      table_.variational_jacobian(t, h, w, dq_previous, q, m, x.data(), p, J_.data());
       ++st.jacobian_evaluations;
       if (!J_.allFinite())
         throw SolverError(FailureKind::nonfinite_residual, t,
@@ -124,10 +127,16 @@ class StepSolver {
                               " is singular (a constraint gradient vanishing there, or a step h = " + number(h) +
                               " at which the discrete equations degenerate)");
       x += dx_;
+      previous_correction = last_correction;
       last_correction = 0;
       for (int i = 0; i < size_; ++i)
         last_correction = std::max(last_correction, std::abs(dx_[i]) / (1 + std::abs(x[i])));
       if (last_correction <= options_.newton_tolerance) return;
+      // Rounding level reached a little above the tolerance: the corrections no longer shrink
+      // (quadratic convergence would divide them by far more than 2), and are tiny.
+      if (iteration > 0 && last_correction > previous_correction / 2 &&
+          last_correction <= kRoundingLevelFactor * options_.newton_tolerance)
+        return;
     }
     ++st.nonlinear_failures;
     throw SolverError(FailureKind::convergence, t,
@@ -138,9 +147,9 @@ class StepSolver {
   }
 
   /// r(x) into r(), with the check that it is finite.
-  void residual(double t, double h, double w, const double* q_previous, const double* q, const double* m,
+  void residual(double t, double h, double w, const double* dq_previous, const double* q, const double* m,
                 const Eigen::VectorXd& x, const double* p, Statistics& st) {
-    table_.variational_residual(t, h, w, q_previous, q, m, x.data(), p, r_.data());
+    table_.variational_residual(t, h, w, dq_previous, q, m, x.data(), p, r_.data());
     ++st.residual_evaluations;
     for (int i = 0; i < size_; ++i)
       if (!std::isfinite(r_[i]))
@@ -229,11 +238,14 @@ VariationalRun simulate_variational(const Model& model, const std::vector<double
   ProgressBar progress(t0, times.back(), options.progress);
 
   Node previous = layout.node(result.initial);  // the last completed node
-  std::vector<double> q_previous(nn), q = previous.q, m(nn), m_next(nn), y_last = result.initial.y;
-  for (std::size_t i = 0; i < nn; ++i) q_previous[i] = q[i] - h * previous.v[i];
+  // q_k summed from the increments with Kahan's compensation: a million steps add no more
+  // rounding to q than a few.
+  std::vector<double> dq_previous(nn), q = previous.q, q_compensation(nn, 0.0), m(nn), m_next(nn),
+      y_last = result.initial.y;
+  for (std::size_t i = 0; i < nn; ++i) dq_previous[i] = h * previous.v[i];
   table.momentum(t0, y_last.data(), values.at(t0, y_last.data()), m.data());
   Eigen::VectorXd x(n + g);
-  for (int i = 0; i < n; ++i) x[i] = q[static_cast<std::size_t>(i)] + h * previous.v[static_cast<std::size_t>(i)];
+  for (int i = 0; i < n; ++i) x[i] = dq_previous[static_cast<std::size_t>(i)];
   for (int a = 0; a < g; ++a) x[n + a] = previous.lambda[static_cast<std::size_t>(a)];
 
   std::size_t next_time = 0;
@@ -255,8 +267,8 @@ VariationalRun simulate_variational(const Model& model, const std::vector<double
         throw SolverError(FailureKind::stopped, t, "stopped at t = " + number(t) + " (interrupted)");
       const double* pk = values.at(t + h / 2, y_last.data());
       const double w = k == 0 ? 0.5 : 1.0;  // the first step meets half the impulse at t0
-      solver.solve(t, h, w, q_previous.data(), q.data(), m.data(), pk, x, st);
-      solver.residual(t, h, w, q_previous.data(), q.data(), m.data(), x, pk, st);
+      solver.solve(t, h, w, dq_previous.data(), q.data(), m.data(), pk, x, st);
+      solver.residual(t, h, w, dq_previous.data(), q.data(), m.data(), x, pk, st);
       for (int a = 0; a < g; ++a)
         out.max_discrete_constraint = std::max(out.max_discrete_constraint, std::abs(solver.r()[n + a]));
       table.variational_momentum(t, h, q.data(), x.data(), pk, m_next.data());
@@ -268,8 +280,8 @@ VariationalRun simulate_variational(const Model& model, const std::vector<double
         node.v.resize(nn);
         node.a.resize(nn);
         for (std::size_t i = 0; i < nn; ++i) {
-          node.v[i] = (x[static_cast<Eigen::Index>(i)] - q_previous[i]) / (2 * h);
-          node.a[i] = (x[static_cast<Eigen::Index>(i)] - 2 * q[i] + q_previous[i]) / (h * h);
+          node.v[i] = (x[static_cast<Eigen::Index>(i)] + dq_previous[i]) / (2 * h);
+          node.a[i] = (x[static_cast<Eigen::Index>(i)] - dq_previous[i]) / (h * h);
         }
         node.lambda.assign(x.data() + n, x.data() + n + g);
         emit_through(previous, node);
@@ -277,11 +289,13 @@ VariationalRun simulate_variational(const Model& model, const std::vector<double
         y_last = sample.y;
         previous = std::move(node);
       }
-      // Shift the window and predict the next step: q_{k+2} ≈ 2 q_{k+1} − q_k.
+      // Shift the window; the next increment is predicted equal to this one.
       for (std::size_t i = 0; i < nn; ++i) {
-        q_previous[i] = q[i];
-        q[i] = x[static_cast<Eigen::Index>(i)];
-        x[static_cast<Eigen::Index>(i)] = 2 * q[i] - q_previous[i];
+        const double dq = x[static_cast<Eigen::Index>(i)];
+        dq_previous[i] = dq;
+        const double corrected = dq - q_compensation[i], sum = q[i] + corrected;
+        q_compensation[i] = (sum - q[i]) - corrected;
+        q[i] = sum;
       }
       m.swap(m_next);
       progress.update(t);

@@ -4,8 +4,9 @@
 /// (docs/variational.md): a fixed step h, Newton's method on the generated residual and
 /// Jacobian at every step, the samples in the states of the IDA path.
 ///
-/// The step (Variational additions of docs/generated-code.md) gives q_{k+1} and λ_k from q_{k−1},
-/// q_k and the discrete momentum m_k. A sample between two nodes interpolates q by the cubic
+/// The step (Variational additions of docs/generated-code.md) gives the increment q_{k+1} − q_k
+/// and λ_k from q_k, the previous increment and the discrete momentum m_k; q is summed from the
+/// increments with Kahan's compensation. A sample between two nodes interpolates q by the cubic
 /// Hermite polynomial through (q_k, v_k) and (q_{k+1}, v_{k+1}), with the node velocities
 /// v_k = (q_{k+1} − q_{k−1})/(2h), and λ and q'' linearly; at a node it is the node itself.
 
