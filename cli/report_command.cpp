@@ -1,6 +1,7 @@
 // nhc report SCENE [--model M] [--tolerances 1e-3:1e-12] [--atol-scale S] [--jacobian dense|sparse|both]
 //                  [--projection off|on|both] [--t-end T] [--outputs N] [--set NAME=VALUE]...
-//                  [--sweep NAME=LO:HI] [--repeats N] [--reference-rtol R] [-o DIR]
+//                  [--sweep NAME=LO:HI] [--repeats N] [--reference-rtol R] [--integrators ida,variational]
+//                  [--long-run T] [--long-run-step H] [-o DIR]
 //
 // Work-precision report of one model of a scene (work_precision.hpp): the scene integrated at
 // rtol = 10^-k over the given decades with atol = rtol × scale (the scale defaults to the scene's
@@ -8,7 +9,10 @@
 // else a reference run at rtol 1e-13, wall time (median of repeats when a run takes less than
 // 0.2 s), drift and solver statistics → DIR/workprec.csv, DIR/workprec.svg/.png (gnuplot),
 // DIR/report.md. `--sweep K=1e2:1e8` repeats everything for K = 1e2, 1e3, …, 1e8 (the stiff
-// scenes) and adds DIR/steps.svg/.png. (docs/stability.md is written by the maintenance tool
+// scenes) and adds DIR/steps.svg/.png. `--integrators ida,variational` adds the variational
+// integrator (docs/variational.md) at fixed steps (t_end − t0)/outputs / 2^j, j = 0..5, on the same
+// axes, and a long run of both to `--long-run T` (default 100 × (t_end − t0)) whose energy error
+// against t is DIR/energy.svg/.png. (docs/stability.md is written by the maintenance tool
 // scripts/stability/, not by this command.)
 #include <algorithm>
 #include <cmath>
@@ -54,7 +58,12 @@ struct ReportOptions {
   double reference_rtol = 1e-13;
   std::string output;
   bool quiet = false;
+  std::vector<std::string> integrators{"ida"};
+  std::optional<double> long_run, long_run_step;
 };
+
+/// The variational integrator's steps of a report: the output interval halved 5 times.
+constexpr int kVariationalStepHalvings = 5;
 
 std::string fmt(double v, int precision = 3) { return std::isnan(v) ? std::string("—") : format_number(v, precision); }
 
@@ -100,10 +109,36 @@ PreparedReport prepare(const ReportOptions& o) {
   flag_rules::output_times(r.scene.initial.t0, s.t_end, s.outputs, "--t-end/--outputs");  // they must not collapse
   s.max_repeats = o.repeats;
   s.reference_rtol = o.reference_rtol;
-  for (const std::string& j : {std::string("dense"), std::string("sparse")}) {
-    if (o.jacobian != "both" && o.jacobian != j) continue;
-    for (bool projection : {false, true})
-      if (o.projection == "both" || (o.projection == "on") == projection) s.configurations.push_back({j, projection});
+  const auto uses = [&](const std::string& integrator) {
+    return std::find(o.integrators.begin(), o.integrators.end(), integrator) != o.integrators.end();
+  };
+  if (uses("ida"))
+    for (const std::string& j : {std::string("dense"), std::string("sparse")}) {
+      if (o.jacobian != "both" && o.jacobian != j) continue;
+      for (bool projection : {false, true})
+        if (o.projection == "both" || (o.projection == "on") == projection)
+          s.configurations.push_back({j, projection, false});
+    }
+  if (uses("variational")) {
+    if (r.kind != ModelKind::chetaev)
+      throw InputError({"--integrators", 0, 0}, "the variational integrator takes the chetaev model, not " +
+                                                    to_string(r.kind) + " (docs/variational.md)");
+    s.configurations.push_back({"dense", false, true});
+    const double interval = (s.t_end - r.scene.initial.t0) / s.outputs;
+    for (int j = 0; j <= kVariationalStepHalvings; ++j) s.steps.push_back(interval / std::pow(2.0, j));
+    s.long_run_t_end = r.scene.initial.t0 + o.long_run.value_or(100 * (s.t_end - r.scene.initial.t0));
+    if (!(s.long_run_t_end > r.scene.initial.t0))
+      throw InputError({"--long-run", 0, 0}, "--long-run " + fmt(*o.long_run, 6) + " must be positive");
+    s.long_run_step = o.long_run_step.value_or(s.steps.at(1));
+    s.long_run_rtol = r.scene.simulate.rtol;
+    const long steps = runtime::variational_steps_needed(r.scene.initial.t0, s.long_run_t_end, s.long_run_step);
+    if (steps < 0 || steps > 100000000)
+      throw InputError({"--long-run-step", 0, 0}, "the long run takes " +
+                                                      (steps < 0 ? std::string("too many") : std::to_string(steps)) +
+                                                      " variational steps, more than 10^8");
+  } else if (o.long_run || o.long_run_step) {
+    throw InputError({"--long-run", 0, 0}, "--long-run compares IDA with the variational integrator: add "
+                                           "--integrators ida,variational");
   }
   for (const std::string& a : o.set) {
     const auto [name, value] = split_assignment("--set", a);
@@ -157,6 +192,15 @@ std::string error_summary(const WorkPrecision& wp) {
       if (std::isfinite(m->error)) best = std::min(best, m->error);
     if (!std::isfinite(best)) {
       out << "- " << key << ": no error could be measured.\n";
+      continue;
+    }
+    if (ms.front()->configuration.variational) {
+      // Fixed steps, halved: the observed order of each halving, log2 of the error ratio.
+      out << "- " << key << ": error " << fmt(ms.front()->error) << " at step " << fmt(ms.front()->step) << ", "
+          << fmt(ms.back()->error) << " at step " << fmt(ms.back()->step) << "; observed orders";
+      for (std::size_t k = 1; k < ms.size(); ++k)
+        out << (k > 1 ? "," : "") << " " << fmt(std::log2(ms[k - 1]->error / ms[k]->error), 3);
+      out << " (the midpoint rule's order is 2).\n";
       continue;
     }
     // The loosest tolerance from which on the error stays within 10× of the best: the floor.
@@ -217,6 +261,10 @@ void write_report(const std::string& path, const Scene& scene, ModelKind kind, c
         << "- drift: max |g_i| of the hidden constraints, and max over the invariants of |I(t) − I(t0)| / |I(t0)|.\n"
         << "- configurations: dense LU or KLU (sparse) with the generated Jacobian, without or with projection "
            "onto the hidden constraints (`in_place`, docs/projection.md).\n";
+    if (!s.steps.empty())
+      out << "- variational: the discrete Lagrange–d'Alembert integrator (docs/variational.md) at the fixed steps "
+          << fmt(s.steps.front()) << " … " << fmt(s.steps.back())
+          << " (halving), its initial point consistent at rtol " << fmt(s.rtols.back()) << ".\n";
     if (!s.parameter_overrides.empty()) {
       out << "- parameters set:";
       for (const auto& [n, v] : s.parameter_overrides) out << " " << n << " = " << fmt(v, 6);
@@ -234,11 +282,23 @@ void write_report(const std::string& path, const Scene& scene, ModelKind kind, c
     out << "Errors below 1e-16 are drawn at 1e-16.\n\n";
 
     out << "## Error against tolerance\n\n" << error_summary(wp) << "\n";
+    if (!wp.long_runs.empty()) {
+      out << "## Long run\n\n"
+          << "From t = " << fmt(scene.initial.t0, 6) << " to " << fmt(s.long_run_t_end, 6) << ", " << s.long_run_outputs + 1
+          << " samples; the error of the invariant `" << wp.long_runs.front().invariant << "`, |I(t) − I(t0)|:\n\n"
+          << table_row({"integrator", "steps", "seconds", "max error", "error at the end", "status"})
+          << table_row({"---", "---", "---", "---", "---", "---"});
+      for (const runtime::InvariantHistory& h : wp.long_runs)
+        out << table_row({h.integrator, std::to_string(h.steps), fmt(h.seconds),
+                          fmt(h.error.empty() ? NAN : *std::max_element(h.error.begin(), h.error.end())),
+                          fmt(h.error.empty() ? NAN : h.error.back()), h.failure.empty() ? "ok" : h.failure});
+      out << "\n";
+    }
 
     out << "## Measurements\n\n";
     std::vector<std::string> header{"configuration"};
     if (sweep) header.push_back(s.sweep_parameter);
-    for (const char* h : {"rtol", "atol", "error", "seconds", "repeats", "steps", "residuals", "Jacobians",
+    for (const char* h : {"rtol", "atol", "step", "error", "seconds", "repeats", "steps", "residuals", "Jacobians",
                           "error-test failures", "nonlinear failures", "projections", "hidden drift",
                           "invariant drift", "t reached", "status"})
       header.push_back(h);
@@ -249,7 +309,7 @@ void write_report(const std::string& path, const Scene& scene, ModelKind kind, c
       std::vector<std::string> row{m.configuration.label()};
       if (sweep) row.push_back(fmt(*m.sweep_value));
       for (const std::string& c :
-           {fmt(m.rtol), fmt(m.atol), fmt(m.error), fmt(m.seconds), std::to_string(m.repeats), std::to_string(st.steps),
+           {fmt(m.rtol), fmt(m.atol), m.step > 0 ? fmt(m.step) : std::string("—"), fmt(m.error), fmt(m.seconds), std::to_string(m.repeats), std::to_string(st.steps),
             std::to_string(st.residual_evaluations), std::to_string(st.jacobian_evaluations),
             std::to_string(st.error_test_failures), std::to_string(st.nonlinear_failures),
             std::to_string(st.projections), fmt(m.max_hidden), fmt(m.max_invariant_relative), fmt(m.t_reached, 6),
@@ -369,6 +429,17 @@ CommandRunner add_report_command(CLI::App& app) {
   sub->add_option("-o,--output", options->output,
                   "directory for workprec.csv, workprec.svg/.png and report.md (default <scene>-report)");
   sub->add_flag("-q,--quiet", options->quiet, "no summary and no progress lines");
+  sub->add_option("--integrators", options->integrators,
+                  "ida, variational or both (comma-separated; default ida): variational adds the discrete "
+                  "Lagrange-d'Alembert integrator at fixed steps, and a long run of both (docs/variational.md)")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"ida", "variational"}));
+  sub->add_option("--long-run", options->long_run,
+                  "length of the long run comparing the energy error of both integrators (default 100 x the span)")
+      ->check(flag_rules::positive());
+  sub->add_option("--long-run-step", options->long_run_step,
+                  "the variational integrator's step in the long run (default the second of its series)")
+      ->check(flag_rules::positive());
 
   return [options]() { return run_report(*options); };
 }

@@ -67,7 +67,18 @@ WorkPrecision measure_work_precision(const Scene& scene, ModelKind kind, const W
   };
   build("dense");
   for (const Configuration& c : settings.configurations)
-    if (!built.count(c.jacobian)) build(c.jacobian);
+    if (!c.variational && !built.count(c.jacobian)) build(c.jacobian);
+  const bool variational = std::any_of(settings.configurations.begin(), settings.configurations.end(),
+                                       [](const Configuration& c) { return c.variational; });
+  if (variational) {  // the dense model with the variational step
+    jit::BuildOptions options;
+    options.jacobian = JacobianKind::dense;
+    options.variational = true;
+    jit::LoadedModel b = jit::build(scene, kind, options);
+    wp.derive_seconds += b.timings().derive + b.timings().generate + b.timings().scene_cache;
+    wp.compile_seconds += b.timings().compile + b.timings().load;
+    built.emplace("variational", std::move(b));
+  }
   const runtime::Model& dense = built.at("dense").model();
 
   const std::string scene_file = scene.source_path.empty() ? scene.name : scene.source_path;
@@ -90,6 +101,7 @@ WorkPrecision measure_work_precision(const Scene& scene, ModelKind kind, const W
   runtime::WorkPrecisionModels models;
   models.dense = &dense;
   if (built.count("sparse")) models.sparse = &built.at("sparse").model();
+  if (built.count("variational")) models.variational = &built.at("variational").model();
   static_cast<runtime::WorkPrecision&>(wp) =
       runtime::measure_work_precision(models, scene.initial.t0, scene.initial.values, read, progress);
   return wp;
@@ -97,7 +109,7 @@ WorkPrecision measure_work_precision(const Scene& scene, ModelKind kind, const W
 
 void write_work_precision_csv(const std::string& path, const WorkPrecision& wp) {
   write_file_atomically(path, [&](std::ostream& out) {
-    out << "configuration,jacobian,projection,parameter,value,rtol,atol,error,error_source,seconds,repeats,steps,"
+    out << "configuration,jacobian,projection,parameter,value,rtol,atol,step,error,error_source,seconds,repeats,steps,"
            "residual_evaluations,jacobian_evaluations,linear_solver_setups,error_test_failures,"
            "nonlinear_iterations,nonlinear_failures,projections,max_hidden_drift,max_invariant_drift,t_end,"
            "t_reached,status\n";
@@ -107,7 +119,7 @@ void write_work_precision_csv(const std::string& path, const WorkPrecision& wp) 
       out << m.configuration.label() << ',' << m.configuration.jacobian << ',' << (m.configuration.projection ? 1 : 0)
           << ',' << (m.sweep_value ? wp.settings.sweep_parameter : "") << ',';
       if (m.sweep_value) out << *m.sweep_value;
-      out << ',' << m.rtol << ',' << m.atol << ',' << m.error << ',' << (wp.source.exact ? "reference" : "reference run")
+      out << ',' << m.rtol << ',' << m.atol << ',' << m.step << ',' << m.error << ',' << (wp.source.exact ? "reference" : "reference run")
           << ',' << m.seconds << ',' << m.repeats << ',' << s.steps << ',' << s.residual_evaluations << ','
           << s.jacobian_evaluations << ',' << s.linear_solver_setups << ',' << s.error_test_failures << ','
           << s.nonlinear_iterations << ',' << s.nonlinear_failures << ',' << s.projections << ',' << m.max_hidden
@@ -228,6 +240,24 @@ std::vector<std::string> plot_work_precision(const std::string& directory, const
                                               "steps against " + wp.settings.sweep_parameter + ": " + wp.scene_name +
                                                   " (" + wp.model_name + ")",
                                               wp.settings.sweep_parameter, "IDA steps", true, steps, suffix));
+  }
+
+  // The long run: the energy error against t, both integrators on the same axes.
+  if (!wp.long_runs.empty()) {
+    std::vector<Curve> histories;
+    for (const runtime::InvariantHistory& h : wp.long_runs) {
+      Curve c{h.integrator, {}};
+      for (std::size_t k = 1; k < h.t.size(); ++k)  // t0 itself has no error to draw
+        c.points.emplace_back(h.t[k], std::max(h.error[k], kPlotFloor));
+      histories.push_back(std::move(c));
+    }
+    write_data(dir / "energy.dat", histories);
+    scripts.emplace_back("energy", plot_script("energy",
+                                               "long run: " + wp.scene_name + " (" + wp.model_name + "), error of " +
+                                                   wp.long_runs.front().invariant,
+                                               "t", "|" + wp.long_runs.front().invariant + "(t) - " +
+                                                        wp.long_runs.front().invariant + "(t0)|",
+                                               true, histories, suffix));
   }
 
   std::vector<std::string> written;

@@ -37,14 +37,16 @@ WorkPrecision measure_work_precision(const Scene& scene, ModelKind kind, const W
 /// Throws std::invalid_argument with a message for a malformed spec.
 std::vector<double> decades(const std::string& flag, const std::string& spec);
 
-/// CSV: configuration, jacobian, projection, parameter, value, rtol, atol, error, error_source,
+/// CSV: configuration, jacobian, projection, parameter, value, rtol, atol, step (variational),
+/// error, error_source,
 /// seconds, repeats, steps, residual_evaluations, jacobian_evaluations, linear_solver_setups,
 /// error_test_failures, nonlinear_iterations, nonlinear_failures, projections, max_hidden_drift,
 /// max_invariant_drift, t_end, t_reached, status. Written atomically.
 void write_work_precision_csv(const std::string& path, const WorkPrecision& wp);
 
 /// Draws `DIR/workprec.svg` and `.png` (log-log error against seconds, one curve per
-/// configuration and sweep value) and, for a sweep, `DIR/steps.svg` and `.png` (steps against the
+/// configuration and sweep value), for a long run `DIR/energy.svg` and `.png` (the energy error
+/// against t of both integrators) and, for a sweep, `DIR/steps.svg` and `.png` (steps against the
 /// parameter, one curve per configuration and tolerance) with gnuplot; the data and the gnuplot
 /// script stay in DIR. Each image is written to a temporary file and renamed. Throws
 /// std::runtime_error when gnuplot is missing or fails. Returns the images written.

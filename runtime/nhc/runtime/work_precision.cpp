@@ -1,6 +1,9 @@
 #include "nhc/runtime/work_precision.hpp"
 
+#include "nhc/runtime/variational.hpp"
+
 #include <algorithm>
+#include <limits>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -56,7 +59,10 @@ double error_against_run(const Model& model, const std::vector<Sample>& run,
 
 }  // namespace
 
-std::string WorkPrecisionConfiguration::label() const { return jacobian + (projection ? " + projection" : ""); }
+std::string WorkPrecisionConfiguration::label() const {
+  if (variational) return "variational";
+  return jacobian + (projection ? " + projection" : "");
+}
 
 std::string WorkPrecisionMeasurement::status() const {
   if (!failure) return "ok";
@@ -71,6 +77,71 @@ std::string ErrorSource::description() const {
          " (dense LU, no projection)";
 }
 
+namespace {
+
+/// The invariant a long run records: `energy`, else the first; -1 when the model has none.
+int energy_index(const Model& model) {
+  for (int k = 0; k < model.n_invariants(); ++k)
+    if (std::string(model.table().invariant_names[k]) == "energy") return k;
+  return model.n_invariants() > 0 ? 0 : -1;
+}
+
+InvariantHistory invariant_history(const Model& model, const std::vector<double>& p, const RunResult& run, int k,
+                                   double seconds) {
+  InvariantHistory h;
+  h.invariant = model.table().invariant_names[k];
+  h.seconds = seconds;
+  h.steps = run.statistics.steps;
+  if (run.failure) h.failure = run.failure->what();
+  double first = NAN;
+  for (const Sample& s : run.samples) {
+    const double value = observe(model, p, s).invariants.at(static_cast<std::size_t>(k));
+    if (std::isnan(first)) first = value;
+    h.t.push_back(s.t);
+    h.error.push_back(std::abs(value - first));
+  }
+  return h;
+}
+
+/// IDA and the variational integrator over [t0, long_run_t_end] (WorkPrecisionSettings).
+std::vector<InvariantHistory> long_runs(const WorkPrecisionModels& models, double t0,
+                                        const std::map<std::string, std::vector<double>>& initial_values,
+                                        const std::vector<double>& p, const WorkPrecisionSettings& settings,
+                                        const ProgressSink& progress) {
+  std::vector<InvariantHistory> out;
+  const Model& model = models.variational ? *models.variational : *models.dense;
+  const int k = energy_index(model);
+  if (k < 0) return out;
+  const std::vector<double> times = output_times(t0, settings.long_run_t_end, settings.long_run_outputs);
+  const InitialState initial = initial_state_from(model, t0, initial_values);
+  IntegratorOptions io;
+  io.rtol = settings.long_run_rtol;
+  io.atol = settings.long_run_rtol * settings.atol_scale;
+  io.max_steps = std::numeric_limits<long>::max();
+  auto start = std::chrono::steady_clock::now();
+  const RunResult ida = simulate(model, p, initial, times, io);
+  out.push_back(invariant_history(model, p, ida, k, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()));
+  out.back().integrator = "IDA, rtol " + format_number(io.rtol);
+  if (models.variational && settings.long_run_step > 0) {
+    VariationalOptions vo;
+    vo.step = settings.long_run_step;
+    vo.max_steps = std::numeric_limits<long>::max();
+    vo.initialization = io;
+    start = std::chrono::steady_clock::now();
+    const RunResult run = simulate_variational(model, p, initial, times, vo).run;
+    out.push_back(invariant_history(model, p, run, k, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()));
+    out.back().integrator = "variational, step " + format_number(vo.step);
+  }
+  if (progress)
+    for (const InvariantHistory& h : out)
+      progress("long run to t = " + format_number(settings.long_run_t_end) + ", " + h.integrator + ": " +
+               std::to_string(h.steps) + " steps, " + format_number(h.seconds) + " s, max |" + h.invariant +
+               " error| " + format_number(h.error.empty() ? NAN : *std::max_element(h.error.begin(), h.error.end())));
+  return out;
+}
+
+}  // namespace
+
 WorkPrecision measure_work_precision(const WorkPrecisionModels& models, double t0,
                                      const std::map<std::string, std::vector<double>>& initial_values,
                                      const WorkPrecisionSettings& settings, const ProgressSink& progress) {
@@ -79,6 +150,10 @@ WorkPrecision measure_work_precision(const WorkPrecisionModels& models, double t
     if (jacobian == "dense") return *models.dense;
     if (jacobian == "sparse" && models.sparse) return *models.sparse;
     throw ModelError("work-precision: no model with the " + jacobian + " Jacobian was given");
+  };
+  auto variational_model = [&]() -> const Model& {
+    if (!models.variational) throw ModelError("work-precision: no model with the variational step was given");
+    return *models.variational;
   };
   const Model& dense = *models.dense;
   WorkPrecision wp;
@@ -113,7 +188,10 @@ WorkPrecision measure_work_precision(const WorkPrecisionModels& models, double t
   wp.source.rtol = settings.reference_rtol;
   wp.source.atol = settings.reference_rtol * settings.atol_scale;
 
-  const size_t total = sweep.size() * settings.configurations.size() * settings.rtols.size();
+  size_t runs_per_value = 0;
+  for (const WorkPrecisionConfiguration& c : settings.configurations)
+    runs_per_value += c.variational ? settings.steps.size() : settings.rtols.size();
+  const size_t total = sweep.size() * runs_per_value;
   size_t done = 0;
   for (const std::optional<double>& value : sweep) {
     std::vector<double> p = wp.parameters;
@@ -147,22 +225,32 @@ WorkPrecision measure_work_precision(const WorkPrecisionModels& models, double t
     }
 
     for (const WorkPrecisionConfiguration& config : settings.configurations) {
-      const Model& model = model_for(config.jacobian);
+      const Model& model = config.variational ? variational_model() : model_for(config.jacobian);
       const InitialState initial = initial_state_from(model, t0, initial_values);
-      for (double rtol : settings.rtols) {
+      // IDA: one run per tolerance; the variational integrator: one per step.
+      const std::vector<double>& series = config.variational ? settings.steps : settings.rtols;
+      for (double setting : series) {
         IntegratorOptions io;
-        io.rtol = rtol;
-        io.atol = rtol * settings.atol_scale;
+        io.rtol = config.variational ? settings.rtols.back() : setting;
+        io.atol = io.rtol * settings.atol_scale;
         io.linear_solver = config.jacobian == "sparse" ? LinearSolverKind::sparse : LinearSolverKind::dense;
         io.projection = config.projection ? ProjectionMethod::in_place : ProjectionMethod::none;
         io.progress = false;
+        VariationalOptions vo;
+        vo.step = setting;
+        vo.max_steps = std::numeric_limits<long>::max();
+        vo.initialization = io;
+        const auto run_once = [&]() {
+          return config.variational ? simulate_variational(model, p, initial, times, vo).run
+                                    : simulate(model, p, initial, times, io);
+        };
 
         std::vector<double> seconds;
         RunResult run;
         double total_seconds = 0;
         do {
           const auto start = std::chrono::steady_clock::now();
-          run = simulate(model, p, initial, times, io);
+          run = run_once();
           seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
           total_seconds += seconds.back();
         } while (static_cast<int>(seconds.size()) < settings.max_repeats && total_seconds < settings.repeat_seconds);
@@ -170,8 +258,9 @@ WorkPrecision measure_work_precision(const WorkPrecisionModels& models, double t
         WorkPrecisionMeasurement m;
         m.configuration = config;
         m.sweep_value = value;
-        m.rtol = io.rtol;
-        m.atol = io.atol;
+        m.rtol = config.variational ? NAN : io.rtol;
+        m.atol = config.variational ? NAN : io.atol;
+        m.step = config.variational ? setting : 0.0;
         m.seconds = median(seconds);
         m.repeats = static_cast<int>(seconds.size());
         m.statistics = run.statistics;
@@ -190,12 +279,13 @@ WorkPrecision measure_work_precision(const WorkPrecisionModels& models, double t
         ++done;
         if (progress)
           progress("[" + std::to_string(done) + "/" + std::to_string(total) + "] " + config.label() + at +
-                   ", rtol " + format_number(rtol) + ": error " + format_number(m.error) + ", " +
-                   std::to_string(m.statistics.steps) + " steps, " + format_number(m.seconds) + " s" +
-                   (m.failure ? ", stopped: " + m.status() : std::string()));
+                   (config.variational ? ", step " : ", rtol ") + format_number(setting) + ": error " +
+                   format_number(m.error) + ", " + std::to_string(m.statistics.steps) + " steps, " +
+                   format_number(m.seconds) + " s" + (m.failure ? ", stopped: " + m.status() : std::string()));
       }
     }
   }
+  if (settings.long_run_t_end > t0) wp.long_runs = long_runs(models, t0, initial_values, wp.parameters, settings, progress);
   return wp;
 }
 

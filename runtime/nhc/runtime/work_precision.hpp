@@ -24,7 +24,10 @@ namespace nhc::runtime {
 struct WorkPrecisionConfiguration {
   std::string jacobian;  ///< "dense" (dense LU) or "sparse" (KLU)
   bool projection = false;
-  std::string label() const;  ///< "dense", "sparse + projection"
+  /// The variational integrator (variational.hpp) at the settings' steps instead of IDA at its
+  /// tolerances.
+  bool variational = false;
+  std::string label() const;  ///< "dense", "sparse + projection", "variational"
 };
 
 struct WorkPrecisionSettings {
@@ -39,13 +42,23 @@ struct WorkPrecisionSettings {
   std::string sweep_parameter;     ///< empty: no sweep
   std::vector<double> sweep_values;
   std::vector<std::pair<std::string, double>> parameter_overrides;
+  /// The fixed steps of a variational configuration, largest first.
+  std::vector<double> steps;
+  /// > t0: also a long run of both integrators to this time, recording the error of the energy
+  /// (the invariant named `energy`, else the first) against t: IDA at long_run_rtol (atol =
+  /// long_run_rtol × atol_scale), the variational integrator at long_run_step.
+  double long_run_t_end = 0;
+  double long_run_rtol = 1e-8;
+  double long_run_step = 0;
+  int long_run_outputs = 2000;
 };
 
 /// One run.
 struct WorkPrecisionMeasurement {
   WorkPrecisionConfiguration configuration;
   std::optional<double> sweep_value;
-  double rtol = 0, atol = 0;
+  double rtol = 0, atol = 0;  ///< IDA's; NaN for a variational run
+  double step = 0;            ///< the variational integrator's fixed step; 0 for IDA
   double error = 0;     ///< max over output times and coordinates of |q − q_ref|; NaN when nothing to compare
   double seconds = 0;   ///< wall time of simulate() (initialization + integration), median of repeats
   int repeats = 1;
@@ -66,6 +79,16 @@ struct ErrorSource {
   std::string description() const;
 };
 
+/// |I(t) − I(t0)| of one invariant along a long run of one integrator.
+struct InvariantHistory {
+  std::string integrator;  ///< "IDA, rtol 1e-08", "variational, step 0.01"
+  std::string invariant;
+  std::vector<double> t, error;
+  double seconds = 0;  ///< wall time of the run
+  long steps = 0;
+  std::string failure;  ///< "" when the run reached its end
+};
+
 struct WorkPrecision {
   std::string scene_name, model_name;
   int n_states = 0, n_hidden = 0, n_invariants = 0;
@@ -75,6 +98,7 @@ struct WorkPrecision {
   WorkPrecisionSettings settings;
   ErrorSource source;
   std::vector<WorkPrecisionMeasurement> measurements;
+  std::vector<InvariantHistory> long_runs;  ///< WorkPrecisionSettings::long_run_t_end
 };
 
 /// Progress callback: one line of text per finished run.
@@ -85,6 +109,7 @@ using ProgressSink = std::function<void(const std::string&)>;
 struct WorkPrecisionModels {
   const Model* dense = nullptr;
   const Model* sparse = nullptr;
+  const Model* variational = nullptr;  ///< with the variational step, for variational configurations
 };
 
 /// Runs the series from the initial data `initial_values` (per coordinate or multiplier: value,
