@@ -1,7 +1,7 @@
 // nhc report SCENE [--model M] [--tolerances 1e-3:1e-12] [--atol-scale S] [--jacobian dense|sparse|both]
 //                  [--projection off|on|both] [--t-end T] [--outputs N] [--set NAME=VALUE]...
 //                  [--sweep NAME=LO:HI] [--repeats N] [--reference-rtol R] [--integrators ida,variational]
-//                  [--long-run T] [--long-run-step H] [-o DIR]
+//                  [--long-run T] [--long-run-step H] [--long-run-rtol R] [-o DIR]
 //
 // Work-precision report of one model of a scene (work_precision.hpp): the scene integrated at
 // rtol = 10^-k over the given decades with atol = rtol × scale (the scale defaults to the scene's
@@ -59,7 +59,7 @@ struct ReportOptions {
   std::string output;
   bool quiet = false;
   std::vector<std::string> integrators{"ida"};
-  std::optional<double> long_run, long_run_step;
+  std::optional<double> long_run, long_run_step, long_run_rtol;
 };
 
 /// The variational integrator's steps of a report: the output interval halved 5 times.
@@ -130,13 +130,13 @@ PreparedReport prepare(const ReportOptions& o) {
     if (!(s.long_run_t_end > r.scene.initial.t0))
       throw InputError({"--long-run", 0, 0}, "--long-run " + fmt(*o.long_run, 6) + " must be positive");
     s.long_run_step = o.long_run_step.value_or(s.steps.at(1));
-    s.long_run_rtol = r.scene.simulate.rtol;
+    s.long_run_rtol = o.long_run_rtol.value_or(r.scene.simulate.rtol);
     const long steps = runtime::variational_steps_needed(r.scene.initial.t0, s.long_run_t_end, s.long_run_step);
     if (steps < 0 || steps > 100000000)
       throw InputError({"--long-run-step", 0, 0}, "the long run takes " +
                                                       (steps < 0 ? std::string("too many") : std::to_string(steps)) +
                                                       " variational steps, more than 10^8");
-  } else if (o.long_run || o.long_run_step) {
+  } else if (o.long_run || o.long_run_step || o.long_run_rtol) {
     throw InputError({"--long-run", 0, 0}, "--long-run compares IDA with the variational integrator: add "
                                            "--integrators ida,variational");
   }
@@ -440,6 +440,8 @@ CommandRunner add_report_command(CLI::App& app) {
   sub->add_option("--long-run-step", options->long_run_step,
                   "the variational integrator's step in the long run (default the second of its series)")
       ->check(flag_rules::positive());
+  sub->add_option("--long-run-rtol", options->long_run_rtol, "IDA's rtol in the long run (default: [simulate] rtol)")
+      ->check(flag_rules::relative_tolerance());
 
   return [options]() { return run_report(*options); };
 }

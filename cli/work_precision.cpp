@@ -146,6 +146,7 @@ std::string gnuplot_string(const std::string& s) {
 struct Curve {
   std::string title;
   std::vector<std::pair<double, double>> points;
+  bool markers = true;  ///< a mark at every point (a dense history is drawn as a line)
 };
 
 void write_data(const fs::path& path, const std::vector<Curve>& curves) {
@@ -175,7 +176,9 @@ std::string plot_script(const std::string& stem, const std::string& title, const
   plot << "plot ";
   for (size_t i = 0; i < curves.size(); ++i)
     plot << (i ? ", \\\n     " : "") << gnuplot_string(stem + ".dat") << " index " << i
-         << " using 1:2 with linespoints pointtype " << (i % 13 + 1) << " title " << gnuplot_string(curves[i].title)
+         << " using 1:2 with "
+         << (curves[i].markers ? "linespoints pointtype " + std::to_string(i % 13 + 1) : std::string("lines"))
+         << " title " << gnuplot_string(curves[i].title)
          << " noenhanced";
   g << plot.str() << "\n"
     << "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
@@ -246,7 +249,7 @@ std::vector<std::string> plot_work_precision(const std::string& directory, const
   if (!wp.long_runs.empty()) {
     std::vector<Curve> histories;
     for (const runtime::InvariantHistory& h : wp.long_runs) {
-      Curve c{h.integrator, {}};
+      Curve c{h.integrator, {}, false};
       for (std::size_t k = 1; k < h.t.size(); ++k)  // t0 itself has no error to draw
         c.points.emplace_back(h.t[k], std::max(h.error[k], kPlotFloor));
       histories.push_back(std::move(c));
