@@ -193,7 +193,11 @@ TEST_CASE("variational: the energy error stays bounded over 100 times the steps,
   std::vector<Case> cases;
   const fs::path examples = fs::path(NHC_SOURCE_DIR) / "examples";
   cases.push_back({"rolling ball", nhc::load_scene((examples / "rolling_ball.toml").string()), true});
-  cases.push_back({"rolling disk", nhc::load_scene((examples / "rolling_disk.toml").string()), true});
+  // The disk wobbling about upright rolling (the example's steady circle lies near a separatrix,
+  // where a fixed step meets fast phases: docs/variational.md).
+  cases.push_back({"rolling disk",
+                   nhc::load_scene((fs::path(NHC_SOURCE_DIR) / "bench" / "variational" / "rolling_disk_wobble.toml").string()),
+                   true});
   cases.push_back({"sleigh", nhc::parse_scene(kSleigh, "sleigh_free.toml"), false});
   const double h = 0.02;
   const long short_steps = 500, long_steps = 50000;
