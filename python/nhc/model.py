@@ -16,6 +16,7 @@ class Run:
         self._data = _np.asarray(result["data"])
         self._index = {name: k for k, name in enumerate(self.columns)}
         self._summary = result["summary"]  # built on first use
+        self._max_discrete_constraint = result.get("max_discrete_constraint")  # the variational integrator's
 
     @property
     def summary(self):
@@ -23,6 +24,8 @@ class Run:
         invariants): a dict, measured on first use."""
         if callable(self._summary):
             self._summary = self._summary()
+            if self._max_discrete_constraint is not None:
+                self._summary["max_discrete_constraint"] = self._max_discrete_constraint
         return self._summary
 
     @property
@@ -87,17 +90,20 @@ class Model:
     name = property(lambda self: self._model.model_name)
 
     def simulate(self, t_end=1.0, rtol=1e-8, atol=1e-10, outputs=200, output_times=None, inputs=None,
-                 max_steps=1000000, sensitivity=None):
+                 max_steps=1000000, sensitivity=None, integrator="ida", step=None):
         """Integrates from the scene's [initial]; a Run. A failure raises nhc.MathError with .t.
         `inputs`: u(t, y) -> the model's inputs (self.inputs order), called at every residual
         evaluation with y in state_names order; without it, the scene's default signals.
         `sensitivity`: names of parameters and given initial values (["alpha", "x'(0)"]): the run
         also carries the forward sensitivities (IDAS) as columns "d(x)/d(alpha)", "d(x')/d(x'(0))".
+        `integrator="variational", step=H`: the discrete Lagrange-d'Alembert integrator at the fixed
+        step H (chetaev model; docs/variational.md), for long runs whose energy must not drift; its
+        summary also has "newton_iterations" and "max_discrete_constraint".
         Ctrl-C (KeyboardInterrupt) stops a long run."""
         times = None if output_times is None else [float(t) for t in _np.asarray(output_times).ravel()]
         names = None if sensitivity is None else [sensitivity] if isinstance(sensitivity, str) else list(sensitivity)
         result = self._model.simulate(float(t_end), float(rtol), float(atol), int(outputs), times, inputs,
-                                      int(max_steps), names)
+                                      int(max_steps), names, str(integrator), None if step is None else float(step))
         if "failure" in result:
             error = MathError(result["failure"], t=result["failure_t"])
             error.run = Run(result)  # the motion up to the failure

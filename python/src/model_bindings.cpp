@@ -25,8 +25,9 @@ namespace nhc::python {
 
 namespace {
 
-/// The same model generated with dF/dp as well (jit::BuildOptions::sensitivities), built on the
-/// first simulate(sensitivity=…) that needs it; shared by the copies of a BuiltModel.
+/// The same model generated with more (dF/dp: jit::BuildOptions::sensitivities; the variational
+/// step: BuildOptions::variational), built on the first simulate() that needs it; shared by the
+/// copies of a BuiltModel.
 struct SensitivityBuild {
   std::mutex building;
   std::shared_ptr<jit::LoadedModel> loaded;
@@ -38,6 +39,7 @@ struct BuiltModel {
   ModelKind kind;
   std::shared_ptr<jit::LoadedModel> loaded;
   std::shared_ptr<SensitivityBuild> with_sensitivities = std::make_shared<SensitivityBuild>();
+  std::shared_ptr<SensitivityBuild> with_variational_step = std::make_shared<SensitivityBuild>();
   /// runtime::csv_header(model()) as Python strings, made on first use; created, read and
   /// destroyed with the GIL held (BuiltModel lives in Python objects).
   std::shared_ptr<py::tuple> csv_columns = std::make_shared<py::tuple>();
@@ -61,6 +63,18 @@ struct BuiltModel {
       with_sensitivities->loaded = std::make_shared<jit::LoadedModel>(jit::build(scene, kind, options));
     }
     return with_sensitivities->loaded->model();
+  }
+
+  /// The model with the discrete Lagrange–d'Alembert step (simulate(integrator="variational")),
+  /// built on first use. Called with the GIL released.
+  const runtime::Model& variational_model() const {
+    const std::lock_guard<std::mutex> lock(with_variational_step->building);
+    if (!with_variational_step->loaded) {
+      jit::BuildOptions options;
+      options.variational = true;
+      with_variational_step->loaded = std::make_shared<jit::LoadedModel>(jit::build(scene, kind, options));
+    }
+    return with_variational_step->loaded->model();
   }
 };
 
@@ -137,7 +151,8 @@ py::cpp_function summary_of(const BuiltModel& built, const runtime::Model& model
   // The libraries that own `model` (the plain one, or the one with dF/dp) stay loaded as long as
   // the function lives; the timings are the plain build's.
   const jit::BuildTimings timings = built.loaded->timings();
-  return py::cpp_function([keep = built.loaded, keep_sensitivities = built.with_sensitivities, timings, &model, run]() {
+  return py::cpp_function([keep = built.loaded, keep_sensitivities = built.with_sensitivities,
+                           keep_variational = built.with_variational_step, timings, &model, run]() {
     const runtime::Statistics& st = run->statistics;
     py::dict summary;
     summary["steps"] = st.steps;
@@ -242,7 +257,19 @@ py::dict simulate_sensitivities(const BuiltModel& built, const std::vector<std::
 
 py::dict simulate(const BuiltModel& built, double t_end, double rtol, double atol, int outputs,
                   const std::optional<std::vector<double>>& output_times, const std::optional<py::function>& inputs,
-                  long max_steps, const std::optional<std::vector<std::string>>& sensitivity) {
+                  long max_steps, const std::optional<std::vector<std::string>>& sensitivity,
+                  const std::string& integrator, const std::optional<double>& step) {
+  const bool variational = integrator == "variational";
+  if (!variational && integrator != "ida")
+    throw InputError({"integrator", 0, 0}, "integrator '" + integrator + "': ida or variational");
+  if (variational && !(step && *step > 0 && std::isfinite(*step)))
+    throw InputError({"step", 0, 0}, "integrator='variational' needs step=H, a positive fixed step");
+  if (!variational && step) throw InputError({"step", 0, 0}, "step is the fixed step of integrator='variational'");
+  if (variational && sensitivity)
+    throw InputError({"sensitivity", 0, 0}, "forward sensitivities integrate with IDAS, not the variational integrator");
+  if (variational && built.kind != ModelKind::chetaev)
+    throw InputError({"integrator", 0, 0}, "the variational integrator takes the chetaev model, not " +
+                                               to_string(built.kind) + " (docs/variational.md)");
   const runtime::Model& model = built.model();
   const double t0 = built.scene.initial.t0;
   std::vector<double> times = output_times ? *output_times : runtime::output_times(t0, t_end, outputs);
@@ -268,18 +295,42 @@ py::dict simulate(const BuiltModel& built, double t_end, double rtol, double ato
     input_function = python_inputs;
   }
   runtime::RunResult run;
+  const runtime::Model* run_model = &model;
+  std::map<std::string, long> extra;
+  std::optional<double> max_discrete_constraint;
   {
     py::gil_scoped_release unlocked;
-    run = runtime::simulate(model, p, runtime::initial_state_from(model, t0, built.scene.initial.values), times,
-                            options, {}, input_function);
+    const runtime::InitialState initial = runtime::initial_state_from(model, t0, built.scene.initial.values);
+    if (variational) {
+      run_model = &built.variational_model();
+      runtime::VariationalOptions vo;
+      vo.step = *step;
+      vo.max_steps = max_steps;
+      vo.initialization = options;
+      vo.stop_requested = options.stop_requested;
+      const long needed = runtime::variational_steps_needed(t0, times.back(), *step);
+      if (needed < 0 || needed > max_steps)
+        throw InputError({"step", 0, 0}, "step " + std::to_string(*step) + " takes " +
+                                             (needed < 0 ? std::string("too many") : std::to_string(needed)) +
+                                             " steps, more than max_steps " + std::to_string(max_steps));
+      runtime::VariationalRun v = runtime::simulate_variational(*run_model, p, initial, times, vo, input_function);
+      run = std::move(v.run);
+      max_discrete_constraint = v.max_discrete_constraint;
+      extra["newton_iterations"] = run.statistics.nonlinear_iterations;
+    } else {
+      run = runtime::simulate(model, p, initial, times, options, {}, input_function);
+    }
   }
   if (input_failure && *input_failure) throw std::move(**input_failure);
   if (*interrupt.raised) throw std::move(**interrupt.raised);
   if (run.failure && run.samples.empty()) throw *run.failure;
   const py::tuple& columns = built.columns();
-  py::array_t<double> data = data_of(model, p, run.samples, columns.size());
-  return result_of(columns, std::move(data), summary_of(built, model, p, run.statistics, std::move(run.samples)),
-                   run.failure);
+  py::array_t<double> data = data_of(*run_model, p, run.samples, columns.size());
+  py::dict result = result_of(columns, std::move(data),
+                              summary_of(built, *run_model, p, run.statistics, std::move(run.samples), extra),
+                              run.failure);
+  if (max_discrete_constraint) result["max_discrete_constraint"] = *max_discrete_constraint;
+  return result;
 }
 
 std::vector<double> vector_of(const py::array_t<double, py::array::c_style | py::array::forcecast>& a, int n,
@@ -381,7 +432,7 @@ void register_model(py::module_& m) {
       .def_property_readonly("model_name", [](const BuiltModel& b) { return b.model().model_name(); })
       .def("simulate", &simulate, py::arg("t_end"), py::arg("rtol"), py::arg("atol"), py::arg("outputs"),
            py::arg("output_times") = std::nullopt, py::arg("inputs") = std::nullopt, py::arg("max_steps") = 1000000,
-           py::arg("sensitivity") = std::nullopt)
+           py::arg("sensitivity") = std::nullopt, py::arg("integrator") = "ida", py::arg("step") = std::nullopt)
       .def_property_readonly("inputs",
                              [](const BuiltModel& b) {
                                std::vector<std::string> names;

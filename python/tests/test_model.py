@@ -199,3 +199,31 @@ def test_sensitivity_to_the_slope_of_the_incline(source):
     assert run["d(x)/d(alpha)"] == pytest.approx(expected, abs=1e-6)
     with pytest.raises(nhc.SceneError, match="y'\\(0\\) is not given"):
         model.simulate(t_end=1, sensitivity=["y'(0)"])
+
+
+def test_variational_integrator_converges_with_order_two_and_keeps_the_energy():
+    # The midpoint discrete Lagrangian on x'' = -k x (docs/variational.md): error O(h^2) against
+    # cos(2t); the energy error oscillates, it does not grow with the length of the run.
+    model = nhc.Scene.from_toml(OSCILLATOR).build("chetaev")
+    errors = []
+    for h in (0.02, 0.01):
+        run = model.simulate(t_end=5, outputs=50, integrator="variational", step=h)
+        assert run.columns == model.simulate(t_end=5, outputs=50).columns
+        errors.append(np.max(np.abs(run["x"] - np.cos(2.0 * run.t))))
+        assert run.summary["newton_iterations"] >= run.summary["steps"]
+    assert math.log2(errors[0] / errors[1]) == pytest.approx(2.0, abs=0.05)
+    brief = model.simulate(t_end=10, outputs=1000, integrator="variational", step=0.01)
+    lasting = model.simulate(t_end=1000, outputs=100000, integrator="variational", step=0.01)
+    assert lasting.summary["invariant_drift"]["energy"] <= 1.5 * brief.summary["invariant_drift"]["energy"]
+
+
+def test_variational_integrator_refusals():
+    model = nhc.Scene.from_toml(OSCILLATOR).build("chetaev")
+    with pytest.raises(nhc.SceneError, match="needs step=H"):
+        model.simulate(t_end=1, integrator="variational")
+    with pytest.raises(nhc.SceneError, match="ida or variational"):
+        model.simulate(t_end=1, integrator="rk4", step=0.1)
+    with pytest.raises(nhc.SceneError, match="fixed step of integrator='variational'"):
+        model.simulate(t_end=1, step=0.1)
+    with pytest.raises(nhc.SceneError, match="more than max_steps"):
+        model.simulate(t_end=1, integrator="variational", step=1e-9)
