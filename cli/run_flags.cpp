@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "commands.hpp"
+#include "nhc/derive/discrete_lagrange_dalembert.hpp"
 #include "nhc/errors.hpp"
 #include "output_selection.hpp"
 #include "flag_rules.hpp"
@@ -64,6 +65,7 @@ void check_run_flags(const RunFlags& flags, const Scene& scene, ModelKind kind) 
   if (flags.project)
     throw InputError(here, "--project applies to IDA: the variational integrator solves the discrete constraints "
                            "at every step");
+  require_variational_scene(scene);
   const double t_end = run_output_times(flags, scene).back();
   const long steps = runtime::variational_steps_needed(scene.initial.t0, t_end, *flags.step);
   if (steps < 0 || steps > flags.max_steps)

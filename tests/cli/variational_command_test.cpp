@@ -4,6 +4,7 @@
 // failure at the Appell–Hamel singular point in words (exit 3, the motion up to there kept).
 #include <catch2/catch.hpp>
 
+#include <fstream>
 #include <regex>
 #include <string>
 
@@ -82,6 +83,31 @@ TEST_CASE("nhc simulate --integrator variational: refusals name the flag or the 
     CHECK(std::count(result.err.begin(), result.err.end(), '\n') == 1);
     CHECK_FALSE(file_exists(dir + "/run.csv"));
   }
+}
+
+TEST_CASE("nhc simulate --integrator variational: a scene too large for the dense Newton matrix is refused",
+          "[cli][variational]") {
+  // 201 coordinates and 200 constraints: 401 unknowns per step, one more than the limit.
+  const std::string dir = scratch_dir("variational_size");
+  std::string coordinates, lagrangian, constraints;
+  for (int i = 0; i <= 200; ++i) {
+    coordinates += (i ? ", \"q" : "\"q") + std::to_string(i) + "\"";
+    lagrangian += (i ? " + q" : "q") + std::to_string(i) + "'^2/2";
+    if (i < 200)
+      constraints += (i ? ", \"q" : "\"q") + std::to_string(i) + "' - q" + std::to_string(i + 1) + "'\"";
+  }
+  const std::string scene = dir + "/large.toml";
+  {
+    std::ofstream out(scene);
+    out << "name = \"large\"\ncoordinates = [" << coordinates << "]\nlagrangian = \"" << lagrangian
+        << "\"\nconstraints = [" << constraints << "]\n";
+  }
+  const Run r = run(nhc_command() + " simulate '" + scene + "' --integrator variational --step 0.01 -o '" + dir +
+                        "/run.csv'", dir);
+  INFO(r.err);
+  CHECK(r.exit_code == 2);
+  CHECK(r.err.find("401 coordinates and multipliers, more than the 400") != std::string::npos);
+  CHECK_FALSE(file_exists(dir + "/run.csv"));
 }
 
 TEST_CASE("nhc simulate --integrator variational: Newton's failure in words, the motion up to it kept",

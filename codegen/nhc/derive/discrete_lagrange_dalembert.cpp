@@ -18,8 +18,9 @@ std::vector<GiNaC::realsymbol> symbols(const std::string& stem, int count) {
   return out;
 }
 
-/// The method needs L(t, q, q'), Q(t, q, q') and constraints of order 0 or 1.
-void require_first_order(const Scene& scene) {
+}  // namespace
+
+void require_variational_scene(const Scene& scene) {
   const JetSpace& jet = *scene.jet;
   const auto refuse = [&](const SourceLocation& where, const std::string& what) {
     throw InputError(where, what + "; the variational integrator (docs/variational.md) takes a "
@@ -39,12 +40,17 @@ void require_first_order(const Scene& scene) {
       if (c.kind == VariableKind::multiplier)
         refuse(scene.file_location(), "constraint f" + std::to_string(a + 1) + " holds a multiplier");
   }
+  const int unknowns = scene.coordinate_count() + scene.constraint_count();
+  if (unknowns > kMaxVariationalUnknowns)
+    throw InputError(scene.file_location(),
+                     "the scene has " + std::to_string(unknowns) + " coordinates and multipliers, more than the " +
+                         std::to_string(kMaxVariationalUnknowns) +
+                         " the variational integrator's dense Newton matrix takes (docs/variational.md; use IDA: "
+                         "--integrator ida)");
 }
 
-}  // namespace
-
 DiscreteLagrangeDAlembert discrete_lagrange_dalembert(const Scene& scene) {
-  require_first_order(scene);
+  require_variational_scene(scene);
   const JetSpace& jet = *scene.jet;
   const int n = jet.coordinate_count(), g = scene.constraint_count();
   DiscreteLagrangeDAlembert d;

@@ -47,9 +47,18 @@ struct DiscreteLagrangeDAlembert {
   std::vector<GiNaC::ex> momentum;
 };
 
-/// The step of `scene`'s chetaev model. InputError at the scene file when the scene has
-/// constraints of order above 1 or a Lagrangian or force of order above 1 (the method needs
-/// L(t, q, q') and Q(t, q, q')).
+/// The most unknowns (coordinates and multipliers) of a step: the runtime solves it with a dense
+/// Newton matrix, whose LU costs (n + g)³/3 per iteration (the 1024-knife chain's 4096 would take
+/// seconds per iteration and 128 MB).
+inline constexpr int kMaxVariationalUnknowns = 400;
+
+/// What the method takes, checked before anything is derived: InputError at the scene file for
+/// constraints of order above 1, a Lagrangian or force of order above 1 (the method needs
+/// L(t, q, q') and Q(t, q, q')), a constraint holding a multiplier, or more than
+/// kMaxVariationalUnknowns unknowns per step.
+void require_variational_scene(const Scene& scene);
+
+/// The step of `scene`'s chetaev model (require_variational_scene first).
 DiscreteLagrangeDAlembert discrete_lagrange_dalembert(const Scene& scene);
 
 }  // namespace nhc
