@@ -4,6 +4,7 @@
 //   V^2 = v0^2 + (I/m) w0^2, the speed along the blade v = V tanh(s), s = (a m V/I) t + c,
 //   tanh(c) = v0/V, the turning rate w = w0 cosh(c) sech(s), th = th0 + w0 cosh(c) I/(a m V) (gd(s) - gd(c)),
 //   gd(s) = atan(sinh(s));
+// - the particle on a circle (a holonomic constraint): uniform circular motion and its multiplier;
 // the observed order of convergence is the midpoint rule's 2; the discrete constraints hold to
 // rounding; the energy error of the rolling ball, the rolling disk and the sleigh stays bounded
 // over 100 times as many steps while IDA's grows (where the motion does not settle).
@@ -166,6 +167,43 @@ TEST_CASE("variational: the frictionless Chaplygin sleigh converges with order 2
                          << " " << speed_errors[1] << " " << speed_errors[2]);
   for (double order : observed_orders(errors)) CHECK(order == Approx(2.0).margin(0.15));
   for (double order : observed_orders(speed_errors)) CHECK(order == Approx(2.0).margin(0.15));
+}
+
+TEST_CASE("variational: a holonomic constraint, the particle on a circle, order 2 and the multiplier",
+          "[jit][variational]") {
+  // L = m/2 (x'² + y'²), x² + y² = R² (order 0: imposed at the nodes), speed v: x = R cos(wt),
+  // y = R sin(wt), w = v/R; the chetaev residual −m q'' + 2 λ q = 0 gives λ = −m w²/2.
+  const nhc::Scene scene = nhc::parse_scene(R"toml(name = "ring"
+coordinates = ["x", "y"]
+lagrangian = "m/2*(x'^2 + y'^2)"
+constraints = ["x^2 + y^2 - R^2"]
+[parameters]
+m = 1.0
+R = 2.0
+[initial]
+x = [2.0, 0.0]
+y = [0.0, 3.0]
+)toml",
+                                            "ring.toml");
+  const nhc::jit::LoadedModel built = build_variational(scene);
+  const rt::Model& model = built.model();
+  const double R = 2.0, w = 1.5, m = 1.0;
+  const auto exact = [&](double t) {
+    return exact_by_state(model, {{"x", R * std::cos(w * t)},
+                                  {"y", R * std::sin(w * t)},
+                                  {"x'", -R * w * std::sin(w * t)},
+                                  {"y'", R * w * std::cos(w * t)},
+                                  {"lambda1", -m * w * w / 2}});
+  };
+  std::vector<double> errors;
+  for (double h : {0.02, 0.01, 0.005}) {
+    const rt::VariationalRun r = run(model, {}, scene, h, 4.0, 40);
+    REQUIRE_FALSE(r.run.failure);
+    CHECK(r.max_discrete_constraint < 1e-13);
+    errors.push_back(max_error(model, r.run, exact));
+  }
+  INFO("errors " << errors[0] << " " << errors[1] << " " << errors[2]);
+  for (double order : observed_orders(errors)) CHECK(order == Approx(2.0).margin(0.1));
 }
 
 namespace {

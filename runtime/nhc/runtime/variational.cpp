@@ -140,7 +140,8 @@ class StepSolver {
     }
     ++st.nonlinear_failures;
     throw SolverError(FailureKind::convergence, t,
-                      "Newton's method did not converge on the variational step from t = " + number(t) + " (" +
+                      "Newton's method did not converge on the variational step " + std::to_string(st.steps + 1) +
+                          " from t = " + number(t) + " to " + number(t + h) + " (step h = " + number(h) + ", " +
                           std::to_string(options_.max_newton_iterations) + " iterations, last relative correction " +
                           number(last_correction) + ", largest residual " + largest_residual() +
                           "); try a smaller step (--step) or IDA (--integrator ida)");
