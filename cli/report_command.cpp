@@ -26,6 +26,7 @@
 #include "model_requirements.hpp"
 #include "flag_rules.hpp"
 #include "parameter_overrides.hpp"
+#include "nhc/derive/discrete_lagrange_dalembert.hpp"
 #include "nhc/derive/models.hpp"
 #include "nhc/emit/derivation_emitters.hpp"
 #include "nhc/errors.hpp"
@@ -120,9 +121,7 @@ PreparedReport prepare(const ReportOptions& o) {
           s.configurations.push_back({j, projection, false});
     }
   if (uses("variational")) {
-    if (r.kind != ModelKind::chetaev)
-      throw InputError({"--integrators", 0, 0}, "the variational integrator takes the chetaev model, not " +
-                                                    to_string(r.kind) + " (docs/variational.md)");
+    require_variational_scene(r.scene, r.kind);
     s.configurations.push_back({"dense", false, true});
     const double interval = (s.t_end - r.scene.initial.t0) / s.outputs;
     for (int j = 0; j <= kVariationalStepHalvings; ++j) s.steps.push_back(interval / std::pow(2.0, j));

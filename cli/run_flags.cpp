@@ -58,14 +58,10 @@ void check_run_flags(const RunFlags& flags, const Scene& scene, ModelKind kind) 
     return;
   }
   if (!flags.step) throw InputError(here, "--integrator variational needs --step H (the fixed step)");
-  if (kind != ModelKind::chetaev)
-    throw InputError(here, "--integrator variational takes the chetaev model, not " + to_string(kind) +
-                               " (docs/variational.md: the discrete Lagrange-d'Alembert equations are the chetaev "
-                               "model's; discrete vakonomic equations are not generated)");
   if (flags.project)
     throw InputError(here, "--project applies to IDA: the variational integrator solves the discrete constraints "
                            "at every step");
-  require_variational_scene(scene);
+  require_variational_scene(scene, kind);
   const double t_end = run_output_times(flags, scene).back();
   const long steps = runtime::variational_steps_needed(scene.initial.t0, t_end, *flags.step);
   if (steps < 0 || steps > flags.max_steps)

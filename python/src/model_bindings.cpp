@@ -17,6 +17,7 @@
 #include "nhc/jit.hpp"
 #include "nhc/linearize.hpp"
 #include "nhc/runtime/runtime.hpp"
+#include "nhc/derive/discrete_lagrange_dalembert.hpp"
 #include "nhc/scene/scene.hpp"
 
 namespace py = pybind11;
@@ -267,9 +268,7 @@ py::dict simulate(const BuiltModel& built, double t_end, double rtol, double ato
   if (!variational && step) throw InputError({"step", 0, 0}, "step is the fixed step of integrator='variational'");
   if (variational && sensitivity)
     throw InputError({"sensitivity", 0, 0}, "forward sensitivities integrate with IDAS, not the variational integrator");
-  if (variational && built.kind != ModelKind::chetaev)
-    throw InputError({"integrator", 0, 0}, "the variational integrator takes the chetaev model, not " +
-                                               to_string(built.kind) + " (docs/variational.md)");
+  if (variational) require_variational_scene(built.scene, built.kind);
   const runtime::Model& model = built.model();
   const double t0 = built.scene.initial.t0;
   std::vector<double> times = output_times ? *output_times : runtime::output_times(t0, t_end, outputs);

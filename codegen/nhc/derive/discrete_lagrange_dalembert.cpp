@@ -20,7 +20,12 @@ std::vector<GiNaC::realsymbol> symbols(const std::string& stem, int count) {
 
 }  // namespace
 
-void require_variational_scene(const Scene& scene) {
+void require_variational_scene(const Scene& scene, ModelKind model) {
+  if (model != ModelKind::chetaev)
+    throw InputError(scene.file_location(),
+                     "the variational integrator takes the chetaev model, not " + to_string(model) +
+                         " (docs/variational.md: the discrete Lagrange-d'Alembert equations are the chetaev "
+                         "model's; discrete vakonomic equations are not generated)");
   const JetSpace& jet = *scene.jet;
   const auto refuse = [&](const SourceLocation& where, const std::string& what) {
     throw InputError(where, what + "; the variational integrator (docs/variational.md) takes a "
@@ -49,8 +54,8 @@ void require_variational_scene(const Scene& scene) {
                          "--integrator ida)");
 }
 
-DiscreteLagrangeDAlembert discrete_lagrange_dalembert(const Scene& scene) {
-  require_variational_scene(scene);
+DiscreteLagrangeDAlembert discrete_lagrange_dalembert(const Scene& scene, ModelKind model) {
+  require_variational_scene(scene, model);
   const JetSpace& jet = *scene.jet;
   const int n = jet.coordinate_count(), g = scene.constraint_count();
   DiscreteLagrangeDAlembert d;

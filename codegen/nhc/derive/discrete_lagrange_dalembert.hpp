@@ -52,13 +52,13 @@ struct DiscreteLagrangeDAlembert {
 /// seconds per iteration and 128 MB).
 inline constexpr int kMaxVariationalUnknowns = 400;
 
-/// What the method takes, checked before anything is derived: InputError at the scene file for
-/// constraints of order above 1, a Lagrangian or force of order above 1 (the method needs
-/// L(t, q, q') and Q(t, q, q')), a constraint holding a multiplier, or more than
-/// kMaxVariationalUnknowns unknowns per step.
-void require_variational_scene(const Scene& scene);
+/// What the method takes, the one rule every caller checks before anything is derived:
+/// InputError at the scene file for a model other than chetaev, constraints of order above 1, a
+/// Lagrangian or force of order above 1 (the method needs L(t, q, q') and Q(t, q, q')), a
+/// constraint holding a multiplier, or more than kMaxVariationalUnknowns unknowns per step.
+void require_variational_scene(const Scene& scene, ModelKind model);
 
-/// The step of `scene`'s chetaev model (require_variational_scene first).
-DiscreteLagrangeDAlembert discrete_lagrange_dalembert(const Scene& scene);
+/// The step of `scene`'s `model` (require_variational_scene's refusals for any other).
+DiscreteLagrangeDAlembert discrete_lagrange_dalembert(const Scene& scene, ModelKind model);
 
 }  // namespace nhc

@@ -480,14 +480,7 @@ PreparedModel prepare_model(const Scene& scene, const Index1System& system, Jaco
   // Variational additions (docs/generated-code.md): the chetaev model's discrete step.
   std::optional<DiscreteLagrangeDAlembert> step;
   if (variational) {
-    if (system.model != ModelKind::chetaev)
-      throw InputError(scene.file_location(),
-                       "the variational integrator takes the chetaev model, not the " + to_string(system.model) +
-                           " model (docs/variational.md: discrete " +
-                           (system.model == ModelKind::vakonomic ? "vakonomic equations are not generated"
-                                                                  : "equations of this model are not generated") +
-                           "; use --model chetaev or --integrator ida)");
-    step = discrete_lagrange_dalembert(scene);
+    step = discrete_lagrange_dalembert(scene, system.model);
     read.insert(read.end(), step->residual.begin(), step->residual.end());
   }
   m.variational = step.has_value();
