@@ -1,5 +1,7 @@
 #include "nhc/runtime/initial_point.hpp"
 
+#include "nhc/runtime/number_text.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -7,13 +9,6 @@
 namespace nhc::runtime {
 
 namespace {
-
-std::string number(double v) {
-  std::ostringstream os;
-  os.precision(10);
-  os << v;
-  return os.str();
-}
 
 std::string join(const std::vector<std::string>& items) {
   std::string s;
@@ -53,10 +48,10 @@ ConstraintSolveResult solve_initial_point(const ConstraintFunctions& g, double* 
 
 std::string describe(const InconsistentInitialPoint& f) {
   std::ostringstream s;
-  s << "the initial values of the " << f.model << " model violate " << f.constraint << " at t0 = " << number(f.t0)
-    << ": residual " << number(f.residual) << " (tolerance " << f.tolerance.describe() << ")";
+  s << "the initial values of the " << f.model << " model violate " << f.constraint << " at t0 = " << number_text(f.t0, 10)
+    << ": residual " << number_text(f.residual, 10) << " (tolerance " << f.tolerance.describe() << ")";
   std::vector<std::string> given;
-  for (const InvolvedValue& v : f.given) given.push_back(v.name + " = " + number(v.value));
+  for (const InvolvedValue& v : f.given) given.push_back(v.name + " = " + number_text(v.value, 10));
   if (!given.empty()) s << "; it involves the given value" << (given.size() == 1 ? " " : "s ") << join(given);
   if (f.free.empty())
     s << "; no value that may be changed enters it";

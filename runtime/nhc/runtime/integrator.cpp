@@ -1,5 +1,6 @@
 #include "nhc/runtime/integrator.hpp"
 
+#include "nhc/runtime/number_text.hpp"
 #include "nhc/runtime/inputs.hpp"
 
 #include <idas/idas.h>  // IDAS, a superset of IDA: one library for plain runs and sensitivities
@@ -43,13 +44,6 @@ bool uses_sparse_solver(const Model& model, LinearSolverKind kind) {
 }
 
 namespace {
-
-std::string format_time(double t) {
-  std::ostringstream os;
-  os.precision(15);
-  os << t;
-  return os.str();
-}
 
 /// The first non-finite value a callback met since the last accepted step.
 struct NonFinite {
@@ -429,7 +423,7 @@ struct Integrator::Impl {
     }
     if (flag == kStepSizeCollapse)
       throw SolverError(FailureKind::convergence, tt,
-                        std::string(what) + " failed at t = " + format_time(tt) + ": " + symptom +
+                        std::string(what) + " failed at t = " + number_text(tt, 15) + ": " + symptom +
                             "; the solution cannot be continued past this point" + blown_up_state());
     try {
       sd::check(flag, what, tt, last_message);
@@ -438,7 +432,7 @@ struct Integrator::Impl {
       if (blown.empty()) throw;
       throw SolverError(e.kind(), e.t(), e.what() + blown);
     }
-    throw SolverError(FailureKind::other, tt, std::string(what) + " failed at t = " + format_time(tt));
+    throw SolverError(FailureKind::other, tt, std::string(what) + " failed at t = " + number_text(tt, 15));
   }
 
   /// dF/dy + cj dF/dy' from the generated Jacobian, or by differences of the residual.
@@ -672,7 +666,7 @@ Sample Integrator::initialize(const InitialState& state, double t_next) {
     if (!entry.empty()) s.throw_singular_gradient(s.nonfinite.t, -1, entry);
     throw SolverError(FailureKind::nonfinite_residual, s.nonfinite.t,
                       std::string("residual ") + s.model.residual_name(s.nonfinite.index) + " is NaN or Inf at t = " +
-                          format_time(s.nonfinite.t) + " (" + stage + ")");
+                          number_text(s.nonfinite.t, 15) + " (" + stage + ")");
   };
   s.y_last.assign(s.y.data(), s.y.data() + n);  // the point a failure is diagnosed at
   s.yp_last.assign(s.yp.data(), s.yp.data() + n);
@@ -768,7 +762,7 @@ void Integrator::integrate(const std::vector<double>& times, const std::function
       if (s.total().steps >= s.options.max_steps)
         throw SolverError(FailureKind::too_many_steps, s.t,
                           "the step limit (" + std::to_string(s.options.max_steps) + " steps) was reached at t = " +
-                              format_time(s.t) + " before t = " + format_time(t_final));
+                              number_text(s.t, 15) + " before t = " + number_text(t_final, 15));
       double tret = s.t;
       const int flag = IDASolve(s.ida, t_final, &tret, s.y, s.yp, IDA_ONE_STEP);
       if (flag < 0) s.fail(flag, "the integration step");
@@ -790,7 +784,7 @@ void Integrator::integrate(const std::vector<double>& times, const std::function
       s.remember(tret);
       progress.update(tret);
       if (s.options.stop_requested && s.options.stop_requested())
-        throw SolverError(FailureKind::stopped, tret, "the run was stopped at t = " + format_time(tret));
+        throw SolverError(FailureKind::stopped, tret, "the run was stopped at t = " + number_text(tret, 15));
       double h_last = 0;
       IDAGetLastStep(s.ida, &h_last);
       s.tiny_steps = std::abs(h_last) < kTinyStep * std::max(1.0, std::abs(tret)) ? s.tiny_steps + 1 : 0;

@@ -1,5 +1,7 @@
 #include "nhc/runtime/sensitivity.hpp"
 
+#include "nhc/runtime/number_text.hpp"
+
 #include <idas/idas.h>
 #include <idas/idas_ls.h>
 #include <sunnonlinsol/sunnonlinsol_newton.h>
@@ -26,13 +28,6 @@ namespace nhc::runtime {
 namespace sd = sun;
 
 namespace {
-
-std::string format_time(double t) {
-  std::ostringstream os;
-  os.precision(15);
-  os << t;
-  return os.str();
-}
 
 /// An array of Ns serial vectors owned together (IDAS takes N_Vector*).
 class VectorArray {
@@ -339,7 +334,7 @@ struct SensitivityIntegrator::Impl {
     double tcur = t;
     IDAGetCurrentTime(ida, &tcur);
     throw SolverError(sd::classify_ida_flag(flag), tcur,
-                      std::string(what) + " failed at t = " + format_time(tcur) + ": " + sd::describe_ida_flag(flag) +
+                      std::string(what) + " failed at t = " + number_text(tcur, 15) + ": " + sd::describe_ida_flag(flag) +
                           (last_message.empty() ? "" : " (" + last_message + ")"));
   }
 
@@ -559,14 +554,14 @@ void SensitivityIntegrator::integrate(const std::vector<double>& times,
     s.check(IDAGetSensDky(s.ida, tret, 1, s.ypS.get()), "reading the sensitivities' derivatives");
     observer(s.current(tret));
     if (s.options.stop_requested && s.options.stop_requested())
-      throw SolverError(FailureKind::stopped, tret, "the run was stopped at t = " + format_time(tret));
+      throw SolverError(FailureKind::stopped, tret, "the run was stopped at t = " + number_text(tret, 15));
     if (flag == IDA_ROOT_RETURN) {
       std::vector<int> found(static_cast<size_t>(s.model.n_singular()), 0);
       s.check(IDAGetRootInfo(s.ida, found.data()), "reading the monitors");
       for (int k = 0; k < s.model.n_singular(); ++k)
         if (found[static_cast<size_t>(k)] != 0)
           throw SolverError(FailureKind::singular_constraint_gradient, tret,
-                            "the constraint gradient is singular at t = " + format_time(tret) + ": " +
+                            "the constraint gradient is singular at t = " + number_text(tret, 15) + ": " +
                                 s.model.singular_name(k) + " reaches 0. The motion cannot be continued past this point.");
     }
   }

@@ -1,12 +1,13 @@
 // The variational integrator's run loop (variational.hpp, docs/variational.md).
 #include "nhc/runtime/variational.hpp"
 
+#include "nhc/runtime/number_text.hpp"
+
 #include <Eigen/Dense>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <sstream>
 #include <stdexcept>
 
 #include "nhc/runtime/progress_bar.hpp"
@@ -19,13 +20,6 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-std::string number(double v) {
-  std::ostringstream os;
-  os.precision(12);
-  os << v;
-  return os.str();
 }
 
 /// A node of the discrete trajectory: q_k, its velocity and acceleration, the multipliers.
@@ -117,15 +111,15 @@ class StepSolver {
       ++st.jacobian_evaluations;
       if (!J_.allFinite())
         throw SolverError(FailureKind::nonfinite_residual, t,
-                          "the Jacobian of the variational step from t = " + number(t) + " is not finite");
+                          "the Jacobian of the variational step from t = " + number_text(t, 12) + " is not finite");
       lu_.compute(J_);
       dx_ = lu_.solve(-r_);
       ++st.nonlinear_iterations;
       if (!dx_.allFinite() || lu_.matrixLU().diagonal().cwiseAbs().minCoeff() == 0.0)
         throw SolverError(FailureKind::singular_iteration_matrix, t,
-                          "the Jacobian of the variational step from t = " + number(t) +
-                              " is singular (a constraint gradient vanishing there, or a step h = " + number(h) +
-                              " at which the discrete equations degenerate)");
+                          "the Jacobian of the variational step from t = " + number_text(t, 12) +
+                              " is singular (a constraint gradient vanishing there, or a step h = " +
+                              number_text(h, 12) + " at which the discrete equations degenerate)");
       x += dx_;
       previous_correction = last_correction;
       last_correction = 0;
@@ -141,9 +135,10 @@ class StepSolver {
     ++st.nonlinear_failures;
     throw SolverError(FailureKind::convergence, t,
                       "Newton's method did not converge on the variational step " + std::to_string(st.steps + 1) +
-                          " from t = " + number(t) + " to " + number(t + h) + " (step h = " + number(h) + ", " +
+                          " from t = " + number_text(t, 12) + " to " + number_text(t + h, 12) +
+                          " (step h = " + number_text(h, 12) + ", " +
                           std::to_string(options_.max_newton_iterations) + " iterations, last relative correction " +
-                          number(last_correction) + ", largest residual " + largest_residual() +
+                          number_text(last_correction, 12) + ", largest residual " + largest_residual() +
                           "); try a smaller step (--step) or IDA (--integrator ida)");
   }
 
@@ -155,7 +150,7 @@ class StepSolver {
     for (int i = 0; i < size_; ++i)
       if (!std::isfinite(r_[i]))
         throw SolverError(FailureKind::nonfinite_residual, t,
-                          "the variational step from t = " + number(t) + " gives a non-finite " + name(i));
+                          "the variational step from t = " + number_text(t, 12) + " gives a non-finite " + name(i));
   }
 
   const Eigen::VectorXd& r() const { return r_; }
@@ -167,7 +162,7 @@ class StepSolver {
   std::string largest_residual() const {
     Eigen::Index at = 0;
     const double value = r_.cwiseAbs().maxCoeff(&at);
-    return name(static_cast<int>(at)) + " = " + number(value);
+    return name(static_cast<int>(at)) + " = " + number_text(value, 12);
   }
 
   const Model& model_;
@@ -195,7 +190,8 @@ VariationalRun simulate_variational(const Model& model, const std::vector<double
     throw ModelError("model " + model.scene_name() + "_" + model.model_name() +
                      " was generated without the variational step (nhc generate --variational)");
   const double h = options.step;
-  if (!(h > 0) || !std::isfinite(h)) throw std::invalid_argument("the variational step must be positive, not " + number(h));
+  if (!(h > 0) || !std::isfinite(h))
+    throw std::invalid_argument("the variational step must be positive, not " + number_text(h, 12));
   if (times.empty()) throw std::invalid_argument("no output times");
   VariationalRun out;
   RunResult& result = out.run;
@@ -221,8 +217,8 @@ VariationalRun simulate_variational(const Model& model, const std::vector<double
   const long steps = variational_steps_needed(t0, times.back(), h);
   if (steps < 0 || steps > options.max_steps) {
     result.failure = SolverError(FailureKind::too_many_steps, t0,
-                                 "a fixed step h = " + number(h) + " from t = " + number(t0) + " to " +
-                                     number(times.back()) + " takes " +
+                                 "a fixed step h = " + number_text(h, 12) + " from t = " + number_text(t0, 12) + " to " +
+                                     number_text(times.back(), 12) + " takes " +
                                      (steps < 0 ? std::string("too many") : std::to_string(steps)) +
                                      " steps, more than the limit of " + std::to_string(options.max_steps));
     return out;
@@ -265,7 +261,7 @@ VariationalRun simulate_variational(const Model& model, const std::vector<double
     for (long k = 0; k < steps; ++k) {
       const double t = t0 + static_cast<double>(k) * h;
       if (options.stop_requested && options.stop_requested())
-        throw SolverError(FailureKind::stopped, t, "stopped at t = " + number(t) + " (interrupted)");
+        throw SolverError(FailureKind::stopped, t, "stopped at t = " + number_text(t, 12) + " (interrupted)");
       const double* pk = values.at(t + h / 2, y_last.data());
       const double w = k == 0 ? 0.5 : 1.0;  // the first step meets half the impulse at t0
       solver.solve(t, h, w, dq_previous.data(), q.data(), m.data(), pk, x, st);
@@ -286,8 +282,10 @@ VariationalRun simulate_variational(const Model& model, const std::vector<double
         }
         node.lambda.assign(x.data() + n, x.data() + n + g);
         emit_through(previous, node);
-        layout.sample(t, node, node, sample);
-        y_last = sample.y;
+        if (model.n_inputs() > 0) {  // u(t, y) of the next step sees this node's state
+          layout.sample(t, node, node, sample);
+          y_last = sample.y;
+        }
         previous = std::move(node);
       }
       // Shift the window; the next increment is predicted equal to this one.

@@ -1,5 +1,6 @@
 #include "nhc/runtime/work_precision.hpp"
 
+#include "nhc/runtime/number_text.hpp"
 #include "nhc/runtime/variational.hpp"
 
 #include <algorithm>
@@ -14,12 +15,7 @@ namespace nhc::runtime {
 
 namespace {
 
-std::string format_number(double v, int precision = 3) {
-  std::ostringstream os;
-  os.precision(precision);
-  os << v;
-  return os.str();
-}
+std::string format_number(double v, int precision = 3) { return number_text(v, precision); }
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
