@@ -17,6 +17,7 @@
 #include "nhc/jet/expression_printer.hpp"
 #include "nhc/jet/intermediate.hpp"
 #include "nhc/errors.hpp"
+#include "nhc/jet/partial_derivative.hpp"
 #include "nhc/runtime/constraint_solver.hpp"
 #include "nhc/runtime/initial_point.hpp"
 
@@ -63,7 +64,7 @@ class Evaluator {
         if (const auto c = column.find(symbol); c != column.end()) occurring.insert(c->second);
       std::vector<std::pair<std::size_t, GiNaC::ex>> row;
       for (std::size_t k : occurring) {
-        GiNaC::ex d = f.diff(GiNaC::ex_to<GiNaC::symbol>(vars_[k]));
+        GiNaC::ex d = partial_derivative(f, GiNaC::ex_to<GiNaC::symbol>(vars_[k]));
         if (!d.is_zero()) row.emplace_back(k, d);
       }
       jac_.push_back(std::move(row));

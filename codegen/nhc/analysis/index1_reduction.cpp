@@ -9,6 +9,7 @@
 #include "nhc/analysis/numeric_evaluation.hpp"
 #include "nhc/derive/euler_operator.hpp"
 #include "nhc/jet/intermediate.hpp"
+#include "nhc/jet/partial_derivative.hpp"
 
 namespace nhc {
 
@@ -83,7 +84,7 @@ Index1System reduce_to_index1(const StructuralAnalysis& a) {
       if (const auto found = state_of_symbol.find(symbol); found != state_of_symbol.end()) occurring.insert(found->second);
     std::vector<std::pair<int, GiNaC::ex>> row;
     for (std::size_t k : occurring) {
-      GiNaC::ex derivative = simplify_expression(g.diff(out.y[k]));
+      GiNaC::ex derivative = simplify_expression(partial_derivative(g, out.y[k]));
       if (!derivative.is_zero()) row.emplace_back(static_cast<int>(k), std::move(derivative));
     }
     out.hidden_constraint_jacobian.push_back(std::move(row));

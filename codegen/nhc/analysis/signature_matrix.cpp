@@ -4,6 +4,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "nhc/jet/partial_derivative.hpp"
 #include "nhc/jet/work_budget.hpp"
 
 namespace nhc {
@@ -37,7 +38,7 @@ std::size_t SignatureMatrix::entry_count() const {
 int signature_entry(const GiNaC::ex& f, const JetSpace& jet, VariableKind kind, int index) {
   // Orders of the variable that occur syntactically, tried from the highest down.
   for (int k = jet.highest_order(f, kind, index); k >= 0; --k) {
-    const GiNaC::ex partial = f.diff(jet.symbol({kind, index, k}));
+    const GiNaC::ex partial = partial_derivative(f, jet.symbol({kind, index, k}));
     if (!partial.is_zero() && !work_budget::is_zero(partial)) return k;
   }
   return SignatureMatrix::kAbsent;

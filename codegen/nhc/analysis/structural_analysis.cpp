@@ -6,6 +6,7 @@
 
 #include "nhc/derive/euler_operator.hpp"
 #include "nhc/errors.hpp"
+#include "nhc/jet/partial_derivative.hpp"
 #include "nhc/jet/symbol_substitution.hpp"
 #include "nhc/jet/work_budget.hpp"
 
@@ -40,7 +41,7 @@ GiNaC::ex differentiated_equation(const StructuralAnalysis& a, int i, int r) {
     const int j = it->second;
     if (c.order <= a.d(j) + r - a.c(i)) continue;
     const GiNaC::symbol& s = jet.symbol(c);
-    if (!work_budget::is_zero(e.diff(s)))
+    if (!work_budget::is_zero(partial_derivative(e, s)))
       throw std::logic_error("differentiated equation depends on an order above its offset");
     vanishing[s] = 0;
   }

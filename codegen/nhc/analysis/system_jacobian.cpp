@@ -6,6 +6,7 @@
 
 #include "nhc/analysis/numeric_evaluation.hpp"
 #include "nhc/derive/euler_operator.hpp"
+#include "nhc/jet/partial_derivative.hpp"
 
 namespace nhc {
 
@@ -15,7 +16,7 @@ std::vector<JacobianEntry> system_jacobian_entries(const StructuralAnalysis& a) 
   for (int i = 0; i < a.system.size(); ++i)
     for (const auto& e : a.sigma.row(i)) {
       if (a.d(e.col) - a.c(i) != e.value) continue;
-      GiNaC::ex value = simplify_expression(a.system.equations[static_cast<std::size_t>(i)].diff(
+      GiNaC::ex value = simplify_expression(partial_derivative(a.system.equations[static_cast<std::size_t>(i)], 
           a.system.jet->symbol(a.system.unknown_coordinate(e.col, e.value))));
       if (!value.is_zero()) out.push_back({i, e.col, std::move(value)});
     }

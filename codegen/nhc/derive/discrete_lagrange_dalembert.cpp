@@ -4,6 +4,7 @@
 #include <string>
 
 #include "nhc/errors.hpp"
+#include "nhc/jet/partial_derivative.hpp"
 #include "nhc/jet/symbol_substitution.hpp"
 
 namespace nhc {
@@ -83,9 +84,9 @@ DiscreteLagrangeDAlembert discrete_lagrange_dalembert(const Scene& scene, ModelK
   d.residual.assign(static_cast<std::size_t>(n + g), 0);
   for (int i = 0; i < n; ++i) {
     const auto k = static_cast<std::size_t>(i);
-    const ex momentum = scene.lagrangian.diff(GiNaC::ex_to<GiNaC::symbol>(jet.q(i, 1)));
+    const ex momentum = partial_derivative(scene.lagrangian, GiNaC::ex_to<GiNaC::symbol>(jet.q(i, 1)));
     const ex force = k < scene.forces.size() ? scene.forces[k] : ex(0);
-    const ex half_force = midpoint(scene.lagrangian.diff(GiNaC::ex_to<GiNaC::symbol>(jet.q(i, 0))) + force) / 2;
+    const ex half_force = midpoint(partial_derivative(scene.lagrangian, GiNaC::ex_to<GiNaC::symbol>(jet.q(i, 0))) + force) / 2;
     const ex momentum_plus = midpoint(momentum);
     d.momentum.push_back(momentum);
     d.residual[k] = (d.momentum_in[k] - momentum_plus) / h + half_force;
@@ -98,7 +99,7 @@ DiscreteLagrangeDAlembert discrete_lagrange_dalembert(const Scene& scene, ModelK
     for (const JetCoordinate& c : jet.jet_coordinates_in(f))
       if (c.kind == VariableKind::coordinate && c.order == m)
         d.residual[static_cast<std::size_t>(c.index)] +=
-            d.w * lambda * node(f.diff(GiNaC::ex_to<GiNaC::symbol>(jet.symbol(c))));
+            d.w * lambda * node(partial_derivative(f, GiNaC::ex_to<GiNaC::symbol>(jet.symbol(c))));
     // A constraint without coordinates (m = −1) is a condition on t and the parameters alone:
     // it holds or not at every step, as it does at the end point.
     d.residual[static_cast<std::size_t>(n + a)] = m == 1 ? midpoint(f) : end(f);

@@ -4,6 +4,7 @@
 
 #include <limits>
 
+#include "nhc/jet/partial_derivative.hpp"
 #include "nhc/jet/work_budget.hpp"
 
 namespace nhc {
@@ -16,7 +17,7 @@ VariationForm VariationForm::first_variation(const GiNaC::ex& F, const JetSpace&
   const auto add_term = [&](const GiNaC::ex& term) {
     for (const auto& c : jet.jet_coordinates_in(term)) {
       if (c.kind != VariableKind::coordinate) continue;
-      form.add(c.index, c.order, term.diff(jet.symbol(c)));
+      form.add(c.index, c.order, partial_derivative(term, jet.symbol(c)));
     }
   };
   if (GiNaC::is_a<GiNaC::add>(F))
@@ -73,7 +74,7 @@ std::vector<GiNaC::ex> euler_operator_closed_form(const GiNaC::ex& F, const JetS
     GiNaC::ex sum = 0;
     const int m = jet.highest_order(F, VariableKind::coordinate, i);
     for (int k = 0; k <= m; ++k) {
-      const GiNaC::ex partial = F.diff(jet.symbol({VariableKind::coordinate, i, k}));
+      const GiNaC::ex partial = partial_derivative(F, jet.symbol({VariableKind::coordinate, i, k}));
       sum += (k % 2 == 0 ? 1 : -1) * jet.total_derivative(partial, k);
     }
     result.push_back(simplify_expression(sum));

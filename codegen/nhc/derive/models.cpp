@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "nhc/derive/euler_operator.hpp"
+#include "nhc/jet/partial_derivative.hpp"
 #include "nhc/jet/work_budget.hpp"
 
 namespace nhc {
@@ -49,7 +50,7 @@ std::vector<ex> chetaev(const MechanicalSystem& s) {
     // otherwise): the work per constraint is its own size, not the number of coordinates.
     for (const JetCoordinate& c : occurring_coordinates(s.constraints[a], s.jet))
       if (c.order == m)
-        r[static_cast<std::size_t>(c.index)] += s.jet.lambda(alpha, 0) * s.constraints[a].diff(s.jet.symbol(c));
+        r[static_cast<std::size_t>(c.index)] += s.jet.lambda(alpha, 0) * partial_derivative(s.constraints[a], s.jet.symbol(c));
   }
   return r;
 }
@@ -63,7 +64,7 @@ std::vector<ex> holder(const MechanicalSystem& s) {
       const int i = c.index, k = c.order;
       if (k < 1 || k > m) continue;
       {
-        const ex partial = s.constraints[a].diff(s.jet.symbol(c));
+        const ex partial = partial_derivative(s.constraints[a], s.jet.symbol(c));
         // paper eq. (26): (−1)^{k+1} λ^(k) ∂f/∂q^(k) + ((−1)^{k+1} − 1) λ D^k ∂f/∂q^(k)
         r[static_cast<std::size_t>(i)] +=
             sign(k + 1) * s.jet.lambda(alpha, k) * partial +
@@ -87,7 +88,7 @@ bool suslov(const MechanicalSystem& s, std::vector<ex>& r, std::string& reason) 
   GiNaC::matrix A(static_cast<unsigned>(g), static_cast<unsigned>(g));
   for (std::size_t a = 0; a < g; ++a)
     for (std::size_t b = 0; b < g; ++b)
-      A(static_cast<unsigned>(a), static_cast<unsigned>(b)) = s.constraints[a].diff(
+      A(static_cast<unsigned>(a), static_cast<unsigned>(b)) = partial_derivative(s.constraints[a], 
           s.jet.symbol({VariableKind::coordinate, s.dependent[b], 1}));
   if (work_budget::is_zero(A.determinant())) {
     std::string names;
@@ -100,7 +101,7 @@ bool suslov(const MechanicalSystem& s, std::vector<ex>& r, std::string& reason) 
   for (std::size_t a = 0; a < g; ++a) {
     ex mu = 0;
     for (std::size_t b = 0; b < g; ++b)
-      mu += s.lagrangian.diff(s.jet.symbol({VariableKind::coordinate, s.dependent[b], 1})) *
+      mu += partial_derivative(s.lagrangian, s.jet.symbol({VariableKind::coordinate, s.dependent[b], 1})) *
             A_inv(static_cast<unsigned>(b), static_cast<unsigned>(a));
     mu = work_budget::normal(mu);
     const std::vector<ex> euler_f = euler_operator(s.constraints[a], s.jet);

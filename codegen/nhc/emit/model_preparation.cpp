@@ -16,6 +16,7 @@
 #include "nhc/emit/header_emitter.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/jet/intermediate.hpp"
+#include "nhc/jet/partial_derivative.hpp"
 
 namespace nhc {
 
@@ -67,7 +68,7 @@ SymbolicJacobian index1_jacobian(const Index1System& system) {
     return std::binary_search(sorted.begin(), sorted.end(), j);
   };
   const auto partial = [](const GiNaC::ex& f, const GiNaC::realsymbol& symbol, bool occurs) {
-    return occurs ? f.diff(symbol) : GiNaC::ex(0);
+    return occurs ? partial_derivative(f, symbol) : GiNaC::ex(0);
   };
   jac.colptr.push_back(0);
   for (int j = 0; j < n; ++j) {
@@ -421,7 +422,7 @@ FunctionPlan variational_jacobian_function(const DiscreteLagrangeDAlembert& step
   std::vector<std::tuple<std::size_t, std::size_t, GiNaC::ex>> entries;  // (column, row, value)
   for (std::size_t i = 0; i < size; ++i)
     for (int j : occurring[i]) {
-      const GiNaC::ex value = step.residual[i].diff(step.x[static_cast<std::size_t>(j)]);
+      const GiNaC::ex value = partial_derivative(step.residual[i], step.x[static_cast<std::size_t>(j)]);
       if (!value.is_zero()) entries.emplace_back(static_cast<std::size_t>(j), i, value);
     }
   std::sort(entries.begin(), entries.end(), [](const auto& a, const auto& b) {

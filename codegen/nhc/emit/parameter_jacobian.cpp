@@ -4,6 +4,7 @@
 #include <set>
 
 #include "nhc/jet/intermediate.hpp"
+#include "nhc/jet/partial_derivative.hpp"
 
 namespace nhc {
 
@@ -21,7 +22,7 @@ void differentiate(const std::vector<GiNaC::ex>& expressions, const JetSpace& je
     const GiNaC::realsymbol& p = jet.parameter(parameters[k]);
     for (std::size_t i = 0; i < rows; ++i) {
       if (!occurring[i].count(p)) continue;
-      const GiNaC::ex d = expressions[i].diff(p);
+      const GiNaC::ex d = partial_derivative(expressions[i], p);
       if (d.is_zero()) continue;
       entries[i + rows * k] = d;
       nonzeros.push_back(static_cast<int>(i + rows * k));

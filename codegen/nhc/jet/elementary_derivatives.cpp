@@ -4,6 +4,8 @@
 
 #include <mutex>
 
+#include "nhc/jet/partial_derivative.hpp"
+
 namespace nhc {
 
 namespace {
@@ -16,7 +18,7 @@ using GiNaC::symbol;
 /// f (inifcns_trans.cpp), and 0 without evaluating f' when x does not depend on s (as GiNaC does).
 template <class Partial>
 ex chain(const ex& x, const symbol& s, Partial partial) {
-  const ex dx = x.diff(s);
+  const ex dx = partial_derivative(x, s);
   if (dx.is_zero()) return 0;
   return partial(x) * dx;
 }
@@ -56,8 +58,8 @@ ex atanh_d(const ex& x, const symbol& s) {
 /// atan2(y, x): ∂/∂y = x/(x² + y²), ∂/∂x = −y/(x² + y²), summed over the arguments in order.
 ex atan2_d(const ex& y, const ex& x, const symbol& s) {
   ex result;
-  if (const ex dy = y.diff(s); !dy.is_zero()) result += x / (power(x, 2) + power(y, 2)) * dy;
-  if (const ex dx = x.diff(s); !dx.is_zero()) result += -y / (power(x, 2) + power(y, 2)) * dx;
+  if (const ex dy = partial_derivative(y, s); !dy.is_zero()) result += x / (power(x, 2) + power(y, 2)) * dy;
+  if (const ex dx = partial_derivative(x, s); !dx.is_zero()) result += -y / (power(x, 2) + power(y, 2)) * dx;
   return result;
 }
 

@@ -5,6 +5,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "nhc/jet/partial_derivative.hpp"
 #include "nhc/jet/simplification.hpp"
 #include "nhc/jet/work_budget.hpp"
 
@@ -198,7 +199,7 @@ GiNaC::ex Intermediate::derivative(const GiNaC::symbol& s) const {
         stack.emplace_back(&u, 0);
       continue;
     }
-    di.partials.emplace(key, keep_or_name(di.expression.diff(s), "d" + di.name + "_d" + s.get_name(),
+    di.partials.emplace(key, keep_or_name(partial_derivative(di.expression, s), "d" + di.name + "_d" + s.get_name(),
                                           "\\partial_{" + latex_of(s) + "}" + di.latex));
     stack.pop_back();
   }
@@ -298,9 +299,9 @@ GiNaC::ex TotalDerivative::operator()(const GiNaC::ex& e) const {
     const ExplicitDerivatives explicit_only;
     for (const GiNaC::ex& z : symbols) {
       const GiNaC::ex Dz = of_symbol(z);
-      if (!Dz.is_zero()) result += e.diff(GiNaC::ex_to<GiNaC::symbol>(z)) * Dz;
+      if (!Dz.is_zero()) result += partial_derivative(e, GiNaC::ex_to<GiNaC::symbol>(z)) * Dz;
     }
-    for (const GiNaC::ex& d : intermediates) explicit_partials.push_back(e.diff(GiNaC::ex_to<GiNaC::symbol>(d)));
+    for (const GiNaC::ex& d : intermediates) explicit_partials.push_back(partial_derivative(e, GiNaC::ex_to<GiNaC::symbol>(d)));
   }
   for (std::size_t k = 0; k < intermediates.size(); ++k)
     if (!explicit_partials[k].is_zero()) result += explicit_partials[k] * as_intermediate(intermediates[k]).total_derivative(*this);
