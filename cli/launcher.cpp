@@ -52,9 +52,32 @@ void heap_in_huge_pages() {
   setenv("GLIBC_TUNABLES", tunables.c_str(), 1);
 }
 
+/// The address space (ulimit -v) nhc-main needs before its own code runs: its shared libraries'
+/// mappings and their static initializers took about 40 MB on the 2-core CI machine. Below that
+/// the loader fails (exit 127) or an initializer's allocation does, which aborts the process
+/// before main can say anything (exit 134, "terminate called without an active exception" from
+/// CLN); which of the two, or a later out-of-memory, depends on a few hundred kB of layout that
+/// moves with every build. A floor well above the need turns the whole band into one clear
+/// refusal. No command does useful work in less: the compiler nhc starts needs hundreds of MB.
+constexpr rlim_t kLeastAddressSpace = rlim_t{64} << 20;
+
+/// True (and says why) when an address-space limit is below kLeastAddressSpace.
+bool address_space_too_small() {
+  rlimit limit{};
+  if (getrlimit(RLIMIT_AS, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY || limit.rlim_cur >= kLeastAddressSpace)
+    return false;
+  std::fprintf(stderr,
+               "nhc: error: the address-space limit (ulimit -v) is %llu kB, below the %llu kB nhc needs to load "
+               "its libraries: raise the limit\n",
+               static_cast<unsigned long long>(limit.rlim_cur >> 10),
+               static_cast<unsigned long long>(kLeastAddressSpace >> 10));
+  return true;
+}
+
 }  // namespace
 
 int main(int, char** argv) {
+  if (address_space_too_small()) return nhc::cli::kExitEnvironment;
   const int current = personality(0xffffffff);  // query only
   if (current != -1 && (current & ADDR_NO_RANDOMIZE) == 0)
     personality(static_cast<unsigned long>(current) | ADDR_NO_RANDOMIZE);  // refused: goes on randomized

@@ -10,6 +10,7 @@
 #include "nhc/derive/euler_operator.hpp"
 #include "nhc/jet/intermediate.hpp"
 #include "nhc/jet/partial_derivative.hpp"
+#include "nhc/jet/stable_symbol.hpp"
 
 namespace nhc {
 
@@ -40,8 +41,8 @@ Index1System reduce_to_index1(const StructuralAnalysis& a) {
   }
   for (int k = 0; k < out.size(); ++k) {
     const std::string idx = std::to_string(k);
-    out.y.emplace_back("y[" + idx + "]", "y_{" + idx + "}");
-    out.yp.emplace_back("yp[" + idx + "]", "\\dot{y}_{" + idx + "}");
+    out.y.push_back(stable_symbol("y[" + idx + "]", "y_{" + idx + "}"));
+    out.yp.push_back(stable_symbol("yp[" + idx + "]", "\\dot{y}_{" + idx + "}"));
   }
   auto state = [&](int j, int k) { return static_cast<std::size_t>(first_state[static_cast<std::size_t>(j)] + k); };
   for (int j = 0; j < n; ++j) {

@@ -15,7 +15,7 @@ using GiNaC::ex;
 
 std::vector<GiNaC::realsymbol> symbols(const std::string& stem, int count) {
   std::vector<GiNaC::realsymbol> out;
-  for (int i = 0; i < count; ++i) out.emplace_back(stem + std::to_string(i));
+  for (int i = 0; i < count; ++i) out.push_back(stable_symbol(stem + std::to_string(i)));
   return out;
 }
 

@@ -31,12 +31,13 @@
 
 #include <vector>
 
+#include "nhc/jet/stable_symbol.hpp"
 #include "nhc/scene/scene.hpp"
 
 namespace nhc {
 
 struct DiscreteLagrangeDAlembert {
-  GiNaC::realsymbol h{"h"}, w{"w"};
+  GiNaC::realsymbol h = stable_symbol("h"), w = stable_symbol("w");
   /// Δq_{k−1}, q_k, m_k (n each) and the unknowns x = (Δq_k, λ_k) (n + g).
   std::vector<GiNaC::realsymbol> increment_previous, q, momentum_in, x;
   /// R_1..R_n, then C_1..C_g: of t (= t_k), h, w, parameters, inputs and the symbols above.

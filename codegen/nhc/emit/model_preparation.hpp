@@ -16,6 +16,7 @@
 #include "nhc/analysis/index1_system.hpp"
 #include "nhc/emit/cpp_printer.hpp"
 #include "nhc/jet/expression_dag.hpp"
+#include "nhc/jet/stable_symbol.hpp"
 #include "nhc/scene/scene.hpp"
 
 namespace nhc {
@@ -26,7 +27,7 @@ enum class JacobianKind;  // header_emitter.hpp
 /// compressed-column structure: the entries that are not identically zero after GiNaC's
 /// automatic simplification.
 struct SymbolicJacobian {
-  GiNaC::realsymbol cj{"cj"};
+  GiNaC::realsymbol cj = stable_symbol("cj");
   int size = 0;
   std::vector<int> colptr;         ///< size + 1
   std::vector<int> rowind;         ///< colptr.back()

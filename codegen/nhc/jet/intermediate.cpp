@@ -7,6 +7,7 @@
 
 #include "nhc/jet/partial_derivative.hpp"
 #include "nhc/jet/simplification.hpp"
+#include "nhc/jet/stable_symbol.hpp"
 #include "nhc/jet/work_budget.hpp"
 
 namespace nhc {
@@ -140,6 +141,12 @@ Intermediate::Intermediate(const std::string& name, const std::string& latex, co
   definition_->name = name;
   definition_->latex = latex;
   definition_->expression = expression;
+}
+
+unsigned Intermediate::calchash() const {
+  hashvalue = stable_symbol_hash(serial);
+  setflag(GiNaC::status_flags::hash_calculated);
+  return hashvalue;
 }
 
 const std::vector<GiNaC::ex>& Intermediate::uses() const {

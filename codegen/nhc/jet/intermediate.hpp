@@ -104,6 +104,8 @@ class Intermediate : public GiNaC::realsymbol {
   }
 
  protected:
+  /// stable_symbol_hash(serial): the same in every build (stable_symbol.hpp says why).
+  unsigned calchash() const override;
   /// ∂d/∂s by the chain rule through the expression, memoized; 1 for d itself. Under
   /// ExplicitDerivatives, 0 for every other symbol.
   GiNaC::ex derivative(const GiNaC::symbol& s) const override;

@@ -1,6 +1,7 @@
 #include "nhc/jet/jet_space.hpp"
 
 #include "nhc/jet/intermediate.hpp"
+#include "nhc/jet/stable_symbol.hpp"
 #include "nhc/jet/work_budget.hpp"
 
 #include <algorithm>
@@ -67,10 +68,10 @@ JetSpace::JetSpace(std::vector<std::string> coordinates, int multiplier_count,
     : coordinates_(std::move(coordinates)),
       multiplier_count_(multiplier_count),
       parameter_names_(std::move(parameters)),
-      time_("t"),
+      time_(stable_symbol("t")),
       input_names_(std::move(inputs)) {
-  for (const auto& name : parameter_names_) parameters_.emplace_back(name, latex_base(name));
-  for (const auto& name : input_names_) inputs_.emplace_back(name, latex_base(name));
+  for (const auto& name : parameter_names_) parameters_.push_back(stable_symbol(name, latex_base(name)));
+  for (const auto& name : input_names_) inputs_.push_back(stable_symbol(name, latex_base(name)));
   input_locations_.assign(input_names_.size(), SourceLocation{"scene", 0, 0});
 }
 
@@ -112,8 +113,8 @@ const GiNaC::realsymbol& JetSpace::symbol(const JetCoordinate& c) const {
   if (c.index < 0 || c.index >= count || c.order < 0)
     throw std::out_of_range("jet coordinate out of range");
   const std::string variable = variable_name(c.kind, c.index);
-  GiNaC::realsymbol s(jet_symbol_name(variable, c.order),
-                      jet_symbol_latex(variable, c.kind, c.order));
+  const GiNaC::realsymbol s =
+      stable_symbol(jet_symbol_name(variable, c.order), jet_symbol_latex(variable, c.kind, c.order));
   jet_.emplace(c, s);
   by_symbol_.emplace(s, c);
   creation_order_.push_back(c);

@@ -6,6 +6,8 @@
 #include <memory>
 #include <stdexcept>
 
+#include "nhc/errors.hpp"
+
 namespace nhc::jit {
 
 namespace {
@@ -14,8 +16,10 @@ namespace {
 class Sha256 {
  public:
   Sha256() : context_(EVP_MD_CTX_new(), EVP_MD_CTX_free) {
+    // Fails only when the machine does (out of memory, OpenSSL's configuration unreadable): an
+    // environment failure (exit 4), not a defect of nhc.
     if (!context_ || EVP_DigestInit_ex(context_.get(), EVP_sha256(), nullptr) != 1)
-      throw std::runtime_error("OpenSSL cannot set up SHA-256");
+      throw EnvironmentError("OpenSSL cannot set up SHA-256 (out of memory, or its configuration is unusable)");
   }
   void update(const char* data, std::size_t size) {
     if (EVP_DigestUpdate(context_.get(), data, size) != 1) throw std::runtime_error("OpenSSL SHA-256 update failed");

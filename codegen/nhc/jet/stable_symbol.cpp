@@ -1,0 +1,37 @@
+#include "nhc/jet/stable_symbol.hpp"
+
+#include <cstdint>
+
+#include "nhc/jet/expression_dag.hpp"
+
+namespace nhc {
+
+namespace {
+
+/// Sets the hash on construction; sliced to realsymbol on return, the hash travels with the
+/// copy (GiNaC copies `hashvalue` and the hash_calculated flag, and never recomputes a hash it has).
+class StableSymbol : public GiNaC::realsymbol {
+ public:
+  explicit StableSymbol(const std::string& name) : GiNaC::realsymbol(name) { stabilize(); }
+  StableSymbol(const std::string& name, const std::string& latex) : GiNaC::realsymbol(name, latex) { stabilize(); }
+
+ private:
+  void stabilize() {
+    hashvalue = stable_symbol_hash(serial);
+    setflag(GiNaC::status_flags::hash_calculated);
+  }
+};
+
+}  // namespace
+
+unsigned stable_symbol_hash(unsigned serial) {
+  constexpr std::uint64_t kSeed = 0x6e68632d73796d62;  // "nhc-symb"
+  return static_cast<unsigned>(mix_keys(kSeed, serial));
+}
+
+GiNaC::realsymbol stable_symbol(const std::string& name, const std::string& latex) {
+  if (latex.empty()) return StableSymbol(name);  // GiNaC's default LaTeX form of the name
+  return StableSymbol(name, latex);
+}
+
+}  // namespace nhc
