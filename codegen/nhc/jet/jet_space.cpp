@@ -73,13 +73,28 @@ JetSpace::JetSpace(std::vector<std::string> coordinates, int multiplier_count,
   for (const auto& name : parameter_names_) parameters_.push_back(stable_symbol(name, latex_base(name)));
   for (const auto& name : input_names_) inputs_.push_back(stable_symbol(name, latex_base(name)));
   input_locations_.assign(input_names_.size(), SourceLocation{"scene", 0, 0});
+  // The first of equal names wins, as a search from the front would find it.
+  for (std::size_t k = 0; k < coordinates_.size(); ++k) coordinate_indices_.emplace(coordinates_[k], static_cast<int>(k));
+  for (std::size_t k = 0; k < parameter_names_.size(); ++k)
+    parameter_indices_.emplace(parameter_names_[k], static_cast<int>(k));
+  for (std::size_t k = 0; k < input_names_.size(); ++k) input_indices_.emplace(input_names_[k], static_cast<int>(k));
 }
 
-std::optional<int> JetSpace::input_index(const std::string& name) const {
-  auto it = std::find(input_names_.begin(), input_names_.end(), name);
-  if (it == input_names_.end()) return std::nullopt;
-  return static_cast<int>(it - input_names_.begin());
+namespace {
+
+std::optional<int> index_in(const std::unordered_map<std::string, int>& indices, const std::string& name) {
+  const auto it = indices.find(name);
+  if (it == indices.end()) return std::nullopt;
+  return it->second;
 }
+
+}  // namespace
+
+std::optional<int> JetSpace::coordinate_index(const std::string& name) const {
+  return index_in(coordinate_indices_, name);
+}
+
+std::optional<int> JetSpace::input_index(const std::string& name) const { return index_in(input_indices_, name); }
 
 std::optional<int> JetSpace::input_of(const GiNaC::ex& symbol) const {
   for (std::size_t k = 0; k < inputs_.size(); ++k)
@@ -101,9 +116,7 @@ std::string JetSpace::variable_name(VariableKind kind, int index) const {
 }
 
 std::optional<int> JetSpace::parameter_index(const std::string& name) const {
-  auto it = std::find(parameter_names_.begin(), parameter_names_.end(), name);
-  if (it == parameter_names_.end()) return std::nullopt;
-  return static_cast<int>(it - parameter_names_.begin());
+  return index_in(parameter_indices_, name);
 }
 
 const GiNaC::realsymbol& JetSpace::symbol(const JetCoordinate& c) const {

@@ -17,6 +17,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "nhc/errors.hpp"
@@ -55,6 +56,9 @@ class JetSpace {
   int multiplier_count() const { return multiplier_count_; }
   const std::vector<std::string>& coordinates() const { return coordinates_; }
   const std::vector<std::string>& parameters() const { return parameter_names_; }
+  /// The index of the coordinate called `name`, if one is (a hash lookup: scenes with thousands
+  /// of coordinates name them tens of thousands of times).
+  std::optional<int> coordinate_index(const std::string& name) const;
   /// `lambda1`, `lambda2`, … in constraint order.
   std::string multiplier_name(int alpha) const;
   std::string variable_name(VariableKind kind, int index) const;
@@ -98,6 +102,7 @@ class JetSpace {
 
  private:
   std::vector<std::string> coordinates_;
+  std::unordered_map<std::string, int> coordinate_indices_, parameter_indices_, input_indices_;
   int multiplier_count_;
   std::vector<std::string> parameter_names_;
   GiNaC::realsymbol time_;

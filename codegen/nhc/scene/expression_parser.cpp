@@ -640,12 +640,10 @@ class Parser {
       if (!rules_.allow_coordinates) fail(start, "input '" + base + "' is not allowed here (only t and parameters)");
       return Value::scalar(jet_.input(*k));
     }
-    const auto& coords = jet_.coordinates();
-    for (std::size_t i = 0; i < coords.size(); ++i) {
-      if (coords[i] != base) continue;
+    if (const std::optional<int> i = jet_.coordinate_index(base)) {
       if (!rules_.allow_coordinates)
         fail(start, "coordinate '" + base + "' is not allowed here (only t and parameters)");
-      return Value::scalar(jet_.q(static_cast<int>(i), order));
+      return Value::scalar(jet_.q(*i, order));
     }
     if (auto alpha = multiplier_index(base); alpha && *alpha < jet_.multiplier_count()) {
       if (!rules_.allow_multipliers) fail(start, "multiplier '" + base + "' is not allowed here");
@@ -679,8 +677,7 @@ class Parser {
 
   bool known_variable(const std::string& name) const {
     if (name == "t") return true;
-    const auto& coords = jet_.coordinates();
-    if (std::find(coords.begin(), coords.end(), name) != coords.end()) return true;
+    if (jet_.coordinate_index(name)) return true;
     auto alpha = multiplier_index(name);
     return alpha && *alpha < jet_.multiplier_count();
   }

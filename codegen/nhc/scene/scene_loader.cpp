@@ -685,16 +685,15 @@ class SceneReader {
     if (!node) return;
     for (auto&& [key, value] : table_value(*node, "forces")) {
       const std::string n(key.str());
-      const auto& coords = jet.coordinates();
-      const auto it = std::find(coords.begin(), coords.end(), n);
-      if (it == coords.end())
+      const std::optional<int> i = jet.coordinate_index(n);
+      if (!i)
         throw InputError(at(key.source()),
                          "[forces] names '" + printable(n) + "', which is not a coordinate");
       const GiNaC::ex q = expression(value, "force", jet, rules);
       if (jet.highest_coordinate_order(q) > 1)
         fail(value, "a generalized force may depend on t, q and q' only (found a derivative of "
                     "order " + std::to_string(jet.highest_coordinate_order(q)) + ")");
-      scene.forces[static_cast<std::size_t>(it - coords.begin())] = q;
+      scene.forces[static_cast<std::size_t>(*i)] = q;
     }
   }
 
@@ -727,9 +726,8 @@ class SceneReader {
         for (const toml::node& f : array_value(value, "initial fixed")) fixed_nodes_.push_back(&f);
         continue;
       }
-      bool known = std::find(jet.coordinates().begin(), jet.coordinates().end(), n) !=
-                   jet.coordinates().end();
-      for (int a = 0; a < jet.multiplier_count(); ++a) known = known || jet.multiplier_name(a) == n;
+      bool known = jet.coordinate_index(n).has_value();
+      for (int a = 0; !known && a < jet.multiplier_count(); ++a) known = jet.multiplier_name(a) == n;
       if (!known)
         throw InputError(at(key.source()), "[initial] names '" + printable(n) +
                                                "', which is neither t0, a coordinate nor a "
