@@ -35,12 +35,15 @@ int reads_of_operand(const Instruction& in) {
 
 class BlockPrinter {
  public:
-  BlockPrinter(const ExpressionDag& dag, const std::vector<std::string>& names)
-      : dag_(dag), names_(names) {}
+  /// `names`: a temporary's name per instruction ("" when inlined), or null when every
+  /// instruction is inlined.
+  BlockPrinter(const ExpressionDag& dag, const std::vector<std::string>* names) : dag_(dag), names_(names) {}
 
   Printed print(int id) const {
-    const std::string& name = names_[static_cast<size_t>(id)];
-    if (!name.empty()) return {name, kAtom};
+    if (names_) {
+      const std::string& name = (*names_)[static_cast<size_t>(id)];
+      if (!name.empty()) return {name, kAtom};
+    }
     return print_definition(id);
   }
 
@@ -115,7 +118,7 @@ class BlockPrinter {
   }
 
   const ExpressionDag& dag_;
-  const std::vector<std::string>& names_;  ///< temporary name per instruction, "" when inlined
+  const std::vector<std::string>* names_;  ///< temporary name per instruction, "" when inlined
 };
 
 }  // namespace
@@ -143,7 +146,7 @@ PrintedBlock print_cpp_block(const ExpressionDag& dag, const std::vector<Assignm
 
   PrintedBlock block;
   std::vector<std::string> names(static_cast<size_t>(dag.size()));
-  BlockPrinter printer(dag, names);
+  BlockPrinter printer(dag, &names);
   std::string code;
   for (int id : order) {
     const Instruction& in = dag[id];
@@ -166,8 +169,9 @@ PrintedBlock print_cpp_block(const ExpressionDag& dag, const std::vector<Assignm
 }
 
 std::string print_cpp_expression(const ExpressionDag& dag, int id) {
-  const std::vector<std::string> no_temporaries(static_cast<size_t>(dag.size()));
-  return BlockPrinter(dag, no_temporaries).print_definition(id).text;
+  // No table of names: one per instruction of the whole DAG would make printing each of many
+  // small expressions of one large DAG (a scene's L and its constraints) quadratic.
+  return BlockPrinter(dag, nullptr).print_definition(id).text;
 }
 
 }  // namespace nhc
