@@ -1,14 +1,19 @@
 #!/usr/bin/env python3
 """Scaling of nhc's symbolic front end (issue 17), cold: the scene cache off, a fresh cache dir.
 
-For each N of a scene family (bench/knife_chain.py or bench/particle_chain.py) and one model:
+For each N of a scene family (bench/knife_chain.py, bench/particle_chain.py or the rigid bodies of
+bench/rolling_balls.py) and one model:
 wall seconds and peak resident memory (wait4's ru_maxrss) of the three commands
 `nhc derive`, `nhc analyze` and `nhc generate`. Each command runs the pipeline up to its stage,
 so the front end as a user sees it is `nhc generate` (derive + analyze + generate in one
 process); the per-stage columns are the differences derive, analyze − derive, generate − analyze.
+The generated header's operations after CSE (its banner's total) and its size are recorded too.
 A command under 1 s is run 3 times (the shortest wall time, the largest peak memory).
 Every command has a time limit: one that hits it is recorded as "timed out" and the larger N of
 the family are not tried (recorded as "skipped"). A failing command is recorded with its error.
+
+--simulate-up-to N: additionally a cold `nhc simulate` (scene cache off, a fresh compile cache: derive,
+compile, integrate) at every N up to N: wall seconds, peak memory.
 
 --warm N: additionally `nhc simulate` twice at N with the scene cache on (a fresh cache dir):
 the first run fills the caches, the second is the warm run; its derive/compile/integrate come
@@ -16,8 +21,8 @@ from simulate's own "time:" line, the wall time from here.
 
 Writes one JSON object (bench/report.py turns it into tables); prints progress to stderr.
 
-Usage: frontend_scaling.py NHC OUT.json [--family knife_chain|particle_chain] [--model M]
-                           [--timeout S] [--warm N] [--warm-timeout S] N [N ...]
+Usage: frontend_scaling.py NHC OUT.json [--family knife_chain|particle_chain|rolling_balls] [--model M]
+                           [--timeout S] [--warm N] [--warm-timeout S] [--simulate-up-to N] N [N ...]
 Everything in the JSON is measured in this run.
 """
 import json
@@ -34,8 +39,22 @@ import time
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import knife_chain  # noqa: E402
 import particle_chain  # noqa: E402
+import rolling_balls  # noqa: E402
 
-FAMILIES = {"knife_chain": knife_chain, "particle_chain": particle_chain}
+FAMILIES = {"knife_chain": knife_chain, "particle_chain": particle_chain, "rolling_balls": rolling_balls}
+TOTAL_LINE = re.compile(r"^//   total\s+(\d+)\s+(\d+)$", re.M)
+
+
+def header_size(directory, scene_name, model):
+    """(operations after CSE, bytes) of the header `nhc generate` wrote, or (None, None)."""
+    path = os.path.join(directory, "%s_%s.hpp" % (scene_name, model))
+    try:
+        with open(path) as f:
+            text = f.read()
+    except OSError:
+        return None, None
+    m = TOTAL_LINE.search(text)
+    return (int(m.group(2)) if m else None), len(text.encode())
 
 
 def run_limited(args, timeout, env):
@@ -76,7 +95,7 @@ def error_line(out):
     return lines[-1][:300] if lines else ""
 
 
-def measure_front_end(nhc, family, model, ns, timeout, tmp):
+def measure_front_end(nhc, family, model, ns, timeout, tmp, simulate_up_to=0):
     env = dict(os.environ, NHC_SCENE_CACHE="off", NHC_CACHE_DIR=os.path.join(tmp, "cold-cache"))
     rows, stop = [], None
     for n in ns:
@@ -87,10 +106,11 @@ def measure_front_end(nhc, family, model, ns, timeout, tmp):
         with open(scene, "w") as f:
             f.write(family.scene_text(n))
         row = {"n": n, "commands": {}}
+        headers = os.path.join(tmp, "headers_%d" % n)
         for cmd in ("derive", "analyze", "generate"):
             args = [nhc, cmd, "--model", model]
             if cmd == "generate":
-                args += ["-q", "-o", tmp]
+                args += ["-q", "-o", headers]
             status, sec, peak, out = run_limited(args + [scene], timeout, env)
             # Short commands are dominated by noise (process start, a loaded machine): best of 3.
             for _ in range(2 if status == "ok" and sec < 1.0 else 0):
@@ -113,6 +133,9 @@ def measure_front_end(nhc, family, model, ns, timeout, tmp):
             row["generate_s"] = max(0.0, c["generate"]["s"] - c["analyze"]["s"])
             row["front_end_s"] = c["generate"]["s"]
             row["peak_mb"] = max(e["peak_mb"] for e in c.values())
+            row["ops_after_cse"], row["header_bytes"] = header_size(headers, "%s_%d" % (family.__name__, n), model)
+            if n <= simulate_up_to:
+                row["simulate"] = cold_simulate(nhc, scene, model, n, timeout, tmp)
         else:
             bad = next(k for k in ("derive", "analyze", "generate") if c.get(k, {}).get("status") != "ok")
             row["status"] = "%s: %s" % (bad, c[bad]["status"])
@@ -135,6 +158,18 @@ def slope(rows, n_min, n_max):
     sxy = sum((p[0] - mx) * (p[1] - my) for p in pts)
     return (sxy / sxx if sxx else None), [r["n"] for r in rows
                                           if r.get("status") == "ok" and n_min <= r["n"] <= n_max]
+
+
+def cold_simulate(nhc, scene, model, n, timeout, tmp):
+    """`nhc simulate` with nothing cached: derive, compile and integrate the scene's own run."""
+    env = dict(os.environ, NHC_SCENE_CACHE="off", NHC_CACHE_DIR=os.path.join(tmp, "simulate-cache-%d" % n))
+    status, sec, peak, out = run_limited([nhc, "simulate", scene, "--model", model, "-o",
+                                          os.path.join(tmp, "simulate_%d.csv" % n)], timeout, env)
+    entry = {"status": status, "wall_s": sec, "peak_mb": peak}
+    if status != "ok":
+        entry["error"] = "timed out after %g s" % timeout if status == "timed out" else error_line(out)
+    print("cold simulate N=%d: %s %.2f s, %.0f MB" % (n, status, sec, peak), file=sys.stderr, flush=True)
+    return entry
 
 
 TIME_LINE = re.compile(r"time: derive ([0-9.eE+-]+) s( \(scene cache\))?, compile ([0-9.eE+-]+) s( \(cached\))?, "
@@ -171,7 +206,7 @@ def measure_warm(nhc, family, model, n, timeout, tmp):
 def main():
     argv = sys.argv[1:]
     opts = {"--family": "knife_chain", "--model": "chetaev", "--timeout": "600", "--warm": None,
-            "--warm-timeout": "900"}
+            "--warm-timeout": "900", "--simulate-up-to": "0"}
     rest = []
     i = 0
     while i < len(argv):
@@ -188,7 +223,7 @@ def main():
     family = FAMILIES[opts["--family"]]
     timeout = float(opts["--timeout"])
     with tempfile.TemporaryDirectory(prefix="nhc-frontend-") as tmp:
-        rows = measure_front_end(nhc, family, opts["--model"], ns, timeout, tmp)
+        rows = measure_front_end(nhc, family, opts["--model"], ns, timeout, tmp, int(opts["--simulate-up-to"]))
         warm = None
         if opts["--warm"]:
             warm = measure_warm(nhc, family, opts["--model"], int(opts["--warm"]),

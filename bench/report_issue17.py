@@ -207,4 +207,39 @@ def goals(jdir, env, load, table, ratio, fmt_x):
         L.append(table(["N", "states", "derive + analyse + generate (nhc_bench)", "compile", "steps", "integrate",
                         "status"], cr))
         L.append("")
+    L += rigid_body_family(_load(load, jdir, "frontend_rolling_balls_chetaev.json"), table)
+    return L
+
+
+def rigid_body_family(fe, table):
+    """Issue 27's family of rigid bodies: N rolling balls, every body quantity a definition."""
+    L = ["## Issue 27: a family of rigid bodies", "",
+         "N uniform balls rolling without slipping on a plane, neighbours' centres joined by springs "
+         "(`bench/rolling_balls.py`: Euler angles, each ball's rotation, angular velocity, centre, velocity, "
+         "kinetic energy and contact-point velocity written as definitions, as examples/rolling_ball.toml writes "
+         "one ball; 5N coordinates, 2N constraints; Chetaev). Front end cold as above; operations after CSE and "
+         "bytes of the whole header `nhc generate` writes; cold `nhc simulate` = derive, compile and the "
+         "scene's 1 s of motion with nothing cached. SymPy models no such scene in its tests: no peer column.", ""]
+    if not fe:
+        return L + ["frontend_scaling.py produced no result.", ""]
+    rows = []
+    for r in fe.get("rows", []):
+        if r.get("status") != "ok":
+            rows.append((r["n"], 5 * r["n"], "–", "–", "–", "–", "–", "–", "–", r.get("status", "?")))
+            continue
+        sim = r.get("simulate")
+        sim_text = "–" if not sim else (_s(sim["wall_s"]) + " s, %.0f MB" % sim["peak_mb"] if sim["status"] == "ok"
+                                        else sim["status"] + (": " + sim["error"] if sim.get("error") else ""))
+        ops = r.get("ops_after_cse")
+        rows.append((r["n"], 5 * r["n"], _s(r["derive_s"]), _s(r["front_end_s"]), "%.0f" % r["peak_mb"],
+                     "–" if ops is None else "{:,}".format(ops),
+                     "–" if ops is None else "%.0f" % (ops / r["n"]),
+                     "–" if r.get("header_bytes") is None else "%.0f" % (r["header_bytes"] / 1024), sim_text, "ok"))
+    L.append(table(["N", "coordinates", "derive", "front end (`nhc generate`)", "peak MB", "operations after CSE",
+                    "per ball", "header kB", "cold `nhc simulate`", "status"], rows))
+    L.append("")
+    if fe.get("slope_all") is not None:
+        L.append("Log-log slope (least squares) of the front end: %.2f over N = %s."
+                 % (fe["slope_all"], ", ".join(map(str, fe.get("slope_all_ns", [])))))
+        L.append("")
     return L

@@ -3,8 +3,9 @@
 # the paper's two examples, side by side with SymPy (LagrangesMethod, cse, lambdify), SciPy
 # (solve_ivp Radau/BDF) and hand-written residuals and Jacobians; the front end's scaling to
 # N = 1024 (bench/frontend_scaling.py, cold: scene cache off), the scene-cache warm `nhc simulate`,
-# and the second family (bench/particle_chain.py, second-order constraints; the vakonomic knife
-# chain). Writes bench/results.md (with issue 17's goal table, met / not met) and
+# the second family (bench/particle_chain.py, second-order constraints; the vakonomic knife
+# chain) and issue 27's rigid bodies (bench/rolling_balls.py, N rolling balls written with
+# definitions; with the Whipple bicycle beside SymPy, bench/whipple_sympy.py). Writes bench/results.md (with issue 17's goal table, met / not met) and
 # bench/results-time.svg; everything in them is measured in this run.
 #
 #   bench/run.sh            # the full run (hours while the front end is slow at N = 1024)
@@ -17,6 +18,7 @@
 # NHC_BENCH_PEER_N ("1 2 4 8 16" / "1 2"), NHC_BENCH_PEER_TIMEOUT (seconds per peer run, 600),
 # NHC_BENCH_FRONTEND_N ("16 32 64 128 256 512 1024" / "16 32 64 128 256"),
 # NHC_BENCH_FAMILY2_N ("1 2 4 8 16 32 64 128 256" / "1 4 16 64"),
+# NHC_BENCH_RIGID_N ("1 2 4 8 16 32 64 128" / "1 4 16"; cold simulate up to 16 / 4),
 # NHC_BENCH_WARM_N (512 / 64), NHC_BENCH_STAGE_TIMEOUT (seconds per nhc command, 900 / 60),
 # PYTHON (default /usr/bin/python3, the interpreter Debian's python3-sympy/-scipy belong to).
 set -euo pipefail
@@ -34,6 +36,8 @@ if [ $quick = 1 ]; then
   peer_n=${NHC_BENCH_PEER_N:-"1 2"}
   frontend_n=${NHC_BENCH_FRONTEND_N:-"16 32 64 128 256"}
   family2_n=${NHC_BENCH_FAMILY2_N:-"1 4 16 64"}
+  rigid_n=${NHC_BENCH_RIGID_N:-"1 4 16"}
+  rigid_simulate_n=4
   warm_n=${NHC_BENCH_WARM_N:-64}
   stage_timeout=${NHC_BENCH_STAGE_TIMEOUT:-60}
   bench_quick=(--quick)
@@ -42,6 +46,8 @@ else
   peer_n=${NHC_BENCH_PEER_N:-"1 2 4 8 16"}
   frontend_n=${NHC_BENCH_FRONTEND_N:-"16 32 64 128 256 512 1024"}
   family2_n=${NHC_BENCH_FAMILY2_N:-"1 2 4 8 16 32 64 128 256"}
+  rigid_n=${NHC_BENCH_RIGID_N:-"1 2 4 8 16 32 64 128"}
+  rigid_simulate_n=16
   warm_n=${NHC_BENCH_WARM_N:-512}
   stage_timeout=${NHC_BENCH_STAGE_TIMEOUT:-900}
   bench_quick=()
@@ -104,6 +110,12 @@ log "front end, knife chain (chetaev), N = $frontend_n; warm simulate at N = $wa
 "$python" bench/frontend_scaling.py "$nhc" "$json/frontend_knife_chain_chetaev.json" --family knife_chain \
   --model chetaev --timeout "$stage_timeout" --warm "$warm_n" --warm-timeout "$((2 * stage_timeout))" $frontend_n ||
   log "frontend_scaling.py failed (knife chain)"
+# --- issue 27's rigid bodies: N rolling balls, front end and cold simulate ---
+log "front end, rolling balls (chetaev), N = $rigid_n"
+# shellcheck disable=SC2086
+"$python" bench/frontend_scaling.py "$nhc" "$json/frontend_rolling_balls_chetaev.json" --family rolling_balls \
+  --model chetaev --timeout "$stage_timeout" --simulate-up-to "$rigid_simulate_n" $rigid_n ||
+  log "frontend_scaling.py failed (rolling balls)"
 # --- the second family: second-order constraints (particle chain), the vakonomic knife chain ---
 for case in "particle_chain chetaev" "knife_chain vakonomic"; do
   set -- $case
