@@ -24,6 +24,9 @@ import math
 import os
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import scene_family  # noqa: E402
+
 # Parameter values, in the order of the scene file.
 PARAMETERS = [("m", 1.0), ("J", 0.1), ("g", 9.81), ("alpha", 0.3), ("k", 10.0), ("l", 1.0)]
 T_END = 1.0
@@ -73,9 +76,7 @@ def scene_text(n):
     lines.append("constraints = [%s]" % ", ".join('"%s"' % c for c in cons))
     lines.append('models = ["chetaev"]')
     lines.append("")
-    lines.append("[parameters]")
-    for name, value in PARAMETERS:
-        lines.append("%s = %r" % (name, value))
+    lines += scene_family.parameters_table(PARAMETERS)
     lines.append("")
     lines.append("[initial]")
     lines.append("t0 = 0.0")
@@ -84,30 +85,12 @@ def scene_text(n):
         lines.append("y%d = [%r]" % (i, y))
         lines.append("th%d = [%r, %r]" % (i, th, thd))
     lines.append("")
-    lines.append("[simulate]")
-    lines.append('model = "chetaev"')
-    lines.append("t_end = %r" % T_END)
-    lines.append("rtol = %r" % RTOL)
-    lines.append("atol = %r" % ATOL)
+    lines += scene_family.simulate_table(T_END, RTOL, ATOL)
     return "\n".join(lines) + "\n"
 
 
 def main(argv):
-    if len(argv) < 3:
-        sys.stderr.write("usage: knife_chain.py OUTDIR N [N ...]\n")
-        return 2
-    outdir = argv[1]
-    os.makedirs(outdir, exist_ok=True)
-    for arg in argv[2:]:
-        n = int(arg)
-        if not 1 <= n <= 1024:
-            sys.stderr.write("knife_chain.py: N must be in 1..1024, got %d\n" % n)
-            return 2
-        path = os.path.join(outdir, "knife_chain_%d.toml" % n)
-        with open(path + ".tmp", "w") as f:
-            f.write(scene_text(n))
-        os.replace(path + ".tmp", path)
-    return 0
+    return scene_family.write_scenes(argv, "knife_chain", scene_text)
 
 
 if __name__ == "__main__":

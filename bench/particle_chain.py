@@ -21,6 +21,9 @@ import math
 import os
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import scene_family  # noqa: E402
+
 PARAMETERS = [("k", 2.0), ("l", 1.0)]
 T_END = 1.0
 RTOL = 1e-8
@@ -55,9 +58,7 @@ def scene_text(n):
     lines.append("dependent = [%s]" % ", ".join('"y%d"' % i for i in range(1, n + 1)))
     lines.append('models = ["chetaev"]')
     lines.append("")
-    lines.append("[parameters]")
-    for name, value in PARAMETERS:
-        lines.append("%s = %r" % (name, value))
+    lines += scene_family.parameters_table(PARAMETERS)
     lines.append("")
     lines.append("[initial]")
     lines.append("t0 = 0.0")
@@ -65,11 +66,7 @@ def scene_text(n):
         lines.append("x%d = [%r, %r]" % (i, x, xd))
         lines.append("y%d = [%r, %r]" % (i, y, yd))
     lines.append("")
-    lines.append("[simulate]")
-    lines.append('model = "chetaev"')
-    lines.append("t_end = %r" % T_END)
-    lines.append("rtol = %r" % RTOL)
-    lines.append("atol = %r" % ATOL)
+    lines += scene_family.simulate_table(T_END, RTOL, ATOL)
     lines.append("")
     lines.append("[invariants]")
     for i in range(1, n + 1):
@@ -78,21 +75,7 @@ def scene_text(n):
 
 
 def main(argv):
-    if len(argv) < 3:
-        sys.stderr.write("usage: particle_chain.py OUTDIR N [N ...]\n")
-        return 2
-    outdir = argv[1]
-    os.makedirs(outdir, exist_ok=True)
-    for arg in argv[2:]:
-        n = int(arg)
-        if not 1 <= n <= 1024:
-            sys.stderr.write("particle_chain.py: N must be in 1..1024, got %d\n" % n)
-            return 2
-        path = os.path.join(outdir, "particle_chain_%d.toml" % n)
-        with open(path + ".tmp", "w") as f:
-            f.write(scene_text(n))
-        os.replace(path + ".tmp", path)
-    return 0
+    return scene_family.write_scenes(argv, "particle_chain", scene_text)
 
 
 if __name__ == "__main__":

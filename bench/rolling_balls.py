@@ -20,6 +20,9 @@ import math
 import os
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import scene_family  # noqa: E402
+
 PARAMETERS = [("m", 1.0), ("r", 0.5), ("J", 0.1), ("k", 2.0), ("l", 1.5)]
 T_END = 1.0
 RTOL = 1e-8
@@ -68,9 +71,7 @@ def scene_text(n):
         lines.append('T{0} = "m/2*dot(v{0}, v{0}) + J/2*dot(w{0}, w{0})"'.format(i))
         lines.append('vp{0} = "v{0} + cross(w{0}, [0, 0, -r])"'.format(i))
     lines.append("")
-    lines.append("[parameters]")
-    for name, value in PARAMETERS:
-        lines.append("%s = %r" % (name, value))
+    lines += scene_family.parameters_table(PARAMETERS)
     lines.append("")
     lines.append("[initial]")
     lines.append("t0 = 0.0")
@@ -78,11 +79,7 @@ def scene_text(n):
         for name in ("x", "y", "psi", "th", "ph"):
             lines.append("%s%d = [%r, %r]" % ((name, i) + ball[name]))
     lines.append("")
-    lines.append("[simulate]")
-    lines.append('model = "chetaev"')
-    lines.append("t_end = %r" % T_END)
-    lines.append("rtol = %r" % RTOL)
-    lines.append("atol = %r" % ATOL)
+    lines += scene_family.simulate_table(T_END, RTOL, ATOL)
     lines.append("")
     lines.append("[invariants]")
     potential = "+".join("k/2*dot(c{1} - c{0} - [0, l, 0], c{1} - c{0} - [0, l, 0])".format(i, i + 1)
@@ -92,15 +89,8 @@ def scene_text(n):
 
 
 def main(argv):
-    if len(argv) < 2:
-        print(__doc__.strip().splitlines()[-1], file=sys.stderr)
-        return 2
-    os.makedirs(argv[0], exist_ok=True)
-    for n in map(int, argv[1:]):
-        with open(os.path.join(argv[0], "rolling_balls_%d.toml" % n), "w") as f:
-            f.write(scene_text(n))
-    return 0
+    return scene_family.write_scenes(argv, "rolling_balls", scene_text)
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+    sys.exit(main(sys.argv))
