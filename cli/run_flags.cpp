@@ -78,12 +78,7 @@ FlaggedRun run_with_flags(const RunFlags& flags, const runtime::Model& model, co
     out.run = runtime::simulate(model, p, initial, times, io, {}, inputs);
     return out;
   }
-  runtime::VariationalOptions vo;
-  vo.step = *flags.step;
-  vo.max_steps = flags.max_steps;
-  vo.initialization = io;
-  vo.progress = io.progress;
-  vo.stop_requested = io.stop_requested;
+  const runtime::VariationalOptions vo = runtime::variational_options(*flags.step, flags.max_steps, io);
   runtime::VariationalRun run = runtime::simulate_variational(model, p, initial, times, vo, inputs);
   out.run = std::move(run.run);
   out.max_discrete_constraint = run.max_discrete_constraint;

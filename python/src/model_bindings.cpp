@@ -302,11 +302,7 @@ py::dict simulate(const BuiltModel& built, double t_end, double rtol, double ato
     const runtime::InitialState initial = runtime::initial_state_from(model, t0, built.scene.initial.values);
     if (variational) {
       run_model = &built.variational_model();
-      runtime::VariationalOptions vo;
-      vo.step = *step;
-      vo.max_steps = max_steps;
-      vo.initialization = options;
-      vo.stop_requested = options.stop_requested;
+      const runtime::VariationalOptions vo = runtime::variational_options(*step, max_steps, options);
       const long needed = runtime::variational_steps_needed(t0, times.back(), *step);
       if (needed < 0 || needed > max_steps)
         throw InputError({"step", 0, 0}, "step " + std::to_string(*step) + " takes " +

@@ -176,6 +176,16 @@ class StepSolver {
 
 }  // namespace
 
+VariationalOptions variational_options(double step, long max_steps, const IntegratorOptions& ida) {
+  VariationalOptions options;
+  options.step = step;
+  options.max_steps = max_steps;
+  options.initialization = ida;
+  options.progress = ida.progress;
+  options.stop_requested = ida.stop_requested;
+  return options;
+}
+
 long variational_steps_needed(double t0, double t_end, double h) {
   const double intervals = (t_end - t0) / h;
   if (!std::isfinite(intervals) || intervals > 1e15) return -1;

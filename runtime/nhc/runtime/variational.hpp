@@ -31,6 +31,11 @@ struct VariationalOptions {
   std::function<bool()> stop_requested;  ///< as IntegratorOptions::stop_requested, asked every step
 };
 
+/// The options of a variational run with step h and at most `max_steps` steps that otherwise
+/// follows IDA's options `ida`: its tolerances for the consistent initial point, its progress bar
+/// and its stop request.
+VariationalOptions variational_options(double step, long max_steps, const IntegratorOptions& ida);
+
 /// What a variational run gives besides the samples.
 struct VariationalRun {
   RunResult run;

@@ -119,10 +119,7 @@ std::vector<InvariantHistory> long_runs(const WorkPrecisionModels& models, doubl
   out.push_back(invariant_history(model, p, ida, k, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()));
   out.back().integrator = "IDA, rtol " + format_number(io.rtol);
   if (models.variational && settings.long_run_step > 0) {
-    VariationalOptions vo;
-    vo.step = settings.long_run_step;
-    vo.max_steps = std::numeric_limits<long>::max();
-    vo.initialization = io;
+    const VariationalOptions vo = variational_options(settings.long_run_step, std::numeric_limits<long>::max(), io);
     start = std::chrono::steady_clock::now();
     const RunResult run = simulate_variational(model, p, initial, times, vo).run;
     out.push_back(invariant_history(model, p, run, k, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()));
@@ -232,10 +229,7 @@ WorkPrecision measure_work_precision(const WorkPrecisionModels& models, double t
         io.linear_solver = config.jacobian == "sparse" ? LinearSolverKind::sparse : LinearSolverKind::dense;
         io.projection = config.projection ? ProjectionMethod::in_place : ProjectionMethod::none;
         io.progress = false;
-        VariationalOptions vo;
-        vo.step = setting;
-        vo.max_steps = std::numeric_limits<long>::max();
-        vo.initialization = io;
+        const VariationalOptions vo = variational_options(setting, std::numeric_limits<long>::max(), io);
         const auto run_once = [&]() {
           return config.variational ? simulate_variational(model, p, initial, times, vo).run
                                     : simulate(model, p, initial, times, io);
