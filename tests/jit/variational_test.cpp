@@ -263,3 +263,56 @@ TEST_CASE("variational: the energy error stays bounded over 100 times the steps,
     if (c.ida_grows) CHECK(i_long >= 10 * i_short);
   }
 }
+
+TEST_CASE("variational: a feedback input, the knife edge's turning damped by u = -c phi', order 2",
+          "[jit][variational]") {
+  // J phi'' = u = −c phi' (the input as the force on phi, set by the run as a function of the
+  // state): phi' = w0 e^(−c t/J), phi = (J w0/c)(1 − e^(−c t/J)); the constraint force does no
+  // work along the blade, so the speed there stays v0.
+  const nhc::Scene scene = nhc::parse_scene(R"toml(name = "knife_edge_damped"
+coordinates = ["x", "y", "phi"]
+lagrangian = "m/2*(x'^2 + y'^2) + J/2*phi'^2"
+constraints = ["x'*sin(phi) - y'*cos(phi)"]
+[inputs]
+u = "0"
+[forces]
+phi = "u"
+[parameters]
+m = 1.0
+J = 0.5
+[initial]
+x = [0.0, 1.0]
+y = [0.0, 0.0]
+phi = [0.0, 2.0]
+)toml",
+                                            "knife_edge_damped.toml");
+  const nhc::jit::LoadedModel built = build_variational(scene);
+  const rt::Model& model = built.model();
+  REQUIRE(model.n_inputs() == 1);
+  const double J = 0.5, w0 = 2.0, c = 0.8, v0 = 1.0;
+  const int phi_rate = model.state_index(2, 1);
+  const rt::InputFunction damping = [&](double, const double* y, double* u) { u[0] = -c * y[phi_rate]; };
+  const auto exact = [&](double t) {
+    const double decay = std::exp(-c * t / J);
+    return exact_by_state(model, {{"phi", J * w0 / c * (1 - decay)}, {"phi'", w0 * decay}});
+  };
+  std::vector<double> errors;
+  for (double h : {0.02, 0.01, 0.005}) {
+    rt::VariationalOptions options;
+    options.step = h;
+    options.initialization.rtol = 1e-12;
+    options.initialization.atol = 1e-14;
+    const rt::VariationalRun r = rt::simulate_variational(
+        model, {}, rt::initial_state_from(model, scene.initial.t0, scene.initial.values),
+        rt::output_times(scene.initial.t0, 3.0, 30), options, damping);
+    REQUIRE_FALSE(r.run.failure);
+    errors.push_back(max_error(model, r.run, exact));
+    const int xd = model.state_index(0, 1), yd = model.state_index(1, 1);
+    for (const rt::Sample& s : r.run.samples)
+      CHECK(std::hypot(s.y[static_cast<std::size_t>(xd)], s.y[static_cast<std::size_t>(yd)]) ==
+            Approx(v0).margin(4 * h * h));
+  }
+  INFO("errors " << errors[0] << " " << errors[1] << " " << errors[2]);
+  CHECK(errors[2] < 1e-4);
+  for (double order : observed_orders(errors)) CHECK(order == Approx(2.0).margin(0.15));
+}

@@ -91,6 +91,31 @@ struct StateLayout {
   }
 };
 
+/// The state at a step's midpoint from q_k and the step's unknowns x = (Δq, λ): q_k + Δq/2, the
+/// midpoint rule's velocity Δq/h, the acceleration (Δq − Δq_previous)/h² and λ. A feedback input
+/// u(t, y) is evaluated there, where the step evaluates the forces.
+Node midpoint_node(double t, double h, const std::vector<double>& q, const std::vector<double>& dq_previous,
+                   const Eigen::VectorXd& x, int g) {
+  Node node;
+  node.t = t + h / 2;
+  const std::size_t n = q.size();
+  node.q.resize(n);
+  node.v.resize(n);
+  node.a.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double dq = x[static_cast<Eigen::Index>(i)];
+    node.q[i] = q[i] + dq / 2;
+    node.v[i] = dq / h;
+    node.a[i] = (dq - dq_previous[i]) / (h * h);
+  }
+  node.lambda.assign(x.data() + n, x.data() + n + g);
+  return node;
+}
+
+/// Passes of a step over a feedback input before it must have settled (each a Newton solve,
+/// warm-started; the inputs' change shrinks by about h times their sensitivity per pass).
+constexpr int kMaxInputPasses = 50;
+
 /// Corrections up to this many times the Newton tolerance that stop shrinking are rounding noise.
 constexpr double kRoundingLevelFactor = 1000;
 
@@ -248,15 +273,16 @@ VariationalRun simulate_variational(const Model& model, const std::vector<double
   // q_k summed from the increments with Kahan's compensation: a million steps add no more
   // rounding to q than a few.
   std::vector<double> dq_previous(nn), q = previous.q, q_compensation(nn, 0.0), m(nn), m_next(nn),
-      y_last = result.initial.y;
+      used_inputs;
+  const std::vector<double>& y0 = result.initial.y;
   for (std::size_t i = 0; i < nn; ++i) dq_previous[i] = h * previous.v[i];
-  table.momentum(t0, y_last.data(), values.at(t0, y_last.data()), m.data());
+  table.momentum(t0, y0.data(), values.at(t0, y0.data()), m.data());
   Eigen::VectorXd x(n + g);
   for (int i = 0; i < n; ++i) x[i] = dq_previous[static_cast<std::size_t>(i)];
   for (int a = 0; a < g; ++a) x[n + a] = previous.lambda[static_cast<std::size_t>(a)];
 
   std::size_t next_time = 0;
-  Sample sample;
+  Sample sample, midpoint_sample;
   const auto emit_through = [&](const Node& a, const Node& b) {
     const double slack = 1e-12 * std::max(1.0, std::abs(b.t));
     for (; next_time < times.size() && times[next_time] <= b.t + slack; ++next_time) {
@@ -272,9 +298,33 @@ VariationalRun simulate_variational(const Model& model, const std::vector<double
       const double t = t0 + static_cast<double>(k) * h;
       if (options.stop_requested && options.stop_requested())
         throw SolverError(FailureKind::stopped, t, "stopped at t = " + number_text(t, 12) + " (interrupted)");
-      const double* pk = values.at(t + h / 2, y_last.data());
       const double w = k == 0 ? 0.5 : 1.0;  // the first step meets half the impulse at t0
-      solver.solve(t, h, w, dq_previous.data(), q.data(), m.data(), pk, x, st);
+      // Inputs at the step's midpoint state (second order for a feedback law u(t, y) too): first
+      // from the increment x predicts, then from the solution's, until they settle.
+      const auto inputs_at_midpoint = [&] {
+        const Node middle = midpoint_node(t, h, q, dq_previous, x, g);
+        layout.sample(middle.t, middle, middle, midpoint_sample);
+        return values.at(middle.t, midpoint_sample.y.data());
+      };
+      const double* pk = model.n_inputs() > 0 ? inputs_at_midpoint() : values.at(t + h / 2, nullptr);
+      for (int pass = 1;; ++pass) {
+        solver.solve(t, h, w, dq_previous.data(), q.data(), m.data(), pk, x, st);
+        if (model.n_inputs() == 0) break;
+        used_inputs.assign(pk + model.n_parameters(), pk + model.n_parameters() + model.n_inputs());
+        pk = inputs_at_midpoint();
+        bool settled = true;
+        for (int i = 0; i < model.n_inputs(); ++i) {
+          const double u = pk[model.n_parameters() + i], before = used_inputs[static_cast<std::size_t>(i)];
+          settled = settled && std::abs(u - before) <= options.newton_tolerance * (1 + std::abs(u));
+        }
+        if (settled) break;
+        if (pass == kMaxInputPasses)
+          throw SolverError(FailureKind::convergence, t,
+                            "the inputs did not settle on the variational step " + std::to_string(st.steps + 1) +
+                                " from t = " + number_text(t, 12) + " to " + number_text(t + h, 12) + " (step h = " +
+                                number_text(h, 12) + "): a feedback law u(t, y) that changes this fast along the " +
+                                "step needs a smaller --step");
+      }
       solver.residual(t, h, w, dq_previous.data(), q.data(), m.data(), x, pk, st);
       for (int a = 0; a < g; ++a)
         out.max_discrete_constraint = std::max(out.max_discrete_constraint, std::abs(solver.r()[n + a]));
@@ -292,10 +342,6 @@ VariationalRun simulate_variational(const Model& model, const std::vector<double
         }
         node.lambda.assign(x.data() + n, x.data() + n + g);
         emit_through(previous, node);
-        if (model.n_inputs() > 0) {  // u(t, y) of the next step sees this node's state
-          layout.sample(t, node, node, sample);
-          y_last = sample.y;
-        }
         previous = std::move(node);
       }
       // Shift the window; the next increment is predicted equal to this one.
