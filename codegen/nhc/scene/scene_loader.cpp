@@ -18,6 +18,7 @@
 #include "nhc/scene/constant_expression.hpp"
 #include "nhc/scene/expression_parser.hpp"
 #include "nhc/scene/tolerances.hpp"
+#include "nhc/scene/toml_text_check.hpp"
 #include "nhc/scene/scene.hpp"
 
 namespace nhc {
@@ -151,6 +152,10 @@ class SceneReader {
   }
 
   Scene read() {
+    if (const std::optional<TextCharacter> c = non_ascii_outside_strings(text_))
+      throw InputError({path_, c->line, c->column},
+                       "TOML syntax: '" + printable(c->text) + "' outside a string or comment (names, numbers and "
+                       "punctuation are ASCII; write it inside quotes or after #)");
     toml::table root;
     try {
       root = toml::parse(text_, path_);

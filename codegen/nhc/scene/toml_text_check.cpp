@@ -1,0 +1,76 @@
+#include "nhc/scene/toml_text_check.hpp"
+
+namespace nhc {
+
+namespace {
+
+bool starts_with(std::string_view text, std::size_t at, std::string_view prefix) {
+  return text.substr(at, prefix.size()) == prefix;
+}
+
+/// The UTF-8 sequence starting at `at` (its lead byte and continuation bytes).
+std::string character_at(std::string_view text, std::size_t at) {
+  std::size_t end = at + 1;
+  while (end < text.size() && (static_cast<unsigned char>(text[end]) & 0xC0) == 0x80 && end - at < 4) ++end;
+  return std::string(text.substr(at, end - at));
+}
+
+}  // namespace
+
+std::optional<TextCharacter> non_ascii_outside_strings(std::string_view toml) {
+  enum class In { text, comment, basic, literal, multiline_basic, multiline_literal } in = In::text;
+  int line = 1, column = 0;
+  for (std::size_t i = 0; i < toml.size(); ++i) {
+    const char c = toml[i];
+    const bool continuation = (static_cast<unsigned char>(c) & 0xC0) == 0x80;
+    if (c == '\n') {
+      ++line;
+      column = 0;
+      if (in == In::comment || in == In::basic || in == In::literal) in = In::text;  // unterminated: toml++ says so
+      continue;
+    }
+    if (!continuation) ++column;
+    switch (in) {
+      case In::text:
+        if (static_cast<unsigned char>(c) >= 0x80) return TextCharacter{line, column, character_at(toml, i)};
+        if (c == '#') in = In::comment;
+        else if (starts_with(toml, i, "\"\"\"")) in = In::multiline_basic, i += 2, column += 2;
+        else if (starts_with(toml, i, "'''")) in = In::multiline_literal, i += 2, column += 2;
+        else if (c == '"') in = In::basic;
+        else if (c == '\'') in = In::literal;
+        break;
+      case In::comment: break;
+      case In::basic:
+        if (c == '\\' && i + 1 < toml.size() && toml[i + 1] != '\n') ++i, ++column;  // an escaped character
+        else if (c == '"') in = In::text;
+        break;
+      case In::literal:
+        if (c == '\'') in = In::text;
+        break;
+      case In::multiline_basic:
+        if (c == '\\' && i + 1 < toml.size() && toml[i + 1] != '\n') {
+          ++i, ++column;
+        } else if (starts_with(toml, i, "\"\"\"")) {
+          // Up to two more quotes belong to the content: """a""""" ends after five.
+          std::size_t quotes = 3;
+          while (quotes < 5 && i + quotes < toml.size() && toml[i + quotes] == '"') ++quotes;
+          i += quotes - 1;
+          column += static_cast<int>(quotes) - 1;
+          in = In::text;
+        }
+        break;
+      case In::multiline_literal:
+        if (starts_with(toml, i, "'''")) {
+          std::size_t quotes = 3;
+          while (quotes < 5 && i + quotes < toml.size() && toml[i + quotes] == '\'') ++quotes;
+          i += quotes - 1;
+          column += static_cast<int>(quotes) - 1;
+          in = In::text;
+        }
+        break;
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace nhc
