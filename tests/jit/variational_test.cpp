@@ -33,14 +33,14 @@ nhc::jit::LoadedModel build_variational(const nhc::Scene& scene) {
 }
 
 rt::VariationalRun run(const rt::Model& model, const std::vector<double>& p, const nhc::Scene& scene, double h,
-                       double t_end, int outputs) {
+                       double t_end, int outputs, const rt::InputFunction& inputs = {}) {
   rt::VariationalOptions options;
   options.step = h;
   options.max_steps = 10000000;
   options.initialization.rtol = 1e-12;
   options.initialization.atol = 1e-14;
   return rt::simulate_variational(model, p, rt::initial_state_from(model, scene.initial.t0, scene.initial.values),
-                                  rt::output_times(scene.initial.t0, t_end, outputs), options);
+                                  rt::output_times(scene.initial.t0, t_end, outputs), options, inputs);
 }
 
 /// max over the samples of |state - exact(t)|, for the states `exact` gives (NaN: not compared).
@@ -269,22 +269,7 @@ TEST_CASE("variational: a feedback input, the knife edge's turning damped by u =
   // J phi'' = u = −c phi' (the input as the force on phi, set by the run as a function of the
   // state): phi' = w0 e^(−c t/J), phi = (J w0/c)(1 − e^(−c t/J)); the constraint force does no
   // work along the blade, so the speed there stays v0.
-  const nhc::Scene scene = nhc::parse_scene(R"toml(name = "knife_edge_damped"
-coordinates = ["x", "y", "phi"]
-lagrangian = "m/2*(x'^2 + y'^2) + J/2*phi'^2"
-constraints = ["x'*sin(phi) - y'*cos(phi)"]
-[inputs]
-u = "0"
-[forces]
-phi = "u"
-[parameters]
-m = 1.0
-J = 0.5
-[initial]
-x = [0.0, 1.0]
-y = [0.0, 0.0]
-phi = [0.0, 2.0]
-)toml",
+  const nhc::Scene scene = nhc::parse_scene(std::string(kKnifeEdge) + "[inputs]\nu = \"0\"\n[forces]\nphi = \"u\"\n",
                                             "knife_edge_damped.toml");
   const nhc::jit::LoadedModel built = build_variational(scene);
   const rt::Model& model = built.model();
@@ -298,13 +283,7 @@ phi = [0.0, 2.0]
   };
   std::vector<double> errors;
   for (double h : {0.02, 0.01, 0.005}) {
-    rt::VariationalOptions options;
-    options.step = h;
-    options.initialization.rtol = 1e-12;
-    options.initialization.atol = 1e-14;
-    const rt::VariationalRun r = rt::simulate_variational(
-        model, {}, rt::initial_state_from(model, scene.initial.t0, scene.initial.values),
-        rt::output_times(scene.initial.t0, 3.0, 30), options, damping);
+    const rt::VariationalRun r = run(model, {}, scene, h, 3.0, 30, damping);
     REQUIRE_FALSE(r.run.failure);
     errors.push_back(max_error(model, r.run, exact));
     const int xd = model.state_index(0, 1), yd = model.state_index(1, 1);

@@ -431,8 +431,7 @@ class Parser {
   /// x_ddot; the multipliers there are; a known name one or two letters away. "" when nothing is
   /// close.
   std::string hint_for(const std::string& name) const {
-    const auto& coords = jet_.coordinates();
-    const auto is_coordinate = [&](const std::string& n) { return std::find(coords.begin(), coords.end(), n) != coords.end(); };
+    const auto is_coordinate = [&](const std::string& n) { return jet_.coordinate_index(n).has_value(); };
     static const std::vector<std::pair<std::string, int>> suffixes = {
         {"_ddot", 2}, {"ddot", 2}, {"_dd", 2}, {"_tt", 2}, {"_dot", 1}, {"dot", 1}, {"_t", 1}, {"d", 1}};
     for (const auto& [suffix, order] : suffixes)
@@ -445,7 +444,7 @@ class Parser {
     if (auto alpha = multiplier_index(name); alpha && *alpha >= jet_.multiplier_count())
       return jet_.multiplier_count() == 0 ? "the scene has no constraints, so no multipliers"
                                           : "the multipliers are lambda1 to lambda" + std::to_string(jet_.multiplier_count());
-    std::vector<std::string> known(coords.begin(), coords.end());
+    std::vector<std::string> known = jet_.coordinates();
     known.insert(known.end(), jet_.parameters().begin(), jet_.parameters().end());
     std::string best;
     std::size_t best_distance = name.size() < 4 ? 1 : 2;

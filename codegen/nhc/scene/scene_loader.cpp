@@ -270,9 +270,9 @@ class SceneReader {
       std::set<int> seen;
       for (const toml::node& d : arr) {
         const std::string n = string_value(d, "dependent entry");
-        auto it = std::find(coordinate_names.begin(), coordinate_names.end(), n);
-        if (it == coordinate_names.end()) fail(d, "'" + printable(n) + "' is not a coordinate");
-        const int index = static_cast<int>(it - coordinate_names.begin());
+        const std::optional<int> found = scene.jet->coordinate_index(n);
+        if (!found) fail(d, "'" + printable(n) + "' is not a coordinate");
+        const int index = *found;
         if (!seen.insert(index).second) fail(d, "dependent coordinate '" + n + "' listed twice");
         scene.dependent.push_back(index);
       }
@@ -301,7 +301,7 @@ class SceneReader {
 
     read_simulate(root, scene);
 
-    if (const toml::node* rn = root.get("reference")) read_reference(*rn, scene, coordinate_names, mechanics);
+    if (const toml::node* rn = root.get("reference")) read_reference(*rn, scene, mechanics);
     if (const toml::node* in = root.get("invariants"))
       scene.invariants = read_quantities(*in, "invariants", "invariant", *scene.jet, multipliers_allowed(mechanics));
     read_outputs(root, scene, mechanics);
@@ -631,8 +631,7 @@ class SceneReader {
   }
 
   /// [reference]: coordinate = "q(t)" for every model; [reference.<model>] for one model.
-  void read_reference(const toml::node& node, Scene& scene, const std::vector<std::string>& coordinate_names,
-                      const ExpressionRules& mechanics) {
+  void read_reference(const toml::node& node, Scene& scene, const ExpressionRules& mechanics) {
     ExpressionRules time_only = mechanics;
     time_only.allow_coordinates = false;
     const auto read_entries = [&](const toml::table& table, const std::string& where) {
@@ -648,12 +647,11 @@ class SceneReader {
                                                        : "'" + printable(n) + "' is not a model (known: vakonomic, chetaev, holder, suslov)"));
           continue;
         }
-        auto it = std::find(coordinate_names.begin(), coordinate_names.end(), n);
-        if (it == coordinate_names.end())
+        const std::optional<int> i = scene.jet->coordinate_index(n);
+        if (!i)
           throw InputError(at(key.source()),
                            "[" + where + "] names '" + printable(n) + "', which is not a coordinate");
-        entries.emplace_back(static_cast<int>(it - coordinate_names.begin()),
-                             expression(value, "reference", *scene.jet, time_only));
+        entries.emplace_back(*i, expression(value, "reference", *scene.jet, time_only));
       }
       return entries;
     };

@@ -15,6 +15,14 @@ std::string character_at(std::string_view text, std::size_t at) {
   return std::string(text.substr(at, end - at));
 }
 
+/// The length of the closing delimiter of a multi-line string at `at`: three quotes and up to two
+/// more that belong to the content ("""a""""" ends after five); 0 when none starts there.
+std::size_t closing_run(std::string_view text, std::size_t at, char quote) {
+  std::size_t quotes = 0;
+  while (quotes < 5 && at + quotes < text.size() && text[at + quotes] == quote) ++quotes;
+  return quotes >= 3 ? quotes : 0;
+}
+
 }  // namespace
 
 std::optional<TextCharacter> non_ascii_outside_strings(std::string_view toml) {
@@ -48,26 +56,17 @@ std::optional<TextCharacter> non_ascii_outside_strings(std::string_view toml) {
         if (c == '\'') in = In::text;
         break;
       case In::multiline_basic:
-        if (c == '\\' && i + 1 < toml.size() && toml[i + 1] != '\n') {
-          ++i, ++column;
-        } else if (starts_with(toml, i, "\"\"\"")) {
-          // Up to two more quotes belong to the content: """a""""" ends after five.
-          std::size_t quotes = 3;
-          while (quotes < 5 && i + quotes < toml.size() && toml[i + quotes] == '"') ++quotes;
+      case In::multiline_literal: {
+        const bool basic = in == In::multiline_basic;
+        if (basic && c == '\\' && i + 1 < toml.size() && toml[i + 1] != '\n') {
+          ++i, ++column;  // an escaped character
+        } else if (const std::size_t quotes = closing_run(toml, i, basic ? '"' : '\''); quotes > 0) {
           i += quotes - 1;
           column += static_cast<int>(quotes) - 1;
           in = In::text;
         }
         break;
-      case In::multiline_literal:
-        if (starts_with(toml, i, "'''")) {
-          std::size_t quotes = 3;
-          while (quotes < 5 && i + quotes < toml.size() && toml[i + quotes] == '\'') ++quotes;
-          i += quotes - 1;
-          column += static_cast<int>(quotes) - 1;
-          in = In::text;
-        }
-        break;
+      }
     }
   }
   return std::nullopt;
