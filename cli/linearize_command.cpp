@@ -25,8 +25,8 @@
 #include "nhc/emit/json_writer.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/io/atomic_file.hpp"
-#include "nhc/io/shell.hpp"
 #include "nhc/io/temporary_files.hpp"
+#include "nhc/jit/gnuplot.hpp"
 #include "nhc/linearize.hpp"
 #include "nhc/scene/scene.hpp"
 #include "pipeline.hpp"
@@ -214,29 +214,20 @@ void write_csv(const fs::path& path, const SweepResult& sweep) {
   });
 }
 
-std::string gnuplot_string(const std::string& s) {
-  std::string q = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') q += '\\';
-    q += c;
-  }
-  return q + "\"";
-}
-
 /// The gnuplot script drawing Re λ and Im λ against the swept value, thresholds as dashed lines.
 std::string stability_script(const SweepResult& sweep, const std::string& scene, std::size_t count,
                              const std::string& terminal, const std::string& output) {
   std::ostringstream g;
-  g << terminal << "\nset output " << gnuplot_string(output) << "\nset datafile separator ','\n"
-    << "set key off\nset grid\nset xlabel " << gnuplot_string(sweep.range.name) << " noenhanced\n"
-    << "set multiplot layout 2,1 title " << gnuplot_string("eigenvalues of " + scene + " against " + sweep.range.name)
+  g << terminal << "\nset output " << jit::gnuplot_string(output) << "\nset datafile separator ','\n"
+    << "set key off\nset grid\nset xlabel " << jit::gnuplot_string(sweep.range.name) << " noenhanced\n"
+    << "set multiplot layout 2,1 title " << jit::gnuplot_string("eigenvalues of " + scene + " against " + sweep.range.name)
     << " noenhanced\n";
   for (const VerdictChange& t : sweep.thresholds)
     g << "set arrow from " << t.value << ", graph 0 to " << t.value << ", graph 1 nohead dashtype 2\n";
   for (int part = 0; part < 2; ++part) {
-    g << "set ylabel " << gnuplot_string(part == 0 ? "Re(lambda)" : "Im(lambda)") << "\nplot ";
+    g << "set ylabel " << jit::gnuplot_string(part == 0 ? "Re(lambda)" : "Im(lambda)") << "\nplot ";
     for (std::size_t k = 0; k < count; ++k)
-      g << (k ? ", " : "") << gnuplot_string("stability.csv") << " every ::1 using 1:" << (2 + 2 * k + part)
+      g << (k ? ", " : "") << jit::gnuplot_string("stability.csv") << " every ::1 using 1:" << (2 + 2 * k + part)
         << " with points pointtype 7 pointsize 0.6 linecolor " << (k % 8 + 1);
     g << "\n";
   }
@@ -246,9 +237,7 @@ std::string stability_script(const SweepResult& sweep, const std::string& scene,
 
 /// Draws DIR/stability.svg and .png with gnuplot; returns a note when it cannot.
 std::optional<std::string> plot_stability(const fs::path& dir, const SweepResult& sweep, const std::string& scene) {
-  std::string where;
-  if (run_command("command -v gnuplot", where) != 0)
-    return "gnuplot is not installed (Debian package gnuplot-nox): stability.svg/.png not drawn";
+  if (const auto missing = jit::gnuplot_missing()) return *missing + ": stability.svg/.png not drawn";
   std::size_t count = 0;
   for (const SweepPoint& p : sweep.points) count = std::max(count, p.linearization.eigenvalues.size());
   if (count == 0) return "no eigenvalues to draw";
@@ -263,7 +252,7 @@ std::optional<std::string> plot_stability(const fs::path& dir, const SweepResult
       << stability_script(sweep, scene, count, png, "stability.png");
   }
   std::string output;
-  const int status = run_command("cd " + shell_quote(dir.string()) + " && gnuplot stability.gp", output);
+  const int status = jit::run_gnuplot(dir, {"stability.gp"}, output);
   fs::remove(script);
   if (status != 0) return "gnuplot failed: " + output;
   return std::nullopt;

@@ -10,8 +10,7 @@
 
 #include "nhc/errors.hpp"
 #include "nhc/io/atomic_file.hpp"
-#include "nhc/io/shell.hpp"
-#include "nhc/jit/subprocess.hpp"
+#include "nhc/jit/gnuplot.hpp"
 
 namespace nhc::cli {
 
@@ -67,16 +66,6 @@ constexpr const char* kColours[] = {"#0072B2", "#D55E00", "#009E73", "#CC79A7", 
 /// circle, open triangle, filled diamond, open circle, filled triangle.
 constexpr int kPointTypes[] = {4, 7, 8, 13, 6, 9};
 constexpr int kWidth = 900, kHeight = 560;
-
-/// A string literal for gnuplot: double quotes, backslashes and quotes escaped.
-std::string quoted(const std::string& s) {
-  std::string q = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') q += '\\';
-    q += c;
-  }
-  return q + "\"";
-}
 
 std::string number(double v) {
   std::ostringstream os;
@@ -154,16 +143,16 @@ std::string plot_script(const fs::path& dir, const Plot& plot) {
   if (xs.empty() || ys.empty()) throw std::logic_error("plot " + plot.stem + ": no finite values");
 
   std::ostringstream g;
-  g << "# " << plot.title << "\n# drawn by nhc from the CSV files beside it; redraw with: gnuplot " << plot.stem
-    << ".gp\n"
+  g << jit::gnuplot_comment(plot.title)
+    << jit::gnuplot_comment("drawn by nhc from the CSV files beside it; redraw with: gnuplot " + plot.stem + ".gp")
     << "reset\n"  // gnuplot runs the scripts one after another: no setting carries over
     << "set datafile separator ','\n"
     << "set terminal svg size " << kWidth << "," << kHeight
     << " dynamic enhanced font 'sans,13' background rgb 'white'\n"
-    << "set output " << quoted(plot.stem + ".svg") << "\n"
-    << "set title " << quoted(plot.title) << " noenhanced\n"
-    << "set xlabel " << quoted(plot.xlabel) << " noenhanced\n"
-    << "set ylabel " << quoted(plot.ylabel) << " noenhanced\n"
+    << "set output " << jit::gnuplot_string(plot.stem + ".svg") << "\n"
+    << "set title " << jit::gnuplot_string(plot.title) << " noenhanced\n"
+    << "set xlabel " << jit::gnuplot_string(plot.xlabel) << " noenhanced\n"
+    << "set ylabel " << jit::gnuplot_string(plot.ylabel) << " noenhanced\n"
     << "set grid\nset key outside right top\nset border lw 1.2\n";
   for (std::size_t k = 0; k < std::size(kColours); ++k)
     g << "set linetype " << k + 1 << " lc rgb '" << kColours[k] << "'\n";
@@ -183,9 +172,9 @@ std::string plot_script(const fs::path& dir, const Plot& plot) {
     // curves that coincide stay visible as stripes under each other.
     const double width = 1.5 + 1.5 * static_cast<double>(n - 1 - i);
     const std::size_t interval = std::max<std::size_t>(1, resolved[i].rows / 10);
-    g << (i ? ", \\\n     " : "") << quoted(c.csv) << " skip 1 using " << using_clause(c, resolved[i])
+    g << (i ? ", \\\n     " : "") << jit::gnuplot_string(c.csv) << " skip 1 using " << using_clause(c, resolved[i])
       << " with linespoints lt " << i + 1 << " lw " << width << " pt " << kPointTypes[i % std::size(kPointTypes)] << " ps 1.3 pi " << interval
-      << " title " << quoted(c.title) << " noenhanced";
+      << " title " << jit::gnuplot_string(c.title) << " noenhanced";
   }
   g << "\n"
     << "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
@@ -194,7 +183,7 @@ std::string plot_script(const fs::path& dir, const Plot& plot) {
     << "} else {\n"
     << "  set terminal png size " << kWidth << "," << kHeight << " enhanced background rgb 'white'\n"
     << "}\n"
-    << "set output " << quoted(plot.stem + ".png") << "\n"
+    << "set output " << jit::gnuplot_string(plot.stem + ".png") << "\n"
     << "replot\nset output\n";
   return g.str();
 }
@@ -202,23 +191,19 @@ std::string plot_script(const fs::path& dir, const Plot& plot) {
 }  // namespace
 
 void require_gnuplot(const std::string& flag) {
-  std::string output;
-  if (jit::run_process({"gnuplot", "--version"}, output) != 0)
-    throw InputError({flag, 0, 0},
-                     "gnuplot cannot be run (Debian package gnuplot-nox; scripts/setup.sh installs it), so no "
-                     "plots can be drawn");
+  if (const auto missing = jit::gnuplot_missing()) throw InputError({flag, 0, 0}, *missing + ", so no plots can be drawn");
 }
 
 void draw_plots(const fs::path& dir, const std::vector<Plot>& plots) {
   if (plots.empty()) return;
-  std::string command = "cd " + shell_quote(dir.string()) + " && exec gnuplot";
+  std::vector<std::string> scripts;
   for (const Plot& plot : plots) {
     const std::string script = plot_script(dir, plot);
     write_file_atomically((dir / (plot.stem + ".gp")).string(), [&](std::ostream& out) { out << script; });
-    command += " " + shell_quote(plot.stem + ".gp");
+    scripts.push_back(plot.stem + ".gp");
   }
   std::string messages;
-  const int status = jit::run_process({"sh", "-c", command}, messages);
+  const int status = jit::run_gnuplot(dir, scripts, messages);
   // gnuplot prints nothing on success: every line is a warning or an error.
   if (status != 0 || !messages.empty())
     throw std::runtime_error("gnuplot " + std::string(status != 0 ? "failed" : "warned") + " in " + dir.string() +

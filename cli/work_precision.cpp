@@ -17,9 +17,8 @@
 #include "nhc/io/temporary_files.hpp"
 #include "parameter_overrides.hpp"
 #include "pipeline.hpp"
-#include "nhc/io/shell.hpp"
 #include "nhc/jit.hpp"
-#include "nhc/jit/subprocess.hpp"
+#include "nhc/jit/gnuplot.hpp"
 
 namespace nhc::cli {
 
@@ -134,15 +133,6 @@ namespace {
 /// Errors below this are drawn at it (a log axis has no zero).
 constexpr double kPlotFloor = 1e-16;
 
-std::string gnuplot_string(const std::string& s) {
-  std::string q = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') q += '\\';
-    q += c;
-  }
-  return q + "\"";
-}
-
 struct Curve {
   std::string title;
   std::vector<std::pair<double, double>> points;
@@ -153,7 +143,7 @@ void write_data(const fs::path& path, const std::vector<Curve>& curves) {
   write_file_atomically(path.string(), [&](std::ostream& out) {
     out.precision(10);
     for (const Curve& c : curves) {
-      out << "# " << c.title << "\n";
+      out << jit::gnuplot_comment(c.title);
       for (const auto& [x, y] : c.points) out << x << ' ' << y << '\n';
       out << "\n\n";
     }
@@ -166,19 +156,19 @@ std::string plot_script(const std::string& stem, const std::string& title, const
                         const std::string& suffix) {
   std::ostringstream g;
   g << "set terminal svg size 900,560 dynamic enhanced font 'sans,12' background rgb 'white'\n"
-    << "set output " << gnuplot_string(stem + ".svg" + suffix) << "\n"
-    << "set title " << gnuplot_string(title) << " noenhanced\n"
-    << "set xlabel " << gnuplot_string(xlabel) << "\nset ylabel " << gnuplot_string(ylabel) << "\n"
+    << "set output " << jit::gnuplot_string(stem + ".svg" + suffix) << "\n"
+    << "set title " << jit::gnuplot_string(title) << " noenhanced\n"
+    << "set xlabel " << jit::gnuplot_string(xlabel) << "\nset ylabel " << jit::gnuplot_string(ylabel) << "\n"
     << "set logscale x\nset format x '10^{%L}'\n"
     << (log_y ? "set logscale y\nset format y '10^{%L}'\n" : "")
     << "set grid\nset key outside right top\nset mxtics 10\n";
   std::ostringstream plot;
   plot << "plot ";
   for (size_t i = 0; i < curves.size(); ++i)
-    plot << (i ? ", \\\n     " : "") << gnuplot_string(stem + ".dat") << " index " << i
+    plot << (i ? ", \\\n     " : "") << jit::gnuplot_string(stem + ".dat") << " index " << i
          << " using 1:2 with "
          << (curves[i].markers ? "linespoints pointtype " + std::to_string(i % 13 + 1) : std::string("lines"))
-         << " title " << gnuplot_string(curves[i].title)
+         << " title " << jit::gnuplot_string(curves[i].title)
          << " noenhanced";
   g << plot.str() << "\n"
     << "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
@@ -186,7 +176,7 @@ std::string plot_script(const std::string& stem, const std::string& title, const
     << "} else {\n"
     << "  set terminal png size 900,560 enhanced background rgb 'white'\n"
     << "}\n"
-    << "set output " << gnuplot_string(stem + ".png" + suffix) << "\n"
+    << "set output " << jit::gnuplot_string(stem + ".png" + suffix) << "\n"
     << "replot\nset output\n";
   return g.str();
 }
@@ -194,10 +184,7 @@ std::string plot_script(const std::string& stem, const std::string& title, const
 }  // namespace
 
 std::vector<std::string> plot_work_precision(const std::string& directory, const WorkPrecision& wp) {
-  std::string where;
-  if (run_command("command -v gnuplot", where) != 0)
-    throw std::runtime_error(
-        "gnuplot is not installed (Debian package gnuplot-nox; scripts/setup.sh installs it): no plots drawn");
+  if (const auto missing = jit::gnuplot_missing()) throw std::runtime_error(*missing + ": no plots drawn");
   const fs::path dir = directory;
   const std::string suffix = ".tmp" + std::to_string(getpid());
 
@@ -279,10 +266,7 @@ std::vector<std::string> plot_work_precision(const std::string& directory, const
       out << script;
     }
     std::string messages;
-    const int status = jit::run_process({"sh", "-c",
-                                    "cd " + shell_quote(dir.string()) + " && gnuplot " +
-                                        shell_quote(tmp_script.filename().string())},
-                                   messages);
+    const int status = jit::run_gnuplot(dir, {tmp_script.filename().string()}, messages);
     std::error_code ec;
     fs::remove(tmp_script, ec);
     for (const char* ext : {".svg", ".png"}) {

@@ -82,18 +82,18 @@ TEST_CASE("simulate --plot draws the coordinates, path, multipliers and drift fr
     INFO(stem);
     CHECK(read_file(plots + stem + ".svg").find("<svg") != std::string::npos);
     CHECK(has_png_signature(plots + stem + ".png"));
-    CHECK(read_file(plots + stem + ".gp").find("\"appell_hamel_chetaev.csv\"") != std::string::npos);
+    CHECK(read_file(plots + stem + ".gp").find("('appell_hamel_chetaev.csv')") != std::string::npos);
     CHECK(gnuplot_stderr(dir + "/plots", stem).empty());
     CHECK(read_file(plots + "plots.md").find(std::string("](") + stem + ".svg)") != std::string::npos);
   }
   // Axes and legends named: --plot-xy chose the plane.
   const std::string path = read_file(plots + "path.gp");
-  CHECK(path.find("set xlabel \"y\"") != std::string::npos);
-  CHECK(path.find("set ylabel \"z\"") != std::string::npos);
-  CHECK(read_file(plots + "coordinates.gp").find("title \"x\"") != std::string::npos);
-  CHECK(read_file(plots + "multipliers.gp").find("title \"lambda1\"") != std::string::npos);
+  CHECK(path.find("set xlabel ('y')") != std::string::npos);
+  CHECK(path.find("set ylabel ('z')") != std::string::npos);
+  CHECK(read_file(plots + "coordinates.gp").find("title ('x')") != std::string::npos);
+  CHECK(read_file(plots + "multipliers.gp").find("title ('lambda1')") != std::string::npos);
   CHECK(read_file(plots + "drift.gp").find("set logscale y") != std::string::npos);
-  CHECK(read_file(plots + "drift.gp").find("title \"energy: |I(t) - I(t0)|\"") != std::string::npos);
+  CHECK(read_file(plots + "drift.gp").find("title ('energy: |I(t) - I(t0)|')") != std::string::npos);
   CHECK(siblings_named(dir, "plots.tmp").empty());
 }
 

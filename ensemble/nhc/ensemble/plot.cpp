@@ -13,8 +13,8 @@
 
 #include "nhc/errors.hpp"
 #include "nhc/io/atomic_file.hpp"
-#include "nhc/io/shell.hpp"
 #include "nhc/io/temporary_files.hpp"
+#include "nhc/jit/gnuplot.hpp"
 
 namespace nhc::ensemble {
 
@@ -34,15 +34,6 @@ int index_of(const std::vector<std::string>& names, const std::string& name) {
   for (std::size_t k = 0; k < names.size(); ++k)
     if (names[k] == name) return static_cast<int>(k);
   return -1;
-}
-
-std::string gnuplot_string(const std::string& s) {
-  std::string q = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') q += '\\';
-    q += c;
-  }
-  return q + "\"";
 }
 
 }  // namespace
@@ -100,14 +91,12 @@ std::vector<std::string> plot_outcome(const EnsembleResults& results, const std:
   if (nv < 1 || nv > 2)
     throw InputError({flag + " " + outcome, 0, 0}, "maps need a design of one or two variables, this one has " +
                                        std::to_string(nv));
-  std::string where;
-  if (run_command("command -v gnuplot", where) != 0)
-    throw std::runtime_error("gnuplot is not installed (Debian package gnuplot-nox; scripts/setup.sh installs it)");
+  if (const auto missing = jit::gnuplot_missing()) throw EnvironmentError(*missing);
 
   const bool heat_map = nv == 2 && d.kind == Design::Kind::grid;
   write_file_atomically(stem + ".dat", [&](std::ostream& out) {
     out.precision(17);
-    out << "# " << joined(d.names()) << " " << outcome << " (" << results.info.scene << ", " << results.info.model << ")\n";
+    out << jit::gnuplot_comment(joined(d.names()) + " " + outcome + " (" + results.info.scene + ", " + results.info.model + ")");
     for (long run = 0; run < d.runs; ++run) {
       // A heat map's rows are separated by blank lines (gnuplot's grid format).
       if (heat_map && run > 0 && run % d.grid_shape[1] == 0) out << "\n";
@@ -119,31 +108,31 @@ std::vector<std::string> plot_outcome(const EnsembleResults& results, const std:
   const std::string dat = fs::path(stem + ".dat").filename().string();
   const std::string title = outcome + ": " + results.info.scene + " (" + results.info.model + ")";
   std::ostringstream plot;
-  plot << "set datafile missing 'nan'\nset title " << gnuplot_string(title) << " noenhanced\n"
-       << "set xlabel " << gnuplot_string(d.variables[0].name) << " noenhanced\n";
+  plot << "set datafile missing 'nan'\nset title " << jit::gnuplot_string(title) << " noenhanced\n"
+       << "set xlabel " << jit::gnuplot_string(d.variables[0].name) << " noenhanced\n";
   if (nv == 1) {
-    plot << "set ylabel " << gnuplot_string(outcome) << " noenhanced\nset grid\nunset key\n"
-         << "plot " << gnuplot_string(dat) << " using 1:2 with "
+    plot << "set ylabel " << jit::gnuplot_string(outcome) << " noenhanced\nset grid\nunset key\n"
+         << "plot " << jit::gnuplot_string(dat) << " using 1:2 with "
          << (d.kind == Design::Kind::grid ? "linespoints pointtype 7 pointsize 0.5" : "points pointtype 7 pointsize 0.5")
          << "\n";
   } else {
-    plot << "set ylabel " << gnuplot_string(d.variables[1].name) << " noenhanced\n"
-         << "set cblabel " << gnuplot_string(outcome) << " noenhanced\nset palette rgbformulae 33,13,10\nunset key\n";
+    plot << "set ylabel " << jit::gnuplot_string(d.variables[1].name) << " noenhanced\n"
+         << "set cblabel " << jit::gnuplot_string(outcome) << " noenhanced\nset palette rgbformulae 33,13,10\nunset key\n";
     if (heat_map)
-      plot << "set autoscale fix\nplot " << gnuplot_string(dat) << " using 1:2:3 with image\n";
+      plot << "set autoscale fix\nplot " << jit::gnuplot_string(dat) << " using 1:2:3 with image\n";
     else
-      plot << "plot " << gnuplot_string(dat) << " using 1:2:3 with points pointtype 7 pointsize 0.6 palette\n";
+      plot << "plot " << jit::gnuplot_string(dat) << " using 1:2:3 with points pointtype 7 pointsize 0.6 palette\n";
   }
   const std::string suffix = ".tmp" + std::to_string(::getpid());
   auto script = [&](const std::string& svg, const std::string& png) {
     std::ostringstream g;
     g << "set terminal svg size 900,640 dynamic enhanced font 'sans,12' background rgb 'white'\n"
-      << "set output " << gnuplot_string(svg) << "\n"
+      << "set output " << jit::gnuplot_string(svg) << "\n"
       << plot.str()
       << "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
       << "  set terminal pngcairo size 900,640 enhanced font 'sans,10' background rgb 'white'\n"
       << "} else {\n  set terminal png size 900,640 enhanced background rgb 'white'\n}\n"
-      << "set output " << gnuplot_string(png) << "\nreplot\nset output\n";
+      << "set output " << jit::gnuplot_string(png) << "\nreplot\nset output\n";
     return g.str();
   };
   const std::string name = fs::path(stem).filename().string();
@@ -155,9 +144,7 @@ std::vector<std::string> plot_outcome(const EnsembleResults& results, const std:
     out << script(name + ".svg" + suffix, name + ".png" + suffix);
   }
   std::string messages;
-  const int status = run_command("cd " + shell_quote(dir.string()) + " && gnuplot " +
-                                     shell_quote(fs::path(script_file.path()).filename().string()) + " 2>&1",
-                                 messages);
+  const int status = jit::run_gnuplot(dir, {fs::path(script_file.path()).filename().string()}, messages);
   if (status != 0) throw std::runtime_error("gnuplot failed on " + stem + ".gp: " + messages);
   std::vector<std::string> written;
   for (const char* ext : {".svg", ".png"}) {
