@@ -14,7 +14,7 @@ packages=(
   libssl-dev
   libhdf5-dev libopenmpi-dev openmpi-bin
   pybind11-dev python3-dev python3-numpy python3-pytest
-  python3-nbclient python3-ipykernel python3-matplotlib python3-pil
+  python3-nbclient python3-ipykernel python3-matplotlib python3-pil python3-h5py
   libjs-three chromium
 )
 missing=()
