@@ -69,7 +69,9 @@ CommandRunner add_animate_command(CLI::App& app) {
     }
     AnimationContent content{scene.name, to_string(kind), {}, visual_tracks(scene_set, model, p, run.samples)};
     for (const runtime::Sample& s : run.samples) content.times.push_back(s.t);
-    write_animation_page(options->output, content, {flags.scene_path});
+    std::vector<std::string> inputs = input_files(flags.inputs);
+    inputs.insert(inputs.begin(), flags.scene_path);
+    write_animation_page(options->output, content, inputs);
 
     std::cout << "nhc animate: " << scene.name << ", model " << to_string(kind) << ", t from " << content.times.front()
               << " to " << content.times.back() << ", " << content.times.size() << " samples, " << scene.visuals.size()

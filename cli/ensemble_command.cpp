@@ -20,6 +20,7 @@
 #include "model_requirements.hpp"
 #include "parameter_overrides.hpp"
 #include "flag_rules.hpp"
+#include "nhc/io/output_path.hpp"
 #include "nhc/jit/sha256.hpp"
 #include "nhc/errors.hpp"
 #include "pipeline.hpp"
@@ -171,6 +172,7 @@ Prepared prepare(const EnsembleOptions& o, int ranks, int threads) {
   if (!(t_end > t0))
     bad_flag("--t-end " + format_number(t_end, 17), "must be after t0 = " + format_number(t0, 17) + " of " + o.scene_path);
   flag_rules::output_times(t0, t_end, o.outputs, "--t-end/--outputs");  // they must not collapse
+  check_output_file(o.output, {o.scene_path});
   check_writable(o.output);
 
   Prepared p;
@@ -363,7 +365,7 @@ int run_ensemble(const EnsembleOptions& o) {
   const int workers = session.uses_mpi() ? session.size() : threads;
   print_summary(results, p, static_cast<long>(p.todo.size()), results.info.wall_seconds, workers, o.output);
   if (!o.plot.empty())
-    for (const std::string& image : plot_outcome(results, o.plot, default_plot_stem(o.output, o.plot), "--plot"))
+    for (const std::string& image : plot_outcome(results, o.plot, default_plot_stem(o.output, o.plot), "--plot", {o.scene_path, o.output}))
       std::cout << "  wrote " << image << "\n";
   return kExitOk;
 }

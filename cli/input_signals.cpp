@@ -134,6 +134,13 @@ Signal expression_signal(const Scene& scene, const std::string& name, const std:
 
 }  // namespace
 
+std::vector<std::string> input_files(const std::vector<std::string>& assignments) {
+  std::vector<std::string> files;
+  for (const std::string& assignment : assignments)
+    if (const auto at = assignment.find("=@"); at != std::string::npos) files.push_back(assignment.substr(at + 2));
+  return files;
+}
+
 InputSignals parse_input_signals(const Scene& scene, const std::vector<std::string>& assignments, double t0,
                                  double t_end) {
   InputSignals out;

@@ -25,6 +25,9 @@ struct InputSignals {
   using Signal = std::function<double(double t)>;
   std::vector<std::pair<int, Signal>> signals;  ///< input index (scene order), its signal
 };
+/// The files the --input assignments read (NAME=@FILE), which no output may replace.
+std::vector<std::string> input_files(const std::vector<std::string>& assignments);
+
 InputSignals parse_input_signals(const Scene& scene, const std::vector<std::string>& assignments, double t0,
                                  double t_end);
 

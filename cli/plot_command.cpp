@@ -28,7 +28,7 @@ CommandRunner add_plot_command(CLI::App& app) {
 #ifdef NHC_HAVE_ENSEMBLE
     const ensemble::EnsembleResults results = ensemble::read_results(o->file);
     const std::string stem = o->stem.empty() ? ensemble::default_plot_stem(o->file, o->outcome) : o->stem;
-    for (const std::string& image : ensemble::plot_outcome(results, o->outcome, stem, "OUTCOME"))
+    for (const std::string& image : ensemble::plot_outcome(results, o->outcome, stem, "OUTCOME", {o->file}))
       std::cout << "wrote " << image << "\n";
     return kExitOk;
 #else

@@ -152,7 +152,11 @@ CommandRunner add_simulate_command(CLI::App& app) {
       throw InputError({options->run.scene_path, 0, 0},
                        "--sensitivity integrates with IDAS; it does not go with --integrator variational");
     const bool csv_to_stdout = options->output == "-";
-    if (!options->output.empty() && !csv_to_stdout) check_output_file(options->output, {options->run.scene_path});
+    // Every file the run reads: the scene and the --input series (nhc/io/output_path.hpp).
+    std::vector<std::string> inputs = input_files(options->run.inputs);
+    inputs.insert(inputs.begin(), options->run.scene_path);
+    if (!options->output.empty() && !csv_to_stdout) check_output_file(options->output, inputs);
+    if (!options->plot.empty()) check_output_directory(options->plot, inputs);
     std::ostream& info = csv_to_stdout ? std::cerr : std::cout;
     PathPlane plane;
     if (!options->plot.empty()) require_gnuplot("--plot"), plane = path_plane(scene, options->plot_xy, "--plot-xy");
@@ -263,7 +267,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
       info << "  no CSV written (-o FILE.csv, or -o - for standard output)\n";
     if (!options->plot.empty() && run.samples.empty()) info << "  no plots: the run did not get past t0\n";
     if (!options->plot.empty() && !run.samples.empty()) {
-      write_trajectory_plots(options->plot, scene, model, p, run, plane);
+      write_trajectory_plots(options->plot, scene, model, p, run, plane, inputs);
       info << "  plots in " << options->plot << " (plots.md)\n";
     }
     if (sensitivities && sensitivities->failure && !run.failure) {  // the plain run's plots are drawn

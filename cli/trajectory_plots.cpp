@@ -87,8 +87,9 @@ Plot path_plot(const std::string& stem, const std::string& title, const PathPlan
 
 std::vector<std::string> write_trajectory_plots(const std::string& directory, const Scene& scene,
                                                 const runtime::Model& model, const std::vector<double>& p,
-                                                const runtime::RunResult& run, const PathPlane& plane) {
-  AtomicDirectory out(directory, {scene.source_path});
+                                                const runtime::RunResult& run, const PathPlane& plane,
+                                                const std::vector<std::string>& inputs) {
+  AtomicDirectory out(directory, inputs);
   const std::filesystem::path staging = out.path();
   const std::string csv = scene.name + "_" + model.model_name() + ".csv";
   runtime::write_csv((staging / csv).string(), model, p, run.samples);

@@ -34,6 +34,7 @@ Plot path_plot(const std::string& stem, const std::string& title, const PathPlan
 /// how far the run got and why it stopped early, if it did. Returns the names of the pictures.
 std::vector<std::string> write_trajectory_plots(const std::string& directory, const Scene& scene,
                                                 const runtime::Model& model, const std::vector<double>& p,
-                                                const runtime::RunResult& run, const PathPlane& plane);
+                                                const runtime::RunResult& run, const PathPlane& plane,
+                                                const std::vector<std::string>& inputs);
 
 }  // namespace nhc::cli

@@ -8,8 +8,10 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 
 #include "nhc/errors.hpp"
+#include "nhc/io/atomic_file.hpp"
 #include "nhc/io/output_path.hpp"
 #include "nhc/io/temporary_files.hpp"
 
@@ -62,9 +64,16 @@ void AtomicDirectory::commit() {
     check_output_file(final_file(name), inputs_);
     names.push_back(name);
   }
-  for (const std::string& name : names)
-    if (std::rename(file(name).c_str(), final_file(name).c_str()) != 0)
+  for (const std::string& name : names) {
+    const OutputTarget target = output_target(final_file(name));
+    if (target.kind == OutputTarget::Kind::stream || target.path != final_file(name)) {
+      // A link's target (the link stays) or a device: written by the one policy (output_path.hpp).
+      std::ifstream in(file(name), std::ios::binary);
+      write_file_atomically(final_file(name), [&](std::ostream& out) { out << in.rdbuf(); });
+    } else if (std::rename(file(name).c_str(), final_file(name).c_str()) != 0) {
       throw EnvironmentError("cannot move " + file(name) + " to " + final_file(name) + ": " + std::strerror(errno));
+    }
+  }
   committed_ = true;
 }
 

@@ -8,8 +8,10 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <sstream>
 
 #include "nhc/errors.hpp"
+#include "nhc/io/output_path.hpp"
 #include "nhc/io/temporary_files.hpp"
 
 namespace nhc {
@@ -35,11 +37,46 @@ int sync_file(const std::string& path) {
 /// The temporary file beside `path`, written, synced and renamed over it.
 static void write_into_existing_directory(const std::string& path, const std::function<void(std::ostream&)>& write);
 
+/// A character device or a FIFO, written in place (output_path.hpp): never renamed over, and a
+/// FIFO nobody reads is refused at once instead of waited on.
+static void write_in_place(const std::string& path, const std::string& device,
+                           const std::function<void(std::ostream&)>& write) {
+  const int fd = ::open(device.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+  if (fd < 0) {
+    if (errno == ENXIO)
+      throw InputError({path, 0, 0}, "the output " + path + " is a FIFO that nobody reads; start its reader first");
+    throw EnvironmentError("cannot write " + path + ": " + std::strerror(errno));
+  }
+  const int flags = ::fcntl(fd, F_GETFL);
+  if (flags >= 0) ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
+  std::ostringstream text;
+  try {
+    write(text);
+  } catch (...) {
+    ::close(fd);
+    throw;
+  }
+  const std::string bytes = text.str();
+  for (std::size_t done = 0; done < bytes.size();) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const std::string reason = std::strerror(errno);
+      ::close(fd);
+      throw EnvironmentError("cannot write " + path + ": " + reason);
+    }
+    done += static_cast<std::size_t>(n);
+  }
+  ::close(fd);
+}
+
 void write_file_atomically(const std::string& path,
                            const std::function<void(std::ostream&)>& write) {
   const std::vector<std::string> created = create_missing_parents(path);
   try {
-    write_into_existing_directory(path, write);
+    const OutputTarget target = output_target(path);
+    if (target.kind == OutputTarget::Kind::stream) write_in_place(path, target.path, write);
+    else write_into_existing_directory(target.path, write);
   } catch (...) {
     remove_created_parents(created);
     throw;

@@ -1,7 +1,15 @@
 #pragma once
 /// \file output_path.hpp
-/// \brief Outputs never replace inputs: every command checks its output paths against the files
-/// it reads before it writes anything.
+/// \brief The one output policy (docs/safety.md): what a path given as an output may be, and
+/// which file writing it replaces. Outputs never replace inputs: every command checks its output
+/// paths against the files it reads, by device and inode, before it writes anything.
+///
+/// - a regular file (or a new name) is replaced atomically (atomic_file.hpp);
+/// - a symbolic link is followed, and its final target is replaced atomically (the link stays);
+/// - a character device (/dev/null, /dev/stdout) or a FIFO is written directly, never renamed
+///   over; a FIFO without a reader is refused rather than waited on;
+/// - a directory where a file is expected, a block device, a socket, and a path under an existing
+///   file that is not a directory are refused (InputError, exit 2).
 
 #include <string>
 #include <vector>
@@ -12,8 +20,18 @@ namespace nhc {
 /// symbolic links included), else the same canonical path.
 bool same_file(const std::string& a, const std::string& b);
 
+/// Where the bytes of an output named `path` go.
+struct OutputTarget {
+  enum class Kind { new_file, regular, stream };
+  std::string path;  ///< `path` with its symbolic links followed (the file that is replaced)
+  Kind kind = Kind::new_file;  ///< stream: a character device or FIFO, written in place
+};
+
+/// The policy above for `path`; throws InputError naming `path` when it may not be an output file.
+OutputTarget output_target(const std::string& path);
+
 /// Throws InputError (exit 2) naming both paths when `output` is the same file as one of `inputs`,
-/// and when `output` is an existing directory (a file is expected there).
+/// and when output_target() refuses it (a directory, a device other than a character device, …).
 void check_output_file(const std::string& output, const std::vector<std::string>& inputs);
 
 /// As check_output_file() for an output directory: refused when it is one of `inputs` or an

@@ -13,6 +13,7 @@
 
 #include "nhc/errors.hpp"
 #include "nhc/io/atomic_file.hpp"
+#include "nhc/io/output_path.hpp"
 #include "nhc/io/temporary_files.hpp"
 #include "nhc/jit/gnuplot.hpp"
 
@@ -84,7 +85,8 @@ std::string default_plot_stem(const std::string& h5_path, const std::string& out
 }
 
 std::vector<std::string> plot_outcome(const EnsembleResults& results, const std::string& outcome,
-                                      const std::string& stem, const std::string& flag) {
+                                      const std::string& stem, const std::string& flag,
+                                      const std::vector<std::string>& inputs) {
   const Design& d = results.info.design;
   const std::vector<double> z = outcome_values(results, outcome, flag);
   const std::size_t nv = d.variables.size();
@@ -92,6 +94,7 @@ std::vector<std::string> plot_outcome(const EnsembleResults& results, const std:
     throw InputError({flag + " " + outcome, 0, 0}, "maps need a design of one or two variables, this one has " +
                                        std::to_string(nv));
   if (const auto missing = jit::gnuplot_missing()) throw EnvironmentError(*missing);
+  for (const char* ext : {".dat", ".gp", ".svg", ".png"}) check_output_file(stem + ext, inputs);
 
   const bool heat_map = nv == 2 && d.kind == Design::Kind::grid;
   write_file_atomically(stem + ".dat", [&](std::ostream& out) {

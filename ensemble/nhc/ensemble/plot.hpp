@@ -20,9 +20,11 @@ std::vector<std::string> outcome_names(const EnsembleInfo& info);
 
 /// `<stem>.svg` and `<stem>.png` of `outcome` (written atomically), and `<stem>.dat` and
 /// `<stem>.gp` to redraw them by hand. Returns the images written. Throws InputError when the
-/// design has more than two variables, std::runtime_error when gnuplot is missing or fails.
+/// design has more than two variables or an output is one of `inputs` (the files of the run,
+/// nhc/io/output_path.hpp), std::runtime_error when gnuplot fails.
 std::vector<std::string> plot_outcome(const EnsembleResults& results, const std::string& outcome,
-                                      const std::string& stem, const std::string& flag);
+                                      const std::string& stem, const std::string& flag,
+                                      const std::vector<std::string>& inputs);
 
 /// `FILE.h5` → `FILE_<outcome>` with characters other than letters, digits and _ replaced.
 std::string default_plot_stem(const std::string& h5_path, const std::string& outcome);
