@@ -10,6 +10,8 @@
 
 #include "nhc/analysis/numeric_program.hpp"
 #include "nhc/errors.hpp"
+#include "nhc/io/input_file.hpp"
+#include "nhc/io/printable.hpp"
 #include "nhc/scene/expression_parser.hpp"
 #include "parameter_overrides.hpp"
 
@@ -57,19 +59,25 @@ int column_of(const std::string& line, std::size_t index) {
 }
 
 Series read_series(const std::string& path, const std::string& name, double t0, double t_end) {
+  check_input_file(path, "a CSV file");
   std::ifstream in(path);
   if (!in) throw InputError(kFlag, "cannot read '" + path + "' for input '" + name + "'");
   std::string header;
   if (!std::getline(in, header)) throw InputError({path, 1, 1}, "empty file: a header row naming t and " + name + " is needed");
+  if (header.rfind("\xEF\xBB\xBF", 0) == 0) header.erase(0, 3);  // a UTF-8 byte order mark (spreadsheets write one)
   const std::vector<std::string> names = split_commas(header);
   std::size_t t_column = names.size(), u_column = names.size();
   for (std::size_t c = 0; c < names.size(); ++c) {
     const std::string n = trimmed(names[c]);
-    if (n == "t") t_column = c;
-    if (n == name) u_column = c;
+    if (n != "t" && n != name) continue;
+    std::size_t& column = n == "t" ? t_column : u_column;
+    if (column != names.size())
+      throw InputError({path, 1, column_of(header, c)},
+                       "duplicate column '" + n + "' (also column " + std::to_string(column + 1) + ")");
+    column = c;
   }
   if (t_column == names.size()) throw InputError({path, 1, 1}, "no column 't' in the header row");
-  if (u_column == names.size()) throw InputError({path, 1, 1}, "no column '" + name + "' in the header row");
+  if (u_column == names.size()) throw InputError({path, 1, 1}, "no column '" + name + "' in the header row (" + printable(header) + ")");
   Series s;
   std::string line;
   for (int row = 2; std::getline(in, line); ++row) {
@@ -80,11 +88,13 @@ Series read_series(const std::string& path, const std::string& name, double t0, 
     for (int k = 0; k < 2; ++k) {
       const std::size_t c = columns[k];
       const SourceLocation where{path, row, c < cells.size() ? column_of(line, c) : static_cast<int>(line.size()) + 1};
-      if (c >= cells.size()) throw InputError(where, "missing value of column '" + trimmed(names[c]) + "'");
+      if (c >= cells.size()) throw InputError(where, "missing value of column '" + printable(trimmed(names[c])) + "'");
       const std::string text = trimmed(cells[c]);
-      const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), pair[k]);
+      // from_chars reads no leading '+'; "+1" is a number all the same.
+      const char* begin = text.data() + (text.size() > 1 && text[0] == '+' && text[1] != '-' && text[1] != '+');
+      const auto [end, error] = std::from_chars(begin, text.data() + text.size(), pair[k]);
       if (error != std::errc() || end != text.data() + text.size() || !std::isfinite(pair[k]))
-        throw InputError(where, "'" + text + "' is not a finite number");
+        throw InputError(where, "'" + printable(text) + "' is not a finite number");
     }
     if (!s.t.empty() && !(pair[0] > s.t.back())) {
       std::ostringstream message;

@@ -67,7 +67,12 @@ std::vector<std::string> csv_columns(const runtime::Model& model, const std::vec
 std::vector<std::string> parse_columns(const std::string& spec, const std::vector<std::string>& available) {
   std::vector<std::string> columns;
   for (const std::string& name : split(spec, ',')) {
-    if (name == "t") continue;  // always the first column
+    if (std::find(columns.begin(), columns.end(), name) != columns.end())
+      bad("--columns", spec, "column '" + name + "' is named twice");
+    if (name == "t") {  // always the first column; named alone, the only one
+      columns.push_back(name);
+      continue;
+    }
     if (std::find(available.begin(), available.end(), name) == available.end()) {
       std::string known;
       for (const std::string& a : available) known += (known.empty() ? "" : ", ") + a;
@@ -98,7 +103,7 @@ void write_selected_csv(std::ostream& out, const runtime::Model& model, const st
   else
     keep.push_back(0);
   for (const std::string& c : columns)
-    keep.push_back(static_cast<std::size_t>(std::find(header.begin(), header.end(), c) - header.begin()));
+    if (c != "t") keep.push_back(static_cast<std::size_t>(std::find(header.begin(), header.end(), c) - header.begin()));
   auto emit = [&](const std::vector<std::string>& fields) {
     for (std::size_t k = 0; k < keep.size(); ++k) out << (k ? "," : "") << fields.at(keep[k]);
     out << "\n";

@@ -23,11 +23,12 @@ std::vector<double> parse_output_times(const std::string& spec, double t0);
 std::vector<std::string> csv_columns(const runtime::Model& model, const std::vector<double>& p,
                                      const SceneOutputs& outputs);
 
-/// "x,y,lambda1" → the names, each checked against `available` (InputError naming --columns).
+/// "x,y,lambda1" → the names, each checked against `available` (InputError naming --columns);
+/// a name given twice is refused. "t" is kept in the list: `--columns t` selects t alone.
 std::vector<std::string> parse_columns(const std::string& spec, const std::vector<std::string>& available);
 
 /// runtime::write_csv with the [outputs] columns appended, restricted to t and `columns` in that
-/// order (all when `columns` is empty).
+/// order (all when `columns` is empty; t is always first, once).
 void write_selected_csv(std::ostream& out, const runtime::Model& model, const std::vector<double>& p,
                         const std::vector<runtime::Sample>& samples, const std::vector<std::string>& columns,
                         const SceneOutputs& outputs);

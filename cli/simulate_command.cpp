@@ -166,11 +166,13 @@ CommandRunner add_simulate_command(CLI::App& app) {
     const double t0 = scene.initial.t0;
     const std::vector<double> times = run_output_times(options->run, scene);
     const double t_end = times.back();
+    const auto inputs_start = Clock::now();
     const InputSignals input_signals = parse_input_signals(scene_set, options->run.inputs, t0, t_end);
+    const double input_seconds = seconds_since(inputs_start);  // reading --input files is not deriving
     const InitialPointCheck check =
         check_initial_point(scene_set, kind, options->run.rtol.value_or(scene.simulate.rtol),
                             options->run.atol.value_or(scene.simulate.atol), options->run.repair);
-    const double load_seconds = seconds_since(load_start);
+    const double load_seconds = seconds_since(load_start) - input_seconds;
     jit::BuildOptions build_options;
     build_options.sensitivities = !options->sensitivity.names.empty();
     build_options.variational = variational;
@@ -244,7 +246,9 @@ CommandRunner add_simulate_command(CLI::App& app) {
     info << "\n  time: derive " << format(derive_seconds) << " s" << (scene_cached ? " (scene cache)" : "")
          << ", compile " << format(compile_seconds) << " s"
               << (built.library().reused ? " (cached)" : "") << ", integrate "
-              << format(st.initialization_seconds + st.integration_seconds) << " s\n";
+              << format(st.initialization_seconds + st.integration_seconds) << " s";
+    if (!input_files(options->run.inputs).empty()) info << ", read inputs " << format(input_seconds) << " s";
+    info << "\n";
     if (sensitivities) info << describe_sensitivity_cost(*sensitivities, options->sensitivity, st);
     // Errors and drifts of a run without a sample would read as zeros: there are none to report.
     if (started) write_drift_summary(info, scene, model, kind, drift);

@@ -13,6 +13,7 @@
 
 #include <iostream>
 
+#include "nhc/io/input_file.hpp"
 #include "nhc/jet/work_budget.hpp"
 #include "nhc/scene/definition_table.hpp"
 #include "nhc/scene/constant_expression.hpp"
@@ -847,14 +848,7 @@ std::string equations_source(const std::string& text) {
 }
 
 Scene load_scene(const std::string& path, const SceneOptions& options) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    throw InputError({path, 0, 0}, "is a directory, not a scene file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError({path, 0, 0}, "cannot open the scene file");
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  Scene scene = parse_scene(buffer.str(), path, options);
+  Scene scene = parse_scene(read_input_file(path, "a scene file"), path, options);
   for (const std::string& warning : scene.warnings) std::cerr << warning << "\n";
   return scene;
 }

@@ -11,6 +11,7 @@
 #include <functional>
 #include <limits>
 
+#include "nhc/io/input_file.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/io/atomic_file.hpp"
 #include "nhc/io/parent_directories.hpp"
@@ -389,6 +390,8 @@ void write_results(const std::string& path, const EnsembleResults& results) {
 
 EnsembleResults read_results(const std::string& path) {
   silence_hdf5();
+  // No size limit: an ensemble's trajectories may take gigabytes, and HDF5 reads only what is asked.
+  check_input_file(path, "an HDF5 file", std::numeric_limits<std::uintmax_t>::max());
   if (FILE* probe = std::fopen(path.c_str(), "rb")) std::fclose(probe);
   else throw InputError({path, 0, 0}, std::string("cannot read: ") + std::strerror(errno));
   if (H5Fis_hdf5(path.c_str()) <= 0) throw InputError({path, 0, 0}, "not an HDF5 file (or it cannot be read)");
