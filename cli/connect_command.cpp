@@ -17,6 +17,7 @@
 #include "nhc/connect/shooting.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/io/atomic_file.hpp"
+#include "nhc/io/output_path.hpp"
 #include "nhc/jit.hpp"
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/scene/scene.hpp"
@@ -171,6 +172,7 @@ CommandRunner add_connect_command(CLI::App& app) {
 
   return [options]() {
     const Scene scene = load_scene(options->scene_path);
+    if (!options->output.empty()) check_output_file(options->output, {options->scene_path});
     const ModelKind kind = model_or_default(scene, options->model);
     require_model_inputs(scene, kind);  // exit 2 at the scene, as simulate
     refuse_inputs(scene, "boundary-value problems", "nhc connect");

@@ -24,7 +24,9 @@
 #include "nhc/analysis/structural_analysis.hpp"
 #include "nhc/emit/json_writer.hpp"
 #include "nhc/errors.hpp"
+#include "nhc/io/atomic_directory.hpp"
 #include "nhc/io/atomic_file.hpp"
+#include "nhc/io/output_path.hpp"
 #include "nhc/io/temporary_files.hpp"
 #include "nhc/jit/gnuplot.hpp"
 #include "nhc/linearize.hpp"
@@ -258,40 +260,22 @@ std::optional<std::string> plot_stability(const fs::path& dir, const SweepResult
   return std::nullopt;
 }
 
-/// Writes DIR as a whole: everything goes to a temporary sibling directory, which then
-/// replaces DIR (an existing DIR is moved aside first and removed after).
-void write_directory(const std::string& target, const Linearization& lin, const std::optional<SweepResult>& sweep,
-                     std::vector<std::string>& notes) {
-  const fs::path dir = fs::absolute(target).lexically_normal();
-  const fs::path parent = dir.parent_path();
-  std::error_code ec;
-  fs::create_directories(parent, ec);
-  // Registered before it exists: an interrupt at any moment removes it with what it holds.
-  const TemporaryDirectory guard(unique_temporary_name((dir.has_filename() ? dir : dir.parent_path()).string()));
-  const fs::path tmp = guard.path();
-  if (!fs::create_directory(tmp, ec) || ec)
-    throw InputError({"-o", 0, 0}, "cannot create the directory " + tmp.string() + " beside " + target + ": " + ec.message());
-  try {
-    write_file_atomically((tmp / "linearize.json").string(), [&](std::ostream& out) { write_json(out, lin, sweep); });
-    write_matrix_csv(tmp / "A.csv", lin.A, lin.states, lin.states);
-    if (!lin.inputs.empty()) write_matrix_csv(tmp / "B.csv", lin.B, lin.states, lin.inputs);
-    if (!lin.outputs.empty()) write_matrix_csv(tmp / "C.csv", lin.C, lin.outputs, lin.states);
-    if (!lin.outputs.empty() && !lin.inputs.empty()) write_matrix_csv(tmp / "D.csv", lin.D, lin.outputs, lin.inputs);
-    if (sweep) {
-      write_csv(tmp / "stability.csv", *sweep);
-      if (auto note = plot_stability(tmp, *sweep, lin.scene)) notes.push_back(*note);
-    }
-    fs::path old;
-    if (fs::exists(dir)) {
-      old = unique_temporary_name(dir.string() + ".old");
-      fs::rename(dir, old);
-    }
-    fs::rename(tmp, dir);
-    if (!old.empty()) fs::remove_all(old, ec);
-  } catch (...) {
-    guard.remove();
-    throw;
+/// Writes DIR as a whole (nhc/io/atomic_directory.hpp): a temporary sibling directory moved into
+/// place, or its files moved into an existing DIR under the output policy; an input is refused.
+void write_directory(const std::string& target, const std::vector<std::string>& inputs, const Linearization& lin,
+                     const std::optional<SweepResult>& sweep, std::vector<std::string>& notes) {
+  AtomicDirectory out(target, inputs);
+  const fs::path tmp = out.path();
+  write_file_atomically((tmp / "linearize.json").string(), [&](std::ostream& o) { write_json(o, lin, sweep); });
+  write_matrix_csv(tmp / "A.csv", lin.A, lin.states, lin.states);
+  if (!lin.inputs.empty()) write_matrix_csv(tmp / "B.csv", lin.B, lin.states, lin.inputs);
+  if (!lin.outputs.empty()) write_matrix_csv(tmp / "C.csv", lin.C, lin.outputs, lin.states);
+  if (!lin.outputs.empty() && !lin.inputs.empty()) write_matrix_csv(tmp / "D.csv", lin.D, lin.outputs, lin.inputs);
+  if (sweep) {
+    write_csv(tmp / "stability.csv", *sweep);
+    if (auto note = plot_stability(tmp, *sweep, lin.scene)) notes.push_back(*note);
   }
+  out.commit();
 }
 
 }  // namespace
@@ -312,6 +296,7 @@ CommandRunner add_linearize_command(CLI::App& app) {
 
   return [flags]() {
     const Scene scene = load_scene(flags->scene_path);
+    if (!flags->output.empty()) check_output_directory(flags->output, {flags->scene_path});
     const ModelKind kind = model_or_default(scene, flags->model);
     require_model_inputs(scene, kind);
     std::vector<PointOverride> overrides;
@@ -333,7 +318,7 @@ CommandRunner add_linearize_command(CLI::App& app) {
     if (range) swept = sweep(linearizer, overrides, *range);
 
     std::vector<std::string> notes;
-    if (!flags->output.empty()) write_directory(flags->output, lin, swept, notes);
+    if (!flags->output.empty()) write_directory(flags->output, {flags->scene_path}, lin, swept, notes);
     if (flags->format == "json") write_json(std::cout, lin, swept);
     else write_text(std::cout, lin, swept);
     for (const std::string& note : notes) std::cerr << "nhc linearize: note: " << note << "\n";

@@ -2,7 +2,8 @@
 // temporary directory: a character device and a FIFO given as -o are written in place and stay
 // what they are (a FIFO without a reader is exit 2, not a hang); a symbolic link stays and its
 // target gets the CSV; an --input file is refused as -o by identity (by name, through a link,
-// and as the CSV that --plot DIR would write); a path under a regular file is exit 2.
+// and as the CSV that --plot DIR would write), and the scene as linearize's -o DIR or a file in
+// it, and as connect's -o; a path under a regular file is exit 2.
 #include <catch2/catch.hpp>
 
 #include <sys/stat.h>
@@ -109,6 +110,20 @@ TEST_CASE("outputs: a device and a FIFO are written in place, a link's target is
     }
     CHECK(read_file(f.path("F.csv")) == before);
     CHECK(read_file(f.path("plots/driven_oscillator_chetaev.csv")) == in_plots);
+  }
+  SECTION("linearize -o and connect -o refuse the scene (linearize replaced it with its directory)") {
+    std::ofstream(f.path("scene.toml")) << read_file(kScene);
+    fs::create_directory(f.path("lin"));
+    fs::create_symlink("../scene.toml", f.path("lin/A.csv"));
+    for (const std::string& args : {std::string("linearize scene.toml -o scene.toml"),
+                                    std::string("linearize scene.toml -o lin"),
+                                    std::string("connect scene.toml --to x=1 --t-end 1 -o scene.toml")}) {
+      INFO(args);
+      const Run r = f.nhc(args);
+      CHECK(r.exit_code == 2);
+      CHECK(r.err.find("is the input scene.toml (the same file)") != std::string::npos);
+      CHECK(read_file(f.path("scene.toml")) == read_file(kScene));
+    }
   }
   SECTION("a path under a regular file is bad input (exit 2), not the environment") {
     std::ofstream(f.path("scene.toml")) << read_file(kScene);
