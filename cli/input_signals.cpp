@@ -59,7 +59,7 @@ int column_of(const std::string& line, std::size_t index) {
 }
 
 Series read_series(const std::string& path, const std::string& name, double t0, double t_end) {
-  check_input_file(path, "a CSV file");
+  check_input_file(path, "a CSV file for input '" + name + "'");
   std::ifstream in(path);
   if (!in) throw InputError(kFlag, "cannot read '" + path + "' for input '" + name + "'");
   std::string header;

@@ -95,7 +95,7 @@ TEST_CASE("nhc simulate --input: bad flags and series are refused at the flag or
       {"G=1", "--input: error: unknown input 'G' (inputs: F)"},
       {"F=x+1", "--input: error: in F=x+1 at character 1: coordinate 'x' is not allowed here"},
       {"F", "--input"},
-      {"F=@" + dir + "/missing.csv", "--input: error: cannot read"},
+      {"F=@" + dir + "/missing.csv", "missing.csv: error: cannot read a CSV file for input 'F': No such file"},
       {"F=@" + write("no_column.csv", "t,G\n0,1\n5,2\n"), "no_column.csv:1:1: error: no column 'F'"},
       {"F=@" + write("not_increasing.csv", "t,F\n0,1\n0,2\n"), "not_increasing.csv:3:1: error: times must increase"},
       {"F=@" + write("not_finite.csv", "t,F\n0,1\n1,nan\n"), "not_finite.csv:3:3: error: 'nan' is not a finite number"},

@@ -26,7 +26,8 @@ using nhc::test::Run;
 const std::string kScene = std::string(NHC_SOURCE_DIR) + "/tests/cli/scenes/driven_oscillator.toml";
 
 struct Fixture {
-  std::string dir = nhc::test::scratch_dir("reading_limits");
+  explicit Fixture(const std::string& name) : dir(nhc::test::scratch_dir(name)) {}
+  std::string dir;  // one per test case: ctest runs them in parallel
   Run nhc(const std::string& args) const {
     return nhc::test::run("cd " + shell_quote(dir) + " && NHC_CACHE_DIR='" + NHC_BINARY_DIR +
                               "/tests/cli/nhc-cache' timeout 60 " + nhc::test::nhc_command() + " " + args,
@@ -47,7 +48,7 @@ void expect_refused(const Run& r, const std::string& start) {
 
 TEST_CASE("a scene or an --input file that is not a regular file, or larger than 64 MB, is refused unread",
           "[cli][safety]") {
-  const Fixture f;
+  const Fixture f("reading_limits");
   REQUIRE(::mkfifo(f.path("fifo").c_str(), 0666) == 0);
   fs::create_directory(f.path("dir"));
   for (const char* name : {"big.toml", "big.csv"}) {  // 65 MB without writing them: sparse files
@@ -67,8 +68,8 @@ TEST_CASE("a scene or an --input file that is not a regular file, or larger than
   expect_refused(f.nhc(run + "big.csv"), "big.csv: error: is 65 MB, more than the 64 MB nhc reads as a CSV file");
 }
 
-TEST_CASE("--input CSV and --columns messages say precisely what is wrong", "[cli][safety]") {
-  const Fixture f;
+TEST_CASE("CSV messages of --input and --columns say precisely what is wrong", "[cli][safety]") {
+  const Fixture f("csv_messages");
   const std::string run = "simulate " + shell_quote(kScene) + " --input F=@";
   SECTION("a UTF-8 byte order mark and '+1' are read") {
     std::ofstream(f.path("bom.csv")) << "\xEF\xBB\xBFt,F\n0,+1\n3,+1\n";

@@ -86,6 +86,14 @@ TEST_CASE("an ensemble file and file names with shell and gnuplot syntax in ever
     f.check_clean();
     f.redraw(stem + ".gp");
   }
+  SECTION("a message naming the file's outcomes is one line, its control characters escaped") {
+    const Run r = f.nhc("plot " + shell_quote(hostile_h5) + " nosuch");
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find("unknown outcome; this ensemble has t_stop") != std::string::npos);
+    CHECK(r.err.find("\\n@q1") != std::string::npos);
+    CHECK(r.err.find('\n') == r.err.size() - 1);
+    f.check_clean();
+  }
   SECTION("nhc plot -o STEM in a directory of such a name") {
     const Run r = f.nhc("plot " + shell_quote(hostile_h5) + " t_stop -o " + shell_quote(kHostile + "/" + kHostile));
     INFO(r.out << r.err);

@@ -238,12 +238,13 @@ TEST_CASE("bad input: exit 2, the flag named, no FILE.h5", "[ensemble]") {
     CHECK(r.err.find(c.words) != std::string::npos);
     CHECK_FALSE(file_exists(file));
   }
-  // An output under a regular file cannot be made: the environment's failure (exit 4), as for
-  // every output of nhc, found before any run; a missing directory is created, as elsewhere.
+  // An output under a regular file is bad input (exit 2), as for every output of nhc
+  // (nhc/io/output_path.hpp), found before any run; a missing directory is created, as elsewhere.
   run("echo x > '" + dir + "/plain'", dir);
   const auto unwritable = run(ensemble("--vary b=0:1:3 -o '" + dir + "/plain/out.h5'"), dir);
-  CHECK(unwritable.exit_code == 4);
-  CHECK(unwritable.err.find("cannot write " + dir + "/plain/out.h5: Not a directory") != std::string::npos);
+  CHECK(unwritable.exit_code == 2);
+  CHECK(unwritable.err.find(dir + "/plain is a file, not a directory, so the output " + dir +
+                            "/plain/out.h5 cannot be created under it") != std::string::npos);
   CHECK(unwritable.err.find("ran ") == std::string::npos);
   const auto nested = run(ensemble("--vary b=0:1:3 -o '" + dir + "/new/deeper/out.h5'"), dir);
   CHECK(nested.exit_code == 0);

@@ -93,7 +93,7 @@ run -- ensemble "$particle" --vary "q1'(0)=1:2:3" --threads= 2 -o "$work/out.h5"
 expect "ensemble --threads=" 2 "--threads: error: --threads '' is an empty value"
 # A missing file is named as missing, not as "not an HDF5 file".
 run -- plot "$work/missing.h5" final:q1
-expect "plot of a missing file" 2 "$work/missing.h5: error: cannot read: No such file or directory"
+expect "plot of a missing file" 2 "$work/missing.h5: error: cannot read an HDF5 file: No such file or directory"
 
 # Missing parent directories: created for files and directories alike (parent_directories.hpp).
 run NHC_CACHE_DIR="$work/cache_parents" -- connect "$heisenberg" --to x=1,y=0,z=0.25 --t-end 1 -o "$work/parents/a/x.csv"

@@ -14,6 +14,7 @@
 #include "nhc/errors.hpp"
 #include "nhc/io/atomic_file.hpp"
 #include "nhc/io/output_path.hpp"
+#include "nhc/io/printable.hpp"
 #include "nhc/io/temporary_files.hpp"
 #include "nhc/jit/gnuplot.hpp"
 
@@ -64,8 +65,8 @@ std::vector<double> outcome_values(const EnsembleResults& results, const std::st
     const auto k = static_cast<std::size_t>(index_of(info.invariant_names, outcome.substr(6)));
     value = [k](const RunRecord& r) { return r.invariant_drift.at(k); };
   } else {
-    throw InputError({flag + " " + outcome, 0, 0}, "unknown outcome; this ensemble has " +
-                                       joined(outcome_names(info)));
+    throw InputError({flag + " " + printable(outcome), 0, 0},
+                     "unknown outcome; this ensemble has " + printable(joined(outcome_names(info))));
   }
   std::vector<double> out;
   for (const RunRecord& r : results.records) {
