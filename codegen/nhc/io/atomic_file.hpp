@@ -9,7 +9,9 @@
 
 namespace nhc {
 
-/// Calls `write` with a stream on a temporary file beside `path`, then renames it to `path`.
+/// Calls `write` with a stream on a temporary file beside `path`, then renames it to `path`;
+/// where `path` leads is decided by output_target() (output_path.hpp): the target of a symbolic
+/// link is replaced and the link stays, a character device or FIFO is written in place.
 /// On any exception the temporary file is removed and the exception propagates.
 /// Throws EnvironmentError naming `path` and the system's reason when it cannot be written
 /// (no permission, disk full, …).
