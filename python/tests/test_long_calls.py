@@ -117,7 +117,7 @@ def test_two_threads_derive_two_scenes():
         except BaseException as e:  # noqa: B902 -- reported by the main thread
             failures.append(e)
 
-    threads = [threading.Thread(target=work, args=(text, 40)) for text in (OSCILLATOR, SECOND, OSCILLATOR, SECOND)]
+    threads = [threading.Thread(target=work, args=(text, 100)) for text in (OSCILLATOR, SECOND, OSCILLATOR, SECOND)]
     for t in threads:
         t.start()
     for t in threads:
