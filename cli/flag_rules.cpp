@@ -8,9 +8,8 @@
 #include <sstream>
 #include <string_view>
 
+#include "nhc/app/run_request.hpp"
 #include "nhc/errors.hpp"
-#include "nhc/runtime/integrator.hpp"
-#include "nhc/scene/tolerances.hpp"
 
 namespace nhc::cli::flag_rules {
 
@@ -36,19 +35,13 @@ CLI::Validator number_rule(const std::string& description, std::string (*problem
       description);
 }
 
-std::string positive_problem(double v) { return std::isfinite(v) && v > 0 ? "" : "is not a positive number"; }
-std::string finite_problem(double v) { return std::isfinite(v) ? "" : "is not a finite number"; }
-std::string relative_problem(double v) {
-  const std::string why = relative_tolerance_problem(v);
-  return why.empty() || why != "must be a positive number" ? why : "is not a positive number";
-}
-
 }  // namespace
 
-CLI::Validator positive() { return number_rule("POSITIVE", positive_problem); }
-CLI::Validator relative_tolerance() { return number_rule("RTOL", relative_problem); }
-CLI::Validator absolute_tolerance() { return number_rule("ATOL", positive_problem); }
-CLI::Validator finite() { return number_rule("NUMBER", finite_problem); }
+// The rules themselves are the application layer's (nhc/app/run_request.hpp), shared with Python.
+CLI::Validator positive() { return number_rule("POSITIVE", app::positive_problem); }
+CLI::Validator relative_tolerance() { return number_rule("RTOL", app::relative_tolerance_problem); }
+CLI::Validator absolute_tolerance() { return number_rule("ATOL", app::positive_problem); }
+CLI::Validator finite() { return number_rule("NUMBER", app::finite_problem); }
 
 CLI::Validator count(long long low, long long high) {
   const std::string range = std::to_string(low) + " to " + std::to_string(high);
@@ -59,8 +52,8 @@ CLI::Validator count(long long low, long long high) {
         const auto [ptr, ec] = std::from_chars(text.data(), end, value);
         if (text.empty() || ec == std::errc::invalid_argument || ptr != end)
           return "'" + text + "' is not a whole number";
-        if (ec == std::errc::result_out_of_range || value < low || value > high)
-          return text + " is not a whole number from " + range;
+        if (ec == std::errc::result_out_of_range) return text + " " + app::count_problem(high + 1, low, high);
+        if (const std::string why = app::count_problem(value, low, high); !why.empty()) return text + " " + why;
         return "";
       },
       "INT in " + range);
@@ -94,16 +87,7 @@ void refuse_empty_values(CLI::App& app) {
 }
 
 std::vector<double> output_times(double t0, double t_end, long long intervals, const std::string& flags) {
-  std::vector<double> times = runtime::output_times(t0, t_end, static_cast<int>(intervals));
-  if (const auto i = runtime::collapsed_output_time(times)) {
-    std::ostringstream why;
-    why.precision(17);
-    why << intervals << " output intervals from t0 = " << t0 << " to t_end = " << t_end
-        << " are closer than double precision resolves (times " << *i - 1 << " and " << *i << " are both "
-        << times[*i - 1] << "): choose fewer intervals or a span nearer the times' size";
-    throw InputError({flags, 0, 0}, why.str());
-  }
-  return times;
+  return app::equally_spaced_output_times(t0, t_end, intervals, flags);
 }
 
 }  // namespace nhc::cli::flag_rules

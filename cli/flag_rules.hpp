@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "nhc/app/run_request.hpp"
+
 namespace nhc::cli::flag_rules {
 
 /// A finite number greater than 0 (--tolerance, --atol, --atol-scale, --checkpoint-every).
@@ -27,9 +29,8 @@ CLI::Validator absolute_tolerance();
 CLI::Validator finite();
 /// A whole number from `low` to `high` (--outputs, --repeats, --segments, --max-iterations).
 CLI::Validator count(long long low, long long high);
-/// The largest number of output intervals any command writes (a row is about 20 doubles per
-/// state; 10^7 rows of a small model are already gigabytes).
-inline constexpr long long kMaxOutputs = 10000000;
+/// The largest number of output intervals any command writes (nhc/app/run_request.hpp).
+inline constexpr long long kMaxOutputs = app::kMaxOutputs;
 /// Each element of a list flag once (--models chetaev,chetaev would compare a model with
 /// itself; --at x=1 --at x=2 would keep the last): InputError at `flag` otherwise. `keys` are
 /// the elements, or the names of NAME=VALUE elements.

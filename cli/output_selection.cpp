@@ -5,6 +5,7 @@
 #include <ostream>
 #include <sstream>
 
+#include "nhc/app/run_request.hpp"
 #include "nhc/errors.hpp"
 #include "parameter_overrides.hpp"
 #include "pipeline.hpp"
@@ -44,12 +45,8 @@ std::vector<double> parse_output_times(const std::string& spec, double t0) {
     for (long i = 0; i <= static_cast<long>(n); ++i) times.push_back(i == static_cast<long>(n) ? b : a + h * static_cast<double>(i));
   } else {
     for (const std::string& part : split(spec, ',')) times.push_back(parse_number(flag, part));
-    for (std::size_t i = 1; i < times.size(); ++i)
-      if (!(times[i] > times[i - 1])) bad(flag, spec, "the times must increase");
   }
-  if (times.empty()) bad(flag, spec, "no time");
-  if (times.front() < t0) bad(flag, spec, "the first time is before t0 = " + format_number(t0, 17));
-  if (!(times.back() > t0)) bad(flag, spec, "the last time must be after t0 = " + format_number(t0, 17));
+  app::check_output_times(times, t0, flag, spec);  // the rules Python's output_times= obey too
   return times;
 }
 

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "nhc/app/run_request.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/jet/jet_space.hpp"
 
@@ -34,13 +35,10 @@ std::vector<ParameterOverride> parse_parameter_overrides(const Scene& scene, con
   std::vector<ParameterOverride> overrides;
   for (const std::string& a : assignments) {
     const auto [name, value] = split_assignment("--set", a);
-    if (!scene.jet->parameter_index(name)) {
-      std::string known;
-      for (const std::string& p : scene.jet->parameters()) known += (known.empty() ? "" : ", ") + p;
-      throw InputError({"--set", 0, 0}, "--set " + a + ": '" + name + "' is not a parameter of the scene (" +
-                                            (known.empty() ? std::string("it has none") : "parameters: " + known) + ")");
-    }
-    overrides.push_back({name, parse_number("--set", value)});
+    app::check_parameter_name(scene, name, "--set", "--set " + a);
+    const double v = parse_number("--set", value);
+    app::check_parameter_value(scene, name, v, "--set", "--set " + a);  // Python's set= obeys the same
+    overrides.push_back({name, v});
   }
   return overrides;
 }

@@ -47,27 +47,37 @@ void add_run_flags(CLI::App* sub, RunFlags& flags) {
   sub->add_option("--step", flags.step, "the fixed step of --integrator variational")->check(flag_rules::positive());
 }
 
-void check_run_flags(const RunFlags& flags, const Scene& scene, ModelKind kind) {
-  // Finite, and the tolerances positive and within reach: the flags' own rules (flag_rules.hpp).
-  if (flags.t_end && !(*flags.t_end > scene.initial.t0))
-    throw InputError({flags.scene_path, 0, 0}, "--t-end " + format_number(*flags.t_end, 17) + " must be after t0 = " +
-                                                   format_number(scene.initial.t0, 17));
-  const SourceLocation here{flags.scene_path, 0, 0};
-  if (!variational_integrator(flags)) {
-    if (flags.step) throw InputError(here, "--step is the fixed step of --integrator variational; IDA chooses its own");
-    return;
+namespace {
+
+/// The command line's names for a run request's fields; the checks against the scene are located
+/// at the scene file.
+app::FieldNames field_names(const RunFlags& flags) {
+  app::FieldNames names = app::command_line_names();
+  names.at = flags.scene_path;
+  return names;
+}
+
+}  // namespace
+
+app::RunRequest run_request(const RunFlags& flags, const Scene& scene) {
+  app::RunRequest r;
+  r.t_end = flags.t_end;
+  r.rtol = flags.rtol;
+  r.atol = flags.atol;
+  if (flags.outputs) r.outputs = *flags.outputs;
+  if (!flags.output_times.empty()) {
+    r.output_times = parse_output_times(flags.output_times, scene.initial.t0);
+    r.output_times_text = flags.output_times;
   }
-  if (!flags.step) throw InputError(here, "--integrator variational needs --step H (the fixed step)");
-  if (flags.project)
-    throw InputError(here, "--project applies to IDA: the variational integrator solves the discrete constraints "
-                           "at every step");
-  require_variational_scene(scene, kind);
-  const double t_end = run_output_times(flags, scene).back();
-  const long steps = runtime::variational_steps_needed(scene.initial.t0, t_end, *flags.step);
-  if (steps < 0 || steps > flags.max_steps)
-    throw InputError(here, "--step " + format_number(*flags.step, 6) + " takes " +
-                               (steps < 0 ? std::string("too many") : std::to_string(steps)) + " steps to t = " +
-                               format_number(t_end, 6) + ", more than --max-steps " + std::to_string(flags.max_steps));
+  r.max_steps = flags.max_steps;
+  r.variational = variational_integrator(flags);
+  r.step = flags.step;
+  r.project = flags.project;
+  return r;
+}
+
+void check_run_flags(const RunFlags& flags, const Scene& scene, ModelKind kind) {
+  app::check_run_request(run_request(flags, scene), scene, kind, field_names(flags));
 }
 
 FlaggedRun run_with_flags(const RunFlags& flags, const runtime::Model& model, const std::vector<double>& p,
@@ -86,19 +96,11 @@ FlaggedRun run_with_flags(const RunFlags& flags, const runtime::Model& model, co
 }
 
 std::vector<double> run_output_times(const RunFlags& flags, const Scene& scene) {
-  const double t0 = scene.initial.t0;
-  if (!flags.output_times.empty()) return parse_output_times(flags.output_times, t0);
-  return flag_rules::output_times(t0, flags.t_end.value_or(scene.simulate.t_end),
-                                  flags.outputs.value_or(scene.simulate.outputs.value_or(200)), "--t-end/--outputs");
+  return app::run_output_times(run_request(flags, scene), scene, field_names(flags));
 }
 
 runtime::IntegratorOptions run_integrator_options(const RunFlags& flags, const Scene& scene) {
-  runtime::IntegratorOptions io;
-  io.rtol = flags.rtol.value_or(scene.simulate.rtol);
-  io.atol = flags.atol.value_or(scene.simulate.atol);
-  io.projection = flags.project ? runtime::ProjectionMethod::in_place : runtime::ProjectionMethod::none;
-  io.max_steps = flags.max_steps;
-  return io;
+  return app::run_integrator_options(run_request(flags, scene), scene);
 }
 
 runtime::InitialState run_initial_state(const RunFlags& flags, const Scene& scene_set, const runtime::Model& model) {

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "nhc/app/run_request.hpp"
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/scene/scene.hpp"
 
@@ -32,6 +33,9 @@ struct RunFlags {
 /// Registers SCENE, --model, --t-end, --rtol, --atol, --max-steps, --set, --input, --expand,
 /// --project, --repair-initial, --outputs, --output-times, --integrator and --step on `sub`.
 void add_run_flags(CLI::App* sub, RunFlags& flags);
+
+/// The flags as the application layer's run request (--output-times read, not yet checked).
+app::RunRequest run_request(const RunFlags& flags, const Scene& scene);
 
 /// The flags that override [simulate], against the scene: --t-end after t0; --integrator
 /// variational with --step, the chetaev model, no --project, and a step count within --max-steps.

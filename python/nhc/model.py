@@ -2,7 +2,18 @@
 import numpy as _np
 
 from . import _nhc
-from .errors import MathError
+from .errors import MathError, SceneError
+
+
+def _count(name, value):
+    """A whole number for a count argument: 2.5 or "ten" is a SceneError naming it, as --outputs 2.5 is."""
+    try:
+        whole = int(value)
+    except (TypeError, ValueError):
+        raise SceneError(f"{name}: {value!r} is not a whole number", file=name) from None
+    if whole != value:
+        raise SceneError(f"{name}: {value!r} is not a whole number", file=name)
+    return max(-2**62, min(whole, 2**62))  # beyond any limit either way; the rule's message follows
 
 
 class Run:
@@ -89,9 +100,11 @@ class Model:
     parameters = property(lambda self: dict(self._model.parameters))
     name = property(lambda self: self._model.model_name)
 
-    def simulate(self, t_end=1.0, rtol=1e-8, atol=1e-10, outputs=200, output_times=None, inputs=None,
+    def simulate(self, t_end=None, rtol=None, atol=None, outputs=None, output_times=None, inputs=None,
                  max_steps=1000000, sensitivity=None, integrator="ida", step=None):
         """Integrates from the scene's [initial]; a Run. A failure raises nhc.MathError with .t.
+        t_end, rtol, atol and outputs not given are the scene's [simulate] values (else 1, 1e-8,
+        1e-10 and 200), as on the command line, whose rules every argument obeys (nhc.SceneError).
         `inputs`: u(t, y) -> the model's inputs (self.inputs order), called at every residual
         evaluation with y in state_names order; without it, the scene's default signals.
         `sensitivity`: names of parameters and given initial values (["alpha", "x'(0)"]): the run
@@ -102,8 +115,12 @@ class Model:
         Ctrl-C (KeyboardInterrupt) stops a long run."""
         times = None if output_times is None else [float(t) for t in _np.asarray(output_times).ravel()]
         names = None if sensitivity is None else [sensitivity] if isinstance(sensitivity, str) else list(sensitivity)
-        result = self._model.simulate(float(t_end), float(rtol), float(atol), int(outputs), times, inputs,
-                                      int(max_steps), names, str(integrator), None if step is None else float(step))
+        def number(value):
+            return None if value is None else float(value)
+
+        result = self._model.simulate(number(t_end), number(rtol), number(atol),
+                                      None if outputs is None else _count("outputs", outputs), times, inputs,
+                                      _count("max_steps", max_steps), names, str(integrator), number(step))
         if "failure" in result:
             error = MathError(result["failure"], t=result["failure_t"])
             error.run = Run(result)  # the motion up to the failure

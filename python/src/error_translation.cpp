@@ -44,8 +44,16 @@ void register_errors(py::module_&) {
       raise("HostError", e.what());
     } catch (const std::bad_alloc&) {
       raise("HostError", "out of memory");
+    } catch (const py::error_already_set&) {
+      throw;  // a Python exception (KeyboardInterrupt, one raised by a callback): itself
+    } catch (const py::builtin_exception&) {
+      throw;  // pybind11's own (TypeError of a callback's result, cast errors)
+    } catch (const std::exception& e) {
+      // What the command line calls an internal error (exit 1): still an nhc.Error, never a raw
+      // RuntimeError from GiNaC or a std::length_error.
+      raise("Error", std::string("internal error: ") + e.what() +
+                         " (this is a bug in nhc; please report it with the call and the scene)");
     }
-    // Anything else goes on to pybind11's own translators (RuntimeError with the message).
   });
 }
 

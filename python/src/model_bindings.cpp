@@ -4,21 +4,25 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 
 #include "model_argument.hpp"
+#include "nhc/app/run_request.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/jit.hpp"
 #include "nhc/linearize.hpp"
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/derive/discrete_lagrange_dalembert.hpp"
 #include "nhc/scene/scene.hpp"
+#include "symbolic_work.hpp"
 
 namespace py = pybind11;
 
@@ -51,42 +55,50 @@ struct BuiltModel {
   }
 
   /// The loaded model for `thetas`: this one unless a parameter is among them and dF/dp is
-  /// missing. Called with the GIL released.
+  /// missing. Called with the GIL held (symbolic_work.hpp).
   const runtime::Model& model_for(const std::vector<runtime::SensitivityParameter>& thetas) const {
     const bool needs_dp = std::any_of(thetas.begin(), thetas.end(), [](const runtime::SensitivityParameter& th) {
       return th.kind == runtime::SensitivityParameter::Kind::parameter;
     });
     if (!needs_dp || model().has_parameter_jacobian()) return model();
-    const std::lock_guard<std::mutex> lock(with_sensitivities->building);
-    if (!with_sensitivities->loaded) {
-      jit::BuildOptions options;
-      options.sensitivities = true;
-      with_sensitivities->loaded = std::make_shared<jit::LoadedModel>(jit::build(scene, kind, options));
-    }
-    return with_sensitivities->loaded->model();
+    jit::BuildOptions options;
+    options.sensitivities = true;
+    return built_once(*with_sensitivities, options);
   }
 
   /// The model with the discrete Lagrange–d'Alembert step (simulate(integrator="variational")),
-  /// built on first use. Called with the GIL released.
+  /// built on first use. Called with the GIL held.
   const runtime::Model& variational_model() const {
-    const std::lock_guard<std::mutex> lock(with_variational_step->building);
-    if (!with_variational_step->loaded) {
-      jit::BuildOptions options;
-      options.variational = true;
-      with_variational_step->loaded = std::make_shared<jit::LoadedModel>(jit::build(scene, kind, options));
+    jit::BuildOptions options;
+    options.variational = true;
+    return built_once(*with_variational_step, options);
+  }
+
+ private:
+  /// The GIL serialises the builds (it is released only while one waits for the compiler, when
+  /// another thread may come here: the mutex, taken without the GIL, keeps it to one build).
+  const runtime::Model& built_once(SensitivityBuild& slot, const jit::BuildOptions& options) const {
+    std::unique_lock<std::mutex> lock(slot.building, std::try_to_lock);
+    if (!lock.owns_lock()) {
+      py::gil_scoped_release unlocked;
+      lock.lock();
     }
-    return with_variational_step->loaded->model();
+    if (!slot.loaded)
+      slot.loaded = std::make_shared<jit::LoadedModel>(symbolic_work([&] { return jit::build(scene, kind, options); }));
+    return slot.loaded->model();
   }
 };
 
 BuiltModel build(const Scene& scene, const std::string& model) {
   const ModelKind kind = model_named(model);
-  std::shared_ptr<jit::LoadedModel> loaded;
-  {
-    py::gil_scoped_release unlocked;
-    loaded = std::make_shared<jit::LoadedModel>(jit::build(scene, kind));
-  }
+  auto loaded = std::make_shared<jit::LoadedModel>(symbolic_work([&] { return jit::build(scene, kind); }));
   return BuiltModel{scene, kind, std::move(loaded)};  // with the GIL: it holds Python objects
+}
+
+/// A Python callable as a message names it: its __qualname__, else its repr.
+std::string describe(const py::handle& f) {
+  if (py::hasattr(f, "__qualname__")) return py::str(f.attr("__qualname__"));
+  return py::str(py::repr(f));
 }
 
 /// One run: the CSV's columns as a matrix (rows: output times) and the summary.
@@ -107,28 +119,39 @@ struct PythonInputs {
     }
     try {
       const py::array_t<double> state(n_states, y);
-      const py::array_t<double, py::array::c_style | py::array::forcecast> values(f(t, state));
+      const py::object returned = f(t, state);
+      // numpy would read None as one NaN, and the run would stop at "residual ... is NaN".
+      if (returned.is_none())
+        throw py::type_error("the inputs function " + describe(f) + " returned None, not the model's " +
+                             std::to_string(n_inputs) + " inputs");
+      const py::array_t<double, py::array::c_style | py::array::forcecast> values(returned);
       if (values.size() != n_inputs)
-        throw py::value_error("the inputs function returned " + std::to_string(values.size()) + " values, the model has " +
-                              std::to_string(n_inputs) + " inputs");
+        throw py::type_error("the inputs function " + describe(f) + " returned " + std::to_string(values.size()) +
+                             " values, the model has " + std::to_string(n_inputs) + " inputs");
       std::copy(values.data(), values.data() + n_inputs, u);
     } catch (py::error_already_set& e) {
       failure->emplace(std::move(e));
+      std::fill(u, u + n_inputs, std::nan(""));
+    } catch (const py::builtin_exception& e) {
+      e.set_error();  // as the Python exception it names, raised after the run
+      failure->emplace();
       std::fill(u, u + n_inputs, std::nan(""));
     }
   }
 };
 
-/// Ctrl-C: Python's handler only records the signal while the GIL is released; every `every`
-/// calls the run takes the GIL and lets Python act on it (KeyboardInterrupt), then stops.
+/// Ctrl-C during a run (the GIL released): Python's handler only records the signal; every
+/// kStopCheckMilliseconds the run takes the GIL and lets Python act on it (KeyboardInterrupt),
+/// then stops.
 struct InterruptCheck {
-  long every = 256;
-  long calls = 0;
+  std::chrono::steady_clock::time_point last = std::chrono::steady_clock::now();
   std::shared_ptr<std::optional<py::error_already_set>> raised =
       std::make_shared<std::optional<py::error_already_set>>();
 
   bool operator()() {
-    if (++calls % every != 0) return false;
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last < std::chrono::milliseconds(kStopCheckMilliseconds)) return false;
+    last = now;
     py::gil_scoped_acquire locked;
     if (PyErr_CheckSignals() == 0) return false;
     raised->emplace();
@@ -211,6 +234,22 @@ py::dict result_of(py::object columns, py::array_t<double> data, py::cpp_functio
   return out;
 }
 
+/// Output times as a message quotes them: "0, 0.5, 0.2, 1".
+std::string join_numbers(const std::vector<double>& values) {
+  std::string out;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    std::ostringstream number;  // the shortest of 15 to 17 digits that reads back as the value
+    for (int digits = 15; digits <= 17; ++digits) {
+      number.str("");
+      number.precision(digits);
+      number << values[i];
+      if (std::stod(number.str()) == values[i] || !std::isfinite(values[i])) break;
+    }
+    out += (i ? ", " : "") + number.str();
+  }
+  return out;
+}
+
 /// simulate(sensitivity=[names]): the run with IDAS's forward sensitivities; the columns are the
 /// plain ones followed by d(<state>)/d(<name>) (runtime::sensitivity_csv_header).
 py::dict simulate_sensitivities(const BuiltModel& built, const std::vector<std::string>& names,
@@ -230,15 +269,17 @@ py::dict simulate_sensitivities(const BuiltModel& built, const std::vector<std::
   } catch (const std::invalid_argument& e) {
     throw InputError({"sensitivity", 0, 0}, e.what());
   }
-  interrupt.every = 1;  // asked once per output, not per step
   options.stop_requested = interrupt;
   const std::vector<double> p = plain.default_parameters();
   runtime::SensitivityRun run;
   const runtime::Model* model = nullptr;
-  {
+  model = &built.model_for(thetas);  // a build: symbolic work, with the GIL
+  try {
     py::gil_scoped_release unlocked;
-    model = &built.model_for(thetas);
     run = runtime::simulate_sensitivities(*model, p, initial, thetas, times, options);
+  } catch (...) {  // stopped before the first sample (the initialization): still KeyboardInterrupt
+    if (*interrupt.raised) throw std::move(**interrupt.raised);
+    throw;
   }
   if (*interrupt.raised) throw std::move(**interrupt.raised);
   if (run.failure && run.samples.empty()) throw *run.failure;
@@ -256,28 +297,35 @@ py::dict simulate_sensitivities(const BuiltModel& built, const std::vector<std::
                    run.failure);
 }
 
-py::dict simulate(const BuiltModel& built, double t_end, double rtol, double atol, int outputs,
+py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, const std::optional<double>& rtol,
+                  const std::optional<double>& atol, const std::optional<long long>& outputs,
                   const std::optional<std::vector<double>>& output_times, const std::optional<py::function>& inputs,
-                  long max_steps, const std::optional<std::vector<std::string>>& sensitivity,
+                  long long max_steps, const std::optional<std::vector<std::string>>& sensitivity,
                   const std::string& integrator, const std::optional<double>& step) {
   const bool variational = integrator == "variational";
   if (!variational && integrator != "ida")
     throw InputError({"integrator", 0, 0}, "integrator '" + integrator + "': ida or variational");
-  if (variational && !(step && *step > 0 && std::isfinite(*step)))
-    throw InputError({"step", 0, 0}, "integrator='variational' needs step=H, a positive fixed step");
-  if (!variational && step) throw InputError({"step", 0, 0}, "step is the fixed step of integrator='variational'");
   if (variational && sensitivity)
     throw InputError({"sensitivity", 0, 0}, "forward sensitivities integrate with IDAS, not the variational integrator");
-  if (variational) require_variational_scene(built.scene, built.kind);
+  // The command line's rules (nhc/app/run_request.hpp), in the arguments' names; what is not
+  // given is the scene's [simulate].
+  app::RunRequest request;
+  request.t_end = t_end;
+  request.rtol = rtol;
+  request.atol = atol;
+  request.outputs = outputs;
+  if (output_times) {
+    request.output_times = *output_times;
+    request.output_times_text = "[" + join_numbers(*output_times) + "]";
+  }
+  request.max_steps = max_steps;
+  request.variational = variational;
+  request.step = step;
+  app::check_run_request(request, built.scene, built.kind, app::python_names());
   const runtime::Model& model = built.model();
   const double t0 = built.scene.initial.t0;
-  std::vector<double> times = output_times ? *output_times : runtime::output_times(t0, t_end, outputs);
-  if (times.empty() || !(times.back() > t0))
-    throw InputError({"t_end", 0, 0}, "the run must end after t0 = " + std::to_string(t0));
-  runtime::IntegratorOptions options;
-  options.rtol = rtol;
-  options.atol = atol;
-  options.max_steps = max_steps;
+  const std::vector<double> times = app::run_output_times(request, built.scene, app::python_names());
+  runtime::IntegratorOptions options = app::run_integrator_options(request, built.scene);
   const InterruptCheck interrupt;
   if (sensitivity) {
     if (inputs) throw InputError({"inputs", 0, 0}, "forward sensitivities do not take inputs");
@@ -297,17 +345,12 @@ py::dict simulate(const BuiltModel& built, double t_end, double rtol, double ato
   const runtime::Model* run_model = &model;
   std::map<std::string, long> extra;
   std::optional<double> max_discrete_constraint;
-  {
+  if (variational) run_model = &built.variational_model();  // a build: symbolic work, with the GIL
+  try {
     py::gil_scoped_release unlocked;
     const runtime::InitialState initial = runtime::initial_state_from(model, t0, built.scene.initial.values);
     if (variational) {
-      run_model = &built.variational_model();
-      const runtime::VariationalOptions vo = runtime::variational_options(*step, max_steps, options);
-      const long needed = runtime::variational_steps_needed(t0, times.back(), *step);
-      if (needed < 0 || needed > max_steps)
-        throw InputError({"step", 0, 0}, "step " + std::to_string(*step) + " takes " +
-                                             (needed < 0 ? std::string("too many") : std::to_string(needed)) +
-                                             " steps, more than max_steps " + std::to_string(max_steps));
+      const runtime::VariationalOptions vo = runtime::variational_options(*step, options.max_steps, options);
       runtime::VariationalRun v = runtime::simulate_variational(*run_model, p, initial, times, vo, input_function);
       run = std::move(v.run);
       max_discrete_constraint = v.max_discrete_constraint;
@@ -315,6 +358,9 @@ py::dict simulate(const BuiltModel& built, double t_end, double rtol, double ato
     } else {
       run = runtime::simulate(model, p, initial, times, options, {}, input_function);
     }
+  } catch (...) {
+    if (*interrupt.raised) throw std::move(**interrupt.raised);
+    throw;
   }
   if (input_failure && *input_failure) throw std::move(**input_failure);
   if (*interrupt.raised) throw std::move(**interrupt.raised);
@@ -425,7 +471,8 @@ void register_model(py::module_& m) {
                                return out;
                              })
       .def_property_readonly("model_name", [](const BuiltModel& b) { return b.model().model_name(); })
-      .def("simulate", &simulate, py::arg("t_end"), py::arg("rtol"), py::arg("atol"), py::arg("outputs"),
+      .def("simulate", &simulate, py::arg("t_end") = std::nullopt, py::arg("rtol") = std::nullopt,
+           py::arg("atol") = std::nullopt, py::arg("outputs") = std::nullopt,
            py::arg("output_times") = std::nullopt, py::arg("inputs") = std::nullopt, py::arg("max_steps") = 1000000,
            py::arg("sensitivity") = std::nullopt, py::arg("integrator") = "ida", py::arg("step") = std::nullopt)
       .def_property_readonly("inputs",
@@ -442,12 +489,10 @@ void register_model(py::module_& m) {
       "_sweep",
       [](const Scene& scene, const std::string& model, const std::string& name, double first, double last, int count,
          const std::map<std::string, double>& at) {
-        SweepResult result;
-        {
-          py::gil_scoped_release unlocked;
+        const SweepResult result = symbolic_work([&] {
           const Linearizer linearizer(scene, model_named(model));
-          result = sweep(linearizer, overrides_of(at), SweepRange{name, first, last, count});
-        }
+          return sweep(linearizer, overrides_of(at), SweepRange{name, first, last, count});
+        });
         py::list points, thresholds;
         for (const SweepPoint& p : result.points) {
           py::dict point = linearization(p.linearization);
@@ -471,11 +516,7 @@ void register_model(py::module_& m) {
   m.def(
       "_linearize",
       [](const Scene& scene, const std::string& model, const std::map<std::string, double>& at) {
-        Linearization lin;
-        {
-          py::gil_scoped_release unlocked;
-          lin = linearize(scene, model_named(model), overrides_of(at));
-        }
+        const Linearization lin = symbolic_work([&] { return linearize(scene, model_named(model), overrides_of(at)); });
         return linearization(lin);
       },
       py::arg("scene"), py::arg("model"), py::arg("at"));

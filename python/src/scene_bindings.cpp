@@ -8,8 +8,10 @@
 #include "nhc/derive/models.hpp"
 #include "nhc/emit/derivation_emitters.hpp"
 #include "model_argument.hpp"
+#include "nhc/app/run_request.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/scene/scene.hpp"
+#include "symbolic_work.hpp"
 
 namespace py = pybind11;
 
@@ -21,9 +23,8 @@ namespace {
 /// values written through parameters follow (as in the command line).
 void set_parameters(Scene& scene, const std::map<std::string, double>& values) {
   for (const auto& [name, value] : values) {
-    const std::optional<int> k = scene.jet->parameter_index(name);
-    if (!k) throw InputError({"set", 0, 0}, "unknown parameter '" + name + "' of scene " + scene.name);
-    scene.parameter_values[static_cast<std::size_t>(*k)] = value;
+    app::check_parameter_value(scene, name, value, "set", "set " + name);  // the rule of --set
+    scene.parameter_values[static_cast<std::size_t>(*scene.jet->parameter_index(name))] = value;
   }
   if (!values.empty()) reevaluate_initial_expressions(scene);
 }
@@ -37,10 +38,7 @@ Derivation derive(const Scene& scene, const std::string& model) {
   Derivation d;
   d.model = model;
   std::vector<DerivedModel> models;
-  {
-    py::gil_scoped_release unlocked;
-    models.push_back(derive_model(scene, model_named(model)));
-  }
+  symbolic_work([&] { models.push_back(derive_model(scene, model_named(model))); });
   if (!models.front().applicable)
     throw MathError("the " + model + " model does not apply to " + scene.name + ": " + models.front().reason);
   std::ostringstream text, latex, json;
@@ -56,14 +54,12 @@ Derivation derive(const Scene& scene, const std::string& model) {
 /// `nhc analyze` of one model: index, degrees of freedom, the initial values it needs and the
 /// consistent initial point (name → value: the values, then the leading derivatives).
 py::dict analyze(const Scene& scene, const std::string& model) {
-  ModelAnalysis a;
-  {
-    py::gil_scoped_release unlocked;
+  const ModelAnalysis a = symbolic_work([&] {
     const DerivedModel derived = derive_model(scene, model_named(model));
     if (!derived.applicable)
       throw MathError("the " + model + " model does not apply to " + scene.name + ": " + derived.reason);
-    a = analyze_model(scene, derived);
-  }
+    return analyze_model(scene, derived);
+  });
   py::dict out;
   out["model"] = model;
   if (!a.structure) throw MathError("the structural analysis of the " + model + " model failed");
@@ -100,11 +96,7 @@ void register_scene(py::module_& m) {
           [](const std::string& path, const std::map<std::string, double>& set, bool expand) {
             SceneOptions options;
             options.keep_definitions = !expand;
-            Scene scene;
-            {
-              py::gil_scoped_release unlocked;
-              scene = load_scene(path, options);
-            }
+            Scene scene = symbolic_work([&] { return load_scene(path, options); });
             set_parameters(scene, set);
             return scene;
           },
@@ -115,11 +107,7 @@ void register_scene(py::module_& m) {
              bool expand) {
             SceneOptions options;
             options.keep_definitions = !expand;
-            Scene scene;
-            {
-              py::gil_scoped_release unlocked;
-              scene = parse_scene(text, path, options);
-            }
+            Scene scene = symbolic_work([&] { return parse_scene(text, path, options); });
             set_parameters(scene, set);
             return scene;
           },

@@ -143,8 +143,59 @@ def test_inputs_from_a_python_function():
         raise ZeroDivisionError("no input here")
     with pytest.raises(ZeroDivisionError, match="no input here"):
         model.simulate(t_end=1, inputs=broken)
-    with pytest.raises(ValueError, match="returned 2 values"):
+    with pytest.raises(TypeError, match="returned 2 values"):
         model.simulate(t_end=1, inputs=lambda t, y: [0.0, 1.0])
+    # numpy reads None as NaN: the run would fail with "residual R_x is NaN" without naming the cause.
+    def forgot_return(t, y):
+        -2.0 * y[velocity]
+    with pytest.raises(TypeError, match="forgot_return returned None"):
+        model.simulate(t_end=1, inputs=forgot_return)
+
+
+@pytest.mark.parametrize("arguments, words", [
+    (dict(output_times=[-1, 0.5, 1]), "first time is before t0 = 0"),
+    (dict(output_times=[0, 0.5, 0.2, 1], integrator="variational", step=0.01), "the times must increase"),
+    (dict(output_times=[0, 0.5, 0.2, 1]), "the times must increase"),
+    (dict(output_times=[0, float("nan"), 1]), "nan is not a finite number"),
+    (dict(output_times=[0]), "the last time must be after t0"),
+    (dict(t_end=float("nan")), "t_end: nan is not a finite number"),
+    (dict(t_end=-1), "t_end -1 must be after t0 = 0"),
+    (dict(atol=float("inf")), "atol: inf is not a positive number"),
+    (dict(atol=0), "atol: 0 is not a positive number"),
+    (dict(rtol=1e10), "rtol: 10000000000 is not below 1"),
+    (dict(rtol=1e-17), "below the double-precision machine epsilon"),
+    (dict(rtol=float("nan")), "rtol: nan is not a positive number"),
+    (dict(outputs=0), "outputs: 0 is not a whole number from 1 to 10000000"),
+    (dict(outputs=-5), "outputs: -5 is not a whole number from 1 to 10000000"),
+    (dict(outputs=10**30), "outputs: .* is not a whole number from 1 to 10000000"),
+    (dict(outputs=2.5), "outputs: 2.5 is not a whole number"),
+    (dict(max_steps=0), "max_steps: 0 is not a whole number"),
+    (dict(integrator="variational", step=float("nan")), "step: nan is not a positive number"),
+])
+def test_run_arguments_obey_the_command_lines_rules(arguments, words):
+    # The rules of --output-times, --t-end, --rtol, --atol, --outputs, --max-steps and --step
+    # (nhc/app/run_request.hpp): each breach is an nhc.SceneError naming the argument, never a run.
+    model = nhc.Scene.from_toml(OSCILLATOR).build("chetaev")
+    with pytest.raises(nhc.SceneError, match=words) as caught:
+        model.simulate(**arguments)
+    assert caught.value.file == next(iter(arguments)) or caught.value.file in arguments
+
+
+def test_set_values_obey_the_command_lines_rules():
+    for value in (float("nan"), float("inf")):
+        with pytest.raises(nhc.SceneError, match="set k: .* is not a finite number"):
+            nhc.Scene.from_toml(OSCILLATOR, set={"k": value})
+    # A NaN parameter would reach GiNaC's evaluation in analyze (a raw RuntimeError before).
+    assert nhc.Scene.from_toml(OSCILLATOR, set={"k": 9.0}).analyze().initial_point["x''"] == pytest.approx(-9.0)
+
+
+def test_simulate_takes_the_scenes_simulate_values():
+    # [simulate] t_end, outputs, rtol and atol are the defaults, as for nhc simulate.
+    scene = nhc.Scene.from_toml(OSCILLATOR + "[simulate]\nt_end = 2.5\noutputs = 5\nrtol = 1e-11\natol = 1e-13\n")
+    run = scene.build("chetaev").simulate()
+    assert list(run.t) == pytest.approx([0.0, 0.5, 1.0, 1.5, 2.0, 2.5])
+    assert np.max(np.abs(run["x"] - np.cos(2.0 * run.t))) < 1e-9
+    assert len(scene.build("chetaev").simulate(t_end=1)) == 6
 
 
 def test_ctrl_c_stops_a_long_run():

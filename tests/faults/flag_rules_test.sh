@@ -36,15 +36,16 @@ refused_everywhere --rtol nan "is not a positive number"
 refused_everywhere --atol nan "is not a positive number"
 refused_everywhere --rtol 1e-17 "is below the double-precision machine epsilon"
 refused_everywhere --rtol -1 "is not a positive number"
+refused_everywhere --rtol 1e10 "is not below 1"
 refused_everywhere --atol inf "is not a positive number"
 refused_everywhere --t-end nan "is not a finite number"
 refused_everywhere --outputs 0 "is not a whole number from 1 to 10000000"
 refused_everywhere --outputs 100000000 "is not a whole number from 1 to 10000000"
 refused_everywhere --tolerance nan "is not a positive number"
-# --rtol (3 values) and --atol (2) in simulate, compare, connect, ensemble: 20; --t-end in
+# --rtol (4 values) and --atol (2) in simulate, compare, connect, ensemble: 24; --t-end in
 # simulate, compare, ensemble, report: 4; --outputs (2) in all five: 10; --tolerance in compare
 # and connect: 2.
-[ "$checked" -eq 36 ] || fail "only $checked command-flag pairs were checked"
+[ "$checked" -eq 40 ] || fail "only $checked command-flag pairs were checked"
 
 run -- report "$particle" --atol-scale nan -o "$work/out"
 expect "report --atol-scale nan" 2 "--atol-scale: error: --atol-scale nan is not a positive number"

@@ -1,8 +1,11 @@
 #include "nhc/jet/partial_derivative.hpp"
 
+#include "nhc/long_work.hpp"
+
 namespace nhc {
 
 GiNaC::ex partial_derivative(const GiNaC::ex& e, const GiNaC::symbol& s) {
+  check_for_stop();
   if (GiNaC::is_exactly_a<GiNaC::add>(e)) {
     // D Σ c_k t_k = Σ c_k D t_k over the terms that depend on s.
     GiNaC::exvector terms;

@@ -7,6 +7,8 @@
 #include <limits>
 #include <sstream>
 
+#include "nhc/long_work.hpp"
+
 namespace nhc::work_budget {
 
 namespace {
@@ -79,6 +81,7 @@ std::size_t node_count(const ex& e) {
 }
 
 ex expand(const ex& e) {
+  check_for_stop();  // the pipeline's expensive operations all pass here or through normal()
   const double bound = expanded_terms(e);
   if (bound > kMaxExpandedTerms)
     throw WorkLimitExceeded("expanding an expression would give up to " + count_text(bound) +
@@ -115,7 +118,10 @@ bool worth_trigonometric_simplification(const ex& e) {
   return terms(e) <= kMaxTrigonometricTerms && function_nesting(e) <= kMaxSimplifiedNesting;
 }
 
-ex normal(const ex& e) { return worth_simplifying(e) ? e.normal() : e; }
+ex normal(const ex& e) {
+  check_for_stop();
+  return worth_simplifying(e) ? e.normal() : e;
+}
 
 namespace {
 
@@ -147,6 +153,7 @@ double value_at(const ex& e, const GiNaC::exmap& point) {
 
 bool is_zero(const ex& e) {
   if (e.is_zero()) return true;
+  check_for_stop();
   const ex expanded = nhc::work_budget::expand(e);
   if (expanded.is_zero()) return true;
   if (worth_simplifying(expanded)) return expanded.normal().is_zero();

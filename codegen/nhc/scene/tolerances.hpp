@@ -20,6 +20,8 @@ inline std::string relative_tolerance_problem(double rtol) {
   if (rtol < kSmallestRelativeTolerance)
     return "is below the double-precision machine epsilon 2.2e-16: no arithmetic in doubles can honour it "
            "(use at least 1e-15)";
+  // An error as large as the state itself: not one correct digit is asked for.
+  if (rtol >= 1) return "is not below 1: a relative tolerance of 1 or more asks for no correct digit";
   return {};
 }
 

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "nhc/analysis/index1_reduction.hpp"
+#include "nhc/long_work.hpp"
 #include "nhc/derive/models.hpp"
 #include "nhc/errors.hpp"
 
@@ -126,7 +127,9 @@ LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& option
   const DerivedModel derived = derive_model(scene, kind);
   if (!derived.applicable)
     throw MathError("the " + to_string(kind) + " model does not apply to " + scene.name + ": " + derived.reason);
+  check_for_stop_now();
   const Index1System system = reduce_to_index1(scene, derived);
+  check_for_stop_now();
   const double derive_seconds = seconds_since(start);
 
   start = Clock::now();
@@ -136,6 +139,7 @@ LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& option
   header_options.variational = options.variational;
   header_options.split_from_bytes = options.split_from_bytes;
   GeneratedHeader header = generate_header(scene, system, header_options);
+  check_for_stop_now();
   const double generate_seconds = seconds_since(start);
 
   LoadedModel loaded = load_header(header, kind, header_options.jacobian, options.compile);

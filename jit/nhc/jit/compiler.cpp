@@ -16,6 +16,7 @@
 #include <exception>
 #include <fstream>
 #include <functional>
+#include <optional>
 #include <iostream>
 #include <sstream>
 #include <thread>
@@ -27,6 +28,7 @@
 #include "nhc/io/temporary_files.hpp"
 #include "nhc/jit/sha256.hpp"
 #include "nhc/jit/subprocess.hpp"
+#include "nhc/long_work.hpp"
 
 #ifndef NHC_CXX_COMPILER
 #define NHC_CXX_COMPILER "c++"
@@ -109,7 +111,11 @@ std::vector<std::string> optimizer_bounds(const CompileOptions& options, const s
 void run_all(const std::vector<std::function<void()>>& commands, int jobs) {
   std::vector<std::exception_ptr> errors(commands.size());
   std::atomic<std::size_t> next{0};
+  LongWorkObserver* const observer = current_observer();  // every thread's compiler may be stopped
+  const WaitingForProcess waiting;
   auto worker = [&] {
+    std::optional<ObservedWork> observed;
+    if (observer != nullptr) observed.emplace(*observer);
     for (std::size_t k; (k = next++) < commands.size();) try {
         commands[k]();
       } catch (...) {
@@ -121,6 +127,12 @@ void run_all(const std::vector<std::function<void()>>& commands, int jobs) {
   for (std::size_t t = 1; t < n; ++t) threads.emplace_back(worker);
   worker();
   for (std::thread& t : threads) t.join();
+  for (const std::exception_ptr& e : errors) try {  // a stop request first: it ended the others' compilers
+      if (e) std::rethrow_exception(e);
+    } catch (const WorkInterrupted&) {
+      throw;
+    } catch (...) {
+    }
   for (const std::exception_ptr& e : errors)
     if (e) std::rethrow_exception(e);
 }

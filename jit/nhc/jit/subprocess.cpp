@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "nhc/io/temporary_files.hpp"
+#include "nhc/long_work.hpp"
 
 extern char** environ;
 
@@ -129,7 +130,12 @@ ProcessResult run_process(const std::vector<std::string>& argv, std::string& out
   sigaddset(&defaults, SIGTERM);
   sigaddset(&defaults, SIGHUP);
   posix_spawnattr_setsigdefault(&attributes, &defaults);
-  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGDEF);
+  // Nothing blocked in the child: it would inherit the block below, and SIGTERM to its group
+  // would wait for stop_process_group's SIGKILL two seconds later.
+  sigset_t unblocked;
+  sigemptyset(&unblocked);
+  posix_spawnattr_setsigmask(&attributes, &unblocked);
+  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGDEF | POSIX_SPAWN_SETSIGMASK);
 
   std::vector<char*> args;
   for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
@@ -162,16 +168,29 @@ ProcessResult run_process(const std::vector<std::string>& argv, std::string& out
   const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
                                            std::chrono::duration<double>(timeout_seconds > 0 ? timeout_seconds : 0));
   char buffer[4096];
+  const WaitingForProcess waiting;
+  bool pipe_open = true;
+  // The caller's stop request (long_work.hpp) ends the group as the time limit does, then the work.
+  const auto stop_requested = [&] {
+    try {
+      check_for_stop();
+    } catch (const WorkInterrupted&) {
+      if (pipe_open) ::close(pipe_fds[0]);
+      stop_process_group(pid);
+      throw;
+    }
+  };
   for (;;) {
-    int wait_ms = -1;
+    int wait_ms = kStopCheckMilliseconds;
     if (timeout_seconds > 0) {
       const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
       if (left <= 0) {
         result.timed_out = true;
         break;
       }
-      wait_ms = static_cast<int>(std::min<long long>(left, 1000));
+      wait_ms = static_cast<int>(std::min<long long>(left, wait_ms));
     }
+    stop_requested();
     pollfd fd{pipe_fds[0], POLLIN, 0};
     const int ready = ::poll(&fd, 1, wait_ms);
     if (ready < 0 && errno != EINTR) break;
@@ -181,16 +200,18 @@ ProcessResult run_process(const std::vector<std::string>& argv, std::string& out
     else if (n == 0 || errno != EINTR) break;
   }
   ::close(pipe_fds[0]);
+  pipe_open = false;
   int status = 0;
   bool reaped = false;
   // Its output closed, it may still run (a program that closed its standard output): the
   // limit holds until it has exited.
   while (!result.timed_out && !reaped) {
-    const pid_t r = ::waitpid(pid, &status, timeout_seconds > 0 ? WNOHANG : 0);
+    const pid_t r = ::waitpid(pid, &status, WNOHANG);  // polled: the stop request is asked meanwhile
     if (r == pid) reaped = true;
     else if (r < 0 && errno != EINTR) return result;
     else if (timeout_seconds > 0 && Clock::now() >= deadline) result.timed_out = true;
     else if (r == 0) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    if (!reaped && !result.timed_out) stop_requested();
   }
   if (result.timed_out) status = stop_process_group(pid);
   if (WIFEXITED(status)) result.exit_status = WEXITSTATUS(status);

@@ -62,7 +62,8 @@ struct IntegratorOptions {
   /// Progress bar on stderr for runs longer than a second, when stderr is a terminal. Off by
   /// default: a library does not draw on its caller's terminal; `nhc simulate` turns it on.
   bool progress = false;
-  /// Asked after every accepted step (by the SensitivityIntegrator after every output); true
+  /// Asked after every accepted step (by the SensitivityIntegrator after every output and every
+  /// 32 residual evaluations); true
   /// stops the run with a SolverError of kind `stopped` at the last step (the samples before it
   /// are passed on). How an interpreter's Ctrl-C ends a
   /// long run (the Python package: KeyboardInterrupt).

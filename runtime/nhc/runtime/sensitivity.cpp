@@ -137,6 +137,12 @@ struct SensitivityIntegrator::Impl {
   bool sparse = false;
   std::string jacobian_kind;
   std::string last_message;
+  /// IDASolve runs to the next output in one call, which with the sensitivities may take minutes:
+  /// the stop request is also asked every kStopCheckEvaluations residual evaluations, and a yes
+  /// fails the residual (unrecoverably) so that IDAS returns and the run stops.
+  static constexpr long kStopCheckEvaluations = 32;
+  long residual_calls = 0;
+  bool stop_seen = false;
   double t = 0;
   bool initialized = false;
   double init_seconds = 0, integrate_seconds = 0;
@@ -235,6 +241,11 @@ struct SensitivityIntegrator::Impl {
 
   static int residual_cb(sunrealtype tt, N_Vector yy, N_Vector ypp, N_Vector rr, void* data) {
     auto* self = static_cast<Impl*>(data);
+    if (self->options.stop_requested && ++self->residual_calls % kStopCheckEvaluations == 0 &&
+        self->options.stop_requested()) {
+      self->stop_seen = true;
+      return -1;
+    }
     double* r = N_VGetArrayPointer(rr);
     self->model.table().residual(tt, N_VGetArrayPointer(yy), N_VGetArrayPointer(ypp), self->p.data(), r);
     for (int i = 0; i < self->n(); ++i)
@@ -333,6 +344,7 @@ struct SensitivityIntegrator::Impl {
   [[noreturn]] void fail(int flag, const char* what) {
     double tcur = t;
     IDAGetCurrentTime(ida, &tcur);
+    if (stop_seen) throw SolverError(FailureKind::stopped, tcur, "the run was stopped at t = " + number_text(tcur, 15));
     throw SolverError(sd::classify_ida_flag(flag), tcur,
                       std::string(what) + " failed at t = " + number_text(tcur, 15) + ": " + sd::describe_ida_flag(flag) +
                           (last_message.empty() ? "" : " (" + last_message + ")"));

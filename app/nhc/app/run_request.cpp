@@ -1,0 +1,154 @@
+#include "run_request.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "nhc/derive/discrete_lagrange_dalembert.hpp"
+#include "nhc/errors.hpp"
+#include "nhc/jet/jet_space.hpp"
+#include "nhc/runtime/variational.hpp"
+#include "nhc/scene/tolerances.hpp"
+
+namespace nhc::app {
+
+namespace {
+
+/// A number with `precision` significant digits, as the messages have always written them.
+std::string number(double v, int precision) {
+  std::ostringstream os;
+  os.precision(precision);
+  os << v;
+  return os.str();
+}
+
+/// The location of a field's message: the field itself ("--rtol"), in the words of flag_rules.
+[[noreturn]] void refuse(const std::string& field, const std::string& message) {
+  throw InputError({field, 0, 0}, message);
+}
+
+void check_value(const std::string& field, double value, std::string (*problem)(double)) {
+  if (const std::string why = problem(value); !why.empty()) refuse(field, field + ": " + number(value, 17) + " " + why);
+}
+
+void check_count(const std::string& field, long long value, long long low, long long high) {
+  if (const std::string why = count_problem(value, low, high); !why.empty())
+    refuse(field, field + ": " + std::to_string(value) + " " + why);
+}
+
+}  // namespace
+
+const FieldNames& command_line_names() {
+  static const FieldNames names{"--t-end", "--rtol",    "--atol",    "--outputs",
+                                "--output-times", "--max-steps", "--step", "--project",
+                                "--integrator variational", "--step H", ""};
+  return names;
+}
+
+const FieldNames& python_names() {
+  static const FieldNames names{"t_end",  "rtol",  "atol",    "outputs", "output_times", "max_steps",
+                                "step",   "project", "integrator='variational'", "step=H", ""};
+  return names;
+}
+
+std::string positive_problem(double v) { return std::isfinite(v) && v > 0 ? "" : "is not a positive number"; }
+std::string finite_problem(double v) { return std::isfinite(v) ? "" : "is not a finite number"; }
+std::string relative_tolerance_problem(double v) {
+  const std::string why = nhc::relative_tolerance_problem(v);
+  return why.empty() || why != "must be a positive number" ? why : "is not a positive number";
+}
+std::string count_problem(long long value, long long low, long long high) {
+  if (value >= low && value <= high) return "";
+  return "is not a whole number from " + std::to_string(low) + " to " + std::to_string(high);
+}
+
+void check_output_times(const std::vector<double>& times, double t0, const std::string& field,
+                        const std::string& text) {
+  const auto bad = [&](const std::string& why) { refuse(field, field + " " + text + ": " + why); };
+  for (double t : times)
+    if (!std::isfinite(t)) bad(number(t, 17) + " is not a finite number");
+  for (std::size_t i = 1; i < times.size(); ++i)
+    if (!(times[i] > times[i - 1])) bad("the times must increase");
+  if (times.empty()) bad("no time");
+  if (times.front() < t0) bad("the first time is before t0 = " + number(t0, 17));
+  if (!(times.back() > t0)) bad("the last time must be after t0 = " + number(t0, 17));
+}
+
+void check_run_request(const RunRequest& r, const Scene& scene, ModelKind kind, const FieldNames& names) {
+  if (r.t_end) check_value(names.t_end, *r.t_end, finite_problem);
+  if (r.rtol) check_value(names.rtol, *r.rtol, relative_tolerance_problem);
+  if (r.atol) check_value(names.atol, *r.atol, positive_problem);
+  if (r.step) check_value(names.step, *r.step, positive_problem);
+  if (r.outputs) check_count(names.outputs, *r.outputs, 1, kMaxOutputs);
+  check_count(names.max_steps, r.max_steps, 1, kMaxSteps);
+  if (r.output_times) check_output_times(*r.output_times, scene.initial.t0, names.output_times, r.output_times_text);
+  const std::string here = names.at.empty() ? names.t_end : names.at;
+  if (r.t_end && !(*r.t_end > scene.initial.t0))
+    refuse(here, names.t_end + " " + number(*r.t_end, 17) + " must be after t0 = " + number(scene.initial.t0, 17));
+  const std::string at_step = names.at.empty() ? names.step : names.at;
+  if (!r.variational) {
+    if (r.step) refuse(at_step, names.step + " is the fixed step of " + names.variational + "; IDA chooses its own");
+    return;
+  }
+  if (!r.step) refuse(at_step, names.variational + " needs " + names.step_value + " (the fixed step)");
+  if (r.project)
+    refuse(names.at.empty() ? names.project : names.at,
+           names.project + " applies to IDA: the variational integrator solves the discrete constraints at every step");
+  require_variational_scene(scene, kind);
+  const double t_end = run_output_times(r, scene, names).back();
+  const long steps = runtime::variational_steps_needed(scene.initial.t0, t_end, *r.step);
+  if (steps < 0 || steps > r.max_steps)
+    refuse(at_step, names.step + " " + number(*r.step, 6) + " takes " +
+                        (steps < 0 ? std::string("too many") : std::to_string(steps)) + " steps to t = " +
+                        number(t_end, 6) + ", more than " + names.max_steps + " " + std::to_string(r.max_steps));
+}
+
+std::vector<double> equally_spaced_output_times(double t0, double t_end, long long intervals, const std::string& fields) {
+  std::vector<double> times = runtime::output_times(t0, t_end, static_cast<int>(intervals));
+  if (const auto i = runtime::collapsed_output_time(times)) {
+    std::ostringstream why;
+    why.precision(17);
+    why << intervals << " output intervals from t0 = " << t0 << " to t_end = " << t_end
+        << " are closer than double precision resolves (times " << *i - 1 << " and " << *i << " are both "
+        << times[*i - 1] << "): choose fewer intervals or a span nearer the times' size";
+    refuse(fields, why.str());
+  }
+  return times;
+}
+
+std::vector<double> run_output_times(const RunRequest& r, const Scene& scene, const FieldNames& names) {
+  const double t0 = scene.initial.t0;
+  if (r.output_times) {
+    check_output_times(*r.output_times, t0, names.output_times, r.output_times_text);
+    return *r.output_times;
+  }
+  return equally_spaced_output_times(t0, r.t_end.value_or(scene.simulate.t_end),
+                                     r.outputs.value_or(scene.simulate.outputs.value_or(200)),
+                                     names.t_end + "/" + names.outputs);
+}
+
+runtime::IntegratorOptions run_integrator_options(const RunRequest& r, const Scene& scene) {
+  runtime::IntegratorOptions io;
+  io.rtol = r.rtol.value_or(scene.simulate.rtol);
+  io.atol = r.atol.value_or(scene.simulate.atol);
+  io.projection = r.project ? runtime::ProjectionMethod::in_place : runtime::ProjectionMethod::none;
+  io.max_steps = static_cast<long>(r.max_steps);
+  return io;
+}
+
+void check_parameter_name(const Scene& scene, const std::string& name, const std::string& field,
+                          const std::string& written) {
+  if (!scene.jet->parameter_index(name)) {
+    std::string known;
+    for (const std::string& p : scene.jet->parameters()) known += (known.empty() ? "" : ", ") + p;
+    refuse(field, written + ": '" + name + "' is not a parameter of the scene (" +
+                      (known.empty() ? std::string("it has none") : "parameters: " + known) + ")");
+  }
+}
+
+void check_parameter_value(const Scene& scene, const std::string& name, double value, const std::string& field,
+                           const std::string& written) {
+  check_parameter_name(scene, name, field, written);
+  if (!std::isfinite(value)) refuse(field, written + ": " + number(value, 17) + " is not a finite number");
+}
+
+}  // namespace nhc::app
