@@ -1,6 +1,7 @@
 #include "parameter_overrides.hpp"
 
 #include <cmath>
+#include <sstream>
 
 #include "nhc/errors.hpp"
 #include "nhc/jet/jet_space.hpp"
@@ -34,6 +35,12 @@ std::vector<ParameterOverride> parse_parameter_overrides(const Scene& scene, con
   std::vector<ParameterOverride> overrides;
   for (const std::string& a : assignments) {
     const auto [name, value] = split_assignment("--set", a);
+    if (const DerivedParameter* derived = scene.derived_parameter(name)) {
+      std::ostringstream formula;
+      formula << derived->value;
+      throw InputError({"--set", 0, 0}, "--set " + a + ": the scene computes '" + name + "' from other parameters (" +
+                                            name + " = " + formula.str() + "): set those instead");
+    }
     if (!scene.jet->parameter_index(name)) {
       std::string known;
       for (const std::string& p : scene.jet->parameters()) known += (known.empty() ? "" : ", ") + p;

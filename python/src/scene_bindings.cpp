@@ -21,6 +21,9 @@ namespace {
 /// values written through parameters follow (as in the command line).
 void set_parameters(Scene& scene, const std::map<std::string, double>& values) {
   for (const auto& [name, value] : values) {
+    if (scene.derived_parameter(name))
+      throw InputError({"set", 0, 0}, "the scene " + scene.name + " computes '" + name +
+                                          "' from other parameters: set those instead");
     const std::optional<int> k = scene.jet->parameter_index(name);
     if (!k) throw InputError({"set", 0, 0}, "unknown parameter '" + name + "' of scene " + scene.name);
     scene.parameter_values[static_cast<std::size_t>(*k)] = value;
