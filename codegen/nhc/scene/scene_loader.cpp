@@ -840,8 +840,10 @@ class SceneReader {
     }
   }
 
-  /// True when `text` names one of `names` (an identifier of the expression language).
-  static bool names_any_of(const std::string& text, const std::set<std::string>& names) {
+  /// The identifiers of `text` that are among `names`, in order of appearance.
+  template <class Names>
+  static std::vector<std::string> names_among(const std::string& text, const Names& names) {
+    std::vector<std::string> found;
     for (std::size_t i = 0; i < text.size();) {
       const auto c = static_cast<unsigned char>(text[i]);
       if (!(std::isalpha(c) || c == '_')) {
@@ -850,10 +852,13 @@ class SceneReader {
       }
       std::size_t j = i;
       while (j < text.size() && (std::isalnum(static_cast<unsigned char>(text[j])) || text[j] == '_')) ++j;
-      if (names.count(text.substr(i, j - i))) return true;
+      if (names.count(text.substr(i, j - i))) found.push_back(text.substr(i, j - i));
       i = j;
     }
-    return false;
+    return found;
+  }
+  static bool names_any_of(const std::string& text, const std::set<std::string>& names) {
+    return !names_among(text, names).empty();
   }
 
   /// The value of the parameter `name` computed from others, as an expression of the parameters
@@ -884,7 +889,37 @@ class SceneReader {
   /// Resolves every parameter computed from others, checks that its value is a finite number
   /// and makes it known to [initial] and [simulate] like a parameter.
   void read_derived_parameters(Scene& scene) {
-    for (const auto& [name, node] : derived_nodes_) derived_parameter(name, *scene.jet);
+    // Leaves first, with an explicit stack: each is then parsed with what it uses resolved, so a
+    // chain of any length recurses one level (as DefinitionTable does for [definitions]).
+    std::map<std::string, int> state;  // 1 on the stack, 2 resolved
+    for (const auto& entry : derived_nodes_) {
+      std::vector<std::pair<std::string, std::vector<std::string>>> stack;
+      const auto push = [&](const std::string& name) {
+        state[name] = 1;
+        stack.emplace_back(name, names_among(*derived_nodes_.at(name)->value<std::string>(), derived_nodes_));
+      };
+      if (state[entry.first] == 0) push(entry.first);
+      while (!stack.empty()) {
+        auto& [name, uses] = stack.back();
+        if (uses.empty()) {
+          state[name] = 2;
+          const std::string done = name;
+          stack.pop_back();
+          derived_parameter(done, *scene.jet);
+          continue;
+        }
+        const std::string next = uses.back();
+        uses.pop_back();
+        if (state[next] == 1) {
+          std::string chain;
+          auto it = std::find_if(stack.begin(), stack.end(), [&](const auto& e) { return e.first == next; });
+          for (; it != stack.end(); ++it) chain += it->first + " -> ";
+          fail(*derived_nodes_.at(stack.back().first), "parameter '" + stack.back().first +
+                                                           "' is computed from itself: " + chain + next);
+        }
+        if (state[next] == 0) push(next);
+      }
+    }
     for (const std::string& name : derived_order_) {
       const GiNaC::ex& value = derived_values_.at(name);
       scene.derived_parameters.push_back({name, value});
