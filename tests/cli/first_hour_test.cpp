@@ -185,6 +185,28 @@ TEST_CASE("parameters set by --set P=V in simulate, analyze, generate and derive
   }
 }
 
+TEST_CASE("--set of a parameter the scene computes from others: they follow, it is refused", "[cli][parameters]") {
+  const std::string dir = nhc::test::scratch_dir("first_hour_derived_parameters");
+  // A wheel (mass mw, radius r, Ja = mw r^2/2) under a body mb, rolling: x' = r th', and
+  // x'(0) = r*Ja written through the computed parameter.
+  const std::string scene = dir + "/wheel.toml";
+  std::ofstream(scene) << "name = \"wheel\"\ncoordinates = [\"x\", \"th\"]\n"
+                          "lagrangian = \"m/2*x'^2 + Ja/2*th'^2\"\nconstraints = [\"x' - r*th'\"]\n"
+                          "[parameters]\nJa = \"mw*r^2/2\"\nm = \"mw + mb\"\nmw = 2.0\nmb = 1.0\nr = 0.5\n"
+                          "[initial]\nx = [0.0, \"r*Ja\"]\nth = [0.0]\nlambda1 = [0.0]\n"
+                          "[simulate]\nmodel = \"chetaev\"\nt_end = 0.5\noutputs = 2\n";
+  const Run plain = nhc_run("simulate '" + scene + "' -o -", dir);
+  REQUIRE(plain.exit_code == 0);
+  CHECK(std::abs(csv_row(plain.out, 0)[2] - 0.5 * 0.25) < 1e-15);
+  const Run heavier = nhc_run("simulate '" + scene + "' --set mw=4 -o -", dir);
+  REQUIRE(heavier.exit_code == 0);
+  CHECK(std::abs(csv_row(heavier.out, 0)[2] - 0.5 * 0.5) < 1e-15);  // Ja = 4 * 0.25 / 2
+  CHECK(std::abs(csv_row(heavier.out, 2)[1] - 0.5 * 0.5 * 0.5) < 1e-9);  // uniform rolling
+  const Run refused = nhc_run("simulate '" + scene + "' --set Ja=1 -o -", dir);
+  CHECK(refused.exit_code == 2);
+  CHECK_THAT(refused.err, Contains("--set Ja=1: the scene computes 'Ja' from other parameters"));
+}
+
 TEST_CASE("output times and columns of simulate", "[cli][issue14]") {
   const std::string dir = nhc::test::scratch_dir("first_hour_outputs");
   // [simulate] outputs = 4: five rows.

@@ -137,6 +137,12 @@ runtime::IntegratorOptions run_integrator_options(const RunRequest& r, const Sce
 
 void check_parameter_name(const Scene& scene, const std::string& name, const std::string& field,
                           const std::string& written) {
+  if (const DerivedParameter* derived = scene.derived_parameter(name)) {
+    std::ostringstream formula;
+    formula << derived->value;
+    refuse(field, written + ": the scene computes '" + name + "' from other parameters (" + name + " = " +
+                      formula.str() + "): set those instead");
+  }
   if (!scene.jet->parameter_index(name)) {
     std::string known;
     for (const std::string& p : scene.jet->parameters()) known += (known.empty() ? "" : ", ") + p;

@@ -21,7 +21,11 @@ void DefinitionTable::add(const std::string& name, std::string text, Locator loc
 }
 
 ExpressionRules DefinitionTable::rules_with_definitions(ExpressionRules rules) {
-  rules.definition = [this](const std::string& name) { return resolve(name); };
+  // Names that are not definitions go to the rules' own lookup (parameters computed from others).
+  rules.definition = [this, outer = rules.definition](const std::string& name) -> std::optional<Value> {
+    if (std::optional<Value> value = resolve(name)) return value;
+    return outer ? outer(name) : std::nullopt;
+  };
   return rules;
 }
 

@@ -636,12 +636,12 @@ class Parser {
     if (auto k = jet_.input_index(base)) {
       if (order > 0)
         fail(start, "input '" + base + "' cannot carry primes: an input's derivative is not known");
-      if (!rules_.allow_coordinates) fail(start, "input '" + base + "' is not allowed here (only t and parameters)");
+      if (!rules_.allow_coordinates) fail(start, "input '" + base + "' is not allowed here " + allowed_here());
       return Value::scalar(jet_.input(*k));
     }
     if (const std::optional<int> i = jet_.coordinate_index(base)) {
       if (!rules_.allow_coordinates)
-        fail(start, "coordinate '" + base + "' is not allowed here (only t and parameters)");
+        fail(start, "coordinate '" + base + "' is not allowed here " + allowed_here());
       return Value::scalar(jet_.q(*i, order));
     }
     if (auto alpha = multiplier_index(base); alpha && *alpha < jet_.multiplier_count()) {
@@ -654,13 +654,16 @@ class Parser {
     fail(start, "unknown name '" + shown(base) + "'" + (hint.empty() ? "" : " (" + hint + ")"));
   }
 
+  /// What an expression without coordinates may use, for messages.
+  std::string allowed_here() const { return rules_.allow_time ? "(only t and parameters)" : "(only parameters)"; }
+
   /// A definition's value, differentiated `primes` times with the total derivative D.
   Value defined(const std::string& name, const Value& value, int primes, std::size_t start) {
     if (!rules_.allow_coordinates || !rules_.allow_time)
       for (const ex& e : value.entries) {
         if (!rules_.allow_coordinates && jet_.highest_coordinate_order(e) >= 0)
-          fail(start, "definition '" + shown(name) + "' involves coordinates, not allowed here "
-                      "(only t and parameters)");
+          fail(start, "definition '" + shown(name) + "' involves coordinates, not allowed here " +
+                          allowed_here());
         if (!rules_.allow_time && e.has(jet_.time()))
           fail(start, "definition '" + shown(name) + "' involves 't', not allowed here");
       }

@@ -70,6 +70,14 @@ struct SceneInput {
   SourceLocation where;  ///< the entry in the scene file
 };
 
+/// A [parameters] entry written through other parameters (`Ja = "mw*r^2/2"`): not a parameter of
+/// the equations but an expression of them, substituted where its name appears, so that it
+/// follows every change of the parameters it uses (--set, ensembles, sweeps).
+struct DerivedParameter {
+  std::string name;
+  GiNaC::ex value;  ///< of the parameters (JetSpace::parameter symbols) and numbers
+};
+
 struct Scene {
   std::string name;         ///< valid C++ identifier, used for file names
   std::string source_path;  ///< file the scene came from ("" when built in code)
@@ -84,6 +92,7 @@ struct Scene {
   std::shared_ptr<JetSpace> jet;
 
   std::vector<double> parameter_values;  ///< in JetSpace parameter order
+  std::vector<DerivedParameter> derived_parameters;  ///< each after those it uses
   GiNaC::ex lagrangian;                  ///< L(t, q, q')
   SourceLocation lagrangian_where;       ///< where the scene file writes L (refusals point there)
   std::vector<GiNaC::ex> constraints;    ///< f^α(t, q, …, q^(m_α)) = 0
@@ -116,7 +125,14 @@ struct Scene {
   /// an operating point of `nhc linearize`). Throws MathError naming the input where the signal
   /// is not a finite number there.
   GiNaC::exmap input_substitution(double t) const;
+  /// Every parameter's value by name, those computed from others included.
+  std::map<std::string, double> parameter_values_by_name() const;
+  /// The parameter `name` computed from others, or null.
+  const DerivedParameter* derived_parameter(const std::string& name) const;
 };
+
+/// The value of e at `values` as a finite double, or nullopt (not a number, complex, infinite).
+std::optional<double> finite_value(const GiNaC::ex& e, const GiNaC::exmap& values);
 
 /// How a scene is read.
 struct SceneOptions {

@@ -88,10 +88,35 @@ SceneReference::Entries SceneReference::for_model(ModelKind model) const {
   return entries;
 }
 
-void reevaluate_initial_expressions(Scene& scene) {
+std::optional<double> finite_value(const GiNaC::ex& e, const GiNaC::exmap& values) {
+  try {
+    const GiNaC::ex v = GiNaC::evalf(e.subs(values, GiNaC::subs_options::no_pattern));
+    if (!GiNaC::is_a<GiNaC::numeric>(v) || !GiNaC::ex_to<GiNaC::numeric>(v).is_real()) return std::nullopt;
+    const double d = GiNaC::ex_to<GiNaC::numeric>(v).to_double();
+    if (!std::isfinite(d)) return std::nullopt;
+    return d;
+  } catch (const std::exception&) {
+    return std::nullopt;  // 1/0, log(0): not a number
+  }
+}
+
+std::map<std::string, double> Scene::parameter_values_by_name() const {
   std::map<std::string, double> names;
-  for (std::size_t p = 0; p < scene.parameter_values.size(); ++p)
-    names[scene.jet->parameters()[p]] = scene.parameter_values[p];
+  for (std::size_t p = 0; p < parameter_values.size(); ++p) names[jet->parameters()[p]] = parameter_values[p];
+  const GiNaC::exmap values = parameter_substitution();
+  for (const DerivedParameter& d : derived_parameters)
+    if (const std::optional<double> v = finite_value(d.value, values)) names[d.name] = *v;
+  return names;
+}
+
+const DerivedParameter* Scene::derived_parameter(const std::string& name) const {
+  for (const DerivedParameter& d : derived_parameters)
+    if (d.name == name) return &d;
+  return nullptr;
+}
+
+void reevaluate_initial_expressions(Scene& scene) {
+  const std::map<std::string, double> names = scene.parameter_values_by_name();
   for (const auto& [name, texts] : scene.initial.expressions) {
     std::vector<double>& values = scene.initial.values[name];
     for (std::size_t k = 0; k < texts.size() && k < values.size(); ++k)
@@ -188,13 +213,21 @@ class SceneReader {
       coordinate_names.push_back(n);
     }
 
+    // [parameters]: numbers (or constant expressions such as "pi/8") are the parameters of the
+    // equations; an expression that names other parameters ("mw*r^2/2") is computed from them.
     std::vector<std::string> parameter_names;
     std::vector<double> parameter_values;
     if (const toml::node* params_node = root.get("parameters")) {
       const toml::table& params = table_value(*params_node, "parameters");
+      std::set<std::string> keys;
+      for (auto&& [key, value] : params) keys.insert(std::string(key.str()));
       for (auto&& [key, value] : params) {
         const std::string n(key.str());
         check_variable_name_at(at(key.source()), n, "parameter");
+        if (value.is_string() && names_any_of(*value.value<std::string>(), keys)) {
+          derived_nodes_[n] = &value;
+          continue;
+        }
         parameter_names.push_back(n);
         parameter_values.push_back(number_value(value, "parameter '" + n + "'"));
       }
@@ -233,12 +266,14 @@ class SceneReader {
     scene.parameter_values = parameter_values;
     for (std::size_t i = 0; i < parameter_names.size(); ++i) constants_[parameter_names[i]] = parameter_values[i];
     const JetSpace& jet = *scene.jet;
+    read_derived_parameters(scene);
     for (std::size_t k = 0; k < input_nodes.size(); ++k)
       scene.jet->set_input_location(static_cast<int>(k), input_nodes[k].second);
     read_initial(root, scene);
     const GiNaC::exmap initial_point = initial_point_of(scene);
 
     ExpressionRules plain;  // t, parameters, coordinates; no multipliers
+    plain.definition = [this, &jet](const std::string& n) { return derived_parameter(n, jet); };
     plain.rotation_check.point = &initial_point;
     plain.node_budget = std::make_shared<std::size_t>(kMaxSceneNodes);
     read_input_signals(input_nodes, scene, plain);
@@ -806,6 +841,95 @@ class SceneReader {
     }
   }
 
+  /// The identifiers of `text` that are among `names`, in order of appearance.
+  template <class Names>
+  static std::vector<std::string> names_among(const std::string& text, const Names& names) {
+    std::vector<std::string> found;
+    for (std::size_t i = 0; i < text.size();) {
+      const auto c = static_cast<unsigned char>(text[i]);
+      if (!(std::isalpha(c) || c == '_')) {
+        ++i;
+        continue;
+      }
+      std::size_t j = i;
+      while (j < text.size() && (std::isalnum(static_cast<unsigned char>(text[j])) || text[j] == '_')) ++j;
+      if (names.count(text.substr(i, j - i))) found.push_back(text.substr(i, j - i));
+      i = j;
+    }
+    return found;
+  }
+  static bool names_any_of(const std::string& text, const std::set<std::string>& names) {
+    return !names_among(text, names).empty();
+  }
+
+  /// The value of the parameter `name` computed from others, as an expression of the parameters
+  /// of the equations (resolved on first use, in any order); nullopt when `name` is not one.
+  std::optional<Value> derived_parameter(const std::string& name, const JetSpace& jet) {
+    const auto node = derived_nodes_.find(name);
+    if (node == derived_nodes_.end()) return std::nullopt;
+    if (const auto known = derived_values_.find(name); known != derived_values_.end())
+      return Value::scalar(known->second);
+    if (std::find(derived_chain_.begin(), derived_chain_.end(), name) != derived_chain_.end()) {
+      std::string chain;
+      for (auto it = std::find(derived_chain_.begin(), derived_chain_.end(), name); it != derived_chain_.end(); ++it)
+        chain += *it + " -> ";
+      fail(*node->second, "parameter '" + name + "' is computed from itself: " + chain + name);
+    }
+    derived_chain_.push_back(name);
+    ExpressionRules rules;  // numbers, pi, e and parameters only
+    rules.allow_coordinates = false;
+    rules.allow_time = false;
+    rules.definition = [this, &jet](const std::string& n) { return derived_parameter(n, jet); };
+    const GiNaC::ex value = expression(*node->second, "parameter '" + name + "'", jet, rules);
+    derived_chain_.pop_back();
+    derived_values_[name] = value;
+    derived_order_.push_back(name);
+    return Value::scalar(value);
+  }
+
+  /// Resolves every parameter computed from others, checks that its value is a finite number
+  /// and makes it known to [initial] and [simulate] like a parameter.
+  void read_derived_parameters(Scene& scene) {
+    // Leaves first, with an explicit stack: each is then parsed with what it uses resolved, so a
+    // chain of any length recurses one level (as DefinitionTable does for [definitions]).
+    std::map<std::string, int> state;  // 1 on the stack, 2 resolved
+    for (const auto& entry : derived_nodes_) {
+      std::vector<std::pair<std::string, std::vector<std::string>>> stack;
+      const auto push = [&](const std::string& name) {
+        state[name] = 1;
+        stack.emplace_back(name, names_among(*derived_nodes_.at(name)->value<std::string>(), derived_nodes_));
+      };
+      if (state[entry.first] == 0) push(entry.first);
+      while (!stack.empty()) {
+        auto& [name, uses] = stack.back();
+        if (uses.empty()) {
+          state[name] = 2;
+          const std::string done = name;
+          stack.pop_back();
+          derived_parameter(done, *scene.jet);
+          continue;
+        }
+        const std::string next = uses.back();
+        uses.pop_back();
+        if (state[next] == 1) {
+          std::string chain;
+          auto it = std::find_if(stack.begin(), stack.end(), [&](const auto& e) { return e.first == next; });
+          for (; it != stack.end(); ++it) chain += it->first + " -> ";
+          fail(*derived_nodes_.at(stack.back().first), "parameter '" + stack.back().first +
+                                                           "' is computed from itself: " + chain + next);
+        }
+        if (state[next] == 0) push(next);
+      }
+    }
+    for (const std::string& name : derived_order_) {
+      const GiNaC::ex& value = derived_values_.at(name);
+      scene.derived_parameters.push_back({name, value});
+      const std::optional<double> v = finite_value(value, scene.parameter_substitution());
+      if (!v) fail(*derived_nodes_.at(name), "parameter '" + name + "' is not a finite number at the parameters' values");
+      constants_[name] = *v;
+    }
+  }
+
   /// A constant expression (constant_expression.hpp) over pi, e and the parameters read so far.
   double constant_value(const toml::node& node, const std::string& what) const {
     try {
@@ -819,6 +943,10 @@ class SceneReader {
   std::string path_;
   SceneOptions options_;
   std::map<std::string, double> constants_;  ///< the parameters, once read
+  std::map<std::string, const toml::node*> derived_nodes_;  ///< [parameters] computed from others
+  std::map<std::string, GiNaC::ex> derived_values_;         ///< … as expressions of the parameters
+  std::vector<std::string> derived_order_;                  ///< … each after those it uses
+  std::vector<std::string> derived_chain_;                  ///< being resolved (for cycles)
   std::vector<const toml::node*> fixed_nodes_;  ///< [initial] fixed, checked after the values
   std::vector<std::string> lines_;
   std::set<std::string> names_;
