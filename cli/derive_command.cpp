@@ -1,4 +1,4 @@
-// nhc derive SCENE [--model M]... [--format text|latex|json] [--set P=V]... [--expand] [-o FILE]
+// nhc derive SCENE [--model M]... [--format text|latex|latex-math|json] [--set P=V]... [--expand] [-o FILE]
 #include <iostream>
 
 #include "commands.hpp"
@@ -46,7 +46,7 @@ CommandRunner add_derive_command(CLI::App& app) {
   sub->add_option("--model,-m", options->models, "model(s) to derive (default: the scene's)")
       ->check(CLI::IsMember(model_names()));
   sub->add_option("--format,-f", options->format, "output format")
-      ->check(CLI::IsMember({"text", "latex", "json"}));
+      ->check(CLI::IsMember({"text", "latex", "latex-math", "json"}));
   add_set_option(sub, options->set);
   add_expand_flag(sub, options->read);
   sub->add_option("-o,--output", options->output, "write to FILE instead of standard output");
@@ -62,6 +62,7 @@ CommandRunner add_derive_command(CLI::App& app) {
     }
     auto write = [&](std::ostream& out) {
       if (options->format == "latex") write_derivation_latex(out, scene, models);
+      else if (options->format == "latex-math") write_derivation_latex_math(out, scene, models);
       else if (options->format == "json") write_derivation_json(out, scene, models);
       else write_derivation_text(out, scene, models);
     };

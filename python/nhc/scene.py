@@ -10,12 +10,14 @@ from .model import Linearization, Model, Sweep
 
 class Derivation:
     """One model's equations, as `nhc derive` writes them: `text`, `latex` (a standalone
-    document), `json` (parsed: a dict). Jupyter shows the LaTeX equations."""
+    document), `latex_math` (the equations as math only, for MathJax), `json` (parsed: a dict).
+    Jupyter shows the LaTeX equations."""
 
     def __init__(self, derived):
         self.model = derived.model
         self.text = derived.text
         self.latex = derived.latex
+        self.latex_math = derived.latex_math
         self._json_text = derived.json
 
     @property
@@ -23,12 +25,8 @@ class Derivation:
         return _json.loads(self._json_text)
 
     def _repr_latex_(self):
-        # The document's body: Jupyter's MathJax renders the aligned blocks, not the preamble.
-        body = self.latex
-        start, end = body.find("\\begin{document}"), body.rfind("\\end{document}")
-        if start >= 0 and end > start:
-            body = body[start + len("\\begin{document}"):end]
-        return body.strip()
+        # Math only (align* blocks, headings as \text rows): MathJax renders math, not \section.
+        return self.latex_math.strip()
 
     def __repr__(self):
         return self.text

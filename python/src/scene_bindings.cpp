@@ -31,7 +31,7 @@ void set_parameters(Scene& scene, const std::map<std::string, double>& values) {
 
 /// One model's derivation in the three forms of `nhc derive`.
 struct Derivation {
-  std::string model, text, latex, json;
+  std::string model, text, latex, latex_math, json;
 };
 
 Derivation derive(const Scene& scene, const std::string& model) {
@@ -41,12 +41,14 @@ Derivation derive(const Scene& scene, const std::string& model) {
   symbolic_work([&] { models.push_back(derive_model(scene, model_named(model))); });
   if (!models.front().applicable)
     throw MathError("the " + model + " model does not apply to " + scene.name + ": " + models.front().reason);
-  std::ostringstream text, latex, json;
+  std::ostringstream text, latex, latex_math, json;
   write_derivation_text(text, scene, models);
   write_derivation_latex(latex, scene, models);
+  write_derivation_latex_math(latex_math, scene, models);
   write_derivation_json(json, scene, models);
   d.text = text.str();
   d.latex = latex.str();
+  d.latex_math = latex_math.str();
   d.json = json.str();
   return d;
 }
@@ -88,6 +90,7 @@ void register_scene(py::module_& m) {
       .def_readonly("model", &Derivation::model)
       .def_readonly("text", &Derivation::text)
       .def_readonly("latex", &Derivation::latex)
+      .def_readonly("latex_math", &Derivation::latex_math)
       .def_readonly("json", &Derivation::json);
 
   py::class_<Scene>(m, "_Scene")

@@ -463,3 +463,64 @@ TEST_CASE("LaTeX output of the examples compiles with pdflatex, the Whipple bicy
     if (name == "whipple_bicycle") CHECK(std::stoi(pages[1].str()) <= 10);
   }
 }
+
+TEST_CASE("LaTeX reads like a textbook: d/dt of partials, like terms gathered, equations named by coordinate",
+          "[cli][latex][issue47]") {
+  const std::string dir = scratch_dir("latex_textbook");
+  // R_x = -2 mw x'' - mb x'' + ...: one term in x'' once gathered; Iby next to psi'' spaced.
+  const std::string scene = dir + "/cart.toml";
+  std::ofstream(scene) << "name = \"cart\"\ncoordinates = [\"x\", \"psi\", \"q1\"]\n"
+                          "lagrangian = \"mw*x'^2 + mb/2*x'^2 + Iby/2*psi'^2 + mb*x'*psi'*cos(psi) + q1'^2/2\"\n"
+                          "[parameters]\nmw = 1\nmb = 2\nIby = 3\n";
+  const Run latex = run(nhc_command() + " derive '" + scene + "' --model chetaev --format latex", dir);
+  REQUIRE(latex.exit_code == 0);
+  const std::string& t = latex.out;
+  const std::size_t rx = t.find("R_{x} &="), rpsi = t.find("R_{\\psi} &=");
+  REQUIRE(rx != std::string::npos);
+  REQUIRE(rpsi != std::string::npos);
+  const std::string row_x = t.substr(rx, t.find('\n', rx) - rx);
+  std::size_t accelerations = 0;
+  for (std::size_t at = row_x.find("\\ddot{x}"); at != std::string::npos; at = row_x.find("\\ddot{x}", at + 1)) ++accelerations;
+  CHECK(accelerations == 1);
+  CHECK(row_x.find("\\mathrm{mw}") != std::string::npos);
+  CHECK(t.find("\\mathrm{Iby}\\,\\ddot{\\psi}") != std::string::npos);
+  CHECK(t.find("R_{q_{1}} &=") != std::string::npos);
+  CHECK(t.find("\\ddot{q}_{1}") != std::string::npos);
+  CHECK(t.find("R_{1}") == std::string::npos);
+
+  // The text, LaTeX and JSON name the equations alike.
+  const Run json = run(nhc_command() + " derive '" + scene + "' --model chetaev --format json", dir);
+  REQUIRE(json.exit_code == 0);
+  CHECK(json.out.find("\"equation_names\": [\n        \"R_x\",\n        \"R_psi\",\n        \"R_q1\"") != std::string::npos);
+
+  // The bicycle's time derivatives of partial derivatives: d/dt before the fraction, never a dot over it.
+  const Run bicycle = run(nhc_command() + " derive '" + example("whipple/whipple_bicycle") + "' --format latex", dir);
+  REQUIRE(bicycle.exit_code == 0);
+  CHECK(bicycle.out.find("\\frac{d}{dt}\\frac{\\partial ") != std::string::npos);
+  CHECK(bicycle.out.find("\\dot{\\partial") == std::string::npos);
+  CHECK(bicycle.out.find("\\dot{\\frac") == std::string::npos);
+
+  // The math-only form has no document structure (MathJax renders math, not \section).
+  const Run math = run(nhc_command() + " derive '" + scene + "' --format latex-math", dir);
+  REQUIRE(math.exit_code == 0);
+  CHECK(math.out.find("\\section") == std::string::npos);
+  CHECK(math.out.find("\\documentclass") == std::string::npos);
+  CHECK(math.out.find("&\\text{Model }\\mathtt{chetaev}") != std::string::npos);
+}
+
+TEST_CASE("every example's LaTeX document compiles with pdflatex", "[cli][latex][issue47]") {
+  REQUIRE(std::system("command -v pdflatex >/dev/null 2>&1") == 0);  // scripts/setup.sh installs it
+  std::vector<std::string> scenes;
+  for (const std::string& name : list_dir(std::string(NHC_SOURCE_DIR) + "/examples", ".toml"))
+    scenes.push_back(name.substr(0, name.size() - 5));
+  REQUIRE(scenes.size() >= 10);
+  for (const std::string& name : scenes) {
+    INFO("scene " << name);
+    const std::string dir = scratch_dir("latex_all_" + name);
+    const Run r = run(nhc_command() + " derive '" + example(name) + "' --format latex -o '" + dir + "/e.tex'", dir);
+    REQUIRE(r.exit_code == 0);
+    const Run latex = run("cd '" + dir + "' && pdflatex -interaction=nonstopmode -halt-on-error e.tex", dir);
+    INFO(latex.out.substr(latex.out.size() > 2000 ? latex.out.size() - 2000 : 0));
+    CHECK(latex.exit_code == 0);
+  }
+}

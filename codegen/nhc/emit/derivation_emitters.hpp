@@ -25,6 +25,10 @@ void write_derivation_text(std::ostream& out, const Scene& scene,
 /// A standalone amsmath document, one aligned block per model; compiles with pdflatex.
 void write_derivation_latex(std::ostream& out, const Scene& scene,
                             const std::vector<DerivedModel>& models);
+/// The same equations as math only (align* blocks with their headings as \text rows), for
+/// MathJax: Jupyter's _repr_latex_ and `nhc derive --format latex-math`.
+void write_derivation_latex_math(std::ostream& out, const Scene& scene,
+                                 const std::vector<DerivedModel>& models);
 /// {"scene", "parameters", "symbols", "definitions", "models"} as documented in README.md;
 /// "definitions" lists the intermediates in dependency order, so that a reader substitutes them
 /// from the last to the first.

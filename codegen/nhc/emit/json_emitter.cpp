@@ -59,6 +59,11 @@ void write_derivation_json(std::ostream& out, const Scene& scene,
     json.key("equations").begin_array();
     for (const auto& e : model.equations) json.value(to_text(e));
     json.end_array();
+    // The equations' names, as the text and LaTeX forms write them: R_<coordinate>.
+    json.key("equation_names").begin_array();
+    for (std::size_t i = 0; i < model.equations.size(); ++i)
+      json.value("R_" + scene.jet->coordinates().at(i));
+    json.end_array();
     // Every model lists its constraints under the same key; "constraints_solved" says whether
     // the model solves them (vakonomic, chetaev, holder) or only monitors them (suslov).
     json.key("constraints").begin_array();

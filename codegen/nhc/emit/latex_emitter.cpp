@@ -2,6 +2,8 @@
 #include "nhc/jet/expression_printer.hpp"
 #include "nhc/jet/intermediate.hpp"
 
+#include <algorithm>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,6 +27,9 @@ std::string latex_text(const std::string& s) {
 /// equation is split over many small ones (its width would otherwise exceed \maxdimen).
 constexpr std::size_t kRowCharacters = 300;
 constexpr int kRowsPerEnvironment = 40;
+/// MathJax 2 refuses one formula larger than its buffer (TeX MAXBUFFER, 5 kB by default, which a
+/// notebook's reader cannot be asked to raise): the math-only form closes its environments sooner.
+constexpr int kRowsPerMathJaxEnvironment = 12;
 
 /// A term too long for one row as pieces that rows may be broken between: sums, products,
 /// powers and function calls are opened up (with plain parentheses, which TeX lets a row break
@@ -76,13 +81,20 @@ void append_pieces(const GiNaC::ex& e, std::vector<std::string>& out) {
 /// Writes the rows of align* environments, opening a new environment every kRowsPerEnvironment.
 class AlignWriter {
  public:
-  explicit AlignWriter(std::ostream& out) : out_(out) { out_ << "\\begin{align*}\n"; }
+  explicit AlignWriter(std::ostream& out, int rows_per_environment = kRowsPerEnvironment)
+      : out_(out), rows_per_environment_(rows_per_environment) {
+    out_ << "\\begin{align*}\n";
+  }
+  AlignWriter(std::ostream& out, const std::string& heading, int rows_per_environment)
+      : AlignWriter(out, rows_per_environment) {
+    if (!heading.empty()) row(heading);
+  }
   ~AlignWriter() { out_ << "\n\\end{align*}\n"; }
   AlignWriter(const AlignWriter&) = delete;
   AlignWriter& operator=(const AlignWriter&) = delete;
 
   void row(const std::string& text) {
-    if (rows_ == kRowsPerEnvironment) {
+    if (rows_ == rows_per_environment_) {
       out_ << "\n\\end{align*}\n\\begin{align*}\n";
       rows_ = 0;
     }
@@ -120,51 +132,115 @@ class AlignWriter {
 
  private:
   std::ostream& out_;
+  int rows_per_environment_;
   int rows_ = 0;
 };
 
-}  // namespace
+/// The terms of the sum e that are linear in one of `symbols` gathered into one term per symbol:
+/// (2 m_w + m_b) \ddot{x} on one row, not -2 m_w \ddot{x} and -m_b \ddot{x} apart. Only regroups
+/// the terms as they stand (no expansion): linear in the number of terms.
+GiNaC::ex gathered(const GiNaC::ex& e, const GiNaC::exset& symbols) {
+  if (!GiNaC::is_a<GiNaC::add>(e) || symbols.empty()) return e;
+  GiNaC::exvector rest;
+  std::vector<std::pair<GiNaC::ex, GiNaC::exvector>> groups;  // symbol, its coefficients
+  for (const GiNaC::ex& term : e) {
+    std::optional<GiNaC::ex> key;
+    bool several = false;
+    if (symbols.count(term)) key = term;
+    else if (GiNaC::is_a<GiNaC::mul>(term))
+      for (const GiNaC::ex& factor : term)
+        if (symbols.count(factor)) {
+          several = key.has_value();
+          key = factor;
+        }
+    if (!key || several) {
+      rest.push_back(term);
+      continue;
+    }
+    auto group = std::find_if(groups.begin(), groups.end(), [&](const auto& g) { return g.first.is_equal(*key); });
+    if (group == groups.end()) group = groups.insert(groups.end(), {*key, {}});
+    group->second.push_back(term / *key);
+  }
+  for (const auto& [symbol, coefficients] : groups) rest.push_back(GiNaC::add(coefficients) * symbol);
+  return GiNaC::add(rest);
+}
 
-void write_derivation_latex(std::ostream& out, const Scene& scene,
-                            const std::vector<DerivedModel>& models) {
-  out << "\\documentclass[10pt]{article}\n"
-         "\\usepackage[margin=2cm,landscape]{geometry}\n"
-         "\\usepackage{amsmath}\n"
-         "\\allowdisplaybreaks\n"
-         "\\begin{document}\n"
-      << "\\section*{Scene \\texttt{" << latex_text(scene.name) << "}}\n";
+/// The symbols a residual is linear in and that readers gather by: the accelerations (order ≥ 2)
+/// and the multipliers.
+GiNaC::exset gathering_symbols(const JetSpace& jet, const GiNaC::ex& e) {
+  GiNaC::exset symbols;
+  for (const JetCoordinate& c : jet.jet_coordinates_in(e))
+    if (c.kind == VariableKind::multiplier || c.order >= 2) symbols.insert(jet.symbol(c));
+  return symbols;
+}
+
+/// Headings: sections in the document form, \text rows in the math-only form.
+struct LatexForm {
+  bool document = true;
+  int rows() const { return document ? kRowsPerEnvironment : kRowsPerMathJaxEnvironment; }
+  std::string heading(std::ostream& out, int level, const std::string& words, const std::string& name) const {
+    if (document) {
+      out << (level == 0 ? "\\section*{" : "\\subsection*{") << words << " \\texttt{" << latex_text(name) << "}}\n";
+      return "";
+    }
+    return "&\\text{" + words + " }\\mathtt{" + latex_text(name) + "}";
+  }
+};
+
+void write_latex(std::ostream& out, const Scene& scene, const std::vector<DerivedModel>& models, const LatexForm& form) {
+  const JetSpace& jet = *scene.jet;
   {
-    AlignWriter align(out);
+    AlignWriter align(out, form.heading(out, 0, "Scene", scene.name), form.rows());
     align.equation("L", scene.lagrangian, "");
     for (std::size_t a = 0; a < scene.constraints.size(); ++a)
       align.equation("f^{" + std::to_string(a + 1) + "}", scene.constraints[a], "");
   }
   for (const DerivedModel& model : models) {
-    out << "\\subsection*{Model \\texttt{" << to_string(model.kind) << "}}\n";
+    const std::string heading = form.heading(out, 1, "Model", to_string(model.kind));
     if (!model.applicable) {
-      out << "Not applicable: " << latex_text(model.reason) << "\n";
+      if (form.document) out << "Not applicable: " << latex_text(model.reason) << "\n";
+      else AlignWriter(out, heading, form.rows()).row("&\\text{not applicable}");
       continue;
     }
-    AlignWriter align(out);
+    AlignWriter align(out, heading, form.rows());
+    // Named by their coordinate, as the text and JSON forms do: R_x, R_\psi.
     for (std::size_t i = 0; i < model.equations.size(); ++i)
-      align.equation("R_{" + std::to_string(i + 1) + "}", model.equations[i], " = 0");
+      align.equation("R_{" + to_latex(jet.q(static_cast<int>(i), 0)) + "}",
+                     gathered(model.equations[i], gathering_symbols(jet, model.equations[i])), " = 0");
     for (std::size_t a = 0; a < model.constraints.size(); ++a)
       align.equation("f^{" + std::to_string(a + 1) + "}", model.constraints[a],
                      model.constraints_are_equations ? " = 0" : " = 0 \\quad\\text{(monitored)}");
   }
   const std::vector<GiNaC::ex> where = derivation_intermediates(scene, models);
-  if (!where.empty()) {
+  if (where.empty()) return;
+  std::string heading;
+  if (form.document)
     out << "\\subsection*{Where}\n"
-           "Each quantity after the ones it uses; $\\partial_z X$ is the partial derivative of $X$ by "
-           "$z$ and $\\dot X$ its time derivative (\\texttt{--format json} lists their expressions, "
+           "Each quantity after the ones it uses (\\texttt{--format json} lists their expressions, "
            "\\texttt{nhc derive --expand} substitutes all).\n";
-    AlignWriter align(out);
-    for (const GiNaC::ex& d : where) {
-      const auto& i = GiNaC::ex_to<Intermediate>(d);
-      if (i.origin() == Intermediate::Origin::defined) align.equation(i.latex_name(), i.expression(), "");
-    }
+  else
+    heading = "&\\text{where}";
+  AlignWriter align(out, heading, form.rows());
+  for (const GiNaC::ex& d : where) {
+    const auto& i = GiNaC::ex_to<Intermediate>(d);
+    if (i.origin() == Intermediate::Origin::defined) align.equation(i.latex_name(), i.expression(), "");
   }
+}
+
+}  // namespace
+
+void write_derivation_latex(std::ostream& out, const Scene& scene, const std::vector<DerivedModel>& models) {
+  out << "\\documentclass[10pt]{article}\n"
+         "\\usepackage[margin=2cm,landscape]{geometry}\n"
+         "\\usepackage{amsmath}\n"
+         "\\allowdisplaybreaks\n"
+         "\\begin{document}\n";
+  write_latex(out, scene, models, LatexForm{true});
   out << "\\end{document}\n";
+}
+
+void write_derivation_latex_math(std::ostream& out, const Scene& scene, const std::vector<DerivedModel>& models) {
+  write_latex(out, scene, models, LatexForm{false});
 }
 
 }  // namespace nhc

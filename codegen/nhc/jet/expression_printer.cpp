@@ -250,11 +250,24 @@ class CanonicalLatex {
     std::string top = a.is_rational() && !a.numer().is_equal(1) ? ginac_text(a.numer()) : "";
     std::string bottom = a.is_rational() && !a.denom().is_equal(1) ? ginac_text(a.denom()) : "";
     if (!a.is_rational()) top = ginac_text(a);
-    for (const auto& f : upper) top += (top.empty() ? "" : " ") + f.second;
-    for (const auto& f : lower) bottom += (bottom.empty() ? "" : " ") + f.second;
+    top = juxtaposed(top, upper);
+    bottom = juxtaposed(bottom, lower);
     if (top.empty()) top = "1";
     if (bottom.empty()) return sign + top;
     return sign + "\\frac{" + top + "}{" + bottom + "}";
+  }
+
+  /// Factors side by side after `coefficient`; a thin space beside a name of several letters
+  /// (\mathrm{Iby}\,\ddot{\theta}), which would otherwise read as one word with its neighbour.
+  static std::string juxtaposed(std::string out, const std::vector<std::pair<std::string, std::string>>& factors) {
+    bool previous_long = false;
+    for (const auto& f : factors) {
+      const bool long_name = f.second.find("\\mathrm{") != std::string::npos;
+      if (!out.empty()) out += (long_name || previous_long) ? "\\," : " ";
+      out += f.second;
+      previous_long = long_name;
+    }
+    return out;
   }
 
   std::string power(const ex& e) const {

@@ -71,6 +71,18 @@ std::string latex_of(const GiNaC::symbol& s) {
   return tex.empty() ? s.get_name() : tex;
 }
 
+/// ∂X/∂s as a textbook writes it: \frac{\partial T}{\partial \dot{\psi}}.
+std::string partial_latex(const std::string& of, const std::string& by) {
+  return "\\frac{\\partial " + of + "}{\\partial " + by + "}";
+}
+
+/// dX/dt: a dot over a plain name (\dot{T}), d/dt before anything else, so that the dot is never
+/// lost over a fraction or a subscript (\frac{d}{dt}\frac{\partial T}{\partial \dot{\psi}}).
+std::string time_derivative_latex(const std::string& of) {
+  const bool plain = of.find_first_of("\\{}_^ ") == std::string::npos;
+  return plain ? "\\dot{" + of + "}" : "\\frac{d}{dt}" + of;
+}
+
 }  // namespace
 
 int expression_nodes(const GiNaC::ex& e, int limit) {
@@ -207,7 +219,7 @@ GiNaC::ex Intermediate::derivative(const GiNaC::symbol& s) const {
       continue;
     }
     di.partials.emplace(key, keep_or_name(partial_derivative(di.expression, s), "d" + di.name + "_d" + s.get_name(),
-                                          "\\partial_{" + latex_of(s) + "}" + di.latex));
+                                          partial_latex(di.latex, latex_of(s))));
     stack.pop_back();
   }
   return definition_->partials.at(key);
@@ -221,7 +233,7 @@ GiNaC::ex Intermediate::total_derivative(const TotalDerivative& D) const {
     if (i.definition_->total) continue;
     const GiNaC::ex value = D(i.expression());
     i.definition_->total = std::make_unique<GiNaC::ex>(
-        keep_or_name(value, i.definition_->name + "_dot", "\\dot{" + i.definition_->latex + "}"));
+        keep_or_name(value, i.definition_->name + "_dot", time_derivative_latex(i.definition_->latex)));
   }
   return *definition_->total;
 }

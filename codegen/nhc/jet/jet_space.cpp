@@ -21,10 +21,19 @@ const std::set<std::string>& greek_letters() {
   return names;
 }
 
-/// LaTeX for a bare name: single letters as they are, Greek names as macros, others upright.
+/// LaTeX for a bare name: single letters as they are, Greek names as macros, a letter or a Greek
+/// name followed by digits with the digits as subscript (q1 → q_{1}, theta2 → \theta_{2}), others
+/// upright.
 std::string latex_base(const std::string& name) {
   if (name.size() == 1) return name;
   if (greek_letters().count(name)) return "\\" + name;
+  const std::size_t digits = name.find_first_of("0123456789");
+  if (digits != std::string::npos && digits > 0 &&
+      name.find_first_not_of("0123456789", digits) == std::string::npos) {
+    const std::string letters = name.substr(0, digits);
+    if (letters.size() == 1 || greek_letters().count(letters))
+      return latex_base(letters) + "_{" + name.substr(digits) + "}";
+  }
   std::string escaped;
   for (char ch : name) {
     if (ch == '_') escaped += "\\_";
@@ -54,12 +63,17 @@ std::string jet_symbol_latex(const std::string& variable, VariableKind kind, int
     }
   }
   base = latex_base(variable);
+  // The dot goes over the letter, not its subscript: \dot{q}_{1}.
+  const std::size_t subscript = base.rfind("_{");
+  const bool indexed = subscript != std::string::npos && base.find("\\mathrm") == std::string::npos;
+  const std::string letter = indexed ? base.substr(0, subscript) : base;
+  const std::string index = indexed ? base.substr(subscript) : "";
   switch (order) {
     case 0: return base;
-    case 1: return "\\dot{" + base + "}";
-    case 2: return "\\ddot{" + base + "}";
-    case 3: return "\\dddot{" + base + "}";
-    default: return base + "^{(" + std::to_string(order) + ")}";
+    case 1: return "\\dot{" + letter + "}" + index;
+    case 2: return "\\ddot{" + letter + "}" + index;
+    case 3: return "\\dddot{" + letter + "}" + index;
+    default: return letter + index + "^{(" + std::to_string(order) + ")}";
   }
 }
 
