@@ -129,6 +129,7 @@ Solution solve(HermiteSimpson& problem, const std::vector<double>& guess, const 
   app->Options()->SetStringValue("hessian_approximation", "limited-memory");
   app->Options()->SetIntegerValue("max_iter", options.max_iterations);
   app->Options()->SetNumericValue("tol", options.tolerance);
+  app->Options()->SetNumericValue("constr_viol_tol", options.violation_tolerance);
   app->Options()->SetStringValue("mu_strategy", "adaptive");
   if (app->Initialize() != Ipopt::Solve_Succeeded) throw EnvironmentError("IPOPT could not be initialised");
   const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(nlp);

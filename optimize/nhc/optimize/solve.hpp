@@ -14,6 +14,7 @@ namespace nhc::optimize {
 struct SolveOptions {
   int max_iterations = 3000;
   double tolerance = 1e-10;  ///< IPOPT's tol: the scaled KKT error at the optimum
+  double violation_tolerance = 1e-9;  ///< IPOPT's constr_viol_tol: the largest |constraint| at the optimum
   /// Called after each iteration with its number, the objective and the constraint violation;
   /// returning false stops the solve (a user's interrupt).
   std::function<bool(int iteration, double cost, double violation)> progress;
