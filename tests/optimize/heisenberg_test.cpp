@@ -128,3 +128,17 @@ TEST_CASE("[optimize] entries are located in the scene", "[optimize]") {
   CHECK(message(heisenberg(0.5, 1.0, "\"x''\" = [0, 1]\n")) ==
         "heisenberg.toml:17:1: error: 'x''': the transcription holds coordinates and their first derivatives only");
 }
+
+TEST_CASE("a free final time: the loop's cost 2 pi a/T plus T is least at T = sqrt(2 pi a)", "[optimize]") {
+  std::string text = heisenberg(0.5, 1.0);
+  text.replace(text.find("t_end = 1"), 9, "t_end = [0.5, 4.0]\nfinal_cost = \"t\"");
+  const Scene scene = parse_scene(text, "heisenberg.toml");
+  const optimize::Settings settings = optimize::read_settings(scene);
+  REQUIRE(settings.free_time());
+  optimize::HermiteSimpson problem(scene, settings, 50);
+  const optimize::Solution solution = optimize::solve(problem, problem.straight_line());
+  REQUIRE(solution.status == optimize::Solution::Status::optimal);
+  const double t_end = std::sqrt(2 * M_PI * 0.5);
+  CHECK(std::abs(problem.final_time(solution.z.data()) - t_end) < 1e-6 * t_end);
+  CHECK(std::abs(solution.cost - 2 * t_end) < 1e-6 * 2 * t_end);
+}
