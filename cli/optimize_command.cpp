@@ -1,4 +1,5 @@
-// nhc optimize SCENE [-o FILE.csv] [--intervals N] [--guess FILE.csv] [--max-iterations N] [--tolerance E]
+// nhc optimize SCENE [-o FILE.csv] [--intervals N] [--guess FILE.csv] [--plot DIR] [--max-iterations N]
+//                    [--tolerance E]
 //
 // An optimal motion (docs/optimize.md): the scene's [optimize] table transcribed by
 // Hermite–Simpson collocation and solved by IPOPT (nhc::optimize). Prints `cost = C`, the
@@ -11,6 +12,7 @@
 
 #include "commands.hpp"
 #include "flag_rules.hpp"
+#include "nhc/io/atomic_directory.hpp"
 #include "nhc/io/atomic_file.hpp"
 #include "nhc/io/output_path.hpp"
 #include "nhc/optimize/hermite_simpson.hpp"
@@ -18,13 +20,14 @@
 #include "nhc/optimize/solve.hpp"
 #include "nhc/scene/scene.hpp"
 #include "plots.hpp"
+#include "trajectory_plots.hpp"
 
 namespace nhc::cli {
 
 namespace {
 
 struct OptimizeOptions {
-  std::string scene_path, output, guess;
+  std::string scene_path, output, guess, plot;
   std::optional<int> intervals;
   int max_iterations = 3000;
   double tolerance = 1e-10;
@@ -67,6 +70,31 @@ void write_path(std::ostream& out, const Scene& scene, const optimize::HermiteSi
   }
 }
 
+/// `--plot DIR`: the path's CSV, the coordinates and the rates against t, the path in the plane
+/// of the first two coordinates, and plots.md (plots.hpp), written atomically.
+void write_plots(const std::string& directory, const Scene& scene, const optimize::HermiteSimpson& problem,
+                 const std::vector<double>& z, const std::vector<std::string>& inputs, const std::string& summary) {
+  AtomicDirectory out(directory, inputs);
+  const std::string csv = scene.name + "_optimal.csv";
+  write_file_atomically(out.file(csv), [&](std::ostream& o) { write_path(o, scene, problem, z); });
+  Plot coordinates{"coordinates", "coordinates", "t", "", false, false, {}};
+  Plot rates{"rates", "rates (the controls)", "t", "", false, false, {}};
+  for (const std::string& name : scene.jet->coordinates()) {
+    coordinates.curves.push_back({name, csv, "t", name});
+    rates.curves.push_back({name + "'", csv, "t", name + "'"});
+  }
+  std::vector<Plot> plots{coordinates, rates};
+  const PathPlane plane = path_plane(scene, "", "--plot");
+  if (!plane.y.empty()) plots.push_back(path_plot("path", "path", plane, {{"optimal", csv}}));
+  draw_plots(out.path(), plots);
+  write_file_atomically(out.file("plots.md"), [&](std::ostream& o) {
+    o << "# " << scene.name << ": optimal motion\n\nDrawn by `nhc optimize --plot` from [" << csv << "](" << csv
+      << ") (t, the coordinates and their rates on the " << problem.points() << " collocation points). " << summary
+      << "\n\n" << markdown_images(plots);
+  });
+  out.commit();
+}
+
 }  // namespace
 
 CommandRunner add_optimize_command(CLI::App& app) {
@@ -78,6 +106,7 @@ CommandRunner add_optimize_command(CLI::App& app) {
   sub->add_option("--intervals", options->intervals, "collocation intervals (default: [optimize] intervals, else 40)")
       ->check(flag_rules::count(1, 100000));
   sub->add_option("--guess", options->guess, "start from this path (CSV with t and the coordinates, e.g. nhc simulate's)");
+  sub->add_option("--plot", options->plot, "directory for plots (SVG, PNG) of the coordinates, rates and path");
   sub->add_option("--max-iterations", options->max_iterations, "IPOPT iterations (default 3000)")
       ->check(flag_rules::count(1, 1000000));
   sub->add_option("--tolerance", options->tolerance, "IPOPT's tolerance on the scaled optimality error (default 1e-10)")
@@ -90,6 +119,10 @@ CommandRunner add_optimize_command(CLI::App& app) {
       throw InputError(settings.table_where,
                        "nhc optimize so far solves scenes without [inputs] (the vakonomic problem; docs/optimize.md, \"Scope\")");
     if (!options->output.empty()) check_output_file(options->output, {options->scene_path, options->guess});
+    if (!options->plot.empty()) {
+      require_gnuplot("--plot");
+      check_output_directory(options->plot, {options->scene_path, options->guess});
+    }
     optimize::HermiteSimpson problem(scene, settings, options->intervals.value_or(settings.intervals));
     const std::vector<double> guess =
         options->guess.empty() ? problem.straight_line() : guess_from_file(scene, problem, options->guess);
@@ -112,9 +145,20 @@ CommandRunner add_optimize_command(CLI::App& app) {
 
     using Status = optimize::Solution::Status;
     auto write = [&] {
-      if (options->output.empty()) return;
-      write_file_atomically(options->output, [&](std::ostream& out) { write_path(out, scene, problem, solution.z); });
-      std::cout << "  wrote " << options->output << " (" << problem.points() << " rows)\n";
+      if (!options->output.empty()) {
+        write_file_atomically(options->output, [&](std::ostream& out) { write_path(out, scene, problem, solution.z); });
+        std::cout << "  wrote " << options->output << " (" << problem.points() << " rows)\n";
+      }
+      if (!options->plot.empty()) {
+        const std::string summary =
+            solution.status == Status::optimal
+                ? fmt::format("Cost {:.15g}, constraint violation {:.3g}, {} IPOPT iterations.", solution.cost,
+                              solution.violation, solution.iterations)
+                : fmt::format("Not an optimum: {} ({} iterations); the last point, cost {:.10g}.", solution.words,
+                              solution.iterations, solution.cost);
+        write_plots(options->plot, scene, problem, solution.z, {options->scene_path, options->guess}, summary);
+        std::cout << "  wrote " << options->plot << "/plots.md\n";
+      }
     };
     if (solution.status == Status::optimal) {
       std::cout << fmt::format("  cost = {:.15g}\n", solution.cost);
