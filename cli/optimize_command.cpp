@@ -1,5 +1,5 @@
 // nhc optimize SCENE [-o FILE.csv] [--intervals N] [--guess FILE.csv] [--plot DIR] [--max-iterations N]
-//                    [--tolerance E]
+//                    [--tolerance E] [--jacobian exact|finite-differences]
 //
 // An optimal motion (docs/optimize.md): the scene's [optimize] table transcribed by
 // Hermite–Simpson collocation and solved by IPOPT (nhc::optimize). Prints `cost = C`, the
@@ -31,6 +31,7 @@ struct OptimizeOptions {
   std::optional<int> intervals;
   int max_iterations = 3000;
   double tolerance = 1e-10;
+  std::string jacobian = "exact";
 };
 
 /// The starting path from a CSV with a header (nhc simulate's or optimize's): t, each coordinate,
@@ -107,6 +108,9 @@ CommandRunner add_optimize_command(CLI::App& app) {
       ->check(flag_rules::count(1, 100000));
   sub->add_option("--guess", options->guess, "start from this path (CSV with t and the coordinates, e.g. nhc simulate's)");
   sub->add_option("--plot", options->plot, "directory for plots (SVG, PNG) of the coordinates, rates and path");
+  sub->add_option("--jacobian", options->jacobian,
+                  "exact (the default) or finite-differences: IPOPT's own differences on the same sparsity")
+      ->check(CLI::IsMember({"exact", "finite-differences"}));
   sub->add_option("--max-iterations", options->max_iterations, "IPOPT iterations (default 3000)")
       ->check(flag_rules::count(1, 1000000));
   sub->add_option("--tolerance", options->tolerance, "IPOPT's tolerance on the scaled optimality error (default 1e-10)")
@@ -137,6 +141,7 @@ CommandRunner add_optimize_command(CLI::App& app) {
     optimize::SolveOptions solve_options;
     solve_options.max_iterations = options->max_iterations;
     solve_options.tolerance = options->tolerance;
+    solve_options.finite_difference_jacobian = options->jacobian == "finite-differences";
     solve_options.progress = [](int iteration, double cost, double violation) {
       std::cerr << fmt::format("  iteration {:4d}: cost {:.10g}, violation {:.3g}\n", iteration, cost, violation);
       return true;

@@ -131,6 +131,8 @@ Solution solve(HermiteSimpson& problem, const std::vector<double>& guess, const 
   app->Options()->SetNumericValue("tol", options.tolerance);
   app->Options()->SetNumericValue("constr_viol_tol", options.violation_tolerance);
   app->Options()->SetStringValue("mu_strategy", "adaptive");
+  if (options.finite_difference_jacobian)
+    app->Options()->SetStringValue("jacobian_approximation", "finite-difference-values");
   if (app->Initialize() != Ipopt::Solve_Succeeded) throw EnvironmentError("IPOPT could not be initialised");
   const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(nlp);
   if (solution.z.empty())
