@@ -24,6 +24,7 @@ CommandRunner add_compare_command(CLI::App& app);
 CommandRunner add_ensemble_command(CLI::App& app);
 CommandRunner add_plot_command(CLI::App& app);
 CommandRunner add_connect_command(CLI::App& app);
+CommandRunner add_optimize_command(CLI::App& app);
 CommandRunner add_linearize_command(CLI::App& app);
 CommandRunner add_animate_command(CLI::App& app);
 

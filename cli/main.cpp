@@ -63,6 +63,7 @@ int run_command_line(int argc, char** argv) {
   add(nhc::cli::add_ensemble_command);
   add(nhc::cli::add_plot_command);
   add(nhc::cli::add_connect_command);
+  add(nhc::cli::add_optimize_command);
   add(nhc::cli::add_linearize_command);
   add(nhc::cli::add_animate_command);
 

@@ -12,6 +12,7 @@ packages=(
   texlive-latex-base clang
   gnuplot-nox
   libssl-dev
+  coinor-libipopt-dev
   libhdf5-dev libopenmpi-dev openmpi-bin
   pybind11-dev python3-dev python3-numpy python3-pytest
   python3-nbclient python3-ipykernel python3-matplotlib python3-pil python3-h5py

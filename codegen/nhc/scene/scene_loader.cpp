@@ -191,7 +191,8 @@ class SceneReader {
 
     check_keys(root, {"name", "coordinates", "lagrangian", "constraints", "dependent", "models",
                       "parameters", "initial", "simulate", "reference", "invariants",
-                      "definitions", "forces", "outputs", "inputs", "visual"});
+                      "definitions", "forces", "outputs", "inputs", "visual",
+                      "optimize"});  // read by nhc::optimize (read_settings)
 
     Scene scene;
     scene.source_path = path_;
@@ -969,6 +970,7 @@ std::string equations_source(const std::string& text) {
   }
   root.erase("initial");
   root.erase("simulate");
+  root.erase("optimize");  // steers nhc optimize, not part of the equations
   root.erase("visual");  // drawn from the run, not part of the equations
   std::ostringstream out;
   out << toml::toml_formatter(root);

@@ -1,0 +1,193 @@
+// nhc optimize SCENE [-o FILE.csv] [--intervals N] [--guess FILE.csv] [--plot DIR] [--max-iterations N]
+//                    [--tolerance E] [--jacobian exact|finite-differences]
+//
+// An optimal motion (docs/optimize.md): the scene's [optimize] table transcribed by
+// Hermite–Simpson collocation and solved by IPOPT (nhc::optimize). Prints `cost = C`, the
+// constraint violation and the iterations; writes t, the coordinates and their rates on the
+// collocation points. IPOPT's progress goes to stderr. Infeasible or iteration limit: exit 3
+// in words naming the constraint violated most (at the iteration limit the last point is written).
+#include <fmt/format.h>
+
+#include <iostream>
+
+#include "commands.hpp"
+#include "flag_rules.hpp"
+#include "nhc/io/atomic_directory.hpp"
+#include "nhc/io/atomic_file.hpp"
+#include "nhc/io/output_path.hpp"
+#include "nhc/optimize/hermite_simpson.hpp"
+#include "nhc/optimize/settings.hpp"
+#include "nhc/optimize/solve.hpp"
+#include "nhc/scene/scene.hpp"
+#include "plots.hpp"
+#include "trajectory_plots.hpp"
+
+namespace nhc::cli {
+
+namespace {
+
+struct OptimizeOptions {
+  std::string scene_path, output, guess, plot;
+  std::optional<int> intervals;
+  int max_iterations = 3000;
+  double tolerance = 1e-10;
+  std::string jacobian = "exact";
+};
+
+/// The starting path from a CSV with a header (nhc simulate's or optimize's): t, each coordinate,
+/// its rate where present.
+std::vector<double> guess_from_file(const Scene& scene, const optimize::HermiteSimpson& problem, const std::string& path) {
+  CsvTable table;
+  try {
+    table = read_csv_table(path);
+  } catch (const std::exception& e) {
+    throw InputError({"--guess", 0, 0}, path + ": " + e.what());
+  }
+  if (table.rows.empty()) throw InputError({"--guess", 0, 0}, path + " has no rows");
+  const int t = table.column("t");
+  if (t < 0) throw InputError({"--guess", 0, 0}, path + " has no column t");
+  for (std::size_t r = 1; r < table.rows.size(); ++r)
+    if (!(table.rows[r][static_cast<std::size_t>(t)] >= table.rows[r - 1][static_cast<std::size_t>(t)]))
+      throw InputError({"--guess", 0, 0}, path + ": t does not increase at row " + std::to_string(r + 2));
+  std::vector<int> q, v;
+  for (const std::string& name : scene.jet->coordinates()) {
+    q.push_back(table.column(name));
+    v.push_back(table.column(name + "'"));
+    if (q.back() < 0) throw InputError({"--guess", 0, 0}, path + " has no column " + name);
+  }
+  return problem.from_samples(table.rows, t, q, v);
+}
+
+void write_path(std::ostream& out, const Scene& scene, const optimize::HermiteSimpson& problem, const std::vector<double>& z) {
+  out << "t";
+  for (const std::string& name : scene.jet->coordinates()) out << "," << name << "," << name << "'";
+  out << "\n";
+  for (int j = 0; j < problem.points(); ++j) {
+    out << fmt::format("{:.17g}", problem.time(j, z.data()));
+    for (int i = 0; i < problem.coordinates(); ++i)
+      out << fmt::format(",{:.17g},{:.17g}", z[static_cast<std::size_t>(problem.q_index(j, i))],
+                         z[static_cast<std::size_t>(problem.v_index(j, i))]);
+    out << "\n";
+  }
+}
+
+/// `--plot DIR`: the path's CSV, the coordinates and the rates against t, the path in the plane
+/// of the first two coordinates, and plots.md (plots.hpp), written atomically.
+void write_plots(const std::string& directory, const Scene& scene, const optimize::HermiteSimpson& problem,
+                 const std::vector<double>& z, const std::vector<std::string>& inputs, const std::string& summary) {
+  AtomicDirectory out(directory, inputs);
+  const std::string csv = scene.name + "_optimal.csv";
+  write_file_atomically(out.file(csv), [&](std::ostream& o) { write_path(o, scene, problem, z); });
+  Plot coordinates{"coordinates", "coordinates", "t", "", false, false, {}};
+  Plot rates{"rates", "rates (the controls)", "t", "", false, false, {}};
+  for (const std::string& name : scene.jet->coordinates()) {
+    coordinates.curves.push_back({name, csv, "t", name});
+    rates.curves.push_back({name + "'", csv, "t", name + "'"});
+  }
+  std::vector<Plot> plots{coordinates, rates};
+  const PathPlane plane = path_plane(scene, "", "--plot");
+  if (!plane.y.empty()) plots.push_back(path_plot("path", "path", plane, {{"optimal", csv}}));
+  draw_plots(out.path(), plots);
+  write_file_atomically(out.file("plots.md"), [&](std::ostream& o) {
+    o << "# " << scene.name << ": optimal motion\n\nDrawn by `nhc optimize --plot` from [" << csv << "](" << csv
+      << ") (t, the coordinates and their rates on the " << problem.points() << " collocation points). " << summary
+      << "\n\n" << markdown_images(plots);
+  });
+  out.commit();
+}
+
+}  // namespace
+
+CommandRunner add_optimize_command(CLI::App& app) {
+  auto options = std::make_shared<OptimizeOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "optimize", "an optimal motion of a scene's [optimize] problem (Hermite-Simpson collocation, IPOPT)");
+  sub->add_option("SCENE", options->scene_path, "scene file (TOML) with an [optimize] table")->required();
+  sub->add_option("-o,--output", options->output, "CSV file for the optimal path (t, coordinates and rates)");
+  sub->add_option("--intervals", options->intervals, "collocation intervals (default: [optimize] intervals, else 40)")
+      ->check(flag_rules::count(1, 100000));
+  sub->add_option("--guess", options->guess, "start from this path (CSV with t and the coordinates, e.g. nhc simulate's)");
+  sub->add_option("--plot", options->plot, "directory for plots (SVG, PNG) of the coordinates, rates and path");
+  sub->add_option("--jacobian", options->jacobian,
+                  "exact (the default) or finite-differences: IPOPT's own differences on the same sparsity")
+      ->check(CLI::IsMember({"exact", "finite-differences"}));
+  sub->add_option("--max-iterations", options->max_iterations, "IPOPT iterations (default 3000)")
+      ->check(flag_rules::count(1, 1000000));
+  sub->add_option("--tolerance", options->tolerance, "IPOPT's tolerance on the scaled optimality error (default 1e-10)")
+      ->check(flag_rules::positive());
+
+  return [options]() {
+    const Scene scene = load_scene(options->scene_path);
+    const optimize::Settings settings = optimize::read_settings(scene);
+    if (!scene.inputs.empty())
+      throw InputError(settings.table_where,
+                       "nhc optimize so far solves scenes without [inputs] (the vakonomic problem; docs/optimize.md, \"Scope\")");
+    if (!options->output.empty()) check_output_file(options->output, {options->scene_path, options->guess});
+    if (!options->plot.empty()) {
+      require_gnuplot("--plot");
+      check_output_directory(options->plot, {options->scene_path, options->guess});
+    }
+    optimize::HermiteSimpson problem(scene, settings, options->intervals.value_or(settings.intervals));
+    const std::vector<double> guess =
+        options->guess.empty() ? problem.straight_line() : guess_from_file(scene, problem, options->guess);
+
+    std::cout << "nhc optimize: " << scene.name << ", " << problem.intervals() << " Hermite-Simpson intervals, "
+              << problem.variables() << " variables, " << problem.constraints() << " constraints; t_end "
+              << (settings.free_time() ? fmt::format("free in [{}, {}]", settings.t_end_low, settings.t_end_high)
+                                       : fmt::format("{}", settings.t_end_low))
+              << "; start: " << (options->guess.empty() ? "straight line" : options->guess) << "\n";
+    std::cout.flush();
+
+    optimize::SolveOptions solve_options;
+    solve_options.max_iterations = options->max_iterations;
+    solve_options.tolerance = options->tolerance;
+    solve_options.finite_difference_jacobian = options->jacobian == "finite-differences";
+    solve_options.progress = [](int iteration, double cost, double violation) {
+      std::cerr << fmt::format("  iteration {:4d}: cost {:.10g}, violation {:.3g}\n", iteration, cost, violation);
+      return true;
+    };
+    const optimize::Solution solution = optimize::solve(problem, guess, solve_options);
+
+    using Status = optimize::Solution::Status;
+    auto write = [&] {
+      if (!options->output.empty()) {
+        write_file_atomically(options->output, [&](std::ostream& out) { write_path(out, scene, problem, solution.z); });
+        std::cout << "  wrote " << options->output << " (" << problem.points() << " rows)\n";
+      }
+      if (!options->plot.empty()) {
+        const std::string summary =
+            solution.status == Status::optimal
+                ? fmt::format("Cost {:.15g}, constraint violation {:.3g}, {} IPOPT iterations.", solution.cost,
+                              solution.violation, solution.iterations)
+                : fmt::format("Not an optimum: {} ({} iterations); the last point, cost {:.10g}.", solution.words,
+                              solution.iterations, solution.cost);
+        write_plots(options->plot, scene, problem, solution.z, {options->scene_path, options->guess}, summary);
+        std::cout << "  wrote " << options->plot << "/plots.md\n";
+      }
+    };
+    if (solution.status == Status::optimal) {
+      std::cout << fmt::format("  cost = {:.15g}\n", solution.cost);
+      if (settings.free_time()) std::cout << fmt::format("  t_end = {:.15g}\n", problem.final_time(solution.z.data()));
+      std::cout << fmt::format("  constraint violation = {:.3g}\n", solution.violation);
+      std::cout << "  iterations = " << solution.iterations << "\n";
+      write();
+      return kExitOk;
+    }
+    const std::string worst =
+        solution.violation > 0 ? fmt::format("; the largest violation, {:.3g}, is in {}", solution.violation, solution.worst) : "";
+    if (solution.status == Status::iteration_limit) {
+      write();
+      std::cerr << "nhc: error: optimize: " << solution.words << " (" << solution.iterations << " iterations) at cost "
+                << fmt::format("{:.10g}", solution.cost) << worst
+                << (options->output.empty() ? "" : "; the last point is in " + options->output) << "\n";
+      return kExitMathFailure;
+    }
+    if (solution.status == Status::infeasible)
+      std::cerr << "nhc: error: optimize: no path meets the conditions: " << solution.words << worst << "\n";
+    else
+      std::cerr << "nhc: error: optimize: " << solution.words << worst << "\n";
+    return kExitMathFailure;
+  };
+}
+
+}  // namespace nhc::cli

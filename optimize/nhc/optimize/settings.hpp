@@ -1,0 +1,60 @@
+#pragma once
+/// \file settings.hpp
+/// \brief A scene's [optimize] table (README, "Optimal motions"; docs/optimize.md): the objective,
+/// the horizon, the boundary conditions and the bounds of `nhc optimize`.
+
+#include <ginac/ginac.h>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "nhc/errors.hpp"
+#include "nhc/scene/model_kind.hpp"
+#include "nhc/scene/scene.hpp"
+
+namespace nhc::optimize {
+
+/// A coordinate's derivative of some order, or an input, by its scene name ("x", "x'", "u1").
+struct PathQuantity {
+  enum class Kind { coordinate, input } kind = Kind::coordinate;
+  int index = 0;  ///< coordinate or input index
+  int order = 0;  ///< derivative order (0 for an input)
+  std::string name;
+};
+
+/// `x = 0.0` of [optimize.initial] or [optimize.final].
+struct BoundaryValue {
+  PathQuantity quantity;
+  double value = 0;
+  SourceLocation where;
+};
+
+/// `u1 = [-5.0, 5.0]` of [optimize.bounds]: low <= quantity <= high along the whole path.
+struct PathBound {
+  PathQuantity quantity;
+  double low = 0, high = 0;
+  SourceLocation where;
+};
+
+struct Settings {
+  GiNaC::ex objective;  ///< the integrand; default the Lagrangian
+  SourceLocation objective_where;
+  GiNaC::ex final_cost = 0;  ///< of t and the final state
+  SourceLocation final_cost_where;
+  double t_end_low = 1, t_end_high = 1;  ///< equal: a fixed horizon
+  SourceLocation t_end_where;
+  int intervals = 40;
+  std::optional<ModelKind> model;  ///< used when the scene has [inputs]
+  std::vector<BoundaryValue> initial, final;
+  std::vector<PathBound> bounds;
+  SourceLocation table_where;  ///< the [optimize] header
+
+  bool free_time() const { return t_end_low != t_end_high; }
+};
+
+/// Reads [optimize] from the scene's source text. Every problem is an InputError at its
+/// FILE:LINE:COLUMN; a scene without the table is one too (at the file).
+Settings read_settings(const Scene& scene);
+
+}  // namespace nhc::optimize

@@ -1,0 +1,143 @@
+#include "nhc/optimize/solve.hpp"
+
+#include <IpIpoptApplication.hpp>
+#include <IpIpoptData.hpp>
+#include <IpTNLP.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+#include "nhc/errors.hpp"
+
+namespace nhc::optimize {
+
+namespace {
+
+using Ipopt::Index;
+using Ipopt::Number;
+
+class Adapter : public Ipopt::TNLP {
+ public:
+  Adapter(HermiteSimpson& problem, const std::vector<double>& guess, const SolveOptions& options, Solution& out)
+      : problem_(problem), guess_(guess), options_(options), out_(out) {}
+
+  bool get_nlp_info(Index& n, Index& m, Index& nnz_jac_g, Index& nnz_h_lag, IndexStyleEnum& style) override {
+    n = problem_.variables();
+    m = problem_.constraints();
+    nnz_jac_g = problem_.jacobian_nonzeros();
+    nnz_h_lag = 0;  // limited-memory quasi-Newton: no Hessian is asked for
+    style = C_STYLE;
+    return true;
+  }
+  bool get_bounds_info(Index, Number* x_l, Number* x_u, Index m, Number* g_l, Number* g_u) override {
+    problem_.variable_bounds(x_l, x_u);
+    std::fill(g_l, g_l + m, 0.0);
+    std::fill(g_u, g_u + m, 0.0);
+    return true;
+  }
+  bool get_starting_point(Index n, bool init_x, Number* x, bool, Number*, Number*, Index, bool, Number*) override {
+    if (init_x) std::copy(guess_.begin(), guess_.begin() + n, x);
+    return true;
+  }
+  bool eval_f(Index, const Number* x, bool, Number& f) override {
+    f = problem_.objective(x);
+    return std::isfinite(f);
+  }
+  bool eval_grad_f(Index n, const Number* x, bool, Number* g) override {
+    problem_.objective_gradient(x, g);
+    return std::all_of(g, g + n, [](double v) { return std::isfinite(v); });
+  }
+  bool eval_g(Index, const Number* x, bool, Index m, Number* g) override {
+    problem_.constraint_values(x, g);
+    return std::all_of(g, g + m, [](double v) { return std::isfinite(v); });
+  }
+  bool eval_jac_g(Index, const Number* x, bool, Index, Index nele, Index* rows, Index* cols, Number* values) override {
+    if (!values) {
+      problem_.jacobian_structure(rows, cols);
+      return true;
+    }
+    problem_.jacobian_values(x, values);
+    return std::all_of(values, values + nele, [](double v) { return std::isfinite(v); });
+  }
+  bool intermediate_callback(Ipopt::AlgorithmMode, Index iter, Number obj_value, Number inf_pr, Number, Number, Number,
+                             Number, Number, Number, Index, const Ipopt::IpoptData*,
+                             Ipopt::IpoptCalculatedQuantities*) override {
+    out_.iterations = iter;
+    return !options_.progress || options_.progress(iter, obj_value, inf_pr);
+  }
+  void finalize_solution(Ipopt::SolverReturn status, Index n, const Number* x, const Number*, const Number*, Index m,
+                         const Number*, const Number*, Number obj_value, const Ipopt::IpoptData*,
+                         Ipopt::IpoptCalculatedQuantities*) override {
+    out_.z.assign(x, x + n);
+    out_.cost = obj_value;
+    std::vector<double> g(static_cast<std::size_t>(m));
+    problem_.constraint_values(x, g.data());
+    // The violation of the bounds too: IPOPT keeps iterates inside them, but a restoration may not.
+    std::vector<double> low(static_cast<std::size_t>(n)), high(static_cast<std::size_t>(n));
+    problem_.variable_bounds(low.data(), high.data());
+    out_.violation = 0;
+    for (Index r = 0; r < m; ++r)
+      if (std::abs(g[static_cast<std::size_t>(r)]) > out_.violation) {
+        out_.violation = std::abs(g[static_cast<std::size_t>(r)]);
+        out_.worst = problem_.constraint_name(r, x);
+      }
+    out_.cost = problem_.objective(x);
+    switch (status) {
+      case Ipopt::SUCCESS:
+        out_.status = Solution::Status::optimal;
+        break;
+      case Ipopt::MAXITER_EXCEEDED:
+      case Ipopt::CPUTIME_EXCEEDED:
+      case Ipopt::STOP_AT_ACCEPTABLE_POINT:
+        out_.status = status == Ipopt::STOP_AT_ACCEPTABLE_POINT ? Solution::Status::failed : Solution::Status::iteration_limit;
+        out_.words = status == Ipopt::STOP_AT_ACCEPTABLE_POINT ? "IPOPT stopped at a point it finds only acceptable"
+                                                               : "IPOPT reached its iteration limit";
+        break;
+      case Ipopt::LOCAL_INFEASIBILITY:
+        out_.status = Solution::Status::infeasible;
+        out_.words = "the problem is locally infeasible: IPOPT converged to a point that minimises the violation of the constraints";
+        break;
+      case Ipopt::RESTORATION_FAILURE:
+        out_.status = Solution::Status::infeasible;
+        out_.words = "IPOPT's restoration phase could not reduce the violation of the constraints";
+        break;
+      case Ipopt::USER_REQUESTED_STOP:
+        out_.status = Solution::Status::failed;
+        out_.words = "stopped on request";
+        break;
+      default:
+        out_.status = Solution::Status::failed;
+        out_.words = "IPOPT failed (status " + std::to_string(static_cast<int>(status)) + ")";
+    }
+  }
+
+ private:
+  HermiteSimpson& problem_;
+  const std::vector<double>& guess_;
+  const SolveOptions& options_;
+  Solution& out_;
+};
+
+}  // namespace
+
+Solution solve(HermiteSimpson& problem, const std::vector<double>& guess, const SolveOptions& options) {
+  Solution solution;
+  Ipopt::SmartPtr<Ipopt::TNLP> nlp = new Adapter(problem, guess, options, solution);
+  Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
+  app->Options()->SetIntegerValue("print_level", 0);
+  app->Options()->SetStringValue("sb", "yes");  // no banner on stdout
+  app->Options()->SetStringValue("hessian_approximation", "limited-memory");
+  app->Options()->SetIntegerValue("max_iter", options.max_iterations);
+  app->Options()->SetNumericValue("tol", options.tolerance);
+  app->Options()->SetNumericValue("constr_viol_tol", options.violation_tolerance);
+  app->Options()->SetStringValue("mu_strategy", "adaptive");
+  if (options.finite_difference_jacobian)
+    app->Options()->SetStringValue("jacobian_approximation", "finite-difference-values");
+  if (app->Initialize() != Ipopt::Solve_Succeeded) throw EnvironmentError("IPOPT could not be initialised");
+  const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(nlp);
+  if (solution.z.empty())
+    throw MathError("IPOPT stopped before its first iteration (status " + std::to_string(static_cast<int>(status)) + ")");
+  return solution;
+}
+
+}  // namespace nhc::optimize
