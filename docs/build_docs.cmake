@@ -66,7 +66,7 @@ set(mathjax /usr/share/javascript/mathjax)
 if(NOT EXISTS ${mathjax}/MathJax.js)
   message(FATAL_ERROR "${mathjax}/MathJax.js is missing (Debian libjs-mathjax)")
 endif()
-file(REMOVE_RECURSE ${WORK_DIR}/html/mathjax)
-file(COPY ${mathjax}/ DESTINATION ${WORK_DIR}/html/mathjax FOLLOW_SYMLINK_CHAIN
+file(REMOVE_RECURSE ${WORK_DIR}/html/_static/mathjax)
+file(COPY ${mathjax}/ DESTINATION ${WORK_DIR}/html/_static/mathjax FOLLOW_SYMLINK_CHAIN
   PATTERN unpacked EXCLUDE PATTERN test EXCLUDE)
 message(STATUS "documentation site: ${WORK_DIR}/html/index.html (${count} commands' help)")
