@@ -4,7 +4,8 @@
 #      notebook finds its scenes two directories above itself, as in examples/notebooks;
 #   2. write the page commands-help.md from `nhc --help` and `nhc <command> --help` (the command
 #      line's own help text, so the page cannot drift from it);
-#   3. sphinx-build -W (every warning an error), notebooks executed against the built module;
+#   3. sphinx-build -W (every warning an error) -E (every page again: a notebook's outputs depend on
+#      the built module, which Sphinx does not see change), notebooks executed against the built module;
 #   4. MathJax from Debian's libjs-mathjax beside the pages (the site works offline).
 # usage: cmake -DSOURCE_DIR= -DWORK_DIR= -DNHC= -DPYTHON_DIR= -DSPHINX= -DVERSION= -P build_docs.cmake
 cmake_minimum_required(VERSION 3.20)
@@ -54,7 +55,7 @@ file(WRITE ${src}/commands-help.md "${page}")
 execute_process(
   COMMAND ${CMAKE_COMMAND} -E env NHC_PYTHON_DIR=${PYTHON_DIR} PYTHONPATH=${PYTHON_DIR} NHC_VERSION=${VERSION}
           NHC_CACHE_DIR=${WORK_DIR}/nhc-cache PYDEVD_DISABLE_FILE_VALIDATION=1 PATH=${WORK_DIR}/bin:$ENV{PATH}
-          ${SPHINX} -W --keep-going -q -b html -d ${WORK_DIR}/doctrees ${src} ${WORK_DIR}/html
+          ${SPHINX} -W --keep-going -q -E -b html -d ${WORK_DIR}/doctrees ${src} ${WORK_DIR}/html
   RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "sphinx-build failed (${rc})")

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import json as _json
 import os as _os
+import re as _re
 from typing import Any, Dict, List, Mapping, Optional
 from typing import cast as _cast
 
@@ -36,6 +37,12 @@ class Derivation:
         start, end = body.find("\\begin{document}"), body.rfind("\\end{document}")
         if start >= 0 and end > start:
             body = body[start + len("\\begin{document}"):end]
+        # MathJax (Jupyter's, the documentation site's) typesets math, not LaTeX's sectioning
+        # commands: the headings become bold math text, and inline math is written \( \), which
+        # both take (Sphinx's MathJax does not take $ $).
+        body = _re.sub(r"(?<!\$)\$([^$\n]+)\$(?!\$)", r"\\(\1\\)", body)
+        body = _re.sub(r"\\texttt\{([^{}]*)\}", lambda m: m.group(1).replace("\\_", "_"), body)  # text, as MathJax shows it
+        body = _re.sub(r"\\(?:sub)?section\*\{((?:[^{}]|\{[^{}]*\})*)\}", r"\\(\\textbf{\1}\\)", body)
         return body.strip()
 
     def __repr__(self) -> str:
