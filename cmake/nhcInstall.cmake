@@ -58,3 +58,32 @@ install(FILES
   ${PROJECT_BINARY_DIR}/nhcConfigVersion.cmake
   ${PROJECT_SOURCE_DIR}/cmake/nhcFunctions.cmake
   DESTINATION ${NHC_INSTALL_CMAKEDIR})
+
+# `cpack -G DEB` in the build tree: a Debian package of everything above, installed under /usr
+# (the Python package in /usr/lib/python3.X/dist-packages). Depends: the libraries' own (dpkg-shlibdeps)
+# and what nhc needs at run time beyond them — a C++ compiler and the headers the generated code and
+# the installed nhc headers include (nhc simulate compiles models; find_package(nhc) users compile
+# against nhc::codegen and nhc::runtime), and Python's numpy for the module. Checked by install:deb.
+set(CPACK_PACKAGE_NAME nhc)
+set(CPACK_PACKAGE_VENDOR "nhc")
+set(CPACK_PACKAGE_CONTACT "nhc maintainers <nhc@localhost>")
+set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "the nonholonomic compiler: equations of motion with nonholonomic constraints, derived, analysed, generated as C++ and integrated")
+set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
+set(CPACK_GENERATOR DEB)
+set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
+set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
+set(CPACK_DEBIAN_PACKAGE_SECTION science)
+set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
+# The -dev packages are what nhcConfig.cmake's find_dependency() calls look for (pkg-config for GiNaC;
+# HDF5 and MPI, and a C compiler to probe them, when the ensemble is in the package).
+set(nhc_deb_depends "g++, cmake, pkg-config, libginac-dev, libcln-dev, libeigen3-dev, libsundials-dev, libsuitesparse-dev, libfmt-dev, libtomlplusplus-dev, libssl-dev, python3, python3-numpy")
+if(NHC_PACKAGE_HAS_ENSEMBLE)
+  string(APPEND nhc_deb_depends ", gcc, libhdf5-dev")
+  if(NHC_PACKAGE_ENSEMBLE_USES_MPI)
+    string(APPEND nhc_deb_depends ", libopenmpi-dev, openmpi-bin")
+  endif()
+endif()
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "${nhc_deb_depends}")
+set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "gnuplot-nox, libjs-three, texlive-latex-base, python3-matplotlib")
+set(CPACK_DEBIAN_PACKAGE_SUGGESTS "chromium")
+include(CPack)

@@ -17,6 +17,7 @@ packages=(
   pybind11-dev python3-dev python3-numpy python3-pytest
   python3-nbclient python3-ipykernel python3-matplotlib python3-pil python3-h5py
   libjs-three chromium
+  python3-sphinx python3-myst-parser python3-nbsphinx furo libjs-mathjax node-normalize.css pandoc mypy
 )
 missing=()
 for p in "${packages[@]}"; do

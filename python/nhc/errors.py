@@ -5,6 +5,7 @@ Error            every failure nhc reports
   MathError      a numerical or mathematical failure (.t when a run failed at a time); exit 3
   HostError      the environment: the compiler, the cache, the disk, memory; exit 4
 """
+from typing import Any, Optional
 
 
 class Error(Exception):
@@ -14,15 +15,18 @@ class Error(Exception):
 class SceneError(Error):
     """Bad input. `file`, `line`, `column` locate it (line and column 0 when unknown)."""
 
-    def __init__(self, message, file="", line=0, column=0):
+    def __init__(self, message: str, file: str = "", line: int = 0, column: int = 0) -> None:
         super().__init__(message)
         self.file, self.line, self.column = file, line, column
 
 
 class MathError(Error):
-    """A numerical or mathematical failure; `t` is the time a run stopped at, or None."""
+    """A numerical or mathematical failure; `t` is the time a run stopped at, or None. Raised by
+    Model.simulate, it also has `run`: the nhc.Run up to the failure."""
 
-    def __init__(self, message, t=None):
+    run: Any  # set by Model.simulate only
+
+    def __init__(self, message: str, t: Optional[float] = None) -> None:
         super().__init__(message)
         self.t = t
 

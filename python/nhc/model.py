@@ -1,5 +1,11 @@
 """nhc.Model and nhc.Run: a scene's model compiled and run; runs as numpy arrays (docs/python.md)."""
+from __future__ import annotations
+
+from typing import Any, Callable, Dict, Iterable, List, Optional, Sequence, Union
+from typing import cast as _cast
+
 import numpy as _np
+import numpy.typing as _npt
 
 from . import _nhc
 from .errors import MathError, SceneError
@@ -22,7 +28,10 @@ class Run:
     run.t, run["x"], run["x'"], run.columns, run.to_numpy() (rows: output times), run.summary
     (steps, evaluations, the time split, drift), run.plot(), run.to_pandas()."""
 
-    def __init__(self, result):
+    columns: List[str]
+    """The column names, in the CSV's order: ``t`` first."""
+
+    def __init__(self, result: Dict[str, Any]) -> None:
         self.columns = list(result["columns"])
         self._data = _np.asarray(result["data"])
         self._index = {name: k for k, name in enumerate(self.columns)}
@@ -30,46 +39,60 @@ class Run:
         self._max_discrete_constraint = result.get("max_discrete_constraint")  # the variational integrator's
 
     @property
-    def summary(self):
+    def summary(self) -> Dict[str, Any]:
         """steps, evaluations, the time split and the drift (hidden constraints, reference,
         invariants): a dict, measured on first use."""
         if callable(self._summary):
             self._summary = self._summary()
             if self._max_discrete_constraint is not None:
                 self._summary["max_discrete_constraint"] = self._max_discrete_constraint
-        return self._summary
+        return _cast(Dict[str, Any], self._summary)
 
     @property
-    def t(self):
+    def t(self) -> _npt.NDArray[_np.float64]:
+        """The output times (the column ``t``)."""
         return self._data[:, 0]
 
-    def __getitem__(self, name):
+    def __getitem__(self, name: str) -> _npt.NDArray[_np.float64]:
+        """The column `name` (``"x"``, ``"x'"``, ``"lambda1"``, ``"invariant:energy"``) as an array.
+
+        :param name: a column name, as in :attr:`columns`.
+        :raises KeyError: no such column (the message lists them)."""
         if name not in self._index:
             raise KeyError(f"no column {name!r} (columns: {', '.join(self.columns)})")
         return self._data[:, self._index[name]]
 
-    def __contains__(self, name):
+    def __contains__(self, name: object) -> bool:
+        """Whether the run has the column `name`."""
         return name in self._index
 
-    def __len__(self):
-        return self._data.shape[0]
+    def __len__(self) -> int:
+        """The number of rows (output times)."""
+        return int(self._data.shape[0])
 
-    def to_numpy(self):
+    def to_numpy(self) -> _npt.NDArray[_np.float64]:
+        """All columns as one array (a copy): rows are output times, columns as :attr:`columns`."""
         return self._data.copy()
 
-    def to_pandas(self):
+    def to_pandas(self) -> Any:
+        """The run as a pandas DataFrame (Debian ``python3-pandas``; imported only when asked for)."""
         import pandas  # only when asked for
         return pandas.DataFrame(self._data, columns=self.columns)
 
-    def plot(self, x=None, y=None, ax=None):
-        """The coordinates against t, or y against x (run.plot(x="x", y="y")): a matplotlib figure."""
+    def plot(self, x: Optional[str] = None, y: Optional[str] = None, ax: Any = None) -> Any:
+        """The coordinates against t, or y against x (``run.plot(x="x", y="y")``): a matplotlib figure.
+
+        :param x: the column on the horizontal axis (default ``t``); with `y`, equal scales.
+        :param y: the column to draw; without `x` and `y`, every coordinate against t.
+        :param ax: the matplotlib axes to draw into (default: a new figure).
+        :returns: the matplotlib figure drawn into."""
         import matplotlib.pyplot as plt  # only when asked for
         if ax is None:
             figure, ax = plt.subplots()
         else:
             figure = ax.figure
         if x is not None or y is not None:
-            ax.plot(self[x or "t"], self[y], label=f"{y}({x or 't'})")
+            ax.plot(self[x or "t"], self[_cast(str, y)], label=f"{y}({x or 't'})")
             ax.set_xlabel(x or "t")
             ax.set_ylabel(y)
             ax.set_aspect("equal", adjustable="datalim")
@@ -80,38 +103,72 @@ class Run:
             ax.legend()
         return figure
 
-    def _coordinates(self):
+    def _coordinates(self) -> List[str]:
         # The order-0 columns of the coordinates: names without primes, before the multipliers.
         return [c for c in self.columns[1:]
                 if "'" not in c and ":" not in c and not c.startswith(("lambda", "d("))]
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return f"Run({len(self)} rows, columns={self.columns!r})"
 
 
 class Model:
-    """A scene's model, derived, compiled (both caches) and loaded: scene.build("chetaev")."""
+    """A scene's model, derived, compiled (both caches) and loaded: ``scene.build("chetaev")``."""
 
-    def __init__(self, built):
+    def __init__(self, built: _nhc._Model) -> None:
         self._model = built
 
-    state_names = property(lambda self: list(self._model.state_names))
-    inputs = property(lambda self: list(self._model.inputs))
-    parameters = property(lambda self: dict(self._model.parameters))
-    name = property(lambda self: self._model.model_name)
+    @property
+    def state_names(self) -> List[str]:
+        """The states of the index-1 system, in the order of `y` in :meth:`residual`."""
+        return list(self._model.state_names)
 
-    def simulate(self, t_end=None, rtol=None, atol=None, outputs=None, output_times=None, inputs=None,
-                 max_steps=1000000, sensitivity=None, integrator="ida", step=None):
-        """Integrates from the scene's [initial]; a Run. A failure raises nhc.MathError with .t.
-        t_end, rtol, atol and outputs not given are the scene's [simulate] values (else 1, 1e-8,
-        1e-10 and 200), as on the command line, whose rules every argument obeys (nhc.SceneError).
-        `inputs`: u(t, y) -> the model's inputs (self.inputs order), called at every residual
-        evaluation with y in state_names order; without it, the scene's default signals.
-        `sensitivity`: names of parameters and given initial values (["alpha", "x'(0)"]): the run
-        also carries the forward sensitivities (IDAS) as columns "d(x)/d(alpha)", "d(x')/d(x'(0))".
-        `integrator="variational", step=H`: the discrete Lagrange-d'Alembert integrator at the fixed
-        step H (chetaev model; docs/variational.md), for long runs whose energy must not drift; its
-        summary also has "newton_iterations" and "max_discrete_constraint".
+    @property
+    def inputs(self) -> List[str]:
+        """The scene's ``[inputs]``, in the order an `inputs` function returns them."""
+        return list(self._model.inputs)
+
+    @property
+    def parameters(self) -> Dict[str, float]:
+        """The parameters the model was built with (name -> value)."""
+        return dict(self._model.parameters)
+
+    @property
+    def name(self) -> str:
+        """The model's name: ``"vakonomic"``, ``"chetaev"``, ``"holder"`` or ``"suslov"``."""
+        return self._model.model_name
+
+    def simulate(self, t_end: Optional[float] = None, rtol: Optional[float] = None, atol: Optional[float] = None,
+                 outputs: Optional[int] = None,
+                 output_times: Optional[Iterable[float]] = None,
+                 inputs: Optional[Callable[[float, _npt.NDArray[_np.float64]], Sequence[float]]] = None,
+                 max_steps: int = 1000000, sensitivity: Union[str, Sequence[str], None] = None,
+                 integrator: str = "ida", step: Optional[float] = None) -> Run:
+        """Integrates from the scene's [initial] (as ``nhc simulate``) and returns the :class:`Run`.
+
+        Arguments not given take the scene's ``[simulate]`` values (else 1, 1e-8, 1e-10 and 200), as on
+        the command line, whose rules every argument obeys (:class:`nhc.SceneError`).
+
+        :param t_end: the end of the run (from the scene's t0).
+        :param rtol: IDA's relative tolerance.
+        :param atol: IDA's absolute tolerance.
+        :param outputs: the number of output intervals (outputs + 1 rows).
+        :param output_times: the output times instead (increasing; the last is the end of the run).
+        :param inputs: u(t, y) -> the model's inputs (:attr:`inputs` order), called at every residual
+            evaluation with y in :attr:`state_names` order; without it, the scene's default signals.
+        :param max_steps: the limit on IDA's internal steps over the run.
+        :param sensitivity: names of parameters and given initial values (``["alpha", "x'(0)"]``): the
+            run also carries the forward sensitivities (IDAS) as columns ``"d(x)/d(alpha)"``,
+            ``"d(x')/d(x'(0))"``.
+        :param integrator: ``"ida"``, or ``"variational"`` with `step`: the discrete
+            Lagrange-d'Alembert integrator at a fixed step (chetaev model; docs/variational.md), for
+            long runs whose energy must not drift; its summary also has ``newton_iterations`` and
+            ``max_discrete_constraint``.
+        :param step: the variational integrator's fixed step.
+        :returns: the run's columns as arrays.
+        :raises nhc.MathError: the run failed (``.t`` is where; ``.run`` the motion up to there).
+        :raises nhc.SceneError: a bad argument (an unknown sensitivity name, bad output times).
+
         Ctrl-C (KeyboardInterrupt) stops a long run."""
         times = None if output_times is None else [float(t) for t in _np.asarray(output_times).ravel()]
         names = None if sensitivity is None else [sensitivity] if isinstance(sensitivity, str) else list(sensitivity)
@@ -127,15 +184,24 @@ class Model:
             raise error
         return Run(result)
 
-    def residual(self, t, y, yp):
-        """F(t, y, y') of the index-1 system (state_names order), as numpy."""
+    def residual(self, t: float, y: _npt.ArrayLike, yp: _npt.ArrayLike) -> _npt.NDArray[_np.float64]:
+        """F(t, y, y') of the index-1 system, as numpy (for one's own solvers).
+
+        :param t: the time.
+        :param y: the states, in :attr:`state_names` order.
+        :param yp: their derivatives, in the same order."""
         return self._model.residual(float(t), _np.asarray(y, dtype=float), _np.asarray(yp, dtype=float))
 
-    def jacobian(self, t, y, yp, cj):
-        """dF/dy + cj dF/dy' as an n x n numpy array."""
+    def jacobian(self, t: float, y: _npt.ArrayLike, yp: _npt.ArrayLike, cj: float) -> _npt.NDArray[_np.float64]:
+        """dF/dy + cj dF/dy' as an n x n numpy array (IDA's iteration matrix).
+
+        :param t: the time.
+        :param y: the states, in :attr:`state_names` order.
+        :param yp: their derivatives.
+        :param cj: the scalar multiplying dF/dy' (IDA's cj)."""
         return self._model.jacobian(float(t), _np.asarray(y, dtype=float), _np.asarray(yp, dtype=float), float(cj))
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return f"Model({self.name!r}, states={self.state_names!r})"
 
 
@@ -143,7 +209,7 @@ class Linearization:
     """`nhc linearize` at one point: A, B, C, D (numpy), states, inputs, outputs, eigenvalues
     (complex numpy), verdict, families, point."""
 
-    def __init__(self, result):
+    def __init__(self, result: Dict[str, Any]) -> None:
         self.states = list(result["states"])
         self.inputs = list(result["inputs"])
         self.outputs = list(result["outputs"])
@@ -156,7 +222,7 @@ class Linearization:
         self.point = dict(result["point"])
         self.notes = list(result["notes"])
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return f"Linearization(states={self.states!r}, verdict={self.verdict!r})"
 
 
@@ -165,7 +231,7 @@ class Sweep:
     each), `verdicts`, `eigenvalues` (one complex array per value) and `thresholds` (the refined
     values where the verdict changes: dicts with value, from, to)."""
 
-    def __init__(self, name, result):
+    def __init__(self, name: str, result: Dict[str, Any]) -> None:
         self.name = name
         self.points = [Linearization(p) for p in result["points"]]
         self.values = _np.array([p["value"] for p in result["points"]])
@@ -173,5 +239,5 @@ class Sweep:
         self.eigenvalues = [p.eigenvalues for p in self.points]
         self.thresholds = [dict(t) for t in result["thresholds"]]
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return f"Sweep({self.name!r}, {len(self.values)} values, thresholds={[t['value'] for t in self.thresholds]})"

@@ -1,5 +1,13 @@
 """nhc.Scene: a scene file loaded, its models derived and analysed (docs/python.md)."""
+from __future__ import annotations
+
 import json as _json
+import os as _os
+import re as _re
+from typing import Any, Dict, List, Mapping, Optional
+from typing import cast as _cast
+
+import numpy.typing as _npt
 
 from . import _nhc
 import numpy as _np
@@ -13,7 +21,7 @@ class Derivation:
     document), `latex_math` (the equations as math only, for MathJax), `json` (parsed: a dict).
     Jupyter shows the LaTeX equations."""
 
-    def __init__(self, derived):
+    def __init__(self, derived: _nhc._Derivation) -> None:
         self.model = derived.model
         self.text = derived.text
         self.latex = derived.latex
@@ -21,14 +29,15 @@ class Derivation:
         self._json_text = derived.json
 
     @property
-    def json(self):
-        return _json.loads(self._json_text)
+    def json(self) -> Dict[str, Any]:
+        """The ``--format json`` form, parsed: ``{"scene", "parameters", "symbols", "models"}``."""
+        return _cast(Dict[str, Any], _json.loads(self._json_text))
 
-    def _repr_latex_(self):
-        # Math only (align* blocks, headings as \text rows): MathJax renders math, not \section.
+    def _repr_latex_(self) -> str:
+        """Math only (align* blocks, headings as \text rows): MathJax renders math, not \section."""
         return self.latex_math.strip()
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return self.text
 
 
@@ -37,7 +46,7 @@ class Analysis:
     `initial_point` (name -> value at t0: those values, then the leading derivatives) and
     `condition` (of the system Jacobian there)."""
 
-    def __init__(self, result):
+    def __init__(self, result: Dict[str, Any]) -> None:
         self.model = result["model"]
         self.index = result["index"]
         self.dof = result["dof"]
@@ -45,7 +54,7 @@ class Analysis:
         self.initial_point = dict(result["initial_point"])
         self.condition = result["condition"]
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return (f"Analysis(model={self.model!r}, index={self.index}, dof={self.dof}, "
                 f"needed={self.needed!r})")
 
@@ -54,40 +63,99 @@ class Scene:
     """A scene (TOML) read and checked: `Scene.load(path, set={...})` or `Scene.from_toml(text)`.
     Bad input raises nhc.SceneError with the file, line and column."""
 
-    def __init__(self, scene):
+    def __init__(self, scene: _nhc._Scene) -> None:
         self._scene = scene
 
     @classmethod
-    def load(cls, path, set=None, expand=False):
+    def load(cls, path: str | _os.PathLike[str], set: Optional[Mapping[str, float]] = None,
+             expand: bool = False) -> Scene:
+        """Reads and checks the scene file `path` (as every nhc command does).
+
+        :param path: the scene's TOML file.
+        :param set: parameter values replacing the scene's (as ``--set P=V``): ``{"r": 0.4}``.
+        :param expand: substitute the ``[definitions]`` into the equations (as ``--expand``)
+            instead of keeping them as named intermediates.
+        :returns: the scene.
+        :raises nhc.SceneError: bad input, with ``.file``, ``.line`` and ``.column``."""
         return cls(_nhc._Scene.load(str(path), dict(set or {}), expand))
 
     @classmethod
-    def from_toml(cls, text, path="scene.toml", set=None, expand=False):
+    def from_toml(cls, text: str, path: str | _os.PathLike[str] = "scene.toml",
+                  set: Optional[Mapping[str, float]] = None, expand: bool = False) -> Scene:
+        """Reads and checks a scene given as TOML text.
+
+        :param text: the scene, as a scene file would hold it.
+        :param path: the name its messages give the text (and where relative paths in it start).
+        :param set: parameter values replacing the scene's (as ``--set P=V``).
+        :param expand: substitute the ``[definitions]`` (as ``--expand``).
+        :raises nhc.SceneError: bad input, at its line and column in `text`."""
         return cls(_nhc._Scene.from_toml(text, str(path), dict(set or {}), expand))
 
-    name = property(lambda self: self._scene.name)
-    coordinates = property(lambda self: list(self._scene.coordinates))
-    parameters = property(lambda self: dict(self._scene.parameters))
-    inputs = property(lambda self: list(self._scene.inputs))
-    models = property(lambda self: list(self._scene.models))
+    @property
+    def name(self) -> str:
+        """The scene's ``name``."""
+        return self._scene.name
 
-    def derive(self, model="chetaev"):
+    @property
+    def coordinates(self) -> List[str]:
+        """The scene's ``coordinates``, in order."""
+        return list(self._scene.coordinates)
+
+    @property
+    def parameters(self) -> Dict[str, float]:
+        """The ``[parameters]`` (with `set` applied): name -> value."""
+        return dict(self._scene.parameters)
+
+    @property
+    def inputs(self) -> List[str]:
+        """The scene's ``[inputs]`` names."""
+        return list(self._scene.inputs)
+
+    @property
+    def models(self) -> List[str]:
+        """The models the scene asks for (``models``; all four by default)."""
+        return list(self._scene.models)
+
+    def derive(self, model: str = "chetaev") -> Derivation:
+        """The equations of one model, as ``nhc derive`` writes them.
+
+        :param model: ``"vakonomic"``, ``"chetaev"``, ``"holder"`` or ``"suslov"``.
+        :raises nhc.SceneError: an unknown model name."""
         return Derivation(self._scene.derive(model))
 
-    def analyze(self, model="chetaev"):
+    def analyze(self, model: str = "chetaev") -> Analysis:
+        """The structural analysis of one model (as ``nhc analyze``): index, degrees of freedom, the
+        initial values it needs and the consistent initial point.
+
+        :param model: the model's name.
+        :raises nhc.MathError: the given initial values miss a hidden constraint."""
         return Analysis(self._scene.analyze(model))
 
-    def build(self, model="chetaev"):
-        """The model derived, compiled (both caches) and loaded: an nhc.Model."""
+    def build(self, model: str = "chetaev") -> Model:
+        """The model derived, compiled (both caches) and loaded: an :class:`nhc.Model` to simulate.
+
+        :param model: the model's name.
+        :raises nhc.HostError: the compiler or the cache failed."""
         return Model(_nhc._build(self._scene, model))
 
-    def linearize(self, model="chetaev", at=None):
-        """Linear stability at the scene's [initial] with `at` values replaced (as --at)."""
+    def linearize(self, model: str = "chetaev", at: Optional[Mapping[str, float]] = None) -> Linearization:
+        """Linear stability at the scene's [initial] with `at` values replaced (as ``nhc linearize --at``).
+
+        :param model: the model's name.
+        :param at: parameters and initial values to replace: ``{"phi'": 0, "v": 3}``.
+        :returns: A, B, C, D, the eigenvalues and the verdict."""
         return Linearization(_nhc._linearize(self._scene, model, {k: float(v) for k, v in (at or {}).items()}))
 
-    def sweep(self, model, name, values, at=None):
-        """Linearizes at each of `values` (equally spaced, as np.linspace gives) of the parameter
-        or initial value `name`, and refines where the verdict changes: an nhc.Sweep."""
+    def sweep(self, model: str, name: str, values: _npt.ArrayLike,
+              at: Optional[Mapping[str, float]] = None) -> Sweep:
+        """Linearizes at each of `values` of the parameter or initial value `name`, and refines where
+        the verdict changes (as ``nhc linearize --sweep``).
+
+        :param model: the model's name.
+        :param name: a parameter (``"v"``) or an initial value (``"psi'"``).
+        :param values: at least two, increasing and equally spaced (as ``np.linspace`` gives).
+        :param at: other values to replace, as for :meth:`linearize`.
+        :raises nhc.SceneError: values not increasing or not equally spaced."""
         values = _np.asarray(values, dtype=float).ravel()
         if len(values) < 2 or not _np.all(_np.diff(values) > 0):
             raise SceneError("sweep values must be at least two, increasing")
@@ -96,5 +164,5 @@ class Scene:
         at = {k: float(v) for k, v in (at or {}).items()}
         return Sweep(name, _nhc._sweep(self._scene, model, name, values[0], values[-1], len(values), at))
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return f"Scene({self.name!r}, coordinates={self.coordinates!r})"

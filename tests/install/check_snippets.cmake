@@ -1,4 +1,4 @@
-# install:snippets — every code block of README.md and docs/library.md that follows a line
+# install:snippets — every code block of README.md, docs/architecture.md and docs/library.md that follows a line
 #   <!-- snippet: PATH -->
 # must appear verbatim in PATH (relative to the source tree), a file that the install tests
 # compile and run; so the documented code cannot drift from working code.
@@ -6,7 +6,7 @@
 cmake_minimum_required(VERSION 3.20)
 set(marker "<!-- snippet: ")
 set(checked 0)
-foreach(doc README.md docs/library.md)
+foreach(doc README.md docs/architecture.md docs/library.md)
   file(READ "${SOURCE_DIR}/${doc}" text)
   while(TRUE)
     string(FIND "${text}" "${marker}" at)
@@ -45,6 +45,6 @@ foreach(doc README.md docs/library.md)
   endwhile()
 endforeach()
 if(checked LESS 3)
-  message(FATAL_ERROR "only ${checked} snippets found in README.md and docs/library.md (expected at least 3)")
+  message(FATAL_ERROR "only ${checked} snippets found in README.md, docs/architecture.md and docs/library.md (expected at least 3)")
 endif()
 message(STATUS "${checked} snippets match their sources")

@@ -1,0 +1,45 @@
+# docs:quickstart — every ```sh block of docs/quickstart.md, in order, as one bash script run with
+# `set -euxo pipefail` in an empty directory, with the built nhc first on PATH: the page's commands
+# are the commands that work. ```text blocks (installing) are not run here; install:deb installs
+# the package the way the page says.
+# usage: cmake -DSOURCE_DIR= -DNHC_DIR= -DWORK_DIR= -DBASH= -P run_quickstart.cmake
+cmake_minimum_required(VERSION 3.20)
+file(READ ${SOURCE_DIR}/docs/quickstart.md text)
+set(script "set -euxo pipefail\n")
+set(blocks 0)
+while(TRUE)
+  string(FIND "${text}" "\n```sh\n" at)
+  if(at EQUAL -1)
+    break()
+  endif()
+  math(EXPR at "${at} + 7")
+  string(SUBSTRING "${text}" ${at} -1 text)
+  string(FIND "${text}" "\n```\n" close)
+  if(close EQUAL -1)
+    message(FATAL_ERROR "docs/quickstart.md: unterminated sh block")
+  endif()
+  math(EXPR close "${close} + 1")
+  string(SUBSTRING "${text}" 0 ${close} block)
+  string(SUBSTRING "${text}" ${close} -1 text)
+  string(APPEND script "${block}")
+  math(EXPR blocks "${blocks} + 1")
+endwhile()
+if(blocks LESS 4)
+  message(FATAL_ERROR "docs/quickstart.md: only ${blocks} sh blocks found")
+endif()
+file(REMOVE_RECURSE ${WORK_DIR})
+file(MAKE_DIRECTORY ${WORK_DIR})
+file(WRITE ${WORK_DIR}/quickstart.sh "${script}")
+execute_process(COMMAND ${CMAKE_COMMAND} -E env PATH=${NHC_DIR}:$ENV{PATH} NHC_CACHE_DIR=${WORK_DIR}/cache
+                        ${BASH} quickstart.sh
+  WORKING_DIRECTORY ${WORK_DIR} RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "docs/quickstart.md: its commands failed (${rc}); the script is ${WORK_DIR}/quickstart.sh")
+endif()
+# What the page says the commands produce.
+foreach(f particle.csv plots/path.svg plots/drift.svg knife-animation/index.html)
+  if(NOT EXISTS ${WORK_DIR}/${f})
+    message(FATAL_ERROR "docs/quickstart.md: the commands did not write ${f}")
+  endif()
+endforeach()
+message(STATUS "docs/quickstart.md: ${blocks} blocks of commands ran")

@@ -1,0 +1,47 @@
+"""Every public name of nhc has a docstring that help() shows, and every parameter of a public
+function or method is described in it (":param NAME:")."""
+import inspect
+
+import nhc
+
+
+def public_callables():
+    for name in nhc.__all__:
+        obj = getattr(nhc, name)
+        yield name, obj
+        if inspect.isclass(obj) and not issubclass(obj, BaseException):
+            for member, value in vars(obj).items():
+                if not member.startswith("_") or member in ("__getitem__", "__contains__", "__len__"):
+                    yield f"{name}.{member}", value
+
+
+def test_every_public_name_has_a_docstring():
+    missing = []
+    for name, obj in public_callables():
+        target = obj.fget if isinstance(obj, property) else getattr(obj, "__func__", obj)
+        if not (inspect.getdoc(target) or "").strip():
+            missing.append(name)
+    assert not missing, f"no docstring: {missing}"
+
+
+def test_every_parameter_is_described():
+    undocumented = []
+    for name, obj in public_callables():
+        function = getattr(obj, "__func__", obj)
+        if isinstance(obj, property) or inspect.isclass(obj) or not callable(function):
+            continue
+        doc = inspect.getdoc(function) or ""
+        for parameter in inspect.signature(function).parameters.values():
+            if parameter.name in ("self", "cls") or name.endswith(("__getitem__", "__contains__", "__len__")):
+                continue
+            if f":param {parameter.name}:" not in doc:
+                undocumented.append(f"{name}({parameter.name})")
+    assert not undocumented, f"parameters without :param: {undocumented}"
+
+
+def test_help_shows_the_parameters():
+    text = inspect.getdoc(nhc.Model.simulate)
+    assert inspect.signature(nhc.Model.simulate).parameters["t_end"].default == 1.0
+    for parameter in ("t_end", "rtol", "atol", "outputs", "inputs", "sensitivity"):
+        assert f":param {parameter}:" in text
+    assert "path" in inspect.signature(nhc.Scene.load).parameters
