@@ -85,6 +85,13 @@ InitialState initial_state_from(const Model& model, double t0,
   return s;
 }
 
+std::vector<double> initial_repair_scale(const InitialState& state) {
+  std::vector<double> scale(state.y.size(), state.repair ? 1.0 : 0.0);
+  for (std::size_t i = 0; i < scale.size() && i < state.pinned.size(); ++i)
+    if (state.pinned[i]) scale[i] = 0.0;
+  return scale;
+}
+
 struct Integrator::Impl {
   Model model;
   InputValues inputs;  ///< the parameters, then the inputs at each evaluation (inputs.hpp)
@@ -635,8 +642,10 @@ Sample Integrator::initialize(const InitialState& state, double t_next) {
     std::vector<double> differential;
     for (int i = 0; i < n; ++i)
       if (s.model.is_differential(i)) differential.push_back(s.y[i]);
+    const std::vector<double> repair_scale = initial_repair_scale(state);
     solve_initial_hidden_constraints(s.model, s.inputs.at(state.t0, s.y.data()), state.t0, s.y.data(), scale,
-                                     initial_point_tolerance(differential, s.options.rtol, s.options.atol));
+                                     initial_point_tolerance(differential, s.options.rtol, s.options.atol), 50,
+                                     state.repair ? &repair_scale : nullptr);
   }
 
   // 2. IDA and IDACalcIC for the algebraic states and y'.
