@@ -529,3 +529,26 @@ TEST_CASE("--repair-initial keeps the given values that are consistent, in simul
     CHECK_THAT(analyze.out, !Contains("repaired"));
   }
 }
+
+TEST_CASE("a run to a far t_end starts: the initial point's calculation does not take its scale from t_end",
+          "[cli][issue43]") {
+  const std::string dir = nhc::test::scratch_dir("far_t_end");
+  // x'' = -x: to t_end = 1e7 with one output IDACalcIC took its first step as 1e4 and failed at t0
+  // where 1e6 ran. The step limit now stops each run after its start, at a t > 0.
+  const std::string scene = write_scene(dir, "ho.toml",
+                                        "name = \"ho\"\ncoordinates = [\"x\"]\nlagrangian = \"x'^2/2 - x^2/2\"\n"
+                                        "[initial]\nx = [1.0, 0.0]\n[simulate]\nt_end = 10.0\n");
+  for (const char* t_end : {"1e6", "1e7", "1e9", "1e12"}) {
+    INFO("--t-end " << t_end);
+    const Run r = nhc_run("simulate '" + scene + "' --t-end " + t_end + " --outputs 1 --max-steps 50", dir);
+    CHECK(r.exit_code == 3);
+    CHECK_THAT(r.err, Contains("the step limit (50 steps) was reached at t = 0.") && !Contains("IDACalcIC"));
+  }
+  // The first steps follow cos t whatever t_end is: 2000 steps reach past t = 1.
+  const Run r = nhc_run("simulate '" + scene + "' --output-times 0,1,1e7 --max-steps 2000 -o -", dir);
+  CHECK(r.exit_code == 3);
+  const std::vector<double> row = csv_row(r.out, 1);
+  REQUIRE(row.size() > 1);
+  CHECK(row[0] == 1.0);
+  CHECK(std::abs(row[1] - std::cos(1.0)) < 1e-6);
+}
