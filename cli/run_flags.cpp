@@ -63,6 +63,10 @@ void check_run_flags(const RunFlags& flags, const Scene& scene, ModelKind kind) 
                            "at every step");
   require_variational_scene(scene, kind);
   const double t_end = run_output_times(flags, scene).back();
+  if (!runtime::variational_step_fits(scene.initial.t0, t_end, *flags.step))
+    throw InputError(here, "--step " + format_number(*flags.step, 6) + " does not fit the run from t0 = " +
+                               format_number(scene.initial.t0, 6) + " to " + format_number(t_end, 6) +
+                               " twice: the variational integrator needs at least two steps");
   const long steps = runtime::variational_steps_needed(scene.initial.t0, t_end, *flags.step);
   if (steps < 0 || steps > flags.max_steps)
     throw InputError(here, "--step " + format_number(*flags.step, 6) + " takes " +

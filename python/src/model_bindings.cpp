@@ -303,6 +303,9 @@ py::dict simulate(const BuiltModel& built, double t_end, double rtol, double ato
     if (variational) {
       run_model = &built.variational_model();
       const runtime::VariationalOptions vo = runtime::variational_options(*step, max_steps, options);
+      if (!runtime::variational_step_fits(t0, times.back(), *step))
+        throw InputError({"step", 0, 0}, "step " + std::to_string(*step) +
+                                             " does not fit the run twice: the variational integrator needs at least two steps");
       const long needed = runtime::variational_steps_needed(t0, times.back(), *step);
       if (needed < 0 || needed > max_steps)
         throw InputError({"step", 0, 0}, "step " + std::to_string(*step) + " takes " +
