@@ -5,6 +5,8 @@
 // that fails part way still gets its page (the motion up to the failure) and exits 3.
 #include <iostream>
 
+#include <fmt/format.h>
+
 #include "animation_page.hpp"
 #include "commands.hpp"
 #include "input_signals.hpp"
@@ -73,8 +75,8 @@ CommandRunner add_animate_command(CLI::App& app) {
     inputs.insert(inputs.begin(), flags.scene_path);
     write_animation_page(options->output, content, inputs);
 
-    std::cout << "nhc animate: " << scene.name << ", model " << to_string(kind) << ", t from " << content.times.front()
-              << " to " << content.times.back() << ", " << content.times.size() << " samples, " << scene.visuals.size()
+    std::cout << "nhc animate: " << scene.name << ", model " << to_string(kind) << ", t from " << fmt::format("{}", content.times.front())
+              << " to " << fmt::format("{}", content.times.back()) << ", " << content.times.size() << " samples, " << scene.visuals.size()
               << " shape" << (scene.visuals.size() == 1 ? "" : "s") << "\n  wrote " << options->output
               << "/index.html (open it in a browser; #t=1.5 opens it paused at t = 1.5)\n";
     if (run.failure) {

@@ -6,6 +6,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <fmt/format.h>
+
 #include "nhc/errors.hpp"
 #include "nhc/io/atomic_directory.hpp"
 
@@ -22,6 +24,18 @@ void write_number(std::ostream& out, double v) {
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "%.9g", v);
   out << buffer;
+}
+
+/// The sample times in full (the shortest text that reads back as the same double): with 9 digits,
+/// t0 = 1e6 made 1001 samples 0.01 apart 101 distinct times, a staircase on the page.
+void write_times(std::ostream& out, const std::vector<double>& values) {
+  out << '[';
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (i) out << ',';
+    if (std::isfinite(values[i])) out << fmt::format("{}", values[i]);
+    else out << "null";
+  }
+  out << ']';
 }
 
 void write_numbers(std::ostream& out, const std::vector<double>& values) {
@@ -52,7 +66,7 @@ std::string content_json(const AnimationContent& content) {
   out << ",\"model\":";
   write_string(out, content.model_name);
   out << ",\n\"t\":";
-  write_numbers(out, content.times);
+  write_times(out, content.times);
   out << ",\n\"visuals\":[";
   for (std::size_t k = 0; k < content.tracks.size(); ++k) {
     const VisualTrack& track = content.tracks[k];

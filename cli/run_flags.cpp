@@ -105,11 +105,14 @@ runtime::IntegratorOptions run_integrator_options(const RunFlags& flags, const S
 
 runtime::InitialState run_initial_state(const RunFlags& flags, const Scene& scene_set, const runtime::Model& model) {
   runtime::InitialState initial = initial_state_of(scene_set, model);  // [initial] expressions follow --set
-  if (flags.repair)  // every value may move but those pinned by [initial] fixed
-    for (int i = 0; i < model.n_states(); ++i)
-      initial.given[static_cast<std::size_t>(i)] =
-          std::find(scene_set.initial.fixed.begin(), scene_set.initial.fixed.end(), model.state_name(i)) !=
-          scene_set.initial.fixed.end();
+  // --repair-initial: given values that miss a hidden constraint may move, all but those pinned by
+  // [initial] fixed; consistent ones stay (runtime::solve_or_repair_initial_point).
+  initial.repair = flags.repair;
+  initial.pinned.assign(static_cast<std::size_t>(model.n_states()), false);
+  for (int i = 0; i < model.n_states(); ++i)
+    initial.pinned[static_cast<std::size_t>(i)] =
+        std::find(scene_set.initial.fixed.begin(), scene_set.initial.fixed.end(), model.state_name(i)) !=
+        scene_set.initial.fixed.end();
   return initial;
 }
 

@@ -38,14 +38,27 @@ std::string SampleExpressions::locate(const GiNaC::ex& e, std::vector<Source>& f
     const int state = known ? model.state_index(variable, c.order) : -1;
     const int below = known && c.order > 0 ? model.state_index(variable, c.order - 1) : -1;
     if (state >= 0)
-      found.push_back({jet.symbol(c), false, state});
+      found.push_back({jet.symbol(c), Slot::state, state});
     else if (below >= 0 && model.is_differential(below))
-      found.push_back({jet.symbol(c), true, below});
+      found.push_back({jet.symbol(c), Slot::derivative, below});
     else
       return primed(jet.variable_name(c.kind, c.index), c.order) +
              (known ? "" : " (it has no multiplier " + jet.variable_name(c.kind, c.index) + ")");
   }
+  // Inputs: their values at the sample, as the run evaluated them (Sample::u, the model's order).
+  for (int k = 0; k < static_cast<int>(jet.inputs().size()); ++k) {
+    if (!e.has(jet.input(k))) continue;
+    const int i = model.input_index(jet.inputs()[static_cast<std::size_t>(k)]);
+    if (i < 0) return jet.inputs()[static_cast<std::size_t>(k)] + " (an input the model does not read)";
+    found.push_back({jet.input(k), Slot::input, i});
+  }
   return "";
+}
+
+double SampleExpressions::value_of(const Source& s, const runtime::Sample& sample) {
+  const std::vector<double>& from = s.slot == Slot::state ? sample.y : s.slot == Slot::derivative ? sample.yp : sample.u;
+  const auto k = static_cast<std::size_t>(s.index);
+  return k < from.size() ? from[k] : NAN;  // a sample without inputs (read back from a file): NaN
 }
 
 std::string SampleExpressions::missing(const GiNaC::ex& expression) const {
@@ -81,7 +94,7 @@ std::vector<double> SampleExpressions::evaluate(const runtime::Sample& sample) c
   if (program_) {
     std::vector<double> values{sample.t};
     for (const Source& s : sources_)
-      values.push_back((s.derivative ? sample.yp : sample.y)[static_cast<std::size_t>(s.index)]);
+      values.push_back(value_of(s, sample));
     try {
       out = program_->values_at(values);
     } catch (const MathError&) {  // as above, found while evaluating
@@ -93,7 +106,7 @@ std::vector<double> SampleExpressions::evaluate(const runtime::Sample& sample) c
     GiNaC::exmap values;
     values[scene_->jet->time()] = sample.t;
     for (const Source& s : sources_)
-      values[s.symbol] = (s.derivative ? sample.yp : sample.y)[static_cast<std::size_t>(s.index)];
+      values[s.symbol] = value_of(s, sample);
     for (const GiNaC::ex& e : expressions_) {
       double v = NAN;
       try {

@@ -1,6 +1,6 @@
 #pragma once
 /// \file sample_expressions.hpp
-/// \brief Expressions of the scene (t, parameters, coordinates and their derivatives, the
+/// \brief Expressions of the scene (t, parameters, inputs, coordinates and their derivatives, the
 /// multipliers, definitions) evaluated on the samples of a run: the values of [outputs] and of
 /// [visual] (scene_outputs.hpp, visual_samples.hpp).
 
@@ -38,12 +38,14 @@ class SampleExpressions {
   std::vector<double> evaluate(const runtime::Sample& sample) const;
 
  private:
-  /// Where a jet symbol's value is found in a sample: y[index] or y'[index].
+  /// Where a symbol's value is found in a sample: y[index], y'[index], or the input u[index].
+  enum class Slot { state, derivative, input };
   struct Source {
     GiNaC::ex symbol;
-    bool derivative;
+    Slot slot;
     int index;
   };
+  static double value_of(const Source& s, const runtime::Sample& sample);
   /// Finds the sources of e's jet symbols (appended to `found`); the first quantity the model
   /// does not compute, or "".
   std::string locate(const GiNaC::ex& e, std::vector<Source>& found) const;

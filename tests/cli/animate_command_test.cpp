@@ -129,3 +129,21 @@ TEST_CASE("nhc animate: refusals leave nothing, a failed run keeps its page", "[
     CHECK(t.back() < 2.0);
   }
 }
+
+TEST_CASE("nhc animate: sample times after a late t0 stay distinct, the summary says their range", "[cli][animate][issue43]") {
+  const std::string dir = scratch_dir("animate_late_t0");
+  // t0 = 1e6, 1001 samples 0.01 apart: with 9 significant digits they were 101 distinct times.
+  std::string text = read_file(kScene);
+  text.replace(text.find("[initial]\n"), 10, "[initial]\nt0 = 1000000.0\n");
+  text.replace(text.find("t_end = 3.0"), 11, "t_end = 1000010.0");
+  const std::string scene = dir + "/late.toml";
+  std::ofstream(scene) << text;
+  // rtol 1e-8: at the scene's 1e-10 IDA's first steps fall below the collapse test's 1e-12 |t| there.
+  const Run r = run(nhc_command() + " animate '" + scene + "' --outputs 1000 --rtol 1e-8 --atol 1e-10 -o '" + dir + "/page'", dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.out.find("t from 1000000 to 1000010, 1001 samples") != std::string::npos);
+  const std::vector<double> t = array_after(read_file(dir + "/page/index.html"), "t");
+  REQUIRE(t.size() == 1001);
+  for (std::size_t k = 0; k < t.size(); ++k) CHECK(t[k] == 1e6 + 10.0 * static_cast<double>(k) / 1000);
+}

@@ -467,3 +467,110 @@ TEST_CASE("a singular iteration matrix is reported in the scene's words, with th
     CHECK(std::abs(row[7] - 1 / ((1 - t) * (1 - t))) < 1e-5 / ((1 - t) * (1 - t)));
   }
 }
+
+namespace {
+
+/// `text` written to dir/name.
+std::string write_scene(const std::string& dir, const std::string& name, const std::string& text) {
+  const std::string path = dir + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+/// The example `file` with its [initial] table replaced by `initial`.
+std::string example_with_initial(const std::string& file, const std::string& initial) {
+  std::string text = read_file(std::string(NHC_SOURCE_DIR) + "/examples/" + file);
+  const std::size_t begin = text.find("[initial]");
+  const std::size_t end = text.find("\n[", begin + 1);
+  return text.substr(0, begin) + "[initial]\n" + initial + text.substr(end);
+}
+
+/// The column named `name` of a CSV's header.
+std::size_t csv_column(const std::string& csv, const std::string& name) {
+  std::istringstream header(csv.substr(0, csv.find('\n')));
+  std::string field;
+  for (std::size_t k = 0; std::getline(header, field, ','); ++k)
+    if (field == name) return k;
+  FAIL("no column " << name);
+  return 0;
+}
+
+}  // namespace
+
+TEST_CASE("--repair-initial keeps the given values that are consistent, in simulate and analyze alike",
+          "[cli][issue43]") {
+  const std::string dir = nhc::test::scratch_dir("repair_keeps_consistent");
+  // Appell–Hamel as shipped: x' = 1, y' = 0.5 given, z' missing. f1 = 0 gives z' = (b/a) sqrt(x'² + y'²)
+  // = sqrt(1.25)/2, and the energy m/2 (x'² + y'² + z'²) + m g z = (1.25 + 1.25/4)/2 = 0.78125.
+  {
+    const Run r = nhc_run("simulate examples/appell_hamel.toml --repair-initial -o -", dir);
+    REQUIRE(r.exit_code == 0);
+    const std::vector<double> row = csv_row(r.out, 0);
+    CHECK(row[csv_column(r.out, "x'")] == 1.0);
+    CHECK(row[csv_column(r.out, "y'")] == 0.5);
+    CHECK(std::abs(row[csv_column(r.out, "z'")] - std::sqrt(1.25) / 2) < 1e-14);
+    CHECK(std::abs(row[csv_column(r.out, "invariant:energy")] - 0.78125) < 1e-14);
+    const Run analyze = nhc_run("analyze examples/appell_hamel.toml -m chetaev --repair-initial", dir);
+    REQUIRE(analyze.exit_code == 0);
+    CHECK_THAT(analyze.out, !Contains("repaired"));
+  }
+  // The family: scenes with some derivatives missing. Each missing one follows from its constraint
+  // (closed form below); every given value stays, and the start is the one without --repair-initial.
+  struct Case {
+    const char* example;
+    const char* initial;
+    const char* solved;  ///< the missing value's column
+    double expected;     ///< its value from the constraint, by hand
+    std::vector<std::pair<const char*, double>> kept;
+  };
+  const std::vector<Case> cases = {
+      // Heisenberg: z' = (x y' − y x')/2 = (1·0.7 − 0)/2.
+      {"heisenberg.toml", "t0 = 0.0\nx = [1.0, 0.3]\ny = [0.0, 0.7]\nz = [0.0]\n", "z'", 0.35, {{"x'", 0.3}, {"y'", 0.7}}},
+      // Heisenberg off the origin: z' = (1·0.7 − 2·0.3)/2.
+      {"heisenberg.toml", "t0 = 0.0\nx = [1.0, 0.3]\ny = [2.0, 0.7]\nz = [0.0]\n", "z'", 0.05, {{"x'", 0.3}, {"y'", 0.7}}},
+      // Knife edge: x' sin φ = y' cos φ, so y' = x' tan φ, or x' = y' cot φ.
+      {"knife_edge.toml", "t0 = 0.0\nx = [0.0, 1.0]\ny = [0.0]\nphi = [0.5, 0.2]\n", "y'", std::tan(0.5),
+       {{"x'", 1.0}, {"phi'", 0.2}}},
+      {"knife_edge.toml", "t0 = 0.0\nx = [0.0]\ny = [0.0, 1.0]\nphi = [0.5, 0.2]\n", "x'", 1 / std::tan(0.5),
+       {{"y'", 1.0}, {"phi'", 0.2}}},
+  };
+  for (const Case& c : cases) {
+    INFO(c.example << ": " << c.initial);
+    const std::string scene =
+        write_scene(dir, std::string("family_") + c.solved[0] + "_" + c.example, example_with_initial(c.example, c.initial));
+    const Run repaired = nhc_run("simulate '" + scene + "' --repair-initial -o -", dir);
+    const Run plain = nhc_run("simulate '" + scene + "' -o -", dir);
+    REQUIRE(repaired.exit_code == 0);
+    REQUIRE(plain.exit_code == 0);
+    const std::vector<double> row = csv_row(repaired.out, 0);
+    CHECK(row == csv_row(plain.out, 0));
+    CHECK(std::abs(row[csv_column(repaired.out, c.solved)] - c.expected) < 1e-12);
+    for (const auto& [name, value] : c.kept) CHECK(row[csv_column(repaired.out, name)] == value);
+    const Run analyze = nhc_run("analyze '" + scene + "' --repair-initial", dir);
+    CHECK(analyze.exit_code == 0);
+    CHECK_THAT(analyze.out, !Contains("repaired"));
+  }
+}
+
+TEST_CASE("a run to a far t_end starts: the initial point's calculation does not take its scale from t_end",
+          "[cli][issue43]") {
+  const std::string dir = nhc::test::scratch_dir("far_t_end");
+  // x'' = -x: to t_end = 1e7 with one output IDACalcIC took its first step as 1e4 and failed at t0
+  // where 1e6 ran. The step limit now stops each run after its start, at a t > 0.
+  const std::string scene = write_scene(dir, "ho.toml",
+                                        "name = \"ho\"\ncoordinates = [\"x\"]\nlagrangian = \"x'^2/2 - x^2/2\"\n"
+                                        "[initial]\nx = [1.0, 0.0]\n[simulate]\nt_end = 10.0\n");
+  for (const char* t_end : {"1e6", "1e7", "1e9", "1e12"}) {
+    INFO("--t-end " << t_end);
+    const Run r = nhc_run("simulate '" + scene + "' --t-end " + t_end + " --outputs 1 --max-steps 50", dir);
+    CHECK(r.exit_code == 3);
+    CHECK_THAT(r.err, Contains("the step limit (50 steps) was reached at t = 0.") && !Contains("IDACalcIC"));
+  }
+  // The first steps follow cos t whatever t_end is: 2000 steps reach past t = 1.
+  const Run r = nhc_run("simulate '" + scene + "' --output-times 0,1,1e7 --max-steps 2000 -o -", dir);
+  CHECK(r.exit_code == 3);
+  const std::vector<double> row = csv_row(r.out, 1);
+  REQUIRE(row.size() > 1);
+  CHECK(row[0] == 1.0);
+  CHECK(std::abs(row[1] - std::cos(1.0)) < 1e-6);
+}

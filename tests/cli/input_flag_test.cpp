@@ -123,3 +123,87 @@ TEST_CASE("nhc simulate --sensitivity and nhc connect refuse a scene with inputs
     CHECK_FALSE(file_exists(dir + "/x.csv"));
   }
 }
+
+namespace {
+
+/// Column `name` of a CSV.
+std::vector<double> csv_column(const std::string& csv, const std::string& name) {
+  std::istringstream in(csv);
+  std::string line, cell;
+  std::getline(in, line);
+  std::stringstream header(line);
+  int index = -1;
+  for (int k = 0; std::getline(header, cell, ','); ++k)
+    if (cell == name) index = k;
+  REQUIRE(index >= 0);
+  std::vector<double> values;
+  while (std::getline(in, line)) {
+    std::stringstream cells(line);
+    for (int k = 0; std::getline(cells, cell, ','); ++k)
+      if (k == index) values.push_back(std::stod(cell));
+  }
+  return values;
+}
+
+/// The numbers of the JSON array that follows `"key":` after `from` in a page.
+std::vector<double> array_after(const std::string& page, const std::string& key, std::size_t from = 0) {
+  const std::size_t at = page.find("\"" + key + "\":[", from);
+  REQUIRE(at != std::string::npos);
+  const std::size_t open = page.find('[', at), close = page.find(']', open);
+  std::vector<double> values;
+  std::stringstream cells(page.substr(open + 1, close - open - 1));
+  std::string cell;
+  while (std::getline(cells, cell, ',')) values.push_back(std::stod(cell));
+  return values;
+}
+
+}  // namespace
+
+TEST_CASE("[outputs] and [visual] read the inputs as the run drives them", "[cli][inputs][issue43]") {
+  const std::string dir = scratch_dir("input_in_outputs");
+  // The driven oscillator with a time-varying default F = sin(2t)/2, an output 2F and a sphere at (x, F, 0).
+  std::string text = read_file(kScene);
+  text.replace(text.find("F = \"0\""), 7, "F = \"0.5*sin(2*t)\"");
+  text += "[outputs]\nuu = \"2*F\"\n[visual]\nb = { shape = \"sphere\", radius = \"0.1\", center = \"[x, F, 0]\" }\n";
+  const std::string scene = dir + "/driven.toml";
+  std::ofstream(scene) << text;
+  {
+    std::ofstream series(dir + "/F.csv");
+    series.precision(17);
+    series << "t,F\n";
+    for (int k = 0; k <= 300; ++k) series << k * 1e-2 << "," << std::cos(k * 1e-2) << "\n";
+  }
+  struct Case {
+    std::string flag;
+    double (*F)(double t);  ///< the signal, by hand (the CSV's between its knots: within 1.25e-5)
+  };
+  const std::vector<Case> cases = {
+      {"", [](double t) { return 0.5 * std::sin(2 * t); }},
+      {"--input F=0.7", [](double) { return 0.7; }},
+      {"--input 'F=sin(3*t)'", [](double t) { return std::sin(3 * t); }},
+      {"--input 'F=@" + dir + "/F.csv'", [](double t) { return std::cos(t); }},
+  };
+  for (const Case& c : cases) {
+    INFO(c.flag);
+    const Run r = run(nhc_command() + " simulate '" + scene + "' " + c.flag + " --outputs 37 -o -", dir);
+    REQUIRE(r.exit_code == 0);
+    const std::vector<double> t = csv_column(r.out, "t"), F = csv_column(r.out, "input:F"), uu = csv_column(r.out, "uu");
+    REQUIRE(uu.size() == 38);
+    for (std::size_t k = 0; k < uu.size(); ++k) {
+      CHECK(uu[k] == 2 * F[k]);
+      CHECK(std::abs(F[k] - c.F(t[k])) < 2e-5);
+    }
+  }
+  const Run page = run(nhc_command() + " animate '" + scene + "' --input 'F=sin(3*t)' --outputs 37 -o '" + dir + "/page'", dir);
+  REQUIRE(page.exit_code == 0);
+  const std::string html = read_file(dir + "/page/index.html");
+  const std::vector<double> t = array_after(html, "t");
+  const std::vector<double> centre = array_after(html, "position", html.find("\"name\":\"b\""));
+  REQUIRE(t.size() == 38);
+  REQUIRE(centre.size() == 3 * 38);
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    CHECK(std::isfinite(centre[3 * k]));
+    // The page keeps 9 significant digits of t and of F: 3 · 5e-9 + 5e-10 at most.
+    CHECK(std::abs(centre[3 * k + 1] - std::sin(3 * t[k])) < 2e-8);
+  }
+}

@@ -74,6 +74,7 @@ TEST_CASE("nhc simulate --integrator variational: refusals name the flag or the 
        "does not go with --integrator variational"},
       {example("particle_spring.toml") + " --integrator variational --step 0.01", "has order 2"},
       {example("knife_edge.toml") + " --integrator rk4 --step 0.01", "--integrator"},
+      {example("knife_edge.toml") + " --integrator variational --step 9.99 --t-end 10", "--step 9.99 does not fit the run"},
   };
   for (const Refusal& r : refusals) {
     const Run result = run(nhc_command() + " simulate " + r.arguments + out, dir);
@@ -125,4 +126,19 @@ TEST_CASE("nhc simulate --integrator variational: Newton's failure in words, the
   CHECK(r.err.find("try a smaller step (--step)") != std::string::npos);
   CHECK(r.out.find("the motion up to the failure") != std::string::npos);
   CHECK(file_exists(dir + "/run.csv"));
+}
+
+TEST_CASE("nhc simulate --integrator variational: a run ends on t_end, before a singular point after it",
+          "[cli][variational][issue43]") {
+  const std::string dir = scratch_dir("variational_ends_on_t_end");
+  // Appell–Hamel's chetaev motion reaches v = 0, where the constraint is singular, at
+  // t* = v0 (a² + b²)/(g a b) = sqrt(1.25)·1.25/(9.81·0.5) = 0.28492: a run to 0.284 with step 0.01 ends
+  // there (29 steps of 0.284/29) instead of stepping to 0.30 beyond t*.
+  const Run r = run(nhc_command() + " simulate " + example("appell_hamel.toml") +
+                        " --integrator variational --step 0.01 --t-end 0.284 --outputs 4 -o -", dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const std::string last = r.out.substr(r.out.rfind('\n', r.out.size() - 2) + 1);
+  CHECK(last.rfind("0.284,", 0) == 0);
+  CHECK(run(nhc_command() + " simulate " + example("appell_hamel.toml") + " --t-end 0.284 -o -", dir).exit_code == 0);
 }

@@ -295,3 +295,39 @@ TEST_CASE("variational: a feedback input, the knife edge's turning damped by u =
   CHECK(errors[2] < 1e-4);
   for (double order : observed_orders(errors)) CHECK(order == Approx(2.0).margin(0.15));
 }
+
+TEST_CASE("variational: a step that does not divide the run ends on t_end, order 2 kept; one that does not fit twice is refused",
+          "[jit][variational][issue43]") {
+  const nhc::Scene scene = nhc::parse_scene(kKnifeEdge, "knife_edge_turning.toml");
+  const nhc::jit::LoadedModel built = build_variational(scene);
+  const rt::Model& model = built.model();
+  const double v = 1.0, w = 2.0;
+  const auto exact = [&](double t) {
+    return exact_by_state(model, {{"x", v / w * std::sin(w * t)},
+                                  {"y", v / w * (1 - std::cos(w * t))},
+                                  {"phi", w * t},
+                                  {"x'", v * std::cos(w * t)},
+                                  {"y'", v * std::sin(w * t)},
+                                  {"phi'", w}});
+  };
+  // 5/0.03 = 166.7: 167 steps of 5/167, the last node t_end = 5 with its backward-difference velocity.
+  std::vector<double> errors, last_errors;
+  for (double h : {0.03, 0.015, 0.0075}) {
+    const rt::VariationalRun r = run(model, {}, scene, h, 5.0, 7);
+    REQUIRE_FALSE(r.run.failure);
+    REQUIRE(r.run.samples.size() == 8);
+    CHECK(r.run.samples.back().t == 5.0);
+    CHECK(r.steps == static_cast<long>(std::ceil(5.0 / h)));
+    errors.push_back(max_error(model, r.run, exact));
+    rt::RunResult last;
+    last.samples = {r.run.samples.back()};
+    last_errors.push_back(max_error(model, last, exact));
+  }
+  INFO("errors " << errors[0] << " " << errors[1] << " " << errors[2] << ", at t_end " << last_errors[0] << " "
+                 << last_errors[1] << " " << last_errors[2]);
+  for (double order : observed_orders(errors)) CHECK(order == Approx(2.0).margin(0.1));
+  for (double order : observed_orders(last_errors)) CHECK(order == Approx(2.0).margin(0.1));
+  // A step that fits the run less than twice: refused before anything is solved.
+  CHECK_THROWS_AS(run(model, {}, scene, 2.6, 5.0, 2), std::invalid_argument);
+  CHECK_FALSE(run(model, {}, scene, 2.5, 5.0, 2).run.failure);
+}

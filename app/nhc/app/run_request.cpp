@@ -95,6 +95,10 @@ void check_run_request(const RunRequest& r, const Scene& scene, ModelKind kind, 
            names.project + " applies to IDA: the variational integrator solves the discrete constraints at every step");
   require_variational_scene(scene, kind);
   const double t_end = run_output_times(r, scene, names).back();
+  if (!runtime::variational_step_fits(scene.initial.t0, t_end, *r.step))
+    refuse(at_step, names.step + " " + number(*r.step, 6) + " does not fit the run from t0 = " +
+                        number(scene.initial.t0, 6) + " to " + number(t_end, 6) +
+                        " twice: the variational integrator needs at least two steps");
   const long steps = runtime::variational_steps_needed(scene.initial.t0, t_end, *r.step);
   if (steps < 0 || steps > r.max_steps)
     refuse(at_step, names.step + " " + number(*r.step, 6) + " takes " +

@@ -287,32 +287,29 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
   for (int k : missing) scale[static_cast<std::size_t>(k)] = 1.0;
   const runtime::InitialPointTolerance tolerance =
       runtime::initial_point_tolerance(y, scene.simulate.rtol, scene.simulate.atol);
-  runtime::ConstraintSolveResult solve = runtime::solve_initial_point(functions, y.data(), scale, tolerance, options.max_iterations);
-  if (!solve.converged() && options.repair) {
-    // Repair: every value free but the pinned ones ([initial] fixed), the minimum-norm
-    // correction (the nearest consistent point).
-    std::vector<double> repaired = y;
-    std::vector<double> repair_scale(static_cast<std::size_t>(count), 1.0);
-    for (int k = 0; k < count; ++k)
-      if (std::find(scene.initial.fixed.begin(), scene.initial.fixed.end(),
-                    result.values[static_cast<std::size_t>(k)].name) != scene.initial.fixed.end())
-        repair_scale[static_cast<std::size_t>(k)] = 0.0;
-    const runtime::ConstraintSolveResult again =
-        runtime::solve_constraints(functions, repaired.data(), repair_scale, tolerance.solve, options.max_iterations);
-    if (!again.converged())
+  // --repair-initial: the same rule as the runtime (runtime::solve_or_repair_initial_point), every
+  // value free but the pinned ones ([initial] fixed) only when the given values miss.
+  std::vector<double> repair_scale(static_cast<std::size_t>(count), 1.0);
+  for (int k = 0; k < count; ++k)
+    if (std::find(scene.initial.fixed.begin(), scene.initial.fixed.end(),
+                  result.values[static_cast<std::size_t>(k)].name) != scene.initial.fixed.end())
+      repair_scale[static_cast<std::size_t>(k)] = 0.0;
+  const runtime::InitialPointSolve outcome = runtime::solve_or_repair_initial_point(
+      functions, y.data(), scale, options.repair ? &repair_scale : nullptr, tolerance, options.max_iterations);
+  runtime::ConstraintSolveResult solve = outcome.result;
+  if (outcome.repaired) {
+    if (!solve.converged())
       throw MathError("the " + model + " model: no consistent initial point found near the given "
-                      "values: " + hidden_names[static_cast<std::size_t>(again.worst)] +
-                      " keeps residual " + number(again.residuals[static_cast<std::size_t>(again.worst)]));
+                      "values: " + hidden_names[static_cast<std::size_t>(solve.worst)] +
+                      " keeps residual " + number(solve.residuals[static_cast<std::size_t>(solve.worst)]));
     for (int k = 0; k < count; ++k) {
       InitialValue& v = result.values[static_cast<std::size_t>(k)];
-      if (v.source == ValueSource::given && std::abs(repaired[static_cast<std::size_t>(k)] - v.given) > 0.0) {
+      if (v.source == ValueSource::given && std::abs(y[static_cast<std::size_t>(k)] - v.given) > 0.0) {
         v.source = ValueSource::repaired;
         result.notes.push_back("repaired " + v.name + ": " + number(v.given) + " -> " +
-                               number(repaired[static_cast<std::size_t>(k)]));
+                               number(y[static_cast<std::size_t>(k)]));
       }
     }
-    y = repaired;
-    solve = again;
   } else if (!solve.converged()) {
     const auto worst = static_cast<std::size_t>(solve.worst);
     const Eigen::SparseMatrix<double, Eigen::RowMajor> jg =

@@ -77,7 +77,8 @@ HiddenSolveReport solve_hidden_constraints(const Model& model, const double* p, 
 
 HiddenSolveReport solve_initial_hidden_constraints(const Model& model, const double* p, double t0, double* y,
                                                    const std::vector<double>& scale,
-                                                   const InitialPointTolerance& tolerance, int max_iterations) {
+                                                   const InitialPointTolerance& tolerance, int max_iterations,
+                                                   const std::vector<double>* repair_scale) {
   HiddenSolveReport report;
   const int m = model.n_hidden(), n = model.n_states();
   if (m == 0) return report;
@@ -87,7 +88,9 @@ HiddenSolveReport solve_initial_hidden_constraints(const Model& model, const dou
   g.size = n;
   g.values = [&](const double* yy, double* out) { tab.hidden_constraints(t0, yy, p, out); };
   g.jacobian = [&](const double* yy, double* out) { tab.hidden_constraints_jacobian(t0, yy, p, out); };
-  const ConstraintSolveResult r = solve_initial_point(g, y, scale, tolerance, max_iterations);
+  const InitialPointSolve solve = solve_or_repair_initial_point(g, y, scale, repair_scale, tolerance, max_iterations);
+  const ConstraintSolveResult& r = solve.result;
+  const std::vector<double>& moved = solve.repaired ? *repair_scale : scale;
   report.iterations = r.iterations;
   report.residual_before = r.residual_before;
   report.residual_after = r.residual_after;
@@ -106,7 +109,7 @@ HiddenSolveReport solve_initial_hidden_constraints(const Model& model, const dou
   for (int i = 0; i < n; ++i) {
     const double entry = jacobian[static_cast<std::size_t>(i) * static_cast<std::size_t>(m) + static_cast<std::size_t>(r.worst)];
     if (entry == 0.0) continue;
-    if (scale[static_cast<std::size_t>(i)] > 0) failure.free.push_back(model.state_name(i));
+    if (moved[static_cast<std::size_t>(i)] > 0) failure.free.push_back(model.state_name(i));
     else failure.given.push_back({model.state_name(i), y[i]});
   }
   const FailureKind kind = r.status == ConstraintSolveStatus::gradient_not_finite

@@ -35,8 +35,10 @@ HiddenSolveReport solve_hidden_constraints(const Model& model, const double* p, 
 /// The consistent initial point: the states with scale[i] > 0 are solved from g(t0, y) = 0,
 /// the given ones (scale 0) accepted within tolerance.accept (initial_point.hpp). Throws
 /// SolverError(inconsistent_initial_values, t0) with initial_point.hpp's message otherwise.
+/// With `repair_scale` the given values are repaired when they miss (solve_or_repair_initial_point).
 HiddenSolveReport solve_initial_hidden_constraints(const Model& model, const double* p, double t0, double* y,
                                                    const std::vector<double>& scale,
-                                                   const InitialPointTolerance& tolerance, int max_iterations = 50);
+                                                   const InitialPointTolerance& tolerance, int max_iterations = 50,
+                                                   const std::vector<double>* repair_scale = nullptr);
 
 }  // namespace nhc::runtime

@@ -46,6 +46,17 @@ ConstraintSolveResult solve_initial_point(const ConstraintFunctions& g, double* 
   return r;
 }
 
+InitialPointSolve solve_or_repair_initial_point(const ConstraintFunctions& g, double* y, const std::vector<double>& scale,
+                                                const std::vector<double>* repair_scale,
+                                                const InitialPointTolerance& tolerance, int max_iterations) {
+  InitialPointSolve out;
+  out.result = solve_initial_point(g, y, scale, tolerance, max_iterations);
+  if (out.result.converged() || !repair_scale) return out;
+  out.repaired = true;
+  out.result = solve_constraints(g, y, *repair_scale, tolerance.solve, max_iterations);
+  return out;
+}
+
 std::string describe(const InconsistentInitialPoint& f) {
   std::ostringstream s;
   s << "the initial values of the " << f.model << " model violate " << f.constraint << " at t0 = " << number_text(f.t0, 10)

@@ -36,6 +36,22 @@ InitialPointTolerance initial_point_tolerance(const std::vector<double>& y, doub
 ConstraintSolveResult solve_initial_point(const ConstraintFunctions& g, double* y, const std::vector<double>& scale,
                                           const InitialPointTolerance& tolerance, int max_iterations = 50);
 
+/// The outcome of solve_or_repair_initial_point.
+struct InitialPointSolve {
+  ConstraintSolveResult result;  ///< of the repair when one was tried, else of the first solve
+  bool repaired = false;         ///< the first solve failed and the repair was tried
+};
+
+/// The one rule by which --repair-initial moves initial values, in `nhc analyze` and
+/// `nhc simulate` alike: first the values not given are solved with the given ones fixed
+/// (`scale`, as solve_initial_point); only when that fails and `repair_scale` is given does every
+/// value with repair_scale[i] > 0 (all but those pinned by [initial] fixed) move to the nearest
+/// consistent point, the minimum-norm correction from where the first solve stopped. Given values
+/// that are consistent therefore stay, and a given value no violated constraint involves never moves.
+InitialPointSolve solve_or_repair_initial_point(const ConstraintFunctions& g, double* y, const std::vector<double>& scale,
+                                                const std::vector<double>* repair_scale,
+                                                const InitialPointTolerance& tolerance, int max_iterations = 50);
+
 struct InvolvedValue {
   std::string name;  ///< "x'", "lambda1"
   double value = 0;

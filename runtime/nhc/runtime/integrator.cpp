@@ -85,6 +85,24 @@ InitialState initial_state_from(const Model& model, double t0,
   return s;
 }
 
+/// The tout IDACalcIC is given. It uses tout only for the direction and the scale of its first step,
+/// h = 1e-3 (tout − t0), and its Newton matrix is ∂F/∂y' + ∂F/∂y / h: a first output far away (a
+/// harmonic oscillator with --t-end 1e7 --outputs 1: h = 1e4) leaves the algebraic states' columns
+/// at 1e-4 of the others and Newton fails although the point is consistent. So the span is at most
+/// one time unit (the scale of most scenes' runs), or 1e-6 |t0| where one unit is lost in rounding.
+namespace {
+double calc_ic_tout(double t0, double t_next) {
+  return t0 + std::min(t_next - t0, std::max(1.0, 1e-6 * std::abs(t0)));
+}
+}  // namespace
+
+std::vector<double> initial_repair_scale(const InitialState& state) {
+  std::vector<double> scale(state.y.size(), state.repair ? 1.0 : 0.0);
+  for (std::size_t i = 0; i < scale.size() && i < state.pinned.size(); ++i)
+    if (state.pinned[i]) scale[i] = 0.0;
+  return scale;
+}
+
 struct Integrator::Impl {
   Model model;
   InputValues inputs;  ///< the parameters, then the inputs at each evaluation (inputs.hpp)
@@ -527,6 +545,7 @@ struct Integrator::Impl {
   /// without the line search; the integrator's first steps correct what is left (their error
   /// test applies the tolerances in full).
   int consistent_initialization(double t0, double t_next) {
+    t_next = calc_ic_tout(t0, t_next);
     const std::vector<double> y0(y.data(), y.data() + n()), yp0(yp.data(), yp.data() + n());
     int flag = IDACalcIC(ida, IDA_YA_YDP_INIT, t_next);
     double coefficient = 0.0033;
@@ -635,8 +654,10 @@ Sample Integrator::initialize(const InitialState& state, double t_next) {
     std::vector<double> differential;
     for (int i = 0; i < n; ++i)
       if (s.model.is_differential(i)) differential.push_back(s.y[i]);
+    const std::vector<double> repair_scale = initial_repair_scale(state);
     solve_initial_hidden_constraints(s.model, s.inputs.at(state.t0, s.y.data()), state.t0, s.y.data(), scale,
-                                     initial_point_tolerance(differential, s.options.rtol, s.options.atol));
+                                     initial_point_tolerance(differential, s.options.rtol, s.options.atol), 50,
+                                     state.repair ? &repair_scale : nullptr);
   }
 
   // 2. IDA and IDACalcIC for the algebraic states and y'.
@@ -673,8 +694,9 @@ Sample Integrator::initialize(const InitialState& state, double t_next) {
   const int flag = s.consistent_initialization(state.t0, t_next);
   if (flag < 0) {
     nonfinite_at_start("consistent initialization");
-    // IDACalcIC's first step scale is 1e-3 (t_next - t0): its iteration matrix has cj ~ 1/that.
-    s.fail(flag, "the consistent initialization of the algebraic states and the derivatives (IDACalcIC)", 1e3 / (t_next - state.t0));
+    // IDACalcIC's first step scale is 1e-3 of its span: its iteration matrix has cj ~ 1/that.
+    s.fail(flag, "the consistent initialization of the algebraic states and the derivatives (IDACalcIC)",
+           1e3 / (calc_ic_tout(state.t0, t_next) - state.t0));
   }
   s.check(IDAGetConsistentIC(s.ida, s.y, s.yp), "reading the consistent initial values");
   s.remember(state.t0);

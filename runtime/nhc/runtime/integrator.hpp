@@ -78,6 +78,10 @@ struct InitialState {
   std::vector<double> y;
   std::vector<bool> given;
   std::vector<double> yp;  ///< optional guess, zeros when empty
+  /// --repair-initial: given values that miss a hidden constraint move to the nearest consistent
+  /// point, all but those marked in `pinned` ([initial] fixed); initial_point.hpp's one rule.
+  bool repair = false;
+  std::vector<bool> pinned;
 };
 
 /// Initial data in a scene's [initial] form (per coordinate or multiplier name: value, first
@@ -85,6 +89,9 @@ struct InitialState {
 /// of algebraic states and derivatives one order above a state are only guesses.
 InitialState initial_state_from(const Model& model, double t0,
                                 const std::map<std::string, std::vector<double>>& values);
+
+/// What --repair-initial may move: 1 for every state but the pinned ones (0 without repair).
+std::vector<double> initial_repair_scale(const InitialState& state);
 
 struct Sample {
   double t = 0;

@@ -483,9 +483,13 @@ SensitivitySample SensitivityIntegrator::initialize(const InitialState& state, d
     std::vector<double> scale(static_cast<size_t>(n), 1.0);
     for (int i = 0; i < n && i < static_cast<int>(state.given.size()); ++i)
       if (state.given[static_cast<size_t>(i)]) scale[static_cast<size_t>(i)] = 0.0;
-    double size = 1.0;
-    for (int i = 0; i < n; ++i) size = std::max(size, std::abs(s.y[i]));
-    solve_hidden_constraints(s.model, s.p.data(), state.t0, s.y.data(), scale, 1e-13 * size);
+    std::vector<double> differential;
+    for (int i = 0; i < n; ++i)
+      if (s.model.is_differential(i)) differential.push_back(s.y[i]);
+    const std::vector<double> repair_scale = initial_repair_scale(state);
+    solve_initial_hidden_constraints(s.model, s.p.data(), state.t0, s.y.data(), scale,
+                                     initial_point_tolerance(differential, s.options.rtol, s.options.atol), 50,
+                                     state.repair ? &repair_scale : nullptr);
   }
   // 2. Their derivative: the initial sensitivities of the differential states.
   s.yS = VectorArray(s.ns(), s.y);

@@ -215,8 +215,10 @@ long variational_steps_needed(double t0, double t_end, double h) {
   const double intervals = (t_end - t0) / h;
   if (!std::isfinite(intervals) || intervals > 1e15) return -1;
   // A t_end within rounding of a node is that node.
-  return static_cast<long>(std::ceil(intervals * (1 - 1e-12))) + 1;
+  return std::max(1L, static_cast<long>(std::ceil(intervals * (1 - 1e-12))));
 }
+
+bool variational_step_fits(double t0, double t_end, double h) { return (t_end - t0) / h >= 2 * (1 - 1e-12); }
 
 VariationalRun simulate_variational(const Model& model, const std::vector<double>& p, const InitialState& initial,
                                     const std::vector<double>& times, const VariationalOptions& options,
@@ -224,10 +226,16 @@ VariationalRun simulate_variational(const Model& model, const std::vector<double
   if (!model.has_variational_step())
     throw ModelError("model " + model.scene_name() + "_" + model.model_name() +
                      " was generated without the variational step (nhc generate --variational)");
-  const double h = options.step;
-  if (!(h > 0) || !std::isfinite(h))
-    throw std::invalid_argument("the variational step must be positive, not " + number_text(h, 12));
+  if (!(options.step > 0) || !std::isfinite(options.step))
+    throw std::invalid_argument("the variational step must be positive, not " + number_text(options.step, 12));
   if (times.empty()) throw std::invalid_argument("no output times");
+  const double t_end = times.back();
+  if (!variational_step_fits(initial.t0, t_end, options.step))
+    throw std::invalid_argument("the variational step " + number_text(options.step, 12) + " does not fit the run from t = " +
+                                number_text(initial.t0, 12) + " to " + number_text(t_end, 12) + " twice");
+  // N equal steps of at most options.step that end on t_end (docs/variational.md, "Samples").
+  const long steps = variational_steps_needed(initial.t0, t_end, options.step);
+  const double h = steps > 0 ? (t_end - initial.t0) / static_cast<double>(steps) : options.step;
   VariationalRun out;
   RunResult& result = out.run;
   Statistics& st = result.statistics;
@@ -249,7 +257,6 @@ VariationalRun simulate_variational(const Model& model, const std::vector<double
   }
   st.initialization_seconds = seconds_since(init_start);
   const double t0 = result.initial.t;
-  const long steps = variational_steps_needed(t0, times.back(), h);
   if (steps < 0 || steps > options.max_steps) {
     result.failure = SolverError(FailureKind::too_many_steps, t0,
                                  "a fixed step h = " + number_text(h, 12) + " from t = " + number_text(t0, 12) + " to " +
@@ -273,7 +280,7 @@ VariationalRun simulate_variational(const Model& model, const std::vector<double
   // q_k summed from the increments with Kahan's compensation: a million steps add no more
   // rounding to q than a few.
   std::vector<double> dq_previous(nn), q = previous.q, q_compensation(nn, 0.0), m(nn), m_next(nn),
-      used_inputs;
+      used_inputs, dq_before, lambda_before;
   const std::vector<double>& y0 = result.initial.y;
   for (std::size_t i = 0; i < nn; ++i) dq_previous[i] = h * previous.v[i];
   table.momentum(t0, y0.data(), values.at(t0, y0.data()), m.data());
@@ -342,8 +349,10 @@ VariationalRun simulate_variational(const Model& model, const std::vector<double
         }
         node.lambda.assign(x.data() + n, x.data() + n + g);
         emit_through(previous, node);
+        lambda_before = std::move(previous.lambda);
         previous = std::move(node);
       }
+      dq_before = dq_previous;
       // Shift the window; the next increment is predicted equal to this one.
       for (std::size_t i = 0; i < nn; ++i) {
         const double dq = x[static_cast<Eigen::Index>(i)];
@@ -355,6 +364,22 @@ VariationalRun simulate_variational(const Model& model, const std::vector<double
       m.swap(m_next);
       progress.update(t);
     }
+    // The last node, t_end itself: no step follows it, so its velocity is the second-order backward
+    // difference (3 Δq_{N−1} − Δq_{N−2})/(2h), its acceleration (Δq_{N−1} − Δq_{N−2})/h² and its
+    // multipliers extrapolated linearly from the two nodes before (N >= 2: variational_step_fits).
+    Node last;
+    last.t = t_end;
+    last.q = q;
+    last.v.resize(nn);
+    last.a.resize(nn);
+    for (std::size_t i = 0; i < nn; ++i) {
+      last.v[i] = (3 * dq_previous[i] - dq_before[i]) / (2 * h);
+      last.a[i] = (dq_previous[i] - dq_before[i]) / (h * h);
+    }
+    last.lambda.resize(static_cast<std::size_t>(g));
+    for (std::size_t a = 0; a < static_cast<std::size_t>(g); ++a)
+      last.lambda[a] = 2 * previous.lambda[a] - (lambda_before.empty() ? previous.lambda[a] : lambda_before[a]);
+    emit_through(previous, last);
   } catch (const SolverError& e) {
     result.failure = e;
   }

@@ -45,9 +45,14 @@ struct VariationalRun {
   long steps = 0;
 };
 
-/// The steps a run from t0 through t_end takes with step h (one beyond t_end gives the last node
-/// its velocity).
+/// The steps a run from t0 to t_end takes with a step of at most h: N = ceil((t_end − t0)/h) equal
+/// steps of (t_end − t0)/N, so that the last node is t_end (a t_end within rounding of a node
+/// counts as that node); -1 when N is beyond counting.
 long variational_steps_needed(double t0, double t_end, double h);
+
+/// Whether h fits the run from t0 to t_end at least twice, (t_end − t0)/h >= 2: the last node's
+/// velocity is a backward difference over its two steps (docs/variational.md, "Samples").
+bool variational_step_fits(double t0, double t_end, double h);
 
 /// Runs `model` (generated with the variational step: Model::has_variational_step, else a
 /// ModelError) from `initial` through `times`. Failures (no consistent initial point, Newton not
