@@ -13,6 +13,8 @@
 
 #include <iostream>
 
+#include <fmt/format.h>
+
 #include "nhc/jet/work_budget.hpp"
 #include "nhc/scene/definition_table.hpp"
 #include "nhc/scene/constant_expression.hpp"
@@ -152,6 +154,11 @@ class SceneReader {
   }
 
   Scene read() {
+    if (const std::optional<TextCharacter> c = control_character(text_))
+      throw InputError({path_, c->line, c->column},
+                       fmt::format("TOML syntax: control character U+{:04X} (TOML allows only tab and line ends; "
+                                   "write it as an escape such as \\u{:04X} inside a string)",
+                                   static_cast<unsigned char>(c->text[0]), static_cast<unsigned char>(c->text[0])));
     if (const std::optional<TextCharacter> c = non_ascii_outside_strings(text_))
       throw InputError({path_, c->line, c->column},
                        "TOML syntax: '" + printable(c->text) + "' outside a string or comment (names, numbers and "
