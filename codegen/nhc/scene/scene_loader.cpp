@@ -21,6 +21,7 @@
 #include "nhc/scene/expression_parser.hpp"
 #include "nhc/scene/tolerances.hpp"
 #include "nhc/scene/toml_text_check.hpp"
+#include "nhc/jet/work_stage.hpp"
 #include "nhc/scene/scene.hpp"
 
 namespace nhc {
@@ -861,6 +862,8 @@ Scene load_scene(const std::string& path, const SceneOptions& options) {
   if (!in) throw InputError({path, 0, 0}, "cannot open the scene file");
   std::ostringstream buffer;
   buffer << in.rdbuf();
+  work_budget::set_scene_path(path);
+  const work_budget::Stage stage("reading the scene");
   Scene scene = parse_scene(buffer.str(), path, options);
   for (const std::string& warning : scene.warnings) std::cerr << warning << "\n";
   return scene;
