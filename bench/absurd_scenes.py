@@ -97,9 +97,11 @@ def main():
                 if elapsed > s["worst"][0]:
                     s["worst"] = (elapsed, lagr)
                 s["rss"] = max(s["rss"], rss)
+                print(f"run {name} #{i}: exit {code} in {elapsed:.2f} s, peak {rss / 1024:.0f} MB", flush=True)
                 if code not in (0, 2, 3) or elapsed > args.limit:
                     s["bad"].append((i, code, elapsed, lagr, last))
                     print(f"FAIL {name} #{i}: exit {code} in {elapsed:.2f} s: {lagr}: {last}", file=sys.stderr)
+    sys.stdout.flush()
     rows = ["| command | scenes | exit codes | worst time (s) | worst peak memory (MB) | over the limit |",
             "|---|---|---|---|---|---|"]
     for name, s in stats.items():
