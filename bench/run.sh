@@ -206,4 +206,19 @@ gnuplot -e "data='$json/plot.dat'; set terminal svg size 900,540 dynamic font 's
 gnuplot -e "data='$json/plot.dat'; set terminal dumb size 110,36; set output '$json/plot.txt'" bench/plot.gp 2>/dev/null
 env_json
 "$python" bench/report.py "$json" "$results/results.md" "$json/plot.dat"
+# Issue 44: a seeded family of 200 absurd scenes (bench/absurd_scenes.py); every one must end with
+# exit 0, 2 or 3 within 5 s under derive, derive --format latex and generate. Its table is appended.
+absurd_status=0
+NHC_SCENE_CACHE=off NHC_CACHE_DIR="$json/absurd-cache" "$python" bench/absurd_scenes.py "$nhc" --count 200 \
+  --markdown "$json/absurd.md" > "$json/absurd.log" 2>&1 || absurd_status=$?
+{
+  echo
+  echo "## Absurd scenes (issue 44): 200 seeded Lagrangians under 200 characters, exit 0, 2 or 3 within 5 s"
+  echo
+  cat "$json/absurd.md" 2>/dev/null || echo "(bench/absurd_scenes.py failed: see $json/absurd.log)"
+  if [ "$absurd_status" != 0 ]; then
+    echo
+    echo "Not met: $(grep -c '^FAIL' "$json/absurd.log") runs past 5 s or with another exit code ($json/absurd.log)."
+  fi
+} >> "$results/results.md"
 log "wrote $results/results.md and $results/results-time.svg ($(awk -v s="$start" -v e="$(date +%s.%N)" 'BEGIN{printf "%.0f", e-s}') s)"

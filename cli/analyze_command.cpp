@@ -56,6 +56,7 @@ CommandRunner add_analyze_command(CLI::App& app) {
       ->needs("--repair-initial");
   add_set_option(sub, options->set);
   add_expand_flag(sub, options->read);
+  add_work_limit_flag(sub);
   sub->add_option("-o,--output", options->output, "write to FILE instead of standard output");
 
   return [options]() {

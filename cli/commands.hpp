@@ -31,6 +31,8 @@ CommandRunner add_animate_command(CLI::App& app);
 /// `--expand`: read the scene with every definition substituted (SceneOptions), the fully
 /// expanded equations; by default definitions stay named intermediates (docs/intermediates.md).
 void add_expand_flag(CLI::App* sub, SceneOptions& options);
+/// `--work-limit SECONDS`: the processor time the symbolic stages may take (work_watchdog.hpp).
+void add_work_limit_flag(CLI::App* sub);
 
 /// The scene's models, or those named by --model flags.
 std::vector<ModelKind> selected_models(const Scene& scene, const std::vector<std::string>& names);

@@ -1,9 +1,14 @@
 // nhc derive SCENE [--model M]... [--format text|latex|latex-math|json] [--set P=V]... [--expand] [-o FILE]
 #include <iostream>
 
+#include <fmt/format.h>
+
 #include "commands.hpp"
+#include "flag_rules.hpp"
+#include "work_watchdog.hpp"
 #include "parameter_overrides.hpp"
 #include "model_requirements.hpp"
+#include "nhc/jet/work_stage.hpp"
 #include "nhc/derive/models.hpp"
 #include "nhc/emit/derivation_emitters.hpp"
 #include "nhc/io/atomic_file.hpp"
@@ -24,6 +29,14 @@ struct DeriveOptions {
 };
 
 }  // namespace
+
+void add_work_limit_flag(CLI::App* sub) {
+  sub->add_option("--work-limit", work_limit_seconds,
+                  "processor seconds the symbolic work (deriving, reducing, generating code) may take "
+                  "before the run is refused (default " + fmt::format("{:g}", work_budget::kDefaultWorkSeconds) + ")")
+      ->check(flag_rules::positive())
+      ->option_text("SECONDS");
+}
 
 void add_expand_flag(CLI::App* sub, SceneOptions& options) {
   sub->add_flag_callback(
@@ -49,6 +62,7 @@ CommandRunner add_derive_command(CLI::App& app) {
       ->check(CLI::IsMember({"text", "latex", "latex-math", "json"}));
   add_set_option(sub, options->set);
   add_expand_flag(sub, options->read);
+  add_work_limit_flag(sub);
   sub->add_option("-o,--output", options->output, "write to FILE instead of standard output");
 
   return [options]() {
@@ -61,6 +75,7 @@ CommandRunner add_derive_command(CLI::App& app) {
       models.push_back(derive_model(scene, kind));
     }
     auto write = [&](std::ostream& out) {
+      const work_budget::Stage stage("printing the equations");
       if (options->format == "latex") write_derivation_latex(out, scene, models);
       else if (options->format == "latex-math") write_derivation_latex_math(out, scene, models);
       else if (options->format == "json") write_derivation_json(out, scene, models);

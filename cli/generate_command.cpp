@@ -59,6 +59,7 @@ CommandRunner add_generate_command(CLI::App& app) {
                 "print the header's file name (<scene>_<model>.hpp) and write nothing");
   add_set_option(sub, options->set);
   add_expand_flag(sub, options->read);
+  add_work_limit_flag(sub);
   sub->add_flag("-q,--quiet", options->quiet, "do not print the written file and operation counts");
 
   return [options]() {
@@ -92,7 +93,8 @@ CommandRunner add_generate_command(CLI::App& app) {
     write_file_atomically(path, [&](std::ostream& out) { out << header.text; });
     if (!options->quiet)
       std::cout << path << ": " << system.size() << " states, operations "
-                << header.before_cse.total() << " before CSE, " << header.after_cse.total()
+                << operation_count_text(header.before_cse.total()) << " before CSE, "
+                << operation_count_text(header.after_cse.total())
                 << " after\n";
     return 0;
   };

@@ -15,6 +15,7 @@
 #include "failure_report.hpp"
 #include "fixed_address_layout.hpp"
 #include "interrupt.hpp"
+#include "work_watchdog.hpp"
 #include "nhc/errors.hpp"
 
 namespace {
@@ -96,6 +97,8 @@ int run_command_line(int argc, char** argv) {
     return nhc::cli::kExitBadInput;
   }
 
+  // Symbolic work past --work-limit ends the run with exit 2 (work_watchdog.hpp).
+  nhc::cli::start_work_watchdog();
   try {
     for (auto& [sub, run] : commands)
       if (sub->parsed()) return run();

@@ -30,6 +30,7 @@ void add_run_flags(CLI::App* sub, RunFlags& flags) {
                   "expression of t and the parameters, or a time series (columns t and NAME, linear "
                   "interpolation; repeatable)");
   add_expand_flag(sub, flags.read);
+  add_work_limit_flag(sub);
   sub->add_flag("--project", flags.project, "project onto the hidden constraints (docs/projection.md)");
   sub->add_flag("--repair-initial", flags.repair,
                 "move given initial values that miss a hidden constraint to the nearest consistent point");

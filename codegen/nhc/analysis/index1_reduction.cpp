@@ -1,3 +1,4 @@
+#include "nhc/jet/work_stage.hpp"
 #include "nhc/analysis/index1_reduction.hpp"
 
 #include <algorithm>
@@ -15,6 +16,7 @@
 namespace nhc {
 
 Index1System reduce_to_index1(const Scene& scene, const DerivedModel& model) {
+  const work_budget::Stage stage("reducing to index 1");
   return refusing_at(scene.file_location(), "reducing the " + to_string(model.kind) + " model to index 1",
                      [&] { return reduce_to_index1(analyze_structure(dae_system_of(scene, model))); });
 }

@@ -1,3 +1,4 @@
+#include "nhc/jet/work_stage.hpp"
 #include "nhc/analysis/model_analysis.hpp"
 
 #include <sstream>
@@ -49,6 +50,7 @@ ModelAnalysis analyze_derived_model(const Scene& scene, const DerivedModel& mode
 
 ModelAnalysis analyze_model(const Scene& scene, const DerivedModel& model,
                             const InitializationOptions& options) {
+  const work_budget::Stage stage("analysing the model");
   return refusing_at(scene.file_location(), "analysing the " + to_string(model.kind) + " model",
                      [&] { return analyze_derived_model(scene, model, options); });
 }

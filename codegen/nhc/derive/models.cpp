@@ -1,3 +1,4 @@
+#include "nhc/jet/work_stage.hpp"
 #include "nhc/derive/models.hpp"
 
 #include <algorithm>
@@ -124,6 +125,7 @@ long derive_model_calls() { return derivations.load(); }
 
 DerivedModel derive_model(const MechanicalSystem& system, ModelKind kind) {
   ++derivations;
+  const work_budget::Stage stage("deriving the equations");
   DerivedModel model;
   model.kind = kind;
   model.constraints = system.constraints;

@@ -1,5 +1,6 @@
 // The header emitter (header_emitter.hpp): preparation (model_preparation.hpp), then printing
 // (header_printer.hpp).
+#include "nhc/jet/work_stage.hpp"
 #include "nhc/emit/header_emitter.hpp"
 
 #include <cstdio>
@@ -72,6 +73,7 @@ std::string generated_header_file_name(const std::string& scene_name, ModelKind 
 
 GeneratedHeader generate_header(const Scene& scene, const Index1System& system,
                                 const HeaderOptions& options) {
+  const work_budget::Stage stage("generating code (Jacobians, CSE, printing)");
   if (!system.jet) throw MathError("index-1 system without a jet space");
   // The scene name becomes a namespace and a file name: only a validated identifier may. (Scenes
   // built in code skip the loader's checks; every other name only enters comments and literals.)

@@ -57,7 +57,8 @@ std::string doubles(const std::vector<double>& v) {
 
 std::string describe_count(const std::string& label, const OperationCount& before, const OperationCount& after) {
   char line[160];
-  std::snprintf(line, sizeof line, "//   %-28s %7lld %7lld\n", label.c_str(), before.total(), after.total());
+  std::snprintf(line, sizeof line, "//   %-28s %7s %7s\n", label.c_str(), operation_count_text(before.total()).c_str(),
+                operation_count_text(after.total()).c_str());
   return line;
 }
 

@@ -375,12 +375,29 @@ std::vector<int> ExpressionDag::canonical_order(const std::vector<int>& outputs)
   return order;
 }
 
+namespace {
+
+long long saturating_sum(long long a, long long b) {
+  long long sum = 0;
+  return __builtin_add_overflow(a, b, &sum) ? kSaturatedOperations : sum;
+}
+
+}  // namespace
+
+long long OperationCount::total() const {
+  return saturating_sum(saturating_sum(additions, multiplications), saturating_sum(divisions, calls));
+}
+
 OperationCount& OperationCount::operator+=(const OperationCount& o) {
-  additions += o.additions;
-  multiplications += o.multiplications;
-  divisions += o.divisions;
-  calls += o.calls;
+  additions = saturating_sum(additions, o.additions);
+  multiplications = saturating_sum(multiplications, o.multiplications);
+  divisions = saturating_sum(divisions, o.divisions);
+  calls = saturating_sum(calls, o.calls);
   return *this;
+}
+
+std::string operation_count_text(long long count) {
+  return count >= kSaturatedOperations ? std::string("more than 9.2e18") : std::to_string(count);
 }
 
 OperationCount instruction_cost(const Instruction& in) {
@@ -424,7 +441,7 @@ OperationCount tree_operation_count(const ExpressionDag& dag, const std::vector<
     // x^k multiplied out evaluates its base once per factor when there is no CSE.
     const int uses = in.op == OpCode::integer_power ? in.exponent : 1;
     for (int a : in.args)
-      for (int u = 0; u < uses; ++u) c += tree[static_cast<size_t>(a)];
+      for (int u = 0; u < uses && c.total() < kSaturatedOperations; ++u) c += tree[static_cast<size_t>(a)];
     tree[static_cast<size_t>(id)] = c;
   }
   OperationCount total;

@@ -114,9 +114,17 @@ struct OperationCount {
   long long multiplications = 0;
   long long divisions = 0;
   long long calls = 0;            ///< sqrt, pow, sin, …
-  long long total() const { return additions + multiplications + divisions + calls; }
+  /// The sum of the four; every count saturates at kSaturatedOperations instead of wrapping (a
+  /// chain of definitions d_k = d_{k-1}² + x doubles the tree count at every step).
+  long long total() const;
   OperationCount& operator+=(const OperationCount& o);
 };
+
+/// The value at which operation counts stop growing (LLONG_MAX, about 9.2e18).
+inline constexpr long long kSaturatedOperations = 9223372036854775807LL;
+
+/// A count in words: the number, or "more than 9.2e18" when it saturated.
+std::string operation_count_text(long long count);
 
 /// Cost of one instruction by itself.
 OperationCount instruction_cost(const Instruction& instruction);

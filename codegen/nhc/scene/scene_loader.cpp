@@ -13,6 +13,8 @@
 
 #include <iostream>
 
+#include <fmt/format.h>
+
 #include "nhc/io/input_file.hpp"
 #include "nhc/jet/work_budget.hpp"
 #include "nhc/scene/definition_table.hpp"
@@ -20,6 +22,7 @@
 #include "nhc/scene/expression_parser.hpp"
 #include "nhc/scene/tolerances.hpp"
 #include "nhc/scene/toml_text_check.hpp"
+#include "nhc/jet/work_stage.hpp"
 #include "nhc/scene/scene.hpp"
 
 namespace nhc {
@@ -178,6 +181,11 @@ class SceneReader {
   }
 
   Scene read() {
+    if (const std::optional<TextCharacter> c = control_character(text_))
+      throw InputError({path_, c->line, c->column},
+                       fmt::format("TOML syntax: control character U+{:04X} (TOML allows only tab and line ends; "
+                                   "write it as an escape such as \\u{:04X} inside a string)",
+                                   static_cast<unsigned char>(c->text[0]), static_cast<unsigned char>(c->text[0])));
     if (const std::optional<TextCharacter> c = non_ascii_outside_strings(text_))
       throw InputError({path_, c->line, c->column},
                        "TOML syntax: '" + printable(c->text) + "' outside a string or comment (names, numbers and "
@@ -978,7 +986,10 @@ std::string equations_source(const std::string& text) {
 }
 
 Scene load_scene(const std::string& path, const SceneOptions& options) {
-  Scene scene = parse_scene(read_input_file(path, "a scene file"), path, options);
+  const std::string text = read_input_file(path, "a scene file");
+  work_budget::set_scene_path(path);
+  const work_budget::Stage stage("reading the scene");
+  Scene scene = parse_scene(text, path, options);
   for (const std::string& warning : scene.warnings) std::cerr << warning << "\n";
   return scene;
 }

@@ -72,4 +72,21 @@ std::optional<TextCharacter> non_ascii_outside_strings(std::string_view toml) {
   return std::nullopt;
 }
 
+std::optional<TextCharacter> control_character(std::string_view toml) {
+  int line = 1, column = 0;
+  for (std::size_t i = 0; i < toml.size(); ++i) {
+    const auto c = static_cast<unsigned char>(toml[i]);
+    if (c == '\n') {
+      ++line;
+      column = 0;
+      continue;
+    }
+    if ((c & 0xC0) != 0x80) ++column;
+    const bool line_end = c == '\r' && i + 1 < toml.size() && toml[i + 1] == '\n';
+    if ((c < 0x20 && c != '\t' && !line_end) || c == 0x7F)
+      return TextCharacter{line, column, std::string(1, static_cast<char>(c))};
+  }
+  return std::nullopt;
+}
+
 }  // namespace nhc

@@ -1,0 +1,43 @@
+#pragma once
+/// \file work_stage.hpp
+/// \brief The clock of the symbolic work: processor time spent inside the symbolic stages
+/// (deriving, reducing to index 1, Jacobians, CSE, printing), the stage running now, and the
+/// limit the command line's watchdog holds it to (cli/work_watchdog.hpp). Predictions
+/// (work_budget.hpp) refuse most runaway expansions before they start; this clock is the
+/// backstop for work no prediction saw, since one GiNaC call cannot be interrupted from inside.
+/// Why a watchdog rather than a worker process: docs/intermediates.md, "The work budget".
+
+#include <string>
+
+namespace nhc::work_budget {
+
+/// Processor seconds of symbolic work a command may spend by default (`--work-limit` raises it).
+/// The examples need at most 0.3 s, the 1024-body knife chain about 1.5 s.
+inline constexpr double kDefaultWorkSeconds = 4.0;
+
+/// Marks a symbolic stage for the lifetime of the object; stages nest (the innermost is named).
+/// Not a lock: cheap, and a no-op for the clock when no watchdog runs.
+class Stage {
+ public:
+  explicit Stage(const char* name);
+  ~Stage();
+  Stage(const Stage&) = delete;
+  Stage& operator=(const Stage&) = delete;
+
+ private:
+  const char* outer_;
+};
+
+/// The scene whose work is being measured (for the watchdog's message); "" when none.
+void set_scene_path(const std::string& path);
+
+/// What the watchdog reads: the innermost stage (nullptr outside every stage), the processor
+/// seconds spent inside stages so far, and the scene path. Safe to call from another thread.
+struct StageSnapshot {
+  const char* stage = nullptr;
+  double seconds = 0;
+  const char* scene_path = "";
+};
+StageSnapshot stage_snapshot();
+
+}  // namespace nhc::work_budget
