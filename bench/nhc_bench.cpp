@@ -377,7 +377,6 @@ int run(const Options& o) {
   nhc::runtime::IntegratorOptions io;
   io.rtol = o.rtol > 0 ? o.rtol : scene.simulate.rtol;
   io.atol = o.atol > 0 ? o.atol : scene.simulate.atol;
-  io.progress = false;
   // Both models (generated, hand-written) on the linear solver of the generated header's Jacobian
   // kind (nhc::default_jacobian_kind unless --jacobian), so that they are compared on equal terms.
   io.linear_solver = sparse ? nhc::runtime::LinearSolverKind::sparse : nhc::runtime::LinearSolverKind::dense;

@@ -70,7 +70,6 @@ int main(int argc, char** argv) {
   nhc::runtime::IntegratorOptions io;
   io.rtol = scene.simulate.rtol;
   io.atol = scene.simulate.atol;
-  io.progress = false;
   const std::vector<double> p = model.default_parameters();
 
   long plain_steps = 0;

@@ -15,6 +15,7 @@
 #include "nhc/jit.hpp"
 #include "nhc/runtime/runtime.hpp"
 #include "parameter_overrides.hpp"
+#include "progress_bar.hpp"
 #include "pipeline.hpp"
 #include "run_flags.hpp"
 #include "visual_samples.hpp"
@@ -59,7 +60,7 @@ CommandRunner add_animate_command(CLI::App& app) {
     const jit::LoadedModel built = jit::build(scene, kind, build_options);
     const runtime::Model& model = built.model();
     runtime::IntegratorOptions io = run_integrator_options(flags, scene);
-    io.progress = true;
+    io.progress = terminal_progress();
     const std::vector<double> p = parameters_with_overrides(model, overrides);
     const runtime::RunResult run = run_with_flags(flags, model, p, run_initial_state(flags, scene_set, model), times,
                                                   io, input_function(input_signals, model, p))

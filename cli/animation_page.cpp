@@ -1,5 +1,7 @@
 #include "animation_page.hpp"
 
+#include "nhc/runtime/number_text.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -21,9 +23,7 @@ void write_number(std::ostream& out, double v) {
     out << "null";
     return;
   }
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.9g", v);
-  out << buffer;
+  out << runtime::number_text(v, 9);
 }
 
 /// The sample times in full (the shortest text that reads back as the same double): with 9 digits,

@@ -7,6 +7,8 @@
 // Models that do not apply, or stop at t0, are listed with their reason. DIR appears whole or
 // not at all (nhc/io/atomic_directory.hpp). Exit 3 when no model gets past t0.
 #include <cmath>
+
+#include "nhc/primed_name.hpp"
 #include <iostream>
 #include <optional>
 #include <regex>
@@ -100,7 +102,7 @@ std::vector<ConstraintCheck> check_constraints(const Scene& scene, const CsvTabl
       point[jet.time()] = table.rows[row][table.column("t")];
       for (int i = 0; i < jet.coordinate_count(); ++i)
         for (int k = 0; k <= kMaxDerivativeOrder; ++k)
-          if (const int c = table.column(jet.coordinates()[i] + std::string(k, '\'')); c >= 0)
+          if (const int c = table.column(primed_name(jet.coordinates()[i], static_cast<int>(k))); c >= 0)
             point[jet.q(i, k)] = table.rows[row][c];
       try {
         const double f = evaluate_real(scene.constraints[a], point, "constraint f" + std::to_string(a + 1));

@@ -195,7 +195,6 @@ CommandRunner add_connect_command(CLI::App& app) {
     problem.segments = options->segments;
     problem.integrator.rtol = options->rtol.value_or(scene.simulate.rtol);
     problem.integrator.atol = options->atol.value_or(scene.simulate.atol);
-    problem.integrator.progress = false;
     problem.tolerance = options->tolerance;
     problem.max_iterations = options->max_iterations;
     problem.outputs = options->outputs;

@@ -1,6 +1,8 @@
 // The shared pipeline of the integrating commands (pipeline.hpp).
 #include "pipeline.hpp"
 
+#include "nhc/runtime/number_text.hpp"
+
 #include <sstream>
 
 namespace nhc::cli {
@@ -13,11 +15,6 @@ runtime::InitialState initial_state_of(const Scene& scene, const runtime::Model&
   return runtime::initial_state_from(model, scene.initial.t0, scene.initial.values);
 }
 
-std::string format_number(double v, int precision) {
-  std::ostringstream os;
-  os.precision(precision);
-  os << v;
-  return os.str();
-}
+std::string format_number(double v, int precision) { return runtime::number_text(v, precision); }
 
 }  // namespace nhc::cli

@@ -1,5 +1,7 @@
 #include "sample_expressions.hpp"
 
+#include "nhc/primed_name.hpp"
+
 #include <cmath>
 
 #include "nhc/errors.hpp"
@@ -9,9 +11,7 @@ namespace nhc::cli {
 
 namespace {
 
-std::string primed(const std::string& variable, int order) {
-  return variable + std::string(static_cast<std::size_t>(order), '\'');
-}
+std::string primed(const std::string& variable, int order) { return primed_name(variable, order); }
 
 }  // namespace
 

@@ -19,6 +19,7 @@
 #include "scene_outputs.hpp"
 #include "input_signals.hpp"
 #include "parameter_overrides.hpp"
+#include "progress_bar.hpp"
 #include "model_requirements.hpp"
 #include "nhc/analysis/model_analysis.hpp"
 #include "nhc/derive/models.hpp"
@@ -189,7 +190,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
 
     // Integrate.
     runtime::IntegratorOptions io = run_integrator_options(options->run, scene);
-    io.progress = true;
+    io.progress = terminal_progress();
     const std::vector<double> p = parameters_with_overrides(model, overrides);
     const SceneOutputs outputs(scene_set, model, p);  // [outputs]: extra CSV columns
     for (const std::string& note : outputs.notes()) std::cerr << note << "\n";

@@ -1,5 +1,7 @@
 #include "write_initial.hpp"
 
+#include "nhc/runtime/number_text.hpp"
+
 #include <map>
 #include <ostream>
 #include <sstream>
@@ -9,10 +11,7 @@ namespace nhc::cli {
 namespace {
 
 std::string number(double v) {
-  std::ostringstream os;
-  os.precision(17);
-  os << v;
-  std::string s = os.str();
+  std::string s = runtime::number_text(v, 17);
   if (s.find_first_of(".eEn") == std::string::npos) s += ".0";  // a TOML float
   return s;
 }

@@ -1,19 +1,18 @@
 #pragma once
 /// \file errors.hpp
-/// \brief The two kinds of failure the library reports to its callers.
+/// \brief The four kinds of failure the library reports to its callers; the nhc command maps
+/// each to its exit code (cli/exit_codes.hpp).
 ///
-/// InputError: the user's input is wrong (a scene file); it carries the position, and what()
-/// is one line `FILE:LINE:COLUMN: error: message`.
-/// MathError: the input is well formed but the mathematics fails (a singular matrix,
+/// InputError (exit 2): the user's input is wrong (a scene file); it carries the position, and
+/// what() is one line `FILE:LINE:COLUMN: error: message`.
+/// MathError (exit 3): the input is well formed but the mathematics fails (a singular matrix,
 /// a structurally singular system, a model that does not apply).
-/// The nhc command maps them to its exit codes 2 and 3 (cli/exit_codes.hpp).
 /// WorkLimitExceeded: the input is well formed but a symbolic operation on it would exceed the
 /// work budget (nhc/jet/work_budget.hpp). It is bad input (exit 2): the layers that know where
 /// the expression came from turn it into an InputError at that place (located()).
-/// EnvironmentError: the machine around nhc fails it (a file cannot be written, the disk is
-/// full, the C++ compiler is missing, fails or times out, a library cannot be loaded, the
-/// compile cache is unusable); the message names the path and the system's reason. The nhc
-/// command maps it to exit code 4.
+/// EnvironmentError (exit 4): the machine around nhc fails it (a file cannot be written, the disk
+/// is full, the C++ compiler is missing, fails or times out, a library cannot be loaded, the
+/// compile cache is unusable); the message names the path and the system's reason.
 
 #include <stdexcept>
 #include <string>

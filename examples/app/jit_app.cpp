@@ -40,7 +40,6 @@ bool check(const nhc::Scene& scene, const nhc::runtime::Model& model, double b) 
   IntegratorOptions options;
   options.rtol = 1e-8;
   options.atol = 1e-10;
-  options.progress = false;
   const RunResult run = simulate(model, model.default_parameters(),
                                  initial_state_from(model, scene.initial.t0, scene.initial.values),
                                  output_times(0.0, t_end, 100), options);

@@ -398,19 +398,9 @@ py::array_t<double> jacobian(const BuiltModel& built, double t, const py::array_
   const int n = model.n_states();
   const std::vector<double> yv = vector_of(y, n, "y"), ypv = vector_of(yp, n, "yp");
   runtime::InputValues inputs(model, model.default_parameters());
-  const nhc_model_table& tab = model.table();
   std::vector<double> column_major(static_cast<std::size_t>(n) * static_cast<std::size_t>(n), 0.0);
-  if (tab.jacobian) {
-    tab.jacobian(t, yv.data(), ypv.data(), cj, inputs.at(t, yv.data()), column_major.data());
-  } else if (model.has_sparse_jacobian()) {
-    std::vector<double> values(static_cast<std::size_t>(tab.jacobian_nnz));
-    tab.jacobian_values(t, yv.data(), ypv.data(), cj, inputs.at(t, yv.data()), values.data());
-    for (int j = 0; j < n; ++j)
-      for (int k = tab.jacobian_colptr[j]; k < tab.jacobian_colptr[j + 1]; ++k)
-        column_major[static_cast<std::size_t>(tab.jacobian_rowind[k] + n * j)] = values[static_cast<std::size_t>(k)];
-  } else {
+  if (!model.dense_jacobian(t, yv.data(), ypv.data(), cj, inputs.at(t, yv.data()), column_major.data()))
     throw MathError("the model was generated without a Jacobian");
-  }
   py::array_t<double> J({n, n});
   auto out = J.mutable_unchecked<2>();
   for (int i = 0; i < n; ++i)

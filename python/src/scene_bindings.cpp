@@ -1,5 +1,7 @@
 #include "scene_bindings.hpp"
 
+#include "nhc/primed_name.hpp"
+
 #include <pybind11/stl.h>
 
 #include <sstream>
@@ -70,7 +72,7 @@ py::dict analyze(const Scene& scene, const std::string& model) {
   out["dof"] = s.dof;
   py::list needed;
   for (const JetCoordinate& c : s.initial_values_needed)  // x, x', lambda1: the scene's spelling
-    needed.append(scene.jet->variable_name(c.kind, c.index) + std::string(static_cast<std::size_t>(c.order), '\''));
+    needed.append(primed_name(scene.jet->variable_name(c.kind, c.index), c.order));
   out["needed"] = needed;
   py::dict point;
   if (a.initial) {

@@ -121,7 +121,8 @@ TEST_CASE("compare runs every model from the same data and reports what differs"
     const Run s = nhc_run(std::string("simulate examples/appell_hamel.toml --t-end 0.4 --model ") + model + " -o '" +
                               dir + "/" + model + ".csv'",
                           dir);
-    REQUIRE((s.exit_code == 0 || s.exit_code == 3));
+    // The solved models stop where x'^2 + y'^2 reaches 0 (t = 0.285); suslov only monitors it.
+    REQUIRE(s.exit_code == (std::string(model) == "suslov" ? 0 : 3));
     CHECK(read_file(out + model + ".csv") == read_file(dir + "/" + model + ".csv"));
   }
   // Overlaid plots, a legend entry per model, gnuplot silent.

@@ -17,7 +17,6 @@ connect::ShootingProblem problem_for(const runtime::Model& model, const std::str
                                    {}, {}, 1, 1, runtime::IntegratorOptions{}, 1e-10, 50, 20};
   problem.integrator.rtol = 1e-11;
   problem.integrator.atol = 1e-13;
-  problem.integrator.progress = false;
   problem.free_states = connect::default_free_states(model, problem.parameters, problem.initial);
   return problem;
 }

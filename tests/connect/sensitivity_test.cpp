@@ -16,7 +16,6 @@ runtime::IntegratorOptions tight() {
   runtime::IntegratorOptions o;
   o.rtol = 1e-12;
   o.atol = 1e-14;
-  o.progress = false;
   return o;
 }
 

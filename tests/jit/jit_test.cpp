@@ -57,7 +57,6 @@ Outcome integrate(const nhc::runtime::Model& model, const nhc::Scene& scene, dou
   IntegratorOptions options;
   options.rtol = 1e-8;
   options.atol = 1e-10;
-  options.progress = false;
   const RunResult run = simulate(model, model.default_parameters(),
                                  initial_state_from(model, scene.initial.t0, scene.initial.values),
                                  output_times(0.0, t_end, 50), options);

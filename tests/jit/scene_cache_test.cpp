@@ -72,7 +72,6 @@ double z_dot_error(const nhc::runtime::Model& model, double b) {
   IntegratorOptions options;
   options.rtol = 1e-9;
   options.atol = 1e-11;
-  options.progress = false;
   const double v0 = std::hypot(1.0, 0.5), k = b;
   const std::map<std::string, std::vector<double>> values{{"x", {0.0, 1.0}}, {"y", {0.0, 0.5}}, {"z", {0.0}}};
   const RunResult run =

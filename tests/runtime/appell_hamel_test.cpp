@@ -16,7 +16,6 @@ IntegratorOptions tight(LinearSolverKind solver = LinearSolverKind::dense) {
   o.rtol = 1e-8;
   o.atol = 1e-10;
   o.linear_solver = solver;
-  o.progress = false;
   return o;
 }
 

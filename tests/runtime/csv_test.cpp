@@ -16,7 +16,6 @@ TEST_CASE("CSV header and rows", "[runtime]") {
   const ah_test::AppellHamel ah;
   const Model model = ah_test::model();
   IntegratorOptions o;
-  o.progress = false;
   const RunResult run = simulate(model, {}, ah.initial(), output_times(0.0, 0.1, 10), o);
   REQUIRE_FALSE(run.failure.has_value());
   const auto dir = std::filesystem::temp_directory_path() / ("nhc_csv_test_" + std::to_string(::getpid()));

@@ -18,7 +18,6 @@ IntegratorOptions quiet() {
   IntegratorOptions o;
   o.rtol = 1e-8;
   o.atol = 1e-10;
-  o.progress = false;
   return o;
 }
 

@@ -19,7 +19,6 @@ TEST_CASE("a model compiled in and the same model loaded with dlopen integrate i
   CHECK(loaded.variable_name(3) == "lambda1");
   CHECK(loaded.residual_name(3) == "D f1");
   IntegratorOptions o;
-  o.progress = false;
   const auto times = output_times(0.0, 0.2, 20);
   const RunResult a = simulate(direct, {}, ah.initial(), times, o);
   const RunResult b = simulate(loaded, {}, ah.initial(), times, o);

@@ -15,7 +15,7 @@ int main() {
                     Cfg{"restart 1", ProjectionMethod::restart, 1.0}, Cfg{"restart 10", ProjectionMethod::restart, 10.0},
                     Cfg{"in_place 0", ProjectionMethod::in_place, 0.0}, Cfg{"in_place 0.1", ProjectionMethod::in_place, 0.1},
                     Cfg{"in_place 1", ProjectionMethod::in_place, 1.0}}) {
-        IntegratorOptions o; o.rtol = rtol; o.atol = rtol * 1e-2; o.progress = false;
+        IntegratorOptions o; o.rtol = rtol; o.atol = rtol * 1e-2;
         o.projection = c.m; o.projection_threshold = c.thr;
         InitialState s; s.y = {1,0,0,0,0}; s.given = {true,true,false,false,false};
         auto t0 = std::chrono::steady_clock::now();

@@ -21,7 +21,6 @@ TEST_CASE("projection reduces the hidden-constraint drift of the index-1 pendulu
   IntegratorOptions o;
   o.rtol = 1e-6;
   o.atol = 1e-8;
-  o.progress = false;
   const auto times = output_times(0.0, 20.0, 400);
   const RunResult free_run = simulate(model, {}, pendulum_start(), times, o);
   const auto method = GENERATE(ProjectionMethod::in_place, ProjectionMethod::restart);
@@ -49,7 +48,6 @@ TEST_CASE("Appell–Hamel chetaev does not drift: BDF is exact on its polynomial
   IntegratorOptions o;
   o.rtol = 1e-4;
   o.atol = 1e-6;
-  o.progress = false;
   o.projection = ProjectionMethod::in_place;
   const RunResult run =
       simulate(ah_test::model(), ah.parameters(), ah.initial(), output_times(0.0, 0.9 * ah.t_star(), 50), o);

@@ -136,7 +136,7 @@ TEST_CASE("constants that GiNaC produces read back", "[scene][parser]") {
   CHECK(same(parse_expression("acos(-1)", jet), GiNaC::Pi));
   CHECK(same(parse_expression("Pi/4 - atan(1)", jet), 0));
   CHECK(error_offset("sqrt(-4)", jet) == 0);  // complex values have no place in mechanics
-  CHECK(error_offset("m + log(-1)", jet) >= 0);
+  CHECK(error_offset("m + log(-1)", jet) == 4);
 }
 
 TEST_CASE("errors carry the offset of the offending text", "[scene][parser]") {
@@ -182,12 +182,12 @@ TEST_CASE("errors carry the offset of the offending text", "[scene][parser]") {
 
 TEST_CASE("hostile input fails cleanly", "[scene][parser]") {
   const JetSpace jet = make_jet();
-  CHECK(error_offset(std::string(100000, '('), jet) >= 0);
-  CHECK(error_offset(std::string(100000, '-') + "x", jet) >= 0);
+  CHECK(error_offset(std::string(100000, '('), jet) == 66);
+  CHECK(error_offset(std::string(100000, '-') + "x", jet) == 0);
   std::string tower = "x";
   for (int i = 0; i < 5000; ++i) tower += "^x";
-  CHECK(error_offset(tower, jet) >= 0);
-  CHECK(error_offset(std::string(1000, '9') + "e1", jet) >= 0);
+  CHECK(error_offset(tower, jet) == 396);
+  CHECK(error_offset(std::string(1000, '9') + "e1", jet) == 0);
   CHECK(error_offset("x\xc3\xa9", jet) == 1);
   CHECK(error_offset(std::string("x\0y", 3), jet) == 1);
   // Deep but legal nesting still parses.
@@ -198,13 +198,13 @@ TEST_CASE("size limits on scene input, not on nhc's own printed output", "[scene
   const JetSpace jet = make_jet();
   // Found by the fuzzers: a tower of symbolic exponents made the normal form hang, products of
   // numbers grew without bound, numbers beyond double range failed only in code generation.
-  CHECK(error_offset("x^x^x^x^x^t", jet) >= 0);
+  CHECK(error_offset("x^x^x^x^x^t", jet) == 1);
   CHECK_NOTHROW(parse_expression("x^x^x^x^t", jet));
   CHECK(error_offset("x*1e300*1e300", jet) == 7);
-  CHECK(error_offset("2^2000", jet) >= 0);
-  CHECK(error_offset("(x + x' + t + 1)^64 * (x + t)^64", jet) >= 0);  // > 10^4 expanded terms
-  CHECK(error_offset("cos((x + x' + t + 1)^64 * (x + t)^64)", jet) >= 0);  // also in arguments
-  CHECK(error_offset("sqrt((x + x' + t + 1)^64 * (x + t)^64)", jet) >= 0);
+  CHECK(error_offset("2^2000", jet) == 1);
+  CHECK(error_offset("(x + x' + t + 1)^64 * (x + t)^64", jet) == 0);  // > 10^4 expanded terms
+  CHECK(error_offset("cos((x + x' + t + 1)^64 * (x + t)^64)", jet) == 0);  // also in arguments
+  CHECK(error_offset("sqrt((x + x' + t + 1)^64 * (x + t)^64)", jet) == 0);
   std::string product = "x'";
   for (int k = 1; k <= 70; ++k) product += "*sin(" + std::to_string(k) + "*x)";
   CHECK(error_offset(product, jet) == 0);  // more than 64 factors
@@ -212,7 +212,7 @@ TEST_CASE("size limits on scene input, not on nhc's own printed output", "[scene
   // What nhc prints can exceed them: y^81 from y*(y^4)^20, (1+x)^128 from (1+x)^64*(1+x)^64.
   nhc::ExpressionRules own_output;
   own_output.input_limits = false;
-  CHECK(error_offset("x^81", jet) >= 0);
+  CHECK(error_offset("x^81", jet) == 1);
   CHECK(same(parse_expression("x^81", jet, own_output), GiNaC::pow(jet.q(0, 0), 81)));
   CHECK_NOTHROW(parse_expression("(1+x)^128", jet, own_output));
   CHECK_NOTHROW(parse_expression(std::string(1300, '7') + "/3", jet, own_output));

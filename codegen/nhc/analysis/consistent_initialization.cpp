@@ -1,5 +1,7 @@
 #include "nhc/analysis/consistent_initialization.hpp"
 
+#include "nhc/runtime/number_text.hpp"
+
 #include <Eigen/Dense>
 #include <Eigen/SparseLU>
 
@@ -36,12 +38,7 @@ std::string to_string(ValueSource source) {
 
 namespace {
 
-std::string number(double v) {
-  std::ostringstream s;
-  s.precision(10);
-  s << v;
-  return s.str();
-}
+std::string number(double v) { return runtime::number_text(v, 10); }
 
 /// Evaluation of a vector of expressions and their Jacobian in a list of jet variables, with
 /// the other symbols fixed by a base substitution. Both are lowered once into NumericProgram's

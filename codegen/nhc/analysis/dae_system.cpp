@@ -1,9 +1,11 @@
 #include "nhc/analysis/dae_system.hpp"
 
+#include "nhc/primed_name.hpp"
+
 namespace nhc {
 
 std::string prime_name(const std::string& variable, int order) {
-  if (order <= 3) return variable + std::string(static_cast<std::size_t>(order), '\'');
+  if (order <= 3) return primed_name(variable, order);
   return variable + "^(" + std::to_string(order) + ")";
 }
 

@@ -31,29 +31,6 @@ double evaluate_real(const GiNaC::ex& e, const GiNaC::exmap& point, const std::s
   return d;
 }
 
-Eigen::MatrixXd evaluate_matrix(const std::vector<std::vector<GiNaC::ex>>& m,
-                                const GiNaC::exmap& point, const std::string& what) {
-  const auto rows = static_cast<Eigen::Index>(m.size());
-  const auto cols = rows == 0 ? Eigen::Index{0} : static_cast<Eigen::Index>(m[0].size());
-  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(rows, cols);
-  for (Eigen::Index i = 0; i < rows; ++i)
-    for (Eigen::Index j = 0; j < cols; ++j) {
-      const GiNaC::ex& e = m[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)];
-      if (e.is_zero()) continue;  // structural zeros (most of a large sparse system) cost nothing
-      out(i, j) = evaluate_real(e, point, what + " entry (" + std::to_string(i + 1) + "," +
-                                              std::to_string(j + 1) + ")");
-    }
-  return out;
-}
-
-Eigen::VectorXd evaluate_vector(const std::vector<GiNaC::ex>& v, const GiNaC::exmap& point,
-                                const std::string& what) {
-  Eigen::VectorXd out(static_cast<Eigen::Index>(v.size()));
-  for (std::size_t i = 0; i < v.size(); ++i)
-    out(static_cast<Eigen::Index>(i)) = evaluate_real(v[i], point, what);
-  return out;
-}
-
 double condition_number(const Eigen::MatrixXd& m) {
   if (m.size() == 0) return 1.0;
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(m);

@@ -18,12 +18,6 @@ namespace nhc {
 /// a symbol without a value).
 double evaluate_real(const GiNaC::ex& e, const GiNaC::exmap& point, const std::string& what);
 
-/// Row-major matrix of expressions evaluated at `point`.
-Eigen::MatrixXd evaluate_matrix(const std::vector<std::vector<GiNaC::ex>>& m,
-                                const GiNaC::exmap& point, const std::string& what);
-Eigen::VectorXd evaluate_vector(const std::vector<GiNaC::ex>& v, const GiNaC::exmap& point,
-                                const std::string& what);
-
 /// 2-norm condition number σ_max/σ_min; +∞ when σ_min = 0; 1 for an empty matrix.
 double condition_number(const Eigen::MatrixXd& m);
 

@@ -29,12 +29,6 @@ void SignatureMatrix::set(int i, int j, int value) {
   }
 }
 
-std::size_t SignatureMatrix::entry_count() const {
-  std::size_t count = 0;
-  for (const auto& r : rows_) count += r.size();
-  return count;
-}
-
 int signature_entry(const GiNaC::ex& f, const JetSpace& jet, VariableKind kind, int index) {
   // Orders of the variable that occur syntactically, tried from the highest down.
   for (int k = jet.highest_order(f, kind, index); k >= 0; --k) {

@@ -42,8 +42,6 @@ class SignatureMatrix {
   void set(int i, int j, int value);
   /// The finite entries of row i, by increasing column.
   const std::vector<Entry>& row(int i) const { return rows_.at(static_cast<std::size_t>(i)); }
-  /// Number of finite entries.
-  std::size_t entry_count() const;
 
  private:
   int cols_ = 0;

@@ -1,6 +1,8 @@
 // The symbolic half of the header emitter (model_preparation.hpp).
 #include "nhc/emit/model_preparation.hpp"
 
+#include "nhc/primed_name.hpp"
+
 #include "nhc/jet/common_arguments.hpp"
 
 #include "nhc/emit/parameter_jacobian.hpp"
@@ -105,9 +107,7 @@ std::vector<ModelInvariant> invariants_in_states(const Scene& scene, const Index
 
 namespace {
 
-std::string primed(const std::string& variable, int order) {
-  return variable + std::string(static_cast<size_t>(order), '\'');
-}
+std::string primed(const std::string& variable, int order) { return primed_name(variable, order); }
 
 /// Symbol → name in scene notation: t, parameter names, x' for jet symbols, and the jet name of
 /// each state symbol y[k] of `system` when given.

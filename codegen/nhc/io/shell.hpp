@@ -1,7 +1,7 @@
 #pragma once
 /// \file shell.hpp
 /// \brief Running shell commands with their output captured (gnuplot, compilers in tools and
-/// benchmarks). Commands that an interrupt must be able to stop use cli/subprocess.hpp instead.
+/// benchmarks). Commands that an interrupt must be able to stop use jit/nhc/jit/subprocess.hpp instead.
 
 #include <string>
 

@@ -48,8 +48,9 @@ inline constexpr double kSubstituteDefinitionMaxTerms = 16;
 /// sin² + cos² = 1), where that shortens it, when its expansion has at most this many terms
 /// (its intermediates counted as symbols): a rotation's angular velocity or a kinetic energy
 /// shrinks, a large value is not expanded at all. Partials and total derivatives are kept as
-/// differentiated: simplifying them too breaks the sharing between them (the Whipple bicycle's
-/// header had 21,332 operations after CSE with them simplified, 15,632 without).
+/// differentiated: simplifying them too breaks the sharing between them (measured when this was
+/// decided, in 481357c: the Whipple bicycle's header had 21,332 operations after CSE with them
+/// simplified, 15,632 without; bench/results.md has today's count).
 inline constexpr double kSimplifyIntermediateMaxTerms = 200;
 
 /// An expression over intermediates (an equation, a Jacobian entry, a hidden constraint) whose
@@ -58,7 +59,7 @@ inline constexpr double kSimplifyIntermediateMaxTerms = 200;
 /// cancel only across intermediates (∂T/∂θ − D ∂T/∂θ' of a sleigh) cancel, and a small
 /// equation is best written out. Larger ones keep their intermediates. (Larger thresholds
 /// cost the bicycle sharing: 34,285 operations after CSE at 1000 against 21,332 at 150, both
-/// measured with partials simplified.)
+/// measured in 481357c with partials simplified.)
 inline constexpr int kSubstituteIntoExpressionBelowNodes = 150;
 
 /// e with its intermediates substituted when that form is small (the policy above), else e.

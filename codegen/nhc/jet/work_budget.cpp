@@ -1,5 +1,7 @@
 #include "nhc/jet/work_budget.hpp"
 
+#include "nhc/runtime/number_text.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -58,10 +60,7 @@ double outer_terms(const ex& e, double& inner) {
 
 std::string count_text(double n) {
   if (std::isinf(n)) return "beyond 10^300";
-  std::ostringstream out;
-  out.precision(2);
-  out << n;
-  return out.str();
+  return runtime::number_text(n, 2);
 }
 
 }  // namespace

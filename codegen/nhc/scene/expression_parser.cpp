@@ -1,5 +1,7 @@
 #include "nhc/scene/expression_parser.hpp"
 
+#include "nhc/primed_name.hpp"
+
 #include "nhc/jet/elementary_derivatives.hpp"
 #include "nhc/jet/work_budget.hpp"
 
@@ -437,8 +439,7 @@ class Parser {
     for (const auto& [suffix, order] : suffixes)
       if (name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0 &&
           is_coordinate(name.substr(0, name.size() - suffix.size())))
-        return "derivatives are written with primes: " + name.substr(0, name.size() - suffix.size()) +
-               std::string(static_cast<std::size_t>(order), '\'');
+        return "derivatives are written with primes: " + primed_name(name.substr(0, name.size() - suffix.size()), order);
     if (name.size() > 1 && name[0] == 'd' && is_coordinate(name.substr(1)))
       return "derivatives are written with primes: " + name.substr(1) + "'";
     if (auto alpha = multiplier_index(name); alpha && *alpha >= jet_.multiplier_count())
@@ -671,7 +672,7 @@ class Parser {
     Value derivative = total_derivative(value, jet_, primes);
     for (const ex& e : derivative.entries)
       if (jet_.highest_coordinate_order(e) > kMaxDerivativeOrder)
-        fail(start, "'" + shown(name) + std::string(static_cast<std::size_t>(primes), '\'') +
+        fail(start, "'" + primed_name(shown(name), primes) +
                         "' has derivatives of order above the limit of " +
                         std::to_string(kMaxDerivativeOrder));
     return derivative;

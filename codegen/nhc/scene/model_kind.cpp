@@ -27,6 +27,12 @@ std::vector<std::string> model_names() {
   return names;
 }
 
+std::string model_name_list() {
+  std::string list;
+  for (const std::string& name : model_names()) list += (list.empty() ? "" : ", ") + name;
+  return list;
+}
+
 ModelKind default_model(const Scene& scene) {
   if (scene.simulate.model) return *scene.simulate.model;
   for (ModelKind m : scene.models)

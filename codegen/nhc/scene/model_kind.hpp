@@ -22,6 +22,8 @@ std::string to_string(ModelKind model);
 std::optional<ModelKind> parse_model_kind(const std::string& name);
 /// "vakonomic", "chetaev", "holder", "suslov": the values a `--model` flag accepts.
 std::vector<std::string> model_names();
+/// "vakonomic, chetaev, holder, suslov": the names in messages about an unknown model.
+std::string model_name_list();
 
 /// The scene's [simulate] model, else chetaev when the scene lists it, else the scene's first
 /// model (chetaev when it lists none).

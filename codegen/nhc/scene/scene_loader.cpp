@@ -334,8 +334,7 @@ class SceneReader {
         const std::string n = string_value(m, "models entry");
         auto kind = parse_model_kind(n);
         if (!kind)
-          fail(m, "unknown model '" + printable(n) +
-                      "' (known: vakonomic, chetaev, holder, suslov)");
+          fail(m, "unknown model '" + printable(n) + "' (known: " + model_name_list() + ")");
         if (std::find(scene.models.begin(), scene.models.end(), *kind) != scene.models.end())
           fail(m, "model '" + n + "' listed twice");
         scene.models.push_back(*kind);
@@ -689,7 +688,7 @@ class SceneReader {
             throw InputError(at(key.source()),
                              "[" + where + "." + printable(n) + "]: " +
                                  (where != "reference" ? "a model's reference holds coordinates only"
-                                                       : "'" + printable(n) + "' is not a model (known: vakonomic, chetaev, holder, suslov)"));
+                                                       : "'" + printable(n) + "' is not a model (known: " + model_name_list() + ")"));
           continue;
         }
         const std::optional<int> i = scene.jet->coordinate_index(n);
@@ -824,7 +823,7 @@ class SceneReader {
       const std::string n = string_value(*m, "simulate model");
       auto kind = parse_model_kind(n);
       if (!kind)
-        fail(*m, "unknown model '" + printable(n) + "' (known: vakonomic, chetaev, holder, suslov)");
+        fail(*m, "unknown model '" + printable(n) + "' (known: " + model_name_list() + ")");
       if (std::find(scene.models.begin(), scene.models.end(), *kind) == scene.models.end())
         fail(*m, "model '" + n + "' is not among the scene's models");
       scene.simulate.model = kind;

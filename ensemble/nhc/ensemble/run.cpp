@@ -1,6 +1,8 @@
 // One run of an ensemble (run.hpp).
 #include "nhc/ensemble/run.hpp"
 
+#include "nhc/primed_name.hpp"
+
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -15,7 +17,7 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 std::string initial_name(const std::string& variable, int order) {
-  return variable + std::string(static_cast<std::size_t>(order), '\'') + "(0)";
+  return primed_name(variable, order) + "(0)";
 }
 
 std::string joined(const std::vector<std::string>& names) {
@@ -231,7 +233,6 @@ RunRecord run_one(const runtime::Model& model, const RunSpec& spec, std::int64_t
   runtime::IntegratorOptions options;
   options.rtol = spec.rtol;
   options.atol = spec.atol;
-  options.progress = false;
   record.outcome = Outcome::failed;
   try {
     runtime::Integrator integrator(model, p, options);

@@ -16,14 +16,6 @@ bool started_by_mpirun() {
   return false;
 }
 
-bool built_with_mpi() {
-#ifdef NHC_HAVE_MPI
-  return true;
-#else
-  return false;
-#endif
-}
-
 std::string how_to_get_mpi() {
   return "this nhc was built without MPI: install Debian's OpenMPI (apt-get install libopenmpi-dev openmpi-bin; "
          "scripts/setup.sh does) and configure again (cmake -S . -B build)";

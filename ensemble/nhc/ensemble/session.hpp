@@ -39,9 +39,6 @@ class Session {
 /// Whether the environment shows a process manager (OMPI_COMM_WORLD_SIZE, PMIX_RANK, PMI_RANK).
 bool started_by_mpirun();
 
-/// Whether this build has MPI (CMake found it).
-bool built_with_mpi();
-
 /// How to get MPI when it is missing (Debian packages, reconfigure).
 std::string how_to_get_mpi();
 

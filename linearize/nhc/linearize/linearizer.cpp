@@ -1,5 +1,7 @@
 #include "nhc/linearize/linearizer.hpp"
 
+#include "nhc/runtime/number_text.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -25,12 +27,7 @@ namespace nhc {
 
 namespace {
 
-std::string number(double v) {
-  std::ostringstream s;
-  s.precision(6);
-  s << v;
-  return s.str();
-}
+std::string number(double v) { return runtime::number_text(v, 6); }
 
 /// The state of the reduced system at one point: z, z' of the differential states, and the
 /// parameters and t as a GiNaC substitution.

@@ -85,11 +85,4 @@ void apply_override(Scene& scene, const OverrideTarget& target, double value) {
     text->second[static_cast<std::size_t>(target.order)].clear();
 }
 
-double scene_value(const Scene& scene, const OverrideTarget& target) {
-  if (target.parameter) return scene.parameter_values.at(static_cast<std::size_t>(target.parameter_index));
-  const auto it = scene.initial.values.find(target.variable);
-  if (it == scene.initial.values.end() || static_cast<int>(it->second.size()) <= target.order) return 0.0;
-  return it->second[static_cast<std::size_t>(target.order)];
-}
-
 }  // namespace nhc

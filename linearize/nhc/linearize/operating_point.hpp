@@ -37,7 +37,4 @@ OverrideTarget resolve_override(const Scene& scene, const std::string& name,
 /// (lower orders missing from the list are taken as 0 and count as given).
 void apply_override(Scene& scene, const OverrideTarget& target, double value);
 
-/// The value the scene holds for a target (0 for an initial value not given).
-double scene_value(const Scene& scene, const OverrideTarget& target);
-
 }  // namespace nhc

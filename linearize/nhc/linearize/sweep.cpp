@@ -1,5 +1,7 @@
 #include "nhc/linearize/sweep.hpp"
 
+#include "nhc/runtime/number_text.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <complex>
@@ -25,12 +27,7 @@ double parse_number(const std::string& text, const std::string& flag, const std:
   return v;
 }
 
-std::string number(double v) {
-  std::ostringstream s;
-  s.precision(17);
-  s << v;
-  return s.str();
-}
+std::string number(double v) { return runtime::number_text(v, 17); }
 
 }  // namespace
 

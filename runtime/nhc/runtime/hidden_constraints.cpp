@@ -118,4 +118,18 @@ HiddenSolveReport solve_initial_hidden_constraints(const Model& model, const dou
   throw SolverError(kind, t0, describe(failure));
 }
 
+void solve_starting_point(const Model& model, const double* p, double t0, double* y, const std::vector<bool>& given,
+                          double rtol, double atol, const std::vector<double>* repair_scale) {
+  if (model.n_hidden() == 0) return;
+  const int n = model.n_states();
+  std::vector<double> scale(static_cast<std::size_t>(n), 1.0);
+  for (int i = 0; i < n && i < static_cast<int>(given.size()); ++i)
+    if (given[static_cast<std::size_t>(i)]) scale[static_cast<std::size_t>(i)] = 0.0;
+  std::vector<double> differential;
+  for (int i = 0; i < n; ++i)
+    if (model.is_differential(i)) differential.push_back(y[i]);
+  solve_initial_hidden_constraints(model, p, t0, y, scale, initial_point_tolerance(differential, rtol, atol), 50,
+                                   repair_scale);
+}
+
 }  // namespace nhc::runtime

@@ -41,4 +41,12 @@ HiddenSolveReport solve_initial_hidden_constraints(const Model& model, const dou
                                                    const InitialPointTolerance& tolerance, int max_iterations = 50,
                                                    const std::vector<double>* repair_scale = nullptr);
 
+/// The starting point of every IDA run, plain or with sensitivities: the states `given` marks
+/// stay, the others are moved onto g(t0, y) = 0 by solve_initial_hidden_constraints, with
+/// initial_point_tolerance over the differential states (the values `nhc analyze` sees) and the
+/// run's rtol and atol; with `repair_scale` (--repair-initial) the given values are repaired when
+/// they miss. Nothing to do without hidden constraints.
+void solve_starting_point(const Model& model, const double* p, double t0, double* y, const std::vector<bool>& given,
+                          double rtol, double atol, const std::vector<double>* repair_scale = nullptr);
+
 }  // namespace nhc::runtime

@@ -45,6 +45,4 @@ void InputValues::hold(std::vector<double> values) {
   source_ = Source::held;
 }
 
-void InputValues::use_defaults() { source_ = Source::defaults; }
-
 }  // namespace nhc::runtime

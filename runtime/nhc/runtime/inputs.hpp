@@ -32,8 +32,6 @@ class InputValues {
   void set_function(InputFunction f);
   /// From now on u = values (n_inputs of them), constant until changed.
   void hold(std::vector<double> values);
-  /// From now on the model's default signals.
-  void use_defaults();
 
   int n_inputs() const noexcept { return n_inputs_; }
   const std::vector<double>& parameters() const noexcept { return parameters_; }

@@ -20,7 +20,7 @@
 
 #include "nhc/runtime/constraint_solver.hpp"
 #include "nhc/runtime/hidden_constraints.hpp"
-#include "nhc/runtime/progress_bar.hpp"
+#include "nhc/runtime/ida_session.hpp"
 #include "nhc/runtime/sundials.hpp"
 
 namespace nhc::runtime {
@@ -120,7 +120,6 @@ struct Integrator::Impl {
   std::string jacobian_kind;
 
   std::vector<double> singular_scale;  // |s_k(t0)|
-  std::vector<double> dense_scratch;   // n*n when scattering a sparse Jacobian into a dense matrix
   std::vector<double> singular_values_scratch;
 
   NonFinite nonfinite;
@@ -140,21 +139,7 @@ struct Integrator::Impl {
   Statistics before_restarts;  // IDAReInit zeroes IDA's counters; they are summed here
 
   /// IDA's counters since the last (re)initialization.
-  Statistics counters() const {
-    Statistics st;
-    if (!ida) return st;
-    long v = 0;
-    IDAGetNumSteps(ida, &st.steps);
-    IDAGetNumResEvals(ida, &st.residual_evaluations);
-    if (IDAGetNumLinResEvals(ida, &v) == IDA_SUCCESS) st.residual_evaluations += v;
-    IDAGetNumJacEvals(ida, &st.jacobian_evaluations);
-    IDAGetNumLinSolvSetups(ida, &st.linear_solver_setups);
-    IDAGetNumErrTestFails(ida, &st.error_test_failures);
-    IDAGetNumNonlinSolvIters(ida, &st.nonlinear_iterations);
-    IDAGetNumNonlinSolvConvFails(ida, &st.nonlinear_failures);
-    if (n_roots() > 0) IDAGetNumGEvals(ida, &st.root_evaluations);
-    return st;
-  }
+  Statistics counters() const { return ida ? ida_session::counters(ida, n_roots() > 0) : Statistics{}; }
 
   Statistics total() const {
     Statistics st = counters();
@@ -204,41 +189,12 @@ struct Integrator::Impl {
   static int jacobian_cb(sunrealtype tt, sunrealtype cj, N_Vector yy, N_Vector ypp, N_Vector, SUNMatrix J,
                          void* data, N_Vector, N_Vector, N_Vector) {
     auto* self = static_cast<Impl*>(data);
-    const auto& tab = self->model.table();
     const double* yv = N_VGetArrayPointer(yy);
-    const double* ypv = N_VGetArrayPointer(ypp);
-    const int n = self->n();
-    double* values = nullptr;
-    long count = 0;
-    if (self->sparse) {
-      sunindextype* colptr = SUNSparseMatrix_IndexPointers(J);
-      sunindextype* rowind = SUNSparseMatrix_IndexValues(J);
-      for (int j = 0; j <= n; ++j) colptr[j] = tab.jacobian_colptr[j];
-      for (int k = 0; k < tab.jacobian_nnz; ++k) rowind[k] = tab.jacobian_rowind[k];
-      values = SUNSparseMatrix_Data(J);
-      count = tab.jacobian_nnz;
-      tab.jacobian_values(tt, yv, ypv, cj, self->inputs.at(tt, yv), values);
-    } else {
-      values = SUNDenseMatrix_Data(J);
-      count = static_cast<long>(n) * n;
-      SUNMatZero(J);
-      if (tab.jacobian) {
-        tab.jacobian(tt, yv, ypv, cj, self->inputs.at(tt, yv), values);
-      } else {  // scatter the generated sparse Jacobian
-        std::vector<double>& nz = self->dense_scratch;
-        nz.resize(tab.jacobian_nnz);
-        tab.jacobian_values(tt, yv, ypv, cj, self->inputs.at(tt, yv), nz.data());
-        for (int j = 0; j < n; ++j)
-          for (int k = tab.jacobian_colptr[j]; k < tab.jacobian_colptr[j + 1]; ++k)
-            values[tab.jacobian_rowind[k] + static_cast<long>(n) * j] = nz[k];
-      }
-    }
-    for (long k = 0; k < count; ++k)
-      if (!std::isfinite(values[k])) {
-        self->note_nonfinite(tt, static_cast<int>(k), true, yv);
-        return 1;
-      }
-    return 0;
+    const long bad = ida_session::fill_jacobian(self->model, self->sparse, tt, yv, N_VGetArrayPointer(ypp), cj,
+                                                self->inputs.at(tt, yv), J);
+    if (bad < 0) return 0;
+    self->note_nonfinite(tt, static_cast<int>(bad), true, yv);
+    return 1;
   }
 
   static int root_cb(sunrealtype tt, N_Vector yy, N_Vector ypp, sunrealtype* gout, void* data) {
@@ -265,22 +221,12 @@ struct Integrator::Impl {
   // ---- set-up ----------------------------------------------------------------------------
 
   void create_linear_solver() {
-    const auto& tab = model.table();
-    sparse = uses_sparse_solver(model, options.linear_solver);
-    if (sparse) {
-      A = sd::Matrix::sparse_csc(n(), n(), tab.jacobian_nnz, ctx);
-      solver = sd::LinearSolver::klu(y, A, ctx);
-      jacobian_kind = "generated sparse";
-    } else {
-      A = sd::Matrix::dense(n(), n(), ctx);
-      solver = sd::LinearSolver::dense(y, A, ctx);
-      jacobian_kind = model.has_dense_jacobian()    ? "generated dense"
-                      : model.has_sparse_jacobian() ? "generated sparse (scattered)"
-                                                    : "difference quotients";
-    }
-    sd::check(IDASetLinearSolver(ida, solver, A), "attaching the linear solver");
-    if (sparse || model.has_dense_jacobian() || model.has_sparse_jacobian())
-      sd::check(IDASetJacFn(ida, &Impl::jacobian_cb), "setting the Jacobian function");
+    ida_session::LinearSystem ls = ida_session::attach_linear_solver(
+        ida, model, options.linear_solver, y, ctx, &Impl::jacobian_cb, [](int flag, const char* what) { sd::check(flag, what); });
+    A = std::move(ls.A);
+    solver = std::move(ls.solver);
+    sparse = ls.sparse;
+    jacobian_kind = ls.jacobian_kind;
   }
 
   void check(int flag, const char* what) {
@@ -458,14 +404,7 @@ struct Integrator::Impl {
     const int nn = n();
     const auto& tab = model.table();
     Eigen::MatrixXd J = Eigen::MatrixXd::Zero(nn, nn);
-    if (tab.jacobian) {
-      tab.jacobian(tt, yy, ypp, cj, inputs.at(tt, yy), J.data());
-    } else if (model.has_sparse_jacobian()) {
-      std::vector<double> nz(tab.jacobian_nnz);
-      tab.jacobian_values(tt, yy, ypp, cj, inputs.at(tt, yy), nz.data());
-      for (int j = 0; j < nn; ++j)
-        for (int k = tab.jacobian_colptr[j]; k < tab.jacobian_colptr[j + 1]; ++k) J(tab.jacobian_rowind[k], j) = nz[k];
-    } else {
+    if (!model.dense_jacobian(tt, yy, ypp, cj, inputs.at(tt, yy), J.data())) {
       std::vector<double> y1(yy, yy + nn), yp1(ypp, ypp + nn), r0(nn), r1(nn);
       tab.residual(tt, yy, ypp, inputs.at(tt, yy), r0.data());
       for (int j = 0; j < nn; ++j) {
@@ -646,19 +585,9 @@ Sample Integrator::initialize(const InitialState& state, double t_next) {
 
   // 1. Hidden constraints: move only what the user did not give (minimum-norm Gauss–Newton,
   //    constraint_solver.hpp; nhc analyze solves them with the same solver and tolerance).
-  if (s.model.n_hidden() > 0) {
-    std::vector<double> scale(n, 1.0);
-    for (int i = 0; i < n && i < static_cast<int>(state.given.size()); ++i)
-      if (state.given[i]) scale[i] = 0.0;
-    // The size in the tolerance is over the differential states, the values analyze sees.
-    std::vector<double> differential;
-    for (int i = 0; i < n; ++i)
-      if (s.model.is_differential(i)) differential.push_back(s.y[i]);
-    const std::vector<double> repair_scale = initial_repair_scale(state);
-    solve_initial_hidden_constraints(s.model, s.inputs.at(state.t0, s.y.data()), state.t0, s.y.data(), scale,
-                                     initial_point_tolerance(differential, s.options.rtol, s.options.atol), 50,
-                                     state.repair ? &repair_scale : nullptr);
-  }
+  const std::vector<double> repair_scale = initial_repair_scale(state);
+  solve_starting_point(s.model, s.inputs.at(state.t0, s.y.data()), state.t0, s.y.data(), state.given, s.options.rtol,
+                       s.options.atol, state.repair ? &repair_scale : nullptr);
 
   // 2. IDA and IDACalcIC for the algebraic states and y'.
   s.ida = sd::IdaMemory::create(s.ctx);
@@ -669,16 +598,7 @@ Sample Integrator::initialize(const InitialState& state, double t_next) {
     s.history = sd::find_solution_history(recorder.clones(), s.y, s.yp);
   }
   s.check(IDASetUserData(s.ida, &s), "setting the user data");
-  s.check(IDASStolerances(s.ida, s.options.rtol, s.options.atol), "setting the tolerances");
-  s.check(IDASetId(s.ida, s.id), "setting the id vector");
-  s.check(IDASetMaxNumSteps(s.ida, std::max(1L, s.options.max_steps)), "setting the step limit");
-  // The algebraic states of the index-1 form are multipliers fixed by the differential states;
-  // in the error test they only add noise (a stiff spring amplifies rounding in λ by K and
-  // forces one failed step per step, docs/stability.md), so by default they are left out.
-  s.check(IDASetSuppressAlg(s.ida, s.options.algebraic_in_error_test ? SUNFALSE : SUNTRUE),
-          "excluding the algebraic states from the error test");
-  if (s.options.max_step > 0) s.check(IDASetMaxStep(s.ida, s.options.max_step), "setting the maximum step");
-  if (s.options.initial_step > 0) s.check(IDASetInitStep(s.ida, s.options.initial_step), "setting the initial step");
+  ida_session::configure(s.ida, s.options, s.id, [&s](int flag, const char* what) { s.check(flag, what); });
   s.create_linear_solver();
 
   auto nonfinite_at_start = [&](const char* stage) {
@@ -730,16 +650,11 @@ void Integrator::integrate(const std::vector<double>& times, const std::function
   Impl& s = *impl_;
   if (!s.initialized) throw std::logic_error("integrate before initialize");
   if (times.empty()) return;
-  const auto start = std::chrono::steady_clock::now();
-  struct Timer {
-    Impl& s;
-    std::chrono::steady_clock::time_point start;
-    ~Timer() { s.integrate_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); }
-  } timer{s, start};
+  const ida_session::Stopwatch stopwatch(s.integrate_seconds);
 
   const int n = s.n();
   const double t_final = times.back();
-  ProgressBar progress(s.t, t_final, s.options.progress);
+  ProgressReporter progress(s.options.progress, s.t, t_final);
   Sample out;
   out.y.resize(n);
   out.yp.resize(n);

@@ -16,6 +16,7 @@
 #include "nhc/runtime/errors.hpp"
 #include "nhc/runtime/inputs.hpp"
 #include "nhc/runtime/model.hpp"
+#include "nhc/runtime/progress.hpp"
 
 namespace nhc::runtime {
 
@@ -59,9 +60,9 @@ struct IntegratorOptions {
   double projection_threshold = 1.0;
   /// A singular-set monitor s_k stops the run when |s_k| falls below this times |s_k(t0)|.
   double singularity_threshold = 1e-14;
-  /// Progress bar on stderr for runs longer than a second, when stderr is a terminal. Off by
-  /// default: a library does not draw on its caller's terminal; `nhc simulate` turns it on.
-  bool progress = false;
+  /// Told where the run stands (progress.hpp); empty: nobody. A library does not draw on its
+  /// caller's terminal: `nhc simulate` passes a bar on stderr (cli/progress_bar.hpp).
+  ProgressCallback progress;
   /// Asked after every accepted step (by the SensitivityIntegrator after every output and every
   /// 32 residual evaluations); true
   /// stops the run with a SolverError of kind `stopped` at the last step (the samples before it

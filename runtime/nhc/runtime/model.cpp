@@ -2,6 +2,9 @@
 
 #include <dlfcn.h>
 
+#include <algorithm>
+#include <vector>
+
 #include "nhc/runtime/errors.hpp"
 
 namespace nhc::runtime {
@@ -82,6 +85,23 @@ int Model::n_singular() const noexcept {
 
 bool Model::has_sparse_jacobian() const noexcept {
   return table_->jacobian_values && table_->jacobian_nnz > 0 && table_->jacobian_colptr && table_->jacobian_rowind;
+}
+
+bool Model::dense_jacobian(double t, const double* y, const double* yp, double cj, const double* p, double* J) const {
+  const nhc_model_table& tab = *table_;
+  const int n = n_states();
+  if (!tab.jacobian && !has_sparse_jacobian()) return false;
+  std::fill(J, J + static_cast<long>(n) * n, 0.0);
+  if (tab.jacobian) {
+    tab.jacobian(t, y, yp, cj, p, J);
+    return true;
+  }
+  std::vector<double> values(static_cast<std::size_t>(tab.jacobian_nnz));
+  tab.jacobian_values(t, y, yp, cj, p, values.data());
+  for (int j = 0; j < n; ++j)
+    for (int k = tab.jacobian_colptr[j]; k < tab.jacobian_colptr[j + 1]; ++k)
+      J[tab.jacobian_rowind[k] + static_cast<long>(n) * j] = values[static_cast<std::size_t>(k)];
+  return true;
 }
 
 std::string Model::variable_name(int variable) const {

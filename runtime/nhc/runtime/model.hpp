@@ -47,6 +47,10 @@ class Model {
 
   bool has_dense_jacobian() const noexcept { return table_->jacobian != nullptr; }
   bool has_sparse_jacobian() const noexcept;
+  /// J = dF/dy + cj dF/dy' at (t, y, y') with the parameters and inputs `p`, column-major n×n:
+  /// the generated dense Jacobian, or the sparse one scattered (the one sparse-to-dense scatter).
+  /// False, with J untouched, when the model carries neither.
+  bool dense_jacobian(double t, const double* y, const double* yp, double cj, const double* p, double* J) const;
 
   std::string state_name(int i) const { return table_->state_names[i]; }
   bool is_differential(int i) const noexcept { return table_->differential_id[i] != 0.0; }

@@ -20,6 +20,7 @@
 #include <stdexcept>
 
 #include "nhc/runtime/hidden_constraints.hpp"
+#include "nhc/runtime/ida_session.hpp"
 #include "nhc/runtime/sundials.hpp"
 #include "nhc/runtime/trajectory.hpp"
 
@@ -194,22 +195,6 @@ struct SensitivityIntegrator::Impl {
   int n() const { return model.n_states(); }
   int ns() const { return static_cast<int>(thetas.size()); }
 
-  /// Column-major J = dF/dy + cj dF/dy' from the generated dense or sparse Jacobian.
-  void dense_jacobian(double tt, const double* yy, const double* ypp, double cj, double* J) const {
-    const auto& tab = model.table();
-    const int nn = n();
-    std::fill(J, J + static_cast<long>(nn) * nn, 0.0);
-    if (tab.jacobian) {
-      tab.jacobian(tt, yy, ypp, cj, p.data(), J);
-      return;
-    }
-    std::vector<double> nz(tab.jacobian_nnz);
-    tab.jacobian_values(tt, yy, ypp, cj, p.data(), nz.data());
-    for (int j = 0; j < nn; ++j)
-      for (int k = tab.jacobian_colptr[j]; k < tab.jacobian_colptr[j + 1]; ++k)
-        J[tab.jacobian_rowind[k] + static_cast<long>(nn) * j] = nz[k];
-  }
-
   void update_matrices(double tt, const double* yy, const double* ypp) {
     const int nn = n();
     if (tt == cached_t && std::equal(yy, yy + nn, cached_y.begin()) && std::equal(ypp, ypp + nn, cached_yp.begin()))
@@ -224,8 +209,8 @@ struct SensitivityIntegrator::Impl {
     } else {
       Fy.resize(nn, nn);
       Fyp.resize(nn, nn);
-      dense_jacobian(tt, yy, ypp, 0.0, Fy.data());   // dF/dy
-      dense_jacobian(tt, yy, ypp, 1.0, Fyp.data());  // dF/dy + dF/dy'
+      model.dense_jacobian(tt, yy, ypp, 0.0, p.data(), Fy.data());   // dF/dy
+      model.dense_jacobian(tt, yy, ypp, 1.0, p.data(), Fyp.data());  // dF/dy + dF/dy'
       Fyp -= Fy;
     }
     if (model.n_parameters() > 0 && model.has_parameter_jacobian()) {
@@ -296,25 +281,10 @@ struct SensitivityIntegrator::Impl {
   static int jacobian_cb(sunrealtype tt, sunrealtype cj, N_Vector yy, N_Vector ypp, N_Vector, SUNMatrix J, void* data,
                          N_Vector, N_Vector, N_Vector) {
     auto* self = static_cast<Impl*>(data);
-    const auto& tab = self->model.table();
-    const double* yv = N_VGetArrayPointer(yy);
-    const double* ypv = N_VGetArrayPointer(ypp);
-    const int nn = self->n();
-    if (self->sparse) {
-      sunindextype* colptr = SUNSparseMatrix_IndexPointers(J);
-      sunindextype* rowind = SUNSparseMatrix_IndexValues(J);
-      for (int j = 0; j <= nn; ++j) colptr[j] = tab.jacobian_colptr[j];
-      for (int k = 0; k < tab.jacobian_nnz; ++k) rowind[k] = tab.jacobian_rowind[k];
-      tab.jacobian_values(tt, yv, ypv, cj, self->p.data(), SUNSparseMatrix_Data(J));
-      for (int k = 0; k < tab.jacobian_nnz; ++k)
-        if (!std::isfinite(SUNSparseMatrix_Data(J)[k])) return 1;
-    } else {
-      double* values = SUNDenseMatrix_Data(J);
-      self->dense_jacobian(tt, yv, ypv, cj, values);
-      for (long k = 0; k < static_cast<long>(nn) * nn; ++k)
-        if (!std::isfinite(values[k])) return 1;
-    }
-    return 0;
+    return ida_session::fill_jacobian(self->model, self->sparse, tt, N_VGetArrayPointer(yy), N_VGetArrayPointer(ypp),
+                                      cj, self->p.data(), J) < 0
+               ? 0
+               : 1;
   }
 
   static int root_cb(sunrealtype tt, N_Vector yy, N_Vector, sunrealtype* gout, void* data) {
@@ -351,19 +321,12 @@ struct SensitivityIntegrator::Impl {
   }
 
   void create_linear_solver() {
-    const auto& tab = model.table();
-    sparse = uses_sparse_solver(model, options.linear_solver);
-    if (sparse) {
-      A = sd::Matrix::sparse_csc(n(), n(), tab.jacobian_nnz, ctx);
-      solver = sd::LinearSolver::klu(y, A, ctx);
-      jacobian_kind = "generated sparse";
-    } else {
-      A = sd::Matrix::dense(n(), n(), ctx);
-      solver = sd::LinearSolver::dense(y, A, ctx);
-      jacobian_kind = model.has_dense_jacobian() ? "generated dense" : "generated sparse (scattered)";
-    }
-    check(IDASetLinearSolver(ida, solver, A), "attaching the linear solver");
-    check(IDASetJacFn(ida, &Impl::jacobian_cb), "setting the Jacobian function");
+    ida_session::LinearSystem ls = ida_session::attach_linear_solver(
+        ida, model, options.linear_solver, y, ctx, &Impl::jacobian_cb, [this](int flag, const char* what) { check(flag, what); });
+    A = std::move(ls.A);
+    solver = std::move(ls.solver);
+    sparse = ls.sparse;
+    jacobian_kind = ls.jacobian_kind;
   }
 
   /// Without the sensitivities in the error test, their accuracy rests on the corrector alone:
@@ -420,17 +383,7 @@ struct SensitivityIntegrator::Impl {
   }
 
   Statistics counters() const {
-    Statistics st;
-    long v = 0;
-    IDAGetNumSteps(ida, &st.steps);
-    IDAGetNumResEvals(ida, &st.residual_evaluations);
-    if (IDAGetNumLinResEvals(ida, &v) == IDA_SUCCESS) st.residual_evaluations += v;
-    IDAGetNumJacEvals(ida, &st.jacobian_evaluations);
-    IDAGetNumLinSolvSetups(ida, &st.linear_solver_setups);
-    IDAGetNumErrTestFails(ida, &st.error_test_failures);
-    IDAGetNumNonlinSolvIters(ida, &st.nonlinear_iterations);
-    IDAGetNumNonlinSolvConvFails(ida, &st.nonlinear_failures);
-    if (model.n_singular() > 0) IDAGetNumGEvals(ida, &st.root_evaluations);
+    Statistics st = ida_session::counters(ida, model.n_singular() > 0);
     st.initialization_seconds = init_seconds;
     st.integration_seconds = integrate_seconds;
     st.linear_solver = sparse ? "KLU" : "dense";
@@ -478,19 +431,10 @@ SensitivitySample SensitivityIntegrator::initialize(const InitialState& state, d
   }
   s.t = state.t0;
 
-  // 1. Hidden constraints, as Integrator::initialize: move what the user did not give.
-  if (s.model.n_hidden() > 0) {
-    std::vector<double> scale(static_cast<size_t>(n), 1.0);
-    for (int i = 0; i < n && i < static_cast<int>(state.given.size()); ++i)
-      if (state.given[static_cast<size_t>(i)]) scale[static_cast<size_t>(i)] = 0.0;
-    std::vector<double> differential;
-    for (int i = 0; i < n; ++i)
-      if (s.model.is_differential(i)) differential.push_back(s.y[i]);
-    const std::vector<double> repair_scale = initial_repair_scale(state);
-    solve_initial_hidden_constraints(s.model, s.p.data(), state.t0, s.y.data(), scale,
-                                     initial_point_tolerance(differential, s.options.rtol, s.options.atol), 50,
-                                     state.repair ? &repair_scale : nullptr);
-  }
+  // 1. Hidden constraints: move what the user did not give (the plain run's rule).
+  const std::vector<double> repair_scale = initial_repair_scale(state);
+  solve_starting_point(s.model, s.p.data(), state.t0, s.y.data(), state.given, s.options.rtol, s.options.atol,
+                       state.repair ? &repair_scale : nullptr);
   // 2. Their derivative: the initial sensitivities of the differential states.
   s.yS = VectorArray(s.ns(), s.y);
   s.ypS = VectorArray(s.ns(), s.y);
@@ -502,13 +446,7 @@ SensitivitySample SensitivityIntegrator::initialize(const InitialState& state, d
   s.check(IDASetErrHandlerFn(s.ida, &Impl::error_handler_cb, &s), "installing the error handler");
   s.check(IDAInit(s.ida, &Impl::residual_cb, state.t0, s.y, s.yp), "initialising IDAS");
   s.check(IDASetUserData(s.ida, &s), "setting the user data");
-  s.check(IDASStolerances(s.ida, s.options.rtol, s.options.atol), "setting the tolerances");
-  s.check(IDASetId(s.ida, s.id), "setting the id vector");
-  s.check(IDASetMaxNumSteps(s.ida, std::max(1L, s.options.max_steps)), "setting the step limit");
-  s.check(IDASetSuppressAlg(s.ida, s.options.algebraic_in_error_test ? SUNFALSE : SUNTRUE),
-          "excluding the algebraic states from the error test");
-  if (s.options.max_step > 0) s.check(IDASetMaxStep(s.ida, s.options.max_step), "setting the maximum step");
-  if (s.options.initial_step > 0) s.check(IDASetInitStep(s.ida, s.options.initial_step), "setting the initial step");
+  ida_session::configure(s.ida, s.options, s.id, [&s](int flag, const char* what) { s.check(flag, what); });
   s.create_linear_solver();
   s.check(IDASensInit(s.ida, s.ns(), IDA_STAGGERED, &Impl::sensitivity_residual_cb, s.yS.get(), s.ypS.get()),
           "initialising the sensitivities");
@@ -550,12 +488,7 @@ void SensitivityIntegrator::integrate(const std::vector<double>& times,
   Impl& s = *impl_;
   if (!s.initialized) throw std::logic_error("integrate before initialize");
   if (times.empty()) return;
-  const auto start = std::chrono::steady_clock::now();
-  struct Timer {
-    Impl& s;
-    std::chrono::steady_clock::time_point start;
-    ~Timer() { s.integrate_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); }
-  } timer{s, start};
+  const ida_session::Stopwatch stopwatch(s.integrate_seconds);
   s.check(IDASetStopTime(s.ida, times.back()), "setting the stop time");
   for (double tout : times) {
     if (tout <= s.t) {  // the current point (t0 at the start); earlier times are passed

@@ -10,7 +10,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "nhc/runtime/progress_bar.hpp"
 
 namespace nhc::runtime {
 
@@ -274,7 +273,7 @@ VariationalRun simulate_variational(const Model& model, const std::vector<double
   InputValues values(model, parameters);
   if (inputs) values.set_function(inputs);
   StepSolver solver(model, options);
-  ProgressBar progress(t0, times.back(), options.progress);
+  ProgressReporter progress(options.progress, t0, times.back());
 
   Node previous = layout.node(result.initial);  // the last completed node
   // q_k summed from the increments with Kahan's compensation: a million steps add no more

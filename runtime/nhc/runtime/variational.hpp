@@ -27,12 +27,12 @@ struct VariationalOptions {
   double newton_tolerance = 1e-12;
   /// The consistent initial point is IDA's (IntegratorOptions::rtol, atol).
   IntegratorOptions initialization;
-  bool progress = false;  ///< as IntegratorOptions::progress
+  ProgressCallback progress;  ///< as IntegratorOptions::progress
   std::function<bool()> stop_requested;  ///< as IntegratorOptions::stop_requested, asked every step
 };
 
 /// The options of a variational run with step h and at most `max_steps` steps that otherwise
-/// follows IDA's options `ida`: its tolerances for the consistent initial point, its progress bar
+/// follows IDA's options `ida`: its tolerances for the consistent initial point, its progress callback
 /// and its stop request.
 VariationalOptions variational_options(double step, long max_steps, const IntegratorOptions& ida);
 

@@ -201,7 +201,6 @@ WorkPrecision measure_work_precision(const WorkPrecisionModels& models, double t
         io.rtol = rtol;
         io.atol = rtol * settings.atol_scale;
         io.linear_solver = LinearSolverKind::dense;
-        io.progress = false;
         const RunResult ref = simulate(dense, p, initial_state_from(dense, t0, initial_values), times, io);
         if (progress)
           progress("reference run" + at + ": rtol " + format_number(io.rtol) + ", " +
@@ -228,7 +227,6 @@ WorkPrecision measure_work_precision(const WorkPrecisionModels& models, double t
         io.atol = io.rtol * settings.atol_scale;
         io.linear_solver = config.jacobian == "sparse" ? LinearSolverKind::sparse : LinearSolverKind::dense;
         io.projection = config.projection ? ProjectionMethod::in_place : ProjectionMethod::none;
-        io.progress = false;
         const VariationalOptions vo = variational_options(setting, std::numeric_limits<long>::max(), io);
         const auto run_once = [&]() {
           return config.variational ? simulate_variational(model, p, initial, times, vo).run

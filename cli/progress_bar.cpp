@@ -1,11 +1,13 @@
-#include "nhc/runtime/progress_bar.hpp"
+#include "progress_bar.hpp"
 
 #include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
+#include <memory>
+#include <optional>
 
-namespace nhc::runtime {
+namespace nhc::cli {
 
 ProgressBar::ProgressBar(double t0, double t1, bool enabled)
     : t0_(t0), t1_(t1), enabled_(enabled && isatty(STDERR_FILENO) == 1), start_(Clock::now()), last_draw_(start_) {}
@@ -37,4 +39,16 @@ void ProgressBar::finish() {
   drawn_ = false;
 }
 
-}  // namespace nhc::runtime
+runtime::ProgressCallback terminal_progress() {
+  auto bar = std::make_shared<std::optional<ProgressBar>>();
+  return [bar](const runtime::Progress& p) {
+    if (p.finished) {
+      bar->reset();  // erases it
+      return;
+    }
+    if (!*bar) bar->emplace(p.t_start, p.t_end, true);
+    (*bar)->update(p.t);
+  };
+}
+
+}  // namespace nhc::cli

@@ -1,11 +1,14 @@
 #pragma once
 /// \file progress_bar.hpp
 /// \brief A one-line progress bar on stderr, drawn only when stderr is a terminal and only once a
-/// run has taken more than a second; erased when done.
+/// run has taken more than a second; erased when done. terminal_progress() draws one for the
+/// runtime's progress reports (runtime/progress.hpp).
 
 #include <chrono>
 
-namespace nhc::runtime {
+#include "nhc/runtime/progress.hpp"
+
+namespace nhc::cli {
 
 class ProgressBar {
  public:
@@ -28,4 +31,8 @@ class ProgressBar {
   Clock::time_point start_, last_draw_;
 };
 
-}  // namespace nhc::runtime
+/// A progress callback that draws a ProgressBar for each integrate() call of a run (IDA's or the
+/// variational integrator's), from its start report to its finished one.
+runtime::ProgressCallback terminal_progress();
+
+}  // namespace nhc::cli
