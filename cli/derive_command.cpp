@@ -31,16 +31,26 @@ struct DeriveOptions {
 }  // namespace
 
 void add_work_limit_flag(CLI::App* sub) {
-  sub->add_option("--work-limit", work_limit_seconds,
-                  "processor seconds the symbolic work (deriving, reducing, generating code) may take "
-                  "before the run is refused (default " + fmt::format("{:g}", work_budget::kDefaultWorkSeconds) + ")")
+  sub->add_option_function<double>(
+         "--work-limit",
+         [](double seconds) {
+           work_limit_seconds = seconds;
+           work_limit_given = true;
+         },
+         "processor seconds the symbolic work (deriving, reducing, generating code) may take before the run "
+         "is refused (default " + fmt::format("{:g}", work_budget::kDefaultWorkSeconds) + ", " +
+             fmt::format("{:g}", work_budget::kDefaultWorkSeconds * kExpandedWorkFactor) + " with --expand)")
       ->check(flag_rules::positive())
       ->option_text("SECONDS");
 }
 
 void add_expand_flag(CLI::App* sub, SceneOptions& options) {
   sub->add_flag_callback(
-      "--expand", [&options] { options.keep_definitions = false; },
+      "--expand",
+      [&options] {
+        options.keep_definitions = false;
+        work_expanded = true;  // a larger default budget (work_watchdog.hpp)
+      },
       "substitute every definition into the equations (by default each stays a named quantity, "
       "listed after the equations)");
 }

@@ -13,6 +13,10 @@
 namespace nhc::cli {
 
 double work_limit_seconds = work_budget::kDefaultWorkSeconds;
+bool work_limit_given = false;
+bool work_expanded = false;
+
+double work_limit() { return work_limit_given || !work_expanded ? work_limit_seconds : work_limit_seconds * kExpandedWorkFactor; }
 
 namespace {
 
@@ -22,7 +26,7 @@ namespace {
   const int n = std::snprintf(line, sizeof line,
                               "%s: error: %s took more than %g s of processor time: the expressions grow too "
                               "large (raise the limit with --work-limit SECONDS)\n",
-                              *s.scene_path != '\0' ? s.scene_path : "nhc", s.stage, work_limit_seconds);
+                              *s.scene_path != '\0' ? s.scene_path : "nhc", s.stage, work_limit());
   if (n > 0) (void)!::write(STDERR_FILENO, line, static_cast<std::size_t>(n) < sizeof line ? n : sizeof line - 1);
   ::_exit(kExitBadInput);
 }
@@ -37,7 +41,7 @@ void start_work_watchdog() {
     for (;;) {
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
       const work_budget::StageSnapshot s = work_budget::stage_snapshot();
-      if (s.stage != nullptr && s.seconds > work_limit_seconds) refuse(s);
+      if (s.stage != nullptr && s.seconds > work_limit()) refuse(s);
     }
   }).detach();
 }

@@ -11,7 +11,7 @@ from . import _nhc
 from .errors import MathError, SceneError
 
 
-def _count(name, value):
+def _count(name: str, value: Any) -> int:
     """A whole number for a count argument: 2.5 or "ten" is a SceneError naming it, as --outputs 2.5 is."""
     try:
         whole = int(value)
@@ -172,7 +172,7 @@ class Model:
         Ctrl-C (KeyboardInterrupt) stops a long run."""
         times = None if output_times is None else [float(t) for t in _np.asarray(output_times).ravel()]
         names = None if sensitivity is None else [sensitivity] if isinstance(sensitivity, str) else list(sensitivity)
-        def number(value):
+        def number(value: Optional[float]) -> Optional[float]:
             return None if value is None else float(value)
 
         result = self._model.simulate(number(t_end), number(rtol), number(atol),

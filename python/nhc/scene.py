@@ -35,7 +35,7 @@ class Derivation:
 
     def _repr_latex_(self) -> str:
         """Math only (align* blocks, headings as \text rows): MathJax renders math, not \section."""
-        return self.latex_math.strip()
+        return str(self.latex_math).strip()
 
     def __repr__(self) -> str:
         return self.text

@@ -185,7 +185,7 @@ TEST_CASE("parameters set by --set P=V in simulate, analyze, generate and derive
   }
 }
 
-TEST_CASE("--set of a parameter the scene computes from others: they follow, it is refused", "[cli][parameters]") {
+TEST_CASE("a parameter the scene computes from others follows --set of those and refuses its own", "[cli][parameters]") {
   const std::string dir = nhc::test::scratch_dir("first_hour_derived_parameters");
   // A wheel (mass mw, radius r, Ja = mw r^2/2) under a body mb, rolling: x' = r th', and
   // x'(0) = r*Ja written through the computed parameter.
@@ -497,7 +497,7 @@ std::size_t csv_column(const std::string& csv, const std::string& name) {
 
 }  // namespace
 
-TEST_CASE("--repair-initial keeps the given values that are consistent, in simulate and analyze alike",
+TEST_CASE("repairing the initial values keeps the given ones that are consistent, in simulate and analyze alike",
           "[cli][issue43]") {
   const std::string dir = nhc::test::scratch_dir("repair_keeps_consistent");
   // Appell–Hamel as shipped: x' = 1, y' = 0.5 given, z' missing. f1 = 0 gives z' = (b/a) sqrt(x'² + y'²)

@@ -11,9 +11,24 @@
 
 namespace nhc::work_budget {
 
+/// How much slower this build does the same work than a Release build: the sanitizer build
+/// (scripts/sanitize.sh, ASan + UBSan at -O1) runs the symbolic stages 5–10 times slower, and its
+/// default limit is scaled so that it refuses the same scenes as the Release build.
+#if defined(__SANITIZE_ADDRESS__)
+inline constexpr double kBuildSlowdown = 10.0;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+inline constexpr double kBuildSlowdown = 10.0;
+#else
+inline constexpr double kBuildSlowdown = 1.0;
+#endif
+#else
+inline constexpr double kBuildSlowdown = 1.0;
+#endif
+
 /// Processor seconds of symbolic work a command may spend by default (`--work-limit` raises it).
-/// The examples need at most 0.3 s, the 1024-body knife chain about 1.5 s.
-inline constexpr double kDefaultWorkSeconds = 4.0;
+/// The examples need at most 0.3 s, the 1024-body knife chain about 1.5 s (Release).
+inline constexpr double kDefaultWorkSeconds = 4.0 * kBuildSlowdown;
 
 /// Marks a symbolic stage for the lifetime of the object; stages nest (the innermost is named).
 /// Not a lock: cheap, and a no-op for the clock when no watchdog runs.
