@@ -16,6 +16,7 @@ packages=(
   libhdf5-dev libopenmpi-dev openmpi-bin
   pybind11-dev python3-dev python3-numpy python3-pytest
   python3-nbclient python3-ipykernel python3-matplotlib python3-pil python3-h5py
+  python3-scipy python3-sympy
   libjs-three chromium
   python3-sphinx python3-myst-parser python3-nbsphinx furo libjs-mathjax node-normalize.css pandoc mypy
 )
@@ -34,7 +35,7 @@ if ((${#missing[@]})); then
   apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
-# Optional: only bench/whipple_sympy.py uses it (SymPy's bicycle, timed against nhc linearize);
+# Optional (now also required above, by the tutorial notebooks): bench/whipple_sympy.py uses it (SymPy's bicycle, timed against nhc linearize);
 # the bench skips SymPy with a message without it, so a failed install is not an error.
 optional=(python3-sympy)
 for p in "${optional[@]}"; do

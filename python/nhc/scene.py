@@ -34,7 +34,7 @@ class Derivation:
         return _cast(Dict[str, Any], _json.loads(self._json_text))
 
     def _repr_latex_(self) -> str:
-        """Math only (align* blocks, headings as \text rows): MathJax renders math, not \section."""
+        """Math only (align* blocks, headings as \\text rows): MathJax renders math, not \\section."""
         return str(self.latex_math).strip()
 
     def __repr__(self) -> str:

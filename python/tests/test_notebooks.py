@@ -15,6 +15,8 @@ def test_notebook_runs(path: pathlib.Path):
     nbclient = pytest.importorskip("nbclient", reason="Debian python3-nbclient is missing")
     pytest.importorskip("ipykernel", reason="Debian python3-ipykernel is missing")
     pytest.importorskip("matplotlib", reason="Debian python3-matplotlib is missing")
+    pytest.importorskip("scipy", reason="Debian python3-scipy is missing (control_lqr)")
+    pytest.importorskip("sympy", reason="Debian python3-sympy is missing (rigid_body)")
     notebook = nbformat.read(path, as_version=4)
     client = nbclient.NotebookClient(notebook, timeout=600, kernel_name="python3",
                                      resources={"metadata": {"path": str(path.parent)}})
