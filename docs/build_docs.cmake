@@ -3,13 +3,14 @@
 #      WORK_DIR/src/tutorials; WORK_DIR/examples links to the source tree's examples/, since a
 #      notebook finds its scenes two directories above itself, as in examples/notebooks;
 #   2. write the page commands-help.md from `nhc --help` and `nhc <command> --help` (the command
-#      line's own help text, so the page cannot drift from it);
+#      line's own help text, so the page cannot drift from it), and scene-keys.md from the scene
+#      loader's own lists of keys (docs/scene_keys.py, which fails on a key scenes.md misses);
 #   3. sphinx-build -W (every warning an error) -E (every page again: a notebook's outputs depend on
 #      the built module, which Sphinx does not see change), notebooks executed against the built module;
 #   4. MathJax from Debian's libjs-mathjax beside the pages (the site works offline).
-# usage: cmake -DSOURCE_DIR= -DWORK_DIR= -DNHC= -DPYTHON_DIR= -DSPHINX= -DVERSION= -P build_docs.cmake
+# usage: cmake -DSOURCE_DIR= -DWORK_DIR= -DNHC= -DPYTHON= -DPYTHON_DIR= -DSPHINX= -DVERSION= -P build_docs.cmake
 cmake_minimum_required(VERSION 3.20)
-foreach(var SOURCE_DIR WORK_DIR NHC PYTHON_DIR SPHINX VERSION)
+foreach(var SOURCE_DIR WORK_DIR NHC PYTHON PYTHON_DIR SPHINX VERSION)
   if(NOT DEFINED ${var})
     message(FATAL_ERROR "build_docs.cmake: -D${var}=… is required")
   endif()
@@ -50,6 +51,12 @@ if(count LESS 5)
   message(FATAL_ERROR "nhc --help listed only ${count} commands")
 endif()
 file(WRITE ${src}/commands-help.md "${page}")
+execute_process(COMMAND ${PYTHON} ${SOURCE_DIR}/docs/scene_keys.py page --nhc ${NHC} --docs ${SOURCE_DIR}/docs
+                        --out ${src}/scene-keys.md
+                RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "docs/scene_keys.py failed (${rc})")
+endif()
 
 # 3. Sphinx.
 execute_process(
