@@ -4,7 +4,8 @@
 #      notebook finds its scenes two directories above itself, as in examples/notebooks;
 #   2. write the page commands-help.md from `nhc --help` and `nhc <command> --help` (the command
 #      line's own help text, so the page cannot drift from it), and scene-keys.md from the scene
-#      loader's own lists of keys (docs/scene_keys.py, which fails on a key scenes.md misses);
+#      loader's own lists of keys (docs/scene_keys.py, which fails on a key scenes.md misses), and
+#      cpp-api.md from the installed headers of the runtime and the jit (docs/cpp_api.py);
 #   3. sphinx-build -W (every warning an error) -E (every page again: a notebook's outputs depend on
 #      the built module, which Sphinx does not see change), notebooks executed against the built module;
 #   4. MathJax from Debian's libjs-mathjax beside the pages (the site works offline).
@@ -56,6 +57,11 @@ execute_process(COMMAND ${PYTHON} ${SOURCE_DIR}/docs/scene_keys.py page --nhc ${
                 RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "docs/scene_keys.py failed (${rc})")
+endif()
+execute_process(COMMAND ${PYTHON} ${SOURCE_DIR}/docs/cpp_api.py --source ${SOURCE_DIR} --out ${src}/cpp-api.md
+                RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "docs/cpp_api.py failed (${rc})")
 endif()
 
 # 3. Sphinx.
