@@ -46,3 +46,15 @@ def test_help_shows_the_parameters():
     for parameter in ("t_end", "rtol", "atol", "outputs", "inputs", "sensitivity"):
         assert f":param {parameter}:" in text
     assert "path" in inspect.signature(nhc.Scene.load).parameters
+
+
+def test_help_text_names_the_parameters():
+    """What help() prints (pydoc's plain text): the signature and each parameter's description."""
+    import pydoc
+    load = pydoc.render_doc(nhc.Scene.load, renderer=pydoc.plaintext)
+    simulate = pydoc.render_doc(nhc.Model.simulate, renderer=pydoc.plaintext)
+    for parameter in ("path", "set", "expand"):
+        assert f"{parameter}:" in load.split("\n", 3)[2] and f":param {parameter}:" in load
+    for parameter in ("t_end", "rtol", "atol", "outputs", "output_times", "inputs", "max_steps",
+                      "sensitivity", "integrator", "step"):
+        assert f"{parameter}:" in simulate.split("\n", 3)[2] and f":param {parameter}:" in simulate
