@@ -1,4 +1,5 @@
-# install:snippets — every code block of README.md, docs/architecture.md and docs/library.md that follows a line
+# install:snippets — every code block of README.md, docs/architecture.md, docs/library.md and
+#   docs/howto/application.md that follows a line
 #   <!-- snippet: PATH -->
 # must appear verbatim in PATH (relative to the source tree), a file that the install tests
 # compile and run; so the documented code cannot drift from working code.
@@ -6,7 +7,7 @@
 cmake_minimum_required(VERSION 3.20)
 set(marker "<!-- snippet: ")
 set(checked 0)
-foreach(doc README.md docs/architecture.md docs/library.md)
+foreach(doc README.md docs/architecture.md docs/library.md docs/howto/application.md)
   file(READ "${SOURCE_DIR}/${doc}" text)
   while(TRUE)
     string(FIND "${text}" "${marker}" at)
