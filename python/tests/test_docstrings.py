@@ -58,3 +58,12 @@ def test_help_text_names_the_parameters():
     for parameter in ("t_end", "rtol", "atol", "outputs", "output_times", "inputs", "max_steps",
                       "sensitivity", "integrator", "step"):
         assert f"{parameter}:" in simulate.split("\n", 3)[2] and f":param {parameter}:" in simulate
+
+
+def test_the_python_reference_lists_every_public_name():
+    """docs/python-api.md (autodoc) has a directive for each name of nhc.__all__."""
+    import re
+    from conftest import SOURCE
+    page = (SOURCE / "docs" / "python-api.md").read_text(encoding="utf-8")
+    documented = set(re.findall(r"^\.\. auto(?:class|function|exception):: nhc\.(\w+)", page, re.M))
+    assert set(nhc.__all__) - documented == set(), f"not on docs/python-api.md: {set(nhc.__all__) - documented}"
