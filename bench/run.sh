@@ -224,4 +224,10 @@ NHC_SCENE_CACHE=off NHC_CACHE_DIR="$json/absurd-cache" "$python" bench/absurd_sc
     echo "Not met: $(grep -c '^FAIL' "$json/absurd.log") runs past 5 s or with another exit code ($json/absurd.log)."
   fi
 } >> "$results/results.md"
+# Issue 50: the start-up of the command (perf stat; the libraries each program loads).
+if command -v perf > /dev/null; then
+  { echo; echo "## Start-up of the command (issue 50, bench/startup.sh)"; echo
+    NHC_STARTUP_REPEAT=$([ $quick = 1 ] && echo 5 || echo 30) bench/startup.sh "$nhc" || echo "(bench/startup.sh failed)"
+  } >> "$results/results.md"
+fi
 log "wrote $results/results.md and $results/results-time.svg ($(awk -v s="$start" -v e="$(date +%s.%N)" 'BEGIN{printf "%.0f", e-s}') s)"

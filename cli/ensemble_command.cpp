@@ -15,6 +15,7 @@
 
 #include <unistd.h>
 
+#include "command_programs.hpp"
 #include "commands.hpp"
 #include "failure_report.hpp"
 #include "model_requirements.hpp"
@@ -376,9 +377,7 @@ int run_ensemble(const EnsembleOptions& o) {
 
 CommandRunner add_ensemble_command(CLI::App& app) {
   auto o = std::make_shared<EnsembleOptions>();
-  CLI::App* sub = app.add_subcommand(
-      "ensemble", "many runs of one model over a grid or a random sample of parameters and initial values "
-                  "(threads, or MPI ranks under mpirun), results in HDF5");
+  CLI::App* sub = app.add_subcommand("ensemble", command_description("ensemble"));
   sub->add_option("SCENE", o->scene_path, "scene file (TOML)")->required();
   sub->add_option("--model,-m", o->model, "model (default: the scene's [simulate] model, else chetaev)")
       ->check(CLI::IsMember(model_names()));

@@ -4,7 +4,7 @@
 // otherwise (heap_in_huge_pages below says why).
 //
 // nhc-main could do this itself by executing itself once more (it does, when started directly),
-// but by then it has loaded some fifty shared libraries (GiNaC, SUNDIALS, HDF5, MPI, OpenSSL),
+// but by then it has loaded some thirty shared libraries (GiNaC, SUNDIALS, OpenSSL, fmt),
 // 45 ms on the 2-core CI machine, a tenth of `nhc generate` on the Whipple bicycle. This launcher
 // needs only the C library. Exit 4 (environment) when nhc-main cannot be found or started.
 #include <sys/personality.h>
@@ -18,6 +18,7 @@
 #include <cstring>
 #include <string>
 
+#include "command_programs.hpp"
 #include "exit_codes.hpp"
 
 namespace {
@@ -76,22 +77,25 @@ bool address_space_too_small() {
 
 }  // namespace
 
-int main(int, char** argv) {
+int main(int argc, char** argv) {
   if (address_space_too_small()) return nhc::cli::kExitEnvironment;
   const int current = personality(0xffffffff);  // query only
   if (current != -1 && (current & ADDR_NO_RANDOMIZE) == 0)
     personality(static_cast<unsigned long>(current) | ADDR_NO_RANDOMIZE);  // refused: goes on randomized
   heap_in_huge_pages();
   const std::string directory = own_directory();
+  // nhc-main, or the program of a command of command_programs.hpp (nhc ensemble: nhc-ensemble).
+  const nhc::cli::CommandProgram* entry = argc > 1 ? nhc::cli::command_program(argv[1]) : nullptr;
+  const std::string name = entry ? entry->program : "nhc-main";
   // Beside this file in a build tree; under libexec/nhc/ once installed (cmake/nhcInstall.cmake).
-  const std::string candidates[] = {directory + "/nhc-main", directory + "/../" NHC_LIBEXEC_DIR "/nhc/nhc-main"};
+  const std::string candidates[] = {directory + "/" + name, directory + "/../" NHC_LIBEXEC_DIR "/nhc/" + name};
   int error = ENOENT;
   for (const std::string& program : candidates) {
     if (directory.empty()) break;
     execv(program.c_str(), argv);
     error = errno;
   }
-  std::fprintf(stderr, "nhc: error: cannot start the nhc program (%s/nhc-main or %s/../%s/nhc/nhc-main): %s\n",
-               directory.c_str(), directory.c_str(), NHC_LIBEXEC_DIR, std::strerror(error));
+  std::fprintf(stderr, "nhc: error: cannot start the nhc program (%s/%s or %s/../%s/nhc/%s): %s\n", directory.c_str(),
+               name.c_str(), directory.c_str(), NHC_LIBEXEC_DIR, name.c_str(), std::strerror(error));
   return nhc::cli::kExitEnvironment;
 }

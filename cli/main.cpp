@@ -1,122 +1,18 @@
-// nhc — the nonholonomic compiler: command-line entry point.
-// Exit codes: 0 ok, 1 internal error (a bug: please report), 2 bad input, 3 numerical or
-// mathematical failure, 4 environment (file system, compiler, loader, cache).
-#include <unistd.h>
-
-#include <cstdlib>
-#include <exception>
-#include <iostream>
-#include <new>
-#include <vector>
-
+// nhc — the nonholonomic compiler: the program nhc-main, which runs every command but those of
+// kCommandPrograms (command_programs.hpp): for these it starts their own program.
 #include "commands.hpp"
-#include "flag_rules.hpp"
-#include "exit_codes.hpp"
-#include "failure_report.hpp"
 #include "fixed_address_layout.hpp"
-#include "interrupt.hpp"
-#include "work_watchdog.hpp"
-#include "nhc/errors.hpp"
-
-namespace {
-
-/// Out of memory before main (the static objects of the libraries and of CLI11 allocate): an
-/// environment failure in words, exit 4, instead of std::terminate's abort. Installed by the
-/// first static initializer of the program (init_priority 101 runs before the others).
-[[noreturn]] void terminate_in_words() {
-  if (std::exception_ptr failure = std::current_exception()) {
-    try {
-      std::rethrow_exception(failure);
-    } catch (const std::bad_alloc&) {
-      static const char message[] = "nhc: error: out of memory while starting: free memory or raise the limit (ulimit -v)\n";
-      (void)!write(2, message, sizeof message - 1);
-      _exit(nhc::cli::kExitEnvironment);
-    } catch (...) {
-    }
-  }
-  std::abort();
-}
-
-struct TerminateInWords {
-  TerminateInWords() { std::set_terminate(terminate_in_words); }
-};
-__attribute__((init_priority(101))) const TerminateInWords terminate_in_words_installed;
-
-int run_command_line(int argc, char** argv) {
-  // An interrupted run removes its temporary files and exits 130 (interrupt.hpp).
-  nhc::cli::install_interrupt_handlers();
-  CLI::App app{"nhc, the nonholonomic compiler: derives, analyses, generates and integrates the "
-               "equations of motion of systems with high-order nonholonomic constraints"};
-  app.set_version_flag("--version", std::string("nhc ") + NHC_VERSION);
-  app.require_subcommand(1);
-
-  std::vector<std::pair<CLI::App*, nhc::cli::CommandRunner>> commands;
-  auto add = [&](nhc::cli::CommandRunner (*adder)(CLI::App&)) {
-    nhc::cli::CommandRunner run = adder(app);
-    commands.emplace_back(app.get_subcommands({}).back(), std::move(run));
-  };
-  add(nhc::cli::add_derive_command);
-  add(nhc::cli::add_analyze_command);
-  add(nhc::cli::add_generate_command);
-  add(nhc::cli::add_simulate_command);
-  add(nhc::cli::add_report_command);
-  add(nhc::cli::add_compare_command);
-  add(nhc::cli::add_ensemble_command);
-  add(nhc::cli::add_plot_command);
-  add(nhc::cli::add_connect_command);
-  add(nhc::cli::add_optimize_command);
-  add(nhc::cli::add_linearize_command);
-  add(nhc::cli::add_animate_command);
-
-  nhc::cli::flag_rules::refuse_empty_values(app);
-  if (const auto flag = nhc::cli::flag_rules::empty_inline_value(argc, argv)) {
-    std::cerr << *flag << ": error: " << *flag << " " << nhc::cli::flag_rules::empty_value_message() << "\n";
-    return nhc::cli::kExitBadInput;
-  }
-
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForVersion& e) {
-    return app.exit(e);
-  } catch (const CLI::ValidationError& e) {
-    // "--rtol: nan is not a positive number" (flag_rules.hpp) in the words of every other bad
-    // flag: "--rtol: error: --rtol nan is not a positive number".
-    const std::string what = e.what();
-    const std::size_t colon = what.find(": ");
-    if (what.rfind("-", 0) == 0 && colon != std::string::npos)
-      std::cerr << what.substr(0, colon) << ": error: " << what.substr(0, colon) << " " << what.substr(colon + 2) << "\n";
-    else
-      std::cerr << "nhc: error: " << what << " (see nhc --help)\n";
-    return nhc::cli::kExitBadInput;
-  } catch (const CLI::ParseError& e) {
-    std::cerr << "nhc: error: " << e.what() << " (see nhc --help)\n";
-    return nhc::cli::kExitBadInput;
-  }
-
-  // Symbolic work past --work-limit ends the run with exit 2 (work_watchdog.hpp).
-  nhc::cli::start_work_watchdog();
-  try {
-    for (auto& [sub, run] : commands)
-      if (sub->parsed()) return run();
-  } catch (...) {
-    return nhc::cli::report_failure(std::current_exception());
-  }
-  return nhc::cli::kExitInternal;
-}
-
-}  // namespace
+#include "program_main.hpp"
 
 int main(int argc, char** argv) {
-  // The same scene gives the same header in every run (fixed_address_layout.hpp).
-  nhc::cli::run_with_fixed_address_layout(argv);
-  // Setting up the command line allocates too: out of memory there is exit 4 in words as well.
-  try {
-    return run_command_line(argc, argv);
-  } catch (...) {
-    return nhc::cli::report_failure(std::current_exception());
-  }
+  using namespace nhc::cli;
+  // Before starting another program, so that it inherits the fixed layout.
+  run_with_fixed_address_layout(argv);
+  if (argc > 1)
+    if (const CommandProgram* entry = command_program(argv[1])) return start_command_program(*entry, argv);
+  return run_program(argc, argv,
+                     {add_derive_command, add_analyze_command, add_generate_command, add_simulate_command,
+                      add_report_command, add_compare_command, add_connect_command, add_linearize_command,
+                      add_animate_command},
+                     /*list_external=*/true);
 }

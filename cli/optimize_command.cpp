@@ -10,6 +10,7 @@
 
 #include <iostream>
 
+#include "command_programs.hpp"
 #include "commands.hpp"
 #include "flag_rules.hpp"
 #include "nhc/io/atomic_directory.hpp"
@@ -100,8 +101,7 @@ void write_plots(const std::string& directory, const Scene& scene, const optimiz
 
 CommandRunner add_optimize_command(CLI::App& app) {
   auto options = std::make_shared<OptimizeOptions>();
-  CLI::App* sub = app.add_subcommand(
-      "optimize", "an optimal motion of a scene's [optimize] problem (Hermite-Simpson collocation, IPOPT)");
+  CLI::App* sub = app.add_subcommand("optimize", command_description("optimize"));
   sub->add_option("SCENE", options->scene_path, "scene file (TOML) with an [optimize] table")->required();
   sub->add_option("-o,--output", options->output, "CSV file for the optimal path (t, coordinates and rates)");
   sub->add_option("--intervals", options->intervals, "collocation intervals (default: [optimize] intervals, else 40)")

@@ -5,6 +5,7 @@
 // (gnuplot), default FILE_OUTCOME.
 #include <iostream>
 
+#include "command_programs.hpp"
 #include "commands.hpp"
 #include "nhc/errors.hpp"
 
@@ -19,7 +20,7 @@ CommandRunner add_plot_command(CLI::App& app) {
     std::string file, outcome, stem;
   };
   auto o = std::make_shared<Options>();
-  CLI::App* sub = app.add_subcommand("plot", "a map of an outcome of an ensemble (FILE.h5 of nhc ensemble)");
+  CLI::App* sub = app.add_subcommand("plot", command_description("plot"));
   sub->add_option("FILE", o->file, "FILE.h5 written by nhc ensemble")->required();
   sub->add_option("OUTCOME", o->outcome, "t_stop, steps, seconds, final:<state>, drift:<invariant>, drift:hidden")
       ->required();

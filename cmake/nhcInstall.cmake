@@ -31,10 +31,11 @@ if(TARGET nhc_ensemble)
 endif()
 set_target_properties(nhc PROPERTIES EXPORT_NAME nhc)
 if(BUILD_SHARED_LIBS)
-  set_target_properties(nhc_main PROPERTIES INSTALL_RPATH "$ORIGIN/../../${CMAKE_INSTALL_LIBDIR}")
+  set_target_properties(nhc_main nhc_ensemble_program nhc_optimize_program PROPERTIES INSTALL_RPATH "$ORIGIN/../../${CMAKE_INSTALL_LIBDIR}")
 endif()
-# The command bin/nhc starts the program libexec/nhc/nhc-main (cli/launcher.cpp).
-install(TARGETS nhc_main RUNTIME DESTINATION ${CMAKE_INSTALL_LIBEXECDIR}/nhc)
+# The command bin/nhc starts the program libexec/nhc/nhc-main, or nhc-ensemble or nhc-optimize
+# beside it for their commands (cli/launcher.cpp, cli/command_programs.hpp).
+install(TARGETS nhc_main nhc_ensemble_program nhc_optimize_program RUNTIME DESTINATION ${CMAKE_INSTALL_LIBEXECDIR}/nhc)
 
 install(TARGETS nhc ${nhc_installed_libraries}
   EXPORT nhcTargets

@@ -33,7 +33,7 @@ for prefix in /usr /usr/local; do
   "$python" -c "import sys; sys.exit('$prefix/$site' not in sys.path)" || fail "$prefix/$site is not on $python's path"
 done
 dpkg-deb -c "$deb" > contents.txt
-for f in ./usr/bin/nhc ./usr/libexec/nhc/nhc-main ./usr/include/nhc/runtime/runtime.hpp \
+for f in ./usr/bin/nhc ./usr/libexec/nhc/nhc-main ./usr/libexec/nhc/nhc-ensemble ./usr/libexec/nhc/nhc-optimize ./usr/include/nhc/runtime/runtime.hpp \
          ./usr/lib/cmake/nhc/nhcConfig.cmake ./usr/$site/nhc/__init__.py \
          ./usr/$site/nhc/_nhc.pyi ./usr/$site/nhc/py.typed; do
   grep -q " $f\$" contents.txt || fail "the package has no $f"

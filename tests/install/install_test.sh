@@ -31,7 +31,7 @@ cd "$work"
 
 # 1. Install.
 "$cmake" --install "$build" --prefix "$work/prefix" > install.log
-for f in bin/nhc libexec/nhc/nhc-main include/nhc/codegen.hpp include/nhc/scene/scene_builder.hpp \
+for f in bin/nhc libexec/nhc/nhc-main libexec/nhc/nhc-ensemble libexec/nhc/nhc-optimize include/nhc/codegen.hpp include/nhc/scene/scene_builder.hpp \
          include/nhc/runtime/runtime.hpp include/nhc/runtime/model_table.h \
          include/nhc/jit.hpp include/nhc/jit/build.hpp \
          include/nhc/linearize/linearizer.hpp include/nhc/connect/shooting.hpp \
