@@ -20,7 +20,7 @@ import threading
 import urllib.parse
 
 SKIP = 77
-PAGES = ["index.html", "quickstart.html", "tutorials/rolling_disk.html", "tutorials/control_lqr.html", "gallery.html"]
+PAGES = ["index.html", "quickstart.html", "tutorials/rolling_disk.html", "tutorials/control_lqr.html"]
 
 
 class Page(html.parser.HTMLParser):
