@@ -207,10 +207,13 @@ class Model:
 
 class Linearization:
     """`nhc linearize` at one point: A, B, C, D (numpy), states, inputs, outputs, eigenvalues
-    (complex numpy), verdict, families, point."""
+    (complex numpy), verdict, families, point, cyclic (the coordinates removed) and kept (the
+    cyclic coordinates kept as states)."""
 
     def __init__(self, result: Dict[str, Any]) -> None:
         self.states = list(result["states"])
+        self.cyclic = list(result["cyclic"])
+        self.kept = list(result["kept"])
         self.inputs = list(result["inputs"])
         self.outputs = list(result["outputs"])
         self.A, self.B = _np.asarray(result["A"]), _np.asarray(result["B"])

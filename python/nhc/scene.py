@@ -4,7 +4,7 @@ from __future__ import annotations
 import json as _json
 import os as _os
 import re as _re
-from typing import Any, Dict, List, Mapping, Optional
+from typing import Any, Dict, List, Mapping, Optional, Sequence
 from typing import cast as _cast
 
 import numpy.typing as _npt
@@ -138,16 +138,21 @@ class Scene:
         :raises nhc.HostError: the compiler or the cache failed."""
         return Model(_nhc._build(self._scene, model))
 
-    def linearize(self, model: str = "chetaev", at: Optional[Mapping[str, float]] = None) -> Linearization:
+    def linearize(self, model: str = "chetaev", at: Optional[Mapping[str, float]] = None,
+                  keep: Sequence[str] = (), states: Sequence[str] = ()) -> Linearization:
         """Linear stability at the scene's [initial] with `at` values replaced (as ``nhc linearize --at``).
 
         :param model: the model's name.
         :param at: parameters and initial values to replace: ``{"phi'": 0, "v": 3}``.
+        :param keep: cyclic coordinates to keep as states (as ``--keep``): ``["x"]``.
+        :param states: the reduced states wanted, in this order (as ``--states``): ``["x", "x'", "th", "th'"]``.
         :returns: A, B, C, D, the eigenvalues and the verdict."""
-        return Linearization(_nhc._linearize(self._scene, model, {k: float(v) for k, v in (at or {}).items()}))
+        return Linearization(_nhc._linearize(self._scene, model, {k: float(v) for k, v in (at or {}).items()},
+                                             list(keep), list(states)))
 
     def sweep(self, model: str, name: str, values: _npt.ArrayLike,
-              at: Optional[Mapping[str, float]] = None) -> Sweep:
+              at: Optional[Mapping[str, float]] = None, keep: Sequence[str] = (),
+              states: Sequence[str] = ()) -> Sweep:
         """Linearizes at each of `values` of the parameter or initial value `name`, and refines where
         the verdict changes (as ``nhc linearize --sweep``).
 
@@ -155,6 +160,8 @@ class Scene:
         :param name: a parameter (``"v"``) or an initial value (``"psi'"``).
         :param values: at least two, increasing and equally spaced (as ``np.linspace`` gives).
         :param at: other values to replace, as for :meth:`linearize`.
+        :param keep: cyclic coordinates kept as states, as for :meth:`linearize`.
+        :param states: the reduced states, as for :meth:`linearize`.
         :raises nhc.SceneError: values not increasing or not equally spaced."""
         values = _np.asarray(values, dtype=float).ravel()
         if len(values) < 2 or not _np.all(_np.diff(values) > 0):
@@ -162,7 +169,8 @@ class Scene:
         if _np.max(_np.abs(_np.diff(values) - (values[-1] - values[0]) / (len(values) - 1))) > 1e-9 * _np.max(_np.abs(values)):
             raise SceneError("sweep values must be equally spaced (np.linspace)")
         at = {k: float(v) for k, v in (at or {}).items()}
-        return Sweep(name, _nhc._sweep(self._scene, model, name, values[0], values[-1], len(values), at))
+        return Sweep(name, _nhc._sweep(self._scene, model, name, values[0], values[-1], len(values), at,
+                                       list(keep), list(states)))
 
     def __repr__(self) -> str:
         return f"Scene({self.name!r}, coordinates={self.coordinates!r})"

@@ -419,6 +419,8 @@ py::array_t<double> matrix(const Eigen::MatrixXd& m) {
 py::dict linearization(const Linearization& lin) {
   py::dict out;
   out["states"] = lin.states;
+  out["cyclic"] = lin.cyclic;
+  out["kept"] = lin.kept;
   out["A"] = matrix(lin.A);
   out["inputs"] = lin.inputs;
   out["B"] = matrix(lin.B);
@@ -478,9 +480,13 @@ void register_model(py::module_& m) {
   m.def(
       "_sweep",
       [](const Scene& scene, const std::string& model, const std::string& name, double first, double last, int count,
-         const std::map<std::string, double>& at) {
+         const std::map<std::string, double>& at, const std::vector<std::string>& keep,
+         const std::vector<std::string>& states) {
+        LinearizeOptions options;
+        options.keep = keep;
+        options.states = states;
         const SweepResult result = symbolic_work([&] {
-          const Linearizer linearizer(scene, model_named(model));
+          const Linearizer linearizer(scene, model_named(model), options);
           return sweep(linearizer, overrides_of(at), SweepRange{name, first, last, count});
         });
         py::list points, thresholds;
@@ -502,14 +508,20 @@ void register_model(py::module_& m) {
         return out;
       },
       py::arg("scene"), py::arg("model"), py::arg("name"), py::arg("first"), py::arg("last"), py::arg("count"),
-      py::arg("at"));
+      py::arg("at"), py::arg("keep") = std::vector<std::string>{}, py::arg("states") = std::vector<std::string>{});
   m.def(
       "_linearize",
-      [](const Scene& scene, const std::string& model, const std::map<std::string, double>& at) {
-        const Linearization lin = symbolic_work([&] { return linearize(scene, model_named(model), overrides_of(at)); });
+      [](const Scene& scene, const std::string& model, const std::map<std::string, double>& at,
+         const std::vector<std::string>& keep, const std::vector<std::string>& states) {
+        LinearizeOptions options;
+        options.keep = keep;
+        options.states = states;
+        const Linearization lin =
+            symbolic_work([&] { return linearize(scene, model_named(model), overrides_of(at), options); });
         return linearization(lin);
       },
-      py::arg("scene"), py::arg("model"), py::arg("at"));
+      py::arg("scene"), py::arg("model"), py::arg("at"), py::arg("keep") = std::vector<std::string>{},
+      py::arg("states") = std::vector<std::string>{});
 }
 
 }  // namespace nhc::python

@@ -62,7 +62,8 @@ std::vector<std::vector<GiNaC::ex>> jacobian(const std::vector<GiNaC::ex>& funct
 
 }  // namespace
 
-CyclicReduction reduce_cyclic(const Index1System& system, const GiNaC::ex& time) {
+CyclicReduction reduce_cyclic(const Index1System& system, const GiNaC::ex& time,
+                              const std::vector<std::string>& keep) {
   require_autonomous(system, time);
   CyclicReduction out;
   std::vector<bool> drop_residual(system.residuals.size(), false);
@@ -90,6 +91,11 @@ CyclicReduction reduce_cyclic(const Index1System& system, const GiNaC::ex& time)
       else if (truly_depends_on(f, y)) appears = true;
     }
     if (appears) {
+      out.components.push_back(z);
+      continue;
+    }
+    if (std::find(keep.begin(), keep.end(), s.name) != keep.end()) {
+      out.kept.push_back(s.name);
       out.components.push_back(z);
       continue;
     }

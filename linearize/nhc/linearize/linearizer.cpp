@@ -87,6 +87,40 @@ Eigen::MatrixXd matrix_of(const MatrixOutputs& m, const std::vector<double>& val
   return out;
 }
 
+/// The linearization over `wanted` in that order (LinearizeOptions::states): the rows and columns
+/// of A, the rows of B, the columns of C and the family directions permuted. InputError at
+/// "--states" when `wanted` is not the whole reduced state.
+void order_states(Linearization& lin, const std::vector<std::string>& wanted) {
+  std::vector<std::string> sorted_wanted = wanted, sorted_states = lin.states;
+  std::sort(sorted_wanted.begin(), sorted_wanted.end());
+  std::sort(sorted_states.begin(), sorted_states.end());
+  if (sorted_wanted != sorted_states) {
+    std::vector<std::string> missing;
+    for (const std::string& s : lin.states)
+      if (std::find(wanted.begin(), wanted.end(), s) == wanted.end()) missing.push_back(s);
+    throw InputError({"--states", 0, 0},
+                     "--states names " + std::to_string(wanted.size()) + " states; the linearization has " +
+                         std::to_string(lin.states.size()) + " (" + join_names(lin.states) + ")" +
+                         (missing.empty() ? std::string() : ": add " + join_names(missing)) +
+                         (lin.eliminated.empty() ? std::string()
+                                                 : "; the hidden constraints eliminate " + join_names(lin.eliminated)));
+  }
+  const auto n = static_cast<Eigen::Index>(wanted.size());
+  Eigen::PermutationMatrix<Eigen::Dynamic> P(n);  // P δs_old = δs_new
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const auto old = std::find(lin.states.begin(), lin.states.end(), wanted[static_cast<std::size_t>(k)]) - lin.states.begin();
+    P.indices()(old) = static_cast<int>(k);
+  }
+  lin.A = P * lin.A * P.transpose();
+  lin.B = P * lin.B;
+  lin.C = lin.C * P.transpose();
+  for (SteadyFamily& f : lin.families) {
+    const Eigen::VectorXd v = P * Eigen::Map<const Eigen::VectorXd>(f.direction.data(), n);
+    f.direction.assign(v.data(), v.data() + n);
+  }
+  lin.states = wanted;
+}
+
 }  // namespace
 
 struct Linearizer::Impl {
@@ -163,7 +197,10 @@ void Linearizer::Impl::check_stationary(const NumericPoint& p, Linearization& ou
   double worst = 0.0;
   for (std::size_t c = 0; c < reduced.components.size(); ++c) {
     const double rate = std::abs(p.zp(static_cast<Eigen::Index>(c))) / scale;
-    if (reduced.components[c].differential && rate >= worst && (rate > worst || out.worst_state.empty())) {
+    const ReducedComponent& z = reduced.components[c];
+    // A kept cyclic coordinate may drift: the equations do not contain it (LinearizeOptions::keep).
+    const bool drifts = z.order == 0 && std::find(reduced.kept.begin(), reduced.kept.end(), z.name) != reduced.kept.end();
+    if (z.differential && !drifts && rate >= worst && (rate > worst || out.worst_state.empty())) {
       worst = rate;
       out.worst_state = reduced.components[c].name;
     }
@@ -285,7 +322,26 @@ Linearizer::Linearizer(const Scene& scene, ModelKind model, LinearizeOptions opt
   m.analysis = analyze_structure(dae_system_of(scene, derived));
   m.analysis.require_nonsingular();
   m.system = reduce_to_index1(m.analysis);
-  m.reduced = reduce_cyclic(m.system, scene.jet->time());
+  for (const std::string& name : options.keep) {
+    const std::vector<std::string>& coordinates = scene.jet->coordinates();
+    if (std::find(coordinates.begin(), coordinates.end(), name) == coordinates.end())
+      throw InputError({"--keep", 0, 0}, "--keep " + name + ": not a coordinate of scene " + scene.name +
+                                             " (its coordinates: " + join_names(coordinates) + ")");
+  }
+  m.reduced = reduce_cyclic(m.system, scene.jet->time(), options.keep);
+  std::vector<std::string> differential;
+  for (const ReducedComponent& z : m.reduced.components)
+    if (z.differential) differential.push_back(z.name);
+  for (const std::string& name : options.states) {
+    if (std::count(options.states.begin(), options.states.end(), name) > 1)
+      throw InputError({"--states", 0, 0}, "--states names " + name + " twice");
+    if (std::find(differential.begin(), differential.end(), name) != differential.end()) continue;
+    const bool removed = std::find(m.reduced.cyclic.begin(), m.reduced.cyclic.end(), name) != m.reduced.cyclic.end();
+    throw InputError({"--states", 0, 0},
+                     "--states " + name + ": not a differential state of the reduced " + to_string(model) +
+                         " system" + (removed ? " (" + name + " is cyclic and removed: keep it with --keep " + name + ")" : "") +
+                         "; its differential states: " + join_names(differential));
+  }
   m.compile_programs();
 }
 
@@ -382,16 +438,23 @@ Linearization Linearizer::at(const std::vector<PointOverride>& overrides) const 
   out.scene = s.name;
   out.model = m.model;
   out.cyclic = m.reduced.cyclic;
+  out.kept = m.reduced.kept;
+  for (const std::string& name : m.options.keep)
+    if (std::find(out.kept.begin(), out.kept.end(), name) == out.kept.end())
+      out.notes.push_back("--keep " + name + ": " + name + " is not cyclic, so it is a state (or eliminated) anyway");
   const NumericPoint p = m.operating_point(s, out);
   m.check_stationary(p, out);
 
   const std::vector<double> jacobians = m.jacobians->evaluate(program_values(m.reduced, p), "dF/dz, dF/dz' or dg/dz");
   ManifoldInput input{matrix_of(m.dF_dz, jacobians), matrix_of(m.dF_dzp, jacobians), matrix_of(m.dg_dz, jacobians),
-                      matrix_of(m.dF_du, jacobians), {}, {}, {}};
+                      matrix_of(m.dF_du, jacobians), {}, {}, {}, {}, {}};
   for (const ReducedComponent& z : m.reduced.components) {
     input.differential.push_back(z.differential);
     input.order.push_back(z.order);
     input.multiplier.push_back(z.multiplier);
+    input.kept.push_back(z.differential &&
+                         std::find(m.options.states.begin(), m.options.states.end(), z.name) != m.options.states.end());
+    input.names.push_back(z.name);
   }
   const ManifoldLinearization lin = linearize_on_manifold(input);
   for (int k : lin.independent)
@@ -414,6 +477,7 @@ Linearization Linearizer::at(const std::vector<PointOverride>& overrides) const 
   out.families = m.families_at(p, lin, out.states, out.zero_eigenvalues);
   out.verdict = classify_spectrum(out.A, out.eigenvalues, static_cast<int>(out.families.size()), m.options.tolerance,
                                   m.options.zero_tolerance);
+  if (!m.options.states.empty()) order_states(out, m.options.states);
   return out;
 }
 

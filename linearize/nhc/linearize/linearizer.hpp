@@ -7,6 +7,7 @@
 /// evaluates at a point, so a sweep pays for the symbolic work only once.
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "nhc/linearize/linearization.hpp"
@@ -23,6 +24,15 @@ struct LinearizeOptions {
   double zero_tolerance = 1e-6;
   /// A point is stationary when max |s'| ≤ stationarity·(1 + max |state|).
   double stationarity = 1e-8;
+  /// Cyclic coordinates kept as states (`--keep x,y`): not removed, and exempt from the
+  /// stationarity check (the equations do not contain them, so a steady drift of one is a steady
+  /// motion). Names that are no coordinate of the scene: InputError at "--keep".
+  std::vector<std::string> keep;
+  /// The reduced states wanted, in this order (`--states th,th',x,x'`): never eliminated by the
+  /// hidden constraints, and A, B, C over them in this order. InputError at "--states" for a name
+  /// that is no differential state of the reduced system, or a set that is not the whole state
+  /// (docs/linearize.md, "Choosing the states").
+  std::vector<std::string> states;
 };
 
 class Linearizer {
