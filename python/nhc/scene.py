@@ -63,8 +63,11 @@ class Scene:
     """A scene (TOML) read and checked: `Scene.load(path, set={...})` or `Scene.from_toml(text)`.
     Bad input raises nhc.SceneError with the file, line and column."""
 
-    def __init__(self, scene: _nhc._Scene) -> None:
+    def __init__(self, scene: _nhc._Scene, written: Optional[_nhc._Scene] = None) -> None:
         self._scene = scene
+        # The scene as written (before set=): the models are compiled from it, and the set= values
+        # are passed at run time, so a parameter study compiles once (docs/python.md).
+        self._written = written
 
     @classmethod
     def load(cls, path: str | _os.PathLike[str], set: Optional[Mapping[str, float]] = None,
@@ -77,7 +80,8 @@ class Scene:
             instead of keeping them as named intermediates.
         :returns: the scene.
         :raises nhc.SceneError: bad input, with ``.file``, ``.line`` and ``.column``."""
-        return cls(_nhc._Scene.load(str(path), dict(set or {}), expand))
+        written = _nhc._Scene.load(str(path), {}, expand)
+        return cls(written.with_parameters(dict(set)), written) if set else cls(written)
 
     @classmethod
     def from_toml(cls, text: str, path: str | _os.PathLike[str] = "scene.toml",
@@ -89,7 +93,8 @@ class Scene:
         :param set: parameter values replacing the scene's (as ``--set P=V``).
         :param expand: substitute the ``[definitions]`` (as ``--expand``).
         :raises nhc.SceneError: bad input, at its line and column in `text`."""
-        return cls(_nhc._Scene.from_toml(text, str(path), dict(set or {}), expand))
+        written = _nhc._Scene.from_toml(text, str(path), {}, expand)
+        return cls(written.with_parameters(dict(set)), written) if set else cls(written)
 
     @property
     def name(self) -> str:
@@ -134,9 +139,13 @@ class Scene:
     def build(self, model: str = "chetaev") -> Model:
         """The model derived, compiled (both caches) and loaded: an :class:`nhc.Model` to simulate.
 
+        The code is generated from the scene as written and the ``set=`` values are passed at run
+        time (as ``nhc simulate --set`` does), so scenes loaded with other ``set=`` values reuse the
+        compiled model: a parameter study compiles once.
+
         :param model: the model's name.
         :raises nhc.HostError: the compiler or the cache failed."""
-        return Model(_nhc._build(self._scene, model))
+        return Model(_nhc._build(self._scene, model, self._written))
 
     def linearize(self, model: str = "chetaev", at: Optional[Mapping[str, float]] = None,
                   keep: Sequence[str] = (), states: Sequence[str] = ()) -> Linearization:

@@ -15,6 +15,7 @@
 #include <stdexcept>
 
 #include "model_argument.hpp"
+#include "nhc/app/parameter_values.hpp"
 #include "nhc/app/run_request.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/jit.hpp"
@@ -38,11 +39,15 @@ struct SensitivityBuild {
   std::shared_ptr<jit::LoadedModel> loaded;
 };
 
-/// A built model with the scene it came from (its initial data and names).
+/// A built model with the scene it came from (its initial data and names, its parameter values),
+/// and the scene as written that the code was generated from: parameters are run-time values
+/// (nhc/app/parameter_values.hpp), so every `set=` of one scene finds the same compiled model.
 struct BuiltModel {
   Scene scene;
+  Scene header_scene;
   ModelKind kind;
   std::shared_ptr<jit::LoadedModel> loaded;
+  std::vector<double> parameters;  ///< the model's parameters at `scene`'s values
   std::shared_ptr<SensitivityBuild> with_sensitivities = std::make_shared<SensitivityBuild>();
   std::shared_ptr<SensitivityBuild> with_variational_step = std::make_shared<SensitivityBuild>();
   /// runtime::csv_header(model()) as Python strings, made on first use; created, read and
@@ -84,15 +89,20 @@ struct BuiltModel {
       lock.lock();
     }
     if (!slot.loaded)
-      slot.loaded = std::make_shared<jit::LoadedModel>(symbolic_work([&] { return jit::build(scene, kind, options); }));
+      slot.loaded =
+          std::make_shared<jit::LoadedModel>(symbolic_work([&] { return jit::build(header_scene, kind, options); }));
     return slot.loaded->model();
   }
 };
 
-BuiltModel build(const Scene& scene, const std::string& model) {
+/// `header_scene`: the scene as written (before `set=`), whose header every parameter value shares;
+/// none: `scene` itself.
+BuiltModel build(const Scene& scene, const std::string& model, const std::optional<Scene>& header_scene) {
   const ModelKind kind = model_named(model);
-  auto loaded = std::make_shared<jit::LoadedModel>(symbolic_work([&] { return jit::build(scene, kind); }));
-  return BuiltModel{scene, kind, std::move(loaded)};  // with the GIL: it holds Python objects
+  const Scene& written = header_scene ? *header_scene : scene;
+  auto loaded = std::make_shared<jit::LoadedModel>(symbolic_work([&] { return jit::build(written, kind); }));
+  std::vector<double> p = app::model_parameters(loaded->model(), scene);
+  return BuiltModel{scene, written, kind, std::move(loaded), std::move(p)};  // with the GIL: it holds Python objects
 }
 
 /// A Python callable as a message names it: its __qualname__, else its repr.
@@ -270,7 +280,7 @@ py::dict simulate_sensitivities(const BuiltModel& built, const std::vector<std::
     throw InputError({"sensitivity", 0, 0}, e.what());
   }
   options.stop_requested = interrupt;
-  const std::vector<double> p = plain.default_parameters();
+  const std::vector<double>& p = built.parameters;
   runtime::SensitivityRun run;
   const runtime::Model* model = nullptr;
   model = &built.model_for(thetas);  // a build: symbolic work, with the GIL
@@ -332,7 +342,7 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
     return simulate_sensitivities(built, *sensitivity, times, options, interrupt);
   }
   options.stop_requested = interrupt;
-  const std::vector<double> p = model.default_parameters();
+  const std::vector<double>& p = built.parameters;
   runtime::InputFunction input_function;
   std::shared_ptr<std::optional<py::error_already_set>> input_failure;
   if (inputs) {
@@ -386,7 +396,7 @@ py::array_t<double> residual(const BuiltModel& built, double t, const py::array_
   const runtime::Model& model = built.model();
   const int n = model.n_states();
   const std::vector<double> yv = vector_of(y, n, "y"), ypv = vector_of(yp, n, "yp");
-  runtime::InputValues inputs(model, model.default_parameters());
+  runtime::InputValues inputs(model, built.parameters);
   py::array_t<double> r(n);
   model.table().residual(t, yv.data(), ypv.data(), inputs.at(t, yv.data()), r.mutable_data());
   return r;
@@ -397,7 +407,7 @@ py::array_t<double> jacobian(const BuiltModel& built, double t, const py::array_
   const runtime::Model& model = built.model();
   const int n = model.n_states();
   const std::vector<double> yv = vector_of(y, n, "y"), ypv = vector_of(yp, n, "yp");
-  runtime::InputValues inputs(model, model.default_parameters());
+  runtime::InputValues inputs(model, built.parameters);
   std::vector<double> column_major(static_cast<std::size_t>(n) * static_cast<std::size_t>(n), 0.0);
   if (!model.dense_jacobian(t, yv.data(), ypv.data(), cj, inputs.at(t, yv.data()), column_major.data()))
     throw MathError("the model was generated without a Jacobian");
@@ -457,7 +467,7 @@ void register_model(py::module_& m) {
       .def_property_readonly("parameters",
                              [](const BuiltModel& b) {
                                std::map<std::string, double> out;
-                               const std::vector<double> p = b.model().default_parameters();
+                               const std::vector<double>& p = b.parameters;
                                for (int k = 0; k < b.model().n_parameters(); ++k)
                                  out[b.model().table().parameter_names[k]] = p[static_cast<std::size_t>(k)];
                                return out;
@@ -476,7 +486,7 @@ void register_model(py::module_& m) {
       .def("residual", &residual, py::arg("t"), py::arg("y"), py::arg("yp"))
       .def("jacobian", &jacobian, py::arg("t"), py::arg("y"), py::arg("yp"), py::arg("cj"));
 
-  m.def("_build", &build, py::arg("scene"), py::arg("model"));
+  m.def("_build", &build, py::arg("scene"), py::arg("model"), py::arg("header_scene") = std::nullopt);
   m.def(
       "_sweep",
       [](const Scene& scene, const std::string& model, const std::string& name, double first, double last, int count,

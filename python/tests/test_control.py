@@ -1,0 +1,159 @@
+"""Linearization for control and parameter studies (issue 46), each against an independent path:
+a SymPy model of the two-wheeled pendulum written here, `nhc simulate --set`, the compile cache's
+contents."""
+import os
+import pathlib
+import subprocess
+
+import numpy as np
+import pytest
+
+import nhc
+
+HERE = pathlib.Path(__file__).resolve().parent
+PENDULUM = HERE / "scenes" / "two_wheel_pendulum.toml"
+STATES = ["x", "x'", "th", "th'", "psi", "psi'"]
+
+
+def nhc_command():
+    """The nhc program of the build (NHC_EXECUTABLE, set by ctest)."""
+    program = os.environ.get("NHC_EXECUTABLE")
+    if not program:
+        pytest.skip("NHC_EXECUTABLE is not set (ctest sets it)")
+    return program
+
+
+def sympy_linearization(p):
+    """A and B over (x, v, th, th', psi, psi') at upright rest, from the Lagrangian of the scene's
+    header comment and Kane-style projection onto the generalized speeds u = (v, th', psi'), with
+    x' = v cos psi, y' = v sin psi, phL' = (v - d psi')/r, phR' = (v + d psi')/r: the
+    Lagrange-d'Alembert equations are S^T (d/dt dL/dq' - dL/dq - Q) = 0, q' = S(q) u."""
+    sp = pytest.importorskip("sympy")
+    t = sp.symbols("t")
+    names = ["x", "y", "psi", "th", "phL", "phR"]
+    q = [sp.Function(n)(t) for n in names]
+    x, y, psi, th, phL, phR = q
+    mb, l, Ib1, Ib2, Ib3, mw, r, d, g = (p[k] for k in ["mb", "l", "Ib1", "Ib2", "Ib3", "mw", "r", "d", "g"])
+    Ja, Jd = mw * r**2 / 2, mw * r**2 / 4
+    TL, TR = sp.symbols("TL TR")
+    # The body's centre of mass and angular velocity, from the frames (not from the scene's formulas).
+    ef = sp.Matrix([sp.cos(psi), sp.sin(psi), 0])
+    el = sp.Matrix([-sp.sin(psi), sp.cos(psi), 0])
+    ez = sp.Matrix([0, 0, 1])
+    c = sp.Matrix([x, y, r])
+    cb = c + l * (sp.sin(th) * ef + sp.cos(th) * ez)
+    b1, b2, b3 = sp.cos(th) * ef - sp.sin(th) * ez, el, sp.sin(th) * ef + sp.cos(th) * ez
+    w = psi.diff(t) * ez + th.diff(t) * el
+    T_body = mb / 2 * cb.diff(t).dot(cb.diff(t)) + (Ib1 * w.dot(b1)**2 + Ib2 * w.dot(b2)**2 + Ib3 * w.dot(b3)**2) / 2
+    T_wheels = 0
+    for side, ph in ((1, phL), (-1, phR)):
+        cw = c + side * d * el
+        T_wheels += mw / 2 * cw.diff(t).dot(cw.diff(t)) + (Jd * psi.diff(t)**2 + Ja * ph.diff(t)**2) / 2
+    L = T_body + T_wheels - mb * g * (r + l * sp.cos(th))
+    Q = [0, 0, 0, -TL - TR, TL, TR]
+    E = [sp.diff(L.diff(qi.diff(t)), t) - L.diff(qi) - Qi for qi, Qi in zip(q, Q)]
+    v, om, ps, vd, omd, psd = sp.symbols("v om ps vd omd psd")  # u = (v, th', psi') and u'
+    S = sp.Matrix([[sp.cos(psi), 0, 0], [sp.sin(psi), 0, 0], [0, 0, 1], [0, 1, 0],
+                   [1 / r, 0, -d / r], [1 / r, 0, d / r]])
+    u, ud = sp.Matrix([v, om, ps]), sp.Matrix([vd, omd, psd])
+    qd = S * u
+    qdd = S.diff(t).subs({psi.diff(t): ps}) * u + S * ud
+    subs = {}
+    for k, qi in enumerate(q):
+        subs[qi.diff(t, 2)] = qdd[k]
+    for k, qi in enumerate(q):
+        subs[qi.diff(t)] = qd[k]
+    symbols = sp.symbols("X Y PSI TH PHL PHR")
+    E = [sp.expand(e.subs(subs)).subs(dict(zip(q, symbols))) for e in E]
+    projected = S.subs(dict(zip(q, symbols))).T * sp.Matrix(E)
+    X, Y, PSI, TH = symbols[:4]
+    state = [X, v, TH, om, PSI, ps]
+    point = {s: 0 for s in list(symbols) + [v, om, ps, vd, omd, psd, TL, TR]}
+    M = np.array(projected.jacobian(ud).subs(point), dtype=float)
+    J = np.array(projected.jacobian(state).subs(point), dtype=float)
+    F = np.array(projected.jacobian([TL, TR]).subs(point), dtype=float)
+    accelerations = -np.linalg.solve(M, J)  # rows v', th'', psi''
+    inputs = -np.linalg.solve(M, F)
+    A = np.zeros((6, 6))
+    B = np.zeros((6, 2))
+    A[0, 1] = A[2, 3] = A[4, 5] = 1.0  # x' = v cos psi = v to first order at rest; th' and psi'
+    for row, k in zip((1, 3, 5), range(3)):
+        A[row] = accelerations[k]
+        B[row] = inputs[k]
+    return A, B
+
+
+def test_keep_x_gives_six_states_whose_eigenvalues_match_sympy():
+    scene = nhc.Scene.load(PENDULUM)
+    parameters = scene.parameters
+    A_ref, B_ref = sympy_linearization(parameters)
+
+    free = scene.linearize(keep=["x"])
+    assert free.kept == ["x"] and "x" not in free.cyclic
+    assert len(free.states) == 6 and "x" in free.states
+    reference = np.sort_complex(np.linalg.eigvals(A_ref))
+    found = np.sort_complex(free.eigenvalues)
+    assert np.max(np.abs(found - reference)) < 1e-9 * np.max(np.abs(reference))
+    # Two double zeros (x and psi: Jordan blocks) and the pitch pair +-sqrt(...).
+    assert free.zero_eigenvalues == 4
+    assert np.max(np.abs(free.A @ free.A @ free.A)) > 0  # not nilpotent: the pitch pair is there
+
+    chosen = scene.linearize(keep=["x"], states=STATES)
+    assert chosen.states == STATES and chosen.inputs == ["TL", "TR"]
+    assert np.max(np.abs(chosen.A - A_ref)) < 1e-10 * np.max(np.abs(A_ref))
+    assert np.max(np.abs(chosen.B - B_ref)) < 1e-10 * np.max(np.abs(B_ref))
+    # x's Jordan block: A e_x = 0 and A e_x' = e_x.
+    assert np.all(chosen.A[:, 0] == 0) and chosen.A[0, 1] == 1.0
+
+    without = scene.linearize()
+    assert "x" in without.cyclic and len(without.states) == 5
+
+
+def test_keep_and_states_refusals():
+    scene = nhc.Scene.load(PENDULUM)
+    with pytest.raises(nhc.SceneError, match="--keep z: not a coordinate"):
+        scene.linearize(keep=["z"])
+    with pytest.raises(nhc.SceneError, match=r"--states x: .*cyclic and removed: keep it with --keep x"):
+        scene.linearize(states=["x"])
+    with pytest.raises(nhc.SceneError, match="--states names 2 states; the linearization has 6"):
+        scene.linearize(keep=["x"], states=["x", "th"])
+
+
+def test_linearize_text_names_rows_and_columns():
+    out = subprocess.run([nhc_command(), "linearize", str(PENDULUM), "--keep", "x", "--states", ",".join(STATES)],
+                         capture_output=True, text=True, check=True).stdout
+    lines = out.splitlines()
+    a = next(k for k, line in enumerate(lines) if line.strip().startswith("A ("))
+    assert lines[a + 1].split() == STATES
+    assert [lines[a + 2 + k].split()[0] for k in range(6)] == STATES
+    assert lines[a + 3].split()[1:] == ["0", "0", "-7.936179775", "0", "0", "0"]  # x' row: d(δx')/dt
+    b = next(k for k, line in enumerate(lines) if line.strip().startswith("B ("))
+    assert lines[b + 1].split() == ["TL", "TR"]
+    assert [lines[b + 2 + k].split()[0] for k in range(6)] == STATES
+    assert "cyclic coordinates kept as states: x" in out
+
+
+def test_a_parameter_study_compiles_once_and_matches_simulate_set(source, tmp_path, monkeypatch):
+    # A fresh compile cache: the first build compiles, the other 19 values find its library.
+    monkeypatch.setenv("NHC_CACHE_DIR", str(tmp_path / "cache"))
+    path = source / "examples" / "rolling_disk.toml"
+    values = np.linspace(0.3, 0.7, 20)
+    runs = []
+    for r in values:
+        runs.append(nhc.Scene.load(path, set={"r": float(r)}).build().simulate(t_end=0.5, outputs=10))
+    libraries = [f for f in (tmp_path / "cache").rglob("*.so")]
+    assert len(libraries) == 1, libraries
+    assert runs[0].summary["compile_seconds"] > 0
+    # The same numbers as the command line's --set (CSV of 17 significant digits).
+    for k in (0, 7, 19):
+        csv = tmp_path / f"set{k}.csv"
+        subprocess.run([nhc_command(), "simulate", str(path), "--set", f"r={values[k]!r}", "--t-end", "0.5",
+                        "--outputs", "10", "-o", str(csv)], capture_output=True, check=True)
+        header = csv.read_text().splitlines()[0].split(",")
+        table = np.loadtxt(csv, delimiter=",", skiprows=1)
+        for c, name in enumerate(header):
+            if name in runs[k]:
+                assert np.max(np.abs(table[:, c] - runs[k][name])) <= 1e-12 * (1 + np.max(np.abs(table[:, c]))), name
+    # The set= values are the run's: [initial] written through r follows, the model reports them.
+    model = nhc.Scene.load(path, set={"r": 0.45}).build()
+    assert model.parameters["r"] == 0.45
