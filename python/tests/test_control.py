@@ -157,3 +157,69 @@ def test_a_parameter_study_compiles_once_and_matches_simulate_set(source, tmp_pa
     # The set= values are the run's: [initial] written through r follows, the model reports them.
     model = nhc.Scene.load(path, set={"r": 0.45}).build()
     assert model.parameters["r"] == 0.45
+
+
+def reduced_velocity(model, t, sample_y, s, u, p):
+    """d/dt of s = (x, x', th, th', psi, psi') of the two-wheeled pendulum from the compiled residual
+    alone: the velocities the constraints fix written here by hand (y' = x' tan psi, the wheel
+    rates), then F(t, y, y', u) = 0 solved by Newton for the derivatives of the differential states
+    and the algebraic states (the multipliers). An independent path to A(t) and B(t)."""
+    names = model.state_names
+    index = {name: k for k, name in enumerate(names)}
+    differential = model._model.differential
+    y = np.array(sample_y, dtype=float)
+    x, xd, th, thd, psi, psid = s
+    yd = xd * np.tan(psi)
+    forward = xd * np.cos(psi) + yd * np.sin(psi)
+    for name, value in (("x", x), ("x'", xd), ("th", th), ("th'", thd), ("psi", psi), ("psi'", psid), ("y'", yd),
+                        ("phL'", (forward - p["d"] * psid) / p["r"]), ("phR'", (forward + p["d"] * psid) / p["r"])):
+        y[index[name]] = value
+    yp = np.zeros(len(y))
+    unknowns = [("yp", k) for k in range(len(y)) if differential[k]] + [("y", k) for k in range(len(y)) if not differential[k]]
+    for _ in range(30):
+        F = model.residual(t, y, yp, u)
+        dFdy = model.jacobian(t, y, yp, 0.0)
+        dFdyp = model.jacobian(t, y, yp, 1.0) - dFdy
+        K = np.column_stack([dFdyp[:, k] if kind == "yp" else dFdy[:, k] for kind, k in unknowns])
+        step = np.linalg.solve(K, -F)
+        for (kind, k), d in zip(unknowns, step):
+            if kind == "yp":
+                yp[k] += d
+            else:
+                y[k] += d
+        if np.max(np.abs(step)) < 1e-15:
+            break
+    return np.array([yp[index[name]] for name in STATES])
+
+
+def test_linearize_along_and_input_jacobian_match_finite_differences():
+    scene = nhc.Scene.load(PENDULUM)
+    model = scene.build()
+    u_of = lambda t, y: [0.2 * np.cos(3 * t), -0.1]  # turning while it falls
+    run = model.simulate(t_end=0.4, outputs=4, inputs=u_of, rtol=1e-10, atol=1e-12)
+    along = model.linearize_along(run, inputs=u_of, keep=["x"], states=STATES)
+    assert along.A.shape == (5, 6, 6) and along.B.shape == (5, 6, 2) and along.states == STATES
+    p = scene.parameters
+    names = model.state_names
+    for r in (1, 4):
+        t = run.t[r]
+        sample = np.array([run[name][r] for name in names])
+        s0 = np.array([run[name][r] for name in STATES])
+        u0 = np.array(u_of(t, sample))
+        h = 1e-6
+        A_fd = np.column_stack([(reduced_velocity(model, t, sample, s0 + h * e, u0, p) -
+                                 reduced_velocity(model, t, sample, s0 - h * e, u0, p)) / (2 * h) for e in np.eye(6)])
+        B_fd = np.column_stack([(reduced_velocity(model, t, sample, s0, u0 + h * e, p) -
+                                 reduced_velocity(model, t, sample, s0, u0 - h * e, p)) / (2 * h) for e in np.eye(2)])
+        assert np.max(np.abs(along.A[r] - A_fd)) < 1e-6 * np.max(np.abs(A_fd)), (along.A[r], A_fd)
+        assert np.max(np.abs(along.B[r] - B_fd)) < 1e-6 * np.max(np.abs(B_fd)), (along.B[r], B_fd)
+        # dF/du against central differences of the compiled residual in u.
+        yp = np.array([run[name + "'"][r] if name + "'" in run else 0.0 for name in names])
+        J_fd = np.column_stack([(model.residual(t, sample, yp, u0 + h * e) - model.residual(t, sample, yp, u0 - h * e)) /
+                                (2 * h) for e in np.eye(2)])
+        J = model.input_jacobian(t, sample, yp, u0)
+        assert J.shape == (len(names), 2)
+        assert np.max(np.abs(J - J_fd)) < 1e-8
+        assert np.max(np.abs(J)) == 1.0  # the torques enter R_th, R_phL, R_phR with unit coefficients
+    # Along a motion that is not steady the pitch row depends on the state: A(t) is not constant.
+    assert np.max(np.abs(along.A[4] - along.A[0])) > 1e-3

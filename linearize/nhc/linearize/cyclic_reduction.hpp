@@ -42,9 +42,13 @@ struct CyclicReduction {
   std::vector<std::vector<GiNaC::ex>> dg_dz;          ///< m × N
 };
 
-/// Throws MathError when the residual or a hidden constraint depends on t explicitly (a
-/// non-autonomous system has no equilibria to linearize about).
+/// MathError when the residual or a hidden constraint depends on t explicitly.
+void require_autonomous(const Index1System& system, const GiNaC::ex& time);
+
+/// With `autonomous`, throws MathError when the residual or a hidden constraint depends on t
+/// explicitly (a non-autonomous system has no equilibria to linearize about); a linearization
+/// along a motion takes such a system.
 CyclicReduction reduce_cyclic(const Index1System& system, const GiNaC::ex& time,
-                              const std::vector<std::string>& keep = {});
+                              const std::vector<std::string>& keep = {}, bool autonomous = true);
 
 }  // namespace nhc

@@ -138,6 +138,16 @@ struct Linearizer::Impl {
   std::vector<std::string> output_names, output_notes;
   MatrixOutputs dh_dz, dh_dzp, dh_du;
   void compile_outputs();
+  /// Why at() refuses (the equations contain t), or empty.
+  std::string time_dependence;
+  /// Per reduced component: the index-1 state its value is (k, from y' when true), and the state
+  /// whose y' its derivative is (-1 for algebraic ones), for along().
+  std::vector<std::pair<int, bool>> value_source;
+  std::vector<int> derivative_source;
+  /// ∂F/∂u of the full index-1 residual over (t, p, u, y, y'), for input_jacobian().
+  std::optional<NumericProgram> full_input_jacobian;
+  MatrixOutputs dF_full_du;
+  ManifoldInput manifold_input(const NumericPoint& p) const;
 
   void compile_programs();
   /// g and F at the point.
@@ -328,7 +338,23 @@ Linearizer::Linearizer(const Scene& scene, ModelKind model, LinearizeOptions opt
       throw InputError({"--keep", 0, 0}, "--keep " + name + ": not a coordinate of scene " + scene.name +
                                              " (its coordinates: " + join_names(coordinates) + ")");
   }
-  m.reduced = reduce_cyclic(m.system, scene.jet->time(), options.keep);
+  m.reduced = reduce_cyclic(m.system, scene.jet->time(), options.keep, false);
+  try {
+    require_autonomous(m.system, scene.jet->time());
+  } catch (const MathError& e) {
+    m.time_dependence = e.what();  // at() refuses; along() takes it
+  }
+  for (const ReducedComponent& z : m.reduced.components) {
+    std::pair<int, bool> value{-1, false};
+    int derivative = -1;
+    for (int k = 0; k < m.system.size(); ++k) {
+      if (z.value.is_equal(m.system.y[static_cast<std::size_t>(k)])) value = {k, false};
+      if (z.value.is_equal(m.system.yp[static_cast<std::size_t>(k)])) value = {k, true};
+      if (z.differential && z.derivative.is_equal(m.system.yp[static_cast<std::size_t>(k)])) derivative = k;
+    }
+    m.value_source.push_back(value);
+    m.derivative_source.push_back(derivative);
+  }
   std::vector<std::string> differential;
   for (const ReducedComponent& z : m.reduced.components)
     if (z.differential) differential.push_back(z.name);
@@ -373,6 +399,20 @@ void Linearizer::Impl::compile_programs() {
                         " model: linearizing with an input that moves the constraint manifold is not supported");
   dF_du = add_matrix(*jacobians, dF_du_entries, scene.inputs.size());
   compile_outputs();
+  std::vector<GiNaC::ex> full_inputs{scene.jet->time()};
+  for (int q = 0; q < static_cast<int>(scene.parameter_values.size()); ++q) full_inputs.push_back(scene.jet->parameter(q));
+  for (int k = 0; k < static_cast<int>(scene.inputs.size()); ++k) full_inputs.push_back(scene.jet->input(k));
+  full_inputs.insert(full_inputs.end(), system.y.begin(), system.y.end());
+  full_inputs.insert(full_inputs.end(), system.yp.begin(), system.yp.end());
+  full_input_jacobian.emplace(full_inputs);
+  std::vector<std::vector<GiNaC::ex>> full_entries;
+  for (const GiNaC::ex& f : system.residuals) {
+    std::vector<GiNaC::ex> row;
+    for (int k = 0; k < static_cast<int>(scene.inputs.size()); ++k)
+      row.push_back(depends_on(f, jet.input(k)) ? f.diff(jet.input(k)) : GiNaC::ex(0));
+    full_entries.push_back(std::move(row));
+  }
+  dF_full_du = add_matrix(*full_input_jacobian, full_entries, scene.inputs.size());
 }
 
 void Linearizer::Impl::compile_outputs() {
@@ -429,8 +469,94 @@ const Scene& Linearizer::scene() const { return impl_->scene; }
 ModelKind Linearizer::model() const { return impl_->model; }
 const LinearizeOptions& Linearizer::options() const { return impl_->options; }
 
+ManifoldInput Linearizer::Impl::manifold_input(const NumericPoint& p) const {
+  const std::vector<double> values = jacobians->evaluate(program_values(reduced, p), "dF/dz, dF/dz' or dg/dz");
+  ManifoldInput input{matrix_of(dF_dz, values), matrix_of(dF_dzp, values), matrix_of(dg_dz, values),
+                      matrix_of(dF_du, values), {}, {}, {}, {}, {}};
+  for (const ReducedComponent& z : reduced.components) {
+    input.differential.push_back(z.differential);
+    input.order.push_back(z.order);
+    input.multiplier.push_back(z.multiplier);
+    input.kept.push_back(z.differential &&
+                         std::find(options.states.begin(), options.states.end(), z.name) != options.states.end());
+    input.names.push_back(z.name);
+  }
+  return input;
+}
+
+namespace {
+
+void require_size(const std::vector<double>& v, std::size_t n, const std::string& what) {
+  if (v.size() != n)
+    throw InputError({what, 0, 0}, what + " has " + std::to_string(v.size()) + " values; the system has " + std::to_string(n));
+}
+
+}  // namespace
+
+Linearization Linearizer::along(double t, const std::vector<double>& y, const std::vector<double>& yp,
+                                const std::vector<double>& u) const {
+  const Impl& m = *impl_;
+  const auto n = static_cast<std::size_t>(m.system.size());
+  require_size(y, n, "y");
+  require_size(yp, n, "yp");
+  require_size(u, m.scene.inputs.size(), "u");
+  NumericPoint p;
+  p.constants.push_back(t);
+  p.constants.insert(p.constants.end(), m.scene.parameter_values.begin(), m.scene.parameter_values.end());
+  p.constants.insert(p.constants.end(), u.begin(), u.end());
+  const auto N = static_cast<Eigen::Index>(m.reduced.components.size());
+  p.z = Eigen::VectorXd::Zero(N);
+  p.zp = Eigen::VectorXd::Zero(N);
+  for (Eigen::Index c = 0; c < N; ++c) {
+    const auto [k, from_yp] = m.value_source[static_cast<std::size_t>(c)];
+    p.z(c) = (from_yp ? yp : y)[static_cast<std::size_t>(k)];
+    if (const int d = m.derivative_source[static_cast<std::size_t>(c)]; d >= 0) p.zp(c) = yp[static_cast<std::size_t>(d)];
+  }
+  const ManifoldLinearization lin = linearize_on_manifold(m.manifold_input(p));
+  Linearization out;
+  out.scene = m.scene.name;
+  out.model = m.model;
+  out.cyclic = m.reduced.cyclic;
+  out.kept = m.reduced.kept;
+  for (int k : lin.independent)
+    out.states.push_back(m.reduced.components[static_cast<std::size_t>(lin.differential[static_cast<std::size_t>(k)])].name);
+  for (int k : lin.dependent)
+    out.eliminated.push_back(m.reduced.components[static_cast<std::size_t>(lin.differential[static_cast<std::size_t>(k)])].name);
+  for (int k : lin.algebraic) out.algebraic.push_back(m.reduced.components[static_cast<std::size_t>(k)].name);
+  out.basis = m.describe_basis(lin);
+  out.A = lin.A;
+  out.B = lin.B;
+  for (const SceneInput& input : m.scene.inputs) out.inputs.push_back(input.name);
+  out.C = Eigen::MatrixXd::Zero(0, out.A.cols());
+  out.D = Eigen::MatrixXd::Zero(0, out.B.cols());
+  if (!m.options.states.empty()) order_states(out, m.options.states);
+  return out;
+}
+
+Eigen::MatrixXd Linearizer::input_jacobian(double t, const std::vector<double>& y, const std::vector<double>& yp,
+                                           const std::vector<double>& u) const {
+  const Impl& m = *impl_;
+  const auto n = static_cast<std::size_t>(m.system.size());
+  require_size(y, n, "y");
+  require_size(yp, n, "yp");
+  require_size(u, m.scene.inputs.size(), "u");
+  std::vector<double> values{t};
+  values.insert(values.end(), m.scene.parameter_values.begin(), m.scene.parameter_values.end());
+  values.insert(values.end(), u.begin(), u.end());
+  values.insert(values.end(), y.begin(), y.end());
+  values.insert(values.end(), yp.begin(), yp.end());
+  return matrix_of(m.dF_full_du, m.full_input_jacobian->evaluate(values, "dF/du")).array() + 0.0;
+}
+
+std::vector<std::string> Linearizer::index1_states() const {
+  std::vector<std::string> out;
+  for (const StateComponent& s : impl_->system.states) out.push_back(s.name);
+  return out;
+}
+
 Linearization Linearizer::at(const std::vector<PointOverride>& overrides) const {
   const Impl& m = *impl_;
+  if (!m.time_dependence.empty()) throw MathError(m.time_dependence);
   Scene s = m.scene;
   for (const PointOverride& o : overrides) apply_override(s, resolve_override(s, o.name), o.value);
 
@@ -446,17 +572,7 @@ Linearization Linearizer::at(const std::vector<PointOverride>& overrides) const 
   m.check_stationary(p, out);
 
   const std::vector<double> jacobians = m.jacobians->evaluate(program_values(m.reduced, p), "dF/dz, dF/dz' or dg/dz");
-  ManifoldInput input{matrix_of(m.dF_dz, jacobians), matrix_of(m.dF_dzp, jacobians), matrix_of(m.dg_dz, jacobians),
-                      matrix_of(m.dF_du, jacobians), {}, {}, {}, {}, {}};
-  for (const ReducedComponent& z : m.reduced.components) {
-    input.differential.push_back(z.differential);
-    input.order.push_back(z.order);
-    input.multiplier.push_back(z.multiplier);
-    input.kept.push_back(z.differential &&
-                         std::find(m.options.states.begin(), m.options.states.end(), z.name) != m.options.states.end());
-    input.names.push_back(z.name);
-  }
-  const ManifoldLinearization lin = linearize_on_manifold(input);
+  const ManifoldLinearization lin = linearize_on_manifold(m.manifold_input(p));
   for (int k : lin.independent)
     out.states.push_back(m.reduced.components[static_cast<std::size_t>(lin.differential[static_cast<std::size_t>(k)])].name);
   for (int k : lin.dependent)

@@ -6,6 +6,8 @@
 /// differentiates the reduced residual and hidden constraints symbolically once; at() then
 /// evaluates at a point, so a sweep pays for the symbolic work only once.
 
+#include <Eigen/Dense>
+
 #include <memory>
 #include <string>
 #include <vector>
@@ -49,6 +51,20 @@ class Linearizer {
   /// stationary or a singular system there.
   Linearization at(const std::vector<PointOverride>& overrides = {}) const;
   const LinearizeOptions& options() const;
+
+  /// The linearization along a motion, at one of its points (docs/linearize.md, "Along a
+  /// motion"): d(δs)/dt = A(t) δs + B(t) δu on the same reduced states as at(), at the index-1
+  /// state y, y' (Index1System order, which is the generated model's) with inputs u, parameters
+  /// at the scene's values. No stationarity is asked and t may appear in the equations. Only
+  /// states, inputs, A, B and basis are filled. Throws MathError for a singular system there.
+  Linearization along(double t, const std::vector<double>& y, const std::vector<double>& yp,
+                      const std::vector<double>& u) const;
+  /// ∂F/∂u of the index-1 residual F(t, p, y, y', u) at a point (rows: residuals, columns:
+  /// the scene's inputs), in exact derivatives evaluated in doubles.
+  Eigen::MatrixXd input_jacobian(double t, const std::vector<double>& y, const std::vector<double>& yp,
+                                 const std::vector<double>& u) const;
+  /// The index-1 system's state names, in the order along() and input_jacobian() take y.
+  std::vector<std::string> index1_states() const;
 
   const Scene& scene() const;
   ModelKind model() const;
