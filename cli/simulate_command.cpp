@@ -16,7 +16,7 @@
 #include "commands.hpp"
 #include "flag_rules.hpp"
 #include "output_selection.hpp"
-#include "scene_outputs.hpp"
+#include "nhc/app/scene_outputs.hpp"
 #include "input_signals.hpp"
 #include "parameter_overrides.hpp"
 #include "progress_bar.hpp"
@@ -192,7 +192,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
     runtime::IntegratorOptions io = run_integrator_options(options->run, scene);
     io.progress = terminal_progress();
     const std::vector<double> p = parameters_with_overrides(model, overrides);
-    const SceneOutputs outputs(scene_set, model, p);  // [outputs]: extra CSV columns
+    const app::SceneOutputs outputs(scene_set, model, p);  // [outputs]: extra CSV columns
     for (const std::string& note : outputs.notes()) std::cerr << note << "\n";
     const std::vector<std::string> columns =
         options->columns.empty() ? std::vector<std::string>{}

@@ -17,6 +17,7 @@
 #include "model_argument.hpp"
 #include "nhc/app/parameter_values.hpp"
 #include "nhc/app/run_request.hpp"
+#include "nhc/app/scene_outputs.hpp"
 #include "nhc/analysis/structural_analysis.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/jit.hpp"
@@ -379,8 +380,21 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   if (input_failure && *input_failure) throw std::move(**input_failure);
   if (*interrupt.raised) throw std::move(**interrupt.raised);
   if (run.failure && run.samples.empty()) throw *run.failure;
-  const py::tuple& columns = built.columns();
-  py::array_t<double> data = data_of(*run_model, p, run.samples, columns.size());
+  // The scene's [outputs] after the model's columns, as nhc simulate's CSV has them (an output
+  // the model does not compute is left out; a required one is a SceneError).
+  py::object columns = built.columns();
+  std::optional<app::SceneOutputs> scene_outputs;
+  if (!built.scene.outputs.empty()) scene_outputs.emplace(built.scene, *run_model, p);
+  std::size_t n_columns = built.columns().size();
+  std::function<void(std::size_t, std::vector<double>&)> output_values;
+  if (scene_outputs && !scene_outputs->empty()) {
+    py::list names(built.columns());
+    for (const std::string& name : scene_outputs->names()) names.append(name);
+    columns = py::tuple(names);
+    n_columns += scene_outputs->names().size();
+    output_values = [&](std::size_t r, std::vector<double>& v) { v = scene_outputs->evaluate(run.samples[r]); };
+  }
+  py::array_t<double> data = data_of(*run_model, p, run.samples, n_columns, output_values);
   py::dict result = result_of(columns, std::move(data),
                               summary_of(built, *run_model, p, run.statistics, std::move(run.samples), extra),
                               run.failure);

@@ -223,3 +223,35 @@ def test_linearize_along_and_input_jacobian_match_finite_differences():
         assert np.max(np.abs(J)) == 1.0  # the torques enter R_th, R_phL, R_phR with unit coefficients
     # Along a motion that is not steady the pitch row depends on the state: A(t) is not constant.
     assert np.max(np.abs(along.A[4] - along.A[0])) > 1e-3
+
+
+def test_run_has_the_scenes_outputs_as_the_command_line_writes_them(tmp_path):
+    # A pendulum with the bob's height and the tension-like quantity g cos th + l th'^2 as
+    # [outputs]: the closed forms evaluated on the run's own columns, and nhc simulate's CSV.
+    text = """
+name = "pendulum_outputs"
+coordinates = ["th"]
+lagrangian = "l^2*th'^2/2 + g*l*cos(th)"
+[parameters]
+g = 9.81
+l = 0.7
+[outputs]
+height = "-l*cos(th)"
+pull = "g*cos(th) + l*th'^2"
+[initial]
+th = [0.4, 0.0]
+[simulate]
+t_end = 1.0
+outputs = 20
+"""
+    path = tmp_path / "pendulum_outputs.toml"
+    path.write_text(text)
+    run = nhc.Scene.load(path, set={"l": 0.5}).build().simulate()
+    assert run.columns[-2:] == ["height", "pull"]
+    assert np.max(np.abs(run["height"] + 0.5 * np.cos(run["th"]))) < 1e-15
+    assert np.max(np.abs(run["pull"] - (9.81 * np.cos(run["th"]) + 0.5 * run["th'"]**2))) < 1e-13
+    csv = tmp_path / "run.csv"
+    subprocess.run([nhc_command(), "simulate", str(path), "--set", "l=0.5", "-o", str(csv)], capture_output=True, check=True)
+    header = csv.read_text().splitlines()[0].split(",")
+    assert header == run.columns
+    assert np.max(np.abs(np.loadtxt(csv, delimiter=",", skiprows=1) - run.to_numpy())) < 1e-12
