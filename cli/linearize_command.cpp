@@ -1,4 +1,4 @@
-// nhc linearize SCENE [--model M] [--at NAME=VALUE]... [--keep NAME,...] [--states NAME,...] [--sweep NAME=a:b:n] [--format text|json] [-o DIR]
+// nhc linearize SCENE [--model M] [--at NAME=VALUE]... [--keep NAME,...] [--states NAME,...] [--turn A:X,Y] [--sweep NAME=a:b:n] [--format text|json] [-o DIR]
 //
 // Linear stability of an equilibrium or steady motion (docs/linearize.md, nhc::linearize):
 // the operating point, cyclic coordinates removed, the matrix A on the constraint manifold in a
@@ -44,6 +44,7 @@ struct LinearizeFlags {
   std::string model;
   std::vector<std::string> at;
   std::vector<std::string> keep, states;
+  std::string turn;
   std::string sweep;
   std::string format = "text";
   std::string output;
@@ -98,6 +99,7 @@ void write_json(std::ostream& out, const Linearization& lin, const std::optional
   json.key("kept").begin_array();
   for (const std::string& c : lin.kept) json.value(c);
   json.end_array();
+  json.key("turn_rate").value(lin.turn_rate);
   json.key("states").begin_array();
   for (const std::string& s : lin.states) json.value(s);
   json.end_array();
@@ -160,6 +162,7 @@ void write_text(std::ostream& out, const Linearization& lin, const std::optional
       << (lin.worst_state.empty() ? "-" : lin.worst_state) << ")\n";
   out << "  cyclic coordinates removed: " << (lin.cyclic.empty() ? "none" : join_names(lin.cyclic)) << "\n";
   if (!lin.kept.empty()) out << "  cyclic coordinates kept as states: " << join_names(lin.kept) << "\n";
+  if (lin.turn_rate != 0.0) out << "  relative equilibrium: the frame turns at " << full(lin.turn_rate) << " rad/s\n";
   out << "  reduced states (" << lin.states.size() << "): " << (lin.states.empty() ? "none" : join_names(lin.states))
       << "\n  basis: " << lin.basis << "\n";
   // A matrix under a header row of its column names, each row led by its name.
@@ -308,6 +311,9 @@ CommandRunner add_linearize_command(CLI::App& app) {
   sub->add_option("--states", flags->states,
                   "NAME,...: the reduced states, in this order (never eliminated by the hidden constraints)")
       ->delimiter(',');
+  sub->add_option("--turn", flags->turn,
+                  "ANGLE:X,Y: linearize about a steady turn (a relative equilibrium of the rotations of the X,Y plane "
+                  "that move ANGLE), in the turning frame");
   sub->add_option("--sweep", flags->sweep, "NAME=a:b:n: n values from a to b of a parameter or initial value");
   sub->add_option("--format", flags->format, "text or json (default text)")->check(CLI::IsMember({"text", "json"}));
   sub->add_option("-o,--output", flags->output, "directory for linearize.json, A.csv (B.csv with [inputs]) and, with --sweep, stability.csv/.svg/.png");
@@ -335,6 +341,7 @@ CommandRunner add_linearize_command(CLI::App& app) {
     LinearizeOptions options;
     options.keep = flags->keep;
     options.states = flags->states;
+    if (!flags->turn.empty()) options.turn = parse_turn(flags->turn);
     const Linearizer linearizer(scene, kind, options);
     const Linearization lin = linearizer.at(overrides);
     std::optional<SweepResult> swept;

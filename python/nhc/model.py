@@ -272,13 +272,14 @@ class LinearizationAlong:
 
 class Linearization:
     """`nhc linearize` at one point: A, B, C, D (numpy), states, inputs, outputs, eigenvalues
-    (complex numpy), verdict, families, point, cyclic (the coordinates removed) and kept (the
-    cyclic coordinates kept as states)."""
+    (complex numpy), verdict, families, point, cyclic (the coordinates removed), kept (the
+    cyclic coordinates kept as states) and turn_rate (about a steady turn: the frame's rate)."""
 
     def __init__(self, result: Dict[str, Any]) -> None:
         self.states = list(result["states"])
         self.cyclic = list(result["cyclic"])
         self.kept = list(result["kept"])
+        self.turn_rate = float(result["turn_rate"])
         self.inputs = list(result["inputs"])
         self.outputs = list(result["outputs"])
         self.A, self.B = _np.asarray(result["A"]), _np.asarray(result["B"])

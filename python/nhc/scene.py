@@ -148,16 +148,18 @@ class Scene:
         return Model(_nhc._build(self._scene, model, self._written))
 
     def linearize(self, model: str = "chetaev", at: Optional[Mapping[str, float]] = None,
-                  keep: Sequence[str] = (), states: Sequence[str] = ()) -> Linearization:
+                  keep: Sequence[str] = (), states: Sequence[str] = (), turn: str = "") -> Linearization:
         """Linear stability at the scene's [initial] with `at` values replaced (as ``nhc linearize --at``).
 
         :param model: the model's name.
         :param at: parameters and initial values to replace: ``{"phi'": 0, "v": 3}``.
         :param keep: cyclic coordinates to keep as states (as ``--keep``): ``["x"]``.
         :param states: the reduced states wanted, in this order (as ``--states``): ``["x", "x'", "th", "th'"]``.
+        :param turn: ``"ANGLE:X,Y"`` (as ``--turn``): linearize about a steady turn, a relative
+            equilibrium of the rotations of the X, Y plane that move ANGLE, in the turning frame.
         :returns: A, B, C, D, the eigenvalues and the verdict."""
         return Linearization(_nhc._linearize(self._scene, model, {k: float(v) for k, v in (at or {}).items()},
-                                             list(keep), list(states)))
+                                             list(keep), list(states), str(turn)))
 
     def sweep(self, model: str, name: str, values: _npt.ArrayLike,
               at: Optional[Mapping[str, float]] = None, keep: Sequence[str] = (),

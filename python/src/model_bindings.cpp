@@ -557,6 +557,7 @@ py::dict linearization(const Linearization& lin) {
   out["states"] = lin.states;
   out["cyclic"] = lin.cyclic;
   out["kept"] = lin.kept;
+  out["turn_rate"] = lin.turn_rate;
   out["A"] = matrix(lin.A);
   out["inputs"] = lin.inputs;
   out["B"] = matrix(lin.B);
@@ -657,16 +658,17 @@ void register_model(py::module_& m) {
   m.def(
       "_linearize",
       [](const Scene& scene, const std::string& model, const std::map<std::string, double>& at,
-         const std::vector<std::string>& keep, const std::vector<std::string>& states) {
+         const std::vector<std::string>& keep, const std::vector<std::string>& states, const std::string& turn) {
         LinearizeOptions options;
         options.keep = keep;
         options.states = states;
+        if (!turn.empty()) options.turn = parse_turn(turn, "turn");
         const Linearization lin =
             symbolic_work([&] { return linearize(scene, model_named(model), overrides_of(at), options); });
         return linearization(lin);
       },
       py::arg("scene"), py::arg("model"), py::arg("at"), py::arg("keep") = std::vector<std::string>{},
-      py::arg("states") = std::vector<std::string>{});
+      py::arg("states") = std::vector<std::string>{}, py::arg("turn") = "");
 }
 
 }  // namespace nhc::python

@@ -255,3 +255,71 @@ outputs = 20
     header = csv.read_text().splitlines()[0].split(",")
     assert header == run.columns
     assert np.max(np.abs(np.loadtxt(csv, delimiter=",", skiprows=1) - run.to_numpy())) < 1e-12
+
+
+def disk_velocity(model, s, p):
+    """d/dt of s = (th, th', ph, ph', ps') of the rolling disk from the compiled residual alone: the
+    rolling constraints written here (x' = r ps' cos ph, y' = r ps' sin ph), then F = 0 solved by
+    Newton for the derivatives of the differential states and for the multipliers."""
+    names = model.state_names
+    index = {name: k for k, name in enumerate(names)}
+    differential = model._model.differential
+    y = np.zeros(len(names))
+    th, thd, ph, phd, psd = s
+    for name, value in (("th", th), ("th'", thd), ("ph", ph), ("ph'", phd), ("ps'", psd),
+                        ("x'", p["r"] * psd * np.cos(ph)), ("y'", p["r"] * psd * np.sin(ph))):
+        y[index[name]] = value
+    yp = np.zeros(len(names))
+    unknowns = [("yp", k) for k in range(len(y)) if differential[k]] + [("y", k) for k in range(len(y)) if not differential[k]]
+    for _ in range(30):
+        F = model.residual(0.0, y, yp)
+        dFdy = model.jacobian(0.0, y, yp, 0.0)
+        dFdyp = model.jacobian(0.0, y, yp, 1.0) - dFdy
+        K = np.column_stack([dFdyp[:, k] if kind == "yp" else dFdy[:, k] for kind, k in unknowns])
+        step = np.linalg.solve(K, -F)
+        for (kind, k), d in zip(unknowns, step):
+            if kind == "yp":
+                yp[k] += d
+            else:
+                y[k] += d
+        if np.max(np.abs(step)) < 1e-15:
+            break
+    return np.array([yp[index[name]] for name in ["th", "th'", "ph", "ph'", "ps'"]])
+
+
+def test_a_steady_turn_of_the_rolling_disk_linearizes_in_the_turning_frame(source):
+    # A steady circle: lean 0.3, heading rate 2, and the spin rate at which th'' = 0 (found by the
+    # secant method on the analysis' th''). ph is not cyclic (the rolling constraints contain it):
+    # without --turn the point is refused as not stationary.
+    path = source / "tests" / "linearize" / "scenes" / "rolling_disk.toml"
+    text = path.read_text()
+    def lean_acceleration(spin):
+        changed = text.replace("th = [0.0, 0.0]", "th = [0.3, 0.0]").replace("ph = [0.0, 0.0]", "ph = [0.0, 2.0]")
+        return nhc.Scene.from_toml(changed.replace("ps = [0.0, 6.0]", f"ps = [0.0, {spin!r}]")).analyze("chetaev").initial_point["th''"]
+    a, b = 1.0, 10.0
+    fa, fb = lean_acceleration(a), lean_acceleration(b)
+    for _ in range(60):
+        a, fa, b = b, fb, b - fb * (b - a) / (fb - fa)
+        fb = lean_acceleration(b)
+        if abs(fb) < 1e-13:
+            break
+    scene = nhc.Scene.load(path)
+    at = {"th": 0.3, "ph'": 2.0, "ps'": b}
+    with pytest.raises(nhc.MathError, match="the operating point is not stationary"):
+        scene.linearize(at=at)
+    lin = scene.linearize(at=at, turn="ph:x,y")
+    assert lin.turn_rate == 2.0 and lin.states == ["th", "th'", "ph", "ph'", "ps'"]
+    model = scene.build()
+    s0 = np.array([0.3, 0.0, 0.0, 2.0, b])
+    # Stationary in the turning frame: f(s0) = omega e_ph.
+    assert np.max(np.abs(disk_velocity(model, s0, scene.parameters) - np.array([0, 0, 2.0, 0, 0]))) < 1e-12
+    h = 1e-6
+    A_fd = np.column_stack([(disk_velocity(model, s0 + h * e, scene.parameters) -
+                             disk_velocity(model, s0 - h * e, scene.parameters)) / (2 * h) for e in np.eye(5)])
+    assert np.max(np.abs(lin.A - A_fd)) < 1e-7 * np.max(np.abs(A_fd)), (lin.A, A_fd)
+    # Steady circles are stable here: a pair on the imaginary axis, no eigenvalue to the right.
+    assert max(lin.eigenvalues.real) < 1e-5
+    assert np.max(np.abs(lin.eigenvalues.imag)) > 0.1
+    # The turn must be a symmetry: th and x do not turn together.
+    with pytest.raises(nhc.SceneError, match="keep both or neither"):
+        scene.linearize(at=at, turn="ph:x,th")

@@ -148,6 +148,18 @@ struct Linearizer::Impl {
   std::optional<NumericProgram> full_input_jacobian;
   MatrixOutputs dF_full_du;
   ManifoldInput manifold_input(const NumericPoint& p) const;
+  /// LinearizeOptions::turn: per reduced component, the generator X of the turn: 1 on the angle
+  /// (turn_angle), −y^(k) on x^(k) and x^(k) on y^(k) (turn_partner, turn_sign); 0 elsewhere.
+  int turn_angle = -1;
+  std::vector<int> turn_partner;
+  std::vector<double> turn_sign;
+  bool turning() const { return turn_angle >= 0; }
+  /// X(z) over the reduced components.
+  Eigen::VectorXd generator(const Eigen::VectorXd& z) const;
+  /// The point turned by c (the angle + c, each (x^(k), y^(k)) rotated, in z and z').
+  NumericPoint turned(const NumericPoint& p, double c) const;
+  void check_invariant(const NumericPoint& p) const;
+  void setup_turn(const LinearizeOptions::Turn& turn);
 
   void compile_programs();
   /// g and F at the point.
@@ -205,8 +217,10 @@ NumericPoint Linearizer::Impl::operating_point(const Scene& s, Linearization& ou
 void Linearizer::Impl::check_stationary(const NumericPoint& p, Linearization& out) const {
   const double scale = 1.0 + (p.z.size() ? p.z.cwiseAbs().maxCoeff() : 0.0);
   double worst = 0.0;
+  // About a relative equilibrium: stationary in the turning frame, z' = ω X(z).
+  const Eigen::VectorXd drift = out.turn_rate * generator(p.z);
   for (std::size_t c = 0; c < reduced.components.size(); ++c) {
-    const double rate = std::abs(p.zp(static_cast<Eigen::Index>(c))) / scale;
+    const double rate = std::abs(p.zp(static_cast<Eigen::Index>(c)) - drift(static_cast<Eigen::Index>(c))) / scale;
     const ReducedComponent& z = reduced.components[c];
     // A kept cyclic coordinate may drift: the equations do not contain it (LinearizeOptions::keep).
     const bool drifts = z.order == 0 && std::find(reduced.kept.begin(), reduced.kept.end(), z.name) != reduced.kept.end();
@@ -220,10 +234,11 @@ void Linearizer::Impl::check_stationary(const NumericPoint& p, Linearization& ou
     std::size_t c = 0;
     while (reduced.components[c].name != out.worst_state) ++c;
     const ReducedComponent& z = reduced.components[c];
-    const std::string moving = "the operating point is not stationary: d/dt " + out.worst_state + " = " +
+    const std::string moving = "the operating point is not stationary" +
+                               std::string(turning() ? " in the turning frame" : "") + ": d/dt " + out.worst_state + " = " +
                                number(p.zp(static_cast<Eigen::Index>(c))) + " (defect " + number(worst) + " > " +
                                number(options.stationarity) + ", relative to 1 + max |state|)";
-    if (z.order > 0 || z.multiplier)
+    if (z.order > 0 || z.multiplier || turning())
       throw MathError(moving + "; choose [initial] or --at values of an equilibrium or steady motion");
     // A coordinate that moves at the point but is not cyclic: a steady turn or spin (a relative
     // equilibrium) whose symmetry moves this coordinate together with others (docs/linearize.md,
@@ -355,6 +370,7 @@ Linearizer::Linearizer(const Scene& scene, ModelKind model, LinearizeOptions opt
     m.value_source.push_back(value);
     m.derivative_source.push_back(derivative);
   }
+  if (!options.turn.angle.empty()) m.setup_turn(options.turn);
   std::vector<std::string> differential;
   for (const ReducedComponent& z : m.reduced.components)
     if (z.differential) differential.push_back(z.name);
@@ -469,6 +485,103 @@ const Scene& Linearizer::scene() const { return impl_->scene; }
 ModelKind Linearizer::model() const { return impl_->model; }
 const LinearizeOptions& Linearizer::options() const { return impl_->options; }
 
+namespace {
+
+/// "x''" → ("x", 2).
+std::pair<std::string, int> variable_and_order(const std::string& name) {
+  std::size_t primes = 0;
+  while (primes < name.size() && name[name.size() - 1 - primes] == '\'') ++primes;
+  return {name.substr(0, name.size() - primes), static_cast<int>(primes)};
+}
+
+}  // namespace
+
+void Linearizer::Impl::setup_turn(const LinearizeOptions::Turn& turn) {
+  const std::vector<std::string>& coordinates = scene.jet->coordinates();
+  for (const std::string& name : {turn.angle, turn.x, turn.y})
+    if (std::find(coordinates.begin(), coordinates.end(), name) == coordinates.end())
+      throw InputError({"--turn", 0, 0}, "--turn " + turn.angle + ":" + turn.x + "," + turn.y + ": " + name +
+                                             " is not a coordinate of scene " + scene.name);
+  if (turn.angle == turn.x || turn.angle == turn.y || turn.x == turn.y)
+    throw InputError({"--turn", 0, 0}, "--turn ANGLE:X,Y needs three different coordinates");
+  const std::size_t n = reduced.components.size();
+  turn_partner.assign(n, -1);
+  turn_sign.assign(n, 0.0);
+  for (std::size_t c = 0; c < n; ++c) {
+    const auto [variable, order] = variable_and_order(reduced.components[c].name);
+    if (variable == turn.angle && order == 0) turn_angle = static_cast<int>(c);
+    if (variable != turn.x && variable != turn.y) continue;
+    const std::string& other = variable == turn.x ? turn.y : turn.x;
+    for (std::size_t d = 0; d < n; ++d)
+      if (variable_and_order(reduced.components[d].name) == std::make_pair(other, order)) turn_partner[c] = static_cast<int>(d);
+    if (turn_partner[c] < 0)
+      throw InputError({"--turn", 0, 0}, "--turn: the reduced system holds " + reduced.components[c].name + " but not " +
+                                             other + std::string(static_cast<std::size_t>(order), '\'') +
+                                             ", which the turn rotates with it: keep both or neither (--keep)");
+    turn_sign[c] = variable == turn.x ? -1.0 : 1.0;  // X: x^(k) -> -y^(k), y^(k) -> x^(k)
+  }
+  if (turn_angle < 0)
+    throw InputError({"--turn", 0, 0}, "--turn: " + turn.angle + " is cyclic, so a steady turn is an equilibrium "
+                                           "of the reduced system already: leave --turn out");
+}
+
+Eigen::VectorXd Linearizer::Impl::generator(const Eigen::VectorXd& z) const {
+  Eigen::VectorXd X = Eigen::VectorXd::Zero(z.size());
+  if (!turning()) return X;
+  X(turn_angle) = 1.0;
+  for (Eigen::Index c = 0; c < z.size(); ++c)
+    if (turn_partner[static_cast<std::size_t>(c)] >= 0) X(c) = turn_sign[static_cast<std::size_t>(c)] * z(turn_partner[static_cast<std::size_t>(c)]);
+  return X;
+}
+
+NumericPoint Linearizer::Impl::turned(const NumericPoint& p, double c) const {
+  NumericPoint q = p;
+  q.z(turn_angle) += c;
+  for (Eigen::Index k = 0; k < p.z.size(); ++k) {
+    const int partner = turn_partner[static_cast<std::size_t>(k)];
+    if (partner < 0) continue;
+    // x -> x cos c - y sin c, y -> x sin c + y cos c (turn_sign: -1 on x, +1 on y).
+    const double s = turn_sign[static_cast<std::size_t>(k)];
+    q.z(k) = std::cos(c) * p.z(k) + s * std::sin(c) * p.z(partner);
+    q.zp(k) = std::cos(c) * p.zp(k) + s * std::sin(c) * p.zp(partner);
+  }
+  return q;
+}
+
+void Linearizer::Impl::check_invariant(const NumericPoint& p) const {
+  // Equivariance, f(g_c z) = Dg_c f(z): at the point turned by c the hidden constraints hold, and
+  // F = 0 solved for the derivatives of the differential states and for the algebraic states (the
+  // multipliers, which turn as the constraints are written) gives the turned derivatives.
+  const double scale = 1.0 + p.z.cwiseAbs().maxCoeff() + p.zp.cwiseAbs().maxCoeff();
+  std::vector<int> differential, algebraic;
+  for (std::size_t c = 0; c < reduced.components.size(); ++c)
+    (reduced.components[c].differential ? differential : algebraic).push_back(static_cast<int>(c));
+  for (const double c : {0.7, 2.3}) {
+    const NumericPoint expected = turned(p, c);
+    NumericPoint q = expected;
+    for (int iteration = 0; iteration < 20; ++iteration) {
+      const ManifoldInput in = manifold_input(q);
+      Eigen::MatrixXd K(in.dF_dz.rows(), static_cast<Eigen::Index>(differential.size() + algebraic.size()));
+      for (std::size_t k = 0; k < differential.size(); ++k) K.col(static_cast<Eigen::Index>(k)) = in.dF_dzp.col(differential[k]);
+      for (std::size_t k = 0; k < algebraic.size(); ++k)
+        K.col(static_cast<Eigen::Index>(differential.size() + k)) = in.dF_dz.col(algebraic[k]);
+      const Eigen::VectorXd step = -K.fullPivLu().solve(hidden_and_residual(q).second);
+      for (std::size_t k = 0; k < differential.size(); ++k) q.zp(differential[k]) += step(static_cast<Eigen::Index>(k));
+      for (std::size_t k = 0; k < algebraic.size(); ++k)
+        q.z(algebraic[k]) += step(static_cast<Eigen::Index>(differential.size() + k));
+      if (!(step.cwiseAbs().maxCoeff() > 1e-14 * scale)) break;
+    }
+    const Eigen::VectorXd g = hidden_and_residual(q).first;
+    double worst = g.size() ? g.cwiseAbs().maxCoeff() : 0.0;
+    for (int k : differential) worst = std::max(worst, std::abs(q.zp(k) - expected.zp(k)));
+    if (!(worst <= 1e-8 * scale))
+      throw MathError("--turn " + options.turn.angle + ":" + options.turn.x + "," + options.turn.y +
+                      ": the equations are not invariant under turning the plane (at the point turned by " + number(c) +
+                      " rad the motion differs from the turned motion by " + number(worst) +
+                      "), so a steady turn is no relative equilibrium of them");
+  }
+}
+
 ManifoldInput Linearizer::Impl::manifold_input(const NumericPoint& p) const {
   const std::vector<double> values = jacobians->evaluate(program_values(reduced, p), "dF/dz, dF/dz' or dg/dz");
   ManifoldInput input{matrix_of(dF_dz, values), matrix_of(dF_dzp, values), matrix_of(dg_dz, values),
@@ -569,6 +682,10 @@ Linearization Linearizer::at(const std::vector<PointOverride>& overrides) const 
     if (std::find(out.kept.begin(), out.kept.end(), name) == out.kept.end())
       out.notes.push_back("--keep " + name + ": " + name + " is not cyclic, so it is a state (or eliminated) anyway");
   const NumericPoint p = m.operating_point(s, out);
+  if (m.turning()) {
+    out.turn_rate = p.zp(m.turn_angle);
+    m.check_invariant(p);
+  }
   m.check_stationary(p, out);
 
   const std::vector<double> jacobians = m.jacobians->evaluate(program_values(m.reduced, p), "dF/dz, dF/dz' or dg/dz");
@@ -580,6 +697,22 @@ Linearization Linearizer::at(const std::vector<PointOverride>& overrides) const 
   for (int k : lin.algebraic) out.algebraic.push_back(m.reduced.components[static_cast<std::size_t>(k)].name);
   out.basis = m.describe_basis(lin);
   out.A = lin.A;
+  if (m.turning()) {
+    // In the turning frame: A − ω (DX_D T)_s, DX the generator's constant matrix over z_D.
+    const auto nD = static_cast<Eigen::Index>(lin.differential.size());
+    Eigen::MatrixXd DX = Eigen::MatrixXd::Zero(nD, nD);
+    for (Eigen::Index i = 0; i < nD; ++i) {
+      const int c = lin.differential[static_cast<std::size_t>(i)];
+      const int partner = m.turn_partner[static_cast<std::size_t>(c)];
+      for (Eigen::Index j = 0; j < nD && partner >= 0; ++j)
+        if (lin.differential[static_cast<std::size_t>(j)] == partner) DX(i, j) = m.turn_sign[static_cast<std::size_t>(c)];
+    }
+    const Eigen::MatrixXd correction = DX * lin.T;
+    for (std::size_t r = 0; r < lin.independent.size(); ++r)
+      out.A.row(static_cast<Eigen::Index>(r)) -= out.turn_rate * correction.row(lin.independent[r]);
+    out.notes.push_back("about a relative equilibrium: A in the frame turning at " + number(out.turn_rate) +
+                        " rad/s; families of steady motions are not searched for");
+  }
   out.B = lin.B;
   for (const SceneInput& u : s.inputs) out.inputs.push_back(u.name);
   out.outputs = m.output_names;
@@ -590,11 +723,20 @@ Linearization Linearizer::at(const std::vector<PointOverride>& overrides) const 
 
   out.eigenvalues = sorted_eigenvalues(out.A);
   out.zero_eigenvalues = count_zero_eigenvalues(out.A, out.eigenvalues, m.options.zero_tolerance);
-  out.families = m.families_at(p, lin, out.states, out.zero_eigenvalues);
+  if (!m.turning()) out.families = m.families_at(p, lin, out.states, out.zero_eigenvalues);
   out.verdict = classify_spectrum(out.A, out.eigenvalues, static_cast<int>(out.families.size()), m.options.tolerance,
                                   m.options.zero_tolerance);
   if (!m.options.states.empty()) order_states(out, m.options.states);
   return out;
+}
+
+LinearizeOptions::Turn parse_turn(const std::string& text, const std::string& flag) {
+  const std::size_t colon = text.find(':');
+  const std::size_t comma = colon == std::string::npos ? colon : text.find(',', colon + 1);
+  if (colon == std::string::npos || comma == std::string::npos || colon == 0 || comma == colon + 1 ||
+      comma + 1 == text.size() || text.find(',', comma + 1) != std::string::npos)
+    throw InputError({flag, 0, 0}, flag + " " + text + ": expected ANGLE:X,Y (e.g. psi:x,y)");
+  return {text.substr(0, colon), text.substr(colon + 1, comma - colon - 1), text.substr(comma + 1)};
 }
 
 Linearization linearize(const Scene& scene, ModelKind model, const std::vector<PointOverride>& overrides,

@@ -35,6 +35,14 @@ struct LinearizeOptions {
   /// that is no differential state of the reduced system, or a set that is not the whole state
   /// (docs/linearize.md, "Choosing the states").
   std::vector<std::string> states;
+  /// A relative equilibrium of the rotations of a plane (`--turn psi:x,y`): turning by c adds c
+  /// to `angle` and rotates every derivative of (`x`, `y`) by c. The operating point is a steady
+  /// turn at ω = angle' there: stationary in the turning frame (z' = ω X(z), X the generator), the
+  /// equations checked invariant under the turn, and A the linearization in the turning frame,
+  /// A − ω DX (docs/linearize.md, "Relative equilibria"). Empty `angle`: none.
+  struct Turn {
+    std::string angle, x, y;
+  } turn;
 };
 
 class Linearizer {
@@ -73,6 +81,9 @@ class Linearizer {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+/// "psi:x,y" (`--turn`): InputError at `flag` unless it is ANGLE:X,Y.
+LinearizeOptions::Turn parse_turn(const std::string& text, const std::string& flag = "--turn");
 
 /// One-shot form: Linearizer(scene, model, options).at(overrides).
 Linearization linearize(const Scene& scene, ModelKind model,
