@@ -109,6 +109,20 @@ def test_keep_x_gives_six_states_whose_eigenvalues_match_sympy():
     assert "x" in without.cyclic and len(without.states) == 5
 
 
+def test_the_wheeled_pendulum_example_linearizes_as_the_sympy_model(source):
+    # examples/wheeled_pendulum.toml comes with the feedback-law work (issue 46, branch control):
+    # the same checks on it once it is there, upright at rest.
+    path = source / "examples" / "wheeled_pendulum.toml"
+    if not path.exists():
+        pytest.skip("examples/wheeled_pendulum.toml is not in this tree yet")
+    scene = nhc.Scene.load(path)
+    A_ref, B_ref = sympy_linearization(scene.parameters)
+    lin = scene.linearize(at={"th": 0.0, "th'": 0.0}, keep=["x"], states=STATES)
+    assert lin.states == STATES and lin.zero_eigenvalues == 4
+    assert np.max(np.abs(lin.A - A_ref)) < 1e-10 * np.max(np.abs(A_ref))
+    assert np.max(np.abs(lin.B - B_ref)) < 1e-10 * np.max(np.abs(B_ref))
+
+
 def test_keep_and_states_refusals():
     scene = nhc.Scene.load(PENDULUM)
     with pytest.raises(nhc.SceneError, match="--keep z: not a coordinate"):
@@ -131,6 +145,8 @@ def test_linearize_text_names_rows_and_columns():
     assert lines[b + 1].split() == ["TL", "TR"]
     assert [lines[b + 2 + k].split()[0] for k in range(6)] == STATES
     assert "cyclic coordinates kept as states: x" in out
+    refused = subprocess.run([nhc_command(), "linearize", str(PENDULUM), "--keep", "x,z"], capture_output=True, text=True)
+    assert refused.returncode == 2 and "--keep z: not a coordinate" in refused.stderr and refused.stdout == ""
 
 
 def test_a_parameter_study_compiles_once_and_matches_simulate_set(source, tmp_path, monkeypatch):
