@@ -270,10 +270,7 @@ std::string join_numbers(const std::vector<double>& values) {
 py::dict simulate_sensitivities(const BuiltModel& built, const std::vector<std::string>& names,
                                 const std::vector<double>& times, runtime::IntegratorOptions options,
                                 InterruptCheck interrupt) {
-  const runtime::Model& plain = built.model();
-  if (plain.n_inputs() > 0)
-    throw InputError({"sensitivity", 0, 0}, "forward sensitivities do not take a scene with [inputs] (" +
-                                                plain.input_name(0) + (plain.n_inputs() > 1 ? ", …" : "") + ")");
+  const runtime::Model& plain = built.model();  // the inputs follow their default signals
   std::vector<runtime::SensitivityParameter> thetas;
   const runtime::InitialState initial =
       runtime::initial_state_from(plain, built.scene.initial.t0, built.scene.initial.values);
@@ -343,7 +340,9 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   runtime::IntegratorOptions options = app::run_integrator_options(request, built.scene);
   const InterruptCheck interrupt;
   if (sensitivity) {
-    if (inputs) throw InputError({"inputs", 0, 0}, "forward sensitivities do not take inputs");
+    if (inputs)
+      throw InputError({"inputs", 0, 0}, "forward sensitivities follow the scene's default input signals: they do not "
+                                         "take an inputs function (its derivative by the parameters is not known)");
     return simulate_sensitivities(built, *sensitivity, times, options, interrupt);
   }
   options.stop_requested = interrupt;

@@ -339,3 +339,55 @@ def test_a_steady_turn_of_the_rolling_disk_linearizes_in_the_turning_frame(sourc
     # The turn must be a symmetry: th and x do not turn together.
     with pytest.raises(nhc.SceneError, match="keep both or neither"):
         scene.linearize(at=at, turn="ph:x,th")
+
+
+DRIVEN = """
+name = "driven_oscillator"
+coordinates = ["x"]
+lagrangian = "x'^2/2 - k*x^2/2"
+[parameters]
+k = 4.0
+a = 0.5
+w = 3.0
+[inputs]
+u = "a*sin(w*t)"
+[forces]
+x = "u"
+[initial]
+x = [0.2, 0.0]
+"""
+
+
+def test_sensitivities_with_inputs_follow_their_default_signals(tmp_path):
+    # x'' = -k x + a sin(w t): the sensitivities by k (through the equation), a and w (only
+    # through the input's default signal) against central differences of runs.
+    names = ["k", "a", "w"]
+    times = np.linspace(0.0, 2.0, 11)
+    options = dict(output_times=times, rtol=1e-11, atol=1e-13)
+    sens = nhc.Scene.from_toml(DRIVEN).build().simulate(sensitivity=names, **options)
+    base = {"k": 4.0, "a": 0.5, "w": 3.0}
+    for name in names:
+        h = 1e-5 * base[name]
+        up = nhc.Scene.from_toml(DRIVEN, set={name: base[name] + h}).build().simulate(**options)
+        down = nhc.Scene.from_toml(DRIVEN, set={name: base[name] - h}).build().simulate(**options)
+        for state in ("x", "x'"):
+            fd = (up[state] - down[state]) / (2 * h)
+            column = sens[f"d({state})/d({name})"]
+            assert np.max(np.abs(column - fd)) < 1e-6 * (1 + np.max(np.abs(fd))), (name, state, column, fd)
+            assert np.max(np.abs(column)) > 1e-2  # every one of them moves the motion
+    # The same columns from the command line; an --input replacing the signal is refused there.
+    path = tmp_path / "driven.toml"
+    path.write_text(DRIVEN)
+    csv = tmp_path / "sens.csv"
+    subprocess.run([nhc_command(), "simulate", str(path), "--sensitivity", "k,a,w", "--output-times",
+                    ",".join(repr(t) for t in times), "--rtol", "1e-11", "--atol", "1e-13", "-o", str(csv)],
+                   capture_output=True, check=True)
+    header = csv.read_text().splitlines()[0].split(",")
+    table = np.loadtxt(csv, delimiter=",", skiprows=1)
+    for c, name in enumerate(header):
+        assert np.max(np.abs(table[:, c] - sens[name])) < 1e-12 * (1 + np.max(np.abs(table[:, c]))), name
+    refused = subprocess.run([nhc_command(), "simulate", str(path), "--sensitivity", "a", "--input", "u=0"],
+                             capture_output=True, text=True)
+    assert refused.returncode == 2 and "does not go with --input" in refused.stderr
+    with pytest.raises(nhc.SceneError, match="default input signals"):
+        nhc.Scene.from_toml(DRIVEN).build().simulate(sensitivity=["a"], inputs=lambda t, y: [0.0])
