@@ -117,48 +117,55 @@ class Scene:
         return list(self._scene.inputs)
 
     @property
+    def default_model(self) -> str:
+        """The model the commands take when none is named: the scene's ``[simulate]`` model, else
+        chetaev when the scene lists it, else its first model."""
+        return self._scene.default_model
+
+    @property
     def models(self) -> List[str]:
         """The models the scene asks for (``models``; all four by default)."""
         return list(self._scene.models)
 
-    def derive(self, model: str = "chetaev") -> Derivation:
+    def derive(self, model: Optional[str] = None) -> Derivation:
         """The equations of one model, as ``nhc derive`` writes them.
 
-        :param model: ``"vakonomic"``, ``"chetaev"``, ``"holder"`` or ``"suslov"``.
+        :param model: ``"vakonomic"``, ``"chetaev"``, ``"holder"`` or ``"suslov"`` (default: the
+            scene's ``[simulate]`` model, else chetaev, as on the command line).
         :raises nhc.SceneError: an unknown model name."""
-        return Derivation(self._scene.derive(model))
+        return Derivation(self._scene.derive(model or self._scene.default_model))
 
-    def analyze(self, model: str = "chetaev") -> Analysis:
+    def analyze(self, model: Optional[str] = None) -> Analysis:
         """The structural analysis of one model (as ``nhc analyze``): index, degrees of freedom, the
         initial values it needs and the consistent initial point.
 
-        :param model: the model's name.
+        :param model: the model's name (default: the scene's ``[simulate]`` model, as on the command line).
         :raises nhc.MathError: the given initial values miss a hidden constraint."""
-        return Analysis(self._scene.analyze(model))
+        return Analysis(self._scene.analyze(model or self._scene.default_model))
 
-    def build(self, model: str = "chetaev") -> Model:
+    def build(self, model: Optional[str] = None) -> Model:
         """The model derived, compiled (both caches) and loaded: an :class:`nhc.Model` to simulate.
 
         The code is generated from the scene as written and the ``set=`` values are passed at run
         time (as ``nhc simulate --set`` does), so scenes loaded with other ``set=`` values reuse the
         compiled model: a parameter study compiles once.
 
-        :param model: the model's name.
+        :param model: the model's name (default: the scene's ``[simulate]`` model, as on the command line).
         :raises nhc.HostError: the compiler or the cache failed."""
-        return Model(_nhc._build(self._scene, model, self._written))
+        return Model(_nhc._build(self._scene, model or self._scene.default_model, self._written))
 
-    def linearize(self, model: str = "chetaev", at: Optional[Mapping[str, float]] = None,
+    def linearize(self, model: Optional[str] = None, at: Optional[Mapping[str, float]] = None,
                   keep: Sequence[str] = (), states: Sequence[str] = (), turn: str = "") -> Linearization:
         """Linear stability at the scene's [initial] with `at` values replaced (as ``nhc linearize --at``).
 
-        :param model: the model's name.
+        :param model: the model's name (default: the scene's ``[simulate]`` model, as on the command line).
         :param at: parameters and initial values to replace: ``{"phi'": 0, "v": 3}``.
         :param keep: cyclic coordinates to keep as states (as ``--keep``): ``["x"]``.
         :param states: the reduced states wanted, in this order (as ``--states``): ``["x", "x'", "th", "th'"]``.
         :param turn: ``"ANGLE:X,Y"`` (as ``--turn``): linearize about a steady turn, a relative
             equilibrium of the rotations of the X, Y plane that move ANGLE, in the turning frame.
         :returns: A, B, C, D, the eigenvalues and the verdict."""
-        return Linearization(_nhc._linearize(self._scene, model, {k: float(v) for k, v in (at or {}).items()},
+        return Linearization(_nhc._linearize(self._scene, model or self._scene.default_model, {k: float(v) for k, v in (at or {}).items()},
                                              list(keep), list(states), str(turn)))
 
     def sweep(self, model: str, name: str, values: _npt.ArrayLike,

@@ -145,6 +145,7 @@ void register_scene(py::module_& m) {
                                for (ModelKind k : s.models) out.push_back(to_string(k));
                                return out;
                              })
+      .def_property_readonly("default_model", [](const Scene& s) { return to_string(default_model(s)); })
       .def("derive", &derive, py::arg("model"))
       .def("analyze", &analyze, py::arg("model"));
 }

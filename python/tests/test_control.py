@@ -391,3 +391,22 @@ def test_sensitivities_with_inputs_follow_their_default_signals(tmp_path):
     assert refused.returncode == 2 and "does not go with --input" in refused.stderr
     with pytest.raises(nhc.SceneError, match="default input signals"):
         nhc.Scene.from_toml(DRIVEN).build().simulate(sensitivity=["a"], inputs=lambda t, y: [0.0])
+
+
+def test_the_scenes_simulate_model_is_the_default_model():
+    # As on the command line (default_model): [simulate] model, else chetaev.
+    text = OSCILLATOR_MODELS + '[simulate]\nmodel = "vakonomic"\n'
+    scene = nhc.Scene.from_toml(text)
+    assert scene.default_model == "vakonomic"
+    assert scene.build().name == "vakonomic" and scene.derive().model == "vakonomic"
+    assert scene.analyze().model == "vakonomic"
+    assert nhc.Scene.from_toml(OSCILLATOR_MODELS).build().name == "chetaev"
+
+
+OSCILLATOR_MODELS = """
+name = "oscillator_models"
+coordinates = ["x"]
+lagrangian = "x'^2/2 - x^2/2"
+[initial]
+x = [1.0, 0.0]
+"""
