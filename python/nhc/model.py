@@ -130,7 +130,8 @@ class Model:
 
     @property
     def parameters(self) -> Dict[str, float]:
-        """The parameters the model was built with (name -> value)."""
+        """The parameters its runs take (name -> value): the scene's, with the ``set=`` values (the
+        compiled code is shared by every ``set=``; these are passed at run time)."""
         return dict(self._model.parameters)
 
     @property
