@@ -1,4 +1,4 @@
-// nhc linearize SCENE [--model M] [--at NAME=VALUE]... [--sweep NAME=a:b:n] [--format text|json] [-o DIR]
+// nhc linearize SCENE [--model M] [--at NAME=VALUE]... [--keep NAME,...] [--states NAME,...] [--turn A:X,Y] [--sweep NAME=a:b:n] [--format text|json] [-o DIR]
 //
 // Linear stability of an equilibrium or steady motion (docs/linearize.md, nhc::linearize):
 // the operating point, cyclic coordinates removed, the matrix A on the constraint manifold in a
@@ -43,6 +43,8 @@ struct LinearizeFlags {
   std::string scene_path;
   std::string model;
   std::vector<std::string> at;
+  std::vector<std::string> keep, states;
+  std::string turn;
   std::string sweep;
   std::string format = "text";
   std::string output;
@@ -94,6 +96,10 @@ void write_json(std::ostream& out, const Linearization& lin, const std::optional
   json.key("cyclic").begin_array();
   for (const std::string& c : lin.cyclic) json.value(c);
   json.end_array();
+  json.key("kept").begin_array();
+  for (const std::string& c : lin.kept) json.value(c);
+  json.end_array();
+  json.key("turn_rate").value(lin.turn_rate);
   json.key("states").begin_array();
   for (const std::string& s : lin.states) json.value(s);
   json.end_array();
@@ -155,25 +161,34 @@ void write_text(std::ostream& out, const Linearization& lin, const std::optional
   out << "\n  defect " << format_number(lin.defect) << " (largest |d/dt state| relative to 1 + max |state|, at "
       << (lin.worst_state.empty() ? "-" : lin.worst_state) << ")\n";
   out << "  cyclic coordinates removed: " << (lin.cyclic.empty() ? "none" : join_names(lin.cyclic)) << "\n";
+  if (!lin.kept.empty()) out << "  cyclic coordinates kept as states: " << join_names(lin.kept) << "\n";
+  if (lin.turn_rate != 0.0) out << "  relative equilibrium: the frame turns at " << full(lin.turn_rate) << " rad/s\n";
   out << "  reduced states (" << lin.states.size() << "): " << (lin.states.empty() ? "none" : join_names(lin.states))
       << "\n  basis: " << lin.basis << "\n";
-  const auto print = [&](const char* name, const Eigen::MatrixXd& m) {
-    out << "  " << name << " =\n";
+  // A matrix under a header row of its column names, each row led by its name.
+  const auto print = [&](const std::string& title, const Eigen::MatrixXd& m, const std::vector<std::string>& rows,
+                         const std::vector<std::string>& columns) {
+    out << "  " << title << " =\n";
+    std::size_t label = 0;
+    for (const std::string& r : rows) label = std::max(label, r.size());
+    out << "    " << std::string(label, ' ');
+    for (const std::string& c : columns) out << " " << std::setw(16) << c;
+    out << "\n";
     for (Eigen::Index r = 0; r < m.rows(); ++r) {
-      out << "   ";
+      out << "    " << std::left << std::setw(static_cast<int>(label)) << rows[static_cast<std::size_t>(r)] << std::right;
       for (Eigen::Index c = 0; c < m.cols(); ++c) out << " " << std::setw(16) << full(m(r, c));
       out << "\n";
     }
   };
-  print("A", lin.A);
+  print("A (row s: d(δs)/dt; column: δ of the state)", lin.A, lin.states, lin.states);
   if (!lin.inputs.empty()) {
     out << "  inputs (" << lin.inputs.size() << "): " << join_names(lin.inputs) << "\n";
-    print("B", lin.B);
+    print("B (row s: d(δs)/dt; column: δ of the input)", lin.B, lin.states, lin.inputs);
   }
   if (!lin.outputs.empty()) {
     out << "  outputs (" << lin.outputs.size() << "): " << join_names(lin.outputs) << "\n";
-    print("C", lin.C);
-    if (!lin.inputs.empty()) print("D", lin.D);
+    print("C (row: δ of the output; column: δ of the state)", lin.C, lin.outputs, lin.states);
+    if (!lin.inputs.empty()) print("D (row: δ of the output; column: δ of the input)", lin.D, lin.outputs, lin.inputs);
   }
   out << "  eigenvalues:\n";
   for (const auto& l : lin.eigenvalues) out << "    " << full(l.real()) << (l.imag() < 0 ? " - " : " + ") << full(std::abs(l.imag())) << "i\n";
@@ -290,6 +305,15 @@ CommandRunner add_linearize_command(CLI::App& app) {
       ->check(CLI::IsMember(model_names()));
   sub->add_option("--at", flags->at, "NAME=VALUE: a parameter or initial value (th=0, ph'=5) at the operating point")
       ->allow_extra_args(false);
+  sub->add_option("--keep", flags->keep,
+                  "NAME,...: cyclic coordinates to keep as states (a controller holding a position needs them)")
+      ->delimiter(',');
+  sub->add_option("--states", flags->states,
+                  "NAME,...: the reduced states, in this order (never eliminated by the hidden constraints)")
+      ->delimiter(',');
+  sub->add_option("--turn", flags->turn,
+                  "ANGLE:X,Y: linearize about a steady turn (a relative equilibrium of the rotations of the X,Y plane "
+                  "that move ANGLE), in the turning frame");
   sub->add_option("--sweep", flags->sweep, "NAME=a:b:n: n values from a to b of a parameter or initial value");
   sub->add_option("--format", flags->format, "text or json (default text)")->check(CLI::IsMember({"text", "json"}));
   sub->add_option("-o,--output", flags->output, "directory for linearize.json, A.csv (B.csv with [inputs]) and, with --sweep, stability.csv/.svg/.png");
@@ -312,7 +336,13 @@ CommandRunner add_linearize_command(CLI::App& app) {
       range = parse_sweep_range(flags->sweep);
       resolve_override(scene, range->name, "--sweep");
     }
-    const Linearizer linearizer(scene, kind);
+    flag_rules::refuse_duplicates(flags->keep, "--keep", "the coordinate");
+    flag_rules::refuse_duplicates(flags->states, "--states", "the state");
+    LinearizeOptions options;
+    options.keep = flags->keep;
+    options.states = flags->states;
+    if (!flags->turn.empty()) options.turn = parse_turn(flags->turn);
+    const Linearizer linearizer(scene, kind, options);
     const Linearization lin = linearizer.at(overrides);
     std::optional<SweepResult> swept;
     if (range) swept = sweep(linearizer, overrides, *range);

@@ -51,7 +51,7 @@ std::vector<double> parse_output_times(const std::string& spec, double t0) {
 }
 
 std::vector<std::string> csv_columns(const runtime::Model& model, const std::vector<double>& p,
-                                     const SceneOutputs& outputs) {
+                                     const app::SceneOutputs& outputs) {
   std::ostringstream header;
   runtime::write_csv(header, model, p, {});
   std::string line = header.str();
@@ -82,7 +82,7 @@ std::vector<std::string> parse_columns(const std::string& spec, const std::vecto
 
 void write_selected_csv(std::ostream& out, const runtime::Model& model, const std::vector<double>& p,
                         const std::vector<runtime::Sample>& samples, const std::vector<std::string>& columns,
-                        const SceneOutputs& outputs) {
+                        const app::SceneOutputs& outputs) {
   if (columns.empty() && outputs.empty()) {
     runtime::write_csv(out, model, p, samples);
     return;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "nhc/app/parameter_values.hpp"
 #include "nhc/app/run_request.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/jet/jet_space.hpp"
@@ -44,9 +45,9 @@ std::vector<ParameterOverride> parse_parameter_overrides(const Scene& scene, con
 }
 
 void apply_parameter_overrides(Scene& scene, const std::vector<ParameterOverride>& overrides) {
-  for (const ParameterOverride& o : overrides)
-    scene.parameter_values[static_cast<std::size_t>(*scene.jet->parameter_index(o.name))] = o.value;
-  if (!overrides.empty()) reevaluate_initial_expressions(scene);
+  std::vector<std::pair<std::string, double>> values;
+  for (const ParameterOverride& o : overrides) values.emplace_back(o.name, o.value);
+  app::set_parameter_values(scene, values);  // the rule Python's set= follows too
 }
 
 std::vector<double> parameters_with_overrides(const runtime::Model& model, const std::vector<ParameterOverride>& overrides) {

@@ -16,7 +16,7 @@
 #include "commands.hpp"
 #include "flag_rules.hpp"
 #include "output_selection.hpp"
-#include "scene_outputs.hpp"
+#include "nhc/app/scene_outputs.hpp"
 #include "input_signals.hpp"
 #include "parameter_overrides.hpp"
 #include "progress_bar.hpp"
@@ -146,7 +146,11 @@ CommandRunner add_simulate_command(CLI::App& app) {
     const Scene scene = load_scene(options->run.scene_path, options->run.read);
     const ModelKind kind = model_or_default(scene, options->run.model);
     require_model_inputs(scene, kind);
-    if (!options->sensitivity.names.empty()) refuse_inputs(scene, "forward sensitivities", "--sensitivity");
+    // Sensitivities follow the inputs' default signals, whose dependence on the parameters the
+    // generated dF/dp includes; an --input replacing one has none (docs/runtime.md, "Sensitivities").
+    if (!options->sensitivity.names.empty() && !options->run.inputs.empty())
+      throw InputError({"--input", 0, 0}, "--sensitivity follows the scene's default input signals: it does not go with "
+                                          "--input (the derivative of a replaced input by the parameters is not known)");
     check_run_flags(options->run, scene, kind);  // before anything is compiled or written
     const bool variational = variational_integrator(options->run);
     if (variational && !options->sensitivity.names.empty())
@@ -192,7 +196,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
     runtime::IntegratorOptions io = run_integrator_options(options->run, scene);
     io.progress = terminal_progress();
     const std::vector<double> p = parameters_with_overrides(model, overrides);
-    const SceneOutputs outputs(scene_set, model, p);  // [outputs]: extra CSV columns
+    const app::SceneOutputs outputs(scene_set, model, p);  // [outputs]: extra CSV columns
     for (const std::string& note : outputs.notes()) std::cerr << note << "\n";
     const std::vector<std::string> columns =
         options->columns.empty() ? std::vector<std::string>{}

@@ -130,7 +130,8 @@ class Model:
 
     @property
     def parameters(self) -> Dict[str, float]:
-        """The parameters the model was built with (name -> value)."""
+        """The parameters its runs take (name -> value): the scene's, with the ``set=`` values (the
+        compiled code is shared by every ``set=``; these are passed at run time)."""
         return dict(self._model.parameters)
 
     @property
@@ -184,13 +185,16 @@ class Model:
             raise error
         return Run(result)
 
-    def residual(self, t: float, y: _npt.ArrayLike, yp: _npt.ArrayLike) -> _npt.NDArray[_np.float64]:
-        """F(t, y, y') of the index-1 system, as numpy (for one's own solvers).
+    def residual(self, t: float, y: _npt.ArrayLike, yp: _npt.ArrayLike,
+                 u: Optional[_npt.ArrayLike] = None) -> _npt.NDArray[_np.float64]:
+        """F(t, y, y', u) of the index-1 system, as numpy (for one's own solvers).
 
         :param t: the time.
         :param y: the states, in :attr:`state_names` order.
-        :param yp: their derivatives, in the same order."""
-        return self._model.residual(float(t), _np.asarray(y, dtype=float), _np.asarray(yp, dtype=float))
+        :param yp: their derivatives, in the same order.
+        :param u: the inputs (:attr:`inputs` order); without it, the scene's default signals at t."""
+        values = None if u is None else [float(v) for v in _np.asarray(u, dtype=float).ravel()]
+        return self._model.residual(float(t), _np.asarray(y, dtype=float), _np.asarray(yp, dtype=float), values)
 
     def jacobian(self, t: float, y: _npt.ArrayLike, yp: _npt.ArrayLike, cj: float) -> _npt.NDArray[_np.float64]:
         """dF/dy + cj dF/dy' as an n x n numpy array (IDA's iteration matrix).
@@ -201,16 +205,82 @@ class Model:
         :param cj: the scalar multiplying dF/dy' (IDA's cj)."""
         return self._model.jacobian(float(t), _np.asarray(y, dtype=float), _np.asarray(yp, dtype=float), float(cj))
 
+    def input_jacobian(self, t: float, y: _npt.ArrayLike, yp: _npt.ArrayLike,
+                       u: Optional[_npt.ArrayLike] = None) -> _npt.NDArray[_np.float64]:
+        """dF/du of the index-1 residual F(t, y, y', u): an n x m numpy array (rows: residuals,
+        columns: :attr:`inputs`), from exact derivatives evaluated in doubles.
+
+        :param t: the time.
+        :param y: the states, in :attr:`state_names` order.
+        :param yp: their derivatives.
+        :param u: the inputs (:attr:`inputs` order); without it, the scene's default signals at t."""
+        values = None if u is None else [float(v) for v in _np.asarray(u, dtype=float).ravel()]
+        return self._model.input_jacobian(float(t), _np.asarray(y, dtype=float), _np.asarray(yp, dtype=float), values)
+
+    def linearize_along(self, run: Run,
+                        inputs: Optional[Callable[[float, _npt.NDArray[_np.float64]], Sequence[float]]] = None,
+                        keep: Sequence[str] = (), states: Sequence[str] = ()) -> LinearizationAlong:
+        """The linearization along a run, for time-varying LQR: d(δs)/dt = A(t) δs + B(t) δu at each
+        of the run's samples, on the reduced states of :meth:`nhc.Scene.linearize` (cyclic
+        coordinates removed unless kept, the states the hidden constraints fix eliminated;
+        docs/linearize.md, "Along a motion").
+
+        :param run: a run of this model (its state columns and their derivatives are read).
+        :param inputs: u(t, y) as the run had them (as for :meth:`simulate`); without it, the
+            scene's default signals.
+        :param keep: cyclic coordinates to keep as states (``["x"]``).
+        :param states: the reduced states, in this order (so that they do not change along the run).
+        :returns: t, A (N x n x n), B (N x n x m), states, inputs.
+        :raises nhc.MathError: a singular system at a sample, or other states eliminated than at the first."""
+        names = self.state_names
+        differential = self._model.differential
+        rows = len(run)
+        y = _np.column_stack([run[name] for name in names]) if names else _np.zeros((rows, 0))
+        columns = []
+        for name, moving in zip(names, differential):
+            if not moving:
+                columns.append(_np.zeros(rows))  # an algebraic state's derivative is not in the equations
+            elif name + "'" in run:
+                columns.append(run[name + "'"])
+            else:
+                raise SceneError(f"the run has no column {name + chr(39)!r} (the derivative of the state {name!r})")
+        yp = _np.column_stack(columns) if columns else _np.zeros((rows, 0))
+        result = self._model.linearize_along([float(t) for t in run.t], y, yp, inputs, list(keep), list(states))
+        return LinearizationAlong(run.t.copy(), result)
+
     def __repr__(self) -> str:
         return f"Model({self.name!r}, states={self.state_names!r})"
 
 
+class LinearizationAlong:
+    """:meth:`Model.linearize_along`: ``t`` (the run's sample times), ``A`` (N x n x n), ``B``
+    (N x n x m), ``states`` (the reduced states, rows and columns of each A) and ``inputs``."""
+
+    def __init__(self, t: _npt.NDArray[_np.float64], result: Dict[str, Any]) -> None:
+        self.t = t
+        self.A = _np.asarray(result["A"])
+        self.B = _np.asarray(result["B"])
+        self.states = list(result["states"])
+        self.inputs = list(result["inputs"])
+
+    def __len__(self) -> int:
+        """The number of samples."""
+        return len(self.t)
+
+    def __repr__(self) -> str:
+        return f"LinearizationAlong({len(self.t)} samples, states={self.states!r})"
+
+
 class Linearization:
     """`nhc linearize` at one point: A, B, C, D (numpy), states, inputs, outputs, eigenvalues
-    (complex numpy), verdict, families, point."""
+    (complex numpy), verdict, families, point, cyclic (the coordinates removed), kept (the
+    cyclic coordinates kept as states) and turn_rate (about a steady turn: the frame's rate)."""
 
     def __init__(self, result: Dict[str, Any]) -> None:
         self.states = list(result["states"])
+        self.cyclic = list(result["cyclic"])
+        self.kept = list(result["kept"])
+        self.turn_rate = float(result["turn_rate"])
         self.inputs = list(result["inputs"])
         self.outputs = list(result["outputs"])
         self.A, self.B = _np.asarray(result["A"]), _np.asarray(result["B"])

@@ -4,7 +4,7 @@ from __future__ import annotations
 import json as _json
 import os as _os
 import re as _re
-from typing import Any, Dict, List, Mapping, Optional
+from typing import Any, Dict, List, Mapping, Optional, Sequence
 from typing import cast as _cast
 
 import numpy.typing as _npt
@@ -63,8 +63,11 @@ class Scene:
     """A scene (TOML) read and checked: `Scene.load(path, set={...})` or `Scene.from_toml(text)`.
     Bad input raises nhc.SceneError with the file, line and column."""
 
-    def __init__(self, scene: _nhc._Scene) -> None:
+    def __init__(self, scene: _nhc._Scene, written: Optional[_nhc._Scene] = None) -> None:
         self._scene = scene
+        # The scene as written (before set=): the models are compiled from it, and the set= values
+        # are passed at run time, so a parameter study compiles once (docs/python.md).
+        self._written = written
 
     @classmethod
     def load(cls, path: str | _os.PathLike[str], set: Optional[Mapping[str, float]] = None,
@@ -77,7 +80,8 @@ class Scene:
             instead of keeping them as named intermediates.
         :returns: the scene.
         :raises nhc.SceneError: bad input, with ``.file``, ``.line`` and ``.column``."""
-        return cls(_nhc._Scene.load(str(path), dict(set or {}), expand))
+        written = _nhc._Scene.load(str(path), {}, expand)
+        return cls(written.with_parameters(dict(set)), written) if set else cls(written)
 
     @classmethod
     def from_toml(cls, text: str, path: str | _os.PathLike[str] = "scene.toml",
@@ -89,7 +93,8 @@ class Scene:
         :param set: parameter values replacing the scene's (as ``--set P=V``).
         :param expand: substitute the ``[definitions]`` (as ``--expand``).
         :raises nhc.SceneError: bad input, at its line and column in `text`."""
-        return cls(_nhc._Scene.from_toml(text, str(path), dict(set or {}), expand))
+        written = _nhc._Scene.from_toml(text, str(path), {}, expand)
+        return cls(written.with_parameters(dict(set)), written) if set else cls(written)
 
     @property
     def name(self) -> str:
@@ -112,42 +117,60 @@ class Scene:
         return list(self._scene.inputs)
 
     @property
+    def default_model(self) -> str:
+        """The model the commands take when none is named: the scene's ``[simulate]`` model, else
+        chetaev when the scene lists it, else its first model."""
+        return self._scene.default_model
+
+    @property
     def models(self) -> List[str]:
         """The models the scene asks for (``models``; all four by default)."""
         return list(self._scene.models)
 
-    def derive(self, model: str = "chetaev") -> Derivation:
+    def derive(self, model: Optional[str] = None) -> Derivation:
         """The equations of one model, as ``nhc derive`` writes them.
 
-        :param model: ``"vakonomic"``, ``"chetaev"``, ``"holder"`` or ``"suslov"``.
+        :param model: ``"vakonomic"``, ``"chetaev"``, ``"holder"`` or ``"suslov"`` (default: the
+            scene's ``[simulate]`` model, else chetaev, as on the command line).
         :raises nhc.SceneError: an unknown model name."""
-        return Derivation(self._scene.derive(model))
+        return Derivation(self._scene.derive(model or self._scene.default_model))
 
-    def analyze(self, model: str = "chetaev") -> Analysis:
+    def analyze(self, model: Optional[str] = None) -> Analysis:
         """The structural analysis of one model (as ``nhc analyze``): index, degrees of freedom, the
         initial values it needs and the consistent initial point.
 
-        :param model: the model's name.
+        :param model: the model's name (default: the scene's ``[simulate]`` model, as on the command line).
         :raises nhc.MathError: the given initial values miss a hidden constraint."""
-        return Analysis(self._scene.analyze(model))
+        return Analysis(self._scene.analyze(model or self._scene.default_model))
 
-    def build(self, model: str = "chetaev") -> Model:
+    def build(self, model: Optional[str] = None) -> Model:
         """The model derived, compiled (both caches) and loaded: an :class:`nhc.Model` to simulate.
 
-        :param model: the model's name.
-        :raises nhc.HostError: the compiler or the cache failed."""
-        return Model(_nhc._build(self._scene, model))
+        The code is generated from the scene as written and the ``set=`` values are passed at run
+        time (as ``nhc simulate --set`` does), so scenes loaded with other ``set=`` values reuse the
+        compiled model: a parameter study compiles once.
 
-    def linearize(self, model: str = "chetaev", at: Optional[Mapping[str, float]] = None) -> Linearization:
+        :param model: the model's name (default: the scene's ``[simulate]`` model, as on the command line).
+        :raises nhc.HostError: the compiler or the cache failed."""
+        return Model(_nhc._build(self._scene, model or self._scene.default_model, self._written))
+
+    def linearize(self, model: Optional[str] = None, at: Optional[Mapping[str, float]] = None,
+                  keep: Sequence[str] = (), states: Sequence[str] = (), turn: str = "") -> Linearization:
         """Linear stability at the scene's [initial] with `at` values replaced (as ``nhc linearize --at``).
 
-        :param model: the model's name.
+        :param model: the model's name (default: the scene's ``[simulate]`` model, as on the command line).
         :param at: parameters and initial values to replace: ``{"phi'": 0, "v": 3}``.
+        :param keep: cyclic coordinates to keep as states (as ``--keep``): ``["x"]``.
+        :param states: the reduced states wanted, in this order (as ``--states``): ``["x", "x'", "th", "th'"]``.
+        :param turn: ``"ANGLE:X,Y"`` (as ``--turn``): linearize about a steady turn, a relative
+            equilibrium of the rotations of the X, Y plane that move ANGLE, in the turning frame.
         :returns: A, B, C, D, the eigenvalues and the verdict."""
-        return Linearization(_nhc._linearize(self._scene, model, {k: float(v) for k, v in (at or {}).items()}))
+        return Linearization(_nhc._linearize(self._scene, model or self._scene.default_model, {k: float(v) for k, v in (at or {}).items()},
+                                             list(keep), list(states), str(turn)))
 
     def sweep(self, model: str, name: str, values: _npt.ArrayLike,
-              at: Optional[Mapping[str, float]] = None) -> Sweep:
+              at: Optional[Mapping[str, float]] = None, keep: Sequence[str] = (),
+              states: Sequence[str] = ()) -> Sweep:
         """Linearizes at each of `values` of the parameter or initial value `name`, and refines where
         the verdict changes (as ``nhc linearize --sweep``).
 
@@ -155,6 +178,8 @@ class Scene:
         :param name: a parameter (``"v"``) or an initial value (``"psi'"``).
         :param values: at least two, increasing and equally spaced (as ``np.linspace`` gives).
         :param at: other values to replace, as for :meth:`linearize`.
+        :param keep: cyclic coordinates kept as states, as for :meth:`linearize`.
+        :param states: the reduced states, as for :meth:`linearize`.
         :raises nhc.SceneError: values not increasing or not equally spaced."""
         values = _np.asarray(values, dtype=float).ravel()
         if len(values) < 2 or not _np.all(_np.diff(values) > 0):
@@ -162,7 +187,8 @@ class Scene:
         if _np.max(_np.abs(_np.diff(values) - (values[-1] - values[0]) / (len(values) - 1))) > 1e-9 * _np.max(_np.abs(values)):
             raise SceneError("sweep values must be equally spaced (np.linspace)")
         at = {k: float(v) for k, v in (at or {}).items()}
-        return Sweep(name, _nhc._sweep(self._scene, model, name, values[0], values[-1], len(values), at))
+        return Sweep(name, _nhc._sweep(self._scene, model, name, values[0], values[-1], len(values), at,
+                                       list(keep), list(states)))
 
     def __repr__(self) -> str:
         return f"Scene({self.name!r}, coordinates={self.coordinates!r})"

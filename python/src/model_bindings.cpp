@@ -15,7 +15,10 @@
 #include <stdexcept>
 
 #include "model_argument.hpp"
+#include "nhc/app/parameter_values.hpp"
 #include "nhc/app/run_request.hpp"
+#include "nhc/app/scene_outputs.hpp"
+#include "nhc/analysis/structural_analysis.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/jit.hpp"
 #include "nhc/linearize.hpp"
@@ -38,13 +41,20 @@ struct SensitivityBuild {
   std::shared_ptr<jit::LoadedModel> loaded;
 };
 
-/// A built model with the scene it came from (its initial data and names).
+/// A built model with the scene it came from (its initial data and names, its parameter values),
+/// and the scene as written that the code was generated from: parameters are run-time values
+/// (nhc/app/parameter_values.hpp), so every `set=` of one scene finds the same compiled model.
 struct BuiltModel {
   Scene scene;
+  Scene header_scene;
   ModelKind kind;
   std::shared_ptr<jit::LoadedModel> loaded;
+  std::vector<double> parameters;  ///< the model's parameters at `scene`'s values
   std::shared_ptr<SensitivityBuild> with_sensitivities = std::make_shared<SensitivityBuild>();
   std::shared_ptr<SensitivityBuild> with_variational_step = std::make_shared<SensitivityBuild>();
+  /// The symbolic linearization of the model (input_jacobian, linearize_along without keep or
+  /// states), made on first use; created, used and destroyed with the GIL held (GiNaC inside).
+  std::shared_ptr<std::optional<Linearizer>> linearizer = std::make_shared<std::optional<Linearizer>>();
   /// runtime::csv_header(model()) as Python strings, made on first use; created, read and
   /// destroyed with the GIL held (BuiltModel lives in Python objects).
   std::shared_ptr<py::tuple> csv_columns = std::make_shared<py::tuple>();
@@ -84,15 +94,20 @@ struct BuiltModel {
       lock.lock();
     }
     if (!slot.loaded)
-      slot.loaded = std::make_shared<jit::LoadedModel>(symbolic_work([&] { return jit::build(scene, kind, options); }));
+      slot.loaded =
+          std::make_shared<jit::LoadedModel>(symbolic_work([&] { return jit::build(header_scene, kind, options); }));
     return slot.loaded->model();
   }
 };
 
-BuiltModel build(const Scene& scene, const std::string& model) {
+/// `header_scene`: the scene as written (before `set=`), whose header every parameter value shares;
+/// none: `scene` itself.
+BuiltModel build(const Scene& scene, const std::string& model, const std::optional<Scene>& header_scene) {
   const ModelKind kind = model_named(model);
-  auto loaded = std::make_shared<jit::LoadedModel>(symbolic_work([&] { return jit::build(scene, kind); }));
-  return BuiltModel{scene, kind, std::move(loaded)};  // with the GIL: it holds Python objects
+  const Scene& written = header_scene ? *header_scene : scene;
+  auto loaded = std::make_shared<jit::LoadedModel>(symbolic_work([&] { return jit::build(written, kind); }));
+  std::vector<double> p = app::model_parameters(loaded->model(), scene);
+  return BuiltModel{scene, written, kind, std::move(loaded), std::move(p)};  // with the GIL: it holds Python objects
 }
 
 /// A Python callable as a message names it: its __qualname__, else its repr.
@@ -255,10 +270,7 @@ std::string join_numbers(const std::vector<double>& values) {
 py::dict simulate_sensitivities(const BuiltModel& built, const std::vector<std::string>& names,
                                 const std::vector<double>& times, runtime::IntegratorOptions options,
                                 InterruptCheck interrupt) {
-  const runtime::Model& plain = built.model();
-  if (plain.n_inputs() > 0)
-    throw InputError({"sensitivity", 0, 0}, "forward sensitivities do not take a scene with [inputs] (" +
-                                                plain.input_name(0) + (plain.n_inputs() > 1 ? ", …" : "") + ")");
+  const runtime::Model& plain = built.model();  // the inputs follow their default signals
   std::vector<runtime::SensitivityParameter> thetas;
   const runtime::InitialState initial =
       runtime::initial_state_from(plain, built.scene.initial.t0, built.scene.initial.values);
@@ -270,7 +282,7 @@ py::dict simulate_sensitivities(const BuiltModel& built, const std::vector<std::
     throw InputError({"sensitivity", 0, 0}, e.what());
   }
   options.stop_requested = interrupt;
-  const std::vector<double> p = plain.default_parameters();
+  const std::vector<double>& p = built.parameters;
   runtime::SensitivityRun run;
   const runtime::Model* model = nullptr;
   model = &built.model_for(thetas);  // a build: symbolic work, with the GIL
@@ -328,11 +340,13 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   runtime::IntegratorOptions options = app::run_integrator_options(request, built.scene);
   const InterruptCheck interrupt;
   if (sensitivity) {
-    if (inputs) throw InputError({"inputs", 0, 0}, "forward sensitivities do not take inputs");
+    if (inputs)
+      throw InputError({"inputs", 0, 0}, "forward sensitivities follow the scene's default input signals: they do not "
+                                         "take an inputs function (its derivative by the parameters is not known)");
     return simulate_sensitivities(built, *sensitivity, times, options, interrupt);
   }
   options.stop_requested = interrupt;
-  const std::vector<double> p = model.default_parameters();
+  const std::vector<double>& p = built.parameters;
   runtime::InputFunction input_function;
   std::shared_ptr<std::optional<py::error_already_set>> input_failure;
   if (inputs) {
@@ -365,8 +379,21 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   if (input_failure && *input_failure) throw std::move(**input_failure);
   if (*interrupt.raised) throw std::move(**interrupt.raised);
   if (run.failure && run.samples.empty()) throw *run.failure;
-  const py::tuple& columns = built.columns();
-  py::array_t<double> data = data_of(*run_model, p, run.samples, columns.size());
+  // The scene's [outputs] after the model's columns, as nhc simulate's CSV has them (an output
+  // the model does not compute is left out; a required one is a SceneError).
+  py::object columns = built.columns();
+  std::optional<app::SceneOutputs> scene_outputs;
+  if (!built.scene.outputs.empty()) scene_outputs.emplace(built.scene, *run_model, p);
+  std::size_t n_columns = built.columns().size();
+  std::function<void(std::size_t, std::vector<double>&)> output_values;
+  if (scene_outputs && !scene_outputs->empty()) {
+    py::list names(built.columns());
+    for (const std::string& name : scene_outputs->names()) names.append(name);
+    columns = py::tuple(names);
+    n_columns += scene_outputs->names().size();
+    output_values = [&](std::size_t r, std::vector<double>& v) { v = scene_outputs->evaluate(run.samples[r]); };
+  }
+  py::array_t<double> data = data_of(*run_model, p, run.samples, n_columns, output_values);
   py::dict result = result_of(columns, std::move(data),
                               summary_of(built, *run_model, p, run.statistics, std::move(run.samples), extra),
                               run.failure);
@@ -381,14 +408,21 @@ std::vector<double> vector_of(const py::array_t<double, py::array::c_style | py:
   return std::vector<double>(a.data(), a.data() + n);
 }
 
+std::vector<double> inputs_at(const BuiltModel& built, double t, const std::vector<double>& y,
+                              const std::optional<std::vector<double>>& given);
+
 py::array_t<double> residual(const BuiltModel& built, double t, const py::array_t<double, py::array::c_style | py::array::forcecast>& y,
-                             const py::array_t<double, py::array::c_style | py::array::forcecast>& yp) {
+                             const py::array_t<double, py::array::c_style | py::array::forcecast>& yp,
+                             const std::optional<std::vector<double>>& u) {
   const runtime::Model& model = built.model();
   const int n = model.n_states();
   const std::vector<double> yv = vector_of(y, n, "y"), ypv = vector_of(yp, n, "yp");
-  runtime::InputValues inputs(model, model.default_parameters());
+  std::vector<double> p = built.parameters;  // the generated functions read the inputs after the parameters
+  p.resize(static_cast<std::size_t>(model.n_parameters()));
+  const std::vector<double> values = inputs_at(built, t, yv, u);
+  p.insert(p.end(), values.begin(), values.end());
   py::array_t<double> r(n);
-  model.table().residual(t, yv.data(), ypv.data(), inputs.at(t, yv.data()), r.mutable_data());
+  model.table().residual(t, yv.data(), ypv.data(), p.data(), r.mutable_data());
   return r;
 }
 
@@ -397,7 +431,7 @@ py::array_t<double> jacobian(const BuiltModel& built, double t, const py::array_
   const runtime::Model& model = built.model();
   const int n = model.n_states();
   const std::vector<double> yv = vector_of(y, n, "y"), ypv = vector_of(yp, n, "yp");
-  runtime::InputValues inputs(model, model.default_parameters());
+  runtime::InputValues inputs(model, built.parameters);
   std::vector<double> column_major(static_cast<std::size_t>(n) * static_cast<std::size_t>(n), 0.0);
   if (!model.dense_jacobian(t, yv.data(), ypv.data(), cj, inputs.at(t, yv.data()), column_major.data()))
     throw MathError("the model was generated without a Jacobian");
@@ -406,6 +440,107 @@ py::array_t<double> jacobian(const BuiltModel& built, double t, const py::array_
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) out(i, j) = column_major[static_cast<std::size_t>(i + n * j)];
   return J;
+}
+
+/// A Linearizer of the built model's scene with `options`: the shared one without options. Its
+/// index-1 states must be the compiled model's (both come from reduce_to_index1 of one scene).
+const Linearizer& linearizer_of(const BuiltModel& built, const LinearizeOptions& options,
+                                std::optional<Linearizer>& own) {
+  const bool plain = options.keep.empty() && options.states.empty();
+  std::optional<Linearizer>& slot = plain ? *built.linearizer : own;
+  if (!slot) slot.emplace(symbolic_work([&] { return Linearizer(built.scene, built.kind, options); }));
+  const std::vector<std::string> names = slot->index1_states();
+  for (int i = 0; i < built.model().n_states(); ++i)
+    if (names.size() != static_cast<std::size_t>(built.model().n_states()) ||
+        names[static_cast<std::size_t>(i)] != built.model().state_name(i))
+      throw MathError("the linearization's states differ from the compiled model's (" + built.model().state_name(i) +
+                      "): linearize from the scene instead");
+  return *slot;
+}
+
+/// The inputs at (t, y): `given` (empty: the model's default signals at t).
+std::vector<double> inputs_at(const BuiltModel& built, double t, const std::vector<double>& y,
+                              const std::optional<std::vector<double>>& given) {
+  const runtime::Model& model = built.model();
+  if (given) {
+    if (given->size() != static_cast<std::size_t>(model.n_inputs()))
+      throw InputError({"u", 0, 0}, "u must be a vector of " + std::to_string(model.n_inputs()) + " numbers (" +
+                                        std::to_string(given->size()) + " given)");
+    return *given;
+  }
+  runtime::InputValues values(model, built.parameters);
+  const double* p = values.at(t, y.data());
+  return std::vector<double>(p + model.n_parameters(), p + model.n_parameters() + model.n_inputs());
+}
+
+py::array_t<double> matrix(const Eigen::MatrixXd& m);
+
+/// ∂F/∂u of the index-1 residual at (t, y, y', u).
+py::array_t<double> input_jacobian(const BuiltModel& built, double t,
+                                   const py::array_t<double, py::array::c_style | py::array::forcecast>& y,
+                                   const py::array_t<double, py::array::c_style | py::array::forcecast>& yp,
+                                   const std::optional<std::vector<double>>& u) {
+  const int n = built.model().n_states();
+  const std::vector<double> yv = vector_of(y, n, "y"), ypv = vector_of(yp, n, "yp");
+  std::optional<Linearizer> own;
+  const Linearizer& lin = linearizer_of(built, {}, own);
+  return matrix(lin.input_jacobian(t, yv, ypv, inputs_at(built, t, yv, u)));
+}
+
+/// A(t), B(t) at each row of (t, Y, Y') with inputs from `inputs` (u(t, y), or the default
+/// signals): a dict of states, inputs, A (N × n × n) and B (N × n × m).
+py::dict linearize_along(const BuiltModel& built, const std::vector<double>& times,
+                         const py::array_t<double, py::array::c_style | py::array::forcecast>& Y,
+                         const py::array_t<double, py::array::c_style | py::array::forcecast>& YP,
+                         const std::optional<py::function>& inputs, const std::vector<std::string>& keep,
+                         const std::vector<std::string>& states) {
+  const runtime::Model& model = built.model();
+  const auto n = static_cast<py::ssize_t>(model.n_states());
+  const auto N = static_cast<py::ssize_t>(times.size());
+  if (Y.ndim() != 2 || YP.ndim() != 2 || Y.shape(0) != N || YP.shape(0) != N || Y.shape(1) != n || YP.shape(1) != n)
+    throw InputError({"run", 0, 0}, "the states must be " + std::to_string(N) + " rows of " + std::to_string(n) + " values");
+  LinearizeOptions options;
+  options.keep = keep;
+  options.states = states;
+  std::optional<Linearizer> own;
+  const Linearizer& lin = linearizer_of(built, options, own);
+  std::optional<py::array_t<double>> A, B;
+  py::dict out;
+  for (py::ssize_t r = 0; r < N; ++r) {
+    const double t = times[static_cast<std::size_t>(r)];
+    const std::vector<double> y(Y.data(r, 0), Y.data(r, 0) + n), yp(YP.data(r, 0), YP.data(r, 0) + n);
+    std::optional<std::vector<double>> u;
+    if (inputs) {
+      const py::array_t<double, py::array::c_style | py::array::forcecast> values((*inputs)(t, py::array_t<double>(n, y.data())));
+      u = std::vector<double>(values.data(), values.data() + values.size());
+    }
+    Linearization at;
+    try {
+      at = lin.along(t, y, yp, inputs_at(built, t, y, u));
+    } catch (const MathError& e) {
+      throw MathError("at t = " + std::to_string(t) + ": " + e.what());
+    }
+    if (!A) {
+      A.emplace(std::vector<py::ssize_t>{N, at.A.rows(), at.A.cols()});
+      B.emplace(std::vector<py::ssize_t>{N, at.B.rows(), at.B.cols()});
+      out["states"] = at.states;
+      out["inputs"] = at.inputs;
+    } else if (py::cast<std::vector<std::string>>(out["states"]) != at.states) {
+      throw MathError("at t = " + std::to_string(t) + ": the hidden constraints eliminate other states than at t = " +
+                      std::to_string(times.front()) + " (" + join_names(at.states) +
+                      "): choose the states with states=[...]");
+    }
+    auto a = A->mutable_unchecked<3>();
+    auto b = B->mutable_unchecked<3>();
+    for (Eigen::Index i = 0; i < at.A.rows(); ++i) {
+      for (Eigen::Index j = 0; j < at.A.cols(); ++j) a(r, i, j) = at.A(i, j);
+      for (Eigen::Index j = 0; j < at.B.cols(); ++j) b(r, i, j) = at.B(i, j);
+    }
+  }
+  if (!A) throw InputError({"run", 0, 0}, "the run has no samples");
+  out["A"] = *A;
+  out["B"] = *B;
+  return out;
 }
 
 py::array_t<double> matrix(const Eigen::MatrixXd& m) {
@@ -419,6 +554,9 @@ py::array_t<double> matrix(const Eigen::MatrixXd& m) {
 py::dict linearization(const Linearization& lin) {
   py::dict out;
   out["states"] = lin.states;
+  out["cyclic"] = lin.cyclic;
+  out["kept"] = lin.kept;
+  out["turn_rate"] = lin.turn_rate;
   out["A"] = matrix(lin.A);
   out["inputs"] = lin.inputs;
   out["B"] = matrix(lin.B);
@@ -455,7 +593,7 @@ void register_model(py::module_& m) {
       .def_property_readonly("parameters",
                              [](const BuiltModel& b) {
                                std::map<std::string, double> out;
-                               const std::vector<double> p = b.model().default_parameters();
+                               const std::vector<double>& p = b.parameters;
                                for (int k = 0; k < b.model().n_parameters(); ++k)
                                  out[b.model().table().parameter_names[k]] = p[static_cast<std::size_t>(k)];
                                return out;
@@ -471,16 +609,29 @@ void register_model(py::module_& m) {
                                for (int k = 0; k < b.model().n_inputs(); ++k) names.push_back(b.model().input_name(k));
                                return names;
                              })
-      .def("residual", &residual, py::arg("t"), py::arg("y"), py::arg("yp"))
+      .def_property_readonly("differential",
+                             [](const BuiltModel& b) {
+                               std::vector<bool> out;
+                               for (int i = 0; i < b.model().n_states(); ++i) out.push_back(b.model().is_differential(i));
+                               return out;
+                             })
+      .def("input_jacobian", &input_jacobian, py::arg("t"), py::arg("y"), py::arg("yp"), py::arg("u") = std::nullopt)
+      .def("linearize_along", &linearize_along, py::arg("t"), py::arg("y"), py::arg("yp"), py::arg("inputs") = std::nullopt,
+           py::arg("keep") = std::vector<std::string>{}, py::arg("states") = std::vector<std::string>{})
+      .def("residual", &residual, py::arg("t"), py::arg("y"), py::arg("yp"), py::arg("u") = std::nullopt)
       .def("jacobian", &jacobian, py::arg("t"), py::arg("y"), py::arg("yp"), py::arg("cj"));
 
-  m.def("_build", &build, py::arg("scene"), py::arg("model"));
+  m.def("_build", &build, py::arg("scene"), py::arg("model"), py::arg("header_scene") = std::nullopt);
   m.def(
       "_sweep",
       [](const Scene& scene, const std::string& model, const std::string& name, double first, double last, int count,
-         const std::map<std::string, double>& at) {
+         const std::map<std::string, double>& at, const std::vector<std::string>& keep,
+         const std::vector<std::string>& states) {
+        LinearizeOptions options;
+        options.keep = keep;
+        options.states = states;
         const SweepResult result = symbolic_work([&] {
-          const Linearizer linearizer(scene, model_named(model));
+          const Linearizer linearizer(scene, model_named(model), options);
           return sweep(linearizer, overrides_of(at), SweepRange{name, first, last, count});
         });
         py::list points, thresholds;
@@ -502,14 +653,21 @@ void register_model(py::module_& m) {
         return out;
       },
       py::arg("scene"), py::arg("model"), py::arg("name"), py::arg("first"), py::arg("last"), py::arg("count"),
-      py::arg("at"));
+      py::arg("at"), py::arg("keep") = std::vector<std::string>{}, py::arg("states") = std::vector<std::string>{});
   m.def(
       "_linearize",
-      [](const Scene& scene, const std::string& model, const std::map<std::string, double>& at) {
-        const Linearization lin = symbolic_work([&] { return linearize(scene, model_named(model), overrides_of(at)); });
+      [](const Scene& scene, const std::string& model, const std::map<std::string, double>& at,
+         const std::vector<std::string>& keep, const std::vector<std::string>& states, const std::string& turn) {
+        LinearizeOptions options;
+        options.keep = keep;
+        options.states = states;
+        if (!turn.empty()) options.turn = parse_turn(turn, "turn");
+        const Linearization lin =
+            symbolic_work([&] { return linearize(scene, model_named(model), overrides_of(at), options); });
         return linearization(lin);
       },
-      py::arg("scene"), py::arg("model"), py::arg("at"));
+      py::arg("scene"), py::arg("model"), py::arg("at"), py::arg("keep") = std::vector<std::string>{},
+      py::arg("states") = std::vector<std::string>{}, py::arg("turn") = "");
 }
 
 }  // namespace nhc::python

@@ -10,6 +10,7 @@
 #include "nhc/derive/models.hpp"
 #include "nhc/emit/derivation_emitters.hpp"
 #include "model_argument.hpp"
+#include "nhc/app/parameter_values.hpp"
 #include "nhc/app/run_request.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/scene/scene.hpp"
@@ -24,11 +25,12 @@ namespace {
 /// --set NAME=VALUE for a scene in memory: the values replace the parameters', and the [initial]
 /// values written through parameters follow (as in the command line).
 void set_parameters(Scene& scene, const std::map<std::string, double>& values) {
+  std::vector<std::pair<std::string, double>> checked;
   for (const auto& [name, value] : values) {
     app::check_parameter_value(scene, name, value, "set", "set " + name);  // the rule of --set
-    scene.parameter_values[static_cast<std::size_t>(*scene.jet->parameter_index(name))] = value;
+    checked.emplace_back(name, value);
   }
-  if (!values.empty()) reevaluate_initial_expressions(scene);
+  app::set_parameter_values(scene, checked);
 }
 
 /// One model's derivation in the three forms of `nhc derive`.
@@ -118,6 +120,14 @@ void register_scene(py::module_& m) {
           },
           py::arg("text"), py::arg("path") = "scene.toml", py::arg("set") = std::map<std::string, double>{},
           py::arg("expand") = false)
+      .def(
+          "with_parameters",
+          [](const Scene& scene, const std::map<std::string, double>& set) {
+            Scene changed = scene;
+            set_parameters(changed, set);
+            return changed;
+          },
+          py::arg("set"))
       .def_readonly("name", &Scene::name)
       .def_readonly("source_path", &Scene::source_path)
       .def_property_readonly("coordinates", [](const Scene& s) { return s.jet->coordinates(); })
@@ -135,6 +145,7 @@ void register_scene(py::module_& m) {
                                for (ModelKind k : s.models) out.push_back(to_string(k));
                                return out;
                              })
+      .def_property_readonly("default_model", [](const Scene& s) { return to_string(default_model(s)); })
       .def("derive", &derive, py::arg("model"))
       .def("analyze", &analyze, py::arg("model"));
 }

@@ -111,17 +111,22 @@ TEST_CASE("nhc simulate --input: bad flags and series are refused at the flag or
   }
 }
 
-TEST_CASE("nhc simulate --sensitivity and nhc connect refuse a scene with inputs in words", "[cli][inputs]") {
+TEST_CASE("nhc connect refuses a scene with inputs, --sensitivity one with --input, in words", "[cli][inputs]") {
+  // Sensitivities follow the default signals (python/tests/test_control.py checks them against
+  // finite differences); an --input replacing a signal has no known derivative by the parameters.
   const std::string dir = scratch_dir("input_refusals");
-  for (const std::string& command : {std::string(" simulate '") + kScene + "' --sensitivity 'x(0)' -o '" + dir + "/x.csv'",
-                                     std::string(" connect '") + kScene + "' --to x=1 --t-end 1 -o '" + dir + "/x.csv'"}) {
-    INFO(command);
-    const Run r = run(nhc_command() + command, dir);
-    CHECK(r.exit_code == 2);
-    CHECK(r.err.find("driven_oscillator.toml:7:1: error:") != std::string::npos);
-    CHECK(r.err.find("of a scene with [inputs] (F) are not supported") != std::string::npos);
-    CHECK_FALSE(file_exists(dir + "/x.csv"));
-  }
+  const Run connect = run(nhc_command() + " connect '" + kScene + "' --to x=1 --t-end 1 -o '" + dir + "/x.csv'", dir);
+  CHECK(connect.exit_code == 2);
+  CHECK(connect.err.find("driven_oscillator.toml:7:1: error:") != std::string::npos);
+  CHECK(connect.err.find("of a scene with [inputs] (F) are not supported") != std::string::npos);
+  const Run replaced =
+      run(nhc_command() + " simulate '" + kScene + "' --sensitivity 'x(0)' --input F=0 -o '" + dir + "/x.csv'", dir);
+  CHECK(replaced.exit_code == 2);
+  CHECK(replaced.err.find("--sensitivity follows the scene's default input signals") != std::string::npos);
+  CHECK_FALSE(file_exists(dir + "/x.csv"));
+  const Run followed = run(nhc_command() + " simulate '" + kScene + "' --sensitivity 'x(0)' -o '" + dir + "/x.csv'", dir);
+  CHECK(followed.exit_code == 0);
+  CHECK(file_exists(dir + "/x.csv"));
 }
 
 namespace {

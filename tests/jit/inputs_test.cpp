@@ -106,15 +106,33 @@ TEST_CASE("inputs: values held between sampling times (sampled-data control)", "
   CHECK(worst < 1e-8);
 }
 
-TEST_CASE("inputs: forward sensitivities of a model with inputs are refused in words", "[jit][inputs]") {
+TEST_CASE("inputs: forward sensitivities follow the default signal", "[jit][inputs]") {
+  // x'' = -x + sin 2t from rest: x = (2 sin t - sin 2t)/3 and dx/dx(0) = cos t (the input does
+  // not depend on x(0)); every sample carries u = sin 2t.
   const nhc::Scene scene = oscillator(0.0, 0.0);
   nhc::jit::BuildOptions options;
   options.compile.cache_directory = fs::path(NHC_BINARY_DIR) / "tests" / "jit" / "inputs-cache";
   options.sensitivities = true;
   const nhc::jit::LoadedModel built = nhc::jit::build(scene, nhc::ModelKind::chetaev, options);
+  const nhc::runtime::Model& model = built.model();
   nhc::runtime::SensitivityParameter x0;
   x0.kind = nhc::runtime::SensitivityParameter::Kind::initial_value;
-  x0.index = built.model().state_index(0, 0);
-  CHECK_THROWS_WITH(nhc::runtime::SensitivityIntegrator(built.model(), {}, {x0}),
-                    Catch::Contains("sensitivities of a model with inputs (u) are not supported"));
+  x0.index = model.state_index(0, 0);
+  x0.name = "x(0)";
+  const nhc::runtime::InitialState initial = nhc::runtime::initial_state_from(model, 0.0, scene.initial.values);
+  std::vector<double> times;
+  for (int k = 0; k <= 30; ++k) times.push_back(0.1 * k);
+  const nhc::runtime::SensitivityRun run =
+      nhc::runtime::simulate_sensitivities(model, model.default_parameters(), initial, {x0}, times, tight());
+  REQUIRE(!run.failure);
+  REQUIRE(run.samples.size() == times.size());
+  double worst = 0.0;
+  for (const nhc::runtime::SensitivitySample& s : run.samples) {
+    const double x = (2 * std::sin(s.t) - std::sin(2 * s.t)) / 3;
+    worst = std::max({worst, std::abs(s.y[static_cast<std::size_t>(x0.index)] - x),
+                      std::abs(s.s[0][static_cast<std::size_t>(x0.index)] - std::cos(s.t))});
+    REQUIRE(s.u.size() == 1);
+    CHECK(std::abs(s.u[0] - std::sin(2 * s.t)) < 1e-15);
+  }
+  CHECK(worst < 1e-8);
 }

@@ -506,7 +506,7 @@ PreparedModel prepare_model(const Scene& scene, const Index1System& system, Jaco
   // Sensitivity additions (docs/generated-code.md): only when asked for and the scene has parameters.
   m.sensitivities = sensitivities && m.n_parameters > 0;
   if (m.sensitivities) {
-    const ParameterJacobian pj = parameter_jacobian(system, m.parameters);
+    const ParameterJacobian pj = parameter_jacobian(system, m.parameters, scene.inputs);
     m.functions.push_back(parameter_matrix_function("residual_parameter_jacobian",
                                                     "/// dF/dp, column-major n_states x n_parameters.\n", "Fp",
                                                     m.n_states, m.n_parameters, pj.residual, pj.residual_nonzeros,

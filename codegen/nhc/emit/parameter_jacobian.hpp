@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "nhc/analysis/index1_system.hpp"
+#include "nhc/scene/scene.hpp"
 
 namespace nhc {
 
@@ -24,7 +25,10 @@ struct ParameterJacobian {
 };
 
 /// dF/dp and dg/dp of `system` for the scene parameters `parameters` (indices into the scene's
-/// list); only the parameters occurring in an expression are differentiated.
-ParameterJacobian parameter_jacobian(const Index1System& system, const std::vector<int>& parameters);
+/// list); only the parameters occurring in an expression are differentiated. With `inputs`
+/// (the scene's [inputs]), dF/dp is the total derivative with each input at its default signal
+/// s_j(t, p): ∂F/∂p + Σ_j ∂F/∂u_j ∂s_j/∂p (the sensitivities of a run driven by the default signals).
+ParameterJacobian parameter_jacobian(const Index1System& system, const std::vector<int>& parameters,
+                                     const std::vector<SceneInput>& inputs = {});
 
 }  // namespace nhc

@@ -36,6 +36,8 @@ int find_state(const Index1System& system, const StateComponent& s, int order) {
   return -1;
 }
 
+}  // namespace
+
 void require_autonomous(const Index1System& system, const GiNaC::ex& time) {
   for (std::size_t r = 0; r < system.residuals.size(); ++r)
     if (depends_on(system.residuals[r], time))
@@ -46,6 +48,8 @@ void require_autonomous(const Index1System& system, const GiNaC::ex& time) {
       throw MathError("the hidden constraint " + system.hidden_constraint_names[r] +
                       " depends on t explicitly: a non-autonomous system has no equilibria to linearize about");
 }
+
+namespace {
 
 std::vector<std::vector<GiNaC::ex>> jacobian(const std::vector<GiNaC::ex>& functions,
                                              const std::vector<ReducedComponent>& components, bool derivative) {
@@ -62,8 +66,9 @@ std::vector<std::vector<GiNaC::ex>> jacobian(const std::vector<GiNaC::ex>& funct
 
 }  // namespace
 
-CyclicReduction reduce_cyclic(const Index1System& system, const GiNaC::ex& time) {
-  require_autonomous(system, time);
+CyclicReduction reduce_cyclic(const Index1System& system, const GiNaC::ex& time,
+                              const std::vector<std::string>& keep, bool autonomous) {
+  if (autonomous) require_autonomous(system, time);
   CyclicReduction out;
   std::vector<bool> drop_residual(system.residuals.size(), false);
 
@@ -90,6 +95,11 @@ CyclicReduction reduce_cyclic(const Index1System& system, const GiNaC::ex& time)
       else if (truly_depends_on(f, y)) appears = true;
     }
     if (appears) {
+      out.components.push_back(z);
+      continue;
+    }
+    if (std::find(keep.begin(), keep.end(), s.name) != keep.end()) {
+      out.kept.push_back(s.name);
       out.components.push_back(z);
       continue;
     }

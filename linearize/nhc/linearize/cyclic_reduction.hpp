@@ -7,7 +7,9 @@
 /// contain the state q itself (only q', q'', …). Then the state q and its chain row
 /// q' − y[q'] = 0 are dropped (d_q ≥ 2); for d_q = 1 the state q is dropped and q' (which the
 /// residual holds as the derivative of q) becomes an algebraic state. Steady motions with
-/// constant q' are then equilibria of what remains.
+/// constant q' are then equilibria of what remains. A cyclic coordinate named in `keep` stays a
+/// state (with its chain row): a controller that must hold a position needs it (docs/linearize.md,
+/// "Choosing the states").
 
 #include <ginac/ginac.h>
 
@@ -30,6 +32,7 @@ struct ReducedComponent {
 
 struct CyclicReduction {
   std::vector<std::string> cyclic;             ///< removed coordinates
+  std::vector<std::string> kept;               ///< cyclic coordinates kept as states (`keep`)
   std::vector<ReducedComponent> components;    ///< z, N of them
   std::vector<GiNaC::ex> residuals;            ///< F(p, z, z'), N of them
   std::vector<std::string> residual_names;
@@ -39,8 +42,13 @@ struct CyclicReduction {
   std::vector<std::vector<GiNaC::ex>> dg_dz;          ///< m × N
 };
 
-/// Throws MathError when the residual or a hidden constraint depends on t explicitly (a
-/// non-autonomous system has no equilibria to linearize about).
-CyclicReduction reduce_cyclic(const Index1System& system, const GiNaC::ex& time);
+/// MathError when the residual or a hidden constraint depends on t explicitly.
+void require_autonomous(const Index1System& system, const GiNaC::ex& time);
+
+/// With `autonomous`, throws MathError when the residual or a hidden constraint depends on t
+/// explicitly (a non-autonomous system has no equilibria to linearize about); a linearization
+/// along a motion takes such a system.
+CyclicReduction reduce_cyclic(const Index1System& system, const GiNaC::ex& time,
+                              const std::vector<std::string>& keep = {}, bool autonomous = true);
 
 }  // namespace nhc

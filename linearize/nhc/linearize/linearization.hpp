@@ -31,6 +31,11 @@ struct Linearization {
   std::vector<std::pair<std::string, double>> point;
   /// Coordinates removed as cyclic.
   std::vector<std::string> cyclic;
+  /// Cyclic coordinates kept as states (LinearizeOptions::keep).
+  std::vector<std::string> kept;
+  /// About a relative equilibrium (LinearizeOptions::turn): the turning rate ω, A and the
+  /// defect in the turning frame; 0 otherwise.
+  double turn_rate = 0.0;
   /// Reduced state names (the s of d(δs)/dt = A δs).
   std::vector<std::string> states;
   /// States eliminated by the hidden constraints (dependent on `states`), and the algebraic

@@ -47,9 +47,18 @@ std::vector<int> eliminated_columns(const Eigen::MatrixXd& G_hat, const Manifold
   std::vector<int> chosen;
   for (int c : candidates) {
     if (static_cast<int>(chosen.size()) == rank) break;
+    if (!in.kept.empty() && in.kept[static_cast<std::size_t>(differential[static_cast<std::size_t>(c)])]) continue;
     std::vector<int> trial = chosen;
     trial.push_back(c);
     if (numerical_rank(columns(G_hat, trial), tolerance) == static_cast<int>(trial.size())) chosen = trial;
+  }
+  if (static_cast<int>(chosen.size()) < rank) {
+    std::string kept;
+    for (std::size_t k = 0; k < in.kept.size(); ++k)
+      if (in.kept[k]) kept += (kept.empty() ? "" : ", ") + in.names[k];
+    throw MathError("the hidden constraints fix " + std::to_string(rank) + " of the differential states at this point, "
+                    "but only " + std::to_string(chosen.size()) + " can be eliminated when " + kept +
+                    " are all kept as states: name fewer states, or others (docs/linearize.md, \"Choosing the states\")");
   }
   std::sort(chosen.begin(), chosen.end());
   return chosen;

@@ -20,6 +20,7 @@
 
 #include <Eigen/Dense>
 
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -31,6 +32,10 @@ struct ManifoldInput {
   std::vector<bool> differential;        ///< per state
   std::vector<int> order;                ///< derivative order, for the elimination preference
   std::vector<bool> multiplier;
+  /// Per state (may be empty): never eliminated (LinearizeOptions::states); MathError when the
+  /// others cannot take every independent constraint.
+  std::vector<bool> kept;
+  std::vector<std::string> names;  ///< per state, for that message
 };
 
 struct ManifoldLinearization {

@@ -16,11 +16,13 @@
 #include <cstring>
 #include <sstream>
 #include <memory>
+#include <optional>
 #include <type_traits>
 #include <stdexcept>
 
 #include "nhc/runtime/hidden_constraints.hpp"
 #include "nhc/runtime/ida_session.hpp"
+#include "nhc/runtime/inputs.hpp"
 #include "nhc/runtime/sundials.hpp"
 #include "nhc/runtime/trajectory.hpp"
 
@@ -126,6 +128,11 @@ struct SensitivityIntegrator::Impl {
   std::vector<SensitivityParameter> thetas;
   IntegratorOptions options;
   SensitivityOptions sensitivity;
+  /// The parameters, then the inputs at their default signals at each evaluation (inputs.hpp):
+  /// what the generated functions read. dF/dp includes the signals' dependence on the parameters
+  /// (emit/parameter_jacobian.hpp).
+  std::optional<InputValues> inputs;
+  const double* pu(double tt, const double* yy) const { return inputs->at(tt, yy); }
 
   sd::Context ctx;
   sd::Vector y, yp, id;
@@ -179,11 +186,9 @@ struct SensitivityIntegrator::Impl {
     if (static_cast<int>(p.size()) != model.n_parameters())
       throw ModelError("the model has " + std::to_string(model.n_parameters()) + " parameters, " +
                        std::to_string(p.size()) + " given");
-    // dF/dp treats each input as independent of the parameters, so a default signal of a
-    // parameter (u = k t) would be missed; inputs set by the application have no dF/dp at all.
-    if (model.n_inputs() > 0)
-      throw ModelError("forward sensitivities of a model with inputs (" + model.input_name(0) +
-                       (model.n_inputs() > 1 ? ", …" : "") + ") are not supported");
+    // The inputs follow their default signals s(t, p), of which the generated dF/dp is the total
+    // derivative (∂F/∂p + ∂F/∂u ∂s/∂p); inputs set otherwise would need their own ∂u/∂p.
+    inputs.emplace(model, p);
     if (thetas.empty()) throw std::invalid_argument("no quantity to differentiate by");
     if (!model.has_dense_jacobian() && !model.has_sparse_jacobian())
       throw ModelError("sensitivities need the generated Jacobian (generate with --jacobian dense or sparse)");
@@ -203,19 +208,19 @@ struct SensitivityIntegrator::Impl {
     if (model.has_sparse_jacobian()) {  // the compressed columns: linear in the nonzeros
       Fy_values.resize(static_cast<size_t>(tab.jacobian_nnz));
       Fyp_values.resize(static_cast<size_t>(tab.jacobian_nnz));
-      tab.jacobian_values(tt, yy, ypp, 0.0, p.data(), Fy_values.data());   // dF/dy
-      tab.jacobian_values(tt, yy, ypp, 1.0, p.data(), Fyp_values.data());  // dF/dy + dF/dy'
+      tab.jacobian_values(tt, yy, ypp, 0.0, pu(tt, yy), Fy_values.data());   // dF/dy
+      tab.jacobian_values(tt, yy, ypp, 1.0, pu(tt, yy), Fyp_values.data());  // dF/dy + dF/dy'
       for (size_t k = 0; k < Fyp_values.size(); ++k) Fyp_values[k] -= Fy_values[k];
     } else {
       Fy.resize(nn, nn);
       Fyp.resize(nn, nn);
-      model.dense_jacobian(tt, yy, ypp, 0.0, p.data(), Fy.data());   // dF/dy
-      model.dense_jacobian(tt, yy, ypp, 1.0, p.data(), Fyp.data());  // dF/dy + dF/dy'
+      model.dense_jacobian(tt, yy, ypp, 0.0, pu(tt, yy), Fy.data());   // dF/dy
+      model.dense_jacobian(tt, yy, ypp, 1.0, pu(tt, yy), Fyp.data());  // dF/dy + dF/dy'
       Fyp -= Fy;
     }
     if (model.n_parameters() > 0 && model.has_parameter_jacobian()) {
       Fp.resize(nn, model.n_parameters());
-      model.table().residual_parameter_jacobian(tt, yy, ypp, p.data(), Fp.data());
+      model.table().residual_parameter_jacobian(tt, yy, ypp, pu(tt, yy), Fp.data());
     }
     cached_t = tt;
     cached_y.assign(yy, yy + nn);
@@ -232,7 +237,8 @@ struct SensitivityIntegrator::Impl {
       return -1;
     }
     double* r = N_VGetArrayPointer(rr);
-    self->model.table().residual(tt, N_VGetArrayPointer(yy), N_VGetArrayPointer(ypp), self->p.data(), r);
+    self->model.table().residual(tt, N_VGetArrayPointer(yy), N_VGetArrayPointer(ypp),
+                                 self->pu(tt, N_VGetArrayPointer(yy)), r);
     for (int i = 0; i < self->n(); ++i)
       if (!std::isfinite(r[i])) return 1;
     return 0;
@@ -282,7 +288,7 @@ struct SensitivityIntegrator::Impl {
                          N_Vector, N_Vector, N_Vector) {
     auto* self = static_cast<Impl*>(data);
     return ida_session::fill_jacobian(self->model, self->sparse, tt, N_VGetArrayPointer(yy), N_VGetArrayPointer(ypp),
-                                      cj, self->p.data(), J) < 0
+                                      cj, self->pu(tt, N_VGetArrayPointer(yy)), J) < 0
                ? 0
                : 1;
   }
@@ -290,7 +296,7 @@ struct SensitivityIntegrator::Impl {
   static int root_cb(sunrealtype tt, N_Vector yy, N_Vector, sunrealtype* gout, void* data) {
     auto* self = static_cast<Impl*>(data);
     const int count = self->model.n_singular();
-    self->model.table().singular_quantities(tt, N_VGetArrayPointer(yy), self->p.data(), gout);
+    self->model.table().singular_quantities(tt, N_VGetArrayPointer(yy), self->pu(tt, N_VGetArrayPointer(yy)), gout);
     for (int k = 0; k < count; ++k) {
       gout[k] = std::abs(gout[k]) - self->options.singularity_threshold * self->singular_scale[k];
       if (!std::isfinite(gout[k])) gout[k] = -1.0;
@@ -349,10 +355,10 @@ struct SensitivityIntegrator::Impl {
     Eigen::MatrixXd G, Gp;
     if (m > 0) {
       G.resize(m, nn);
-      model.table().hidden_constraints_jacobian(state.t0, y.data(), p.data(), G.data());
+      model.table().hidden_constraints_jacobian(state.t0, y.data(), pu(state.t0, y.data()), G.data());
       if (model.n_parameters() > 0 && model.table().abi_version >= 3 && model.table().hidden_parameter_jacobian) {
         Gp.resize(m, model.n_parameters());
-        model.table().hidden_parameter_jacobian(state.t0, y.data(), p.data(), Gp.data());
+        model.table().hidden_parameter_jacobian(state.t0, y.data(), pu(state.t0, y.data()), Gp.data());
       }
     }
     std::vector<int> free;
@@ -396,6 +402,8 @@ struct SensitivityIntegrator::Impl {
     out.t = tt;
     out.y.assign(y.data(), y.data() + n());
     out.yp.assign(yp.data(), yp.data() + n());
+    const double* values = pu(tt, out.y.data()) + model.n_parameters();
+    out.u.assign(values, values + model.n_inputs());
     for (int k = 0; k < ns(); ++k) {
       out.s.emplace_back(yS.data(k), yS.data(k) + n());
       out.sp.emplace_back(ypS.data(k), ypS.data(k) + n());
@@ -433,7 +441,7 @@ SensitivitySample SensitivityIntegrator::initialize(const InitialState& state, d
 
   // 1. Hidden constraints: move what the user did not give (the plain run's rule).
   const std::vector<double> repair_scale = initial_repair_scale(state);
-  solve_starting_point(s.model, s.p.data(), state.t0, s.y.data(), state.given, s.options.rtol, s.options.atol,
+  solve_starting_point(s.model, s.pu(state.t0, s.y.data()), state.t0, s.y.data(), state.given, s.options.rtol, s.options.atol,
                        state.repair ? &repair_scale : nullptr);
   // 2. Their derivative: the initial sensitivities of the differential states.
   s.yS = VectorArray(s.ns(), s.y);
@@ -471,7 +479,7 @@ SensitivitySample SensitivityIntegrator::initialize(const InitialState& state, d
   const int count = s.model.n_singular();
   if (count > 0) {
     s.singular_scale.assign(static_cast<size_t>(count), 0.0);
-    s.model.table().singular_quantities(state.t0, s.y.data(), s.p.data(), s.singular_scale.data());
+    s.model.table().singular_quantities(state.t0, s.y.data(), s.pu(state.t0, s.y.data()), s.singular_scale.data());
     for (double& v : s.singular_scale) v = std::abs(v);
     s.check(IDARootInit(s.ida, count, &Impl::root_cb), "initialising the singular-set monitors");
     std::vector<int> direction(static_cast<size_t>(count), -1);

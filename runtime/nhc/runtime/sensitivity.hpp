@@ -54,7 +54,8 @@ struct SensitivitySample {
   double t = 0;
   std::vector<double> y, yp;
   std::vector<std::vector<double>> s, sp;  ///< s[k][i] = ∂y_i/∂θ_k, sp[k][i] = ∂y'_i/∂θ_k
-  Sample state() const { return Sample{t, y, yp, {}}; }
+  std::vector<double> u;  ///< the inputs (their default signals) at t
+  Sample state() const { return Sample{t, y, yp, u}; }
 };
 
 struct SensitivityStatistics {

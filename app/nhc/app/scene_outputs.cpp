@@ -1,11 +1,11 @@
-#include "scene_outputs.hpp"
+#include "nhc/app/scene_outputs.hpp"
 
 #include <cmath>
 #include <set>
 
 #include "nhc/errors.hpp"
 
-namespace nhc::cli {
+namespace nhc::app {
 
 SceneOutputs::SceneOutputs(const Scene& scene, const runtime::Model& model, const std::vector<double>& p)
     : expressions_(scene, model, p) {
@@ -35,4 +35,4 @@ SceneOutputs::SceneOutputs(const Scene& scene, const runtime::Model& model, cons
 
 std::vector<double> SceneOutputs::evaluate(const runtime::Sample& sample) const { return expressions_.evaluate(sample); }
 
-}  // namespace nhc::cli
+}  // namespace nhc::app

@@ -11,9 +11,9 @@
 
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/scene/scene.hpp"
-#include "sample_expressions.hpp"
+#include "nhc/app/sample_expressions.hpp"
 
-namespace nhc::cli {
+namespace nhc::app {
 
 class SceneOutputs {
  public:
@@ -39,4 +39,4 @@ class SceneOutputs {
   SampleExpressions expressions_;
 };
 
-}  // namespace nhc::cli
+}  // namespace nhc::app

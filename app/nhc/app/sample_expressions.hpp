@@ -15,7 +15,7 @@
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/scene/scene.hpp"
 
-namespace nhc::cli {
+namespace nhc::app {
 
 class SampleExpressions {
  public:
@@ -62,4 +62,4 @@ class SampleExpressions {
   mutable bool substitute_ = false;  ///< an expression the program cannot lower: GiNaC's evalf for all
 };
 
-}  // namespace nhc::cli
+}  // namespace nhc::app

@@ -1,0 +1,29 @@
+#pragma once
+/// \file parameter_values.hpp
+/// \brief Parameter values given from outside a scene (the command line's `--set`, Python's
+/// `set=`): the one rule that assigns them, and the model's parameter vector read from a scene by
+/// name. Parameters are run-time values of a compiled model, so a changed value never asks for a
+/// new one: the header is generated and compiled from the scene as written (its defaults), and a
+/// run passes model_parameters() of the scene with the values set (docs/python.md, "Parameter
+/// studies").
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "nhc/runtime/model.hpp"
+#include "nhc/scene/scene.hpp"
+
+namespace nhc::app {
+
+/// Each (name, value) assigned to the scene's parameter of that name, in order (the last of a
+/// repeated name wins), then the [initial] values written through parameters re-evaluated.
+/// The names and values must have passed check_parameter_value() (run_request.hpp).
+void set_parameter_values(Scene& scene, const std::vector<std::pair<std::string, double>>& values);
+
+/// The model's parameters (runtime::Model::parameter_names order) at the scene's values, by name:
+/// a model compiled from the scene as written runs the scene with `--set` values exactly as one
+/// compiled from the changed scene would.
+std::vector<double> model_parameters(const runtime::Model& model, const Scene& scene);
+
+}  // namespace nhc::app

@@ -1,0 +1,412 @@
+"""Linearization for control and parameter studies (issue 46), each against an independent path:
+a SymPy model of the two-wheeled pendulum written here, `nhc simulate --set`, the compile cache's
+contents."""
+import os
+import pathlib
+import subprocess
+
+import numpy as np
+import pytest
+
+import nhc
+
+HERE = pathlib.Path(__file__).resolve().parent
+PENDULUM = HERE / "scenes" / "two_wheel_pendulum.toml"
+STATES = ["x", "x'", "th", "th'", "psi", "psi'"]
+
+
+def nhc_command():
+    """The nhc program of the build (NHC_EXECUTABLE, set by ctest)."""
+    program = os.environ.get("NHC_EXECUTABLE")
+    if not program:
+        pytest.skip("NHC_EXECUTABLE is not set (ctest sets it)")
+    return program
+
+
+def sympy_linearization(p):
+    """A and B over (x, v, th, th', psi, psi') at upright rest, from the Lagrangian of the scene's
+    header comment and Kane-style projection onto the generalized speeds u = (v, th', psi'), with
+    x' = v cos psi, y' = v sin psi, phL' = (v - d psi')/r, phR' = (v + d psi')/r: the
+    Lagrange-d'Alembert equations are S^T (d/dt dL/dq' - dL/dq - Q) = 0, q' = S(q) u."""
+    sp = pytest.importorskip("sympy")
+    t = sp.symbols("t")
+    names = ["x", "y", "psi", "th", "phL", "phR"]
+    q = [sp.Function(n)(t) for n in names]
+    x, y, psi, th, phL, phR = q
+    mb, l, Ib1, Ib2, Ib3, mw, r, d, g = (p[k] for k in ["mb", "l", "Ib1", "Ib2", "Ib3", "mw", "r", "d", "g"])
+    Ja, Jd = mw * r**2 / 2, mw * r**2 / 4
+    TL, TR = sp.symbols("TL TR")
+    # The body's centre of mass and angular velocity, from the frames (not from the scene's formulas).
+    ef = sp.Matrix([sp.cos(psi), sp.sin(psi), 0])
+    el = sp.Matrix([-sp.sin(psi), sp.cos(psi), 0])
+    ez = sp.Matrix([0, 0, 1])
+    c = sp.Matrix([x, y, r])
+    cb = c + l * (sp.sin(th) * ef + sp.cos(th) * ez)
+    b1, b2, b3 = sp.cos(th) * ef - sp.sin(th) * ez, el, sp.sin(th) * ef + sp.cos(th) * ez
+    w = psi.diff(t) * ez + th.diff(t) * el
+    T_body = mb / 2 * cb.diff(t).dot(cb.diff(t)) + (Ib1 * w.dot(b1)**2 + Ib2 * w.dot(b2)**2 + Ib3 * w.dot(b3)**2) / 2
+    T_wheels = 0
+    for side, ph in ((1, phL), (-1, phR)):
+        cw = c + side * d * el
+        T_wheels += mw / 2 * cw.diff(t).dot(cw.diff(t)) + (Jd * psi.diff(t)**2 + Ja * ph.diff(t)**2) / 2
+    L = T_body + T_wheels - mb * g * (r + l * sp.cos(th))
+    Q = [0, 0, 0, -TL - TR, TL, TR]
+    E = [sp.diff(L.diff(qi.diff(t)), t) - L.diff(qi) - Qi for qi, Qi in zip(q, Q)]
+    v, om, ps, vd, omd, psd = sp.symbols("v om ps vd omd psd")  # u = (v, th', psi') and u'
+    S = sp.Matrix([[sp.cos(psi), 0, 0], [sp.sin(psi), 0, 0], [0, 0, 1], [0, 1, 0],
+                   [1 / r, 0, -d / r], [1 / r, 0, d / r]])
+    u, ud = sp.Matrix([v, om, ps]), sp.Matrix([vd, omd, psd])
+    qd = S * u
+    qdd = S.diff(t).subs({psi.diff(t): ps}) * u + S * ud
+    subs = {}
+    for k, qi in enumerate(q):
+        subs[qi.diff(t, 2)] = qdd[k]
+    for k, qi in enumerate(q):
+        subs[qi.diff(t)] = qd[k]
+    symbols = sp.symbols("X Y PSI TH PHL PHR")
+    E = [sp.expand(e.subs(subs)).subs(dict(zip(q, symbols))) for e in E]
+    projected = S.subs(dict(zip(q, symbols))).T * sp.Matrix(E)
+    X, Y, PSI, TH = symbols[:4]
+    state = [X, v, TH, om, PSI, ps]
+    point = {s: 0 for s in list(symbols) + [v, om, ps, vd, omd, psd, TL, TR]}
+    M = np.array(projected.jacobian(ud).subs(point), dtype=float)
+    J = np.array(projected.jacobian(state).subs(point), dtype=float)
+    F = np.array(projected.jacobian([TL, TR]).subs(point), dtype=float)
+    accelerations = -np.linalg.solve(M, J)  # rows v', th'', psi''
+    inputs = -np.linalg.solve(M, F)
+    A = np.zeros((6, 6))
+    B = np.zeros((6, 2))
+    A[0, 1] = A[2, 3] = A[4, 5] = 1.0  # x' = v cos psi = v to first order at rest; th' and psi'
+    for row, k in zip((1, 3, 5), range(3)):
+        A[row] = accelerations[k]
+        B[row] = inputs[k]
+    return A, B
+
+
+def test_keep_x_gives_six_states_whose_eigenvalues_match_sympy():
+    scene = nhc.Scene.load(PENDULUM)
+    parameters = scene.parameters
+    A_ref, B_ref = sympy_linearization(parameters)
+
+    free = scene.linearize(keep=["x"])
+    assert free.kept == ["x"] and "x" not in free.cyclic
+    assert len(free.states) == 6 and "x" in free.states
+    reference = np.sort_complex(np.linalg.eigvals(A_ref))
+    found = np.sort_complex(free.eigenvalues)
+    assert np.max(np.abs(found - reference)) < 1e-9 * np.max(np.abs(reference))
+    # Two double zeros (x and psi: Jordan blocks) and the pitch pair +-sqrt(...).
+    assert free.zero_eigenvalues == 4
+    assert np.max(np.abs(free.A @ free.A @ free.A)) > 0  # not nilpotent: the pitch pair is there
+
+    chosen = scene.linearize(keep=["x"], states=STATES)
+    assert chosen.states == STATES and chosen.inputs == ["TL", "TR"]
+    assert np.max(np.abs(chosen.A - A_ref)) < 1e-10 * np.max(np.abs(A_ref))
+    assert np.max(np.abs(chosen.B - B_ref)) < 1e-10 * np.max(np.abs(B_ref))
+    # x's Jordan block: A e_x = 0 and A e_x' = e_x.
+    assert np.all(chosen.A[:, 0] == 0) and chosen.A[0, 1] == 1.0
+
+    without = scene.linearize()
+    assert "x" in without.cyclic and len(without.states) == 5
+
+
+def test_the_wheeled_pendulum_example_linearizes_as_the_sympy_model(source):
+    # examples/wheeled_pendulum.toml comes with the feedback-law work (issue 46, branch control):
+    # the same checks on it once it is there, upright at rest.
+    path = source / "examples" / "wheeled_pendulum.toml"
+    if not path.exists():
+        pytest.skip("examples/wheeled_pendulum.toml is not in this tree yet")
+    scene = nhc.Scene.load(path)
+    A_ref, B_ref = sympy_linearization(scene.parameters)
+    lin = scene.linearize(at={"th": 0.0, "th'": 0.0}, keep=["x"], states=STATES)
+    assert lin.states == STATES and lin.zero_eigenvalues == 4
+    assert np.max(np.abs(lin.A - A_ref)) < 1e-10 * np.max(np.abs(A_ref))
+    assert np.max(np.abs(lin.B - B_ref)) < 1e-10 * np.max(np.abs(B_ref))
+
+
+def test_keep_and_states_refusals():
+    scene = nhc.Scene.load(PENDULUM)
+    with pytest.raises(nhc.SceneError, match="--keep z: not a coordinate"):
+        scene.linearize(keep=["z"])
+    with pytest.raises(nhc.SceneError, match=r"--states x: .*cyclic and removed: keep it with --keep x"):
+        scene.linearize(states=["x"])
+    with pytest.raises(nhc.SceneError, match="--states names 2 states; the linearization has 6"):
+        scene.linearize(keep=["x"], states=["x", "th"])
+
+
+def test_linearize_text_names_rows_and_columns():
+    out = subprocess.run([nhc_command(), "linearize", str(PENDULUM), "--keep", "x", "--states", ",".join(STATES)],
+                         capture_output=True, text=True, check=True).stdout
+    lines = out.splitlines()
+    a = next(k for k, line in enumerate(lines) if line.strip().startswith("A ("))
+    assert lines[a + 1].split() == STATES
+    assert [lines[a + 2 + k].split()[0] for k in range(6)] == STATES
+    assert lines[a + 3].split()[1:] == ["0", "0", "-7.936179775", "0", "0", "0"]  # x' row: d(δx')/dt
+    b = next(k for k, line in enumerate(lines) if line.strip().startswith("B ("))
+    assert lines[b + 1].split() == ["TL", "TR"]
+    assert [lines[b + 2 + k].split()[0] for k in range(6)] == STATES
+    assert "cyclic coordinates kept as states: x" in out
+    refused = subprocess.run([nhc_command(), "linearize", str(PENDULUM), "--keep", "x,z"], capture_output=True, text=True)
+    assert refused.returncode == 2 and "--keep z: not a coordinate" in refused.stderr and refused.stdout == ""
+
+
+def test_a_parameter_study_compiles_once_and_matches_simulate_set(source, tmp_path, monkeypatch):
+    # A fresh compile cache: the first build compiles, the other 19 values find its library.
+    monkeypatch.setenv("NHC_CACHE_DIR", str(tmp_path / "cache"))
+    path = source / "examples" / "rolling_disk.toml"
+    values = np.linspace(0.3, 0.7, 20)
+    runs = []
+    for r in values:
+        runs.append(nhc.Scene.load(path, set={"r": float(r)}).build().simulate(t_end=0.5, outputs=10))
+    libraries = [f for f in (tmp_path / "cache").rglob("*.so")]
+    assert len(libraries) == 1, libraries
+    assert runs[0].summary["compile_seconds"] > 0
+    # The same numbers as the command line's --set (CSV of 17 significant digits).
+    for k in (0, 7, 19):
+        csv = tmp_path / f"set{k}.csv"
+        subprocess.run([nhc_command(), "simulate", str(path), "--set", f"r={values[k]!r}", "--t-end", "0.5",
+                        "--outputs", "10", "-o", str(csv)], capture_output=True, check=True)
+        header = csv.read_text().splitlines()[0].split(",")
+        table = np.loadtxt(csv, delimiter=",", skiprows=1)
+        for c, name in enumerate(header):
+            if name in runs[k]:
+                assert np.max(np.abs(table[:, c] - runs[k][name])) <= 1e-12 * (1 + np.max(np.abs(table[:, c]))), name
+    # The set= values are the run's: [initial] written through r follows, the model reports them.
+    model = nhc.Scene.load(path, set={"r": 0.45}).build()
+    assert model.parameters["r"] == 0.45
+
+
+def reduced_velocity(model, t, sample_y, s, u, p):
+    """d/dt of s = (x, x', th, th', psi, psi') of the two-wheeled pendulum from the compiled residual
+    alone: the velocities the constraints fix written here by hand (y' = x' tan psi, the wheel
+    rates), then F(t, y, y', u) = 0 solved by Newton for the derivatives of the differential states
+    and the algebraic states (the multipliers). An independent path to A(t) and B(t)."""
+    names = model.state_names
+    index = {name: k for k, name in enumerate(names)}
+    differential = model._model.differential
+    y = np.array(sample_y, dtype=float)
+    x, xd, th, thd, psi, psid = s
+    yd = xd * np.tan(psi)
+    forward = xd * np.cos(psi) + yd * np.sin(psi)
+    for name, value in (("x", x), ("x'", xd), ("th", th), ("th'", thd), ("psi", psi), ("psi'", psid), ("y'", yd),
+                        ("phL'", (forward - p["d"] * psid) / p["r"]), ("phR'", (forward + p["d"] * psid) / p["r"])):
+        y[index[name]] = value
+    yp = np.zeros(len(y))
+    unknowns = [("yp", k) for k in range(len(y)) if differential[k]] + [("y", k) for k in range(len(y)) if not differential[k]]
+    for _ in range(30):
+        F = model.residual(t, y, yp, u)
+        dFdy = model.jacobian(t, y, yp, 0.0)
+        dFdyp = model.jacobian(t, y, yp, 1.0) - dFdy
+        K = np.column_stack([dFdyp[:, k] if kind == "yp" else dFdy[:, k] for kind, k in unknowns])
+        step = np.linalg.solve(K, -F)
+        for (kind, k), d in zip(unknowns, step):
+            if kind == "yp":
+                yp[k] += d
+            else:
+                y[k] += d
+        if np.max(np.abs(step)) < 1e-15:
+            break
+    return np.array([yp[index[name]] for name in STATES])
+
+
+def test_linearize_along_and_input_jacobian_match_finite_differences():
+    scene = nhc.Scene.load(PENDULUM)
+    model = scene.build()
+    u_of = lambda t, y: [0.2 * np.cos(3 * t), -0.1]  # turning while it falls
+    run = model.simulate(t_end=0.4, outputs=4, inputs=u_of, rtol=1e-10, atol=1e-12)
+    along = model.linearize_along(run, inputs=u_of, keep=["x"], states=STATES)
+    assert along.A.shape == (5, 6, 6) and along.B.shape == (5, 6, 2) and along.states == STATES
+    p = scene.parameters
+    names = model.state_names
+    for r in (1, 4):
+        t = run.t[r]
+        sample = np.array([run[name][r] for name in names])
+        s0 = np.array([run[name][r] for name in STATES])
+        u0 = np.array(u_of(t, sample))
+        h = 1e-6
+        A_fd = np.column_stack([(reduced_velocity(model, t, sample, s0 + h * e, u0, p) -
+                                 reduced_velocity(model, t, sample, s0 - h * e, u0, p)) / (2 * h) for e in np.eye(6)])
+        B_fd = np.column_stack([(reduced_velocity(model, t, sample, s0, u0 + h * e, p) -
+                                 reduced_velocity(model, t, sample, s0, u0 - h * e, p)) / (2 * h) for e in np.eye(2)])
+        assert np.max(np.abs(along.A[r] - A_fd)) < 1e-6 * np.max(np.abs(A_fd)), (along.A[r], A_fd)
+        assert np.max(np.abs(along.B[r] - B_fd)) < 1e-6 * np.max(np.abs(B_fd)), (along.B[r], B_fd)
+        # dF/du against central differences of the compiled residual in u.
+        yp = np.array([run[name + "'"][r] if name + "'" in run else 0.0 for name in names])
+        J_fd = np.column_stack([(model.residual(t, sample, yp, u0 + h * e) - model.residual(t, sample, yp, u0 - h * e)) /
+                                (2 * h) for e in np.eye(2)])
+        J = model.input_jacobian(t, sample, yp, u0)
+        assert J.shape == (len(names), 2)
+        assert np.max(np.abs(J - J_fd)) < 1e-8
+        assert np.max(np.abs(J)) == 1.0  # the torques enter R_th, R_phL, R_phR with unit coefficients
+    # Along a motion that is not steady the pitch row depends on the state: A(t) is not constant.
+    assert np.max(np.abs(along.A[4] - along.A[0])) > 1e-3
+
+
+def test_run_has_the_scenes_outputs_as_the_command_line_writes_them(tmp_path):
+    # A pendulum with the bob's height and the tension-like quantity g cos th + l th'^2 as
+    # [outputs]: the closed forms evaluated on the run's own columns, and nhc simulate's CSV.
+    text = """
+name = "pendulum_outputs"
+coordinates = ["th"]
+lagrangian = "l^2*th'^2/2 + g*l*cos(th)"
+[parameters]
+g = 9.81
+l = 0.7
+[outputs]
+height = "-l*cos(th)"
+pull = "g*cos(th) + l*th'^2"
+[initial]
+th = [0.4, 0.0]
+[simulate]
+t_end = 1.0
+outputs = 20
+"""
+    path = tmp_path / "pendulum_outputs.toml"
+    path.write_text(text)
+    run = nhc.Scene.load(path, set={"l": 0.5}).build().simulate()
+    assert run.columns[-2:] == ["height", "pull"]
+    assert np.max(np.abs(run["height"] + 0.5 * np.cos(run["th"]))) < 1e-15
+    assert np.max(np.abs(run["pull"] - (9.81 * np.cos(run["th"]) + 0.5 * run["th'"]**2))) < 1e-13
+    csv = tmp_path / "run.csv"
+    subprocess.run([nhc_command(), "simulate", str(path), "--set", "l=0.5", "-o", str(csv)], capture_output=True, check=True)
+    header = csv.read_text().splitlines()[0].split(",")
+    assert header == run.columns
+    assert np.max(np.abs(np.loadtxt(csv, delimiter=",", skiprows=1) - run.to_numpy())) < 1e-12
+
+
+def disk_velocity(model, s, p):
+    """d/dt of s = (th, th', ph, ph', ps') of the rolling disk from the compiled residual alone: the
+    rolling constraints written here (x' = r ps' cos ph, y' = r ps' sin ph), then F = 0 solved by
+    Newton for the derivatives of the differential states and for the multipliers."""
+    names = model.state_names
+    index = {name: k for k, name in enumerate(names)}
+    differential = model._model.differential
+    y = np.zeros(len(names))
+    th, thd, ph, phd, psd = s
+    for name, value in (("th", th), ("th'", thd), ("ph", ph), ("ph'", phd), ("ps'", psd),
+                        ("x'", p["r"] * psd * np.cos(ph)), ("y'", p["r"] * psd * np.sin(ph))):
+        y[index[name]] = value
+    yp = np.zeros(len(names))
+    unknowns = [("yp", k) for k in range(len(y)) if differential[k]] + [("y", k) for k in range(len(y)) if not differential[k]]
+    for _ in range(30):
+        F = model.residual(0.0, y, yp)
+        dFdy = model.jacobian(0.0, y, yp, 0.0)
+        dFdyp = model.jacobian(0.0, y, yp, 1.0) - dFdy
+        K = np.column_stack([dFdyp[:, k] if kind == "yp" else dFdy[:, k] for kind, k in unknowns])
+        step = np.linalg.solve(K, -F)
+        for (kind, k), d in zip(unknowns, step):
+            if kind == "yp":
+                yp[k] += d
+            else:
+                y[k] += d
+        if np.max(np.abs(step)) < 1e-15:
+            break
+    return np.array([yp[index[name]] for name in ["th", "th'", "ph", "ph'", "ps'"]])
+
+
+def test_a_steady_turn_of_the_rolling_disk_linearizes_in_the_turning_frame(source):
+    # A steady circle: lean 0.3, heading rate 2, and the spin rate at which th'' = 0 (found by the
+    # secant method on the analysis' th''). ph is not cyclic (the rolling constraints contain it):
+    # without --turn the point is refused as not stationary.
+    path = source / "tests" / "linearize" / "scenes" / "rolling_disk.toml"
+    text = path.read_text()
+    def lean_acceleration(spin):
+        changed = text.replace("th = [0.0, 0.0]", "th = [0.3, 0.0]").replace("ph = [0.0, 0.0]", "ph = [0.0, 2.0]")
+        return nhc.Scene.from_toml(changed.replace("ps = [0.0, 6.0]", f"ps = [0.0, {spin!r}]")).analyze("chetaev").initial_point["th''"]
+    a, b = 1.0, 10.0
+    fa, fb = lean_acceleration(a), lean_acceleration(b)
+    for _ in range(60):
+        a, fa, b = b, fb, b - fb * (b - a) / (fb - fa)
+        fb = lean_acceleration(b)
+        if abs(fb) < 1e-13:
+            break
+    scene = nhc.Scene.load(path)
+    at = {"th": 0.3, "ph'": 2.0, "ps'": b}
+    with pytest.raises(nhc.MathError, match="the operating point is not stationary"):
+        scene.linearize(at=at)
+    lin = scene.linearize(at=at, turn="ph:x,y")
+    assert lin.turn_rate == 2.0 and lin.states == ["th", "th'", "ph", "ph'", "ps'"]
+    model = scene.build()
+    s0 = np.array([0.3, 0.0, 0.0, 2.0, b])
+    # Stationary in the turning frame: f(s0) = omega e_ph.
+    assert np.max(np.abs(disk_velocity(model, s0, scene.parameters) - np.array([0, 0, 2.0, 0, 0]))) < 1e-12
+    h = 1e-6
+    A_fd = np.column_stack([(disk_velocity(model, s0 + h * e, scene.parameters) -
+                             disk_velocity(model, s0 - h * e, scene.parameters)) / (2 * h) for e in np.eye(5)])
+    assert np.max(np.abs(lin.A - A_fd)) < 1e-7 * np.max(np.abs(A_fd)), (lin.A, A_fd)
+    # Steady circles are stable here: a pair on the imaginary axis, no eigenvalue to the right.
+    assert max(lin.eigenvalues.real) < 1e-5
+    assert np.max(np.abs(lin.eigenvalues.imag)) > 0.1
+    # The turn must be a symmetry: th and x do not turn together.
+    with pytest.raises(nhc.SceneError, match="keep both or neither"):
+        scene.linearize(at=at, turn="ph:x,th")
+
+
+DRIVEN = """
+name = "driven_oscillator"
+coordinates = ["x"]
+lagrangian = "x'^2/2 - k*x^2/2"
+[parameters]
+k = 4.0
+a = 0.5
+w = 3.0
+[inputs]
+u = "a*sin(w*t)"
+[forces]
+x = "u"
+[initial]
+x = [0.2, 0.0]
+"""
+
+
+def test_sensitivities_with_inputs_follow_their_default_signals(tmp_path):
+    # x'' = -k x + a sin(w t): the sensitivities by k (through the equation), a and w (only
+    # through the input's default signal) against central differences of runs.
+    names = ["k", "a", "w"]
+    times = np.linspace(0.0, 2.0, 11)
+    options = dict(output_times=times, rtol=1e-11, atol=1e-13)
+    sens = nhc.Scene.from_toml(DRIVEN).build().simulate(sensitivity=names, **options)
+    base = {"k": 4.0, "a": 0.5, "w": 3.0}
+    for name in names:
+        h = 1e-5 * base[name]
+        up = nhc.Scene.from_toml(DRIVEN, set={name: base[name] + h}).build().simulate(**options)
+        down = nhc.Scene.from_toml(DRIVEN, set={name: base[name] - h}).build().simulate(**options)
+        for state in ("x", "x'"):
+            fd = (up[state] - down[state]) / (2 * h)
+            column = sens[f"d({state})/d({name})"]
+            assert np.max(np.abs(column - fd)) < 1e-6 * (1 + np.max(np.abs(fd))), (name, state, column, fd)
+            assert np.max(np.abs(column)) > 1e-2  # every one of them moves the motion
+    # The same columns from the command line; an --input replacing the signal is refused there.
+    path = tmp_path / "driven.toml"
+    path.write_text(DRIVEN)
+    csv = tmp_path / "sens.csv"
+    subprocess.run([nhc_command(), "simulate", str(path), "--sensitivity", "k,a,w", "--output-times",
+                    ",".join(repr(t) for t in times), "--rtol", "1e-11", "--atol", "1e-13", "-o", str(csv)],
+                   capture_output=True, check=True)
+    header = csv.read_text().splitlines()[0].split(",")
+    table = np.loadtxt(csv, delimiter=",", skiprows=1)
+    for c, name in enumerate(header):
+        assert np.max(np.abs(table[:, c] - sens[name])) < 1e-12 * (1 + np.max(np.abs(table[:, c]))), name
+    refused = subprocess.run([nhc_command(), "simulate", str(path), "--sensitivity", "a", "--input", "u=0"],
+                             capture_output=True, text=True)
+    assert refused.returncode == 2 and "does not go with --input" in refused.stderr
+    with pytest.raises(nhc.SceneError, match="default input signals"):
+        nhc.Scene.from_toml(DRIVEN).build().simulate(sensitivity=["a"], inputs=lambda t, y: [0.0])
+
+
+def test_the_scenes_simulate_model_is_the_default_model():
+    # As on the command line (default_model): [simulate] model, else chetaev.
+    text = OSCILLATOR_MODELS + '[simulate]\nmodel = "vakonomic"\n'
+    scene = nhc.Scene.from_toml(text)
+    assert scene.default_model == "vakonomic"
+    assert scene.build().name == "vakonomic" and scene.derive().model == "vakonomic"
+    assert scene.analyze().model == "vakonomic"
+    assert nhc.Scene.from_toml(OSCILLATOR_MODELS).build().name == "chetaev"
+
+
+OSCILLATOR_MODELS = """
+name = "oscillator_models"
+coordinates = ["x"]
+lagrangian = "x'^2/2 - x^2/2"
+[initial]
+x = [1.0, 0.0]
+"""
