@@ -86,3 +86,19 @@ def test_vakonomic_has_no_reduced_form(source):
     eqs = nhc.Scene.load(source / "examples/knife_edge.toml").derive("vakonomic").to_sympy()
     assert eqs.speeds is None and "chetaev and holder" in eqs.reduced_reason
     assert set(eqs.residuals) == {"R_x", "R_y", "R_phi"}
+
+
+def test_rolling_disk_matches_the_hand_derivation(source):
+    # docs/reduced-form.md, "The rolling disk": T* = m r^2/2 [5/4 phi'^2 + 3/2 (psi' sin(phi) + ph')^2
+    # + 1/4 psi'^2 cos(phi)^2], V = m g r cos(phi); M_r is the Hessian of T* in the speeds, and at
+    # rest f_r = -dV/d(psi, phi, ph).
+    eqs = nhc.Scene.load(source / "examples/rolling_disk.toml").derive("chetaev").to_sympy()
+    assert eqs.speeds == ["psi'", "phi'", "ph'"]
+    m, r, g, phi = (eqs.symbol(n) for n in ("m", "r", "g", "phi"))
+    u = [eqs.symbol(n) for n in eqs.speeds]
+    T = m * r**2 / 2 * (sp.Rational(5, 4) * u[1]**2 + sp.Rational(3, 2) * (u[0] * sp.sin(phi) + u[2])**2
+                        + sp.Rational(1, 4) * u[0]**2 * sp.cos(phi)**2)
+    M = sp.hessian(T, u)
+    assert sp.simplify(eqs.expand(eqs.mass_matrix) - M) == sp.zeros(3, 3)
+    at_rest = eqs.expand(eqs.forcing).subs({s: 0 for s in u})
+    assert sp.simplify(at_rest - sp.Matrix([0, m * g * r * sp.sin(phi), 0])) == sp.zeros(3, 1)
