@@ -103,7 +103,7 @@ ReducedForm reduce_to_independent_speeds(const Scene& scene, const DerivedModel&
   if (!model.applicable) return refuse("the model does not apply: " + model.reason);
   if (model.kind != ModelKind::chetaev && model.kind != ModelKind::holder)
     return refuse("the multiplier-free form is that of the chetaev and holder models (constraint forces "
-                  "λ·∂f/∂q'); the " + to_string(model.kind) + " model's equations are not of that form");
+                  "lambda*df/dq'); the " + to_string(model.kind) + " model's equations are not of that form");
 
   // The constraints at velocity level, A q' + b = 0.
   std::vector<ex> velocity(static_cast<std::size_t>(g));
@@ -129,8 +129,8 @@ ReducedForm reduce_to_independent_speeds(const Scene& scene, const DerivedModel&
     for (int j = 0; j < n; ++j) {
       const ex aj = partial_derivative(v, GiNaC::ex_to<GiNaC::symbol>(jet.q(j, 1)));
       if (jet.highest_coordinate_order(aj) > 0)
-        return refuse("constraint f" + std::to_string(a + 1) + " is not linear in the velocities (∂f" +
-                      std::to_string(a + 1) + "/∂" + primed_name(names[static_cast<std::size_t>(j)], 1) +
+        return refuse("constraint f" + std::to_string(a + 1) + " is not linear in the velocities (df" +
+                      std::to_string(a + 1) + "/d" + primed_name(names[static_cast<std::size_t>(j)], 1) +
                       " depends on velocities)");
       A(static_cast<unsigned>(a), static_cast<unsigned>(j)) = aj;
       linear += aj * jet.q(j, 1);
@@ -213,7 +213,7 @@ ReducedForm reduce_to_independent_speeds(const Scene& scene, const DerivedModel&
     out.rule = "the scene's dependent coordinates";
   } else {
     if (!evaluated)
-      return refuse("the constraint Jacobian ∂f/∂q' cannot be evaluated at the initial point to choose the "
+      return refuse("the constraint Jacobian df/dq' cannot be evaluated at the initial point to choose the "
                     "dependent speeds; name the independent ones (--speeds)");
     std::vector<int> columns;
     for (int j = 0; j < n && static_cast<int>(columns.size()) < g; ++j) {
@@ -221,7 +221,7 @@ ReducedForm reduce_to_independent_speeds(const Scene& scene, const DerivedModel&
       if (rank_of_columns(A0, columns) < static_cast<int>(columns.size())) columns.pop_back();
     }
     if (static_cast<int>(columns.size()) < g)
-      return refuse("the constraints' Jacobian ∂f/∂q' has rank below " + std::to_string(g) + " at the initial point");
+      return refuse("the constraints' Jacobian df/dq' has rank below " + std::to_string(g) + " at the initial point");
     for (int d : columns) is_dependent[static_cast<std::size_t>(d)] = true;
     out.rule = "the first coordinates whose constraint columns are independent at the initial point";
   }
@@ -240,7 +240,7 @@ ReducedForm reduce_to_independent_speeds(const Scene& scene, const DerivedModel&
   out.dependent_names = dependent_names;
   if (evaluated && rank_of_columns(A0, out.dependent) < g) {
     const std::string message = "the dependent speeds " + join(dependent_names) +
-                                " cannot be solved for: ∂f/∂(" + join(dependent_names) +
+                                " cannot be solved for: df/d(" + join(dependent_names) +
                                 ") is singular at the initial point";
     if (!speeds.empty()) throw InputError({flag, 0, 0}, message);
     return refuse(message);
@@ -268,7 +268,7 @@ ReducedForm reduce_to_independent_speeds(const Scene& scene, const DerivedModel&
   try {
     XY = solve(AD, rhs);
   } catch (const std::exception& e) {
-    return refuse("∂f/∂(" + join(dependent_names) + ") is singular: " + e.what());
+    return refuse("df/d(" + join(dependent_names) + ") is singular: " + e.what());
   }
   // C: n × |I|, w: n.
   std::vector<std::vector<ex>> C(static_cast<std::size_t>(n), std::vector<ex>(ni, ex(0)));
