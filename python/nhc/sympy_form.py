@@ -107,7 +107,9 @@ class SympyEquations:
                           transformations=(auto_number, factorial_notation, convert_xor))
 
     def symbol(self, name: str) -> Any:
-        """The SymPy symbol of a name as the scene writes it (``"x"``, ``"x'"``, ``"m"``)."""
+        """The SymPy symbol of a name as the scene writes it.
+
+        :param name: ``"x"``, ``"x'"``, ``"m"``, a definition's name."""
         return self.symbols[name]
 
     def _expand_definitions(self, e: Any) -> Any:
@@ -118,7 +120,9 @@ class SympyEquations:
     def expand(self, e: Any) -> Any:
         """e with the definitions substituted (last to first), then the dependent speeds, and the
         dependent coordinates' second derivatives set to zero (the reduced form does not depend
-        on them)."""
+        on them).
+
+        :param e: a SymPy expression or matrix of these equations."""
         e = self._expand_definitions(e)
         if self.dependent_speeds:
             e = e.subs({self.symbols[n]: self._expand_definitions(v)
