@@ -1,4 +1,5 @@
-// nhc derive SCENE [--model M]... [--format text|latex|latex-math|json] [--set P=V]... [--expand] [-o FILE]
+// nhc derive SCENE [--model M]... [--format text|latex|latex-math|json] [--form full|reduced]
+//            [--speeds "u1',u2'"] [--set P=V]... [--expand] [-o FILE]
 #include <iostream>
 
 #include <fmt/format.h>
@@ -10,6 +11,7 @@
 #include "model_requirements.hpp"
 #include "nhc/jet/work_stage.hpp"
 #include "nhc/derive/models.hpp"
+#include "nhc/derive/reduced_form.hpp"
 #include "nhc/emit/derivation_emitters.hpp"
 #include "nhc/io/atomic_file.hpp"
 #include "nhc/io/output_path.hpp"
@@ -23,6 +25,8 @@ struct DeriveOptions {
   std::string scene_path;
   std::vector<std::string> models;
   std::string format = "text";
+  std::string form = "full";
+  std::string speeds;
   std::string output;
   std::vector<std::string> set;
   SceneOptions read;
@@ -70,6 +74,16 @@ CommandRunner add_derive_command(CLI::App& app) {
       ->check(CLI::IsMember(model_names()));
   sub->add_option("--format,-f", options->format, "output format")
       ->check(CLI::IsMember({"text", "latex", "latex-math", "json"}));
+  sub->add_option("--form", options->form,
+                  "full: the residuals with multipliers; reduced: also the multiplier-free form M_r u' = f_r on "
+                  "independent speeds (chetaev and holder models, constraints linear in the velocities; "
+                  "docs/reduced-form.md)")
+      ->check(CLI::IsMember({"full", "reduced"}));
+  sub->add_option("--speeds", options->speeds,
+                  "the independent speeds of the reduced form, e.g. \"phi',delta',thr'\" (implies --form reduced; "
+                  "default: the scene's dependent key, else the first coordinates whose constraint columns are "
+                  "independent at the initial point)")
+      ->option_text("LIST");
   add_set_option(sub, options->set);
   add_expand_flag(sub, options->read);
   add_work_limit_flag(sub);
@@ -83,6 +97,12 @@ CommandRunner add_derive_command(CLI::App& app) {
     for (ModelKind kind : selected_models(scene, options->models)) {
       if (!options->models.empty() || scene_lists_model(scene, kind)) require_model_inputs(scene, kind);
       models.push_back(derive_model(scene, kind));
+    }
+    if (options->form == "reduced" || !options->speeds.empty()) {
+      const std::vector<std::string> speeds =
+          options->speeds.empty() ? std::vector<std::string>{} : parse_speed_list(options->speeds);
+      for (DerivedModel& model : models)
+        model.reduced = std::make_shared<const ReducedForm>(reduce_to_independent_speeds(scene, model, speeds));
     }
     auto write = [&](std::ostream& out) {
       const work_budget::Stage stage("printing the equations");

@@ -3,6 +3,7 @@
     import nhc
     scene = nhc.Scene.load("examples/rolling_disk.toml", set={"R": 0.4})
     eqs = scene.derive("chetaev")          # shown as LaTeX in Jupyter; eqs.text, eqs.json
+    sym = eqs.to_sympy()                   # sym.residuals, sym.mass_matrix, sym.forcing (SymPy)
     info = scene.analyze("chetaev")        # info.index, info.dof, info.needed, info.initial_point
     model = scene.build("chetaev")         # derived, compiled (both caches), loaded
     run = model.simulate(t_end=10, rtol=1e-9, atol=1e-11, outputs=400)   # run.t, run["x"], run.summary
@@ -13,7 +14,8 @@ from .errors import Error, HostError, MathError, SceneError
 from .model import Linearization, LinearizationAlong, Model, Run, Sweep
 from .compare import compare
 from .scene import Analysis, Derivation, Scene
+from .sympy_form import SympyEquations
 
 __version__ = _nhc.__version__
 __all__ = ["Scene", "Derivation", "Analysis", "Model", "Run", "Linearization", "LinearizationAlong", "Sweep", "compare",
-           "Error", "SceneError", "MathError", "HostError"]
+           "SympyEquations", "Error", "SceneError", "MathError", "HostError"]

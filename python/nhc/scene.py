@@ -21,7 +21,8 @@ class Derivation:
     document), `latex_math` (the equations as math only, for MathJax), `json` (parsed: a dict).
     Jupyter shows the LaTeX equations."""
 
-    def __init__(self, derived: _nhc._Derivation) -> None:
+    def __init__(self, derived: _nhc._Derivation, scene: Optional[_nhc._Scene] = None) -> None:
+        self._scene = scene
         self.model = derived.model
         self.text = derived.text
         self.latex = derived.latex
@@ -32,6 +33,25 @@ class Derivation:
     def json(self) -> Dict[str, Any]:
         """The ``--format json`` form, parsed: ``{"scene", "parameters", "symbols", "models"}``."""
         return _cast(Dict[str, Any], _json.loads(self._json_text))
+
+    def to_sympy(self, speeds: Optional[List[str]] = None) -> Any:
+        """The equations as SymPy objects (nhc.sympy_form.SympyEquations): ``.residuals``,
+        ``.definitions``, and for the chetaev and holder models with constraints linear in the
+        velocities the multiplier-free form ``.speeds``, ``.mass_matrix`` (M_r), ``.forcing``
+        (f_r), ``.dependent_speeds`` and ``.multipliers`` (docs/reduced-form.md).
+
+        :param speeds: the independent speeds, e.g. ``["phi'", "delta'", "thr'"]`` (as
+            ``nhc derive --speeds``); default: the scene's ``dependent`` key, else the first
+            coordinates whose constraint columns are independent at the initial point.
+        :raises ImportError: SymPy is not installed.
+        :raises nhc.SceneError: a speed list that names no coordinate's derivative, or the wrong
+            number of speeds, or dependent speeds that cannot be solved for."""
+        from .sympy_form import SympyEquations, _sympy
+        _sympy()
+        if self._scene is None:
+            return SympyEquations(self.json, self.model)
+        document = _json.loads(self._scene.reduced_json(self.model, list(speeds or [])))
+        return SympyEquations(document, self.model, list(self._scene.inputs))
 
     def _repr_latex_(self) -> str:
         """Math only (align* blocks, headings as \\text rows): MathJax renders math, not \\section."""
@@ -133,7 +153,7 @@ class Scene:
         :param model: ``"vakonomic"``, ``"chetaev"``, ``"holder"`` or ``"suslov"`` (default: the
             scene's ``[simulate]`` model, else chetaev, as on the command line).
         :raises nhc.SceneError: an unknown model name."""
-        return Derivation(self._scene.derive(model or self._scene.default_model))
+        return Derivation(self._scene.derive(model or self._scene.default_model), self._scene)
 
     def analyze(self, model: Optional[str] = None) -> Analysis:
         """The structural analysis of one model (as ``nhc analyze``): index, degrees of freedom, the

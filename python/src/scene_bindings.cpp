@@ -8,6 +8,7 @@
 
 #include "nhc/analysis/model_analysis.hpp"
 #include "nhc/derive/models.hpp"
+#include "nhc/derive/reduced_form.hpp"
 #include "nhc/emit/derivation_emitters.hpp"
 #include "model_argument.hpp"
 #include "nhc/app/parameter_values.hpp"
@@ -55,6 +56,22 @@ Derivation derive(const Scene& scene, const std::string& model) {
   d.latex_math = latex_math.str();
   d.json = json.str();
   return d;
+}
+
+/// `nhc derive --format json --speeds …` of one model: its JSON with the multiplier-free form
+/// (speeds empty: the default rule). Refused (MathError) when the model has no such form.
+std::string reduced_json(const Scene& scene, const std::string& model, const std::vector<std::string>& speeds) {
+  std::vector<DerivedModel> models;
+  symbolic_work([&] {
+    models.push_back(derive_model(scene, model_named(model)));
+    if (!models.front().applicable)
+      throw MathError("the " + model + " model does not apply to " + scene.name + ": " + models.front().reason);
+    models.front().reduced =
+        std::make_shared<const ReducedForm>(reduce_to_independent_speeds(scene, models.front(), speeds, "speeds"));
+  });
+  std::ostringstream json;
+  write_derivation_json(json, scene, models);
+  return json.str();
 }
 
 /// `nhc analyze` of one model: index, degrees of freedom, the initial values it needs and the
@@ -147,6 +164,7 @@ void register_scene(py::module_& m) {
                              })
       .def_property_readonly("default_model", [](const Scene& s) { return to_string(default_model(s)); })
       .def("derive", &derive, py::arg("model"))
+      .def("reduced_json", &reduced_json, py::arg("model"), py::arg("speeds"))
       .def("analyze", &analyze, py::arg("model"));
 }
 

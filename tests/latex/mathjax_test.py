@@ -56,7 +56,7 @@ def main():
     # One page for all scenes (one browser start): a block per scene, checked block by block.
     blocks, names = [], {}
     for k, scene in enumerate(args.scenes):
-        math = subprocess.run([args.nhc, "derive", scene, "--format", "latex-math"], capture_output=True,
+        math = subprocess.run([args.nhc, "derive", scene, "--format", "latex-math", "--form", "reduced"], capture_output=True,
                               text=True, check=True).stdout
         names[k] = re.findall(r"^  (R_\{.*?\}) &=", math, re.M)
         blocks.append(f'<div class="scene" id="scene-{k}">{html.escape(math)}</div><hr id="end-{k}">')

@@ -1,5 +1,5 @@
 #!/bin/sh
-# An example scene end to end: nhc derive (text and LaTeX, which must compile with pdflatex when
+# An example scene end to end: nhc derive (text and LaTeX with the multiplier-free form, which must compile with pdflatex when
 # it is installed), analyze, generate and simulate, then checks on the simulated CSV.
 # Usage: example_check.sh NHC SCENE WORKDIR [simulate-only] CHECK...
 #   simulate-only           skip the separate text derive, analyze and generate runs (simulate
@@ -17,7 +17,7 @@ separate_steps=yes
 if [ "${1:-}" = simulate-only ]; then separate_steps=no; shift; fi
 rm -rf "$work" && mkdir -p "$work"
 [ $separate_steps = no ] || "$nhc" derive "$scene" -o "$work/derive.txt"
-"$nhc" derive "$scene" --format latex -o "$work/derive.tex"
+"$nhc" derive "$scene" --format latex --form reduced -o "$work/derive.tex"
 if command -v pdflatex > /dev/null; then
   (cd "$work" && pdflatex -interaction=nonstopmode -halt-on-error derive.tex > latex.log < /dev/null) ||
     { echo "derive --format latex does not compile:"; tail -20 "$work/latex.log"; exit 1; }

@@ -14,6 +14,7 @@
 
 #include <ginac/ginac.h>
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,8 @@
 #include "nhc/scene/scene.hpp"
 
 namespace nhc {
+
+struct ReducedForm;  // nhc/derive/reduced_form.hpp
 
 /// What a model needs from a scene: the jet, L, the constraints and the dependent coordinates.
 struct MechanicalSystem {
@@ -45,6 +48,9 @@ struct DerivedModel {
   std::vector<GiNaC::ex> constraints;   ///< f^1..f^g
   bool constraints_are_equations = true;  ///< false for suslov (monitored only)
   std::vector<std::string> multipliers;   ///< lambda1.. when the model has them
+  /// The multiplier-free form on independent speeds, when asked for (reduce_to_independent_speeds;
+  /// the printers add it): `nhc derive --form reduced`.
+  std::shared_ptr<const ReducedForm> reduced;
 };
 
 DerivedModel derive_model(const MechanicalSystem& system, ModelKind kind);

@@ -1,3 +1,4 @@
+#include "nhc/derive/reduced_form.hpp"
 #include "nhc/emit/derivation_emitters.hpp"
 #include "nhc/jet/intermediate.hpp"
 
@@ -11,6 +12,10 @@ std::vector<GiNaC::ex> derivation_intermediates(const Scene& scene,
     if (!model.applicable) continue;
     printed.insert(printed.end(), model.equations.begin(), model.equations.end());
     printed.insert(printed.end(), model.constraints.begin(), model.constraints.end());
+    if (model.reduced && model.reduced->available) {
+      const std::vector<GiNaC::ex> reduced = model.reduced->expressions();
+      printed.insert(printed.end(), reduced.begin(), reduced.end());
+    }
   }
   return intermediates_in_order(printed);
 }

@@ -1,11 +1,53 @@
 #include <set>
 
+#include "nhc/derive/reduced_form.hpp"
 #include "nhc/emit/derivation_emitters.hpp"
 #include "nhc/jet/expression_printer.hpp"
 #include "nhc/emit/json_writer.hpp"
 #include "nhc/jet/intermediate.hpp"
 
 namespace nhc {
+
+namespace {
+
+/// "reduced": M_r u' = f_r on the independent speeds (docs/reduced-form.md), its expressions in
+/// the printed form of "equations" (over "symbols" and "definitions").
+void write_reduced_json(JsonWriter& json, const ReducedForm& r) {
+  json.key("reduced").begin_object();
+  json.key("available").value(r.available);
+  if (!r.available) {
+    json.key("reason").value(r.reason);
+    json.end_object();
+    return;
+  }
+  auto names = [&](const char* key, const std::vector<std::string>& list) {
+    json.key(key).begin_array();
+    for (const auto& n : list) json.value(n);
+    json.end_array();
+  };
+  auto expressions = [&](const char* key, const std::vector<GiNaC::ex>& list) {
+    json.key(key).begin_array();
+    for (const auto& e : list) json.value(to_text(e));
+    json.end_array();
+  };
+  names("speeds", r.speeds);
+  json.key("rule").value(r.rule);
+  names("dependent", r.dependent_names);
+  expressions("dependent_speeds", r.dependent_speeds);
+  json.key("mass_matrix").begin_array();
+  for (unsigned i = 0; i < r.mass_matrix.rows(); ++i) {
+    json.begin_array();
+    for (unsigned j = 0; j < r.mass_matrix.cols(); ++j) json.value(to_text(r.mass_matrix(i, j)));
+    json.end_array();
+  }
+  json.end_array();
+  expressions("forcing", r.forcing);
+  names("multiplier_names", r.multiplier_names);
+  expressions("multipliers", r.multipliers);
+  json.end_object();
+}
+
+}  // namespace
 
 void write_derivation_json(std::ostream& out, const Scene& scene,
                            const std::vector<DerivedModel>& models) {
@@ -26,6 +68,11 @@ void write_derivation_json(std::ostream& out, const Scene& scene,
   for (const DerivedModel& model : models) {
     for (const auto& e : model.equations) note(e);
     for (const auto& e : model.constraints) note(e);
+    if (model.reduced && model.reduced->available) {
+      for (const auto& e : model.reduced->expressions()) note(e);
+      for (const auto& e : model.reduced->dependent_symbols) note(e);
+      for (int i : model.reduced->independent) note(jet.q(i, 1)), note(jet.q(i, 2));
+    }
   }
   json.key("symbols").begin_object();
   for (const JetCoordinate& c : used) {
@@ -73,6 +120,7 @@ void write_derivation_json(std::ostream& out, const Scene& scene,
     json.key("multipliers").begin_array();
     for (const auto& m : model.multipliers) json.value(m);
     json.end_array();
+    if (model.reduced) write_reduced_json(json, *model.reduced);
     json.end_object();
   }
   json.end_object();

@@ -1,3 +1,4 @@
+#include "nhc/derive/reduced_form.hpp"
 #include "nhc/emit/derivation_emitters.hpp"
 #include "nhc/jet/expression_printer.hpp"
 #include "nhc/jet/intermediate.hpp"
@@ -187,6 +188,32 @@ struct LatexForm {
   }
 };
 
+/// M_r u' = f_r entry by entry (docs/reduced-form.md), the dependent speeds it is evaluated
+/// with, and the multipliers.
+void write_reduced_latex(std::ostream& out, const JetSpace& jet, const ReducedForm& r, const LatexForm& form) {
+  if (!r.available) {
+    const std::string heading = form.heading(out, 1, "Multiplier-free form", "M_r u' = f_r");
+    if (form.document) out << "Not available: " << latex_text(r.reason) << "\n";
+    else AlignWriter(out, heading, form.rows()).row("&\\text{not available}");
+    return;
+  }
+  std::string speeds;
+  for (int i : r.independent) speeds += (speeds.empty() ? "" : ", ") + to_latex(jet.q(i, 1));
+  AlignWriter align(out, form.heading(out, 1, "Multiplier-free form", "M_r u' = f_r"), form.rows());
+  align.row("&M_r\\,\\dot u = f_r, \\quad u = (" + speeds + ")");
+  for (std::size_t d = 0; d < r.dependent_speeds.size(); ++d)
+    align.equation(to_latex(r.dependent_symbols[d]), r.dependent_speeds[d], "");
+  auto speed = [&](unsigned k) { return to_latex(jet.q(r.independent[k], 0)); };
+  for (unsigned i = 0; i < r.mass_matrix.rows(); ++i)
+    for (unsigned j = 0; j < r.mass_matrix.cols(); ++j)
+      align.equation("M_{{" + speed(i) + "}{" + speed(j) + "}}", r.mass_matrix(i, j), "");
+  for (unsigned i = 0; i < r.forcing.size(); ++i) align.equation("f_{" + speed(i) + "}", r.forcing[i], "");
+  for (std::size_t a = 0; a < r.multipliers.size(); ++a)
+    align.equation(r.multiplier_names[a].back() == '\'' ? "\\dot\\lambda_{" + std::to_string(a + 1) + "}"
+                                                         : "\\lambda_{" + std::to_string(a + 1) + "}",
+                   r.multipliers[a], "");
+}
+
 void write_latex(std::ostream& out, const Scene& scene, const std::vector<DerivedModel>& models, const LatexForm& form) {
   const JetSpace& jet = *scene.jet;
   {
@@ -202,14 +229,17 @@ void write_latex(std::ostream& out, const Scene& scene, const std::vector<Derive
       else AlignWriter(out, heading, form.rows()).row("&\\text{not applicable}");
       continue;
     }
-    AlignWriter align(out, heading, form.rows());
-    // Named by their coordinate, as the text and JSON forms do: R_x, R_\psi.
-    for (std::size_t i = 0; i < model.equations.size(); ++i)
-      align.equation("R_{" + to_latex(jet.q(static_cast<int>(i), 0)) + "}",
-                     gathered(model.equations[i], gathering_symbols(jet, model.equations[i])), " = 0");
-    for (std::size_t a = 0; a < model.constraints.size(); ++a)
-      align.equation("f^{" + std::to_string(a + 1) + "}", model.constraints[a],
-                     model.constraints_are_equations ? " = 0" : " = 0 \\quad\\text{(monitored)}");
+    {
+      AlignWriter align(out, heading, form.rows());
+      // Named by their coordinate, as the text and JSON forms do: R_x, R_\psi.
+      for (std::size_t i = 0; i < model.equations.size(); ++i)
+        align.equation("R_{" + to_latex(jet.q(static_cast<int>(i), 0)) + "}",
+                       gathered(model.equations[i], gathering_symbols(jet, model.equations[i])), " = 0");
+      for (std::size_t a = 0; a < model.constraints.size(); ++a)
+        align.equation("f^{" + std::to_string(a + 1) + "}", model.constraints[a],
+                       model.constraints_are_equations ? " = 0" : " = 0 \\quad\\text{(monitored)}");
+    }  // the block closes before the reduced form's heading
+    if (model.reduced) write_reduced_latex(out, jet, *model.reduced, form);
   }
   const std::vector<GiNaC::ex> where = derivation_intermediates(scene, models);
   if (where.empty()) return;
