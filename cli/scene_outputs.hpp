@@ -11,7 +11,7 @@
 
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/scene/scene.hpp"
-#include "sample_expressions.hpp"
+#include "nhc/app/sample_expressions.hpp"
 
 namespace nhc::cli {
 
@@ -36,7 +36,7 @@ class SceneOutputs {
  private:
   std::vector<std::string> names_;
   std::vector<std::string> notes_;
-  SampleExpressions expressions_;
+  app::SampleExpressions expressions_;
 };
 
 }  // namespace nhc::cli

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "sample_expressions.hpp"
+#include "nhc/app/sample_expressions.hpp"
 
 namespace nhc::cli {
 
@@ -18,7 +18,7 @@ struct Slots {
 
 std::vector<VisualTrack> visual_tracks(const Scene& scene, const runtime::Model& model, const std::vector<double>& p,
                                        const std::vector<runtime::Sample>& samples) {
-  SampleExpressions expressions(scene, model, p);
+  app::SampleExpressions expressions(scene, model, p);
   std::vector<std::vector<Slots>> slots(scene.visuals.size());
   for (std::size_t v = 0; v < scene.visuals.size(); ++v) {
     const SceneVisual& visual = scene.visuals[v];

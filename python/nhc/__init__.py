@@ -10,10 +10,10 @@
 """
 from . import _nhc
 from .errors import Error, HostError, MathError, SceneError
-from .model import Linearization, Model, Run, Sweep
+from .model import Event, Linearization, Model, Run, Sweep
 from .compare import compare
 from .scene import Analysis, Derivation, Scene
 
 __version__ = _nhc.__version__
-__all__ = ["Scene", "Derivation", "Analysis", "Model", "Run", "Linearization", "Sweep", "compare",
+__all__ = ["Scene", "Derivation", "Analysis", "Model", "Run", "Event", "Linearization", "Sweep", "compare",
            "Error", "SceneError", "MathError", "HostError"]

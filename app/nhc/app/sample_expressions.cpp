@@ -1,4 +1,4 @@
-#include "sample_expressions.hpp"
+#include "nhc/app/sample_expressions.hpp"
 
 #include "nhc/primed_name.hpp"
 
@@ -7,7 +7,7 @@
 #include "nhc/errors.hpp"
 #include "nhc/jet/intermediate.hpp"
 
-namespace nhc::cli {
+namespace nhc::app {
 
 namespace {
 
@@ -123,4 +123,4 @@ std::vector<double> SampleExpressions::evaluate(const runtime::Sample& sample) c
   return out;
 }
 
-}  // namespace nhc::cli
+}  // namespace nhc::app
