@@ -14,7 +14,7 @@ packages=(
   libssl-dev
   coinor-libipopt-dev
   libhdf5-dev libopenmpi-dev openmpi-bin
-  pybind11-dev python3-dev python3-numpy python3-pytest
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-scipy python3-sympy
   python3-nbclient python3-ipykernel python3-matplotlib python3-pil python3-h5py
   libjs-three chromium
   python3-sphinx python3-myst-parser python3-nbsphinx furo libjs-mathjax node-normalize.css pandoc mypy
