@@ -34,8 +34,8 @@ if ((${#missing[@]})); then
   apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
-# Optional: only bench/whipple_sympy.py uses it (SymPy's bicycle, timed against nhc linearize);
-# the bench skips SymPy with a message without it, so a failed install is not an error.
+# python3-sympy is also required above (python/tests/test_events.py derives the rolling disk with
+# it); kept here for bench/whipple_sympy.py's message on machines set up before that.
 optional=(python3-sympy)
 for p in "${optional[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" && continue
