@@ -17,6 +17,7 @@
 #include "parameter_overrides.hpp"
 #include "progress_bar.hpp"
 #include "pipeline.hpp"
+#include "nhc/app/scene_events.hpp"
 #include "run_flags.hpp"
 #include "visual_samples.hpp"
 
@@ -62,8 +63,10 @@ CommandRunner add_animate_command(CLI::App& app) {
     runtime::IntegratorOptions io = run_integrator_options(flags, scene);
     io.progress = terminal_progress();
     const std::vector<double> p = parameters_with_overrides(model, overrides);
+    const std::vector<runtime::Event> events =
+        app::runtime_events(run_events(flags, scene), scene_set, model, p);  // the motion ends at a stop event
     const runtime::RunResult run = run_with_flags(flags, model, p, run_initial_state(flags, scene_set, model), times,
-                                                  io, input_function(input_signals, model, p))
+                                                  io, input_function(input_signals, model, p), events)
                                        .run;
     if (run.samples.empty()) {
       std::cerr << "nhc: error: " << (run.failure ? run.failure->what() : "the run has no sample") << "\n"

@@ -46,6 +46,9 @@ void add_run_flags(CLI::App* sub, RunFlags& flags) {
                   "docs/variational.md)")
       ->check(CLI::IsMember({"ida", "variational"}));
   sub->add_option("--step", flags.step, "the fixed step of --integrator variational")->check(flag_rules::positive());
+  sub->add_option("--stop-when", flags.stop_when,
+                  "EXPR: end the run where the expression (of t, the coordinates, their derivatives and the "
+                  "multipliers) crosses zero, located by IDA's root finding (docs/scenes.md, [events])");
 }
 
 namespace {
@@ -74,6 +77,7 @@ app::RunRequest run_request(const RunFlags& flags, const Scene& scene) {
   r.variational = variational_integrator(flags);
   r.step = flags.step;
   r.project = flags.project;
+  r.stop_when = flags.stop_when;
   return r;
 }
 
@@ -83,10 +87,11 @@ void check_run_flags(const RunFlags& flags, const Scene& scene, ModelKind kind) 
 
 FlaggedRun run_with_flags(const RunFlags& flags, const runtime::Model& model, const std::vector<double>& p,
                           const runtime::InitialState& initial, const std::vector<double>& times,
-                          const runtime::IntegratorOptions& io, const runtime::InputFunction& inputs) {
+                          const runtime::IntegratorOptions& io, const runtime::InputFunction& inputs,
+                          const std::vector<runtime::Event>& events) {
   FlaggedRun out;
   if (!variational_integrator(flags)) {
-    out.run = runtime::simulate(model, p, initial, times, io, {}, inputs);
+    out.run = runtime::simulate(model, p, initial, times, io, events, inputs);
     return out;
   }
   const runtime::VariationalOptions vo = runtime::variational_options(*flags.step, flags.max_steps, io);
@@ -94,6 +99,10 @@ FlaggedRun run_with_flags(const RunFlags& flags, const runtime::Model& model, co
   out.run = std::move(run.run);
   out.max_discrete_constraint = run.max_discrete_constraint;
   return out;
+}
+
+std::vector<SceneEvent> run_events(const RunFlags& flags, const Scene& scene) {
+  return app::run_events(run_request(flags, scene), scene, field_names(flags));
 }
 
 std::vector<double> run_output_times(const RunFlags& flags, const Scene& scene) {

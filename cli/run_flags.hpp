@@ -27,11 +27,12 @@ struct RunFlags {
   std::vector<std::string> inputs;  ///< --input NAME=EXPR | NAME=@FILE.csv
   std::string integrator = "ida";   ///< --integrator ida | variational
   std::optional<double> step;       ///< --step H of the variational integrator
+  std::optional<std::string> stop_when;  ///< --stop-when EXPR: an event that ends the run
   SceneOptions read;
 };
 
 /// Registers SCENE, --model, --t-end, --rtol, --atol, --max-steps, --set, --input, --expand,
-/// --project, --repair-initial, --outputs, --output-times, --integrator and --step on `sub`.
+/// --project, --repair-initial, --outputs, --output-times, --integrator, --step and --stop-when on `sub`.
 void add_run_flags(CLI::App* sub, RunFlags& flags);
 
 /// The flags as the application layer's run request (--output-times read, not yet checked).
@@ -52,7 +53,11 @@ struct FlaggedRun {
 };
 FlaggedRun run_with_flags(const RunFlags& flags, const runtime::Model& model, const std::vector<double>& p,
                           const runtime::InitialState& initial, const std::vector<double>& times,
-                          const runtime::IntegratorOptions& io, const runtime::InputFunction& inputs);
+                          const runtime::IntegratorOptions& io, const runtime::InputFunction& inputs,
+                          const std::vector<runtime::Event>& events = {});
+
+/// The run's events: the scene's [events] and --stop-when (app::run_events).
+std::vector<SceneEvent> run_events(const RunFlags& flags, const Scene& scene);
 
 /// The output times: --output-times, else t0 to --t-end ([simulate] t_end) in --outputs
 /// ([simulate] outputs, else 200) intervals. InputError naming the flag for a bad one.

@@ -1,5 +1,5 @@
 // nhc simulate SCENE [--model M] [--t-end T] [--rtol R] [--atol A] [--max-steps N] [--project]
-//              [--repair-initial] [--set P=V]... [--outputs N | --output-times SPEC]
+//              [--repair-initial] [--set P=V]... [--outputs N | --output-times SPEC] [--stop-when EXPR]
 //              [--columns NAMES] [--sensitivity NAMES] [-o FILE.csv | -o -] [--plot DIR [--plot-xy a,b]]
 //
 // The whole pipeline on one model: derive, reduce to index 1, generate the header
@@ -22,6 +22,7 @@
 #include "progress_bar.hpp"
 #include "model_requirements.hpp"
 #include "nhc/analysis/model_analysis.hpp"
+#include "nhc/app/scene_events.hpp"
 #include "nhc/derive/models.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/io/atomic_file.hpp"
@@ -157,10 +158,15 @@ CommandRunner add_simulate_command(CLI::App& app) {
       throw InputError({options->run.scene_path, 0, 0},
                        "--sensitivity integrates with IDAS; it does not go with --integrator variational");
     const bool csv_to_stdout = options->output == "-";
+    const std::vector<SceneEvent> scene_events = run_events(options->run, scene);
+    // The event table beside the CSV (docs/scenes.md, [events]).
+    const bool write_event_table = !scene_events.empty() && !options->output.empty() && !csv_to_stdout;
+    const std::string events_path = write_event_table ? app::events_csv_path(options->output) : std::string();
     // Every file the run reads: the scene and the --input series (nhc/io/output_path.hpp).
     std::vector<std::string> inputs = input_files(options->run.inputs);
     inputs.insert(inputs.begin(), options->run.scene_path);
     if (!options->output.empty() && !csv_to_stdout) check_output_file(options->output, inputs);
+    if (write_event_table) check_output_file(events_path, inputs);
     if (!options->plot.empty()) check_output_directory(options->plot, inputs);
     std::ostream& info = csv_to_stdout ? std::cerr : std::cout;
     PathPlane plane;
@@ -203,8 +209,14 @@ CommandRunner add_simulate_command(CLI::App& app) {
                                  : parse_columns(options->columns, csv_columns(model, p, outputs));
     const runtime::InitialState initial = run_initial_state(options->run, scene_set, model);
     if (build_options.sensitivities) check_sensitivities_given(model, initial, options->sensitivity.names);
+    // Events are located by IDA in the plain run; the sensitivities' run and the variational
+    // integrator locate none (--stop-when is refused with the latter, app::run_events).
+    const std::vector<runtime::Event> events = app::runtime_events(scene_events, scene_set, model, p);
+    if (!events.empty() && (variational || build_options.sensitivities))
+      std::cerr << "note: the scene's [events] are located by IDA in a plain run only: "
+                << (variational ? "the variational integrator" : "the run with sensitivities") << " ignores them\n";
     const FlaggedRun flagged =
-        run_with_flags(options->run, model, p, initial, times, io, input_function(input_signals, model, p));
+        run_with_flags(options->run, model, p, initial, times, io, input_function(input_signals, model, p), events);
     const runtime::RunResult& run = flagged.run;
     std::optional<runtime::SensitivityRun> sensitivities;  // --sensitivity: the CSV comes from this run
     if (build_options.sensitivities)
@@ -262,6 +274,12 @@ CommandRunner add_simulate_command(CLI::App& app) {
            << " (the constraints the steps solve; the hidden constraints above are evaluated at the\n"
               "  node velocities (q_{k+1} - q_{k-1})/2h and their interpolants, O(h^2): docs/variational.md)\n";
 
+    for (const runtime::EventHit& hit : run.events) info << "  " << app::event_line(hit) << "\n";
+    if (write_event_table && started) {
+      write_file_atomically(events_path, [&](std::ostream& out) { app::write_events_csv(out, run.events); });
+      info << "  wrote " << events_path << " (" << run.events.size() << " event" << (run.events.size() == 1 ? "" : "s")
+           << ")\n";
+    }
     if (!outputs.empty()) {
       info << "  outputs (CSV columns, not checked for drift):";
       for (const std::string& name : outputs.names()) info << " " << name;

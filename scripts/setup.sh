@@ -14,7 +14,7 @@ packages=(
   libssl-dev
   coinor-libipopt-dev
   libhdf5-dev libopenmpi-dev openmpi-bin
-  pybind11-dev python3-dev python3-numpy python3-pytest
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-scipy python3-sympy
   python3-nbclient python3-ipykernel python3-matplotlib python3-pil python3-h5py
   python3-scipy python3-sympy
   libjs-three chromium

@@ -11,11 +11,11 @@
 """
 from . import _nhc
 from .errors import Error, HostError, MathError, SceneError
-from .model import Linearization, LinearizationAlong, Model, Run, Sweep
+from .model import Event, Linearization, LinearizationAlong, Model, Run, Sweep
 from .compare import compare
 from .scene import Analysis, Derivation, Scene
 from .sympy_form import SympyEquations
 
 __version__ = _nhc.__version__
-__all__ = ["Scene", "Derivation", "Analysis", "Model", "Run", "Linearization", "LinearizationAlong", "Sweep", "compare",
-           "SympyEquations", "Error", "SceneError", "MathError", "HostError"]
+__all__ = ["Scene", "Derivation", "Analysis", "Model", "Run", "Event", "Linearization", "LinearizationAlong", "Sweep",
+           "compare", "SympyEquations", "Error", "SceneError", "MathError", "HostError"]

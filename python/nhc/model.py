@@ -22,14 +22,31 @@ def _count(name: str, value: Any) -> int:
     return max(-2**62, min(whole, 2**62))  # beyond any limit either way; the rule's message follows
 
 
+class Event:
+    """An event the run met (the scene's ``[events]``, ``stop_when``): its `name`, the time `t` of
+    the zero crossing (located by IDA to the integration tolerance) and the `state` there (state
+    name -> value)."""
+
+    def __init__(self, name: str, t: float, state: Dict[str, float]) -> None:
+        self.name = name
+        self.t = t
+        self.state = state
+
+    def __repr__(self) -> str:
+        return f"Event({self.name!r}, t={self.t!r})"
+
+
 class Run:
     """One integration: the columns of `nhc simulate`'s CSV as arrays.
 
     run.t, run["x"], run["x'"], run.columns, run.to_numpy() (rows: output times), run.summary
-    (steps, evaluations, the time split, drift), run.plot(), run.to_pandas()."""
+    (steps, evaluations, the time split, drift), run.events, run.plot(), run.to_pandas()."""
 
     columns: List[str]
     """The column names, in the CSV's order: ``t`` first."""
+
+    events: List[Event]
+    """The events met, in time order (the scene's ``[events]``, ``stop_when``)."""
 
     def __init__(self, result: Dict[str, Any]) -> None:
         self.columns = list(result["columns"])
@@ -37,6 +54,7 @@ class Run:
         self._index = {name: k for k, name in enumerate(self.columns)}
         self._summary = result["summary"]  # built on first use
         self._max_discrete_constraint = result.get("max_discrete_constraint")  # the variational integrator's
+        self.events = [Event(str(e["name"]), float(e["t"]), dict(e["state"])) for e in result.get("events", [])]
 
     @property
     def summary(self) -> Dict[str, Any]:
@@ -144,7 +162,7 @@ class Model:
                  output_times: Optional[Iterable[float]] = None,
                  inputs: Optional[Callable[[float, _npt.NDArray[_np.float64]], Sequence[float]]] = None,
                  max_steps: int = 1000000, sensitivity: Union[str, Sequence[str], None] = None,
-                 integrator: str = "ida", step: Optional[float] = None) -> Run:
+                 integrator: str = "ida", step: Optional[float] = None, stop_when: Optional[str] = None) -> Run:
         """Integrates from the scene's [initial] (as ``nhc simulate``) and returns the :class:`Run`.
 
         Arguments not given take the scene's ``[simulate]`` values (else 1, 1e-8, 1e-10 and 200), as on
@@ -166,6 +184,9 @@ class Model:
             long runs whose energy must not drift; its summary also has ``newton_iterations`` and
             ``max_discrete_constraint``.
         :param step: the variational integrator's fixed step.
+        :param stop_when: an expression (of t, the coordinates, their derivatives, the multipliers)
+            whose first zero crossing ends the run (the event ``stop_when``; as ``--stop-when``).
+            The scene's ``[events]`` are located in every IDA run: :attr:`Run.events`.
         :returns: the run's columns as arrays.
         :raises nhc.MathError: the run failed (``.t`` is where; ``.run`` the motion up to there).
         :raises nhc.SceneError: a bad argument (an unknown sensitivity name, bad output times).
@@ -178,7 +199,8 @@ class Model:
 
         result = self._model.simulate(number(t_end), number(rtol), number(atol),
                                       None if outputs is None else _count("outputs", outputs), times, inputs,
-                                      _count("max_steps", max_steps), names, str(integrator), number(step))
+                                      _count("max_steps", max_steps), names, str(integrator), number(step),
+                                      None if stop_when is None else str(stop_when))
         if "failure" in result:
             error = MathError(result["failure"], t=result["failure_t"])
             error.run = Run(result)  # the motion up to the failure

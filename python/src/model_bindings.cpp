@@ -17,6 +17,7 @@
 #include "model_argument.hpp"
 #include "nhc/app/parameter_values.hpp"
 #include "nhc/app/run_request.hpp"
+#include "nhc/app/scene_events.hpp"
 #include "nhc/app/scene_outputs.hpp"
 #include "nhc/analysis/structural_analysis.hpp"
 #include "nhc/errors.hpp"
@@ -313,7 +314,8 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
                   const std::optional<double>& atol, const std::optional<long long>& outputs,
                   const std::optional<std::vector<double>>& output_times, const std::optional<py::function>& inputs,
                   long long max_steps, const std::optional<std::vector<std::string>>& sensitivity,
-                  const std::string& integrator, const std::optional<double>& step) {
+                  const std::string& integrator, const std::optional<double>& step,
+                  const std::optional<std::string>& stop_when) {
   const bool variational = integrator == "variational";
   if (!variational && integrator != "ida")
     throw InputError({"integrator", 0, 0}, "integrator '" + integrator + "': ida or variational");
@@ -333,7 +335,9 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   request.max_steps = max_steps;
   request.variational = variational;
   request.step = step;
+  request.stop_when = stop_when;
   app::check_run_request(request, built.scene, built.kind, app::python_names());
+  const std::vector<SceneEvent> scene_events = app::run_events(request, built.scene, app::python_names());
   const runtime::Model& model = built.model();
   const double t0 = built.scene.initial.t0;
   const std::vector<double> times = app::run_output_times(request, built.scene, app::python_names());
@@ -355,6 +359,9 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
     input_failure = python_inputs.failure;
     input_function = python_inputs;
   }
+  // Events are located by IDA in the plain run (app::run_events refuses stop_when otherwise).
+  const std::vector<runtime::Event> events =
+      variational ? std::vector<runtime::Event>{} : app::runtime_events(scene_events, built.scene, model, p);
   runtime::RunResult run;
   const runtime::Model* run_model = &model;
   std::map<std::string, long> extra;
@@ -370,7 +377,7 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
       max_discrete_constraint = v.max_discrete_constraint;
       extra["newton_iterations"] = run.statistics.nonlinear_iterations;
     } else {
-      run = runtime::simulate(model, p, initial, times, options, {}, input_function);
+      run = runtime::simulate(model, p, initial, times, options, events, input_function);
     }
   } catch (...) {
     if (*interrupt.raised) throw std::move(**interrupt.raised);
@@ -398,6 +405,16 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
                               summary_of(built, *run_model, p, run.statistics, std::move(run.samples), extra),
                               run.failure);
   if (max_discrete_constraint) result["max_discrete_constraint"] = *max_discrete_constraint;
+  py::list hits;  // run.events: name, t, the state at the crossing by state name
+  for (const runtime::EventHit& hit : run.events) {
+    py::dict event, state;
+    event["name"] = hit.name;
+    event["t"] = hit.t;
+    for (int i = 0; i < model.n_states(); ++i) state[py::str(model.state_name(i))] = hit.y.at(static_cast<std::size_t>(i));
+    event["state"] = state;
+    hits.append(event);
+  }
+  result["events"] = hits;
   return result;
 }
 
@@ -602,7 +619,8 @@ void register_model(py::module_& m) {
       .def("simulate", &simulate, py::arg("t_end") = std::nullopt, py::arg("rtol") = std::nullopt,
            py::arg("atol") = std::nullopt, py::arg("outputs") = std::nullopt,
            py::arg("output_times") = std::nullopt, py::arg("inputs") = std::nullopt, py::arg("max_steps") = 1000000,
-           py::arg("sensitivity") = std::nullopt, py::arg("integrator") = "ida", py::arg("step") = std::nullopt)
+           py::arg("sensitivity") = std::nullopt, py::arg("integrator") = "ida", py::arg("step") = std::nullopt,
+           py::arg("stop_when") = std::nullopt)
       .def_property_readonly("inputs",
                              [](const BuiltModel& b) {
                                std::vector<std::string> names;

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "nhc/derive/discrete_lagrange_dalembert.hpp"
+#include "nhc/app/scene_events.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/jet/jet_space.hpp"
 #include "nhc/runtime/variational.hpp"
@@ -40,13 +41,13 @@ void check_count(const std::string& field, long long value, long long low, long 
 const FieldNames& command_line_names() {
   static const FieldNames names{"--t-end", "--rtol",    "--atol",    "--outputs",
                                 "--output-times", "--max-steps", "--step", "--project",
-                                "--integrator variational", "--step H", ""};
+                                "--integrator variational", "--step H", "", "--stop-when"};
   return names;
 }
 
 const FieldNames& python_names() {
   static const FieldNames names{"t_end",  "rtol",  "atol",    "outputs", "output_times", "max_steps",
-                                "step",   "project", "integrator='variational'", "step=H", ""};
+                                "step",   "project", "integrator='variational'", "step=H", "", "stop_when"};
   return names;
 }
 
@@ -104,6 +105,16 @@ void check_run_request(const RunRequest& r, const Scene& scene, ModelKind kind, 
     refuse(at_step, names.step + " " + number(*r.step, 6) + " takes " +
                         (steps < 0 ? std::string("too many") : std::to_string(steps)) + " steps to t = " +
                         number(t_end, 6) + ", more than " + names.max_steps + " " + std::to_string(r.max_steps));
+}
+
+std::vector<SceneEvent> run_events(const RunRequest& r, const Scene& scene, const FieldNames& names) {
+  std::vector<SceneEvent> events = scene.events;
+  if (!r.stop_when) return events;
+  if (r.variational)
+    refuse(names.stop_when, names.stop_when + ": events are located by IDA's root finding; " + names.variational +
+                                " takes fixed steps and locates none");
+  events.push_back(stop_when_event(scene, *r.stop_when, names.stop_when));
+  return events;
 }
 
 std::vector<double> equally_spaced_output_times(double t0, double t_end, long long intervals, const std::string& fields) {

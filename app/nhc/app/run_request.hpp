@@ -27,6 +27,7 @@ struct FieldNames {
   std::string variational;  ///< the request for the variational integrator ("--integrator variational")
   std::string step_value;   ///< a step written out ("--step H")
   std::string at;           ///< where the checks against the scene are located (the scene file); else the field
+  std::string stop_when;    ///< the event that ends the run ("--stop-when")
 };
 const FieldNames& command_line_names();
 const FieldNames& python_names();
@@ -41,6 +42,7 @@ struct RunRequest {
   bool variational = false;                          ///< the discrete Lagrange–d'Alembert integrator
   std::optional<double> step;                        ///< its fixed step
   bool project = false;                              ///< projection onto the hidden constraints
+  std::optional<std::string> stop_when;              ///< an expression whose zero ends the run
 };
 
 /// Why a value breaks a rule ("is not a positive number"); empty when it does not.
@@ -62,6 +64,11 @@ void check_run_request(const RunRequest& request, const Scene& scene, ModelKind 
 std::vector<double> run_output_times(const RunRequest& request, const Scene& scene, const FieldNames& names);
 /// Equally spaced output times from t0 to t_end; InputError at `fields` where they collapse.
 std::vector<double> equally_spaced_output_times(double t0, double t_end, long long intervals, const std::string& fields);
+
+/// The events of the run: the scene's [events], then the request's stop_when (scene_events.hpp).
+/// stop_when with the variational integrator is refused (IDA locates events; the fixed-step
+/// integrator does not). InputError at the field.
+std::vector<SceneEvent> run_events(const RunRequest& request, const Scene& scene, const FieldNames& names);
 
 /// IDA's options: the request's tolerances, else [simulate]'s; projection; max_steps.
 runtime::IntegratorOptions run_integrator_options(const RunRequest& request, const Scene& scene);

@@ -2,7 +2,7 @@
 /// \file sample_expressions.hpp
 /// \brief Expressions of the scene (t, parameters, inputs, coordinates and their derivatives, the
 /// multipliers, definitions) evaluated on the samples of a run: the values of [outputs] and of
-/// [visual] (scene_outputs.hpp, visual_samples.hpp).
+/// [visual] (cli/scene_outputs.hpp, cli/visual_samples.hpp) and of [events] (scene_events.hpp).
 
 #include <ginac/ginac.h>
 

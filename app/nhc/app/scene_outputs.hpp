@@ -36,7 +36,7 @@ class SceneOutputs {
  private:
   std::vector<std::string> names_;
   std::vector<std::string> notes_;
-  SampleExpressions expressions_;
+  app::SampleExpressions expressions_;
 };
 
 }  // namespace nhc::app

@@ -49,6 +49,19 @@ struct SceneQuantity {
 };
 using SceneOutput = SceneQuantity;
 
+/// One entry of [events]: a zero crossing of `expression` (of t, parameters, q, q', …, λ) in
+/// `direction`, located by the integrator's root finding (docs/scenes.md, "[events]").
+enum class EventDirection { up, down, any };
+enum class EventAction { stop, record };
+struct SceneEvent {
+  std::string name;
+  GiNaC::ex expression;
+  std::string text;       ///< as written
+  SourceLocation where;   ///< the expression's place in the scene file (or the flag)
+  EventDirection direction = EventDirection::any;
+  EventAction action = EventAction::stop;
+};
+
 /// [reference]: closed forms q(t) of coordinates, for every model, and per model
 /// ([reference.vakonomic]) where the models' motions differ.
 struct SceneReference {
@@ -104,6 +117,7 @@ struct Scene {
   SceneReference reference;
   std::vector<SceneQuantity> invariants;  ///< [invariants]: I(t, q, q', …, λ), checked for drift
   std::vector<SceneQuantity> outputs;     ///< [outputs], in file order
+  std::vector<SceneEvent> events;         ///< [events], in file order
   /// Generalized non-conservative forces Q_i(t, q, q') of [forces], one per coordinate (0 when
   /// not given); every model adds Q_i to its residual R_i (docs/forces.md).
   std::vector<GiNaC::ex> forces;

@@ -199,7 +199,7 @@ class SceneReader {
 
     check_keys(root, {"name", "coordinates", "lagrangian", "constraints", "dependent", "models",
                       "parameters", "initial", "simulate", "reference", "invariants",
-                      "definitions", "forces", "outputs", "inputs", "visual",
+                      "definitions", "forces", "outputs", "inputs", "visual", "events",
                       "optimize"});  // read by nhc::optimize (read_settings)
 
     Scene scene;
@@ -349,6 +349,7 @@ class SceneReader {
     if (const toml::node* in = root.get("invariants"))
       scene.invariants = read_quantities(*in, "invariants", "invariant", *scene.jet, multipliers_allowed(mechanics));
     read_outputs(root, scene, mechanics);
+    read_events(root, scene, mechanics);
     read_forces(root, scene, mechanics);
     read_visuals(root, scene, mechanics);
     definitions.resolve_all();
@@ -534,6 +535,40 @@ class SceneReader {
   void read_outputs(const toml::table& root, Scene& scene, const ExpressionRules& rules) {
     if (const toml::node* node = root.get("outputs"))
       scene.outputs = read_quantities(*node, "outputs", "output", *scene.jet, multipliers_allowed(rules));
+  }
+
+  /// [events]: name = { when = "expression", direction = "up"|"down"|"any", action =
+  /// "stop"|"record" } (docs/scenes.md); the expression may use what [outputs] may.
+  void read_events(const toml::table& root, Scene& scene, const ExpressionRules& rules) {
+    const toml::node* node = root.get("events");
+    if (!node) return;
+    for (const auto& [key, value] : entries_in_file_order(*node, "events")) {
+      const std::string n(key->str());
+      check_variable_name_at(at(key->source()), n, "event");
+      const toml::table* t = value->as_table();
+      if (!t) fail(*value, "event '" + n + "' must be a table: { when = \"expression\", direction = \"up\", action = \"stop\" }");
+      check_keys(*t, {"when", "direction", "action"});
+      const toml::node& when = require(*t, "when", "events." + n);
+      SceneEvent event;
+      event.name = n;
+      event.text = string_value(when, "when");
+      event.expression = expression(when, "event '" + n + "'", *scene.jet, multipliers_allowed(rules));
+      event.where = at(when);
+      if (const toml::node* d = t->get("direction")) {
+        const std::string text = string_value(*d, "direction");
+        if (text == "up") event.direction = EventDirection::up;
+        else if (text == "down") event.direction = EventDirection::down;
+        else if (text == "any") event.direction = EventDirection::any;
+        else fail(*d, "direction '" + printable(text) + "': up, down or any");
+      }
+      if (const toml::node* a = t->get("action")) {
+        const std::string text = string_value(*a, "action");
+        if (text == "stop") event.action = EventAction::stop;
+        else if (text == "record") event.action = EventAction::record;
+        else fail(*a, "action '" + printable(text) + "': stop or record");
+      }
+      scene.events.push_back(std::move(event));
+    }
   }
 
   /// The entries of a table in the order the file writes them (toml++ keeps tables sorted by key).
@@ -979,6 +1014,7 @@ std::string equations_source(const std::string& text) {
   root.erase("simulate");
   root.erase("optimize");  // steers nhc optimize, not part of the equations
   root.erase("visual");  // drawn from the run, not part of the equations
+  root.erase("events");  // located along the run, not part of the equations
   std::ostringstream out;
   out << toml::toml_formatter(root);
   return out.str();

@@ -634,6 +634,7 @@ Sample Integrator::initialize(const InitialState& state, double t_next) {
   if (s.n_roots() > 0) {
     s.check(IDARootInit(s.ida, s.n_roots(), &Impl::root_cb), "initialising the event functions");
     std::vector<int> direction(s.n_roots(), 0);
+    for (std::size_t k = 0; k < s.user_events.size(); ++k) direction[k] = s.user_events[k].direction;
     for (int k = static_cast<int>(s.user_events.size()); k < s.n_roots(); ++k) direction[k] = -1;
     s.check(IDASetRootDirection(s.ida, direction.data()), "setting the event directions");
     s.check(IDASetNoInactiveRootWarn(s.ida), "configuring the event functions");
@@ -739,7 +740,8 @@ void Integrator::integrate(const std::vector<double>& times, const std::function
         bool stop = false;
         for (int k = 0; k < ne; ++k)
           if (found[k] != 0) {
-            s.hits.push_back({s.user_events[k].name, tret});
+            s.hits.push_back({s.user_events[k].name, tret, std::vector<double>(s.y.data(), s.y.data() + n),
+                              std::vector<double>(s.yp.data(), s.yp.data() + n)});
             stop = stop || s.user_events[k].terminal;
           }
         if (stop) {

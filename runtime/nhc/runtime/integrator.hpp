@@ -100,16 +100,20 @@ struct Sample {
   std::vector<double> u;  ///< the model's inputs at (t, y), n_inputs of them (inputs.hpp)
 };
 
-/// A user event: the run records (and, if terminal, stops at) each zero of `function`.
+/// A user event: the run records (and, if terminal, stops at) each zero of `function`, located
+/// by IDA's root finding (IDARootInit) to the integration tolerance.
 struct Event {
   std::string name;
   std::function<double(double t, const double* y, const double* yp)> function;
   bool terminal = false;
+  /// The crossings that count: +1 increasing only, -1 decreasing only, 0 both (IDASetRootDirection).
+  int direction = 0;
 };
 
 struct EventHit {
   std::string name;
   double t = 0;
+  std::vector<double> y, yp;  ///< the state at the crossing
 };
 
 struct Statistics {
