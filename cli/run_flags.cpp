@@ -46,7 +46,13 @@ void add_run_flags(CLI::App* sub, RunFlags& flags) {
                   "docs/variational.md)")
       ->check(CLI::IsMember({"ida", "variational"}));
   sub->add_option("--step", flags.step, "the fixed step of --integrator variational")->check(flag_rules::positive());
+  sub->add_option("--backend", flags.backend,
+                  "compiled (the C++ compiler, cached), interpreted (no compiler) or auto (the default: compiled "
+                  "when this model was compiled before, else interpreted; docs/interpreter.md)")
+      ->check(CLI::IsMember({"compiled", "interpreted", "auto"}));
 }
+
+jit::Backend run_backend(const RunFlags& flags) { return jit::parse_backend(flags.backend).value_or(jit::Backend::automatic); }
 
 namespace {
 

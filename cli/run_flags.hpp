@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "nhc/app/run_request.hpp"
+#include "nhc/jit/build.hpp"
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/scene/scene.hpp"
 
@@ -27,6 +28,7 @@ struct RunFlags {
   std::vector<std::string> inputs;  ///< --input NAME=EXPR | NAME=@FILE.csv
   std::string integrator = "ida";   ///< --integrator ida | variational
   std::optional<double> step;       ///< --step H of the variational integrator
+  std::string backend = "auto";     ///< --backend compiled | interpreted | auto (jit::Backend)
   SceneOptions read;
 };
 
@@ -43,6 +45,8 @@ void check_run_flags(const RunFlags& flags, const Scene& scene, ModelKind kind);
 
 /// --integrator variational.
 inline bool variational_integrator(const RunFlags& flags) { return flags.integrator == "variational"; }
+/// The jit backend --backend names.
+jit::Backend run_backend(const RunFlags& flags);
 
 /// A run as the flags ask for it: IDA, or the variational integrator (docs/variational.md), whose
 /// largest discrete-constraint residual comes with it.

@@ -177,6 +177,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
     jit::BuildOptions build_options;
     build_options.sensitivities = !options->sensitivity.names.empty();
     build_options.variational = variational;
+    build_options.backend = run_backend(options->run);
     const jit::LoadedModel built = jit::build(scene, kind, build_options);
     remember_check(check, built);
     for (const std::string& name : options->sensitivity.names)
@@ -245,8 +246,10 @@ CommandRunner add_simulate_command(CLI::App& app) {
            << st.nonlinear_failures;
     if (options->run.project) info << ", projections " << st.projections;
     info << "\n  time: derive " << format(derive_seconds) << " s" << (scene_cached ? " (scene cache)" : "")
-         << ", compile " << format(compile_seconds) << " s"
-              << (built.library().reused ? " (cached)" : "") << ", integrate "
+         << (built.timings().interpreted ? ", interpreted (no compile)"
+                                         : ", compile " + format(compile_seconds) + " s" +
+                                               (built.library().reused ? " (cached)" : ""))
+         << ", integrate "
               << format(st.initialization_seconds + st.integration_seconds) << " s";
     if (!input_files(options->run.inputs).empty()) info << ", read inputs " << format(input_seconds) << " s";
     info << "\n";

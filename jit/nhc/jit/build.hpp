@@ -12,7 +12,20 @@
 
 namespace nhc::jit {
 
+/// How build() makes the model's functions run (docs/interpreter.md).
+enum class Backend {
+  compiled,     ///< the header compiled by the C++ compiler (cached) and loaded
+  interpreted,  ///< the header's instruction list run by the interpreter: no compiler at all
+  automatic,    ///< compiled when this build is in the scene cache (compiled before), else interpreted
+};
+/// "compiled", "interpreted", "auto".
+std::string to_string(Backend backend);
+/// The backend a name gives (`--backend`), or nullopt.
+std::optional<Backend> parse_backend(const std::string& name);
+
 struct BuildOptions {
+  /// The backend; compiled by default for programs, automatic for the command line.
+  Backend backend = Backend::compiled;
   /// The Jacobian to generate; none given: default_jacobian_kind() of the system's size.
   std::optional<JacobianKind> jacobian;
   /// Also dF/dp and dg/dp (HeaderOptions::sensitivities), for runtime::SensitivityIntegrator.
@@ -40,6 +53,8 @@ struct BuildTimings {
   double load = 0;         ///< dlopen and table checks
   /// The header came from the scene cache: nothing was derived, reduced or generated.
   bool scene_cached = false;
+  /// The model runs interpreted (Backend): nothing was compiled; compile and load are 0.
+  bool interpreted = false;
 };
 
 /// A model of a scene, ready to integrate. Owns the loaded library: model() is valid while this
