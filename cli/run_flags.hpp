@@ -28,7 +28,7 @@ struct RunFlags {
   std::vector<std::string> inputs;  ///< --input NAME=EXPR | NAME=@FILE.csv
   std::string integrator = "ida";   ///< --integrator ida | variational
   std::optional<double> step;       ///< --step H of the variational integrator
-  std::string backend = "auto";     ///< --backend compiled | interpreted | auto (jit::Backend)
+  std::string backend;              ///< --backend compiled | interpreted | auto; empty: $NHC_BACKEND, else auto
   SceneOptions read;
 };
 

@@ -117,6 +117,18 @@ LoadedModel load_header(const GeneratedHeader& header, ModelKind kind, JacobianK
   return LoadedModel(kind, jacobian, header, std::move(library), std::move(model), timings);
 }
 
+void remember_compiled_header(const Scene& scene, ModelKind kind, const BuildOptions& options,
+                              const GeneratedHeader& header, JacobianKind jacobian,
+                              const std::filesystem::path& library_directory) {
+  if (!options.scene_cache || !scene_cache_enabled()) return;
+  // The key of a compiled build: what build() looks up first.
+  BuildOptions compiled = options;
+  compiled.backend = Backend::compiled;
+  if (const std::optional<std::string> key = scene_cache_key(scene, kHeaderProduct, header_options_text(kind, compiled),
+                                                             scene_cache_version(), FingerprintScope::equations))
+    SceneCache(library_directory, options.compile.warn).store(*key, header_record(header, jacobian));
+}
+
 LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& options) {
   // The scene cache first: an unchanged scene skips derive, reduce and generate.
   auto start = Clock::now();

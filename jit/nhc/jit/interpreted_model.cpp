@@ -81,6 +81,8 @@ class Interpreter {
   }
 
   const nhc_model_table* table() const noexcept { return &table_; }
+  /// adopt_compiled(): the compiled functions in place of the entry points.
+  bool adopt(const runtime::Model& compiled);
   /// Takes a free slot and enters its entry points into the table.
   void install();
 
@@ -95,6 +97,7 @@ class Interpreter {
       invariant_names_, singular_names_;
   std::vector<int> colptr_, rowind_;
   nhc_model_table table_{};
+  std::vector<runtime::Model> adopted_;  ///< keeps the compiled library loaded
 };
 
 const double* address(const double& value) { return &value; }
@@ -224,7 +227,29 @@ void Interpreter::install() {
                          " interpreted models exist already in this process: release one, or compile (--backend compiled)");
 }
 
+bool Interpreter::adopt(const runtime::Model& compiled) {
+  const nhc_model_table& c = compiled.table();
+  if (c.n_states != table_.n_states || c.n_parameters != table_.n_parameters || c.n_inputs != table_.n_inputs ||
+      c.n_hidden != table_.n_hidden || c.jacobian_nnz != table_.jacobian_nnz)
+    return false;
+  adopted_.push_back(compiled);
+#define NHC_FIELD_ADOPT(name) \
+  if (table_.name) table_.name = c.name;
+  NHC_INTERPRETED_FIELDS(NHC_FIELD_ADOPT)
+#undef NHC_FIELD_ADOPT
+  return true;
+}
+
 }  // namespace
+
+bool adopt_compiled(const runtime::Model& interpreted, const runtime::Model& compiled) {
+  for (const auto& slot : g_slots) {
+    const Interpreter* interpreter = slot.load(std::memory_order_acquire);
+    if (interpreter && interpreter->table() == &interpreted.table())
+      return const_cast<Interpreter*>(interpreter)->adopt(compiled);
+  }
+  return false;
+}
 
 bool interpretable(const PreparedModel& model) {
   return std::all_of(model.functions.begin(), model.functions.end(),

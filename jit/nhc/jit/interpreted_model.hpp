@@ -24,4 +24,11 @@ bool interpretable(const PreparedModel& model);
 /// kInterpretedModelSlots interpreted models exist already, MathError when not interpretable().
 runtime::Model interpret(const Scene& scene, const Index1System& system, const PreparedModel& model);
 
+/// Switches an interpreted model to `compiled` (the same header, compiled and loaded): the
+/// function entries of `interpreted`'s table become the compiled functions, which give the same
+/// numbers to rounding, and the interpreted model keeps `compiled` alive. Call it from the only
+/// thread running the model, between calls. False (nothing changed) when `interpreted` is not an
+/// interpreted model or the two tables differ in their sizes.
+bool adopt_compiled(const runtime::Model& interpreted, const runtime::Model& compiled);
+
 }  // namespace nhc::jit
