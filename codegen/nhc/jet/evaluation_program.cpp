@@ -30,14 +30,38 @@ EvaluationProgram::EvaluationProgram(const ExpressionDag& dag, const std::vector
   std::vector<int> roots;
   for (const Output& o : outputs) roots.push_back(o.instruction);
   // reachable() is increasing in index, which is topological: operands come first.
+  const std::vector<int> reached = dag.reachable(roots);
   std::unordered_map<int, int> register_of;
-  for (int id : dag.reachable(roots)) {
+  for (int id : reached) register_of[id] = register_count_++;
+  // sin and cos of one argument: one sincos call, as the compiler makes of the printed code.
+  std::unordered_map<int, int> sine_of, cosine_of;  // argument instruction → the call
+  for (int id : reached) {
     const Instruction& in = dag[id];
-    const int target = register_count_++;
-    register_of[id] = target;
+    if (in.op != OpCode::call || in.args.size() != 1) continue;
+    if (in.name == "std::sin") sine_of[in.args[0]] = id;
+    if (in.name == "std::cos") cosine_of[in.args[0]] = id;
+  }
+  std::unordered_map<int, bool> paired;  // call instruction → computed with its partner
+  for (int id : reached) {
+    const Instruction& in = dag[id];
+    const int target = register_of.at(id);
     auto reg = [&](std::size_t k) { return register_of.at(in.args[k]); };
     Operation op;
     op.target = target;
+    if (in.op == OpCode::call && in.args.size() == 1 && (in.name == "std::sin" || in.name == "std::cos")) {
+      if (paired.count(id)) continue;
+      const auto& partners = in.name == "std::sin" ? cosine_of : sine_of;
+      const auto partner = partners.find(in.args[0]);
+      if (partner != partners.end()) {
+        paired[partner->second] = true;
+        op.code = Code::sincos;
+        op.a = reg(0);
+        op.target = in.name == "std::sin" ? target : register_of.at(partner->second);
+        op.b = in.name == "std::sin" ? register_of.at(partner->second) : target;
+        operations_.push_back(op);
+        continue;
+      }
+    }
     switch (in.op) {
       case OpCode::constant:
         constants_.emplace_back(target, in.value);
@@ -149,6 +173,7 @@ void EvaluationProgram::run(const double* const* arguments, double* const* outpu
       }
       case Code::call1: r[op.target] = op.unary(r[op.a]); break;
       case Code::call2: r[op.target] = op.binary(r[op.a], r[op.b]); break;
+      case Code::sincos: sincos(r[op.a], &r[op.target], &r[op.b]); break;
       case Code::sign: r[op.target] = static_cast<double>((0.0 < r[op.a]) - (r[op.a] < 0.0)); break;
       case Code::step: r[op.target] = r[op.a] < 0.0 ? 0.0 : (0.0 < r[op.a] ? 1.0 : 0.5); break;
       case Code::store: outputs[op.target][op.b] = r[op.a]; break;

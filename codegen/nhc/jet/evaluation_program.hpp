@@ -45,12 +45,12 @@ class EvaluationProgram {
   std::size_t operation_count() const noexcept { return operations_.size(); }
 
  private:
-  enum class Code : std::uint8_t { load, sum, product, quotient, negate, square_root, power, call1, call2, sign, step, store };
+  enum class Code : std::uint8_t { load, sum, product, quotient, negate, square_root, power, call1, call2, sincos, sign, step, store };
   struct Operation {
     Code code = Code::load;
     int target = 0;  ///< register written (store: the output slot)
     int a = 0;       ///< first operand register (load: argument; store: the register stored)
-    int b = 0;       ///< second operand (load, store: the index; power: the exponent)
+    int b = 0;       ///< second operand (load, store: the index; power: the exponent; sincos: the cosine's register)
     int first = 0;   ///< sum, product: the operands in operands_[first, first + count)
     int count = 0;
     double (*unary)(double) = nullptr;
