@@ -58,6 +58,7 @@ CommandRunner add_animate_command(CLI::App& app) {
 
     jit::BuildOptions build_options;
     build_options.variational = variational_integrator(flags);
+    build_options.backend = run_backend(flags);
     const jit::LoadedModel built = jit::build(scene, kind, build_options);
     const runtime::Model& model = built.model();
     runtime::IntegratorOptions io = run_integrator_options(flags, scene);

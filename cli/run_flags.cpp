@@ -2,6 +2,7 @@
 #include "run_flags.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 
 #include "commands.hpp"
 #include "nhc/derive/discrete_lagrange_dalembert.hpp"
@@ -49,6 +50,20 @@ void add_run_flags(CLI::App* sub, RunFlags& flags) {
   sub->add_option("--stop-when", flags.stop_when,
                   "EXPR: end the run where the expression (of t, the coordinates, their derivatives and the "
                   "multipliers) crosses zero, located by IDA's root finding (docs/scenes.md, [events])");
+  sub->add_option("--backend", flags.backend,
+                  "compiled (the C++ compiler, cached), interpreted (no compiler) or auto (the default, or "
+                  "$NHC_BACKEND: compiled when this model was compiled before, else interpreted and compiled "
+                  "behind a long run; docs/interpreter.md)")
+      ->check(CLI::IsMember({"compiled", "interpreted", "auto"}));
+}
+
+jit::Backend run_backend(const RunFlags& flags) {
+  if (!flags.backend.empty()) return jit::parse_backend(flags.backend).value_or(jit::Backend::automatic);
+  // $NHC_BACKEND sets the default (as NHC_CXX the compiler); an unknown value is a bad setting.
+  const char* setting = std::getenv("NHC_BACKEND");
+  if (!setting || !*setting) return jit::Backend::automatic;
+  if (const std::optional<jit::Backend> backend = jit::parse_backend(setting)) return *backend;
+  throw InputError({"NHC_BACKEND", 0, 0}, std::string("'") + setting + "' is not a backend: compiled, interpreted or auto");
 }
 
 namespace {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "nhc/app/run_request.hpp"
+#include "nhc/jit/build.hpp"
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/scene/scene.hpp"
 
@@ -28,6 +29,7 @@ struct RunFlags {
   std::string integrator = "ida";   ///< --integrator ida | variational
   std::optional<double> step;       ///< --step H of the variational integrator
   std::optional<std::string> stop_when;  ///< --stop-when EXPR: an event that ends the run
+  std::string backend;              ///< --backend compiled | interpreted | auto; empty: $NHC_BACKEND, else auto
   SceneOptions read;
 };
 
@@ -44,6 +46,8 @@ void check_run_flags(const RunFlags& flags, const Scene& scene, ModelKind kind);
 
 /// --integrator variational.
 inline bool variational_integrator(const RunFlags& flags) { return flags.integrator == "variational"; }
+/// The jit backend --backend names.
+jit::Backend run_backend(const RunFlags& flags);
 
 /// A run as the flags ask for it: IDA, or the variational integrator (docs/variational.md), whose
 /// largest discrete-constraint residual comes with it.

@@ -28,6 +28,7 @@
 #include "nhc/io/atomic_file.hpp"
 #include "nhc/io/output_path.hpp"
 #include "nhc/jit.hpp"
+#include "nhc/jit/compile_behind.hpp"
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/scene/scene.hpp"
 #include "nhc/scene/tolerances.hpp"
@@ -187,6 +188,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
     jit::BuildOptions build_options;
     build_options.sensitivities = !options->sensitivity.names.empty();
     build_options.variational = variational;
+    build_options.backend = run_backend(options->run);
     const jit::LoadedModel built = jit::build(scene, kind, build_options);
     remember_check(check, built);
     for (const std::string& name : options->sensitivity.names)
@@ -201,6 +203,13 @@ CommandRunner add_simulate_command(CLI::App& app) {
     // Integrate.
     runtime::IntegratorOptions io = run_integrator_options(options->run, scene);
     io.progress = terminal_progress();
+    // --backend auto: a long interpreted run compiles its model behind it (compile_behind.hpp).
+    jit::CompileBehind behind(scene, kind, build_options, built);
+    if (built.timings().interpreted)
+      io.progress = [&behind, bar = io.progress](const runtime::Progress& at) {
+        behind.poll();
+        if (bar) bar(at);
+      };
     const std::vector<double> p = parameters_with_overrides(model, overrides);
     const app::SceneOutputs outputs(scene_set, model, p);  // [outputs]: extra CSV columns
     for (const std::string& note : outputs.notes()) std::cerr << note << "\n";
@@ -239,6 +248,9 @@ CommandRunner add_simulate_command(CLI::App& app) {
       write_file_atomically(options->output, write_rows);
     }
 
+    const bool switched = behind.switched();
+    const bool compiled_behind = behind.finish();
+
     // Summary.
     const runtime::Statistics& st = run.statistics;
     const runtime::DriftReport drift = runtime::measure_drift(model, p, run.samples);
@@ -261,8 +273,13 @@ CommandRunner add_simulate_command(CLI::App& app) {
            << st.nonlinear_failures;
     if (options->run.project) info << ", projections " << st.projections;
     info << "\n  time: derive " << format(derive_seconds) << " s" << (scene_cached ? " (scene cache)" : "")
-         << ", compile " << format(compile_seconds) << " s"
-              << (built.library().reused ? " (cached)" : "") << ", integrate "
+         << (built.timings().interpreted
+                 ? (switched          ? ", interpreted, then compiled behind the run"
+                    : compiled_behind ? ", interpreted (compiled behind it for the next run)"
+                                      : ", interpreted (no compile)")
+                                         : ", compile " + format(compile_seconds) + " s" +
+                                               (built.library().reused ? " (cached)" : ""))
+         << ", integrate "
               << format(st.initialization_seconds + st.integration_seconds) << " s";
     if (!input_files(options->run.inputs).empty()) info << ", read inputs " << format(input_seconds) << " s";
     info << "\n";

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "nhc/jet/evaluation_program.hpp"
 #include "nhc/jet/expression_dag.hpp"
 
 namespace nhc {
@@ -41,8 +42,7 @@ class NumericProgram {
   ExpressionDag dag_;
   std::vector<int> outputs_;
   std::vector<std::string> labels_;
-  mutable std::vector<int> order_;         ///< reachable instructions, operands first
-  mutable std::vector<int> input_index_;   ///< per instruction: the input it reads, or -1
+  mutable EvaluationProgram program_;      ///< the outputs' instructions, lowered on first use
   mutable bool prepared_ = false;
 };
 

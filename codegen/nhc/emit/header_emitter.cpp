@@ -72,7 +72,7 @@ std::string generated_header_file_name(const std::string& scene_name, ModelKind 
 }
 
 GeneratedHeader generate_header(const Scene& scene, const Index1System& system,
-                                const HeaderOptions& options) {
+                                const HeaderOptions& options, PreparedModel* prepared) {
   const work_budget::Stage stage("generating code (Jacobians, CSE, printing)");
   if (!system.jet) throw MathError("index-1 system without a jet space");
   // The scene name becomes a namespace and a file name: only a validated identifier may. (Scenes
@@ -85,7 +85,7 @@ GeneratedHeader generate_header(const Scene& scene, const Index1System& system,
   if (system.residuals.size() != n || system.y.size() != n || system.yp.size() != n)
     throw MathError("inconsistent index-1 system: " + std::to_string(n) + " states, " +
                     std::to_string(system.residuals.size()) + " residuals");
-  const PreparedModel model =
+  PreparedModel model =
       refusing_at(scene.file_location(), "generating code for the " + to_string(system.model) + " model",
                   [&] { return prepare_model(scene, system, options.jacobian, options.sensitivities,
                                                        options.variational); });
@@ -95,6 +95,7 @@ GeneratedHeader generate_header(const Scene& scene, const Index1System& system,
   header.text = print_header(scene, system, model, options.split_from_bytes);
   header.before_cse = model.before_cse;
   header.after_cse = model.after_cse;
+  if (prepared) *prepared = std::move(model);
   return header;
 }
 

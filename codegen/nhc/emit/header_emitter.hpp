@@ -60,8 +60,10 @@ std::string generated_header_file_name(const std::string& scene_name, ModelKind 
 
 /// Emits the header. Deterministic: the same scene, model and options give the same bytes (the
 /// banner names the scene file without its directory, and no time stamp).
+/// `prepared`, when given, receives the model the header was printed from (what an interpreted
+/// model runs, nhc/jit/interpreted_model.hpp).
 GeneratedHeader generate_header(const Scene& scene, const Index1System& system,
-                                const HeaderOptions& options);
+                                const HeaderOptions& options, PreparedModel* prepared = nullptr);
 
 /// Text safe inside a `//` comment: one line, no `*/`, no backslash (line splicing), ASCII only.
 std::string sanitize_comment(const std::string& text);

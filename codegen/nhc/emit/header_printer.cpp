@@ -10,6 +10,7 @@
 
 #include "nhc/emit/cpp_printer.hpp"
 #include "nhc/emit/header_emitter.hpp"
+#include "nhc/emit/model_layout.hpp"
 #include "nhc/emit/model_table_text.hpp"
 #include "nhc/errors.hpp"
 
@@ -101,17 +102,7 @@ void print_banner(std::ostream& out, const Scene& scene, const Index1System& sys
 /// Sizes, names and the state layout.
 void print_metadata(std::ostream& out, const Scene& scene, const Index1System& system, const PreparedModel& m,
                     bool splittable) {
-  std::vector<std::string> state_names;
-  std::vector<int> state_variable, state_order;
-  std::vector<double> differential_id;
-  for (const StateComponent& s : system.states) {
-    state_names.push_back(s.name);
-    state_variable.push_back(s.kind == VariableKind::coordinate ? s.index : m.n_coordinates + s.index);
-    state_order.push_back(s.order);
-    differential_id.push_back(s.differential ? 1.0 : 0.0);
-  }
-  std::vector<std::string> residual_names = system.residual_names;
-  residual_names.resize(static_cast<size_t>(m.n_states));
+  const ModelLayout layout = model_layout(scene, system, m);
   out << "inline constexpr int n_states = " << m.n_states << ";\n"
       << "inline constexpr int n_parameters = " << m.n_parameters << ";\n"
       << "inline constexpr int n_coordinates = " << m.n_coordinates << ";\n"
@@ -127,17 +118,15 @@ void print_metadata(std::ostream& out, const Scene& scene, const Index1System& s
       << part0_begin(splittable)
       << "/// y[k] holds the state_order[k]-th derivative of variable state_variable[k]\n"
       << "/// (0..n_coordinates-1: coordinates, then multipliers).\n"
-      << "inline constexpr const char* state_names[n_states] = " << strings(state_names) << ";\n"
-      << "inline constexpr int state_variable[n_states] = " << ints(state_variable) << ";\n"
-      << "inline constexpr int state_order[n_states] = " << ints(state_order) << ";\n"
+      << "inline constexpr const char* state_names[n_states] = " << strings(layout.state_names) << ";\n"
+      << "inline constexpr int state_variable[n_states] = " << ints(layout.state_variable) << ";\n"
+      << "inline constexpr int state_order[n_states] = " << ints(layout.state_order) << ";\n"
       << "/// IDA id: 1.0 differential, 0.0 algebraic.\n"
-      << "inline constexpr double differential_id[n_states] = " << doubles(differential_id) << ";\n"
-      << "inline constexpr const char* residual_names[n_states] = " << strings(residual_names) << ";\n";
+      << "inline constexpr double differential_id[n_states] = " << doubles(layout.differential_id) << ";\n"
+      << "inline constexpr const char* residual_names[n_states] = " << strings(layout.residual_names) << ";\n";
   if (m.n_parameters > 0) {
-    std::vector<double> defaults;
-    for (int k : m.parameters) defaults.push_back(scene.parameter_values.at(static_cast<std::size_t>(k)));
     out << "inline constexpr const char* parameter_names[n_parameters] = " << strings(m.parameter_names) << ";\n"
-        << "inline constexpr double default_parameters[n_parameters] = " << doubles(defaults) << ";\n";
+        << "inline constexpr double default_parameters[n_parameters] = " << doubles(layout.default_parameters) << ";\n";
   } else {
     out << "/// No parameters; C++ has no empty arrays, so one unused placeholder each.\n"
         << "inline constexpr const char* parameter_names[1] = {nullptr};\n"
@@ -145,26 +134,14 @@ void print_metadata(std::ostream& out, const Scene& scene, const Index1System& s
   }
   if (m.n_inputs > 0)
     out << "inline constexpr const char* input_names[n_inputs] = " << strings(m.input_names) << ";\n";
-  if (m.n_hidden > 0) {
-    std::vector<std::string> names = system.hidden_constraint_names;
-    names.resize(static_cast<size_t>(m.n_hidden));
-    out << "inline constexpr const char* hidden_names[n_hidden] = " << strings(names) << ";\n";
-  }
-  if (m.n_invariants > 0) {
-    std::vector<std::string> names;
-    for (const auto& inv : m.invariants) names.push_back(inv.name);
-    out << "inline constexpr const char* invariant_names[n_invariants] = " << strings(names) << ";\n";
-  }
-  if (m.n_reference > 0) {
-    std::vector<int> coordinates;
-    for (const auto& r : m.reference) coordinates.push_back(r.first);
-    out << "inline constexpr int reference_coordinate[n_reference] = " << ints(coordinates) << ";\n";
-  }
-  if (m.n_singular > 0) {
-    std::vector<std::string> names;
-    for (const auto& q : m.singular) names.push_back(q.name);
-    out << "inline constexpr const char* singular_names[n_singular] = " << strings(names) << ";\n";
-  }
+  if (m.n_hidden > 0)
+    out << "inline constexpr const char* hidden_names[n_hidden] = " << strings(layout.hidden_names) << ";\n";
+  if (m.n_invariants > 0)
+    out << "inline constexpr const char* invariant_names[n_invariants] = " << strings(layout.invariant_names) << ";\n";
+  if (m.n_reference > 0)
+    out << "inline constexpr int reference_coordinate[n_reference] = " << ints(layout.reference_coordinate) << ";\n";
+  if (m.n_singular > 0)
+    out << "inline constexpr const char* singular_names[n_singular] = " << strings(layout.singular_names) << ";\n";
   out << part0_end(splittable);
 }
 

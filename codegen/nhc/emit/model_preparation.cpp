@@ -251,6 +251,7 @@ FunctionPlan jacobian_function(const SymbolicJacobian& jacobian, bool dense, Exp
     f.doc = "/// J = dF/dy + cj dF/dy', column-major n_states x n_states.\n";
     f.parameters.push_back({"double*", "J"});
     f.prologue = "  for (int k = 0; k < n_states * n_states; ++k) J[k] = 0.0;\n";
+    f.zero_fill = jacobian.size * jacobian.size;
   } else {
     f.name = "jacobian_values";
     f.doc = "/// Nonzero values of J = dF/dy + cj dF/dy' in compressed-column order\n"
@@ -289,6 +290,7 @@ FunctionPlan hidden_constraints_jacobian_function(const Index1System& system, Ex
   G.doc = "/// G = dg/dy, column-major n_hidden x n_states.\n";
   G.parameters = {{"double", "t"}, {"const double*", "y"}, {"const double*", "p"}, {"double*", "G"}};
   G.prologue = "  for (int k = 0; k < n_hidden * n_states; ++k) G[k] = 0.0;\n";
+  G.zero_fill = static_cast<int>(system.hidden_constraints.size() * system.states.size());
   const size_t h = system.hidden_constraints.size();
   if (system.hidden_constraint_jacobian.size() != h)
     throw MathError("index-1 system without the Jacobian of its hidden constraints");
@@ -369,6 +371,7 @@ FunctionPlan parameter_matrix_function(const std::string& name, const std::strin
   f.parameters = std::move(inputs);
   f.parameters.push_back({"double*", out});
   f.prologue = "  for (int k = 0; k < " + std::to_string(rows * n_parameters) + "; ++k) " + out + "[k] = 0.0;\n";
+  f.zero_fill = rows * n_parameters;
   for (int at : nonzeros)
     f.assignments.push_back({out + "[" + std::to_string(at) + "]", dag.add(entries[static_cast<size_t>(at)]),
                              "(" + std::to_string(at % rows) + ", " + std::to_string(at / rows) + ")"});
@@ -418,6 +421,7 @@ FunctionPlan variational_jacobian_function(const DiscreteLagrangeDAlembert& step
   f.parameters.push_back({"double*", "J"});
   const std::size_t size = step.x.size();
   f.prologue = "  for (int k = 0; k < " + std::to_string(size * size) + "; ++k) J[k] = 0.0;\n";
+  f.zero_fill = size * size;
   const auto occurring = occurring_symbols(step.residual, step.x);
   std::vector<std::tuple<std::size_t, std::size_t, GiNaC::ex>> entries;  // (column, row, value)
   for (std::size_t i = 0; i < size; ++i)

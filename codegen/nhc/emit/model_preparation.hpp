@@ -73,6 +73,7 @@ struct FunctionPlan {
   std::vector<std::pair<std::string, std::string>> parameters;
   std::vector<Assignment> assignments;
   std::string prologue;  ///< e.g. zero fill of a dense matrix
+  int zero_fill = 0;     ///< the output's first entries the prologue sets to zero
   OperationCount before, after;
 };
 

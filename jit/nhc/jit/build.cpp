@@ -9,6 +9,7 @@
 #include "nhc/long_work.hpp"
 #include "nhc/derive/models.hpp"
 #include "nhc/errors.hpp"
+#include "nhc/jit/interpreted_model.hpp"
 
 namespace nhc::jit {
 
@@ -80,6 +81,21 @@ std::optional<CachedHeader> cached_header(const SceneCacheRecord& record) {
 
 }  // namespace
 
+std::string to_string(Backend backend) {
+  switch (backend) {
+    case Backend::compiled: return "compiled";
+    case Backend::interpreted: return "interpreted";
+    case Backend::automatic: return "auto";
+  }
+  return "compiled";
+}
+
+std::optional<Backend> parse_backend(const std::string& name) {
+  for (Backend b : {Backend::compiled, Backend::interpreted, Backend::automatic})
+    if (name == to_string(b)) return b;
+  return std::nullopt;
+}
+
 LoadedModel::LoadedModel(ModelKind kind, JacobianKind jacobian, GeneratedHeader header, CompiledLibrary library,
                          runtime::Model model, BuildTimings timings)
     : kind_(kind),
@@ -101,11 +117,24 @@ LoadedModel load_header(const GeneratedHeader& header, ModelKind kind, JacobianK
   return LoadedModel(kind, jacobian, header, std::move(library), std::move(model), timings);
 }
 
+void remember_compiled_header(const Scene& scene, ModelKind kind, const BuildOptions& options,
+                              const GeneratedHeader& header, JacobianKind jacobian,
+                              const std::filesystem::path& library_directory) {
+  if (!options.scene_cache || !scene_cache_enabled()) return;
+  // The key of a compiled build: what build() looks up first.
+  BuildOptions compiled = options;
+  compiled.backend = Backend::compiled;
+  if (const std::optional<std::string> key = scene_cache_key(scene, kHeaderProduct, header_options_text(kind, compiled),
+                                                             scene_cache_version(), FingerprintScope::equations))
+    SceneCache(library_directory, options.compile.warn).store(*key, header_record(header, jacobian));
+}
+
 LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& options) {
   // The scene cache first: an unchanged scene skips derive, reduce and generate.
   auto start = Clock::now();
   std::optional<std::string> key;
-  if (options.scene_cache && scene_cache_enabled())
+  // Interpreted, the model needs the prepared instruction list: the header alone is not enough.
+  if (options.backend != Backend::interpreted && options.scene_cache && scene_cache_enabled())
     key = scene_cache_key(scene, kHeaderProduct, header_options_text(kind, options), scene_cache_version(),
                           FingerprintScope::equations);
   if (key) {
@@ -138,9 +167,26 @@ LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& option
   header_options.sensitivities = options.sensitivities;
   header_options.variational = options.variational;
   header_options.split_from_bytes = options.split_from_bytes;
-  GeneratedHeader header = generate_header(scene, system, header_options);
+  const bool may_interpret = options.backend != Backend::compiled;
+  PreparedModel prepared;
+  GeneratedHeader header = generate_header(scene, system, header_options, may_interpret ? &prepared : nullptr);
   check_for_stop_now();
   const double generate_seconds = seconds_since(start);
+
+  if (may_interpret && interpretable(prepared)) {
+    start = Clock::now();
+    runtime::Model model = interpret(scene, system, prepared);
+    BuildTimings timings;
+    timings.derive = derive_seconds;
+    timings.generate = generate_seconds;
+    timings.scene_cache = lookup_seconds;
+    timings.load = seconds_since(start);
+    timings.interpreted = true;
+    return LoadedModel(kind, header_options.jacobian, std::move(header), CompiledLibrary{}, std::move(model), timings);
+  }
+  if (options.backend == Backend::interpreted)
+    throw MathError("the " + to_string(kind) + " model of " + scene.name +
+                    " has a function the interpreter does not run: use --backend compiled");
 
   LoadedModel loaded = load_header(header, kind, header_options.jacobian, options.compile);
   // Stored once the header compiled and loaded, beside the library (the compile cache's checked

@@ -12,7 +12,23 @@
 
 namespace nhc::jit {
 
+/// How build() makes the model's functions run (docs/interpreter.md).
+enum class Backend {
+  compiled,     ///< the header compiled by the C++ compiler (cached) and loaded
+  interpreted,  ///< the header's instruction list run by the interpreter: no compiler at all
+  automatic,    ///< compiled when this build is in the scene cache (compiled before), else interpreted
+};
+/// "compiled", "interpreted", "auto".
+std::string to_string(Backend backend);
+/// The backend a name gives (`--backend`), or nullopt.
+std::optional<Backend> parse_backend(const std::string& name);
+
 struct BuildOptions {
+  /// The backend; compiled by default for programs, automatic for the command line.
+  Backend backend = Backend::compiled;
+  /// Backend::automatic: seconds of an interpreted run after which its model is compiled behind
+  /// it (compile_behind.hpp); none: predicted_compile_seconds() of its header.
+  std::optional<double> compile_behind_after;
   /// The Jacobian to generate; none given: default_jacobian_kind() of the system's size.
   std::optional<JacobianKind> jacobian;
   /// Also dF/dp and dg/dp (HeaderOptions::sensitivities), for runtime::SensitivityIntegrator.
@@ -40,6 +56,8 @@ struct BuildTimings {
   double load = 0;         ///< dlopen and table checks
   /// The header came from the scene cache: nothing was derived, reduced or generated.
   bool scene_cached = false;
+  /// The model runs interpreted (Backend): nothing was compiled; compile and load are 0.
+  bool interpreted = false;
 };
 
 /// A model of a scene, ready to integrate. Owns the loaded library: model() is valid while this
@@ -73,6 +91,14 @@ class LoadedModel {
 /// generates the header, compiles it (cached) and loads it. An unchanged scene built before with
 /// the same model and options takes its header from the scene cache instead (scene_cache.hpp).
 LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& options = {});
+
+/// Records in the scene cache that `header` (built for `scene`, `kind`, `options`) compiled into
+/// a library in `library_directory`, as build() does after compiling, so that the next build
+/// takes it from there (compile_behind.hpp, after an interpreted run). Nothing when the scene
+/// cache is off or the scene has no source text.
+void remember_compiled_header(const Scene& scene, ModelKind kind, const BuildOptions& options,
+                              const GeneratedHeader& header, JacobianKind jacobian,
+                              const std::filesystem::path& library_directory);
 
 /// A header already generated (or written by hand) compiled and loaded.
 LoadedModel load_header(const GeneratedHeader& header, ModelKind kind, JacobianKind jacobian,

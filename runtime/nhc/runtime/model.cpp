@@ -44,12 +44,17 @@ void validate(const nhc_model_table* t, const std::string& origin) {
 
 }  // namespace
 
-Model::Model(const nhc_model_table* table, std::shared_ptr<void> library)
+Model::Model(const nhc_model_table* table, std::shared_ptr<const void> library)
     : table_(table), library_(std::move(library)) {}
 
 Model Model::from_table(const nhc_model_table* table) {
   validate(table, "the program");
   return Model(table, nullptr);
+}
+
+Model Model::from_table(const nhc_model_table* table, std::shared_ptr<const void> owner) {
+  validate(table, table ? std::string("the interpreted model of ") + table->scene_name : std::string("the program"));
+  return Model(table, std::move(owner));
 }
 
 Model Model::load(const std::string& shared_object) {

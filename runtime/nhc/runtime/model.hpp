@@ -19,6 +19,9 @@ class Model {
   /// or, with NHC_EXPORT_MODEL_TABLE defined before the include, `Model::from_table(nhc_model_table_get())`.
   /// Throws ModelError when the table violates the contract.
   static Model from_table(const nhc_model_table* table);
+  /// A table whose storage and functions `owner` keeps alive (an interpreted model,
+  /// nhc/jit/interpreted_model.hpp): the model holds `owner` as it holds a loaded library.
+  static Model from_table(const nhc_model_table* table, std::shared_ptr<const void> owner);
 
   /// dlopen()s a shared object built from a generated header with NHC_EXPORT_MODEL_TABLE and
   /// takes its table. Throws ModelError with dlerror()'s message on failure.
@@ -71,9 +74,9 @@ class Model {
   int input_index(const std::string& name) const noexcept;  ///< -1 when no input has the name
 
  private:
-  Model(const nhc_model_table* table, std::shared_ptr<void> library);
+  Model(const nhc_model_table* table, std::shared_ptr<const void> library);
   const nhc_model_table* table_ = nullptr;
-  std::shared_ptr<void> library_;
+  std::shared_ptr<const void> library_;
 };
 
 }  // namespace nhc::runtime
