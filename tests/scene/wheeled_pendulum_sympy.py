@@ -143,4 +143,51 @@ print("states", data["states"])
 print("A difference", np.max(np.abs(A - As)), "B difference", np.max(np.abs(Bm - Bs)))
 assert np.max(np.abs(A - As)) < 1e-6 * (1 + np.max(np.abs(As))), (A, As)
 assert np.max(np.abs(Bm - Bs)) < 1e-6 * (1 + np.max(np.abs(Bs))), (Bm, Bs)
+
+# --- a feedback law in [inputs], compiled into the equations -------------------------------------
+# An LQR state feedback (gains rounded from scipy's continuous ARE on the A, B above) written as the
+# scene's [inputs] laws; the same law closed around the SymPy model. From a 0.3 rad tilt, 2 s.
+law_L = "0.7*psi + 11*th + 2.4*th' - 0.01*phL' + 0.33*phR'"
+law_R = "-0.7*psi + 11*th + 2.4*th' + 0.33*phL' - 0.01*phR'"
+text = open(scene).read()
+text = text.replace('TL = "0"', f'TL = "{law_L}"').replace('TR = "0"', f'TR = "{law_R}"')
+text = text.replace("th = [0.05, 0.0]", "th = [0.3, 0.0]")
+closed_scene = os.path.join(work, "wheeled_pendulum_lqr.toml")
+with open(closed_scene, "w") as f:
+    f.write(text)
+
+
+def law(z):
+    psi_, th_, dth, dL, dR = z[2], z[3], z[6], z[7], z[8]
+    return [0.7 * psi_ + 11 * th_ + 2.4 * dth - 0.01 * dL + 0.33 * dR,
+            -0.7 * psi_ + 11 * th_ + 2.4 * dth + 0.33 * dL - 0.01 * dR]
+
+
+z0 = np.zeros(9)
+z0[3] = 0.3
+t_end = 2.0
+ref = solve_ivp(lambda t, z: rhs(t, z, law(z)), (0, t_end), z0, rtol=1e-12, atol=1e-13, method="DOP853",
+                dense_output=True)
+assert ref.success, ref.message
+out = os.path.join(work, "closed.csv")
+subprocess.run([nhc, "simulate", closed_scene, "--t-end", str(t_end), "--outputs", "40", "-o", out], check=True)
+with open(out) as f:
+    rows = list(csv.DictReader(f))
+worst = 0.0
+for row in rows:
+    zr = ref.sol(float(row["t"]))
+    mine = np.array([float(row[n]) for n in names + ["th'", "phL'", "phR'"]])
+    worst = max(worst, float(np.max(np.abs(mine - zr))))
+final = ref.sol(t_end)
+print(f"closed loop from th = 0.3: th({t_end}) = {final[3]:.2e}; largest difference to SymPy+solve_ivp {worst:.2e}")
+assert abs(final[3]) < 0.01, "the law does not hold the pendulum up"
+assert worst < 1e-7, worst
+
+# A law of an acceleration is an algebraic loop: refused, exit 2, at the input.
+looped = os.path.join(work, "algebraic_loop.toml")
+with open(looped, "w") as f:
+    f.write(text.replace(f'TL = "{law_L}"', 'TL = "3*th' + "''" + '"'))
+bad = subprocess.run([nhc, "simulate", looped], capture_output=True, text=True)
+print(bad.stderr.strip())
+assert bad.returncode == 2 and "algebraic loop" in bad.stderr and "algebraic_loop.toml:" in bad.stderr
 print("ok")
