@@ -190,4 +190,7 @@ with open(looped, "w") as f:
 bad = subprocess.run([nhc, "simulate", looped], capture_output=True, text=True)
 print(bad.stderr.strip())
 assert bad.returncode == 2 and "algebraic loop" in bad.stderr and "algebraic_loop.toml:" in bad.stderr
+# --input on an input the scene closes by a law would drive nothing: refused, exit 2, naming the flag.
+bad = subprocess.run([nhc, "simulate", closed_scene, "--input", "TL=0"], capture_output=True, text=True)
+assert bad.returncode == 2 and "--input" in bad.stderr and "feedback law" in bad.stderr, bad.stderr
 print("ok")
