@@ -163,6 +163,10 @@ InputSignals parse_input_signals(const Scene& scene, const std::vector<std::stri
       throw InputError(kFlag, "unknown input '" + name + "' (" +
                                   (known.empty() ? std::string("the scene has no [inputs]") : "inputs: " + known) + ")");
     }
+    // A feedback law of the scene is compiled into the equations: a signal for it would drive nothing.
+    if (scene.inputs[static_cast<std::size_t>(*k)].feedback)
+      throw InputError(kFlag, "input '" + name + "' is a feedback law of the scene (compiled into its equations); "
+                              "change the law in [inputs]");
     Signal signal = !text.empty() && text[0] == '@'
                         ? Signal([series = read_series(text.substr(1), name, t0, t_end)](double t) { return series.at(t); })
                         : expression_signal(scene, name, text);

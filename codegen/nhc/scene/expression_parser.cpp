@@ -638,6 +638,10 @@ class Parser {
       if (order > 0)
         fail(start, "input '" + base + "' cannot carry primes: an input's derivative is not known");
       if (!rules_.allow_coordinates) fail(start, "input '" + base + "' is not allowed here " + allowed_here());
+      if (!rules_.allow_inputs)
+        fail(start, "input '" + base + "' is not allowed here (an input's law may not use another input)");
+      if (rules_.input_law)
+        if (std::optional<GiNaC::ex> law = rules_.input_law(*k)) return Value::scalar(*law);
       return Value::scalar(jet_.input(*k));
     }
     if (const std::optional<int> i = jet_.coordinate_index(base)) {

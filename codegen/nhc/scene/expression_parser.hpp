@@ -80,6 +80,10 @@ struct ExpressionRules {
   bool allow_coordinates = true;   ///< q and its derivatives
   bool allow_multipliers = false;  ///< lambda1… and derivatives
   bool allow_time = true;          ///< t
+  bool allow_inputs = true;        ///< the [inputs] names (where coordinates are allowed)
+  /// A feedback law for input k (scene [inputs] of coordinates), written in its place wherever the
+  /// input's name appears; nullopt: the input stays a symbol the run fills in.
+  std::function<std::optional<GiNaC::ex>(int input)> input_law;
   /// The size limits above (length, nesting, exponents, numbers, expansion) guard against
   /// hostile scene files. Text nhc printed itself (JSON output read back) may exceed them: a
   /// product of powers prints as y^81, an expansion as larger numbers. Off: only the nesting

@@ -81,6 +81,11 @@ struct SceneInput {
   std::string name;
   GiNaC::ex default_signal;
   SourceLocation where;  ///< the entry in the scene file
+  /// A feedback law u(t, q, q') (an [inputs] expression of coordinates): compiled into the
+  /// equations in place of the input's symbol (closed loop), so no run fills it in and its
+  /// default_signal is 0. Empty for a signal of t.
+  GiNaC::ex law;
+  bool feedback = false;
 };
 
 /// A [parameters] entry written through other parameters (`Ja = "mw*r^2/2"`): not a parameter of

@@ -286,6 +286,11 @@ class SceneReader {
     plain.rotation_check.point = &initial_point;
     plain.node_budget = std::make_shared<std::size_t>(kMaxSceneNodes);
     read_input_signals(input_nodes, scene, plain);
+    plain.input_law = [&scene](int k) -> std::optional<GiNaC::ex> {
+      const SceneInput& input = scene.inputs[static_cast<std::size_t>(k)];
+      if (!input.feedback) return std::nullopt;
+      return input.law;
+    };
     DefinitionTable definitions(jet, plain, options_.keep_definitions);
     scene.keep_definitions = options_.keep_definitions;
     read_definitions(root, definitions);
@@ -748,15 +753,28 @@ class SceneReader {
   void read_input_signals(const std::vector<std::pair<const toml::node*, SourceLocation>>& nodes, Scene& scene,
                           const ExpressionRules& plain) {
     ExpressionRules signal = plain;
-    signal.allow_coordinates = false;  // a signal of time: no q, no other input
+    signal.allow_inputs = false;  // a signal of t, or a feedback law of t, q and q'; no other input
     for (std::size_t k = 0; k < nodes.size(); ++k) {
       const toml::node& value = *nodes[k].first;
       const std::string& name = scene.jet->inputs()[k];
       GiNaC::ex u;
       if (value.is_number()) u = number_value(value, "input '" + name + "'");
       else if (value.is_string()) u = expression(value, "input '" + name + "'", *scene.jet, signal);
-      else fail(value, "input '" + name + "' must be a number or an expression of t and the parameters (a string)");
-      scene.inputs.push_back({name, u, nodes[k].second});
+      else fail(value, "input '" + name + "' must be a number or an expression of t, the parameters and the coordinates (a string)");
+      const int order = scene.jet->highest_coordinate_order(u);
+      // The equations' states hold q and q' (forces are Q(t, q, q')); q'' is what the input
+      // drives, so a law of q'' would be an equation for itself (docs/scenes.md, "Feedback laws").
+      if (order > 1)
+        fail(value, "input '" + name + "' uses a derivative of order " + std::to_string(order) +
+                        " of a coordinate: an algebraic loop (the input drives the accelerations it would "
+                        "read); a feedback law may use t, parameters, coordinates and their first derivatives");
+      SceneInput input{name, u, nodes[k].second};
+      if (order >= 0) {
+        input.law = u;
+        input.feedback = true;
+        input.default_signal = 0;
+      }
+      scene.inputs.push_back(input);
     }
   }
 
