@@ -3,11 +3,12 @@
 //
 // An optimal motion (docs/optimize.md): the scene's [optimize] table transcribed by
 // Hermite–Simpson collocation and solved by IPOPT (nhc::optimize). Prints `cost = C`, the
-// constraint violation and the iterations; writes t, the coordinates and their rates on the
+// constraint violation and the iterations; writes t, the states, their rates and the inputs on the
 // collocation points. IPOPT's progress goes to stderr. Infeasible or iteration limit: exit 3
 // in words naming the constraint violated most (at the iteration limit the last point is written).
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <iostream>
 
 #include "commands.hpp"
@@ -16,6 +17,7 @@
 #include "nhc/io/atomic_file.hpp"
 #include "nhc/io/output_path.hpp"
 #include "nhc/optimize/hermite_simpson.hpp"
+#include "nhc/optimize/path_table.hpp"
 #include "nhc/optimize/settings.hpp"
 #include "nhc/optimize/solve.hpp"
 #include "nhc/scene/scene.hpp"
@@ -35,7 +37,7 @@ struct OptimizeOptions {
 };
 
 /// The starting path from a CSV with a header (nhc simulate's or optimize's): t, each coordinate,
-/// its rate where present.
+/// the other states, rates and inputs where present (path_table.hpp).
 std::vector<double> guess_from_file(const Scene& scene, const optimize::HermiteSimpson& problem, const std::string& path) {
   CsvTable table;
   try {
@@ -43,30 +45,15 @@ std::vector<double> guess_from_file(const Scene& scene, const optimize::HermiteS
   } catch (const std::exception& e) {
     throw InputError({"--guess", 0, 0}, path + ": " + e.what());
   }
-  if (table.rows.empty()) throw InputError({"--guess", 0, 0}, path + " has no rows");
-  const int t = table.column("t");
-  if (t < 0) throw InputError({"--guess", 0, 0}, path + " has no column t");
-  for (std::size_t r = 1; r < table.rows.size(); ++r)
-    if (!(table.rows[r][static_cast<std::size_t>(t)] >= table.rows[r - 1][static_cast<std::size_t>(t)]))
-      throw InputError({"--guess", 0, 0}, path + ": t does not increase at row " + std::to_string(r + 2));
-  std::vector<int> q, v;
-  for (const std::string& name : scene.jet->coordinates()) {
-    q.push_back(table.column(name));
-    v.push_back(table.column(name + "'"));
-    if (q.back() < 0) throw InputError({"--guess", 0, 0}, path + " has no column " + name);
-  }
-  return problem.from_samples(table.rows, t, q, v);
+  return optimize::guess_from_table(problem, table.header, table.rows, scene, "--guess", path);
 }
 
-void write_path(std::ostream& out, const Scene& scene, const optimize::HermiteSimpson& problem, const std::vector<double>& z) {
-  out << "t";
-  for (const std::string& name : scene.jet->coordinates()) out << "," << name << "," << name << "'";
+void write_path(std::ostream& out, const optimize::HermiteSimpson& problem, const std::vector<double>& z) {
+  const std::vector<std::string> columns = optimize::path_columns(problem);
+  for (std::size_t c = 0; c < columns.size(); ++c) out << (c ? "," : "") << columns[c];
   out << "\n";
-  for (int j = 0; j < problem.points(); ++j) {
-    out << fmt::format("{:.17g}", problem.time(j, z.data()));
-    for (int i = 0; i < problem.coordinates(); ++i)
-      out << fmt::format(",{:.17g},{:.17g}", z[static_cast<std::size_t>(problem.q_index(j, i))],
-                         z[static_cast<std::size_t>(problem.v_index(j, i))]);
+  for (const std::vector<double>& row : optimize::path_rows(problem, z)) {
+    for (std::size_t c = 0; c < row.size(); ++c) out << (c ? "," : "") << fmt::format("{:.17g}", row[c]);
     out << "\n";
   }
 }
@@ -77,20 +64,25 @@ void write_plots(const std::string& directory, const Scene& scene, const optimiz
                  const std::vector<double>& z, const std::vector<std::string>& inputs, const std::string& summary) {
   AtomicDirectory out(directory, inputs);
   const std::string csv = scene.name + "_optimal.csv";
-  write_file_atomically(out.file(csv), [&](std::ostream& o) { write_path(o, scene, problem, z); });
+  write_file_atomically(out.file(csv), [&](std::ostream& o) { write_path(o, problem, z); });
   Plot coordinates{"coordinates", "coordinates", "t", "", false, false, {}};
-  Plot rates{"rates", "rates (the controls)", "t", "", false, false, {}};
+  Plot rates{"rates", problem.inputs() ? "rates" : "rates (the controls)", "t", "", false, false, {}};
+  Plot inputs_plot{"inputs", "inputs (the controls)", "t", "", false, false, {}};
+  const std::vector<std::string> columns = optimize::path_columns(problem);
+  auto has = [&](const std::string& c) { return std::find(columns.begin(), columns.end(), c) != columns.end(); };
   for (const std::string& name : scene.jet->coordinates()) {
     coordinates.curves.push_back({name, csv, "t", name});
-    rates.curves.push_back({name + "'", csv, "t", name + "'"});
+    if (has(name + "'")) rates.curves.push_back({name + "'", csv, "t", name + "'"});
   }
+  for (const std::string& u : problem.point_problem().input_names) inputs_plot.curves.push_back({u, csv, "t", u});
   std::vector<Plot> plots{coordinates, rates};
+  if (!inputs_plot.curves.empty()) plots.push_back(inputs_plot);
   const PathPlane plane = path_plane(scene, "", "--plot");
   if (!plane.y.empty()) plots.push_back(path_plot("path", "path", plane, {{"optimal", csv}}));
   draw_plots(out.path(), plots);
   write_file_atomically(out.file("plots.md"), [&](std::ostream& o) {
     o << "# " << scene.name << ": optimal motion\n\nDrawn by `nhc optimize --plot` from [" << csv << "](" << csv
-      << ") (t, the coordinates and their rates on the " << problem.points() << " collocation points). " << summary
+      << ") (t, the states, their rates and the inputs on the " << problem.points() << " collocation points). " << summary
       << "\n\n" << markdown_images(plots);
   });
   out.commit();
@@ -119,9 +111,6 @@ CommandRunner add_optimize_command(CLI::App& app) {
   return [options]() {
     const Scene scene = load_scene(options->scene_path);
     const optimize::Settings settings = optimize::read_settings(scene);
-    if (!scene.inputs.empty())
-      throw InputError(settings.table_where,
-                       "nhc optimize so far solves scenes without [inputs] (the vakonomic problem; docs/optimize.md, \"Scope\")");
     if (!options->output.empty()) check_output_file(options->output, {options->scene_path, options->guess});
     if (!options->plot.empty()) {
       require_gnuplot("--plot");
@@ -131,7 +120,10 @@ CommandRunner add_optimize_command(CLI::App& app) {
     const std::vector<double> guess =
         options->guess.empty() ? problem.straight_line() : guess_from_file(scene, problem, options->guess);
 
-    std::cout << "nhc optimize: " << scene.name << ", " << problem.intervals() << " Hermite-Simpson intervals, "
+    std::cout << "nhc optimize: " << scene.name << ", "
+              << (problem.inputs() ? "the " + to_string(problem.point_problem().model) + " model driven by its inputs"
+                                   : std::string("the vakonomic problem"))
+              << ", " << problem.intervals() << " Hermite-Simpson intervals, "
               << problem.variables() << " variables, " << problem.constraints() << " constraints; t_end "
               << (settings.free_time() ? fmt::format("free in [{}, {}]", settings.t_end_low, settings.t_end_high)
                                        : fmt::format("{}", settings.t_end_low))
@@ -151,7 +143,7 @@ CommandRunner add_optimize_command(CLI::App& app) {
     using Status = optimize::Solution::Status;
     auto write = [&] {
       if (!options->output.empty()) {
-        write_file_atomically(options->output, [&](std::ostream& out) { write_path(out, scene, problem, solution.z); });
+        write_file_atomically(options->output, [&](std::ostream& out) { write_path(out, problem, solution.z); });
         std::cout << "  wrote " << options->output << " (" << problem.points() << " rows)\n";
       }
       if (!options->plot.empty()) {

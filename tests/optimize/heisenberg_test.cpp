@@ -126,7 +126,7 @@ TEST_CASE("[optimize] entries are located in the scene", "[optimize]") {
         "heisenberg.toml:17:5: error: the low bound of x is above its high bound");
   CHECK(message(heisenberg(0.5, 0.0)) == "heisenberg.toml:7:9: error: t_end must be after t0 = 0");
   CHECK(message(heisenberg(0.5, 1.0, "\"x''\" = [0, 1]\n")) ==
-        "heisenberg.toml:17:1: error: 'x''': the transcription holds coordinates and their first derivatives only");
+        "heisenberg.toml:17:1: error: 'x''': without [inputs] the transcription holds coordinates and their first derivatives only");
 }
 
 TEST_CASE("a free final time: the loop's cost 2 pi a/T plus T is least at T = sqrt(2 pi a)", "[optimize]") {

@@ -29,10 +29,9 @@ class Adapter : public Ipopt::TNLP {
     style = C_STYLE;
     return true;
   }
-  bool get_bounds_info(Index, Number* x_l, Number* x_u, Index m, Number* g_l, Number* g_u) override {
+  bool get_bounds_info(Index, Number* x_l, Number* x_u, Index, Number* g_l, Number* g_u) override {
     problem_.variable_bounds(x_l, x_u);
-    std::fill(g_l, g_l + m, 0.0);
-    std::fill(g_u, g_u + m, 0.0);
+    problem_.constraint_bounds(g_l, g_u);
     return true;
   }
   bool get_starting_point(Index n, bool init_x, Number* x, bool, Number*, Number*, Index, bool, Number*) override {
@@ -70,17 +69,18 @@ class Adapter : public Ipopt::TNLP {
                          Ipopt::IpoptCalculatedQuantities*) override {
     out_.z.assign(x, x + n);
     out_.cost = obj_value;
-    std::vector<double> g(static_cast<std::size_t>(m));
+    std::vector<double> g(static_cast<std::size_t>(m)), low(static_cast<std::size_t>(m)), high(static_cast<std::size_t>(m));
     problem_.constraint_values(x, g.data());
-    // The violation of the bounds too: IPOPT keeps iterates inside them, but a restoration may not.
-    std::vector<double> low(static_cast<std::size_t>(n)), high(static_cast<std::size_t>(n));
-    problem_.variable_bounds(low.data(), high.data());
+    problem_.constraint_bounds(low.data(), high.data());
+    // How far each row is outside [low, high] (an equation: |g|).
     out_.violation = 0;
-    for (Index r = 0; r < m; ++r)
-      if (std::abs(g[static_cast<std::size_t>(r)]) > out_.violation) {
-        out_.violation = std::abs(g[static_cast<std::size_t>(r)]);
-        out_.worst = problem_.constraint_name(r, x);
+    for (std::size_t r = 0; r < g.size(); ++r) {
+      const double outside = std::max({low[r] - g[r], g[r] - high[r], 0.0});
+      if (outside > out_.violation) {
+        out_.violation = outside;
+        out_.worst = problem_.constraint_name(static_cast<int>(r), x);
       }
+    }
     out_.cost = problem_.objective(x);
     switch (status) {
       case Ipopt::SUCCESS:
