@@ -1,5 +1,5 @@
 // nhc optimize SCENE [-o FILE.csv] [--intervals N] [--guess FILE.csv] [--plot DIR] [--max-iterations N]
-//                    [--tolerance E] [--jacobian exact|finite-differences]
+//                    [--tolerance E] [--jacobian exact|finite-differences] [--hessian exact|limited-memory]
 //
 // An optimal motion (docs/optimize.md): the scene's [optimize] table transcribed by
 // Hermite–Simpson collocation and solved by IPOPT (nhc::optimize). Prints `cost = C`, the
@@ -34,6 +34,7 @@ struct OptimizeOptions {
   int max_iterations = 3000;
   double tolerance = 1e-10;
   std::string jacobian = "exact";
+  std::string hessian = "exact";
 };
 
 /// The starting path from a CSV with a header (nhc simulate's or optimize's): t, each coordinate,
@@ -103,6 +104,9 @@ CommandRunner add_optimize_command(CLI::App& app) {
   sub->add_option("--jacobian", options->jacobian,
                   "exact (the default) or finite-differences: IPOPT's own differences on the same sparsity")
       ->check(CLI::IsMember({"exact", "finite-differences"}));
+  sub->add_option("--hessian", options->hessian,
+                  "exact (the default: generated second derivatives) or limited-memory (IPOPT's quasi-Newton)")
+      ->check(CLI::IsMember({"exact", "limited-memory"}));
   sub->add_option("--max-iterations", options->max_iterations, "IPOPT iterations (default 3000)")
       ->check(flag_rules::count(1, 1000000));
   sub->add_option("--tolerance", options->tolerance, "IPOPT's tolerance on the scaled optimality error (default 1e-10)")
@@ -134,6 +138,7 @@ CommandRunner add_optimize_command(CLI::App& app) {
     solve_options.max_iterations = options->max_iterations;
     solve_options.tolerance = options->tolerance;
     solve_options.finite_difference_jacobian = options->jacobian == "finite-differences";
+    solve_options.exact_hessian = options->hessian == "exact";
     solve_options.progress = [](int iteration, double cost, double violation) {
       std::cerr << fmt::format("  iteration {:4d}: cost {:.10g}, violation {:.3g}\n", iteration, cost, violation);
       return true;

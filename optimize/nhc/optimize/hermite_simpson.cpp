@@ -73,6 +73,101 @@ HermiteSimpson::HermiteSimpson(const Scene& scene, const Settings& settings, Poi
     high_.back() = t_end_high_;
   }
   drop_fixed_initial_rows(settings);
+  build_hessian_structure();
+}
+
+// The Lagrangian's second derivatives: each function's pairs at every point where it is
+// evaluated (the integrand, the path rows: all points; the final cost: the last; the initial
+// rows: the first) and, with a free T, the whole row of T (T moves h and every t_j; the
+// collocation rows are bilinear in T and the rates).
+void HermiteSimpson::build_hessian_structure() {
+  auto add = [&](int r, int c) {
+    if (r < c) std::swap(r, c);
+    if (hessian_index_.emplace(std::make_pair(r, c), static_cast<int>(hessian_entries_.size())).second)
+      hessian_entries_.emplace_back(r, c);
+  };
+  auto add_pairs = [&](int f, int point) {
+    for (const VariablePair& p : functions_.pairs(f))
+      if (p.first >= 0 && p.second >= 0) add(point * stride_ + p.first, point * stride_ + p.second);
+  };
+  const int first_initial = kFirstPathRow + path_rows();
+  for (int j = 0; j < points(); ++j) {
+    add_pairs(kIntegrand, j);
+    for (int r = 0; r < path_rows(); ++r) add_pairs(kFirstPathRow + r, j);
+  }
+  add_pairs(kFinalCost, points() - 1);
+  for (int r : kept_initial_rows_) add_pairs(first_initial + r, 0);
+  if (free_time_)
+    for (int k = 0; k < variables(); ++k) add(variables() - 1, k);
+}
+
+int HermiteSimpson::hessian_entry(int row, int column) const {
+  if (row < column) std::swap(row, column);
+  return hessian_index_.at({row, column});
+}
+
+void HermiteSimpson::hessian_structure(int* rows, int* columns) const {
+  for (std::size_t e = 0; e < hessian_entries_.size(); ++e) {
+    rows[e] = hessian_entries_[e].first;
+    columns[e] = hessian_entries_[e].second;
+  }
+}
+
+void HermiteSimpson::hessian_values(const double* z, double sigma, const double* lambda, double* values) {
+  std::fill(values, values + hessian_nonzeros(), 0.0);
+  const double h = (final_time(z) - t0_) / n_intervals_, dh = 1.0 / n_intervals_;
+  const int T = variables() - 1;
+  // d(t_j)/dT = s_j = j/(2N); for the function f with factor c at point j: c f_ab at (a, b) and,
+  // with a free T, c f_ta s_j at (T, a) and c f_tt s_j^2 at (T, T).
+  auto add_function = [&](int f, int j, double c, double s_j) {
+    const ValueGradient& v = functions_.value(f);
+    const std::vector<VariablePair>& pairs = functions_.pairs(f);
+    for (std::size_t e = 0; e < pairs.size(); ++e) {
+      const auto [a, b] = pairs[e];
+      if (a >= 0 && b >= 0) values[hessian_entry(j * stride_ + a, j * stride_ + b)] += c * v.dd[e];
+      else if (free_time_ && a >= 0) values[hessian_entry(T, j * stride_ + a)] += c * v.dd[e] * s_j;
+      else if (free_time_) values[hessian_entry(T, T)] += c * v.dd[e] * s_j * s_j;
+    }
+  };
+  const int first_initial = kFirstPathRow + path_rows();
+  int row = collocation_rows();
+  for (int j = 0; j < points(); ++j) {
+    const double t = time(j, z), s_j = j / (2.0 * n_intervals_), w = simpson_weight(j, points());
+    functions_.evaluate(t, z + q_index(j, 0));
+    functions_.evaluate_second(t, z + q_index(j, 0));
+    add_function(kIntegrand, j, sigma * w * h, s_j);
+    if (free_time_) {
+      // f = h sum_j w_j l(t_j, p_j): d2f/dT dp_a = w_j (l_a/N + h l_ta s_j) (the second term
+      // above); d2f/dT2 = sum_j w_j (2 l_t s_j/N + h l_tt s_j^2).
+      const ValueGradient& l = functions_.value(kIntegrand);
+      const std::vector<int>& slots = functions_.slots(kIntegrand);
+      for (std::size_t e = 0; e < slots.size(); ++e) values[hessian_entry(T, j * stride_ + slots[e])] += sigma * w * l.d[e] * dh;
+      values[hessian_entry(T, T)] += sigma * w * 2 * l.dt * s_j * dh;
+    }
+    for (int r = 0; r < path_rows(); ++r) add_function(kFirstPathRow + r, j, lambda[row + j * path_rows() + r], s_j);
+    if (j == 0) {
+      int initial_row = row + points() * path_rows();
+      for (int r : kept_initial_rows_) add_function(first_initial + r, 0, lambda[initial_row++], 0.0);
+    }
+    if (j == points() - 1) add_function(kFinalCost, j, sigma, 1.0);
+  }
+  if (free_time_) {
+    int r = 0;
+    for (int k = 0; k < n_intervals_; ++k) {
+      const int a = 2 * k, m = a + 1, b = a + 2;
+      for (int i : collocated_) {
+        values[hessian_entry(T, v_index(a, i))] += -dh / 8 * lambda[r];
+        values[hessian_entry(T, v_index(b, i))] += dh / 8 * lambda[r];
+        ++r;
+      }
+      for (int i : collocated_) {
+        values[hessian_entry(T, v_index(a, i))] += -dh / 6 * lambda[r];
+        values[hessian_entry(T, v_index(m, i))] += -4 * dh / 6 * lambda[r];
+        values[hessian_entry(T, v_index(b, i))] += -dh / 6 * lambda[r];
+        ++r;
+      }
+    }
+  }
 }
 
 void HermiteSimpson::drop_fixed_initial_rows(const Settings& settings) {

@@ -9,7 +9,9 @@
 /// rates y' and the inputs u (without [inputs]: y = q, y' = q'); a free final time adds T as the
 /// last variable.
 
+#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "nhc/optimize/path_functions.hpp"
@@ -52,6 +54,12 @@ class HermiteSimpson {
   void jacobian_structure(int* rows, int* columns) const;
   void jacobian_values(const double* z, double* values);
 
+  /// The Hessian of the Lagrangian sigma f + sum lambda_r g_r, exact (second derivatives of the
+  /// PathProblem's functions), as its lower triangle: structure fixed, values at z.
+  int hessian_nonzeros() const noexcept { return static_cast<int>(hessian_entries_.size()); }
+  void hessian_structure(int* rows, int* columns) const;
+  void hessian_values(const double* z, double sigma, const double* lambda, double* values);
+
   /// The boundary values joined by straight lines (constant rates); a free final time starts
   /// at the middle of its bounds; inputs at 0 (clamped into their bounds).
   std::vector<double> straight_line() const;
@@ -71,6 +79,8 @@ class HermiteSimpson {
   int initial_rows() const noexcept { return static_cast<int>(kept_initial_rows_.size()); }
   void evaluate_points(const double* z);
   void drop_fixed_initial_rows(const Settings& settings);
+  void build_hessian_structure();
+  int hessian_entry(int row, int column) const;
 
   PointProblem problem_;
   int n_, stride_, n_intervals_;
@@ -83,6 +93,8 @@ class HermiteSimpson {
   /// Per point: every function of functions_ at the z of cached_.
   std::vector<std::vector<ValueGradient>> at_;
   std::vector<double> cached_;
+  std::vector<std::pair<int, int>> hessian_entries_;  ///< (row, column), row >= column
+  std::map<std::pair<int, int>, int> hessian_index_;
 };
 
 }  // namespace nhc::optimize

@@ -6,6 +6,7 @@
 /// (docs/optimize.md, "Derivatives").
 
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "nhc/analysis/numeric_program.hpp"
@@ -19,7 +20,12 @@ struct ValueGradient {
   double value = 0;
   double dt = 0;
   std::vector<double> d;
+  /// Second derivatives over the pairs of PathFunctions::pairs (after evaluate_second()).
+  std::vector<double> dd;
 };
+
+/// A pair of a function's variables for a second derivative: -1 is t, k >= 0 the slot k; first >= second.
+using VariablePair = std::pair<int, int>;
 
 class PathFunctions {
  public:
@@ -30,13 +36,21 @@ class PathFunctions {
   /// The slots function f depends on, increasing.
   const std::vector<int>& slots(int f) const { return slots_[static_cast<std::size_t>(f)]; }
 
+  /// The pairs of t and slots whose second derivative of function f is not identically 0.
+  const std::vector<VariablePair>& pairs(int f) const { return pairs_[static_cast<std::size_t>(f)]; }
+
   /// Evaluates every function at t and the point's slots (y, y', u).
   void evaluate(double t, const double* point);
+  /// Evaluates every function's second derivatives there (into ValueGradient::dd).
+  void evaluate_second(double t, const double* point);
   const ValueGradient& value(int f) const { return values_[static_cast<std::size_t>(f)]; }
 
  private:
+  void set_inputs(double t, const double* point);
+
   std::vector<std::vector<int>> slots_;
-  std::unique_ptr<NumericProgram> program_;
+  std::vector<std::vector<VariablePair>> pairs_;
+  std::unique_ptr<NumericProgram> program_, second_;
   std::vector<ValueGradient> values_;
   std::vector<double> inputs_;
   int slot_count_ = 0;

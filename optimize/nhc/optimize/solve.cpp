@@ -25,7 +25,7 @@ class Adapter : public Ipopt::TNLP {
     n = problem_.variables();
     m = problem_.constraints();
     nnz_jac_g = problem_.jacobian_nonzeros();
-    nnz_h_lag = 0;  // limited-memory quasi-Newton: no Hessian is asked for
+    nnz_h_lag = options_.exact_hessian ? problem_.hessian_nonzeros() : 0;  // limited memory: none asked for
     style = C_STYLE;
     return true;
   }
@@ -56,6 +56,15 @@ class Adapter : public Ipopt::TNLP {
       return true;
     }
     problem_.jacobian_values(x, values);
+    return std::all_of(values, values + nele, [](double v) { return std::isfinite(v); });
+  }
+  bool eval_h(Index, const Number* x, bool, Number obj_factor, Index, const Number* lambda, bool, Index nele,
+              Index* rows, Index* cols, Number* values) override {
+    if (!values) {
+      problem_.hessian_structure(rows, cols);
+      return true;
+    }
+    problem_.hessian_values(x, obj_factor, lambda, values);
     return std::all_of(values, values + nele, [](double v) { return std::isfinite(v); });
   }
   bool intermediate_callback(Ipopt::AlgorithmMode, Index iter, Number obj_value, Number inf_pr, Number, Number, Number,
@@ -126,7 +135,7 @@ Solution solve(HermiteSimpson& problem, const std::vector<double>& guess, const 
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   app->Options()->SetIntegerValue("print_level", 0);
   app->Options()->SetStringValue("sb", "yes");  // no banner on stdout
-  app->Options()->SetStringValue("hessian_approximation", "limited-memory");
+  app->Options()->SetStringValue("hessian_approximation", options.exact_hessian ? "exact" : "limited-memory");
   app->Options()->SetIntegerValue("max_iter", options.max_iterations);
   app->Options()->SetNumericValue("tol", options.tolerance);
   app->Options()->SetNumericValue("constr_viol_tol", options.violation_tolerance);
