@@ -172,7 +172,7 @@ CommandRunner add_optimize_command(CLI::App& app) {
     }
     const std::string worst =
         solution.violation > 0 ? fmt::format("; the largest violation, {:.3g}, is in {}", solution.violation, solution.worst) : "";
-    if (solution.status == Status::iteration_limit) {
+    if (solution.status == Status::iteration_limit || solution.status == Status::acceptable) {
       write();
       std::cerr << "nhc: error: optimize: " << solution.words << " (" << solution.iterations << " iterations) at cost "
                 << fmt::format("{:.10g}", solution.cost) << worst

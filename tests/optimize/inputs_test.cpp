@@ -158,7 +158,7 @@ Replay replay(const Scene& scene, const rt::Model& model, int intervals) {
 
 }  // namespace
 
-TEST_CASE("the optimal car parking satisfies the DAE between the points, at order 4; its steering bound holds",
+TEST_CASE("the optimal car parking satisfies the DAE between the points at order 4 and its steering bound holds",
           "[optimize][inputs]") {
   const Scene scene = parse_scene(car_parking(), "car_parking.toml");
   jit::BuildOptions build;

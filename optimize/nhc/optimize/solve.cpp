@@ -98,9 +98,10 @@ class Adapter : public Ipopt::TNLP {
       case Ipopt::MAXITER_EXCEEDED:
       case Ipopt::CPUTIME_EXCEEDED:
       case Ipopt::STOP_AT_ACCEPTABLE_POINT:
-        out_.status = status == Ipopt::STOP_AT_ACCEPTABLE_POINT ? Solution::Status::failed : Solution::Status::iteration_limit;
-        out_.words = status == Ipopt::STOP_AT_ACCEPTABLE_POINT ? "IPOPT stopped at a point it finds only acceptable"
-                                                               : "IPOPT reached its iteration limit";
+        out_.status = status == Ipopt::STOP_AT_ACCEPTABLE_POINT ? Solution::Status::acceptable : Solution::Status::iteration_limit;
+        out_.words = status == Ipopt::STOP_AT_ACCEPTABLE_POINT
+                         ? "IPOPT stopped at a point that meets only its acceptable tolerance (1e-6), not --tolerance"
+                         : "IPOPT reached its iteration limit";
         break;
       case Ipopt::LOCAL_INFEASIBILITY:
         out_.status = Solution::Status::infeasible;

@@ -28,7 +28,8 @@ struct SolveOptions {
 };
 
 struct Solution {
-  enum class Status { optimal, iteration_limit, infeasible, failed } status = Status::failed;
+  /// acceptable: IPOPT stopped at a point that meets only its looser acceptable_tol (1e-6).
+  enum class Status { optimal, iteration_limit, acceptable, infeasible, failed } status = Status::failed;
   std::string words;       ///< IPOPT's status in words (empty when optimal)
   std::vector<double> z;   ///< the last point: the optimum, or the best IPOPT reached
   double cost = 0;
