@@ -12,7 +12,7 @@
 #include <iostream>
 
 #include "commands.hpp"
-#include "flag_rules.hpp"
+#include "nhc/app/optimize_request.hpp"
 #include "nhc/io/atomic_directory.hpp"
 #include "nhc/io/atomic_file.hpp"
 #include "nhc/io/output_path.hpp"
@@ -30,11 +30,7 @@ namespace {
 
 struct OptimizeOptions {
   std::string scene_path, output, guess, plot;
-  std::optional<int> intervals;
-  int max_iterations = 3000;
-  double tolerance = 1e-10;
-  std::string jacobian = "exact";
-  std::string hessian = "exact";
+  app::OptimizeRequest request;
 };
 
 /// The starting path from a CSV with a header (nhc simulate's or optimize's): t, each coordinate,
@@ -97,22 +93,20 @@ CommandRunner add_optimize_command(CLI::App& app) {
       "optimize", "an optimal motion of a scene's [optimize] problem (Hermite-Simpson collocation, IPOPT)");
   sub->add_option("SCENE", options->scene_path, "scene file (TOML) with an [optimize] table")->required();
   sub->add_option("-o,--output", options->output, "CSV file for the optimal path (t, coordinates and rates)");
-  sub->add_option("--intervals", options->intervals, "collocation intervals (default: [optimize] intervals, else 40)")
-      ->check(flag_rules::count(1, 100000));
+  // The values' rules are app::check_optimize_request's, shared with Python.
+  sub->add_option("--intervals", options->request.intervals, "collocation intervals (default: [optimize] intervals, else 40)");
   sub->add_option("--guess", options->guess, "start from this path (CSV with t and the coordinates, e.g. nhc simulate's)");
   sub->add_option("--plot", options->plot, "directory for plots (SVG, PNG) of the coordinates, rates and path");
-  sub->add_option("--jacobian", options->jacobian,
-                  "exact (the default) or finite-differences: IPOPT's own differences on the same sparsity")
-      ->check(CLI::IsMember({"exact", "finite-differences"}));
-  sub->add_option("--hessian", options->hessian,
-                  "exact (the default: generated second derivatives) or limited-memory (IPOPT's quasi-Newton)")
-      ->check(CLI::IsMember({"exact", "limited-memory"}));
-  sub->add_option("--max-iterations", options->max_iterations, "IPOPT iterations (default 3000)")
-      ->check(flag_rules::count(1, 1000000));
-  sub->add_option("--tolerance", options->tolerance, "IPOPT's tolerance on the scaled optimality error (default 1e-10)")
-      ->check(flag_rules::positive());
+  sub->add_option("--jacobian", options->request.jacobian,
+                  "exact (the default) or finite-differences: IPOPT's own differences on the same sparsity");
+  sub->add_option("--hessian", options->request.hessian,
+                  "exact (the default: second derivatives of the same functions) or limited-memory (IPOPT's quasi-Newton)");
+  sub->add_option("--max-iterations", options->request.max_iterations, "IPOPT iterations (default 3000)");
+  sub->add_option("--tolerance", options->request.tolerance, "IPOPT's tolerance on the scaled optimality error (default 1e-10)");
 
   return [options]() {
+    const app::OptimizeRequest& request = options->request;
+    app::check_optimize_request(request, app::optimize_command_line_names());
     const Scene scene = load_scene(options->scene_path);
     const optimize::Settings settings = optimize::read_settings(scene);
     if (!options->output.empty()) check_output_file(options->output, {options->scene_path, options->guess});
@@ -120,7 +114,7 @@ CommandRunner add_optimize_command(CLI::App& app) {
       require_gnuplot("--plot");
       check_output_directory(options->plot, {options->scene_path, options->guess});
     }
-    optimize::HermiteSimpson problem(scene, settings, options->intervals.value_or(settings.intervals));
+    optimize::HermiteSimpson problem(scene, settings, static_cast<int>(request.intervals.value_or(settings.intervals)));
     const std::vector<double> guess =
         options->guess.empty() ? problem.straight_line() : guess_from_file(scene, problem, options->guess);
 
@@ -135,10 +129,10 @@ CommandRunner add_optimize_command(CLI::App& app) {
     std::cout.flush();
 
     optimize::SolveOptions solve_options;
-    solve_options.max_iterations = options->max_iterations;
-    solve_options.tolerance = options->tolerance;
-    solve_options.finite_difference_jacobian = options->jacobian == "finite-differences";
-    solve_options.exact_hessian = options->hessian == "exact";
+    solve_options.max_iterations = static_cast<int>(request.max_iterations);
+    solve_options.tolerance = request.tolerance;
+    solve_options.finite_difference_jacobian = request.jacobian == "finite-differences";
+    solve_options.exact_hessian = request.hessian == "exact";
     solve_options.progress = [](int iteration, double cost, double violation) {
       std::cerr << fmt::format("  iteration {:4d}: cost {:.10g}, violation {:.3g}\n", iteration, cost, violation);
       return true;
