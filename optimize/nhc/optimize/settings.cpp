@@ -25,7 +25,7 @@ class Reader {
     }
     const toml::node* node = root.get("optimize");
     if (!node)
-      throw InputError(scene_.file_location(), "the scene has no [optimize] table (README, \"Optimal motions\")");
+      throw InputError(scene_.file_location(), "the scene has no [optimize] table (docs/scenes.md, \"Optimal motions\")");
     const toml::table* table = node->as_table();
     if (!table) fail(*node, "'optimize' must be a table");
     Settings s;

@@ -1,6 +1,6 @@
 #pragma once
 /// \file settings.hpp
-/// \brief A scene's [optimize] table (README, "Optimal motions"; docs/optimize.md): the objective,
+/// \brief A scene's [optimize] table (docs/scenes.md, "Optimal motions"; docs/optimize.md): the objective,
 /// the horizon, the boundary conditions and the bounds of `nhc optimize`.
 
 #include <ginac/ginac.h>
