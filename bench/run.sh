@@ -224,4 +224,16 @@ NHC_SCENE_CACHE=off NHC_CACHE_DIR="$json/absurd-cache" "$python" bench/absurd_sc
     echo "Not met: $(grep -c '^FAIL' "$json/absurd.log") runs past 5 s or with another exit code ($json/absurd.log)."
   fi
 } >> "$results/results.md"
+# Issue 49: nhc optimize on the car parking, the wheeled pendulum and the Heisenberg loop with the
+# generated derivatives against IPOPT's approximations (bench/optimize.py, which also writes
+# bench/optimize.md). Not with --quick: the approximations take minutes. Its table is appended.
+if [ "$quick" = 0 ]; then
+  "$python" bench/optimize.py "$nhc" --out "$json/optimize.md" > "$json/optimize.log" 2>&1 || true
+  {
+    echo
+    echo "## nhc optimize (issue 49): generated derivatives against IPOPT's approximations"
+    echo
+    tail -n +3 "$json/optimize.md" 2>/dev/null || echo "(bench/optimize.py failed: see $json/optimize.log)"
+  } >> "$results/results.md"
+fi
 log "wrote $results/results.md and $results/results-time.svg ($(awk -v s="$start" -v e="$(date +%s.%N)" 'BEGIN{printf "%.0f", e-s}') s)"

@@ -51,7 +51,10 @@ std::vector<runtime::Sample> samples_from_file(const runtime::Model& model, cons
     if (y.back() < 0 && model.state_name(k).rfind("lambda", 0) != 0)
       throw InputError({"--path", 0, 0}, path + " has no column " + model.state_name(k) + " (a state of the model)");
   }
-  for (int k = 0; k < model.n_inputs(); ++k) u.push_back(table.column(model.input_name(k)));
+  for (int k = 0; k < model.n_inputs(); ++k) {
+    const int c = table.column(model.input_name(k));
+    u.push_back(c >= 0 ? c : table.column("input:" + model.input_name(k)));  // nhc simulate's name
+  }
   std::vector<runtime::Sample> samples;
   auto cell = [](const std::vector<double>& row, int c) { return c < 0 ? 0.0 : row[static_cast<std::size_t>(c)]; };
   for (const std::vector<double>& row : table.rows) {

@@ -71,7 +71,8 @@ std::vector<double> guess_from_table(const HermiteSimpson& problem, const std::v
     q.push_back(column(name));
     v.push_back(p.collocated[static_cast<std::size_t>(i)] ? column(name + "'") : -1);
   }
-  for (const std::string& name : p.input_names) u.push_back(column(name));
+  // nhc simulate names an input's column input:NAME.
+  for (const std::string& name : p.input_names) u.push_back(column(name) >= 0 ? column(name) : column("input:" + name));
   return problem.from_samples(rows, t, q, v, u);
 }
 

@@ -19,7 +19,8 @@ std::vector<std::string> path_columns(const HermiteSimpson& problem);
 std::vector<std::vector<double>> path_rows(const HermiteSimpson& problem, const std::vector<double>& z);
 
 /// The starting point from a table with a header: column t (increasing), the scene's
-/// coordinates (required), the other states, rates and inputs where present. InputError at
+/// coordinates (required), the other states, rates and inputs (NAME or simulate's input:NAME)
+/// where present. InputError at
 /// `where` ("--guess", "guess") naming `file` for a missing column or a t that does not increase.
 std::vector<double> guess_from_table(const HermiteSimpson& problem, const std::vector<std::string>& header,
                                      const std::vector<std::vector<double>>& rows, const Scene& scene,

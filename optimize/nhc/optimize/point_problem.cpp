@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <set>
+#include <sstream>
 
 #include "nhc/analysis/index1_reduction.hpp"
 #include "nhc/derive/models.hpp"
