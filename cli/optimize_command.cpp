@@ -92,11 +92,11 @@ CommandRunner add_optimize_command(CLI::App& app) {
   CLI::App* sub = app.add_subcommand(
       "optimize", "an optimal motion of a scene's [optimize] problem (Hermite-Simpson collocation, IPOPT)");
   sub->add_option("SCENE", options->scene_path, "scene file (TOML) with an [optimize] table")->required();
-  sub->add_option("-o,--output", options->output, "CSV file for the optimal path (t, coordinates and rates)");
+  sub->add_option("-o,--output", options->output, "CSV file for the optimal path (t, the states and their rates, the inputs; nhc animate --path draws it)");
   // The values' rules are app::check_optimize_request's, shared with Python.
   sub->add_option("--intervals", options->request.intervals, "collocation intervals (default: [optimize] intervals, else 40)");
-  sub->add_option("--guess", options->guess, "start from this path (CSV with t and the coordinates, e.g. nhc simulate's)");
-  sub->add_option("--plot", options->plot, "directory for plots (SVG, PNG) of the coordinates, rates and path");
+  sub->add_option("--guess", options->guess, "start from this path (CSV with t and the coordinates, e.g. nhc simulate's or a previous optimum)");
+  sub->add_option("--plot", options->plot, "directory for plots (SVG, PNG) of the coordinates, rates, inputs and path");
   sub->add_option("--jacobian", options->request.jacobian,
                   "exact (the default) or finite-differences: IPOPT's own differences on the same sparsity");
   sub->add_option("--hessian", options->request.hessian,
