@@ -226,13 +226,17 @@ void HermiteSimpson::constraint_bounds(double* low, double* high) const {
   }
 }
 
-void HermiteSimpson::evaluate_points(const double* z) {
+void HermiteSimpson::evaluate_points(const double* z, bool derivatives) {
   const auto size = static_cast<std::size_t>(variables());
-  if (cached_.size() == size && std::memcmp(cached_.data(), z, size * sizeof(double)) == 0) return;
+  if (cached_.size() == size && (cached_derivatives_ || !derivatives) &&
+      std::memcmp(cached_.data(), z, size * sizeof(double)) == 0)
+    return;
   cached_.assign(z, z + size);
+  cached_derivatives_ = derivatives;
   at_.resize(static_cast<std::size_t>(points()));
   for (int j = 0; j < points(); ++j) {
-    functions_.evaluate(time(j, z), z + q_index(j, 0));
+    if (derivatives) functions_.evaluate(time(j, z), z + q_index(j, 0));
+    else functions_.evaluate_values(time(j, z), z + q_index(j, 0));
     std::vector<ValueGradient>& here = at_[static_cast<std::size_t>(j)];
     here.clear();
     for (int f = 0; f < functions_.functions(); ++f) here.push_back(functions_.value(f));
@@ -240,7 +244,7 @@ void HermiteSimpson::evaluate_points(const double* z) {
 }
 
 double HermiteSimpson::objective(const double* z) {
-  evaluate_points(z);
+  evaluate_points(z, false);
   const double h = (final_time(z) - t0_) / n_intervals_;
   double sum = 0;
   for (int j = 0; j < points(); ++j) sum += simpson_weight(j, points()) * at_[static_cast<std::size_t>(j)][kIntegrand].value;
@@ -248,7 +252,7 @@ double HermiteSimpson::objective(const double* z) {
 }
 
 void HermiteSimpson::objective_gradient(const double* z, double* gradient) {
-  evaluate_points(z);
+  evaluate_points(z, true);
   const double h = (final_time(z) - t0_) / n_intervals_;
   std::fill(gradient, gradient + variables(), 0.0);
   double d_final_time = 0;
@@ -271,7 +275,7 @@ void HermiteSimpson::objective_gradient(const double* z, double* gradient) {
 //   y_m - (y_a + y_b)/2 - h/8 (y'_a - y'_b) = 0,   y_b - y_a - h/6 (y'_a + 4 y'_m + y'_b) = 0,
 // (a = 2k, m = 2k + 1, b = 2k + 2); then the path rows at every point; then the kept initial rows.
 void HermiteSimpson::constraint_values(const double* z, double* g) {
-  evaluate_points(z);
+  evaluate_points(z, false);
   const double h = (final_time(z) - t0_) / n_intervals_;
   int row = 0;
   for (int k = 0; k < n_intervals_; ++k) {
@@ -321,7 +325,7 @@ void HermiteSimpson::jacobian_structure(int* rows, int* columns) const {
 }
 
 void HermiteSimpson::jacobian_values(const double* z, double* values) {
-  evaluate_points(z);
+  evaluate_points(z, true);
   const double h = (final_time(z) - t0_) / n_intervals_, dh = 1.0 / n_intervals_;
   int e = 0;
   for (int k = 0; k < n_intervals_; ++k) {

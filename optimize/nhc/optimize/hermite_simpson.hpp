@@ -77,7 +77,8 @@ class HermiteSimpson {
   int collocation_rows() const noexcept { return n_intervals_ * 2 * static_cast<int>(collocated_.size()); }
   int path_rows() const noexcept { return static_cast<int>(problem_.path.size()); }
   int initial_rows() const noexcept { return static_cast<int>(kept_initial_rows_.size()); }
-  void evaluate_points(const double* z);
+  /// The functions at every point of z, with their first derivatives when `derivatives`.
+  void evaluate_points(const double* z, bool derivatives);
   void drop_fixed_initial_rows(const Settings& settings);
   void build_hessian_structure();
   int hessian_entry(int row, int column) const;
@@ -93,6 +94,7 @@ class HermiteSimpson {
   /// Per point: every function of functions_ at the z of cached_.
   std::vector<std::vector<ValueGradient>> at_;
   std::vector<double> cached_;
+  bool cached_derivatives_ = false;
   std::vector<std::pair<int, int>> hessian_entries_;  ///< (row, column), row >= column
   std::map<std::pair<int, int>, int> hessian_index_;
 };

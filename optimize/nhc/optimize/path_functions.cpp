@@ -11,6 +11,7 @@ PathFunctions::PathFunctions(const PointProblem& problem) : slot_count_(problem.
 
   program_ = std::make_unique<NumericProgram>(problem.symbols);
   second_ = std::make_unique<NumericProgram>(problem.symbols);
+  values_only_ = std::make_unique<NumericProgram>(problem.symbols);
   // Variable -1 is t, k >= 0 the slot k.
   auto symbol = [&](int k) -> const GiNaC::symbol& {
     return GiNaC::ex_to<GiNaC::symbol>(problem.symbols[static_cast<std::size_t>(1 + k)]);
@@ -19,6 +20,7 @@ PathFunctions::PathFunctions(const PointProblem& problem) : slot_count_(problem.
     std::vector<int> slots;
     std::vector<VariablePair> pairs;
     program_->add(f);
+    values_only_->add(f);
     const GiNaC::ex f_t = f.diff(symbol(-1));
     program_->add(f_t);
     std::vector<std::pair<int, GiNaC::ex>> first{{-1, f_t}};
@@ -47,6 +49,12 @@ PathFunctions::PathFunctions(const PointProblem& problem) : slot_count_(problem.
 void PathFunctions::set_inputs(double t, const double* point) {
   inputs_[0] = t;
   std::copy(point, point + slot_count_, inputs_.begin() + 1);
+}
+
+void PathFunctions::evaluate_values(double t, const double* point) {
+  set_inputs(t, point);
+  const std::vector<double> out = values_only_->values_at(inputs_);
+  for (std::size_t f = 0; f < values_.size(); ++f) values_[f].value = out[f];
 }
 
 void PathFunctions::evaluate_second(double t, const double* point) {

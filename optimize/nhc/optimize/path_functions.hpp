@@ -41,6 +41,10 @@ class PathFunctions {
 
   /// Evaluates every function at t and the point's slots (y, y', u).
   void evaluate(double t, const double* point);
+  /// Evaluates every function's value only (ValueGradient::value; the derivatives keep their
+  /// old values): what the constraint and objective values need, and all that IPOPT's finite
+  /// differences ask for.
+  void evaluate_values(double t, const double* point);
   /// Evaluates every function's second derivatives there (into ValueGradient::dd).
   void evaluate_second(double t, const double* point);
   const ValueGradient& value(int f) const { return values_[static_cast<std::size_t>(f)]; }
@@ -50,7 +54,7 @@ class PathFunctions {
 
   std::vector<std::vector<int>> slots_;
   std::vector<std::vector<VariablePair>> pairs_;
-  std::unique_ptr<NumericProgram> program_, second_;
+  std::unique_ptr<NumericProgram> program_, values_only_, second_;
   std::vector<ValueGradient> values_;
   std::vector<double> inputs_;
   int slot_count_ = 0;
