@@ -230,4 +230,16 @@ if command -v perf > /dev/null; then
     NHC_STARTUP_REPEAT=$([ $quick = 1 ] && echo 5 || echo 30) bench/startup.sh "$nhc" || echo "(bench/startup.sh failed)"
   } >> "$results/results.md"
 fi
+# Issue 49: nhc optimize on the car parking, the wheeled pendulum and the Heisenberg loop with the
+# generated derivatives against IPOPT's approximations (bench/optimize.py, which also writes
+# bench/optimize.md). Not with --quick: the approximations take minutes. Its table is appended.
+if [ "$quick" = 0 ]; then
+  "$python" bench/optimize.py "$nhc" --out "$json/optimize.md" > "$json/optimize.log" 2>&1 || true
+  {
+    echo
+    echo "## nhc optimize (issue 49): generated derivatives against IPOPT's approximations"
+    echo
+    tail -n +3 "$json/optimize.md" 2>/dev/null || echo "(bench/optimize.py failed: see $json/optimize.log)"
+  } >> "$results/results.md"
+fi
 log "wrote $results/results.md and $results/results-time.svg ($(awk -v s="$start" -v e="$(date +%s.%N)" 'BEGIN{printf "%.0f", e-s}') s)"

@@ -1,6 +1,7 @@
-// nhc animate SCENE [--model M] [the run flags of nhc simulate] -o DIR
+// nhc animate SCENE [--model M] [the run flags of nhc simulate] [--path FILE.csv] -o DIR
 //
-// Runs one model as `nhc simulate` does and writes DIR/index.html: the scene's [visual] shapes
+// Runs one model as `nhc simulate` does (or reads its motion from --path, e.g. nhc optimize's
+// CSV, whose columns name the model's states) and writes DIR/index.html: the scene's [visual] shapes
 // moving along the run, a self-contained page with three.js beside it (docs/animate.md). A run
 // that fails part way still gets its page (the motion up to the failure) and exits 3.
 #include <iostream>
@@ -18,6 +19,7 @@
 #include "progress_bar.hpp"
 #include "pipeline.hpp"
 #include "nhc/app/scene_events.hpp"
+#include "plots.hpp"
 #include "run_flags.hpp"
 #include "visual_samples.hpp"
 
@@ -28,7 +30,48 @@ namespace {
 struct AnimateOptions {
   RunFlags run;
   std::string output;
+  std::string path;  ///< --path FILE.csv: draw this motion instead of running
 };
+
+/// The samples of a motion written as CSV (nhc optimize's): column t, a column per state of the
+/// model by its name (required but for the algebraic ones, 0 when absent), its rate's where
+/// present (name'), each input's. InputError at --path.
+std::vector<runtime::Sample> samples_from_file(const runtime::Model& model, const std::string& path) {
+  CsvTable table;
+  try {
+    table = read_csv_table(path);
+  } catch (const std::exception& e) {
+    throw InputError({"--path", 0, 0}, path + ": " + e.what());
+  }
+  const int t = table.column("t");
+  if (t < 0 || table.rows.empty()) throw InputError({"--path", 0, 0}, path + " has no column t or no rows");
+  std::vector<int> y, yp, u;
+  for (int k = 0; k < model.n_states(); ++k) {
+    y.push_back(table.column(model.state_name(k)));
+    yp.push_back(table.column(model.state_name(k) + "'"));
+    if (y.back() < 0 && model.state_name(k).rfind("lambda", 0) != 0)
+      throw InputError({"--path", 0, 0}, path + " has no column " + model.state_name(k) + " (a state of the model)");
+  }
+  for (int k = 0; k < model.n_inputs(); ++k) {
+    const int c = table.column(model.input_name(k));
+    u.push_back(c >= 0 ? c : table.column("input:" + model.input_name(k)));  // nhc simulate's name
+  }
+  std::vector<runtime::Sample> samples;
+  auto cell = [](const std::vector<double>& row, int c) { return c < 0 ? 0.0 : row[static_cast<std::size_t>(c)]; };
+  for (const std::vector<double>& row : table.rows) {
+    runtime::Sample s;
+    s.t = row[static_cast<std::size_t>(t)];
+    if (!samples.empty() && !(s.t > samples.back().t))
+      throw InputError({"--path", 0, 0}, path + ": t does not increase at t = " + fmt::format("{}", s.t));
+    for (std::size_t k = 0; k < y.size(); ++k) {
+      s.y.push_back(cell(row, y[k]));
+      s.yp.push_back(cell(row, yp[k]));
+    }
+    for (int c : u) s.u.push_back(cell(row, c));
+    samples.push_back(std::move(s));
+  }
+  return samples;
+}
 
 }  // namespace
 
@@ -39,6 +82,8 @@ CommandRunner add_animate_command(CLI::App& app) {
   add_run_flags(sub, options->run);
   sub->add_option("-o,--output", options->output, "directory for the page (index.html with three.js beside it)")
       ->required();
+  sub->add_option("--path", options->path,
+                  "draw the motion in this CSV (t and the model's states by name, e.g. nhc optimize's -o) instead of running");
 
   return [options]() {
     const RunFlags& flags = options->run;
@@ -64,11 +109,16 @@ CommandRunner add_animate_command(CLI::App& app) {
     runtime::IntegratorOptions io = run_integrator_options(flags, scene);
     io.progress = terminal_progress();
     const std::vector<double> p = parameters_with_overrides(model, overrides);
-    const std::vector<runtime::Event> events =
-        app::runtime_events(run_events(flags, scene), scene_set, model, p);  // the motion ends at a stop event
-    const runtime::RunResult run = run_with_flags(flags, model, p, run_initial_state(flags, scene_set, model), times,
-                                                  io, input_function(input_signals, model, p), events)
-                                       .run;
+    runtime::RunResult run;
+    if (!options->path.empty()) {
+      run.samples = samples_from_file(model, options->path);
+    } else {
+      const std::vector<runtime::Event> events =
+          app::runtime_events(run_events(flags, scene), scene_set, model, p);  // the motion ends at a stop event
+      run = run_with_flags(flags, model, p, run_initial_state(flags, scene_set, model), times, io,
+                           input_function(input_signals, model, p), events)
+                .run;
+    }
     if (run.samples.empty()) {
       std::cerr << "nhc: error: " << (run.failure ? run.failure->what() : "the run has no sample") << "\n"
                 << "  no page written: the run did not get past t0\n";
@@ -78,6 +128,7 @@ CommandRunner add_animate_command(CLI::App& app) {
     for (const runtime::Sample& s : run.samples) content.times.push_back(s.t);
     std::vector<std::string> inputs = input_files(flags.inputs);
     inputs.insert(inputs.begin(), flags.scene_path);
+    if (!options->path.empty()) inputs.push_back(options->path);
     write_animation_page(options->output, content, inputs);
 
     std::cout << "nhc animate: " << scene.name << ", model " << to_string(kind) << ", t from " << fmt::format("{}", content.times.front())

@@ -1,22 +1,24 @@
 // nhc optimize SCENE [-o FILE.csv] [--intervals N] [--guess FILE.csv] [--plot DIR] [--max-iterations N]
-//                    [--tolerance E] [--jacobian exact|finite-differences]
+//                    [--tolerance E] [--jacobian exact|finite-differences] [--hessian exact|limited-memory]
 //
 // An optimal motion (docs/optimize.md): the scene's [optimize] table transcribed by
 // Hermite–Simpson collocation and solved by IPOPT (nhc::optimize). Prints `cost = C`, the
-// constraint violation and the iterations; writes t, the coordinates and their rates on the
+// constraint violation and the iterations; writes t, the states, their rates and the inputs on the
 // collocation points. IPOPT's progress goes to stderr. Infeasible or iteration limit: exit 3
 // in words naming the constraint violated most (at the iteration limit the last point is written).
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <iostream>
 
 #include "command_programs.hpp"
 #include "commands.hpp"
-#include "flag_rules.hpp"
+#include "nhc/app/optimize_request.hpp"
 #include "nhc/io/atomic_directory.hpp"
 #include "nhc/io/atomic_file.hpp"
 #include "nhc/io/output_path.hpp"
 #include "nhc/optimize/hermite_simpson.hpp"
+#include "nhc/optimize/path_table.hpp"
 #include "nhc/optimize/settings.hpp"
 #include "nhc/optimize/solve.hpp"
 #include "nhc/scene/scene.hpp"
@@ -29,14 +31,11 @@ namespace {
 
 struct OptimizeOptions {
   std::string scene_path, output, guess, plot;
-  std::optional<int> intervals;
-  int max_iterations = 3000;
-  double tolerance = 1e-10;
-  std::string jacobian = "exact";
+  app::OptimizeRequest request;
 };
 
 /// The starting path from a CSV with a header (nhc simulate's or optimize's): t, each coordinate,
-/// its rate where present.
+/// the other states, rates and inputs where present (path_table.hpp).
 std::vector<double> guess_from_file(const Scene& scene, const optimize::HermiteSimpson& problem, const std::string& path) {
   CsvTable table;
   try {
@@ -44,30 +43,15 @@ std::vector<double> guess_from_file(const Scene& scene, const optimize::HermiteS
   } catch (const std::exception& e) {
     throw InputError({"--guess", 0, 0}, path + ": " + e.what());
   }
-  if (table.rows.empty()) throw InputError({"--guess", 0, 0}, path + " has no rows");
-  const int t = table.column("t");
-  if (t < 0) throw InputError({"--guess", 0, 0}, path + " has no column t");
-  for (std::size_t r = 1; r < table.rows.size(); ++r)
-    if (!(table.rows[r][static_cast<std::size_t>(t)] >= table.rows[r - 1][static_cast<std::size_t>(t)]))
-      throw InputError({"--guess", 0, 0}, path + ": t does not increase at row " + std::to_string(r + 2));
-  std::vector<int> q, v;
-  for (const std::string& name : scene.jet->coordinates()) {
-    q.push_back(table.column(name));
-    v.push_back(table.column(name + "'"));
-    if (q.back() < 0) throw InputError({"--guess", 0, 0}, path + " has no column " + name);
-  }
-  return problem.from_samples(table.rows, t, q, v);
+  return optimize::guess_from_table(problem, table.header, table.rows, scene, "--guess", path);
 }
 
-void write_path(std::ostream& out, const Scene& scene, const optimize::HermiteSimpson& problem, const std::vector<double>& z) {
-  out << "t";
-  for (const std::string& name : scene.jet->coordinates()) out << "," << name << "," << name << "'";
+void write_path(std::ostream& out, const optimize::HermiteSimpson& problem, const std::vector<double>& z) {
+  const std::vector<std::string> columns = optimize::path_columns(problem);
+  for (std::size_t c = 0; c < columns.size(); ++c) out << (c ? "," : "") << columns[c];
   out << "\n";
-  for (int j = 0; j < problem.points(); ++j) {
-    out << fmt::format("{:.17g}", problem.time(j, z.data()));
-    for (int i = 0; i < problem.coordinates(); ++i)
-      out << fmt::format(",{:.17g},{:.17g}", z[static_cast<std::size_t>(problem.q_index(j, i))],
-                         z[static_cast<std::size_t>(problem.v_index(j, i))]);
+  for (const std::vector<double>& row : optimize::path_rows(problem, z)) {
+    for (std::size_t c = 0; c < row.size(); ++c) out << (c ? "," : "") << fmt::format("{:.17g}", row[c]);
     out << "\n";
   }
 }
@@ -78,20 +62,25 @@ void write_plots(const std::string& directory, const Scene& scene, const optimiz
                  const std::vector<double>& z, const std::vector<std::string>& inputs, const std::string& summary) {
   AtomicDirectory out(directory, inputs);
   const std::string csv = scene.name + "_optimal.csv";
-  write_file_atomically(out.file(csv), [&](std::ostream& o) { write_path(o, scene, problem, z); });
+  write_file_atomically(out.file(csv), [&](std::ostream& o) { write_path(o, problem, z); });
   Plot coordinates{"coordinates", "coordinates", "t", "", false, false, {}};
-  Plot rates{"rates", "rates (the controls)", "t", "", false, false, {}};
+  Plot rates{"rates", problem.inputs() ? "rates" : "rates (the controls)", "t", "", false, false, {}};
+  Plot inputs_plot{"inputs", "inputs (the controls)", "t", "", false, false, {}};
+  const std::vector<std::string> columns = optimize::path_columns(problem);
+  auto has = [&](const std::string& c) { return std::find(columns.begin(), columns.end(), c) != columns.end(); };
   for (const std::string& name : scene.jet->coordinates()) {
     coordinates.curves.push_back({name, csv, "t", name});
-    rates.curves.push_back({name + "'", csv, "t", name + "'"});
+    if (has(name + "'")) rates.curves.push_back({name + "'", csv, "t", name + "'"});
   }
+  for (const std::string& u : problem.point_problem().input_names) inputs_plot.curves.push_back({u, csv, "t", u});
   std::vector<Plot> plots{coordinates, rates};
+  if (!inputs_plot.curves.empty()) plots.push_back(inputs_plot);
   const PathPlane plane = path_plane(scene, "", "--plot");
   if (!plane.y.empty()) plots.push_back(path_plot("path", "path", plane, {{"optimal", csv}}));
   draw_plots(out.path(), plots);
   write_file_atomically(out.file("plots.md"), [&](std::ostream& o) {
     o << "# " << scene.name << ": optimal motion\n\nDrawn by `nhc optimize --plot` from [" << csv << "](" << csv
-      << ") (t, the coordinates and their rates on the " << problem.points() << " collocation points). " << summary
+      << ") (t, the states, their rates and the inputs on the " << problem.points() << " collocation points). " << summary
       << "\n\n" << markdown_images(plots);
   });
   out.commit();
@@ -103,35 +92,36 @@ CommandRunner add_optimize_command(CLI::App& app) {
   auto options = std::make_shared<OptimizeOptions>();
   CLI::App* sub = app.add_subcommand("optimize", command_description("optimize"));
   sub->add_option("SCENE", options->scene_path, "scene file (TOML) with an [optimize] table")->required();
-  sub->add_option("-o,--output", options->output, "CSV file for the optimal path (t, coordinates and rates)");
-  sub->add_option("--intervals", options->intervals, "collocation intervals (default: [optimize] intervals, else 40)")
-      ->check(flag_rules::count(1, 100000));
-  sub->add_option("--guess", options->guess, "start from this path (CSV with t and the coordinates, e.g. nhc simulate's)");
-  sub->add_option("--plot", options->plot, "directory for plots (SVG, PNG) of the coordinates, rates and path");
-  sub->add_option("--jacobian", options->jacobian,
-                  "exact (the default) or finite-differences: IPOPT's own differences on the same sparsity")
-      ->check(CLI::IsMember({"exact", "finite-differences"}));
-  sub->add_option("--max-iterations", options->max_iterations, "IPOPT iterations (default 3000)")
-      ->check(flag_rules::count(1, 1000000));
-  sub->add_option("--tolerance", options->tolerance, "IPOPT's tolerance on the scaled optimality error (default 1e-10)")
-      ->check(flag_rules::positive());
+  sub->add_option("-o,--output", options->output, "CSV file for the optimal path (t, the states and their rates, the inputs; nhc animate --path draws it)");
+  // The values' rules are app::check_optimize_request's, shared with Python.
+  sub->add_option("--intervals", options->request.intervals, "collocation intervals (default: [optimize] intervals, else 40)");
+  sub->add_option("--guess", options->guess, "start from this path (CSV with t and the coordinates, e.g. nhc simulate's or a previous optimum)");
+  sub->add_option("--plot", options->plot, "directory for plots (SVG, PNG) of the coordinates, rates, inputs and path");
+  sub->add_option("--jacobian", options->request.jacobian,
+                  "exact (the default) or finite-differences: IPOPT's own differences on the same sparsity");
+  sub->add_option("--hessian", options->request.hessian,
+                  "exact (the default: second derivatives of the same functions) or limited-memory (IPOPT's quasi-Newton)");
+  sub->add_option("--max-iterations", options->request.max_iterations, "IPOPT iterations (default 3000)");
+  sub->add_option("--tolerance", options->request.tolerance, "IPOPT's tolerance on the scaled optimality error (default 1e-10)");
 
   return [options]() {
+    const app::OptimizeRequest& request = options->request;
+    app::check_optimize_request(request, app::optimize_command_line_names());
     const Scene scene = load_scene(options->scene_path);
     const optimize::Settings settings = optimize::read_settings(scene);
-    if (!scene.inputs.empty())
-      throw InputError(settings.table_where,
-                       "nhc optimize so far solves scenes without [inputs] (the vakonomic problem; docs/optimize.md, \"Scope\")");
     if (!options->output.empty()) check_output_file(options->output, {options->scene_path, options->guess});
     if (!options->plot.empty()) {
       require_gnuplot("--plot");
       check_output_directory(options->plot, {options->scene_path, options->guess});
     }
-    optimize::HermiteSimpson problem(scene, settings, options->intervals.value_or(settings.intervals));
+    optimize::HermiteSimpson problem(scene, settings, static_cast<int>(request.intervals.value_or(settings.intervals)));
     const std::vector<double> guess =
         options->guess.empty() ? problem.straight_line() : guess_from_file(scene, problem, options->guess);
 
-    std::cout << "nhc optimize: " << scene.name << ", " << problem.intervals() << " Hermite-Simpson intervals, "
+    std::cout << "nhc optimize: " << scene.name << ", "
+              << (problem.inputs() ? "the " + to_string(problem.point_problem().model) + " model driven by its inputs"
+                                   : std::string("the vakonomic problem"))
+              << ", " << problem.intervals() << " Hermite-Simpson intervals, "
               << problem.variables() << " variables, " << problem.constraints() << " constraints; t_end "
               << (settings.free_time() ? fmt::format("free in [{}, {}]", settings.t_end_low, settings.t_end_high)
                                        : fmt::format("{}", settings.t_end_low))
@@ -139,9 +129,10 @@ CommandRunner add_optimize_command(CLI::App& app) {
     std::cout.flush();
 
     optimize::SolveOptions solve_options;
-    solve_options.max_iterations = options->max_iterations;
-    solve_options.tolerance = options->tolerance;
-    solve_options.finite_difference_jacobian = options->jacobian == "finite-differences";
+    solve_options.max_iterations = static_cast<int>(request.max_iterations);
+    solve_options.tolerance = request.tolerance;
+    solve_options.finite_difference_jacobian = request.jacobian == "finite-differences";
+    solve_options.exact_hessian = request.hessian == "exact";
     solve_options.progress = [](int iteration, double cost, double violation) {
       std::cerr << fmt::format("  iteration {:4d}: cost {:.10g}, violation {:.3g}\n", iteration, cost, violation);
       return true;
@@ -151,7 +142,7 @@ CommandRunner add_optimize_command(CLI::App& app) {
     using Status = optimize::Solution::Status;
     auto write = [&] {
       if (!options->output.empty()) {
-        write_file_atomically(options->output, [&](std::ostream& out) { write_path(out, scene, problem, solution.z); });
+        write_file_atomically(options->output, [&](std::ostream& out) { write_path(out, problem, solution.z); });
         std::cout << "  wrote " << options->output << " (" << problem.points() << " rows)\n";
       }
       if (!options->plot.empty()) {
@@ -175,7 +166,7 @@ CommandRunner add_optimize_command(CLI::App& app) {
     }
     const std::string worst =
         solution.violation > 0 ? fmt::format("; the largest violation, {:.3g}, is in {}", solution.violation, solution.worst) : "";
-    if (solution.status == Status::iteration_limit) {
+    if (solution.status == Status::iteration_limit || solution.status == Status::acceptable) {
       write();
       std::cerr << "nhc: error: optimize: " << solution.words << " (" << solution.iterations << " iterations) at cost "
                 << fmt::format("{:.10g}", solution.cost) << worst

@@ -22,9 +22,10 @@ class SceneError(Error):
 
 class MathError(Error):
     """A numerical or mathematical failure; `t` is the time a run stopped at, or None. Raised by
-    Model.simulate, it also has `run`: the nhc.Run up to the failure."""
+    Model.simulate, it also has `run`: the nhc.Run up to the failure; raised by Scene.optimize, the
+    last point IPOPT reached."""
 
-    run: Any  # set by Model.simulate only
+    run: Any  # set by Model.simulate and Scene.optimize only
 
     def __init__(self, message: str, t: Optional[float] = None) -> None:
         super().__init__(message)

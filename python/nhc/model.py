@@ -40,13 +40,16 @@ class Run:
     """One integration: the columns of `nhc simulate`'s CSV as arrays.
 
     run.t, run["x"], run["x'"], run.columns, run.to_numpy() (rows: output times), run.summary
-    (steps, evaluations, the time split, drift), run.events, run.plot(), run.to_pandas()."""
+    (steps, evaluations, the time split, drift), run.events, run.plot(), run.to_pandas(). From
+    :meth:`nhc.Scene.optimize`: the optimal path on the collocation points and its :attr:`cost`."""
 
     columns: List[str]
     """The column names, in the CSV's order: ``t`` first."""
 
     events: List[Event]
     """The events met, in time order (the scene's ``[events]``, ``stop_when``)."""
+    cost: Optional[float]
+    """The objective's value of an optimal motion (:meth:`nhc.Scene.optimize`); None for a simulation."""
 
     def __init__(self, result: Dict[str, Any]) -> None:
         self.columns = list(result["columns"])
@@ -55,6 +58,7 @@ class Run:
         self._summary = result["summary"]  # built on first use
         self._max_discrete_constraint = result.get("max_discrete_constraint")  # the variational integrator's
         self.events = [Event(str(e["name"]), float(e["t"]), dict(e["state"])) for e in result.get("events", [])]
+        self.cost = result.get("cost")
 
     @property
     def summary(self) -> Dict[str, Any]:

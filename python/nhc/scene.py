@@ -12,8 +12,8 @@ import numpy.typing as _npt
 from . import _nhc
 import numpy as _np
 
-from .errors import SceneError
-from .model import Linearization, Model, Sweep
+from .errors import MathError, SceneError
+from .model import Linearization, Model, Run, Sweep
 
 
 class Derivation:
@@ -209,6 +209,52 @@ class Scene:
         at = {k: float(v) for k, v in (at or {}).items()}
         return Sweep(name, _nhc._sweep(self._scene, model, name, values[0], values[-1], len(values), at,
                                        list(keep), list(states)))
+
+    def optimize(self, intervals: Optional[int] = None, guess: Optional[str | _os.PathLike[str] | Run] = None,
+                 max_iterations: int = 3000, tolerance: float = 1e-10, jacobian: str = "exact",
+                 hessian: str = "exact") -> Run:
+        """An optimal motion of the scene's [optimize] problem (as ``nhc optimize``): Hermite–Simpson
+        collocation solved by IPOPT (docs/optimize.md). Without [inputs] the coordinates' paths are
+        the unknowns (the vakonomic problem); with them, the model's equations hold and the inputs
+        are the controls.
+
+        :param intervals: collocation intervals (default: [optimize] intervals, else 40).
+        :param guess: the starting path: a CSV file (``nhc simulate``'s or ``nhc optimize``'s) or a
+            :class:`Run` (a previous optimum); default the straight line between the boundary values.
+        :param max_iterations: IPOPT's iteration limit.
+        :param tolerance: IPOPT's tolerance on the scaled optimality error.
+        :param jacobian: ``"exact"`` or ``"finite-differences"`` (IPOPT's own, on the same sparsity).
+        :param hessian: ``"exact"`` or ``"limited-memory"`` (IPOPT's quasi-Newton).
+        :returns: the path on the collocation points (t, the states and their rates, the inputs),
+            with :attr:`Run.cost` and ``summary`` (cost, violation, iterations, t_end, status).
+        :raises nhc.MathError: no optimum: infeasible (the message names the condition violated
+            most), the iteration limit (``.run`` holds the last point) or another IPOPT failure.
+        :raises nhc.SceneError: no [optimize] table, or a bad entry or argument."""
+        columns: Optional[List[str]] = None
+        rows: Optional[List[List[float]]] = None
+        name = ""
+        if isinstance(guess, Run):
+            columns, rows, name = list(guess.columns), guess.to_numpy().tolist(), "the guess"
+        elif guess is not None:
+            name = _os.fspath(guess)
+            try:
+                with open(name, encoding="utf-8") as f:
+                    columns = f.readline().strip().split(",")
+                    rows = _np.atleast_2d(_np.loadtxt(f, delimiter=",", ndmin=2)).tolist()
+            except (OSError, ValueError) as e:
+                raise SceneError(f"guess: {name}: {e}", file="guess") from None
+        result = _nhc._optimize(self._scene, None if intervals is None else int(intervals), int(max_iterations),
+                                float(tolerance), str(jacobian), str(hessian), columns, rows, name)
+        summary = result["summary"]
+        run = Run({"columns": result["columns"], "data": result["data"], "summary": summary, "cost": summary["cost"]})
+        if summary["status"] != "optimal":
+            worst = (f"; the largest violation, {summary['violation']:.3g}, is in {summary['worst_constraint']}"
+                     if summary["violation"] > 0 else "")
+            lead = "no path meets the conditions: " if summary["status"] == "infeasible" else ""
+            error = MathError(f"optimize: {lead}{summary['words']} ({summary['iterations']} iterations){worst}")
+            error.run = run  # the last point IPOPT reached
+            raise error
+        return run
 
     def __repr__(self) -> str:
         return f"Scene({self.name!r}, coordinates={self.coordinates!r})"

@@ -3,6 +3,7 @@
 
 #include "error_translation.hpp"
 #include "model_bindings.hpp"
+#include "optimize_bindings.hpp"
 #include "scene_bindings.hpp"
 
 PYBIND11_MODULE(_nhc, m) {
@@ -11,4 +12,5 @@ PYBIND11_MODULE(_nhc, m) {
   nhc::python::register_errors(m);
   nhc::python::register_scene(m);
   nhc::python::register_model(m);
+  nhc::python::register_optimize(m);
 }

@@ -126,7 +126,7 @@ TEST_CASE("[optimize] entries are located in the scene", "[optimize]") {
         "heisenberg.toml:17:5: error: the low bound of x is above its high bound");
   CHECK(message(heisenberg(0.5, 0.0)) == "heisenberg.toml:7:9: error: t_end must be after t0 = 0");
   CHECK(message(heisenberg(0.5, 1.0, "\"x''\" = [0, 1]\n")) ==
-        "heisenberg.toml:17:1: error: 'x''': the transcription holds coordinates and their first derivatives only");
+        "heisenberg.toml:17:1: error: 'x''': without [inputs] the transcription holds coordinates and their first derivatives only");
 }
 
 TEST_CASE("a free final time: the loop's cost 2 pi a/T plus T is least at T = sqrt(2 pi a)", "[optimize]") {
@@ -141,4 +141,30 @@ TEST_CASE("a free final time: the loop's cost 2 pi a/T plus T is least at T = sq
   const double t_end = std::sqrt(2 * M_PI * 0.5);
   CHECK(std::abs(problem.final_time(solution.z.data()) - t_end) < 1e-6 * t_end);
   CHECK(std::abs(solution.cost - 2 * t_end) < 1e-6 * 2 * t_end);
+}
+
+TEST_CASE("a final condition as a bound: the loop encloses the least area the bound allows", "[optimize]") {
+  // z(T) = [0.5, 0.8]: the cost 2 pi z(T)/T grows with the area, so the optimum is the circle of
+  // area 0.5 at cost pi; z(T) = [-0.8, -0.3] is the circle run the other way, of area 0.3.
+  for (const auto& [bound, area] : {std::pair{"[0.5, 0.8]", 0.5}, std::pair{"[-0.8, -0.3]", 0.3}}) {
+    std::string text = heisenberg(0.5, 1.0);
+    text.replace(text.rfind("z = 0.5"), 7, std::string("z = ") + bound);
+    INFO(bound);
+    const Optimum o = solve(text, 50);
+    REQUIRE(o.solution.status == optimize::Solution::Status::optimal);
+    CHECK(std::abs(o.solution.cost - 2 * M_PI * area) < 1e-6 * 2 * M_PI * area);
+  }
+}
+
+TEST_CASE("a bound on a named quantity is a bound along the path", "[optimize]") {
+  // The same cut as a bound on x itself (above), written on an [outputs] quantity: the same optimum.
+  const Optimum direct = solve(heisenberg(0.5, 1.0, "x = [-0.3, 0.3]\n"), 30);
+  const Optimum named = solve(heisenberg(0.5, 1.0, "across = [-0.3, 0.3]\n") + "[outputs]\nacross = \"x\"\n", 30);
+  REQUIRE(direct.solution.status == optimize::Solution::Status::optimal);
+  REQUIRE(named.solution.status == optimize::Solution::Status::optimal);
+  CHECK(std::abs(named.solution.cost - direct.solution.cost) < 1e-7 * direct.solution.cost);
+  CHECK(named.solution.cost > 2 * M_PI * 0.5 * (1 + 1e-3));
+  // A row's bounds, unlike a variable's, are met within IPOPT's relaxation of them
+  // (bound_relax_factor 1e-8 times max(1, |bound|)): x reaches 0.3 + 1e-8.
+  for (double x : named.x) CHECK(std::abs(x) <= 0.3 + 2e-8);
 }

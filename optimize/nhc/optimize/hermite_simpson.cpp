@@ -15,6 +15,9 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr double kPi = 3.14159265358979323846;
 /// The amplitude of the straight line's bend (straight_line()).
 constexpr double kBend = 1e-2;
+/// A hidden constraint that the fixed initial values meet to this is dropped, not imposed.
+constexpr double kInitialTolerance = 1e-9;
+constexpr int kIntegrand = 0, kFinalCost = 1, kFirstPathRow = 2;
 
 /// Simpson's weight of point j within its interval, in units of the interval's length h:
 /// 1/6 at each end of every interval (a node inside the mesh ends two), 4/6 at a midpoint.
@@ -26,51 +29,175 @@ double simpson_weight(int point, int points) {
 }  // namespace
 
 HermiteSimpson::HermiteSimpson(const Scene& scene, const Settings& settings, int intervals)
-    : n_(scene.coordinate_count()),
-      m_(scene.constraint_count()),
+    : HermiteSimpson(scene, settings, optimize::point_problem(scene, settings), intervals) {}
+
+HermiteSimpson::HermiteSimpson(const Scene& scene, const Settings& settings, PointProblem problem, int intervals)
+    : problem_(std::move(problem)),
+      n_(problem_.states),
+      stride_(problem_.slots()),
       n_intervals_(intervals),
       t0_(scene.initial.t0),
       t_end_low_(settings.t_end_low),
       t_end_high_(settings.t_end_high),
       free_time_(settings.free_time()),
-      functions_(scene, settings),
-      coordinate_names_(scene.jet->coordinates()) {
+      functions_(problem_) {
+  for (int i = 0; i < n_; ++i)
+    if (problem_.collocated[static_cast<std::size_t>(i)]) collocated_.push_back(i);
   low_.assign(static_cast<std::size_t>(variables()), -kInfinity);
   high_.assign(static_cast<std::size_t>(variables()), kInfinity);
-  auto index = [&](const PathQuantity& q, int point, const SourceLocation& where) {
-    if (q.kind == PathQuantity::Kind::input)
-      throw InputError(where, "'" + q.name + "' is an input: nhc optimize so far solves scenes without [inputs] "
-                                             "(the vakonomic problem: docs/optimize.md, \"Scope\")");
-    if (q.order > 1)
-      throw InputError(where, "'" + q.name + "': the transcription holds coordinates and their first derivatives only");
-    return q.order == 0 ? q_index(point, q.index) : v_index(point, q.index);
-  };
-  for (const PathBound& b : settings.bounds)
+  // An algebraic state's rate is no variable of the problem: held at 0.
+  for (int i = 0; i < n_; ++i)
+    if (!problem_.collocated[static_cast<std::size_t>(i)])
+      for (int j = 0; j < points(); ++j) low_[static_cast<std::size_t>(v_index(j, i))] = high_[static_cast<std::size_t>(v_index(j, i))] = 0;
+  for (const SlotBound& b : problem_.bounds)
     for (int j = 0; j < points(); ++j) {
-      const auto k = static_cast<std::size_t>(index(b.quantity, j, b.where));
+      const auto k = static_cast<std::size_t>(j * stride_ + b.slot);
       low_[k] = std::max(low_[k], b.low);
       high_[k] = std::min(high_[k], b.high);
     }
-  auto fix = [&](const std::vector<BoundaryValue>& values, int point, const char* table) {
-    for (const BoundaryValue& b : values) {
-      const auto k = static_cast<std::size_t>(index(b.quantity, point, b.where));
-      if (b.value < low_[k] || b.value > high_[k])
-        throw InputError(b.where, fmt::format("{} = {} in [optimize.{}] is outside its bound [{}, {}] in [optimize.bounds]",
-                                              b.quantity.name, b.value, table, low_[k], high_[k]));
-      low_[k] = high_[k] = b.value;
+  auto fix = [&](const std::vector<SlotBound>& values, int point, const char* table) {
+    for (const SlotBound& b : values) {
+      const auto k = static_cast<std::size_t>(point * stride_ + b.slot);
+      if (b.high < low_[k] || b.low > high_[k])
+        throw InputError(b.where, fmt::format("{} = {} in [optimize.{}] is outside its bound [{}, {}] in [optimize.bounds]", b.name,
+                                              b.low == b.high ? fmt::format("{}", b.low) : fmt::format("[{}, {}]", b.low, b.high),
+                                              table, low_[k], high_[k]));
+      low_[k] = std::max(low_[k], b.low);
+      high_[k] = std::min(high_[k], b.high);
     }
   };
-  fix(settings.initial, 0, "initial");
-  fix(settings.final, points() - 1, "final");
+  fix(problem_.initial, 0, "initial");
+  fix(problem_.final, points() - 1, "final");
   if (free_time_) {
     low_.back() = t_end_low_;
     high_.back() = t_end_high_;
+  }
+  drop_fixed_initial_rows(settings);
+  build_hessian_structure();
+}
+
+// The Lagrangian's second derivatives: each function's pairs at every point where it is
+// evaluated (the integrand, the path rows: all points; the final cost: the last; the initial
+// rows: the first) and, with a free T, the whole row of T (T moves h and every t_j; the
+// collocation rows are bilinear in T and the rates).
+void HermiteSimpson::build_hessian_structure() {
+  auto add = [&](int r, int c) {
+    if (r < c) std::swap(r, c);
+    if (hessian_index_.emplace(std::make_pair(r, c), static_cast<int>(hessian_entries_.size())).second)
+      hessian_entries_.emplace_back(r, c);
+  };
+  auto add_pairs = [&](int f, int point) {
+    for (const VariablePair& p : functions_.pairs(f))
+      if (p.first >= 0 && p.second >= 0) add(point * stride_ + p.first, point * stride_ + p.second);
+  };
+  const int first_initial = kFirstPathRow + path_rows();
+  for (int j = 0; j < points(); ++j) {
+    add_pairs(kIntegrand, j);
+    for (int r = 0; r < path_rows(); ++r) add_pairs(kFirstPathRow + r, j);
+  }
+  add_pairs(kFinalCost, points() - 1);
+  for (int r : kept_initial_rows_) add_pairs(first_initial + r, 0);
+  if (free_time_)
+    for (int k = 0; k < variables(); ++k) add(variables() - 1, k);
+}
+
+int HermiteSimpson::hessian_entry(int row, int column) const {
+  if (row < column) std::swap(row, column);
+  return hessian_index_.at({row, column});
+}
+
+void HermiteSimpson::hessian_structure(int* rows, int* columns) const {
+  for (std::size_t e = 0; e < hessian_entries_.size(); ++e) {
+    rows[e] = hessian_entries_[e].first;
+    columns[e] = hessian_entries_[e].second;
+  }
+}
+
+void HermiteSimpson::hessian_values(const double* z, double sigma, const double* lambda, double* values) {
+  std::fill(values, values + hessian_nonzeros(), 0.0);
+  const double h = (final_time(z) - t0_) / n_intervals_, dh = 1.0 / n_intervals_;
+  const int T = variables() - 1;
+  // d(t_j)/dT = s_j = j/(2N); for the function f with factor c at point j: c f_ab at (a, b) and,
+  // with a free T, c f_ta s_j at (T, a) and c f_tt s_j^2 at (T, T).
+  auto add_function = [&](int f, int j, double c, double s_j) {
+    const ValueGradient& v = functions_.value(f);
+    const std::vector<VariablePair>& pairs = functions_.pairs(f);
+    for (std::size_t e = 0; e < pairs.size(); ++e) {
+      const auto [a, b] = pairs[e];
+      if (a >= 0 && b >= 0) values[hessian_entry(j * stride_ + a, j * stride_ + b)] += c * v.dd[e];
+      else if (free_time_ && a >= 0) values[hessian_entry(T, j * stride_ + a)] += c * v.dd[e] * s_j;
+      else if (free_time_) values[hessian_entry(T, T)] += c * v.dd[e] * s_j * s_j;
+    }
+  };
+  const int first_initial = kFirstPathRow + path_rows();
+  int row = collocation_rows();
+  for (int j = 0; j < points(); ++j) {
+    const double t = time(j, z), s_j = j / (2.0 * n_intervals_), w = simpson_weight(j, points());
+    functions_.evaluate(t, z + q_index(j, 0));
+    functions_.evaluate_second(t, z + q_index(j, 0));
+    add_function(kIntegrand, j, sigma * w * h, s_j);
+    if (free_time_) {
+      // f = h sum_j w_j l(t_j, p_j): d2f/dT dp_a = w_j (l_a/N + h l_ta s_j) (the second term
+      // above); d2f/dT2 = sum_j w_j (2 l_t s_j/N + h l_tt s_j^2).
+      const ValueGradient& l = functions_.value(kIntegrand);
+      const std::vector<int>& slots = functions_.slots(kIntegrand);
+      for (std::size_t e = 0; e < slots.size(); ++e) values[hessian_entry(T, j * stride_ + slots[e])] += sigma * w * l.d[e] * dh;
+      values[hessian_entry(T, T)] += sigma * w * 2 * l.dt * s_j * dh;
+    }
+    for (int r = 0; r < path_rows(); ++r) add_function(kFirstPathRow + r, j, lambda[row + j * path_rows() + r], s_j);
+    if (j == 0) {
+      int initial_row = row + points() * path_rows();
+      for (int r : kept_initial_rows_) add_function(first_initial + r, 0, lambda[initial_row++], 0.0);
+    }
+    if (j == points() - 1) add_function(kFinalCost, j, sigma, 1.0);
+  }
+  if (free_time_) {
+    int r = 0;
+    for (int k = 0; k < n_intervals_; ++k) {
+      const int a = 2 * k, m = a + 1, b = a + 2;
+      for (int i : collocated_) {
+        values[hessian_entry(T, v_index(a, i))] += -dh / 8 * lambda[r];
+        values[hessian_entry(T, v_index(b, i))] += dh / 8 * lambda[r];
+        ++r;
+      }
+      for (int i : collocated_) {
+        values[hessian_entry(T, v_index(a, i))] += -dh / 6 * lambda[r];
+        values[hessian_entry(T, v_index(m, i))] += -4 * dh / 6 * lambda[r];
+        values[hessian_entry(T, v_index(b, i))] += -dh / 6 * lambda[r];
+        ++r;
+      }
+    }
+  }
+}
+
+void HermiteSimpson::drop_fixed_initial_rows(const Settings& settings) {
+  std::vector<double> point(static_cast<std::size_t>(stride_), 0.0);
+  for (int s = 0; s < stride_; ++s)
+    if (low_[static_cast<std::size_t>(s)] == high_[static_cast<std::size_t>(s)]) point[static_cast<std::size_t>(s)] = low_[static_cast<std::size_t>(s)];
+  functions_.evaluate(t0_, point.data());
+  const int first = kFirstPathRow + path_rows();
+  for (int r = 0; r < static_cast<int>(problem_.initial_rows.size()); ++r) {
+    const std::vector<int>& slots = functions_.slots(first + r);
+    const bool fixed = std::all_of(slots.begin(), slots.end(), [&](int s) {
+      return low_[static_cast<std::size_t>(s)] == high_[static_cast<std::size_t>(s)];
+    });
+    if (!fixed) {
+      kept_initial_rows_.push_back(r);
+      continue;
+    }
+    const double value = functions_.value(first + r).value;
+    if (!(std::abs(value) <= kInitialTolerance))
+      throw InputError(problem_.initial.empty() ? settings.table_where : problem_.initial.front().where,
+                       fmt::format("the values of [optimize.initial] violate {}: it is {:.6g} there", problem_.initial_rows[static_cast<std::size_t>(r)].name, value));
   }
 }
 
 int HermiteSimpson::jacobian_nonzeros() const noexcept {
   const int t = free_time_ ? 1 : 0;
-  return n_intervals_ * 2 * n_ * (5 + t) + points() * m_ * (2 * n_ + t);
+  int count = collocation_rows() * (5 + t);
+  for (int r = 0; r < path_rows(); ++r) count += points() * (static_cast<int>(functions_.slots(kFirstPathRow + r).size()) + t);
+  for (int r : kept_initial_rows_) count += static_cast<int>(functions_.slots(kFirstPathRow + path_rows() + r).size());
+  return count;
 }
 
 double HermiteSimpson::time(int point, const double* z) const noexcept {
@@ -82,69 +209,85 @@ void HermiteSimpson::variable_bounds(double* low, double* high) const {
   std::copy(high_.begin(), high_.end(), high);
 }
 
-void HermiteSimpson::evaluate_points(const double* z) {
+void HermiteSimpson::constraint_bounds(double* low, double* high) const {
+  std::fill(low, low + constraints(), 0.0);
+  std::fill(high, high + constraints(), 0.0);
+  int row = collocation_rows();
+  for (int j = 0; j < points(); ++j)
+    for (const PointRow& r : problem_.path) {
+      low[row] = r.low;
+      high[row] = r.high;
+      ++row;
+    }
+  for (int r : kept_initial_rows_) {
+    low[row] = problem_.initial_rows[static_cast<std::size_t>(r)].low;
+    high[row] = problem_.initial_rows[static_cast<std::size_t>(r)].high;
+    ++row;
+  }
+}
+
+void HermiteSimpson::evaluate_points(const double* z, bool derivatives) {
   const auto size = static_cast<std::size_t>(variables());
-  if (cached_.size() == size && std::memcmp(cached_.data(), z, size * sizeof(double)) == 0) return;
+  if (cached_.size() == size && (cached_derivatives_ || !derivatives) &&
+      std::memcmp(cached_.data(), z, size * sizeof(double)) == 0)
+    return;
   cached_.assign(z, z + size);
+  cached_derivatives_ = derivatives;
   at_.resize(static_cast<std::size_t>(points()));
   for (int j = 0; j < points(); ++j) {
-    functions_.evaluate(time(j, z), z + q_index(j, 0), z + v_index(j, 0));
+    if (derivatives) functions_.evaluate(time(j, z), z + q_index(j, 0));
+    else functions_.evaluate_values(time(j, z), z + q_index(j, 0));
     std::vector<ValueGradient>& here = at_[static_cast<std::size_t>(j)];
     here.clear();
-    here.push_back(functions_.integrand());
-    for (int a = 0; a < m_; ++a) here.push_back(functions_.constraint(a));
-    here.push_back(functions_.final_cost());
+    for (int f = 0; f < functions_.functions(); ++f) here.push_back(functions_.value(f));
   }
 }
 
 double HermiteSimpson::objective(const double* z) {
-  evaluate_points(z);
+  evaluate_points(z, false);
   const double h = (final_time(z) - t0_) / n_intervals_;
   double sum = 0;
-  for (int j = 0; j < points(); ++j) sum += simpson_weight(j, points()) * at_[static_cast<std::size_t>(j)][0].value;
-  return h * sum + at_.back().back().value;
+  for (int j = 0; j < points(); ++j) sum += simpson_weight(j, points()) * at_[static_cast<std::size_t>(j)][kIntegrand].value;
+  return h * sum + at_.back()[kFinalCost].value;
 }
 
 void HermiteSimpson::objective_gradient(const double* z, double* gradient) {
-  evaluate_points(z);
+  evaluate_points(z, true);
   const double h = (final_time(z) - t0_) / n_intervals_;
   std::fill(gradient, gradient + variables(), 0.0);
   double d_final_time = 0;
+  const std::vector<int>& slots = functions_.slots(kIntegrand);
   for (int j = 0; j < points(); ++j) {
-    const ValueGradient& L = at_[static_cast<std::size_t>(j)][0];
+    const ValueGradient& L = at_[static_cast<std::size_t>(j)][kIntegrand];
     const double w = simpson_weight(j, points());
-    for (int i = 0; i < n_; ++i) {
-      gradient[q_index(j, i)] += w * h * L.dq[static_cast<std::size_t>(i)];
-      gradient[v_index(j, i)] += w * h * L.dv[static_cast<std::size_t>(i)];
-    }
+    for (std::size_t e = 0; e < slots.size(); ++e) gradient[j * stride_ + slots[e]] += w * h * L.d[e];
     // h = (T - t0)/N and t_j = t0 + (T - t0) j/(2N) both move with T.
     d_final_time += w * (L.value / n_intervals_ + h * L.dt * j / (2.0 * n_intervals_));
   }
-  const ValueGradient& phi = at_.back().back();
+  const ValueGradient& phi = at_.back()[kFinalCost];
   const int last = points() - 1;
-  for (int i = 0; i < n_; ++i) {
-    gradient[q_index(last, i)] += phi.dq[static_cast<std::size_t>(i)];
-    gradient[v_index(last, i)] += phi.dv[static_cast<std::size_t>(i)];
-  }
+  const std::vector<int>& phi_slots = functions_.slots(kFinalCost);
+  for (std::size_t e = 0; e < phi_slots.size(); ++e) gradient[last * stride_ + phi_slots[e]] += phi.d[e];
   if (free_time_) gradient[variables() - 1] = d_final_time + phi.dt;
 }
 
-// Rows: per interval k the n Hermite midpoint conditions, then the n Simpson conditions
-//   q_m - (q_a + q_b)/2 - h/8 (v_a - v_b) = 0,   q_b - q_a - h/6 (v_a + 4 v_m + v_b) = 0,
-// (a = 2k, m = 2k + 1, b = 2k + 2); then the scene's constraints at every point.
+// Rows: per interval k, per collocated state i, the Hermite midpoint condition and Simpson's rule
+//   y_m - (y_a + y_b)/2 - h/8 (y'_a - y'_b) = 0,   y_b - y_a - h/6 (y'_a + 4 y'_m + y'_b) = 0,
+// (a = 2k, m = 2k + 1, b = 2k + 2); then the path rows at every point; then the kept initial rows.
 void HermiteSimpson::constraint_values(const double* z, double* g) {
-  evaluate_points(z);
+  evaluate_points(z, false);
   const double h = (final_time(z) - t0_) / n_intervals_;
   int row = 0;
   for (int k = 0; k < n_intervals_; ++k) {
     const int a = 2 * k, m = a + 1, b = a + 2;
-    for (int i = 0; i < n_; ++i)
+    for (int i : collocated_)
       g[row++] = z[q_index(m, i)] - 0.5 * (z[q_index(a, i)] + z[q_index(b, i)]) - h / 8 * (z[v_index(a, i)] - z[v_index(b, i)]);
-    for (int i = 0; i < n_; ++i)
+    for (int i : collocated_)
       g[row++] = z[q_index(b, i)] - z[q_index(a, i)] - h / 6 * (z[v_index(a, i)] + 4 * z[v_index(m, i)] + z[v_index(b, i)]);
   }
   for (int j = 0; j < points(); ++j)
-    for (int alpha = 0; alpha < m_; ++alpha) g[row++] = at_[static_cast<std::size_t>(j)][static_cast<std::size_t>(1 + alpha)].value;
+    for (int r = 0; r < path_rows(); ++r) g[row++] = at_[static_cast<std::size_t>(j)][static_cast<std::size_t>(kFirstPathRow + r)].value;
+  for (int r : kept_initial_rows_) g[row++] = at_.front()[static_cast<std::size_t>(kFirstPathRow + path_rows() + r)].value;
 }
 
 void HermiteSimpson::jacobian_structure(int* rows, int* columns) const {
@@ -157,49 +300,55 @@ void HermiteSimpson::jacobian_structure(int* rows, int* columns) const {
   };
   for (int k = 0; k < n_intervals_; ++k) {
     const int a = 2 * k, m = a + 1, b = a + 2;
-    for (int i = 0; i < n_; ++i, ++row) {
+    for (int i : collocated_) {
       put(row, q_index(m, i)), put(row, q_index(a, i)), put(row, q_index(b, i));
       put(row, v_index(a, i)), put(row, v_index(b, i));
       if (free_time_) put(row, t_column);
+      ++row;
     }
-    for (int i = 0; i < n_; ++i, ++row) {
+    for (int i : collocated_) {
       put(row, q_index(b, i)), put(row, q_index(a, i));
       put(row, v_index(a, i)), put(row, v_index(m, i)), put(row, v_index(b, i));
       if (free_time_) put(row, t_column);
+      ++row;
     }
   }
   for (int j = 0; j < points(); ++j)
-    for (int alpha = 0; alpha < m_; ++alpha, ++row) {
-      for (int i = 0; i < n_; ++i) put(row, q_index(j, i));
-      for (int i = 0; i < n_; ++i) put(row, v_index(j, i));
+    for (int r = 0; r < path_rows(); ++r, ++row) {
+      for (int s : functions_.slots(kFirstPathRow + r)) put(row, j * stride_ + s);
       if (free_time_) put(row, t_column);
     }
+  for (int r : kept_initial_rows_) {
+    for (int s : functions_.slots(kFirstPathRow + path_rows() + r)) put(row, s);
+    ++row;
+  }
 }
 
 void HermiteSimpson::jacobian_values(const double* z, double* values) {
-  evaluate_points(z);
+  evaluate_points(z, true);
   const double h = (final_time(z) - t0_) / n_intervals_, dh = 1.0 / n_intervals_;
   int e = 0;
   for (int k = 0; k < n_intervals_; ++k) {
     const int a = 2 * k, m = a + 1, b = a + 2;
-    for (int i = 0; i < n_; ++i) {
+    for (int i : collocated_) {
       values[e++] = 1, values[e++] = -0.5, values[e++] = -0.5;
       values[e++] = -h / 8, values[e++] = h / 8;
       if (free_time_) values[e++] = -dh / 8 * (z[v_index(a, i)] - z[v_index(b, i)]);
     }
-    for (int i = 0; i < n_; ++i) {
+    for (int i : collocated_) {
       values[e++] = 1, values[e++] = -1;
       values[e++] = -h / 6, values[e++] = -4 * h / 6, values[e++] = -h / 6;
       if (free_time_) values[e++] = -dh / 6 * (z[v_index(a, i)] + 4 * z[v_index(m, i)] + z[v_index(b, i)]);
     }
   }
   for (int j = 0; j < points(); ++j)
-    for (int alpha = 0; alpha < m_; ++alpha) {
-      const ValueGradient& c = at_[static_cast<std::size_t>(j)][static_cast<std::size_t>(1 + alpha)];
-      for (int i = 0; i < n_; ++i) values[e++] = c.dq[static_cast<std::size_t>(i)];
-      for (int i = 0; i < n_; ++i) values[e++] = c.dv[static_cast<std::size_t>(i)];
+    for (int r = 0; r < path_rows(); ++r) {
+      const ValueGradient& c = at_[static_cast<std::size_t>(j)][static_cast<std::size_t>(kFirstPathRow + r)];
+      for (double d : c.d) values[e++] = d;
       if (free_time_) values[e++] = c.dt * j / (2.0 * n_intervals_);
     }
+  for (int r : kept_initial_rows_)
+    for (double d : at_.front()[static_cast<std::size_t>(kFirstPathRow + path_rows() + r)].d) values[e++] = d;
 }
 
 std::vector<double> HermiteSimpson::straight_line() const {
@@ -210,8 +359,11 @@ std::vector<double> HermiteSimpson::straight_line() const {
   // A value fixed at one end only is held along the line; clamp into the bounds.
   auto end_value = [&](int index, int other) {
     const auto k = static_cast<std::size_t>(index), o = static_cast<std::size_t>(other);
+    auto middle = [&](std::size_t c) { return std::isfinite(low_[c]) && std::isfinite(high_[c]) ? 0.5 * (low_[c] + high_[c]) : low_[c]; };
     if (low_[k] == high_[k]) return low_[k];
     if (low_[o] == high_[o]) return low_[o];
+    if (std::isfinite(low_[k]) && std::isfinite(high_[k])) return middle(k);
+    if (std::isfinite(low_[o]) && std::isfinite(high_[o])) return middle(o);
     return std::isfinite(low_[k]) && low_[k] > 0 ? low_[k] : std::isfinite(high_[k]) && high_[k] < 0 ? high_[k] : 0.0;
   };
   for (int i = 0; i < n_; ++i) {
@@ -232,7 +384,8 @@ std::vector<double> HermiteSimpson::straight_line() const {
 }
 
 std::vector<double> HermiteSimpson::from_samples(const std::vector<std::vector<double>>& rows, int time_column,
-                                                 const std::vector<int>& q_columns, const std::vector<int>& v_columns) const {
+                                                 const std::vector<int>& q_columns, const std::vector<int>& v_columns,
+                                                 const std::vector<int>& u_columns) const {
   std::vector<double> z = straight_line();
   const auto tc = static_cast<std::size_t>(time_column);
   if (free_time_) z.back() = std::clamp(rows.back()[tc], t_end_low_, t_end_high_);
@@ -254,6 +407,8 @@ std::vector<double> HermiteSimpson::from_samples(const std::vector<std::vector<d
       if (qc >= 0) z[static_cast<std::size_t>(q_index(j, i))] = interpolate(t, qc);
       if (vc >= 0) z[static_cast<std::size_t>(v_index(j, i))] = interpolate(t, vc);
     }
+    for (std::size_t k = 0; k < u_columns.size(); ++k)
+      if (u_columns[k] >= 0) z[static_cast<std::size_t>(u_index(j, static_cast<int>(k)))] = interpolate(t, u_columns[k]);
   }
   for (int i = 0; i < n_; ++i)
     if (v_columns[static_cast<std::size_t>(i)] < 0 && q_columns[static_cast<std::size_t>(i)] >= 0)
@@ -267,15 +422,22 @@ std::vector<double> HermiteSimpson::from_samples(const std::vector<std::vector<d
 }
 
 std::string HermiteSimpson::constraint_name(int row, const double* z) const {
-  const int collocation_rows = n_intervals_ * 2 * n_;
-  if (row < collocation_rows) {
-    const int k = row / (2 * n_), i = row % n_;
-    return fmt::format("the collocation of {} (its path's slope equal to {}') on [{:.6g}, {:.6g}]",
-                       coordinate_names_[static_cast<std::size_t>(i)], coordinate_names_[static_cast<std::size_t>(i)],
+  if (row < collocation_rows()) {
+    const int per_interval = 2 * static_cast<int>(collocated_.size());
+    const int k = row / per_interval;
+    const int i = collocated_[static_cast<std::size_t>(row % static_cast<int>(collocated_.size()))];
+    const std::string& name = problem_.state_names[static_cast<std::size_t>(i)];
+    return fmt::format("the collocation of {} (its path's slope equal to its rate {}') on [{:.6g}, {:.6g}]", name, name,
                        time(2 * k, z), time(2 * k + 2, z));
   }
-  const int j = (row - collocation_rows) / m_, alpha = (row - collocation_rows) % m_;
-  return fmt::format("the constraint {} = 0 at t = {:.6g}", functions_.constraint_text(alpha), time(j, z));
+  row -= collocation_rows();
+  if (row < points() * path_rows()) {
+    const int j = row / path_rows(), r = row % path_rows();
+    return fmt::format("{} at t = {:.6g}", problem_.path[static_cast<std::size_t>(r)].name, time(j, z));
+  }
+  row -= points() * path_rows();
+  const int r = kept_initial_rows_[static_cast<std::size_t>(row)];
+  return fmt::format("{} at t = {:.6g}", problem_.initial_rows[static_cast<std::size_t>(r)].name, t0_);
 }
 
 }  // namespace nhc::optimize

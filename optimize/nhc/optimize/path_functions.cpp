@@ -1,66 +1,78 @@
 #include "nhc/optimize/path_functions.hpp"
 
+#include "nhc/jet/intermediate.hpp"
+
 namespace nhc::optimize {
 
-namespace {
+PathFunctions::PathFunctions(const PointProblem& problem) : slot_count_(problem.slots()) {
+  std::vector<GiNaC::ex> functions{problem.integrand, problem.final_cost};
+  for (const PointRow& r : problem.path) functions.push_back(r.expression);
+  for (const PointRow& r : problem.initial_rows) functions.push_back(r.expression);
 
-/// The expression's jet coordinates must be t, q and q': a higher derivative or a multiplier is
-/// refused at `where`.
-void check_first_order(const JetSpace& jet, const GiNaC::ex& e, const SourceLocation& where, const std::string& what) {
-  for (const JetCoordinate& c : jet.jet_coordinates_in(e)) {
-    if (c.kind != VariableKind::coordinate)
-      throw InputError(where, what + " uses the multiplier " + jet.variable_name(c.kind, c.index) +
-                                  ": nhc optimize takes coordinates and their first derivatives");
-    if (c.order > 1)
-      throw InputError(where, what + " uses " + jet.coordinates()[static_cast<std::size_t>(c.index)] +
-                                  std::string(static_cast<std::size_t>(c.order), '\'') +
-                                  ": nhc optimize so far takes coordinates and their first derivatives "
-                                  "(the derivatives are the controls: docs/optimize.md, \"Scope\")");
-  }
-}
-
-}  // namespace
-
-PathFunctions::PathFunctions(const Scene& scene, const Settings& settings)
-    : n_(scene.coordinate_count()), m_(scene.constraint_count()), constraint_texts_(scene.constraint_texts) {
-  const JetSpace& jet = *scene.jet;
-  const GiNaC::exmap parameters = scene.parameter_substitution();
-  std::vector<GiNaC::ex> functions{settings.objective.subs(parameters)};
-  check_first_order(jet, functions[0], settings.objective_where, "the objective");
-  for (int a = 0; a < m_; ++a) {
-    functions.push_back(scene.constraints[static_cast<std::size_t>(a)].subs(parameters));
-    check_first_order(jet, functions.back(), scene.file_location(), "the constraint " + constraint_texts_[static_cast<std::size_t>(a)]);
-  }
-  functions.push_back(settings.final_cost.subs(parameters));
-  check_first_order(jet, functions.back(), settings.final_cost_where, "final_cost");
-
-  std::vector<GiNaC::ex> symbols{jet.time()};
-  for (int i = 0; i < n_; ++i) symbols.push_back(jet.q(i, 0));
-  for (int i = 0; i < n_; ++i) symbols.push_back(jet.q(i, 1));
-  program_ = std::make_unique<NumericProgram>(symbols);
-  for (const GiNaC::ex& f : functions)
-    for (const GiNaC::ex& s : symbols) {
-      if (s.is_equal(symbols.front())) program_->add(f);
-      program_->add(f.diff(GiNaC::ex_to<GiNaC::symbol>(s)));
+  program_ = std::make_unique<NumericProgram>(problem.symbols);
+  second_ = std::make_unique<NumericProgram>(problem.symbols);
+  values_only_ = std::make_unique<NumericProgram>(problem.symbols);
+  // Variable -1 is t, k >= 0 the slot k.
+  auto symbol = [&](int k) -> const GiNaC::symbol& {
+    return GiNaC::ex_to<GiNaC::symbol>(problem.symbols[static_cast<std::size_t>(1 + k)]);
+  };
+  for (const GiNaC::ex& f : functions) {
+    std::vector<int> slots;
+    std::vector<VariablePair> pairs;
+    program_->add(f);
+    values_only_->add(f);
+    const GiNaC::ex f_t = f.diff(symbol(-1));
+    program_->add(f_t);
+    std::vector<std::pair<int, GiNaC::ex>> first{{-1, f_t}};
+    for (int s = 0; s < slot_count_; ++s) {
+      if (!depends_on(f, problem.symbols[static_cast<std::size_t>(1 + s)])) continue;
+      slots.push_back(s);
+      first.emplace_back(s, f.diff(symbol(s)));
+      program_->add(first.back().second);
     }
-  values_.assign(functions.size(), ValueGradient{0, 0, std::vector<double>(static_cast<std::size_t>(n_)),
-                                                 std::vector<double>(static_cast<std::size_t>(n_))});
-  inputs_.resize(symbols.size());
+    // Second derivatives of each first derivative by the variables it still depends on.
+    for (std::size_t a = 0; a < first.size(); ++a)
+      for (std::size_t b = 0; b <= a; ++b) {
+        const int va = first[a].first, vb = first[b].first;
+        if (!depends_on(first[a].second, problem.symbols[static_cast<std::size_t>(1 + vb)])) continue;
+        pairs.emplace_back(va, vb);
+        second_->add(first[a].second.diff(symbol(vb)));
+      }
+    values_.push_back({0, 0, std::vector<double>(slots.size()), std::vector<double>(pairs.size())});
+    slots_.push_back(std::move(slots));
+    pairs_.push_back(std::move(pairs));
+  }
+  inputs_.assign(problem.symbols.size(), 0.0);
+  std::copy(problem.parameter_values.begin(), problem.parameter_values.end(), inputs_.begin() + 1 + slot_count_);
 }
 
-void PathFunctions::evaluate(double t, const double* q, const double* v) {
+void PathFunctions::set_inputs(double t, const double* point) {
   inputs_[0] = t;
-  for (int i = 0; i < n_; ++i) {
-    inputs_[static_cast<std::size_t>(1 + i)] = q[i];
-    inputs_[static_cast<std::size_t>(1 + n_ + i)] = v[i];
-  }
+  std::copy(point, point + slot_count_, inputs_.begin() + 1);
+}
+
+void PathFunctions::evaluate_values(double t, const double* point) {
+  set_inputs(t, point);
+  const std::vector<double> out = values_only_->values_at(inputs_);
+  for (std::size_t f = 0; f < values_.size(); ++f) values_[f].value = out[f];
+}
+
+void PathFunctions::evaluate_second(double t, const double* point) {
+  set_inputs(t, point);
+  const std::vector<double> out = second_->values_at(inputs_);
+  std::size_t k = 0;
+  for (ValueGradient& f : values_)
+    for (double& d : f.dd) d = out[k++];
+}
+
+void PathFunctions::evaluate(double t, const double* point) {
+  set_inputs(t, point);
   const std::vector<double> out = program_->values_at(inputs_);
   std::size_t k = 0;
   for (ValueGradient& f : values_) {
     f.value = out[k++];
     f.dt = out[k++];
-    for (double& d : f.dq) d = out[k++];
-    for (double& d : f.dv) d = out[k++];
+    for (double& d : f.d) d = out[k++];
   }
 }
 

@@ -1,50 +1,63 @@
 #pragma once
 /// \file path_functions.hpp
-/// \brief The functions of a path the transcription evaluates at every collocation point, with
-/// their exact first derivatives: the objective's integrand, the scene's constraints and the
-/// final cost, as functions of (t, q, v) with v = q' (docs/optimize.md, "Transcription").
+/// \brief The functions of a PointProblem evaluated at one collocation point with their exact
+/// sparse first derivatives: each function's partial derivatives by t and by the slots it
+/// depends on (through named intermediates), all lowered once into one NumericProgram
+/// (docs/optimize.md, "Derivatives").
 
 #include <memory>
-#include <string>
+#include <utility>
 #include <vector>
 
 #include "nhc/analysis/numeric_program.hpp"
-#include "nhc/optimize/settings.hpp"
-#include "nhc/scene/scene.hpp"
+#include "nhc/optimize/point_problem.hpp"
 
 namespace nhc::optimize {
 
-/// A function's value and gradient at one point: d/dt, then d/dq_i, then d/dv_i.
+/// A function's value and its derivatives at one point: by t, and by the slots of its
+/// structure (PathFunctions::slots), in that order.
 struct ValueGradient {
   double value = 0;
   double dt = 0;
-  std::vector<double> dq, dv;
+  std::vector<double> d;
+  /// Second derivatives over the pairs of PathFunctions::pairs (after evaluate_second()).
+  std::vector<double> dd;
 };
+
+/// A pair of a function's variables for a second derivative: -1 is t, k >= 0 the slot k; first >= second.
+using VariablePair = std::pair<int, int>;
 
 class PathFunctions {
  public:
-  /// Lowers the settings' objective and final cost and the scene's constraints, with their
-  /// symbolic partial derivatives, into one NumericProgram. InputError at the expression when
-  /// one holds a derivative above the first (of a coordinate) or a multiplier: the transcription
-  /// takes q as states and q' as controls (docs/optimize.md, "Scope").
-  PathFunctions(const Scene& scene, const Settings& settings);
+  /// Functions in this order: the integrand, the final cost, the path rows, the initial rows.
+  explicit PathFunctions(const PointProblem& problem);
 
-  int coordinates() const noexcept { return n_; }
-  int constraints() const noexcept { return m_; }
-  const std::string& constraint_text(int alpha) const { return constraint_texts_[static_cast<std::size_t>(alpha)]; }
+  int functions() const noexcept { return static_cast<int>(slots_.size()); }
+  /// The slots function f depends on, increasing.
+  const std::vector<int>& slots(int f) const { return slots_[static_cast<std::size_t>(f)]; }
 
-  /// Evaluates everything at (t, q, v): integrand, constraints, final cost.
-  void evaluate(double t, const double* q, const double* v);
-  const ValueGradient& integrand() const { return values_[0]; }
-  const ValueGradient& constraint(int alpha) const { return values_[static_cast<std::size_t>(1 + alpha)]; }
-  const ValueGradient& final_cost() const { return values_[static_cast<std::size_t>(1 + m_)]; }
+  /// The pairs of t and slots whose second derivative of function f is not identically 0.
+  const std::vector<VariablePair>& pairs(int f) const { return pairs_[static_cast<std::size_t>(f)]; }
+
+  /// Evaluates every function at t and the point's slots (y, y', u).
+  void evaluate(double t, const double* point);
+  /// Evaluates every function's value only (ValueGradient::value; the derivatives keep their
+  /// old values): what the constraint and objective values need, and all that IPOPT's finite
+  /// differences ask for.
+  void evaluate_values(double t, const double* point);
+  /// Evaluates every function's second derivatives there (into ValueGradient::dd).
+  void evaluate_second(double t, const double* point);
+  const ValueGradient& value(int f) const { return values_[static_cast<std::size_t>(f)]; }
 
  private:
-  int n_ = 0, m_ = 0;
-  std::vector<std::string> constraint_texts_;
-  std::unique_ptr<NumericProgram> program_;
+  void set_inputs(double t, const double* point);
+
+  std::vector<std::vector<int>> slots_;
+  std::vector<std::vector<VariablePair>> pairs_;
+  std::unique_ptr<NumericProgram> program_, values_only_, second_;
   std::vector<ValueGradient> values_;
   std::vector<double> inputs_;
+  int slot_count_ = 0;
 };
 
 }  // namespace nhc::optimize

@@ -25,7 +25,7 @@ class Reader {
     }
     const toml::node* node = root.get("optimize");
     if (!node)
-      throw InputError(scene_.file_location(), "the scene has no [optimize] table (README, \"Optimal motions\")");
+      throw InputError(scene_.file_location(), "the scene has no [optimize] table (docs/scenes.md, \"Optimal motions\")");
     const toml::table* table = node->as_table();
     if (!table) fail(*node, "'optimize' must be a table");
     Settings s;
@@ -154,10 +154,18 @@ class Reader {
       q.index = *k;
       return q;
     }
+    for (std::size_t k = 0; k < scene_.outputs.size() && inputs_ok && q.order == 0; ++k)
+      if (scene_.outputs[k].name == name) {
+        q.kind = PathQuantity::Kind::output;
+        q.index = static_cast<int>(k);
+        return q;
+      }
     std::string names;
     for (int i = 0; i < scene_.coordinate_count(); ++i) names += (names.empty() ? "" : ", ") + scene_.jet->coordinates()[static_cast<std::size_t>(i)];
-    if (inputs_ok)
+    if (inputs_ok) {
       for (const std::string& u : scene_.jet->inputs()) names += ", " + u;
+      for (const SceneQuantity& o : scene_.outputs) names += ", " + o.name;
+    }
     throw InputError(where, "unknown name '" + name + "' (coordinates with primes for derivatives: " + names + ")");
   }
 
@@ -170,8 +178,19 @@ class Reader {
     for (auto&& [name, value] : *values) {
       BoundaryValue b;
       b.where = at(name.source());
-      b.quantity = quantity(std::string(name.str()), b.where, false);
-      b.value = number(value, std::string(name.str()) + " in [optimize." + key + "]");
+      b.quantity = quantity(std::string(name.str()), b.where, true);
+      if (b.quantity.kind == PathQuantity::Kind::output)
+        throw InputError(b.where, "'" + b.quantity.name + "' is a named quantity: [optimize." + key +
+                                      "] takes coordinates, their derivatives and inputs");
+      const std::string what = std::string(name.str()) + " in [optimize." + key + "]";
+      if (const toml::array* a = value.as_array()) {
+        if (a->size() != 2) fail(value, what + ": a bound is [low, high]");
+        b.low = number((*a)[0], "the low bound of " + what, true);
+        b.high = number((*a)[1], "the high bound of " + what, true);
+        if (!(b.low <= b.high)) fail(value, "the low bound of " + what + " is above its high bound");
+      } else {
+        b.low = b.high = number(value, what);
+      }
       out.push_back(b);
     }
     return out;

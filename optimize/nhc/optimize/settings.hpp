@@ -1,6 +1,6 @@
 #pragma once
 /// \file settings.hpp
-/// \brief A scene's [optimize] table (README, "Optimal motions"; docs/optimize.md): the objective,
+/// \brief A scene's [optimize] table (docs/scenes.md, "Optimal motions"; docs/optimize.md): the objective,
 /// the horizon, the boundary conditions and the bounds of `nhc optimize`.
 
 #include <ginac/ginac.h>
@@ -15,18 +15,19 @@
 
 namespace nhc::optimize {
 
-/// A coordinate's derivative of some order, or an input, by its scene name ("x", "x'", "u1").
+/// A coordinate's derivative of some order, an input or a named quantity of [outputs], by its
+/// scene name ("x", "x'", "u1", "speed").
 struct PathQuantity {
-  enum class Kind { coordinate, input } kind = Kind::coordinate;
-  int index = 0;  ///< coordinate or input index
+  enum class Kind { coordinate, input, output } kind = Kind::coordinate;
+  int index = 0;  ///< coordinate, input or output index
   int order = 0;  ///< derivative order (0 for an input)
   std::string name;
 };
 
-/// `x = 0.0` of [optimize.initial] or [optimize.final].
+/// `x = 0.0` of [optimize.initial] or [optimize.final], or `x = [low, high]` (a bound there).
 struct BoundaryValue {
   PathQuantity quantity;
-  double value = 0;
+  double low = 0, high = 0;
   SourceLocation where;
 };
 

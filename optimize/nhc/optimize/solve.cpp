@@ -25,14 +25,13 @@ class Adapter : public Ipopt::TNLP {
     n = problem_.variables();
     m = problem_.constraints();
     nnz_jac_g = problem_.jacobian_nonzeros();
-    nnz_h_lag = 0;  // limited-memory quasi-Newton: no Hessian is asked for
+    nnz_h_lag = options_.exact_hessian ? problem_.hessian_nonzeros() : 0;  // limited memory: none asked for
     style = C_STYLE;
     return true;
   }
-  bool get_bounds_info(Index, Number* x_l, Number* x_u, Index m, Number* g_l, Number* g_u) override {
+  bool get_bounds_info(Index, Number* x_l, Number* x_u, Index, Number* g_l, Number* g_u) override {
     problem_.variable_bounds(x_l, x_u);
-    std::fill(g_l, g_l + m, 0.0);
-    std::fill(g_u, g_u + m, 0.0);
+    problem_.constraint_bounds(g_l, g_u);
     return true;
   }
   bool get_starting_point(Index n, bool init_x, Number* x, bool, Number*, Number*, Index, bool, Number*) override {
@@ -59,6 +58,15 @@ class Adapter : public Ipopt::TNLP {
     problem_.jacobian_values(x, values);
     return std::all_of(values, values + nele, [](double v) { return std::isfinite(v); });
   }
+  bool eval_h(Index, const Number* x, bool, Number obj_factor, Index, const Number* lambda, bool, Index nele,
+              Index* rows, Index* cols, Number* values) override {
+    if (!values) {
+      problem_.hessian_structure(rows, cols);
+      return true;
+    }
+    problem_.hessian_values(x, obj_factor, lambda, values);
+    return std::all_of(values, values + nele, [](double v) { return std::isfinite(v); });
+  }
   bool intermediate_callback(Ipopt::AlgorithmMode, Index iter, Number obj_value, Number inf_pr, Number, Number, Number,
                              Number, Number, Number, Index, const Ipopt::IpoptData*,
                              Ipopt::IpoptCalculatedQuantities*) override {
@@ -70,17 +78,18 @@ class Adapter : public Ipopt::TNLP {
                          Ipopt::IpoptCalculatedQuantities*) override {
     out_.z.assign(x, x + n);
     out_.cost = obj_value;
-    std::vector<double> g(static_cast<std::size_t>(m));
+    std::vector<double> g(static_cast<std::size_t>(m)), low(static_cast<std::size_t>(m)), high(static_cast<std::size_t>(m));
     problem_.constraint_values(x, g.data());
-    // The violation of the bounds too: IPOPT keeps iterates inside them, but a restoration may not.
-    std::vector<double> low(static_cast<std::size_t>(n)), high(static_cast<std::size_t>(n));
-    problem_.variable_bounds(low.data(), high.data());
+    problem_.constraint_bounds(low.data(), high.data());
+    // How far each row is outside [low, high] (an equation: |g|).
     out_.violation = 0;
-    for (Index r = 0; r < m; ++r)
-      if (std::abs(g[static_cast<std::size_t>(r)]) > out_.violation) {
-        out_.violation = std::abs(g[static_cast<std::size_t>(r)]);
-        out_.worst = problem_.constraint_name(r, x);
+    for (std::size_t r = 0; r < g.size(); ++r) {
+      const double outside = std::max({low[r] - g[r], g[r] - high[r], 0.0});
+      if (outside > out_.violation) {
+        out_.violation = outside;
+        out_.worst = problem_.constraint_name(static_cast<int>(r), x);
       }
+    }
     out_.cost = problem_.objective(x);
     switch (status) {
       case Ipopt::SUCCESS:
@@ -89,9 +98,10 @@ class Adapter : public Ipopt::TNLP {
       case Ipopt::MAXITER_EXCEEDED:
       case Ipopt::CPUTIME_EXCEEDED:
       case Ipopt::STOP_AT_ACCEPTABLE_POINT:
-        out_.status = status == Ipopt::STOP_AT_ACCEPTABLE_POINT ? Solution::Status::failed : Solution::Status::iteration_limit;
-        out_.words = status == Ipopt::STOP_AT_ACCEPTABLE_POINT ? "IPOPT stopped at a point it finds only acceptable"
-                                                               : "IPOPT reached its iteration limit";
+        out_.status = status == Ipopt::STOP_AT_ACCEPTABLE_POINT ? Solution::Status::acceptable : Solution::Status::iteration_limit;
+        out_.words = status == Ipopt::STOP_AT_ACCEPTABLE_POINT
+                         ? "IPOPT stopped at a point that meets only its acceptable tolerance (1e-6), not --tolerance"
+                         : "IPOPT reached its iteration limit";
         break;
       case Ipopt::LOCAL_INFEASIBILITY:
         out_.status = Solution::Status::infeasible;
@@ -126,7 +136,7 @@ Solution solve(HermiteSimpson& problem, const std::vector<double>& guess, const 
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   app->Options()->SetIntegerValue("print_level", 0);
   app->Options()->SetStringValue("sb", "yes");  // no banner on stdout
-  app->Options()->SetStringValue("hessian_approximation", "limited-memory");
+  app->Options()->SetStringValue("hessian_approximation", options.exact_hessian ? "exact" : "limited-memory");
   app->Options()->SetIntegerValue("max_iter", options.max_iterations);
   app->Options()->SetNumericValue("tol", options.tolerance);
   app->Options()->SetNumericValue("constr_viol_tol", options.violation_tolerance);

@@ -1,7 +1,7 @@
 #pragma once
 /// \file solve.hpp
-/// \brief The transcribed problem (hermite_simpson.hpp) solved by IPOPT with limited-memory
-/// quasi-Newton Hessians (docs/optimize.md, "Solver"), and IPOPT's status in words.
+/// \brief The transcribed problem (hermite_simpson.hpp) solved by IPOPT with exact or
+/// limited-memory quasi-Newton Hessians (docs/optimize.md, "Solver"), and IPOPT's status in words.
 
 #include <functional>
 #include <string>
@@ -14,18 +14,22 @@ namespace nhc::optimize {
 struct SolveOptions {
   int max_iterations = 3000;
   double tolerance = 1e-10;  ///< IPOPT's tol: the scaled KKT error at the optimum
-  double violation_tolerance = 1e-9;
+  double violation_tolerance = 1e-9;  ///< IPOPT's constr_viol_tol: the largest |constraint| at the optimum
   /// IPOPT differentiates the constraints itself by finite differences on the exact Jacobian's
   /// structure (jacobian_approximation = finite-difference-values) instead of taking the exact
   /// values: what the exact derivatives buy (bench/optimize.md).
-  bool finite_difference_jacobian = false;  ///< IPOPT's constr_viol_tol: the largest |constraint| at the optimum
+  bool finite_difference_jacobian = false;
+  /// The exact Hessian of the Lagrangian (HermiteSimpson::hessian_values), else IPOPT's
+  /// limited-memory quasi-Newton approximation (hessian_approximation = limited-memory).
+  bool exact_hessian = true;
   /// Called after each iteration with its number, the objective and the constraint violation;
   /// returning false stops the solve (a user's interrupt).
   std::function<bool(int iteration, double cost, double violation)> progress;
 };
 
 struct Solution {
-  enum class Status { optimal, iteration_limit, infeasible, failed } status = Status::failed;
+  /// acceptable: IPOPT stopped at a point that meets only its looser acceptable_tol (1e-6).
+  enum class Status { optimal, iteration_limit, acceptable, infeasible, failed } status = Status::failed;
   std::string words;       ///< IPOPT's status in words (empty when optimal)
   std::vector<double> z;   ///< the last point: the optimum, or the best IPOPT reached
   double cost = 0;

@@ -1,0 +1,96 @@
+#include "optimize_bindings.hpp"
+
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "nhc/app/optimize_request.hpp"
+#include "nhc/errors.hpp"
+#include "nhc/optimize/hermite_simpson.hpp"
+#include "nhc/optimize/path_table.hpp"
+#include "nhc/optimize/settings.hpp"
+#include "nhc/optimize/solve.hpp"
+#include "nhc/scene/scene.hpp"
+#include "symbolic_work.hpp"
+
+namespace py = pybind11;
+
+namespace nhc::python {
+
+namespace {
+
+const char* status_name(optimize::Solution::Status s) {
+  switch (s) {
+    case optimize::Solution::Status::optimal: return "optimal";
+    case optimize::Solution::Status::iteration_limit: return "iteration_limit";
+    case optimize::Solution::Status::acceptable: return "acceptable";
+    case optimize::Solution::Status::infeasible: return "infeasible";
+    default: return "failed";
+  }
+}
+
+py::dict optimize_scene(const Scene& scene, std::optional<long long> intervals, long long max_iterations,
+                        double tolerance, const std::string& jacobian, const std::string& hessian,
+                        const std::optional<std::vector<std::string>>& guess_columns,
+                        const std::optional<std::vector<std::vector<double>>>& guess_rows, const std::string& guess_name) {
+  const app::OptimizeRequest request{intervals, max_iterations, tolerance, jacobian, hessian};
+  app::check_optimize_request(request, app::optimize_python_names());
+  // Reading, deriving and reducing: symbolic work.
+  std::optional<optimize::HermiteSimpson> problem;
+  const optimize::Settings settings = symbolic_work([&] { return optimize::read_settings(scene); });
+  symbolic_work([&] {
+    problem.emplace(scene, settings, static_cast<int>(request.intervals.value_or(settings.intervals)));
+    return 0;
+  });
+  const std::vector<double> guess =
+      guess_columns ? optimize::guess_from_table(*problem, *guess_columns, *guess_rows, scene, "guess", guess_name)
+                    : problem->straight_line();
+  optimize::SolveOptions options;
+  options.max_iterations = static_cast<int>(request.max_iterations);
+  options.tolerance = request.tolerance;
+  options.finite_difference_jacobian = request.jacobian == "finite-differences";
+  options.exact_hessian = request.hessian == "exact";
+  bool interrupted = false;
+  options.progress = [&](int, double, double) {
+    if (PyErr_CheckSignals() != 0) interrupted = true;
+    return !interrupted;
+  };
+  const optimize::Solution solution = optimize::solve(*problem, guess, options);
+  if (interrupted) throw py::error_already_set();
+
+  const std::vector<std::string> columns = optimize::path_columns(*problem);
+  const std::vector<std::vector<double>> rows = optimize::path_rows(*problem, solution.z);
+  py::array_t<double> data({rows.size(), columns.size()});
+  auto cells = data.mutable_unchecked<2>();
+  for (std::size_t r = 0; r < rows.size(); ++r)
+    for (std::size_t c = 0; c < columns.size(); ++c) cells(static_cast<py::ssize_t>(r), static_cast<py::ssize_t>(c)) = rows[r][c];
+  py::dict summary;
+  summary["cost"] = solution.cost;
+  summary["violation"] = solution.violation;
+  summary["worst_constraint"] = solution.worst;
+  summary["iterations"] = solution.iterations;
+  summary["status"] = status_name(solution.status);
+  summary["words"] = solution.words;
+  summary["t_end"] = problem->final_time(solution.z.data());
+  summary["intervals"] = problem->intervals();
+  summary["variables"] = problem->variables();
+  summary["constraints"] = problem->constraints();
+  summary["problem"] = problem->inputs() ? to_string(problem->point_problem().model) : std::string("vakonomic");
+  py::dict out;
+  out["columns"] = columns;
+  out["data"] = data;
+  out["summary"] = summary;
+  return out;
+}
+
+}  // namespace
+
+void register_optimize(py::module_& m) {
+  m.def("_optimize", &optimize_scene, py::arg("scene"), py::arg("intervals"), py::arg("max_iterations"), py::arg("tolerance"),
+        py::arg("jacobian"), py::arg("hessian"), py::arg("guess_columns"), py::arg("guess_rows"), py::arg("guess_name"));
+}
+
+}  // namespace nhc::python
