@@ -13,7 +13,8 @@ from .errors import Error, HostError, MathError, SceneError
 from .model import Linearization, Model, Run, Sweep
 from .compare import compare
 from .scene import Analysis, Derivation, Scene
+from ._nhc import set_work_limit, work_limit
 
 __version__ = _nhc.__version__
 __all__ = ["Scene", "Derivation", "Analysis", "Model", "Run", "Linearization", "Sweep", "compare",
-           "Error", "SceneError", "MathError", "HostError"]
+           "Error", "SceneError", "MathError", "HostError", "set_work_limit", "work_limit"]

@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# The fuzz stage's replay of the corpus through the symbolic stages (issue 44): every input of
+# scripts/corpus_inputs.sh (tests/fuzz/corpus/, tests/bad/, the examples) goes through
+# nhc_derive_replay (tests/fuzz/derive_replay.cpp: load, derive, print, reduce, generate, under the
+# work budget asked for cooperatively, without the command line's watchdog), each with a limit of
+# processor time (ulimit -t: the same verdict on a loaded machine as on an idle one) and of memory
+# (ulimit -v). An input that runs past either, or ends with another exit than 0, 2 or 3, fails the
+# run with its file named: one GiNaC call that the predictions of work_budget.hpp let grow for
+# seconds is a bug even where the command line's watchdog would stop it.
+# Usage: replay_derive.sh NHC_DERIVE_REPLAY WORK_DIR [SECONDS [MEGABYTES]]
+set -uo pipefail
+replay=$1 work=$2 seconds=${3:-10} megabytes=${4:-2048}
+root=$(cd "$(dirname "$0")/../.." && pwd)
+rm -rf "$work" && mkdir -p "$work"
+status=0 count=0 slowest=0 slowest_scene=
+while IFS= read -r scene; do
+  count=$((count + 1))
+  start=$(date +%s%N)
+  (
+    ulimit -t "$seconds" -v $((megabytes * 1024))
+    exec timeout -s KILL $((seconds * 6)) "$replay" "$scene"
+  ) >"$work/stdout" 2>"$work/stderr"
+  rc=$?
+  elapsed=$((($(date +%s%N) - start) / 1000000))
+  if [ "$elapsed" -gt "$slowest" ]; then slowest=$elapsed slowest_scene=$scene; fi
+  case $rc in
+    0 | 2 | 3) ;;
+    152 | 137)
+      echo "replay: $scene: still running after $seconds s of processor time (killed, exit $rc)" >&2
+      status=1 ;;
+    *)
+      echo "replay: $scene: exit $rc: $(head -c 400 "$work/stderr")" >&2
+      status=1 ;;
+  esac
+done < <("$root/scripts/corpus_inputs.sh" "$work/scenes")
+echo "replay: $count corpus inputs through derive and generate, at most $seconds s of processor time and" \
+  "$megabytes MB each; slowest $((slowest / 1000)).$(printf '%03d' $((slowest % 1000))) s (wall): $slowest_scene"
+exit $status
