@@ -57,13 +57,13 @@ def scene_text(lagr, extra=""):
 
 
 def run(cmd, limit):
-    """cmd's exit code ("timeout" when killed at 4 x limit), wall and processor seconds, peak
+    """cmd's exit code ("timeout" when killed at 12 x limit, a hang detector), wall and processor seconds, peak
     resident set (KB) and last line of standard error, from the child's own rusage (wait4), so
     that runs may go side by side."""
     start = time.monotonic()
     p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     killed = []
-    timer = threading.Timer(limit * 4, lambda: (killed.append(True), p.kill()))
+    timer = threading.Timer(limit * 12, lambda: (killed.append(True), p.kill()))
     timer.start()
     err = p.stderr.read().decode(errors="replace").strip().splitlines()
     p.stderr.close()
@@ -102,19 +102,20 @@ def main():
             for name, sub in commands.items():
                 tasks.append((i, lagr, name, [args.nhc] + sub + [path] + (["-o", out] if sub[0] == "generate" else [])))
         with concurrent.futures.ThreadPoolExecutor(max_workers=args.jobs) as pool:
-            results = list(pool.map(lambda task: run(task[3], args.limit), tasks))
-        for (i, lagr, name, _), (code, elapsed, cpu, rss, last) in zip(tasks, results):
-            s = stats[name]
-            s["codes"][code] = s["codes"].get(code, 0) + 1
-            if elapsed > s["worst"][0]:
-                s["worst"] = (elapsed, lagr)
-            s["rss"] = max(s["rss"], rss)
-            s["cpu"] = max(s["cpu"], cpu)
-            print(f"run {name} #{i}: exit {code} in {elapsed:.2f} s ({cpu:.2f} s processor), "
-                  f"peak {rss / 1024:.0f} MB", flush=True)
-            if code not in (0, 2, 3) or elapsed > args.limit:
-                s["bad"].append((i, code, elapsed, lagr, last))
-                print(f"FAIL {name} #{i}: exit {code} in {elapsed:.2f} s: {lagr}: {last}", file=sys.stderr)
+            futures = {pool.submit(run, task[3], args.limit): task for task in tasks}
+            done = ((futures[f], f.result()) for f in concurrent.futures.as_completed(futures))
+            for (i, lagr, name, _), (code, elapsed, cpu, rss, last) in done:
+                s = stats[name]
+                s["codes"][code] = s["codes"].get(code, 0) + 1
+                if elapsed > s["worst"][0]:
+                    s["worst"] = (elapsed, lagr)
+                s["rss"] = max(s["rss"], rss)
+                s["cpu"] = max(s["cpu"], cpu)
+                print(f"run {name} #{i}: exit {code} in {elapsed:.2f} s ({cpu:.2f} s processor), "
+                      f"peak {rss / 1024:.0f} MB", flush=True)
+                if code not in (0, 2, 3) or elapsed > args.limit:
+                    s["bad"].append((i, code, elapsed, lagr, last))
+                    print(f"FAIL {name} #{i}: exit {code} in {elapsed:.2f} s: {lagr}: {last}", file=sys.stderr)
     sys.stdout.flush()
     rows = ["| command | scenes | exit codes | worst wall time (s) | worst processor time (s) | "
             "worst peak memory (MB) | over the limit (wall) |",

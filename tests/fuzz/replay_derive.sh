@@ -8,6 +8,8 @@
 # run with its file named: one GiNaC call that the predictions of work_budget.hpp let grow for
 # seconds is a bug even where the command line's watchdog would stop it.
 # Usage: replay_derive.sh NHC_DERIVE_REPLAY WORK_DIR [SECONDS [MEGABYTES]]
+# NHC_REPLAY_WORK_SECONDS: the replay's work budget (default the command line's, 4 s); raised above
+# SECONDS it lets a slow input run into the time limit, to try the stage on a planted one.
 set -uo pipefail
 replay=$1 work=$2 seconds=${3:-10} megabytes=${4:-2048}
 root=$(cd "$(dirname "$0")/../.." && pwd)
@@ -18,7 +20,7 @@ while IFS= read -r scene; do
   start=$(date +%s%N)
   (
     ulimit -t "$seconds" -v $((megabytes * 1024))
-    exec timeout -s KILL $((seconds * 6)) "$replay" "$scene"
+    exec timeout -s KILL $((seconds * 6)) "$replay" "$scene" ${NHC_REPLAY_WORK_SECONDS:+"$NHC_REPLAY_WORK_SECONDS"}
   ) >"$work/stdout" 2>"$work/stderr"
   rc=$?
   elapsed=$((($(date +%s%N) - start) / 1000000))
