@@ -27,7 +27,7 @@ PYBIND11_MODULE(_nhc, m) {
   nhc::python::register_scene(m);
   nhc::python::register_model(m);
   m.def(
-      "set_work_limit",
+      "_set_work_limit",
       [](double seconds) {
         if (!std::isfinite(seconds) || seconds <= 0)
           throw pybind11::value_error("the work limit must be a positive number of seconds, got " +
@@ -39,6 +39,6 @@ PYBIND11_MODULE(_nhc, m) {
       "may spend before it stops with nhc.SceneError naming the scene and the stage: the command\n"
       "line's --work-limit (default 4 s).");
   m.def(
-      "work_limit", [] { return nhc::python::work_limit_seconds(); },
+      "_work_limit", [] { return nhc::python::work_limit_seconds(); },
       "The processor seconds of symbolic work one call may spend (nhc.set_work_limit).");
 }

@@ -19,7 +19,8 @@ while IFS= read -r scene; do
   count=$((count + 1))
   start=$(date +%s%N)
   (
-    ulimit -t "$seconds" -v $((megabytes * 1024))
+    ulimit -S -t "$seconds"  # soft: SIGXCPU (exit 152), where a hard limit would be SIGKILL
+    ulimit -v $((megabytes * 1024))
     exec timeout -s KILL $((seconds * 30)) "$replay" "$scene" ${NHC_REPLAY_WORK_SECONDS:+"$NHC_REPLAY_WORK_SECONDS"}
   ) >"$work/stdout" 2>"$work/stderr"
   rc=$?
