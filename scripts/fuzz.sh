@@ -8,6 +8,8 @@
 # trips a sanitizer or runs past the time limit fails the run; it is kept in <build>/crashes/ and
 # belongs, once fixed, in tests/fuzz/corpus/<target>/. Random, open-ended fuzzing is the
 # maintainer's scripts/fuzz_long.sh.
+# Before the fuzzers, every corpus input goes through the symbolic stages (derive and generate) in
+# the Release build with a limit of processor time per input (tests/fuzz/replay_derive.sh).
 # Usage: scripts/fuzz.sh [SCENE_RUNS [EXPRESSION_RUNS]]   (inputs in all, the replay included;
 #        default 3000 and 100000: about a minute each under the sanitizers on one core)
 # NHC_FUZZ_BUILD_DIR: build directory (default build-fuzz; scripts/sanitize.sh's build-asan holds
@@ -47,6 +49,21 @@ run_target() {
 # the command line's work limit (4 s of symbolic work) stops a runaway scene.
 replay_timeout=${NHC_FUZZ_TIMEOUT:-20}
 status=0
+
+# Then every corpus input through the symbolic stages (derive, print, reduce, generate; issue 44),
+# in the Release build (under the sanitizers the work is 5-10 times slower, and so is its budget):
+# at most NHC_REPLAY_SECONDS (10) of processor time and 2 GB each, or the run fails naming the input
+# (tests/fuzz/replay_derive.sh). The parsers' fuzzers below never derive.
+replay_build=${NHC_REPLAY_BUILD_DIR:-build}
+if [ ! -f "$replay_build/CMakeCache.txt" ]; then
+  echo "fuzz: no Release build in $replay_build for the derive replay (scripts/setup.sh; NHC_REPLAY_BUILD_DIR)" >&2
+  exit 1
+fi
+cmake --build "$replay_build" --target nhc_derive_replay -j "$jobs" > "$build/replay-build.log" 2>&1 ||
+  { tail -n 30 "$build/replay-build.log" >&2; exit 1; }
+echo "fuzz: every corpus input through derive and generate, at most ${NHC_REPLAY_SECONDS:-10} s of processor time each"
+tests/fuzz/replay_derive.sh "$replay_build/tests/faults/nhc_derive_replay" "$build/replay" "${NHC_REPLAY_SECONDS:-10}" ||
+  status=1
 for target in scene expression; do
   log=$build/${target}-replay.log
   echo "fuzz: nhc_${target}_fuzzer: every corpus input once, at most ${replay_timeout} s each"

@@ -17,5 +17,22 @@ from .scene import Analysis, Derivation, Scene
 from .sympy_form import SympyEquations
 
 __version__ = _nhc.__version__
+
+
+def set_work_limit(seconds: float) -> None:
+    """Sets the processor seconds of symbolic work (loading, deriving, analysing, building,
+    linearizing) that one call may spend before it stops with nhc.SceneError naming the scene
+    file and the stage: the command line's --work-limit (docs/python.md).
+
+    :param seconds: a positive number of seconds (default 4)
+    :raises ValueError: seconds is not a positive number."""
+    _nhc._set_work_limit(seconds)
+
+
+def work_limit() -> float:
+    """The processor seconds of symbolic work one call may spend (set_work_limit)."""
+    return _nhc._work_limit()
+
+
 __all__ = ["Scene", "Derivation", "Analysis", "Model", "Run", "Event", "Linearization", "LinearizationAlong", "Sweep",
-           "compare", "SympyEquations", "Error", "SceneError", "MathError", "HostError"]
+           "compare", "SympyEquations", "Error", "SceneError", "MathError", "HostError", "set_work_limit", "work_limit"]

@@ -5,6 +5,21 @@
 #include "model_bindings.hpp"
 #include "optimize_bindings.hpp"
 #include "scene_bindings.hpp"
+#include "symbolic_work.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "nhc/jet/work_stage.hpp"
+
+namespace nhc::python {
+
+double& work_limit_seconds() {
+  static double seconds = work_budget::kDefaultWorkSeconds;
+  return seconds;
+}
+
+}  // namespace nhc::python
 
 PYBIND11_MODULE(_nhc, m) {
   m.doc() = "nhc, the nonholonomic compiler: C++ bindings (use the package nhc)";
@@ -13,4 +28,19 @@ PYBIND11_MODULE(_nhc, m) {
   nhc::python::register_scene(m);
   nhc::python::register_model(m);
   nhc::python::register_optimize(m);
+  m.def(
+      "_set_work_limit",
+      [](double seconds) {
+        if (!std::isfinite(seconds) || seconds <= 0)
+          throw pybind11::value_error("the work limit must be a positive number of seconds, got " +
+                                      std::to_string(seconds));
+        nhc::python::work_limit_seconds() = seconds;
+      },
+      pybind11::arg("seconds"),
+      "Sets the processor seconds of symbolic work (loading, deriving, analysing, generating) one call\n"
+      "may spend before it stops with nhc.SceneError naming the scene and the stage: the command\n"
+      "line's --work-limit (default 4 s).");
+  m.def(
+      "_work_limit", [] { return nhc::python::work_limit_seconds(); },
+      "The processor seconds of symbolic work one call may spend (nhc.set_work_limit).");
 }

@@ -16,17 +16,25 @@
 #include <optional>
 #include <thread>
 
+#include "nhc/errors.hpp"
+#include "nhc/jet/work_stage.hpp"
 #include "nhc/long_work.hpp"
 
 namespace nhc::python {
 
+/// Processor seconds of symbolic work one call from Python may spend (nhc.set_work_limit; the
+/// command line's default, work_stage.hpp).
+double& work_limit_seconds();
+
 /// The observer (nhc/long_work.hpp) of one call from Python: a signal pending in Python (Ctrl-C)
-/// stops the work; the GIL is released while the work waits for the compiler.
+/// stops the work, and so does the work budget (the command line's --work-limit, asked at the
+/// work's stop questions); the GIL is released while the work waits for the compiler.
 class PythonCallObserver final : public LongWorkObserver {
  public:
   bool stop_requested() override {
     if (stopped_) return true;
     if (std::this_thread::get_id() != owner_) return false;  // the compiler threads: the caller decides
+    if (limit_.exceeded()) return stopped_ = true;
     if (released_) {
       pybind11::gil_scoped_acquire locked;
       check_signals();
@@ -44,6 +52,9 @@ class PythonCallObserver final : public LongWorkObserver {
   /// The Python exception the signal handler raised (KeyboardInterrupt), with the GIL held.
   [[noreturn]] void raise() {
     if (error_) throw std::move(*error_);
+    if (limit_.exceeded())  // nhc.SceneError, as the command line's exit 2
+      throw InputError({limit_.scene_path().empty() ? "nhc" : limit_.scene_path()},
+                       limit_.message("raise the limit with nhc.set_work_limit(seconds)"));
     throw pybind11::error_already_set();
   }
 
@@ -55,6 +66,7 @@ class PythonCallObserver final : public LongWorkObserver {
   }
 
   const std::thread::id owner_ = std::this_thread::get_id();
+  work_budget::ProcessorTimeLimit limit_{work_limit_seconds()};
   std::atomic<bool> stopped_{false};
   int depth_ = 0;
   std::optional<pybind11::gil_scoped_release> released_;

@@ -141,3 +141,31 @@ def test_threads_run_while_a_build_waits_for_the_compiler(tmp_path, monkeypatch)
     run = results["model"].simulate(t_end=1, outputs=10)
     assert np.max(np.abs(run["x"] - np.cos(np.sqrt(4.5) * run.t))) < 1e-6
     assert derived >= 1
+
+
+RUNAWAY = """
+name = "runaway"
+coordinates = ["x", "y"]
+lagrangian = '''(sin(x)+cos(y)+x'^-1)^12*(x+y'^-1)^-12*(y'+x)^9'''
+[initial]
+x = [0.1, 1.0]
+y = [0.2, 0.5]
+"""
+
+
+def test_the_work_budget_stops_symbolic_work_with_the_stage_named():
+    # Issue 44: the command line's --work-limit, from Python. The scene needs minutes of processor
+    # time to derive (tests/fuzz/corpus/scene/issue44_trig_sums_over_reciprocals.toml).
+    assert nhc.work_limit() == 4.0
+    scene = nhc.Scene.from_toml(RUNAWAY, path="runaway.toml")
+    nhc.set_work_limit(0.5)
+    try:
+        with pytest.raises(nhc.SceneError, match=r"^runaway\.toml: error: deriving the equations took more than "
+                                                  r"0\.5 s of processor time.*nhc\.set_work_limit"):
+            scene.derive("chetaev")
+        with pytest.raises(ValueError):
+            nhc.set_work_limit(0)
+    finally:
+        nhc.set_work_limit(4.0)
+    # The limit holds per call: the oscillator derives after the refusal.
+    assert "x" in nhc.Scene.from_toml(OSCILLATOR).derive("chetaev").text

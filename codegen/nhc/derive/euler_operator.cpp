@@ -53,7 +53,6 @@ bool VariationForm::integrate_by_parts_once(int i, const JetSpace& jet) {
   coefficients_.erase({i, k});
   // ∫ A δq^(k) dt = [A δq^(k−1)] − ∫ D(A) δq^(k−1) dt, the bracket vanishing at the ends.
   add(i, k - 1, -jet.total_derivative(a));
-  coefficients_[{i, k - 1}] = work_budget::expand(coefficients_[{i, k - 1}]);
   return true;
 }
 

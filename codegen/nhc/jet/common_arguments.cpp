@@ -7,6 +7,8 @@
 #include <unordered_map>
 #include <utility>
 
+#include "nhc/long_work.hpp"
+
 namespace nhc {
 
 namespace {
@@ -58,13 +60,16 @@ class CommonArguments {
       site_of_.emplace(id, static_cast<int>(sites_.size()));
       sites_.push_back(std::move(site));
     }
-    for (int s = 0; s < static_cast<int>(sites_.size()); ++s)
+    for (int s = 0; s < static_cast<int>(sites_.size()); ++s) {
+      check_for_stop();  // the stop question of long work (nhc/long_work.hpp)
       if (static_cast<int>(sites_[static_cast<std::size_t>(s)].operands.size()) <= kLargestPairedArity)
         for_each_pair(s, [&](const PairId& p) { enter(p, s); });
+    }
   }
 
   void share() {
     while (!queue_.empty()) {
+      check_for_stop();  // the stop question of long work (nhc/long_work.hpp)
       const auto [count, tie, id] = queue_.top();
       queue_.pop();
       const auto found = sites_with_.find(id);

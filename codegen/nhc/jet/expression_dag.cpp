@@ -8,6 +8,7 @@
 
 #include "nhc/errors.hpp"
 #include "nhc/jet/intermediate.hpp"
+#include "nhc/long_work.hpp"
 
 namespace nhc {
 
@@ -198,6 +199,7 @@ int ExpressionDag::lower(const GiNaC::ex& e) {
 // Signs are pulled out of sums and products and normalised, so that forms GiNaC may produce
 // for the same value in different runs, such as −(a − b)/c and (b − a)/c, lower alike.
 std::pair<int, bool> ExpressionDag::lower_signed(const GiNaC::ex& e) {
+  check_for_stop();  // the stop question of long work (nhc/long_work.hpp): lowering is per node
   auto found = by_expression_.find(e);
   if (found != by_expression_.end()) return found->second;
 

@@ -4,6 +4,8 @@
 #include <map>
 #include <sstream>
 #include <unordered_map>
+
+#include "nhc/long_work.hpp"
 #include <vector>
 
 namespace nhc {
@@ -41,6 +43,7 @@ class CanonicalText {
  public:
   /// Precedence of the context: 0 sum, 1 product factor, 2 power base.
   std::string print(const ex& e, int context = 0) const {
+    check_for_stop();  // a printed equation may be megabytes long (issue 44)
     if (GiNaC::is_a<GiNaC::add>(e)) return wrap(remembered(e), context > 0);
     if (GiNaC::is_a<GiNaC::mul>(e))
       return wrap(remembered(e), context > 1 || (starts_negative(e) && context > 0));
@@ -163,6 +166,7 @@ class CanonicalText {
 class CanonicalLatex {
  public:
   std::string print(const ex& e, int context = 0) const {
+    check_for_stop();
     if (GiNaC::is_a<GiNaC::add>(e)) return wrap(remembered(e), context > 0);
     if (GiNaC::is_a<GiNaC::mul>(e) || is_reciprocal(e)) return wrap(remembered(e), context > 1);
     if (GiNaC::is_a<GiNaC::power>(e)) return remembered(e);

@@ -5,6 +5,8 @@
 #include <atomic>
 #include <mutex>
 
+#include "nhc/runtime/number_text.hpp"
+
 namespace nhc::work_budget {
 
 namespace {
@@ -46,6 +48,24 @@ StageSnapshot stage_snapshot() {
   std::lock_guard<std::mutex> lock(scene_mutex);
   s.scene_path = scene.c_str();
   return s;
+}
+
+ProcessorTimeLimit::ProcessorTimeLimit(double seconds) : seconds_(seconds), start_(stage_snapshot().seconds) {}
+
+bool ProcessorTimeLimit::exceeded() {
+  if (exceeded_) return true;
+  const StageSnapshot s = stage_snapshot();
+  if (s.stage == nullptr || s.seconds - start_ <= seconds_) return false;
+  exceeded_ = true;
+  stage_ = s.stage;
+  scene_ = s.scene_path;
+  return true;
+}
+
+std::string ProcessorTimeLimit::message(const std::string& how_to_raise) const {
+  return stage_ + " took more than " +
+         runtime::number_text(seconds_, 3) + " s of processor time: the expressions grow too large (" + how_to_raise +
+         ")";
 }
 
 }  // namespace nhc::work_budget

@@ -55,4 +55,27 @@ struct StageSnapshot {
 };
 StageSnapshot stage_snapshot();
 
+/// The same budget asked for cooperatively, for callers that cannot end their process (the
+/// Python module): the stop question of long work (nhc/long_work.hpp) asks exceeded(), which is
+/// true once the symbolic stages have spent more than `seconds` of processor time since this was
+/// made. The work then stops at its next question (between two GiNaC calls: the predictions of
+/// work_budget.hpp keep each call short), where the command line's watchdog would end the process.
+class ProcessorTimeLimit {
+ public:
+  explicit ProcessorTimeLimit(double seconds);
+  /// True once exceeded (and from then on); remembers the stage and the scene.
+  bool exceeded();
+  /// "STAGE took more than S s of processor time: the expressions grow too large (HOW_TO_RAISE)",
+  /// the command line's words (an error at scene_path()); after exceeded().
+  std::string message(const std::string& how_to_raise) const;
+  /// The scene file of the refused work ("" when none).
+  const std::string& scene_path() const { return scene_; }
+
+ private:
+  double seconds_;
+  double start_;
+  bool exceeded_ = false;
+  std::string stage_, scene_;
+};
+
 }  // namespace nhc::work_budget

@@ -1016,6 +1016,7 @@ class SceneReader {
 }  // namespace
 
 Scene parse_scene(const std::string& text, const std::string& path, const SceneOptions& options) {
+  work_budget::set_scene_path(path);  // the work budget's refusal names it (also for nhc.Scene.from_toml)
   Scene scene = SceneReader(text, path, options).read();
   scene.source_text = text;
   return scene;
