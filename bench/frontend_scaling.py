@@ -163,7 +163,7 @@ def slope(rows, n_min, n_max):
 def cold_simulate(nhc, scene, model, n, timeout, tmp):
     """`nhc simulate` with nothing cached: derive, compile and integrate the scene's own run."""
     env = dict(os.environ, NHC_SCENE_CACHE="off", NHC_CACHE_DIR=os.path.join(tmp, "simulate-cache-%d" % n))
-    status, sec, peak, out = run_limited([nhc, "simulate", scene, "--model", model, "-o",
+    status, sec, peak, out = run_limited([nhc, "simulate", scene, "--model", model, "--backend", "compiled", "-o",
                                           os.path.join(tmp, "simulate_%d.csv" % n)], timeout, env)
     entry = {"status": status, "wall_s": sec, "peak_mb": peak}
     if status != "ok":
@@ -185,7 +185,7 @@ def measure_warm(nhc, family, model, n, timeout, tmp):
         f.write(family.scene_text(n))
     result = {"n": n, "model": model}
     for run in ("cold", "warm"):
-        args = [nhc, "simulate", scene, "--model", model, "-o", os.path.join(tmp, "warm.csv")]
+        args = [nhc, "simulate", scene, "--model", model, "--backend", "compiled", "-o", os.path.join(tmp, "warm.csv")]
         status, sec, peak, out = run_limited(args, timeout, env)
         entry = {"status": status, "wall_s": sec, "peak_mb": peak}
         m = TIME_LINE.search(out)

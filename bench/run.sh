@@ -55,6 +55,9 @@ else
   bench_quick=()
 fi
 peer_timeout=${NHC_BENCH_PEER_TIMEOUT:-600}
+# The suite times the compiled pipeline (derive, compile, run); the interpreter has its own entry
+# (bench/interpreter.cpp). NHC_BACKEND=auto would run short scenes interpreted.
+export NHC_BACKEND=${NHC_BACKEND:-compiled}
 python=${PYTHON:-/usr/bin/python3}
 log() { echo "bench: $*" >&2; }
 
