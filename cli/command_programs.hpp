@@ -4,9 +4,13 @@
 /// (HDF5, Open MPI) in nhc-ensemble, `optimize` (IPOPT, MUMPS) in nhc-optimize. The launcher
 /// (launcher.cpp) and nhc-main both start the right program from this one table, so that the
 /// other commands load neither library family (docs/architecture.md, "Programs").
-/// Needs only the C library: the launcher includes it.
+/// Light enough for the launcher, which includes it.
 
+#include <unistd.h>
+
+#include <climits>
 #include <cstring>
+#include <string>
 
 namespace nhc::cli {
 
@@ -30,6 +34,18 @@ inline const CommandProgram* command_program(const char* command) {
   for (const CommandProgram& entry : kCommandPrograms)
     if (std::strcmp(entry.command, command) == 0) return &entry;
   return nullptr;
+}
+
+/// The directory of the running program, from /proc/self/exe ("" when unknown): where the
+/// launcher finds nhc-main and nhc-main the programs of this table.
+inline std::string own_directory() {
+  char path[PATH_MAX];
+  const ssize_t n = readlink("/proc/self/exe", path, sizeof path - 1);
+  if (n <= 0) return "";
+  path[n] = '\0';
+  const std::string p(path);
+  const std::size_t slash = p.rfind('/');
+  return slash == std::string::npos ? "" : p.substr(0, slash);
 }
 
 /// The description of a command of kCommandPrograms (for its program's add_*_command).

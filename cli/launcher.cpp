@@ -23,17 +23,6 @@
 
 namespace {
 
-/// The directory of this executable, from /proc/self/exe ("" when unknown).
-std::string own_directory() {
-  char path[PATH_MAX];
-  const ssize_t n = readlink("/proc/self/exe", path, sizeof path - 1);
-  if (n <= 0) return "";
-  path[n] = '\0';
-  std::string p(path);
-  const std::size_t slash = p.rfind('/');
-  return slash == std::string::npos ? "" : p.substr(0, slash);
-}
-
 /// Asks the C library (glibc ≥ 2.35; older ones ignore it) to back the heap with transparent
 /// huge pages, through the GLIBC_TUNABLES that nhc-main and the compilers it starts read at
 /// startup. The symbolic core allocates tens of megabytes in small pieces; in 4 kB pages each
@@ -83,7 +72,7 @@ int main(int argc, char** argv) {
   if (current != -1 && (current & ADDR_NO_RANDOMIZE) == 0)
     personality(static_cast<unsigned long>(current) | ADDR_NO_RANDOMIZE);  // refused: goes on randomized
   heap_in_huge_pages();
-  const std::string directory = own_directory();
+  const std::string directory = nhc::cli::own_directory();
   // nhc-main, or the program of a command of command_programs.hpp (nhc ensemble: nhc-ensemble).
   const nhc::cli::CommandProgram* entry = argc > 1 ? nhc::cli::command_program(argv[1]) : nullptr;
   const std::string name = entry ? entry->program : "nhc-main";

@@ -123,14 +123,11 @@ int run_program(int argc, char** argv, std::initializer_list<CommandAdder> adder
 }
 
 int start_command_program(const CommandProgram& entry, char** argv) {
-  char path[PATH_MAX];
-  const ssize_t n = readlink("/proc/self/exe", path, sizeof path - 1);
+  const std::string directory = own_directory();
   std::string program;
   int error = ENOENT;
-  if (n > 0) {
-    path[n] = '\0';
-    const std::string self(path);
-    program = self.substr(0, self.rfind('/') + 1) + entry.program;
+  if (!directory.empty()) {
+    program = directory + "/" + entry.program;
     execv(program.c_str(), argv);
     error = errno;
   }
