@@ -16,6 +16,7 @@
 #include <fmt/format.h>
 
 #include "nhc/io/input_file.hpp"
+#include "nhc/runtime/number_text.hpp"
 #include "nhc/jet/work_budget.hpp"
 #include "nhc/scene/definition_table.hpp"
 #include "nhc/scene/constant_expression.hpp"
@@ -375,12 +376,8 @@ class SceneReader {
 
   /// A number as written (0, 1.5, 1e-08), not std::to_string's 0.000000.
   static std::string shortest(double v) {
-    std::ostringstream out;
-    out.precision(17);
-    out << v;
-    std::ostringstream shorter;
-    shorter << v;  // 6 significant digits, enough unless that loses the value
-    return std::stod(shorter.str()) == v ? shorter.str() : out.str();
+    const std::string shorter = runtime::number_text(v, 6);  // enough unless that loses the value
+    return std::stod(shorter) == v ? shorter : runtime::number_text(v, 17);
   }
 
   /// Non-printable bytes are shown as \xNN so that the one-line message stays one line; a

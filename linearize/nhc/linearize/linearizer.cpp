@@ -1,5 +1,6 @@
 #include "nhc/linearize/linearizer.hpp"
 
+#include "nhc/primed_name.hpp"
 #include "nhc/runtime/number_text.hpp"
 
 #include <algorithm>
@@ -516,7 +517,7 @@ void Linearizer::Impl::setup_turn(const LinearizeOptions::Turn& turn) {
       if (variable_and_order(reduced.components[d].name) == std::make_pair(other, order)) turn_partner[c] = static_cast<int>(d);
     if (turn_partner[c] < 0)
       throw InputError({"--turn", 0, 0}, "--turn: the reduced system holds " + reduced.components[c].name + " but not " +
-                                             other + std::string(static_cast<std::size_t>(order), '\'') +
+                                             primed_name(other, order) +
                                              ", which the turn rotates with it: keep both or neither (--keep)");
     turn_sign[c] = variable == turn.x ? -1.0 : 1.0;  // X: x^(k) -> -y^(k), y^(k) -> x^(k)
   }
