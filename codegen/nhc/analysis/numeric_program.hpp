@@ -36,8 +36,11 @@ class NumericProgram {
   /// The outputs at `values` as they come: inf and NaN where an output is not finite there.
   std::vector<double> values_at(const std::vector<double>& values) const;
 
- private:
+  /// Lowers the outputs now (evaluate() does it on its first call): the program's last GiNaC
+  /// work, done before a run that evaluates it without the symbolic lock (nhc/long_work.hpp).
   void prepare() const;
+
+ private:
 
   ExpressionDag dag_;
   std::vector<int> outputs_;
