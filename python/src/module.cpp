@@ -10,7 +10,7 @@
 #include <cmath>
 #include <string>
 
-#include "nhc/jet/work_stage.hpp"
+#include "nhc/expr/work_stage.hpp"
 
 namespace nhc::python {
 

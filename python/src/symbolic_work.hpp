@@ -5,7 +5,7 @@
 /// and interruptible by Ctrl-C.
 ///
 /// GiNaC's reference counts are plain integers and the memo tables of Intermediate
-/// (nhc/jet/intermediate.hpp) have no locks, and GiNaC objects are also created and destroyed
+/// (nhc/expr/intermediate.hpp) have no locks, and GiNaC objects are also created and destroyed
 /// with the GIL held (a Scene's expressions, its Python object's end): the one lock every such
 /// place already holds is the GIL, so symbolic work keeps it. It lets it go only while the work
 /// waits for the compiler (no GiNaC object is touched then), so that Python's other threads run.
@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "nhc/errors.hpp"
-#include "nhc/jet/work_stage.hpp"
+#include "nhc/expr/work_stage.hpp"
 #include "nhc/long_work.hpp"
 
 namespace nhc::python {

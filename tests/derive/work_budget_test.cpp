@@ -1,4 +1,4 @@
-// The predictions of the work budget (codegen/nhc/jet/work_budget.hpp, issue 44) against GiNaC's
+// The predictions of the work budget (codegen/nhc/expr/work_budget.hpp, issue 44) against GiNaC's
 // own expansion of small cases and the multinomial count C(n+k−1, k−1), and the refusals before
 // an expansion runs.
 #include <catch2/catch.hpp>
@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "nhc/errors.hpp"
-#include "nhc/jet/intermediate.hpp"
-#include "nhc/jet/work_budget.hpp"
-#include "nhc/jet/zero_test.hpp"
+#include "nhc/expr/intermediate.hpp"
+#include "nhc/expr/work_budget.hpp"
+#include "nhc/expr/zero_test.hpp"
 
 using GiNaC::ex;
 using GiNaC::symbol;

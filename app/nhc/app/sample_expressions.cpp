@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "nhc/errors.hpp"
-#include "nhc/jet/intermediate.hpp"
+#include "nhc/expr/intermediate.hpp"
 #include "nhc/long_work.hpp"
 
 namespace nhc::app {

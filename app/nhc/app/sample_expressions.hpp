@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "nhc/analysis/numeric_program.hpp"
+#include "nhc/expr/numeric_program.hpp"
 
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/scene/scene.hpp"

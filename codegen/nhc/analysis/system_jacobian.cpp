@@ -6,9 +6,9 @@
 #include <sstream>
 
 #include "nhc/analysis/numeric_evaluation.hpp"
-#include "nhc/analysis/numeric_program.hpp"
+#include "nhc/expr/numeric_program.hpp"
 #include "nhc/derive/euler_operator.hpp"
-#include "nhc/jet/partial_derivative.hpp"
+#include "nhc/expr/partial_derivative.hpp"
 
 namespace nhc {
 

@@ -2,9 +2,9 @@
 
 #include "nhc/primed_name.hpp"
 
-#include "nhc/jet/elementary_derivatives.hpp"
-#include "nhc/jet/traversal.hpp"
-#include "nhc/jet/work_budget.hpp"
+#include "nhc/expr/elementary_derivatives.hpp"
+#include "nhc/expr/traversal.hpp"
+#include "nhc/expr/work_budget.hpp"
 
 #include <algorithm>
 #include <cctype>

@@ -17,14 +17,14 @@
 
 #include "nhc/io/input_file.hpp"
 #include "nhc/runtime/number_text.hpp"
-#include "nhc/jet/work_budget.hpp"
+#include "nhc/expr/work_budget.hpp"
 #include "nhc/scene/definition_table.hpp"
 #include "nhc/scene/constant_expression.hpp"
 #include "nhc/scene/expression_parser.hpp"
 #include "nhc/scene/tolerances.hpp"
 #include "nhc/scene/toml_text_check.hpp"
-#include "nhc/jet/work_stage.hpp"
-#include "nhc/jet/zero_test.hpp"
+#include "nhc/expr/work_stage.hpp"
+#include "nhc/expr/zero_test.hpp"
 #include "nhc/scene/scene.hpp"
 
 namespace nhc {

@@ -17,10 +17,10 @@
 #include "nhc/analysis/structural_analysis.hpp"
 #include "nhc/derive/models.hpp"
 #include "nhc/errors.hpp"
-#include "nhc/jet/intermediate.hpp"
+#include "nhc/expr/intermediate.hpp"
 #include "nhc/linearize/cyclic_reduction.hpp"
 #include "nhc/linearize/manifold_linearization.hpp"
-#include "nhc/analysis/numeric_program.hpp"
+#include "nhc/expr/numeric_program.hpp"
 #include "nhc/linearize/spectrum.hpp"
 #include "nhc/linearize/steady_families.hpp"
 

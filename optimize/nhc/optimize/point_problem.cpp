@@ -9,7 +9,7 @@
 #include "nhc/analysis/index1_reduction.hpp"
 #include "nhc/derive/models.hpp"
 #include "nhc/primed_name.hpp"
-#include "nhc/jet/intermediate.hpp"
+#include "nhc/expr/intermediate.hpp"
 
 namespace nhc::optimize {
 

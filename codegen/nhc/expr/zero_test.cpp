@@ -1,13 +1,13 @@
-#include "nhc/jet/zero_test.hpp"
+#include "nhc/expr/zero_test.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <exception>
 
-#include "nhc/jet/intermediate.hpp"
-#include "nhc/jet/symbol_substitution.hpp"
-#include "nhc/jet/symbolic_policy.hpp"
-#include "nhc/jet/traversal.hpp"
+#include "nhc/expr/intermediate.hpp"
+#include "nhc/expr/symbol_substitution.hpp"
+#include "nhc/expr/symbolic_policy.hpp"
+#include "nhc/expr/traversal.hpp"
 
 namespace nhc {
 

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "nhc/jet/symbolic_policy.hpp"
+#include "nhc/expr/symbolic_policy.hpp"
 
 namespace nhc {
 

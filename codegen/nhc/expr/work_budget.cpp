@@ -1,4 +1,4 @@
-#include "nhc/jet/work_budget.hpp"
+#include "nhc/expr/work_budget.hpp"
 
 #include "nhc/runtime/number_text.hpp"
 
@@ -11,7 +11,7 @@
 #include <sstream>
 
 #include "nhc/long_work.hpp"
-#include "nhc/jet/zero_test.hpp"
+#include "nhc/expr/zero_test.hpp"
 
 namespace nhc::work_budget {
 

@@ -1,15 +1,15 @@
-#include "nhc/jet/intermediate.hpp"
+#include "nhc/expr/intermediate.hpp"
 
 #include <algorithm>
 #include <atomic>
 #include <unordered_map>
 #include <unordered_set>
 
-#include "nhc/jet/partial_derivative.hpp"
-#include "nhc/jet/simplification.hpp"
-#include "nhc/jet/stable_symbol.hpp"
-#include "nhc/jet/traversal.hpp"
-#include "nhc/jet/work_budget.hpp"
+#include "nhc/expr/partial_derivative.hpp"
+#include "nhc/expr/simplification.hpp"
+#include "nhc/expr/stable_symbol.hpp"
+#include "nhc/expr/traversal.hpp"
+#include "nhc/expr/work_budget.hpp"
 
 namespace nhc {
 

@@ -23,7 +23,7 @@
 #include <string>
 
 #include "nhc/errors.hpp"
-#include "nhc/jet/symbolic_policy.hpp"
+#include "nhc/expr/symbolic_policy.hpp"
 
 namespace nhc::work_budget {
 

@@ -1,4 +1,4 @@
-#include "nhc/emit/cpp_printer.hpp"
+#include "nhc/expr/cpp_printer.hpp"
 
 #include <cmath>
 #include <functional>
