@@ -40,7 +40,7 @@
 
 #include "nhc/analysis/index1_reduction.hpp"
 #include "nhc/derive/models.hpp"
-#include "nhc/jet/expression_dag.hpp"
+#include "nhc/expr/expression_dag.hpp"
 #include "nhc/emit/header_emitter.hpp"
 #include "nhc/jit.hpp"
 #include "nhc/runtime/runtime.hpp"

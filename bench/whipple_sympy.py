@@ -4,7 +4,7 @@ SymPy's Kane's method on the same bicycle, in one run (issue 27):
 
 - SymPy: the body of `sympy.physics.mechanics.tests.test_kane3.test_bicycle` up to
   `kanes_equations`, then `sympy.cse` of the mass matrix and forcing; operations counted by
-  `sympy.count_ops` and by nhc's own rules (count_as_nhc below, after codegen/nhc/jet/expression_dag.cpp);
+  `sympy.count_ops` and by nhc's own rules (count_as_nhc below, after codegen/nhc/expr/expression_dag.cpp);
 - nhc, cold (scene cache off, an empty compile cache): `nhc generate` (time, operations of the
   residual and of the whole header after CSE, header bytes), `nhc simulate` (derive, compile, 5 s of
   motion; time and peak memory), `nhc linearize --at "phi'=0"` (eigenvalues against Table 2) and a
@@ -82,7 +82,7 @@ def measure_nhc(nhc, scene):
 
 def count_as_nhc(expressions):
     """Floating-point operations of expression trees as nhc's code generator counts its own
-    (instruction_cost in codegen/nhc/jet/expression_dag.cpp): an n-ary sum n − 1 additions, a product
+    (instruction_cost in codegen/nhc/expr/expression_dag.cpp): an n-ary sum n − 1 additions, a product
     n − 1 multiplications (a coefficient ±1 is free, a negative sign absorbed), x^k (k ≤ 4) k − 1
     multiplications, one division per quotient, sqrt and other functions one call."""
     import sympy

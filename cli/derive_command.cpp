@@ -9,7 +9,7 @@
 #include "work_watchdog.hpp"
 #include "parameter_overrides.hpp"
 #include "model_requirements.hpp"
-#include "nhc/jet/work_stage.hpp"
+#include "nhc/expr/work_stage.hpp"
 #include "nhc/derive/models.hpp"
 #include "nhc/derive/reduced_form.hpp"
 #include "nhc/emit/derivation_emitters.hpp"

@@ -7,7 +7,7 @@
 /// type information. With address-space layout randomization those addresses, and so the
 /// generated code, change from run to run: the Whipple bicycle's header had 15,478 to 15,762
 /// operations after CSE in four runs, each a different file that compiles anew. The printers
-/// already order what they print by content (expression_printer.hpp, jet/expression_dag.hpp); the
+/// already order what they print by content (expression_printer.hpp, expr/expression_dag.hpp); the
 /// symbolic work itself cannot be, so the command line runs once more without randomization,
 /// as `setarch -R` does.
 

@@ -8,7 +8,7 @@
 #include <optional>
 #include <sstream>
 
-#include "nhc/analysis/numeric_program.hpp"
+#include "nhc/expr/numeric_program.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/io/input_file.hpp"
 #include "nhc/io/printable.hpp"

@@ -5,7 +5,7 @@
 #include "nhc/app/parameter_values.hpp"
 #include "nhc/app/run_request.hpp"
 #include "nhc/errors.hpp"
-#include "nhc/jet/jet_space.hpp"
+#include "nhc/expr/jet_space.hpp"
 
 namespace nhc::cli {
 

@@ -8,7 +8,7 @@
 
 #include "exit_codes.hpp"
 #include "nhc/io/temporary_files.hpp"
-#include "nhc/jet/work_stage.hpp"
+#include "nhc/expr/work_stage.hpp"
 
 namespace nhc::cli {
 

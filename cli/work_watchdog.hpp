@@ -1,7 +1,7 @@
 #pragma once
 /// \file work_watchdog.hpp
 /// \brief The backstop of the work budget on the command line: a thread that watches the
-/// processor time spent in symbolic stages (nhc/jet/work_stage.hpp) and, past the limit, ends the
+/// processor time spent in symbolic stages (nhc/expr/work_stage.hpp) and, past the limit, ends the
 /// process as a refused input does: one line naming the scene file and the stage, temporary
 /// files removed, exit 2. A GiNaC call cannot be interrupted from inside (no cancellation
 /// points, and unwinding through it would leave its reference counts inconsistent), so ending

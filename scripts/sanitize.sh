@@ -6,7 +6,8 @@
 #
 # Which tests: the parsers, the derivation, the structural analysis, the code generator and the
 # runtime, each through its unit tests, plus the command line on the malformed-scene corpus and
-# `nhc simulate` end to end (the sanitized nhc compiles, loads and integrates a generated model).
+# `nhc simulate` end to end (the sanitized nhc compiles, loads and integrates a generated model),
+# and the Python module's threads (python:threads_asan, tests/CMakeLists.txt).
 # The code generator's tests run from nhc_tests_codegen_units (tests/codegen/CMakeLists.txt):
 # nhc_tests_codegen itself compiles some twenty generated headers into its binary, plain double
 # arithmetic that the Release suite checks, and would double this build's time. Left out as
@@ -27,8 +28,11 @@ CXX=${CXX_SANITIZE:-clang++} cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Debug \
   -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DNHC_FUZZ=ON -DNHC_SANITIZE=ON -DNHC_BUILD_TESTS=ON >/dev/null
 targets=(nhc nhc_tests_scene nhc_tests_derive nhc_tests_analysis nhc_tests_cli nhc_tests_runtime
          nhc_tests_codegen_units nhc_test_appell_hamel_module nhc_scene_fuzzer nhc_expression_fuzzer)
+# The Python module, when it is configured (python/CMakeLists.txt skips it without pybind11):
+# python:threads_asan runs Python threads doing symbolic work at once through it.
+if cmake --build "$build" --target help | grep -qw _nhc; then targets+=(_nhc nhc_python); fi
 cmake --build "$build" -j "$jobs" --target "${targets[@]}"
 
 # ctest names: <executable>:<test case> (catch_discover_tests) and cli:simulate_* (add_test).
-selected='^(nhc_tests_(scene|derive|analysis|runtime|codegen_units):|nhc_tests_cli:(malformed|bad|a |JSON)|cli:(simulate_(appell_hamel|particle_chetaev_uniform|vakonomic_singular_branch)|concurrent_cache|interrupt_leaves_no_partial_file)$)'
+selected='^(nhc_tests_(scene|derive|analysis|runtime|codegen_units):|nhc_tests_cli:(malformed|bad|a |JSON)|cli:(simulate_(appell_hamel|particle_chetaev_uniform|vakonomic_singular_branch)|concurrent_cache|interrupt_leaves_no_partial_file)$|python:threads_asan$)'
 ctest --test-dir "$build" --output-on-failure -j "$jobs" -R "$selected" "$@"

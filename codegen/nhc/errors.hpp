@@ -8,7 +8,7 @@
 /// MathError (exit 3): the input is well formed but the mathematics fails (a singular matrix,
 /// a structurally singular system, a model that does not apply).
 /// WorkLimitExceeded: the input is well formed but a symbolic operation on it would exceed the
-/// work budget (nhc/jet/work_budget.hpp). It is bad input (exit 2): the layers that know where
+/// work budget (nhc/expr/work_budget.hpp). It is bad input (exit 2): the layers that know where
 /// the expression came from turn it into an InputError at that place (located()).
 /// EnvironmentError (exit 4): the machine around nhc fails it (a file cannot be written, the disk
 /// is full, the C++ compiler is missing, fails or times out, a library cannot be loaded, the

@@ -1,5 +1,6 @@
 #include "nhc/long_work.hpp"
 
+#include <atomic>
 #include <chrono>
 
 namespace nhc {
@@ -10,6 +11,7 @@ using Clock = std::chrono::steady_clock;
 
 thread_local LongWorkObserver* current = nullptr;
 thread_local Clock::time_point last_check{};
+std::atomic<SymbolicLock*> symbolic_lock{nullptr};
 
 }  // namespace
 
@@ -32,6 +34,16 @@ void check_for_stop() {
   if (current == nullptr) return;
   if (Clock::now() - last_check < std::chrono::milliseconds(kStopCheckMilliseconds)) return;
   check_for_stop_now();
+}
+
+void set_symbolic_lock(SymbolicLock* lock) { symbolic_lock = lock; }
+
+SymbolicSection::SymbolicSection() : lock_(symbolic_lock) {
+  if (lock_ != nullptr) lock_->lock();
+}
+
+SymbolicSection::~SymbolicSection() {
+  if (lock_ != nullptr) lock_->unlock();
 }
 
 WaitingForProcess::WaitingForProcess() : observer_(current) {

@@ -48,6 +48,33 @@ void check_for_stop();
 /// check_for_stop() now, without the interval.
 void check_for_stop_now();
 
+/// The lock that symbolic work (GiNaC) holds: GiNaC's reference counts and Intermediate's memo
+/// tables are not synchronised, so one thread at a time may do it. A caller whose threads do
+/// symbolic work installs the lock they share (Python's module: the GIL, python/src/symbolic_work.hpp);
+/// the command line has none.
+class SymbolicLock {
+ public:
+  virtual ~SymbolicLock() = default;
+  virtual void lock() = 0;
+  virtual void unlock() = 0;
+};
+
+/// Installs the process's symbolic lock (null: none, the default).
+void set_symbolic_lock(SymbolicLock* lock);
+
+/// Holds the symbolic lock while it lives: symbolic work reached from numeric work that runs
+/// without it (an [events] expression GiNaC evaluates during a run, app/sample_expressions.hpp).
+class SymbolicSection {
+ public:
+  SymbolicSection();
+  ~SymbolicSection();
+  SymbolicSection(const SymbolicSection&) = delete;
+  SymbolicSection& operator=(const SymbolicSection&) = delete;
+
+ private:
+  SymbolicLock* lock_;
+};
+
 /// The work waits for another process while this lives (waiting_begins / waiting_ends).
 class WaitingForProcess {
  public:

@@ -10,7 +10,7 @@
 #include <cmath>
 #include <string>
 
-#include "nhc/jet/work_stage.hpp"
+#include "nhc/expr/work_stage.hpp"
 
 namespace nhc::python {
 
@@ -24,6 +24,8 @@ double& work_limit_seconds() {
 PYBIND11_MODULE(_nhc, m) {
   m.doc() = "nhc, the nonholonomic compiler: C++ bindings (use the package nhc)";
   m.attr("__version__") = NHC_VERSION;
+  static nhc::python::GilSymbolicLock gil;  // lives as long as the process: the library keeps a pointer
+  nhc::set_symbolic_lock(&gil);
   nhc::python::register_errors(m);
   nhc::python::register_scene(m);
   nhc::python::register_model(m);

@@ -5,19 +5,22 @@
 /// and interruptible by Ctrl-C.
 ///
 /// GiNaC's reference counts are plain integers and the memo tables of Intermediate
-/// (nhc/jet/intermediate.hpp) have no locks, and GiNaC objects are also created and destroyed
+/// (nhc/expr/intermediate.hpp) have no locks, and GiNaC objects are also created and destroyed
 /// with the GIL held (a Scene's expressions, its Python object's end): the one lock every such
 /// place already holds is the GIL, so symbolic work keeps it. It lets it go only while the work
 /// waits for the compiler (no GiNaC object is touched then), so that Python's other threads run.
+/// Numeric runs let it go; symbolic work they reach (an [events] expression that GiNaC evaluates)
+/// takes it back through the library's symbolic lock (nhc/long_work.hpp), which is the GIL here.
 
 #include <pybind11/pybind11.h>
 
 #include <atomic>
 #include <optional>
 #include <thread>
+#include <vector>
 
 #include "nhc/errors.hpp"
-#include "nhc/jet/work_stage.hpp"
+#include "nhc/expr/work_stage.hpp"
 #include "nhc/long_work.hpp"
 
 namespace nhc::python {
@@ -71,6 +74,24 @@ class PythonCallObserver final : public LongWorkObserver {
   int depth_ = 0;
   std::optional<pybind11::gil_scoped_release> released_;
   std::optional<pybind11::error_already_set> error_;
+};
+
+/// The module's symbolic lock (nhc/long_work.hpp): the GIL, taken again by a thread that let it
+/// go for a numeric run (PyGILState_Ensure nests, so a thread holding it may take it too).
+class GilSymbolicLock final : public SymbolicLock {
+ public:
+  void lock() override { states().push_back(PyGILState_Ensure()); }
+  void unlock() override {
+    const PyGILState_STATE state = states().back();
+    states().pop_back();
+    PyGILState_Release(state);
+  }
+
+ private:
+  static std::vector<PyGILState_STATE>& states() {
+    thread_local std::vector<PyGILState_STATE> taken;
+    return taken;
+  }
 };
 
 /// f() as symbolic work: with the GIL (called with it), interruptible.

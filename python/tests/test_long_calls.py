@@ -125,6 +125,38 @@ def test_two_threads_derive_two_scenes():
     assert not failures, failures
 
 
+def test_runs_with_events_beside_derivations(tmp_path, monkeypatch):
+    # A run lets the GIL go; its [events] expressions are lowered before (scene_events.cpp) and
+    # any GiNaC work they still need takes the GIL back (nhc/long_work.hpp's symbolic lock), while
+    # two other threads derive. x = cos(2 t): x (2 + sin x) vanishes at t = pi/4 + j pi/2.
+    monkeypatch.setenv("NHC_CACHE_DIR", str(tmp_path / "cache"))
+    text = OSCILLATOR + '[events]\nzero = { when = "x*(2 + sin(x))", direction = "any", action = "record" }\n'
+    model = nhc.Scene.from_toml(text).build("chetaev")
+    failures = []
+
+    def run(rounds):
+        try:
+            for _ in range(rounds):
+                times = [e.t for e in model.simulate(t_end=3, rtol=1e-10, atol=1e-12, outputs=3).events]
+                assert times == pytest.approx([np.pi / 4, 3 * np.pi / 4], abs=1e-6)
+        except BaseException as e:  # noqa: B902 -- reported by the main thread
+            failures.append(e)
+
+    def derive(rounds):
+        try:
+            for _ in range(rounds):
+                nhc.Scene.from_toml(SECOND).derive("chetaev")
+        except BaseException as e:  # noqa: B902 -- reported by the main thread
+            failures.append(e)
+
+    threads = [threading.Thread(target=run, args=(40,))] + [threading.Thread(target=derive, args=(40,)) for _ in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not failures, failures
+
+
 def test_threads_run_while_a_build_waits_for_the_compiler(tmp_path, monkeypatch):
     # The GIL is let go while the compiler runs: a Python thread counts meanwhile, and a second
     # thread's derivation goes on beside the first thread's build.

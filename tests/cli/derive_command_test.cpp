@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "nhc/derive/models.hpp"
-#include "nhc/jet/zero_test.hpp"
+#include "nhc/expr/zero_test.hpp"
 #include "nhc/scene/expression_parser.hpp"
 #include "nhc/scene/scene.hpp"
 #include "command_runner.hpp"

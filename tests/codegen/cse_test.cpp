@@ -9,11 +9,11 @@
 #include <random>
 #include <string>
 
-#include "nhc/emit/cpp_printer.hpp"
-#include "nhc/jet/common_arguments.hpp"
-#include "nhc/jet/expression_dag.hpp"
+#include "nhc/expr/cpp_printer.hpp"
+#include "nhc/expr/common_arguments.hpp"
+#include "nhc/expr/expression_dag.hpp"
 #include "nhc/errors.hpp"
-#include "nhc/jet/intermediate.hpp"
+#include "nhc/expr/intermediate.hpp"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// Explicit derivatives of the elementary functions (nhc/jet/elementary_derivatives.hpp), checked
+// Explicit derivatives of the elementary functions (nhc/expr/elementary_derivatives.hpp), checked
 // against central finite differences of std:: functions — the independent path — for each function
 // the scene language offers, composed with an inner function so that the chain rule is exercised.
 #include <catch2/catch.hpp>
@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "nhc/jet/elementary_derivatives.hpp"
+#include "nhc/expr/elementary_derivatives.hpp"
 
 namespace {
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "nhc/derive/euler_operator.hpp"
-#include "nhc/jet/jet_space.hpp"
+#include "nhc/expr/jet_space.hpp"
 #include "variation_identity.hpp"
 
 using GiNaC::ex;

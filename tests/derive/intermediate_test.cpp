@@ -1,4 +1,4 @@
-// Named intermediates (nhc/jet/intermediate.hpp): derivatives by the chain rule through them,
+// Named intermediates (nhc/expr/intermediate.hpp): derivatives by the chain rule through them,
 // checked against independent paths — GiNaC's derivative of the fully substituted expression
 // where that is small, and central finite differences of the same quantity computed by a plain
 // C++ loop where it is not (issue 27's chain d_k = d_{k-1}^2 + x, whose expansion has degree 2^24).
@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "nhc/jet/intermediate.hpp"
-#include "nhc/jet/jet_space.hpp"
+#include "nhc/expr/intermediate.hpp"
+#include "nhc/expr/jet_space.hpp"
 
 namespace {
 

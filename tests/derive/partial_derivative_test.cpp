@@ -1,4 +1,4 @@
-// partial_derivative (nhc/jet/partial_derivative.hpp) against the independent path it replaces,
+// partial_derivative (nhc/expr/partial_derivative.hpp) against the independent path it replaces,
 // GiNaC's own ex::diff: the same expression (is_equal, so the same canonical terms and
 // generated code), and the value against central finite differences of a plain C++ evaluation.
 #include <catch2/catch.hpp>
@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "nhc/jet/elementary_derivatives.hpp"
-#include "nhc/jet/intermediate.hpp"
-#include "nhc/jet/partial_derivative.hpp"
+#include "nhc/expr/elementary_derivatives.hpp"
+#include "nhc/expr/intermediate.hpp"
+#include "nhc/expr/partial_derivative.hpp"
 
 namespace {
 

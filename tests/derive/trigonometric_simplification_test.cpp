@@ -8,7 +8,7 @@
 #include <random>
 
 #include "nhc/derive/models.hpp"
-#include "nhc/jet/simplification.hpp"
+#include "nhc/expr/simplification.hpp"
 #include "nhc/scene/scene.hpp"
 
 using GiNaC::cos;

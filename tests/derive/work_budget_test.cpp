@@ -1,4 +1,4 @@
-// The predictions of the work budget (codegen/nhc/jet/work_budget.hpp, issue 44) against GiNaC's
+// The predictions of the work budget (codegen/nhc/expr/work_budget.hpp, issue 44) against GiNaC's
 // own expansion of small cases and the multinomial count C(n+k−1, k−1), and the refusals before
 // an expansion runs.
 #include <catch2/catch.hpp>
@@ -9,7 +9,9 @@
 #include <vector>
 
 #include "nhc/errors.hpp"
-#include "nhc/jet/work_budget.hpp"
+#include "nhc/expr/intermediate.hpp"
+#include "nhc/expr/work_budget.hpp"
+#include "nhc/expr/zero_test.hpp"
 
 using GiNaC::ex;
 using GiNaC::symbol;
@@ -105,4 +107,21 @@ TEST_CASE("an expansion of few terms but many factors is refused before it runs"
   CHECK(p.terms < nhc::work_budget::kMaxExpandedTerms);
   CHECK(p.factors > nhc::work_budget::kMaxExpandedFactors);
   CHECK_THROWS_WITH(nhc::work_budget::expand(e), Catch::Contains("factors in") && Catch::Contains("terms (the limit is"));
+}
+
+TEST_CASE("the one zero test: through intermediates or with them as symbols, rounding relative to the terms",
+          "[derive][budget]") {
+  const GiNaC::symbol x("x"), y("y");
+  // s = sin(x) as a named intermediate: s^2 + cos(x)^2 - 1 vanishes as a function, not as a form.
+  const GiNaC::ex s = nhc::Intermediate("s", "s", GiNaC::sin(x));
+  const GiNaC::ex hidden = GiNaC::pow(s, 2) + GiNaC::pow(GiNaC::cos(x), 2) - 1;
+  CHECK(nhc::vanishes_at_sample_points(hidden));
+  CHECK_FALSE(nhc::vanishes_at_sample_points(hidden, {}, nhc::IntermediateValues::as_symbols));
+  // Terms of 1e12 that cancel leave rounding far above 1e-9 in absolute terms, not relative ones;
+  // a small term on its own is not rounding.
+  const GiNaC::ex cancelling = 1e12 * GiNaC::pow(GiNaC::sin(x), 2) + 1e12 * GiNaC::pow(GiNaC::cos(x), 2) - 1e12;
+  CHECK(nhc::vanishes_at_sample_points(cancelling, {}, nhc::IntermediateValues::as_symbols));
+  CHECK_FALSE(nhc::vanishes_at_sample_points(1e-6 * x * y, {}, nhc::IntermediateValues::as_symbols));
+  // A pole at a sample point is not evidence of zero.
+  CHECK_FALSE(nhc::vanishes_at_sample_points(y / (x - 1), {{x, 1}}));
 }

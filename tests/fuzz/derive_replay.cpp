@@ -2,7 +2,7 @@
 // replay of the corpus (tests/fuzz/replay_derive.sh, run by scripts/fuzz.sh): one scene file is
 // loaded, the model it names (or the default) derived, printed as text and LaTeX, reduced to
 // index 1 and generated, under the work budget asked for cooperatively (ProcessorTimeLimit,
-// nhc/jet/work_stage.hpp: the Python module's stop) and without the command line's watchdog.
+// nhc/expr/work_stage.hpp: the Python module's stop) and without the command line's watchdog.
 // What the budget cannot stop between two GiNaC calls (one call the predictions of
 // work_budget.hpp let grow) therefore runs on, past the replay's per-input time limit, which fails
 // the fuzz stage with the file named. Exit 0 when derived, 2 when refused (bad input or the
@@ -18,7 +18,7 @@
 #include "nhc/emit/derivation_emitters.hpp"
 #include "nhc/emit/header_emitter.hpp"
 #include "nhc/errors.hpp"
-#include "nhc/jet/work_stage.hpp"
+#include "nhc/expr/work_stage.hpp"
 #include "nhc/long_work.hpp"
 #include "nhc/scene/model_kind.hpp"
 #include "nhc/scene/scene.hpp"

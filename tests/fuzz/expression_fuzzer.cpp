@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "nhc/jet/expression_printer.hpp"
+#include "nhc/expr/expression_printer.hpp"
 #include "nhc/scene/expression_parser.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

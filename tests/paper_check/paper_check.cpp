@@ -17,7 +17,7 @@
 
 #include "nhc/derive/euler_operator.hpp"
 #include "nhc/derive/models.hpp"
-#include "nhc/jet/expression_printer.hpp"
+#include "nhc/expr/expression_printer.hpp"
 #include "nhc/scene/expression_parser.hpp"
 #include "nhc/scene/scene.hpp"
 #include "variation_identity.hpp"

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <string>
 
-#include "nhc/jet/jet_space.hpp"
+#include "nhc/expr/jet_space.hpp"
 #include "nhc/scene/expression_parser.hpp"
 
 using GiNaC::ex;

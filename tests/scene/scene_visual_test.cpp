@@ -8,7 +8,7 @@
 #include <string>
 
 #include "nhc/errors.hpp"
-#include "nhc/jet/intermediate.hpp"
+#include "nhc/expr/intermediate.hpp"
 #include "nhc/scene/scene.hpp"
 
 namespace {

@@ -15,7 +15,7 @@
 
 #include <vector>
 
-#include "nhc/jet/jet_space.hpp"
+#include "nhc/expr/jet_space.hpp"
 
 namespace nhc::testing {
 

@@ -6,7 +6,7 @@
 #include "nhc/derive/discrete_lagrange_dalembert.hpp"
 #include "nhc/app/scene_events.hpp"
 #include "nhc/errors.hpp"
-#include "nhc/jet/jet_space.hpp"
+#include "nhc/expr/jet_space.hpp"
 #include "nhc/runtime/variational.hpp"
 #include "nhc/scene/tolerances.hpp"
 

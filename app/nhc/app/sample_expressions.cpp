@@ -5,7 +5,8 @@
 #include <cmath>
 
 #include "nhc/errors.hpp"
-#include "nhc/jet/intermediate.hpp"
+#include "nhc/expr/intermediate.hpp"
+#include "nhc/long_work.hpp"
 
 namespace nhc::app {
 
@@ -78,17 +79,24 @@ std::string SampleExpressions::add(const GiNaC::ex& expression) {
   return "";
 }
 
+void SampleExpressions::prepare() const {
+  if (program_ || substitute_) return;
+  std::vector<GiNaC::ex> inputs{scene_->jet->time()};
+  for (const Source& s : sources_) inputs.push_back(s.symbol);
+  try {
+    program_ = std::make_unique<NumericProgram>(inputs);
+    for (const GiNaC::ex& e : expressions_) program_->add(e);
+    program_->prepare();
+  } catch (const MathError&) {  // a function without a double counterpart: GiNaC evaluates
+    program_.reset();
+    substitute_ = true;
+  }
+}
+
 std::vector<double> SampleExpressions::evaluate(const runtime::Sample& sample) const {
   if (!program_ && !substitute_) {
-    std::vector<GiNaC::ex> inputs{scene_->jet->time()};
-    for (const Source& s : sources_) inputs.push_back(s.symbol);
-    try {
-      program_ = std::make_unique<NumericProgram>(inputs);
-      for (const GiNaC::ex& e : expressions_) program_->add(e);
-    } catch (const MathError&) {  // a function without a double counterpart: GiNaC evaluates
-      program_.reset();
-      substitute_ = true;
-    }
+    const SymbolicSection symbolic;
+    prepare();
   }
   std::vector<double> out;
   if (program_) {
@@ -98,11 +106,13 @@ std::vector<double> SampleExpressions::evaluate(const runtime::Sample& sample) c
     try {
       out = program_->values_at(values);
     } catch (const MathError&) {  // as above, found while evaluating
+      const SymbolicSection symbolic;
       program_.reset();
       substitute_ = true;
     }
   }
   if (!program_) {
+    const SymbolicSection symbolic;  // a run may call this without the lock (scene_events.hpp)
     GiNaC::exmap values;
     values[scene_->jet->time()] = sample.t;
     for (const Source& s : sources_)

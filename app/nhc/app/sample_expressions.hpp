@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "nhc/analysis/numeric_program.hpp"
+#include "nhc/expr/numeric_program.hpp"
 
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/scene/scene.hpp"
@@ -35,7 +35,12 @@ class SampleExpressions {
   std::size_t size() const noexcept { return expressions_.size(); }
   /// The expressions' values at one sample; NaN where one is not a finite real number there
   /// (sqrt of a negative number, a division by zero).
+  /// The GiNaC work it may do (the first call's lowering, GiNaC's evaluation of what cannot be
+  /// lowered) holds the symbolic lock (nhc/long_work.hpp): a run may call it without.
   std::vector<double> evaluate(const runtime::Sample& sample) const;
+  /// Lowers the expressions now, as the first evaluate() would: a run that evaluates them
+  /// without the symbolic lock then does no symbolic work unless an expression cannot be lowered.
+  void prepare() const;
 
  private:
   /// Where a symbol's value is found in a sample: y[index], y'[index], or the input u[index].

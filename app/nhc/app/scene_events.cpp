@@ -42,6 +42,7 @@ std::vector<runtime::Event> runtime_events(const std::vector<SceneEvent>& events
     if (const std::string missing = expression->add(event.expression); !missing.empty())
       throw InputError(event.where, "event '" + event.name + "' uses " + missing + ", which the " +
                                         model.model_name() + " model does not compute");
+    expression->prepare();  // here, under the caller's symbolic lock, not in the run
     const int n = model.n_states();
     auto sample = std::make_shared<runtime::Sample>();
     runtime::Event e;

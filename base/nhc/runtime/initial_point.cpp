@@ -20,10 +20,8 @@ std::string join(const std::vector<std::string>& items) {
 }  // namespace
 
 std::string InitialPointTolerance::describe() const {
-  std::ostringstream os;
-  os.precision(3);
-  os << accept << " = atol + rtol·max(1, |y|) = " << atol << " + " << rtol << "·" << size;
-  return os.str();
+  return number_text(accept, 3) + " = atol + rtol·max(1, |y|) = " + number_text(atol, 3) + " + " + number_text(rtol, 3) +
+         "·" + number_text(size, 3);
 }
 
 InitialPointTolerance initial_point_tolerance(const std::vector<double>& y, double rtol, double atol) {

@@ -14,12 +14,12 @@
 #include <sstream>
 
 #include "nhc/analysis/numeric_evaluation.hpp"
-#include "nhc/analysis/numeric_program.hpp"
+#include "nhc/expr/numeric_program.hpp"
 #include "nhc/analysis/system_jacobian.hpp"
-#include "nhc/jet/expression_printer.hpp"
-#include "nhc/jet/intermediate.hpp"
+#include "nhc/expr/expression_printer.hpp"
+#include "nhc/expr/intermediate.hpp"
 #include "nhc/errors.hpp"
-#include "nhc/jet/partial_derivative.hpp"
+#include "nhc/expr/partial_derivative.hpp"
 #include "nhc/runtime/constraint_solver.hpp"
 #include "nhc/runtime/initial_point.hpp"
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "nhc/jet/jet_space.hpp"
+#include "nhc/expr/jet_space.hpp"
 #include "nhc/derive/models.hpp"
 #include "nhc/scene/scene.hpp"
 

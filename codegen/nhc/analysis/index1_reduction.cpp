@@ -1,4 +1,4 @@
-#include "nhc/jet/work_stage.hpp"
+#include "nhc/expr/work_stage.hpp"
 #include "nhc/analysis/index1_reduction.hpp"
 
 #include <algorithm>
@@ -9,9 +9,9 @@
 #include "nhc/analysis/dae_system.hpp"
 #include "nhc/analysis/numeric_evaluation.hpp"
 #include "nhc/derive/euler_operator.hpp"
-#include "nhc/jet/intermediate.hpp"
-#include "nhc/jet/partial_derivative.hpp"
-#include "nhc/jet/stable_symbol.hpp"
+#include "nhc/expr/intermediate.hpp"
+#include "nhc/expr/partial_derivative.hpp"
+#include "nhc/expr/stable_symbol.hpp"
 
 namespace nhc {
 

@@ -23,8 +23,8 @@
 #include <utility>
 #include <vector>
 
-#include "nhc/jet/jet_space.hpp"
-#include "nhc/jet/symbol_substitution.hpp"
+#include "nhc/expr/jet_space.hpp"
+#include "nhc/expr/symbol_substitution.hpp"
 #include "nhc/scene/scene.hpp"
 
 namespace nhc {

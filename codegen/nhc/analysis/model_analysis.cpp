@@ -1,4 +1,4 @@
-#include "nhc/jet/work_stage.hpp"
+#include "nhc/expr/work_stage.hpp"
 #include "nhc/analysis/model_analysis.hpp"
 
 #include <sstream>

@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "nhc/errors.hpp"
-#include "nhc/jet/symbol_substitution.hpp"
+#include "nhc/expr/symbol_substitution.hpp"
 
 namespace nhc {
 

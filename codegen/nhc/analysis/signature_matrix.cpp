@@ -4,8 +4,8 @@
 #include <set>
 #include <stdexcept>
 
-#include "nhc/jet/partial_derivative.hpp"
-#include "nhc/jet/work_budget.hpp"
+#include "nhc/expr/partial_derivative.hpp"
+#include "nhc/expr/work_budget.hpp"
 
 namespace nhc {
 

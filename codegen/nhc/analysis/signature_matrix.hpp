@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "nhc/analysis/dae_system.hpp"
-#include "nhc/jet/jet_space.hpp"
+#include "nhc/expr/jet_space.hpp"
 
 namespace nhc {
 

@@ -6,9 +6,9 @@
 
 #include "nhc/derive/euler_operator.hpp"
 #include "nhc/errors.hpp"
-#include "nhc/jet/partial_derivative.hpp"
-#include "nhc/jet/symbol_substitution.hpp"
-#include "nhc/jet/work_budget.hpp"
+#include "nhc/expr/partial_derivative.hpp"
+#include "nhc/expr/symbol_substitution.hpp"
+#include "nhc/expr/work_budget.hpp"
 
 namespace nhc {
 

@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 #include "nhc/analysis/numeric_evaluation.hpp"
+#include "nhc/expr/numeric_program.hpp"
 #include "nhc/derive/euler_operator.hpp"
-#include "nhc/jet/partial_derivative.hpp"
+#include "nhc/expr/partial_derivative.hpp"
 
 namespace nhc {
 
@@ -31,14 +33,46 @@ std::vector<std::vector<GiNaC::ex>> system_jacobian(const StructuralAnalysis& a)
   return jac;
 }
 
+namespace {
+
+/// The entries' values at `point` through NumericProgram, the instruction list the generated
+/// code runs (as the consistent initial point's Newton steps are); nothing when the point holds
+/// a value that is not a real number or an entry cannot be lowered (a function without a double
+/// counterpart), where GiNaC evaluates instead.
+std::optional<std::vector<double>> lowered_values(const std::vector<JacobianEntry>& entries, const GiNaC::exmap& point,
+                                                  const std::string& what) {
+  std::vector<GiNaC::ex> inputs;
+  std::vector<double> values;
+  for (const auto& [symbol, value] : point) {
+    if (!GiNaC::is_a<GiNaC::numeric>(value) || !GiNaC::ex_to<GiNaC::numeric>(value).is_real()) return std::nullopt;
+    inputs.push_back(symbol);
+    values.push_back(GiNaC::ex_to<GiNaC::numeric>(value).to_double());
+  }
+  NumericProgram program(inputs);
+  try {
+    for (const JacobianEntry& e : entries)
+      program.add(e.value, what + " entry (" + std::to_string(e.row + 1) + "," + std::to_string(e.col + 1) + ")");
+    program.prepare();
+  } catch (const MathError&) {
+    return std::nullopt;
+  }
+  return program.evaluate(values, what);
+}
+
+}  // namespace
+
 Eigen::SparseMatrix<double> evaluate_system_jacobian(const std::vector<JacobianEntry>& entries, int n,
                                                      const GiNaC::exmap& point, const std::string& what) {
+  const std::optional<std::vector<double>> lowered = lowered_values(entries, point, what);
   std::vector<Eigen::Triplet<double>> triplets;
   triplets.reserve(entries.size());
-  for (const JacobianEntry& e : entries)
+  for (std::size_t k = 0; k < entries.size(); ++k) {
+    const JacobianEntry& e = entries[k];
     triplets.emplace_back(e.row, e.col,
-                          evaluate_real(e.value, point, what + " entry (" + std::to_string(e.row + 1) + "," +
-                                                            std::to_string(e.col + 1) + ")"));
+                          lowered ? (*lowered)[k]
+                                  : evaluate_real(e.value, point, what + " entry (" + std::to_string(e.row + 1) + "," +
+                                                                      std::to_string(e.col + 1) + ")"));
+  }
   Eigen::SparseMatrix<double> j(n, n);
   j.setFromTriplets(triplets.begin(), triplets.end());
   return j;

@@ -4,8 +4,8 @@
 #include <string>
 
 #include "nhc/errors.hpp"
-#include "nhc/jet/partial_derivative.hpp"
-#include "nhc/jet/symbol_substitution.hpp"
+#include "nhc/expr/partial_derivative.hpp"
+#include "nhc/expr/symbol_substitution.hpp"
 
 namespace nhc {
 

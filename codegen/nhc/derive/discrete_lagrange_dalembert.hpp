@@ -31,7 +31,7 @@
 
 #include <vector>
 
-#include "nhc/jet/stable_symbol.hpp"
+#include "nhc/expr/stable_symbol.hpp"
 #include "nhc/scene/scene.hpp"
 
 namespace nhc {

@@ -13,8 +13,8 @@
 #include <map>
 #include <vector>
 
-#include "nhc/jet/jet_space.hpp"
-#include "nhc/jet/simplification.hpp"
+#include "nhc/expr/jet_space.hpp"
+#include "nhc/expr/simplification.hpp"
 
 namespace nhc {
 

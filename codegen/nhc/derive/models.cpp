@@ -1,4 +1,4 @@
-#include "nhc/jet/work_stage.hpp"
+#include "nhc/expr/work_stage.hpp"
 #include "nhc/derive/models.hpp"
 
 #include <algorithm>
@@ -7,8 +7,8 @@
 #include <utility>
 
 #include "nhc/derive/euler_operator.hpp"
-#include "nhc/jet/partial_derivative.hpp"
-#include "nhc/jet/work_budget.hpp"
+#include "nhc/expr/partial_derivative.hpp"
+#include "nhc/expr/work_budget.hpp"
 
 namespace nhc {
 

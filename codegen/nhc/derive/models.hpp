@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "nhc/jet/jet_space.hpp"
+#include "nhc/expr/jet_space.hpp"
 #include "nhc/scene/scene.hpp"
 
 namespace nhc {

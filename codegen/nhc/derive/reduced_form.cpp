@@ -6,11 +6,11 @@
 #include <cmath>
 #include <set>
 
-#include "nhc/jet/intermediate.hpp"
-#include "nhc/jet/partial_derivative.hpp"
-#include "nhc/jet/symbol_substitution.hpp"
-#include "nhc/jet/work_budget.hpp"
-#include "nhc/jet/work_stage.hpp"
+#include "nhc/expr/intermediate.hpp"
+#include "nhc/expr/partial_derivative.hpp"
+#include "nhc/expr/symbol_substitution.hpp"
+#include "nhc/expr/work_budget.hpp"
+#include "nhc/expr/work_stage.hpp"
 #include "nhc/primed_name.hpp"
 
 namespace nhc {

@@ -7,7 +7,7 @@
 
 #include "nhc/analysis/numeric_evaluation.hpp"
 #include "nhc/emit/analysis_emitters.hpp"
-#include "nhc/jet/expression_printer.hpp"
+#include "nhc/expr/expression_printer.hpp"
 
 namespace nhc {
 

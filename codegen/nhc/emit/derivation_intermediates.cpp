@@ -1,6 +1,6 @@
 #include "nhc/derive/reduced_form.hpp"
 #include "nhc/emit/derivation_emitters.hpp"
-#include "nhc/jet/intermediate.hpp"
+#include "nhc/expr/intermediate.hpp"
 
 namespace nhc {
 

@@ -1,6 +1,6 @@
 // The header emitter (header_emitter.hpp): preparation (model_preparation.hpp), then printing
 // (header_printer.hpp).
-#include "nhc/jet/work_stage.hpp"
+#include "nhc/expr/work_stage.hpp"
 #include "nhc/emit/header_emitter.hpp"
 
 #include <cstdio>

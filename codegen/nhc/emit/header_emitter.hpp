@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "nhc/analysis/index1_system.hpp"
-#include "nhc/jet/expression_dag.hpp"
+#include "nhc/expr/expression_dag.hpp"
 #include "nhc/emit/model_preparation.hpp"
 #include "nhc/scene/scene.hpp"
 

@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "nhc/emit/cpp_printer.hpp"
+#include "nhc/expr/cpp_printer.hpp"
 #include "nhc/emit/header_emitter.hpp"
 #include "nhc/emit/model_layout.hpp"
 #include "nhc/emit/model_table_text.hpp"

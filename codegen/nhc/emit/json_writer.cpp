@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "nhc/runtime/number_text.hpp"
+
 namespace nhc {
 
 std::string JsonWriter::quote(const std::string& s) {
@@ -92,9 +94,7 @@ JsonWriter& JsonWriter::value(double d) {
   if (!std::isfinite(d)) {
     out_ << "null";
   } else {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.17g", d);
-    out_ << buf;
+    out_ << runtime::number_text(d, 17);
   }
   return *this;
 }

@@ -3,7 +3,7 @@
 
 #include "nhc/primed_name.hpp"
 
-#include "nhc/jet/common_arguments.hpp"
+#include "nhc/expr/common_arguments.hpp"
 
 #include "nhc/emit/parameter_jacobian.hpp"
 #include "nhc/derive/discrete_lagrange_dalembert.hpp"
@@ -14,11 +14,11 @@
 #include <set>
 #include <unordered_set>
 
-#include "nhc/emit/cpp_printer.hpp"
+#include "nhc/expr/cpp_printer.hpp"
 #include "nhc/emit/header_emitter.hpp"
 #include "nhc/errors.hpp"
-#include "nhc/jet/intermediate.hpp"
-#include "nhc/jet/partial_derivative.hpp"
+#include "nhc/expr/intermediate.hpp"
+#include "nhc/expr/partial_derivative.hpp"
 
 namespace nhc {
 

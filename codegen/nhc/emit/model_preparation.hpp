@@ -4,7 +4,7 @@
 /// prepared before any text is printed — the Jacobian of the index-1 residual, the
 /// hidden-constraint Jacobian (the one Index1System holds), the invariants in states, the
 /// singular quantities — and every emitted function lowered into one instruction list with
-/// common subexpressions shared (jet/expression_dag.hpp). header_printer.hpp turns a PreparedModel into text.
+/// common subexpressions shared (expr/expression_dag.hpp). header_printer.hpp turns a PreparedModel into text.
 
 #include <ginac/ginac.h>
 
@@ -14,9 +14,9 @@
 #include <vector>
 
 #include "nhc/analysis/index1_system.hpp"
-#include "nhc/emit/cpp_printer.hpp"
-#include "nhc/jet/expression_dag.hpp"
-#include "nhc/jet/stable_symbol.hpp"
+#include "nhc/expr/cpp_printer.hpp"
+#include "nhc/expr/expression_dag.hpp"
+#include "nhc/expr/stable_symbol.hpp"
 #include "nhc/scene/scene.hpp"
 
 namespace nhc {

@@ -3,8 +3,8 @@
 #include <cstddef>
 #include <set>
 
-#include "nhc/jet/intermediate.hpp"
-#include "nhc/jet/partial_derivative.hpp"
+#include "nhc/expr/intermediate.hpp"
+#include "nhc/expr/partial_derivative.hpp"
 
 namespace nhc {
 

@@ -1,7 +1,7 @@
 #include "nhc/derive/reduced_form.hpp"
 #include "nhc/emit/derivation_emitters.hpp"
-#include "nhc/jet/expression_printer.hpp"
-#include "nhc/jet/intermediate.hpp"
+#include "nhc/expr/expression_printer.hpp"
+#include "nhc/expr/intermediate.hpp"
 
 namespace nhc {
 

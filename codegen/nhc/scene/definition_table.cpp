@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cctype>
 
-#include "nhc/jet/intermediate.hpp"
-#include "nhc/jet/work_budget.hpp"
+#include "nhc/expr/intermediate.hpp"
+#include "nhc/expr/work_budget.hpp"
 
 namespace nhc {
 

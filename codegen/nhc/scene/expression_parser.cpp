@@ -2,8 +2,9 @@
 
 #include "nhc/primed_name.hpp"
 
-#include "nhc/jet/elementary_derivatives.hpp"
-#include "nhc/jet/work_budget.hpp"
+#include "nhc/expr/elementary_derivatives.hpp"
+#include "nhc/expr/traversal.hpp"
+#include "nhc/expr/work_budget.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -139,11 +140,7 @@ class Parser {
       return std::max(numerator_bits, denominator_bits) > kMaxPowerBits ||
              numerator_bits - denominator_bits > 1022;
     };
-    if (deep) {
-      for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
-        if (large(*it)) return true;
-      return false;
-    }
+    if (deep) return any_subexpression(e, large);
     if (large(e)) return true;
     if (GiNaC::is_exactly_a<GiNaC::mul>(e) || GiNaC::is_exactly_a<GiNaC::add>(e))
       for (std::size_t k = 0; k < e.nops(); ++k)
@@ -164,10 +161,9 @@ class Parser {
 
   /// True when e contains a number that is not real (GiNaC evaluates sqrt(-4) to 2*I).
   static bool has_complex_number(const ex& e) {
-    for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
-      if (GiNaC::is_a<GiNaC::numeric>(*it) && !GiNaC::ex_to<GiNaC::numeric>(*it).is_real())
-        return true;
-    return false;
+    return any_subexpression(e, [](const ex& x) {
+      return GiNaC::is_a<GiNaC::numeric>(x) && !GiNaC::ex_to<GiNaC::numeric>(x).is_real();
+    });
   }
 
   /// GiNaC reports 1/0 and similar by throwing; turn that into a positioned error. A complex

@@ -29,7 +29,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "nhc/jet/jet_space.hpp"
+#include "nhc/expr/jet_space.hpp"
 #include "nhc/scene/value.hpp"
 
 namespace nhc {
@@ -62,7 +62,7 @@ inline constexpr std::size_t kMaxFunctionNesting = 32;
 inline constexpr std::size_t kMaxSceneNodes = 20000000;
 /// Longest expression text accepted, in bytes.
 inline constexpr std::size_t kMaxExpressionLength = 100000;
-// How far an expression may expand is the work budget's (nhc/jet/work_budget.hpp): a short text
+// How far an expression may expand is the work budget's (nhc/expr/work_budget.hpp): a short text
 // such as (x+y+z+x'+y'+z'+t)^64, with its 10^8 terms, is refused as it is parsed.
 
 /// A parse failure at a 0-based character offset of the expression text.

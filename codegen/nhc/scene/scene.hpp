@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "nhc/jet/jet_space.hpp"
+#include "nhc/expr/jet_space.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/scene/model_kind.hpp"
 #include "nhc/scene/scene_visual.hpp"
@@ -156,7 +156,7 @@ std::optional<double> finite_value(const GiNaC::ex& e, const GiNaC::exmap& value
 /// How a scene is read.
 struct SceneOptions {
   /// Each scalar definition (each entry of a vector or matrix one) stays a named intermediate
-  /// (nhc/jet/intermediate.hpp) in the expressions that use it, instead of being substituted.
+  /// (nhc/expr/intermediate.hpp) in the expressions that use it, instead of being substituted.
   /// The default; `false` is the fully substituted form (`nhc derive --expand`).
   bool keep_definitions = true;
 };

@@ -16,13 +16,15 @@
 #include <fmt/format.h>
 
 #include "nhc/io/input_file.hpp"
-#include "nhc/jet/work_budget.hpp"
+#include "nhc/runtime/number_text.hpp"
+#include "nhc/expr/work_budget.hpp"
 #include "nhc/scene/definition_table.hpp"
 #include "nhc/scene/constant_expression.hpp"
 #include "nhc/scene/expression_parser.hpp"
 #include "nhc/scene/tolerances.hpp"
 #include "nhc/scene/toml_text_check.hpp"
-#include "nhc/jet/work_stage.hpp"
+#include "nhc/expr/work_stage.hpp"
+#include "nhc/expr/zero_test.hpp"
 #include "nhc/scene/scene.hpp"
 
 namespace nhc {
@@ -128,31 +130,6 @@ void reevaluate_initial_expressions(Scene& scene) {
 }
 
 namespace {
-
-/// True when e evaluates to (numerically) zero at several pseudo-random points: catches
-/// constraints such as sin(x)^2 + cos(x)^2 - 1 that GiNaC's normal form does not reduce.
-bool vanishes_numerically(const GiNaC::ex& e) {
-  GiNaC::exset symbols;
-  for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
-    if (GiNaC::is_a<GiNaC::symbol>(*it)) symbols.insert(*it);
-  unsigned state = 12345u;
-  auto next = [&state] {
-    state = state * 1103515245u + 12345u;
-    return 0.25 + static_cast<double>((state >> 8) % 10000) / 10000.0;  // in [0.25, 1.25)
-  };
-  for (int trial = 0; trial < 4; ++trial) {
-    GiNaC::exmap point;
-    for (const auto& s : symbols) point[s] = next();
-    try {
-      const GiNaC::ex value = GiNaC::evalf(e.subs(point));
-      if (!GiNaC::is_a<GiNaC::numeric>(value)) return false;
-      if (GiNaC::abs(GiNaC::ex_to<GiNaC::numeric>(value)).to_double() > 1e-9) return false;
-    } catch (const std::exception&) {
-      return false;  // undefined at this point (log of 0, ...): not a proof of anything
-    }
-  }
-  return true;
-}
 
 bool is_function_name(const std::string& name) {
   const auto& names = function_names();
@@ -307,7 +284,7 @@ class SceneReader {
     for (std::size_t a = 0; a < constraint_nodes.size(); ++a) {
       const toml::node& c = *constraint_nodes[a];
       GiNaC::ex f = expression(c, "constraint", jet, mechanics);
-      if (is_zero_at(c, f) || vanishes_numerically(f))
+      if (is_zero_at(c, f) || vanishes_at_sample_points(f))  // sin(x)^2 + cos(x)^2 - 1 too
         fail(c, "constraint " + std::to_string(a + 1) + " is identically zero");
       if (jet.highest_coordinate_order(f) < 0)
         fail(c, "constraint " + std::to_string(a + 1) + " does not involve any coordinate");
@@ -375,12 +352,8 @@ class SceneReader {
 
   /// A number as written (0, 1.5, 1e-08), not std::to_string's 0.000000.
   static std::string shortest(double v) {
-    std::ostringstream out;
-    out.precision(17);
-    out << v;
-    std::ostringstream shorter;
-    shorter << v;  // 6 significant digits, enough unless that loses the value
-    return std::stod(shorter.str()) == v ? shorter.str() : out.str();
+    const std::string shorter = runtime::number_text(v, 6);  // enough unless that loses the value
+    return std::stod(shorter) == v ? shorter : runtime::number_text(v, 17);
   }
 
   /// Non-printable bytes are shown as \xNN so that the one-line message stays one line; a

@@ -2,9 +2,9 @@
 
 #include <cmath>
 
-#include "nhc/jet/jet_space.hpp"
-#include "nhc/jet/work_budget.hpp"
-#include "nhc/jet/zero_test.hpp"
+#include "nhc/expr/jet_space.hpp"
+#include "nhc/expr/work_budget.hpp"
+#include "nhc/expr/zero_test.hpp"
 
 namespace nhc {
 

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "nhc/runtime/number_text.hpp"
+
 namespace nhc::connect {
 
 namespace {
@@ -192,9 +194,9 @@ class Shooter {
 
   std::string history_text(const std::vector<Iteration>& history) const {
     std::ostringstream os;
-    os.precision(3);
     os << "iteration history (miss, step):";
-    for (const Iteration& it : history) os << " " << it.number << ": " << it.miss << " (" << it.step << ")";
+    for (const Iteration& it : history)
+      os << " " << it.number << ": " << runtime::number_text(it.miss, 3) << " (" << runtime::number_text(it.step, 3) << ")";
     return os.str();
   }
 
@@ -202,7 +204,6 @@ class Shooter {
                                  const std::vector<Iteration>& history) const {
     const int full = std::min(layout_.rows(), layout_.unknowns());
     std::ostringstream os;
-    os.precision(6);
     if (rank < full) {
       const std::vector<std::string> names = uninfluential(e);
       os << "the shooting Jacobian is singular (rank " << rank << " of " << full << "): ";
@@ -212,10 +213,10 @@ class Shooter {
       } else {
         os << "the free values influence the target only in combination";
       }
-      os << "; best miss " << best_miss << ". " << history_text(history);
+      os << "; best miss " << runtime::number_text(best_miss, 6) << ". " << history_text(history);
       throw ShootingFailure(ShootingFailure::Kind::singular, os.str(), history, names, free_values(best));
     }
-    os << "Newton's method stalls: no step reduces the miss, the best miss is " << best_miss
+    os << "Newton's method stalls: no step reduces the miss, the best miss is " << runtime::number_text(best_miss, 6)
        << " (the target may be unreachable in this model). " << history_text(history);
     throw ShootingFailure(ShootingFailure::Kind::no_convergence, os.str(), history, {}, free_values(best));
   }
@@ -276,9 +277,8 @@ ShootingResult Shooter::solve() {
     if (e.converged(problem_.tolerance)) break;
     if (iteration > problem_.max_iterations) {
       std::ostringstream os;
-      os.precision(6);
       os << "Newton's method did not converge in " << problem_.max_iterations << " iterations; best miss "
-         << e.miss() << ". " << history_text(result.history);
+         << runtime::number_text(e.miss(), 6) << ". " << history_text(result.history);
       throw ShootingFailure(ShootingFailure::Kind::no_convergence, os.str(), result.history, {}, free_values(x));
     }
     // J⁺ r: the Newton step, minimum-norm (more unknowns) or least-squares (more conditions).

@@ -12,7 +12,7 @@
 #include "nhc/emit/model_layout.hpp"
 #include "nhc/emit/model_table_text.hpp"
 #include "nhc/errors.hpp"
-#include "nhc/jet/evaluation_program.hpp"
+#include "nhc/expr/evaluation_program.hpp"
 
 namespace nhc::jit {
 

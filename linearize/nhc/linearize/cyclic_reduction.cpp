@@ -3,10 +3,10 @@
 #include <algorithm>
 
 #include "nhc/errors.hpp"
-#include "nhc/jet/intermediate.hpp"
-#include "nhc/jet/symbol_substitution.hpp"
-#include "nhc/jet/zero_test.hpp"
-#include "nhc/jet/work_budget.hpp"
+#include "nhc/expr/intermediate.hpp"
+#include "nhc/expr/symbol_substitution.hpp"
+#include "nhc/expr/zero_test.hpp"
+#include "nhc/expr/work_budget.hpp"
 
 namespace nhc {
 

@@ -1,5 +1,6 @@
 #include "nhc/linearize/linearizer.hpp"
 
+#include "nhc/primed_name.hpp"
 #include "nhc/runtime/number_text.hpp"
 
 #include <algorithm>
@@ -16,10 +17,10 @@
 #include "nhc/analysis/structural_analysis.hpp"
 #include "nhc/derive/models.hpp"
 #include "nhc/errors.hpp"
-#include "nhc/jet/intermediate.hpp"
+#include "nhc/expr/intermediate.hpp"
 #include "nhc/linearize/cyclic_reduction.hpp"
 #include "nhc/linearize/manifold_linearization.hpp"
-#include "nhc/analysis/numeric_program.hpp"
+#include "nhc/expr/numeric_program.hpp"
 #include "nhc/linearize/spectrum.hpp"
 #include "nhc/linearize/steady_families.hpp"
 
@@ -516,7 +517,7 @@ void Linearizer::Impl::setup_turn(const LinearizeOptions::Turn& turn) {
       if (variable_and_order(reduced.components[d].name) == std::make_pair(other, order)) turn_partner[c] = static_cast<int>(d);
     if (turn_partner[c] < 0)
       throw InputError({"--turn", 0, 0}, "--turn: the reduced system holds " + reduced.components[c].name + " but not " +
-                                             other + std::string(static_cast<std::size_t>(order), '\'') +
+                                             primed_name(other, order) +
                                              ", which the turn rotates with it: keep both or neither (--keep)");
     turn_sign[c] = variable == turn.x ? -1.0 : 1.0;  // X: x^(k) -> -y^(k), y^(k) -> x^(k)
   }

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "nhc/runtime/number_text.hpp"
+
 namespace nhc {
 
 namespace {
@@ -37,14 +39,13 @@ Eigen::MatrixXd new_directions(const Eigen::MatrixXd& v, const Eigen::MatrixXd& 
 
 std::string combination(const Eigen::VectorXd& v, const std::vector<std::string>& states) {
   std::ostringstream text;
-  text.precision(3);
   const double largest = v.cwiseAbs().maxCoeff();
   bool first = true;
   for (Eigen::Index i = 0; i < v.size(); ++i) {
     if (std::abs(v(i)) < 0.1 * largest) continue;
     const double c = v(i) / largest;
     text << (first ? (c < 0 ? "-" : "") : (c < 0 ? " - " : " + "));
-    if (std::abs(std::abs(c) - 1.0) > 1e-6) text << std::abs(c) << " ";
+    if (std::abs(std::abs(c) - 1.0) > 1e-6) text << runtime::number_text(std::abs(c), 3) << " ";
     text << states[static_cast<std::size_t>(i)];
     first = false;
   }

@@ -1,6 +1,6 @@
 #include "nhc/optimize/path_functions.hpp"
 
-#include "nhc/jet/intermediate.hpp"
+#include "nhc/expr/intermediate.hpp"
 
 namespace nhc::optimize {
 

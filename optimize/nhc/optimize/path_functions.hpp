@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "nhc/analysis/numeric_program.hpp"
+#include "nhc/expr/numeric_program.hpp"
 #include "nhc/optimize/point_problem.hpp"
 
 namespace nhc::optimize {

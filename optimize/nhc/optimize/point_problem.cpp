@@ -8,13 +8,12 @@
 
 #include "nhc/analysis/index1_reduction.hpp"
 #include "nhc/derive/models.hpp"
-#include "nhc/jet/intermediate.hpp"
+#include "nhc/primed_name.hpp"
+#include "nhc/expr/intermediate.hpp"
 
 namespace nhc::optimize {
 
 namespace {
-
-std::string primed(const std::string& name, int order) { return name + std::string(static_cast<std::size_t>(order), '\''); }
 
 /// The symbols common to both problems after t, y, y', u: the parameters.
 void add_parameters(const Scene& scene, PointProblem& p) {
@@ -135,7 +134,7 @@ PointProblem dynamics_problem(const Scene& scene, const Settings& settings, Mode
       if (e.is_equal(system.yp[static_cast<std::size_t>(k)]) && p.collocated[static_cast<std::size_t>(k)]) return p.states + k;
     }
     throw InputError(where, "'" + q.name + "' is not among the " + to_string(model) + " model's states and their rates (" +
-                                primed(p.state_names.front(), 0) + ", …)");
+                                primed_name(p.state_names.front(), 0) + ", …)");
   };
   add_bounds(scene, settings, p, slot_of, in_states, why);
   return p;

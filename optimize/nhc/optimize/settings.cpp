@@ -67,7 +67,7 @@ class Reader {
     if (const toml::node* n = table->get("model")) {
       const std::string name = string(*n, "model");
       const std::optional<ModelKind> kind = parse_model_kind(name);
-      if (!kind) fail(*n, "unknown model '" + name + "' (known: vakonomic, chetaev, holder, suslov)");
+      if (!kind) fail(*n, "unknown model '" + name + "' (known: " + model_name_list() + ")");
       s.model = kind;
     }
     s.initial = boundary(*table, "initial");

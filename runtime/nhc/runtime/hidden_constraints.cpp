@@ -5,6 +5,7 @@
 
 #include "nhc/runtime/constraint_solver.hpp"
 #include "nhc/runtime/errors.hpp"
+#include "nhc/runtime/number_text.hpp"
 
 namespace nhc::runtime {
 
@@ -39,9 +40,8 @@ HiddenSolveReport solve_hidden_constraints(const Model& model, const double* p, 
 
   auto describe = [&](const std::string& why) {
     std::ostringstream os;
-    os.precision(17);
-    os << "no consistent initial values at t = " << t << ": " << why << "; hidden constraint "
-       << model.hidden_name(r.worst) << " = " << r.residuals[static_cast<std::size_t>(r.worst)]
+    os << "no consistent initial values at t = " << number_text(t, 17) << ": " << why << "; hidden constraint "
+       << model.hidden_name(r.worst) << " = " << number_text(r.residuals[static_cast<std::size_t>(r.worst)], 17)
        << ". States that may be changed: ";
     bool any = false;
     for (int i = 0; i < n; ++i)

@@ -244,11 +244,10 @@ struct Integrator::Impl {
     for (int i = 0; i < v.size(); ++i) order[i] = i;
     std::sort(order.begin(), order.end(), [&](int a, int b) { return std::abs(v[a]) > std::abs(v[b]); });
     std::ostringstream os;
-    os.precision(2);
     const double top = std::abs(v[order[0]]);
     for (int k = 0; k < std::min<int>(3, v.size()); ++k) {
       if (k > 0 && std::abs(v[order[k]]) < 0.1 * top) break;
-      os << (k ? ", " : "") << model.state_name(order[k]) << " (" << v[order[k]] << ")";
+      os << (k ? ", " : "") << model.state_name(order[k]) << " (" << number_text(v[order[k]], 2) << ")";
     }
     return os.str();
   }
@@ -279,11 +278,8 @@ struct Integrator::Impl {
       if (std::isfinite(y_last[i]) && std::abs(y_last[i]) > 1e8 && (worst < 0 || std::abs(y_last[i]) > std::abs(y_last[worst])))
         worst = i;
     if (worst < 0) return "";
-    std::ostringstream os;
-    os.precision(2);
-    os << "; " << model.state_name(worst) << " blew up (" << model.state_name(worst) << " ≈ " << y_last[worst]
-       << " at the last accepted step)";
-    return os.str();
+    return "; " + model.state_name(worst) + " blew up (" + model.state_name(worst) + " ≈ " + number_text(y_last[worst], 2) +
+           " at the last accepted step)";
   }
 
   /// The singular-set monitor closest to zero relative to its start, if any is below `ratio`.
@@ -317,8 +313,7 @@ struct Integrator::Impl {
 
   [[noreturn]] void throw_singular_gradient(double tt, int monitor, const std::string& entry) {
     std::ostringstream os;
-    os.precision(15);
-    os << "the constraint gradient is singular at t = " << tt << ": ";
+    os << "the constraint gradient is singular at t = " << number_text(tt, 15) << ": ";
     if (monitor >= 0) os << model.singular_name(monitor) << " reaches 0";
     if (monitor >= 0 && !entry.empty()) os << "; ";
     if (!entry.empty()) os << entry << " is not defined there";
@@ -341,7 +336,6 @@ struct Integrator::Impl {
       const int monitor = near_singular(nonfinite.t, nonfinite.y.data(), 1e-3);
       if (!entry.empty() || monitor >= 0) throw_singular_gradient(nonfinite.t, monitor, entry);
       std::ostringstream os;
-      os.precision(15);
       if (nonfinite.in_jacobian) {
         const int row = nonfinite.index % n(), col = nonfinite.index / n();
         os << "the Jacobian of " << model.residual_name(sparse ? 0 : row);
@@ -350,7 +344,7 @@ struct Integrator::Impl {
       } else {
         os << "residual " << model.residual_name(nonfinite.index) << " is NaN or Inf";
       }
-      os << " at t = " << nonfinite.t << " (" << what << ": " << symptom << ")";
+      os << " at t = " << number_text(nonfinite.t, 15) << " (" << what << ": " << symptom << ")";
       throw SolverError(FailureKind::nonfinite_residual, nonfinite.t, os.str());
     }
 
@@ -372,12 +366,10 @@ struct Integrator::Impl {
         const double cond = s[0] > 0 ? s[0] / s[s.size() - 1] : INFINITY;
         if (lsflag > 0 || !(cond < (flag == kStepSizeCollapse ? 1e10 : 1e12))) {
           std::ostringstream os;
-          os.precision(15);
           // Not IDA's "dF/dy + cj dF/dy'": a scene may have a coordinate y. The null direction is
           // a correction of the states (and, times cj, of their derivatives) that the matrix loses.
-          os << "the iteration matrix of the equations (dF/dstates + cj dF/dstates') is singular at t = " << tt;
-          os.precision(3);
-          os << " (condition number " << cond << "; the states it does not determine: "
+          os << "the iteration matrix of the equations (dF/dstates + cj dF/dstates') is singular at t = " << number_text(tt, 15);
+          os << " (condition number " << number_text(cond, 3) << "; the states it does not determine: "
              << dominant_states(svd.matrixV().col(s.size() - 1)) << "): the equations cannot be solved there for "
              << solved_quantities() << blown_up_state();
           os << " (" << what << ": " << symptom << ")";

@@ -10,6 +10,8 @@
 #include <limits>
 #include <sstream>
 
+#include "nhc/runtime/number_text.hpp"
+
 namespace nhc::runtime {
 
 namespace sun {
@@ -76,13 +78,11 @@ FailureKind classify_ida_flag(int flag) {
 
 void check(int flag, const char* what, double t, const std::string& detail) {
   if (flag >= 0) return;
-  std::ostringstream os;
-  os.precision(17);
-  os << what << " failed";
-  if (!std::isnan(t)) os << " at t = " << t;
-  os << ": " << describe_ida_flag(flag);
-  if (!detail.empty()) os << " (" << detail << ")";
-  throw SolverError(classify_ida_flag(flag), t, os.str());
+  std::string message = std::string(what) + " failed";
+  if (!std::isnan(t)) message += " at t = " + number_text(t, 17);
+  message += ": " + describe_ida_flag(flag);
+  if (!detail.empty()) message += " (" + detail + ")";
+  throw SolverError(classify_ida_flag(flag), t, message);
 }
 
 namespace {

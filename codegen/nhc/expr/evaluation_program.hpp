@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "nhc/jet/expression_dag.hpp"
+#include "nhc/expr/expression_dag.hpp"
 
 namespace nhc {
 

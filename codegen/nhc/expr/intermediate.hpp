@@ -1,25 +1,11 @@
 #pragma once
 /// \file intermediate.hpp
-/// \brief Named intermediate quantities (issue 27): a definition that stays a symbol, with its
-/// expression attached, instead of being substituted into everything that uses it.
-///
-/// An Intermediate d := e(t, p, q^(k), λ^(k), earlier intermediates) is a GiNaC symbol whose
-/// partial derivatives follow the chain rule through e (the way Autolev's intermediate variables
-/// and CasADi's expression graphs keep structure):
-///
-///     ∂d/∂z = ∂e/∂z = ∂e/∂z|_explicit + Σ_{d' in e} ∂e/∂d'|_explicit · ∂d'/∂z,
-///
-/// so GiNaC's own `ex::diff` differentiates any expression over intermediates correctly, with no
-/// change to the code that calls it. Each ∂d/∂z is computed once (memoized in d) and is itself
-/// an intermediate where it is not small (`kInlineBelowNodes`, the one size threshold), so
-/// repeated differentiation (Euler operator, D^k, Jacobians) stays in proportion to the
-/// structure rather than to its expansion. The total derivative D d is memoized the same way
-/// (total_derivative()).
-///
-/// GiNaC functions that only look at an expression's own tree (has, subs, expand, normal,
-/// preorder iteration) treat an intermediate as an independent symbol. Code that asks which jet
-/// variables an expression depends on uses symbols_through(); code that needs the substituted
-/// form uses expand_intermediates() (the `--expand` view, numeric evaluation).
+/// \brief Named intermediate quantities (issue 27): a definition d := e that stays a symbol,
+/// with its expression attached, instead of being substituted into everything that uses it.
+/// GiNaC's `diff` applies the chain rule through it, each ∂d/∂z and D d memoized in d; GiNaC's
+/// own tree functions (has, subs, expand, preorder iteration) see an independent symbol, so code
+/// that asks what an expression depends on uses symbols_through(), and code that needs the
+/// substituted form expand_intermediates(). Design and measurements: docs/intermediates.md.
 
 #include <ginac/ginac.h>
 
@@ -30,42 +16,15 @@
 #include <string>
 #include <vector>
 
+#include "nhc/expr/symbolic_policy.hpp"
+
 namespace nhc {
 
-/// Below this many nodes (expression_nodes()) a derivative or total derivative of an
-/// intermediate is kept as an expression; at or above it, it becomes an intermediate itself.
-inline constexpr int kInlineBelowNodes = 8;
-
-/// A definition whose value, substituted, has fewer nodes than this is substituted rather than
-/// kept: small definitions gain more from expansion and simplification (sin² + cos² = 1 across
-/// a rotation's entries) than from sharing. The one policy of where structure pays.
-inline constexpr int kSubstituteDefinitionBelowNodes = 40;
-/// …and whose expansion has at most this many terms (a short product of powers of sums, such
-/// as d4 = (((x' + y + 1)^2 + x)^2 + x)^2 + x, is small as written and large expanded).
-inline constexpr double kSubstituteDefinitionMaxTerms = 16;
-
-/// A kept definition's value is simplified (simplify_expression: expansion, common denominator,
-/// sin² + cos² = 1), where that shortens it, when its expansion has at most this many terms
-/// (its intermediates counted as symbols): a rotation's angular velocity or a kinetic energy
-/// shrinks, a large value is not expanded at all. Partials and total derivatives are kept as
-/// differentiated: simplifying them too breaks the sharing between them (measured when this was
-/// decided, in 481357c: the Whipple bicycle's header had 21,332 operations after CSE with them
-/// simplified, 15,632 without; bench/results.md has today's count).
-inline constexpr double kSimplifyIntermediateMaxTerms = 200;
-
-/// An expression over intermediates (an equation, a Jacobian entry, a hidden constraint) whose
-/// substituted form has fewer nodes than this, and at most kSimplifyIntermediateMaxTerms terms
-/// expanded, is simplified in its substituted form: terms that
-/// cancel only across intermediates (∂T/∂θ − D ∂T/∂θ' of a sleigh) cancel, and a small
-/// equation is best written out. Larger ones keep their intermediates. (Larger thresholds
-/// cost the bicycle sharing: 34,285 operations after CSE at 1000 against 21,332 at 150, both
-/// measured in 481357c with partials simplified.)
-inline constexpr int kSubstituteIntoExpressionBelowNodes = 150;
-
-/// e with its intermediates substituted when that form is small (the policy above), else e.
+/// e with its intermediates substituted when that form is small (kSubstituteIntoExpressionBelowNodes,
+/// kSimplifyIntermediateMaxTerms: symbolic_policy.hpp), else e.
 GiNaC::ex substituted_where_small(const GiNaC::ex& e);
 
-/// e simplified under the policy above, or e itself when that is not shorter.
+/// e simplified under the same policy, or e itself when that is not shorter.
 GiNaC::ex simplified_where_it_pays(const GiNaC::ex& e);
 
 /// The size of e as a tree of GiNaC nodes, counted up to `limit` (cheap on large e).

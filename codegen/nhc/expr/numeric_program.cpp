@@ -1,4 +1,4 @@
-#include "nhc/analysis/numeric_program.hpp"
+#include "nhc/expr/numeric_program.hpp"
 
 #include <cmath>
 #include <map>

@@ -1,4 +1,4 @@
-#include "nhc/jet/partial_derivative.hpp"
+#include "nhc/expr/partial_derivative.hpp"
 
 #include "nhc/long_work.hpp"
 

@@ -65,7 +65,7 @@ class ExpressionDag {
 
   /// Lowers e and returns the index of the instruction computing it. Throws MathError for a
   /// symbol that is not an input, a non-real number or a function without a C++ counterpart.
-  /// A named intermediate (nhc/jet/intermediate.hpp) is lowered through its expression, once,
+  /// A named intermediate (nhc/expr/intermediate.hpp) is lowered through its expression, once,
   /// unless it is an input itself (printed by name: scene notation of the equations). Its
   /// expression must be over the inputs too: Index1System::in_states rewrites intermediates
   /// in states before they get here.

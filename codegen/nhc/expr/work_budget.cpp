@@ -1,4 +1,4 @@
-#include "nhc/jet/work_budget.hpp"
+#include "nhc/expr/work_budget.hpp"
 
 #include "nhc/runtime/number_text.hpp"
 
@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "nhc/long_work.hpp"
+#include "nhc/expr/zero_test.hpp"
 
 namespace nhc::work_budget {
 
@@ -344,53 +345,15 @@ ex normal(const ex& e) {
   return worth_simplifying(e) ? e.normal() : e;
 }
 
-namespace {
-
-/// A fixed point for the symbols of e: values in (0.3, 1.3), away from 0 (no division by zero
-/// in q^−k) and from the integers, different for each `seed`.
-GiNaC::exmap sample_point(const ex& e, unsigned seed) {
-  GiNaC::exmap point;
-  unsigned k = 0;
-  for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
-    if (GiNaC::is_a<GiNaC::symbol>(*it) && point.find(*it) == point.end())
-      point[*it] = 0.3 + std::fmod(0.6180339887498949 * (1 + k++) + 0.4142135623730950 * seed, 1.0);
-  return point;
-}
-
-/// e at `point`; NaN when it is not a finite real number there (a pole, a branch cut).
-double value_at(const ex& e, const GiNaC::exmap& point) {
-  try {
-    const ex value = GiNaC::evalf(e.subs(point, GiNaC::subs_options::no_pattern));
-    if (!GiNaC::is_a<GiNaC::numeric>(value)) return std::numeric_limits<double>::quiet_NaN();
-    const GiNaC::numeric n = GiNaC::ex_to<GiNaC::numeric>(value);
-    if (!n.is_real()) return std::numeric_limits<double>::quiet_NaN();
-    return n.to_double();
-  } catch (const std::exception&) {
-    return std::numeric_limits<double>::quiet_NaN();
-  }
-}
-
-}  // namespace
-
 bool is_zero(const ex& e) {
   if (e.is_zero()) return true;
   check_for_stop();
   const ex expanded = nhc::work_budget::expand(e);
   if (expanded.is_zero()) return true;
   if (worth_simplifying(expanded)) return expanded.normal().is_zero();
-  // Large: numeric evidence. The magnitude of the terms sets what rounding can leave behind.
-  for (unsigned seed = 0; seed < 3; ++seed) {
-    const GiNaC::exmap point = sample_point(expanded, seed);
-    double value = 0, scale = 0;
-    for (std::size_t k = 0; k < expanded.nops(); ++k) {
-      const double term = value_at(expanded.op(k), point);
-      value += term;
-      scale = std::max(scale, std::fabs(term));
-    }
-    if (std::isnan(value) || std::isinf(value)) continue;
-    if (std::fabs(value) > 1e-9 * std::max(scale, 1.0)) return false;
-  }
-  return true;
+  // Large: numeric evidence, the intermediates as symbols (the form decides, as above). The
+  // magnitude of the terms sets what rounding can leave behind.
+  return vanishes_at_sample_points(expanded, {}, IntermediateValues::as_symbols);
 }
 
 }  // namespace nhc::work_budget

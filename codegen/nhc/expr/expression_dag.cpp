@@ -1,4 +1,4 @@
-#include "nhc/jet/expression_dag.hpp"
+#include "nhc/expr/expression_dag.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <tuple>
 
 #include "nhc/errors.hpp"
-#include "nhc/jet/intermediate.hpp"
+#include "nhc/expr/intermediate.hpp"
 #include "nhc/long_work.hpp"
 
 namespace nhc {

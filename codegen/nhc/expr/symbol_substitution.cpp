@@ -1,6 +1,6 @@
-#include "nhc/jet/symbol_substitution.hpp"
+#include "nhc/expr/symbol_substitution.hpp"
 
-#include "nhc/jet/intermediate.hpp"
+#include "nhc/expr/intermediate.hpp"
 
 namespace nhc {
 

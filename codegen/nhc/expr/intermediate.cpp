@@ -1,14 +1,15 @@
-#include "nhc/jet/intermediate.hpp"
+#include "nhc/expr/intermediate.hpp"
 
 #include <algorithm>
 #include <atomic>
 #include <unordered_map>
 #include <unordered_set>
 
-#include "nhc/jet/partial_derivative.hpp"
-#include "nhc/jet/simplification.hpp"
-#include "nhc/jet/stable_symbol.hpp"
-#include "nhc/jet/work_budget.hpp"
+#include "nhc/expr/partial_derivative.hpp"
+#include "nhc/expr/simplification.hpp"
+#include "nhc/expr/stable_symbol.hpp"
+#include "nhc/expr/traversal.hpp"
+#include "nhc/expr/work_budget.hpp"
 
 namespace nhc {
 
@@ -23,36 +24,25 @@ std::atomic<bool> any_intermediate{false};
 
 using ExSet = std::set<GiNaC::ex, GiNaC::ex_is_less>;
 
-/// Visits every distinct subexpression of e once (shared subtrees once), without recursion, and
-/// calls `found` on each intermediate met; does not descend into intermediates' expressions.
+/// Calls `found` on each distinct intermediate met in e; does not descend into intermediates'
+/// expressions.
 template <class Found>
 void each_intermediate(const GiNaC::ex& e, Found found) {
-  std::unordered_set<GiNaC::ex, std::hash<GiNaC::ex>, GiNaC::ex_is_equal> seen;
-  std::vector<GiNaC::ex> stack{e};
-  while (!stack.empty()) {
-    const GiNaC::ex x = stack.back();
-    stack.pop_back();
-    if (!seen.insert(x).second) continue;
-    if (is_intermediate(x)) {
-      found(x);
-      continue;
-    }
-    for (std::size_t k = 0; k < x.nops(); ++k) stack.push_back(x.op(k));
-  }
+  visit_distinct(e, [&](const GiNaC::ex& x) {
+    if (!is_intermediate(x)) return true;
+    found(x);
+    return false;
+  });
 }
 
 /// e's own symbols that are not intermediates (not through them).
 ExSet own_symbols(const GiNaC::ex& e) {
   ExSet out;
-  std::unordered_set<GiNaC::ex, std::hash<GiNaC::ex>, GiNaC::ex_is_equal> seen;
-  std::vector<GiNaC::ex> stack{e};
-  while (!stack.empty()) {
-    const GiNaC::ex x = stack.back();
-    stack.pop_back();
-    if (!seen.insert(x).second || is_intermediate(x)) continue;
+  visit_distinct(e, [&](const GiNaC::ex& x) {
+    if (is_intermediate(x)) return false;
     if (GiNaC::is_a<GiNaC::symbol>(x)) out.insert(x);
-    for (std::size_t k = 0; k < x.nops(); ++k) stack.push_back(x.op(k));
-  }
+    return true;
+  });
   return out;
 }
 

@@ -1,4 +1,4 @@
-#include "nhc/jet/evaluation_program.hpp"
+#include "nhc/expr/evaluation_program.hpp"
 
 #include <cmath>
 #include <map>

@@ -1,8 +1,7 @@
 #pragma once
 /// \file work_budget.hpp
 /// \brief The work budget of the symbolic pipeline: every operation whose cost can grow without
-/// bound in the size of its input goes through here, and this is the one place that decides how
-/// much is too much.
+/// bound in the size of its input goes through here; its limits are in symbolic_policy.hpp.
 ///
 /// Two kinds of limit:
 /// - a *refusal* limit for work the pipeline cannot do without: expansion. Its result size is
@@ -24,43 +23,9 @@
 #include <string>
 
 #include "nhc/errors.hpp"
+#include "nhc/expr/symbolic_policy.hpp"
 
 namespace nhc::work_budget {
-
-/// Largest number of terms one expansion may produce. Expanding is linear in its result at best
-/// (a product of three 21-term sums, 9,261 terms, takes about 0.1 s; a sum of 10^5 terms about a
-/// second and hundreds of megabytes once differentiated). The bound is loose for sums of
-/// trigonometric products; the largest bound in the examples is the Whipple bicycle's, 36,883
-/// (6,044 terms after expansion).
-inline constexpr double kMaxExpandedTerms = 1e5;
-/// Largest size (factors over all terms and inner expansions, predict_expansion) one expansion
-/// may build. GiNaC's expand() costs about a microsecond per factor it builds, and more in
-/// the sorting of like terms; the largest prediction in the examples is the Whipple bicycle's
-/// with its definitions substituted (`--expand`), 453,178 (54,326 built), and the issue-44
-/// scenes ask for millions in one call. 2·10^6 keeps one expansion well inside the work
-/// watchdog's seconds (work_stage.hpp), which bounds the sum of many smaller ones.
-inline constexpr double kMaxExpandedFactors = 2e6;
-/// Largest expanded sum that common denominators (normal()) and trigonometric simplification
-/// are applied to. normal() is quadratic or worse in the number of terms (a gcd per pair of
-/// denominators): 9,261 terms over negative powers ran for minutes. The largest expression whose
-/// common-denominator form the examples use has 816 terms (the Whipple bicycle).
-inline constexpr std::size_t kMaxSimplifiedTerms = 2000;
-/// Largest common-denominator form (predict_common_denominator, in factors) that normal() is
-/// applied to: past it the expression is kept expanded. normal() multiplies every term by the
-/// other terms' denominators and takes greatest common divisors of the results, so a sum of
-/// few terms over nested sums costs more than its size shows: 1/(x'+1/(y'+1/(x+1/(y+x'))))^12
-/// (one term) ran for minutes in normal() (3·10^10 predicted). The largest in the examples is the
-/// Whipple bicycle's with its definitions substituted, 13,199 (1,733 terms).
-inline constexpr double kMaxCommonDenominatorFactors = 1e5;
-/// Largest expanded sum that sin² + cos² = 1 is applied to: a substitution and an expansion
-/// (bounded by kMaxExpandedTerms), near linear in the terms. The Whipple bicycle's equations need
-/// it up to 6,044 terms: its rear-wheel angle cancels from them only through the identity.
-inline constexpr std::size_t kMaxTrigonometricTerms = 20000;
-/// Deepest nesting of functions (sin(sin(…))) that normal() and sin² + cos² = 1 are applied to:
-/// both work through every function argument, each at every level, so their cost grows with a
-/// power of the depth (a chain of 200 definitions d_k = sin(d_{k-1}) took 50 s in normal()).
-/// Mechanics nests a handful deep (a sqrt of a sum of products of sines).
-inline constexpr std::size_t kMaxSimplifiedNesting = 12;
 
 /// The deepest nesting of function calls in e (0 for a polynomial, 1 for sin(x), 2 for
 /// sqrt(sin(x)), …); stops counting past `limit`.
@@ -111,7 +76,8 @@ GiNaC::ex normal(const GiNaC::ex& e);
 /// Whether e is identically zero. Exact (expand, then normal) below the simplification threshold;
 /// above it, e is zero when its expansion is, and nonzero when it is nonzero at one of a few
 /// fixed sample points of its symbols (Schwartz–Zippel: a nonzero rational function vanishes at
-/// a generic point with probability zero). Deterministic: the points are fixed.
+/// a generic point with probability zero): vanishes_at_sample_points with the intermediates as
+/// symbols (zero_test.hpp). Deterministic: the points are fixed.
 bool is_zero(const GiNaC::ex& e);
 
 }  // namespace nhc::work_budget

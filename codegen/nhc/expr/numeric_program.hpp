@@ -1,7 +1,7 @@
 #pragma once
 /// \file numeric_program.hpp
 /// \brief Expressions lowered once into one shared instruction list (the common-subexpression
-/// DAG the code generator prints, nhc/jet/expression_dag.hpp) and evaluated in doubles by walking it.
+/// DAG the code generator prints, nhc/expr/expression_dag.hpp) and evaluated in doubles by walking it.
 ///
 /// The linearizer evaluates the reduced residual, hidden constraints and their Jacobians at many
 /// points (a sweep, its bisections, the chord iterations of steady_families). GiNaC's
@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "nhc/jet/evaluation_program.hpp"
-#include "nhc/jet/expression_dag.hpp"
+#include "nhc/expr/evaluation_program.hpp"
+#include "nhc/expr/expression_dag.hpp"
 
 namespace nhc {
 
@@ -36,8 +36,11 @@ class NumericProgram {
   /// The outputs at `values` as they come: inf and NaN where an output is not finite there.
   std::vector<double> values_at(const std::vector<double>& values) const;
 
- private:
+  /// Lowers the outputs now (evaluate() does it on its first call): the program's last GiNaC
+  /// work, done before a run that evaluates it without the symbolic lock (nhc/long_work.hpp).
   void prepare() const;
+
+ private:
 
   ExpressionDag dag_;
   std::vector<int> outputs_;

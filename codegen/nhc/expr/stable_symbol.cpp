@@ -1,8 +1,8 @@
-#include "nhc/jet/stable_symbol.hpp"
+#include "nhc/expr/stable_symbol.hpp"
 
 #include <cstdint>
 
-#include "nhc/jet/expression_dag.hpp"
+#include "nhc/expr/expression_dag.hpp"
 
 namespace nhc {
 

@@ -1,4 +1,4 @@
-#include "nhc/jet/common_arguments.hpp"
+#include "nhc/expr/common_arguments.hpp"
 
 #include <algorithm>
 #include <cstdint>

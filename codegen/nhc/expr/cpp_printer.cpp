@@ -1,11 +1,11 @@
-#include "nhc/emit/cpp_printer.hpp"
+#include "nhc/expr/cpp_printer.hpp"
 
 #include <cmath>
-#include <cstdio>
 #include <functional>
 #include <string>
 
 #include "nhc/errors.hpp"
+#include "nhc/runtime/number_text.hpp"
 
 namespace nhc {
 
@@ -126,9 +126,7 @@ class BlockPrinter {
 std::string cpp_double_literal(double v) {
   if (!std::isfinite(v)) throw MathError("cannot generate code for a non-finite constant");
   if (v == 0.0) return std::signbit(v) ? "-0.0" : "0.0";
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.17g", v);
-  std::string text = buffer;
+  std::string text = runtime::number_text(v, 17);
   if (text.find_first_of(".eE") == std::string::npos) text += ".0";
   return text;
 }

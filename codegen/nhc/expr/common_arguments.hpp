@@ -16,7 +16,7 @@
 
 #include <vector>
 
-#include "nhc/jet/expression_dag.hpp"
+#include "nhc/expr/expression_dag.hpp"
 
 namespace nhc {
 

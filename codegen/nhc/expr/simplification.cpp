@@ -1,7 +1,7 @@
-#include "nhc/jet/simplification.hpp"
+#include "nhc/expr/simplification.hpp"
 
-#include "nhc/jet/intermediate.hpp"
-#include "nhc/jet/work_budget.hpp"
+#include "nhc/expr/intermediate.hpp"
+#include "nhc/expr/work_budget.hpp"
 
 namespace nhc {
 

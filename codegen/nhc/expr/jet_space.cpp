@@ -1,8 +1,8 @@
-#include "nhc/jet/jet_space.hpp"
+#include "nhc/expr/jet_space.hpp"
 
-#include "nhc/jet/intermediate.hpp"
-#include "nhc/jet/stable_symbol.hpp"
-#include "nhc/jet/work_budget.hpp"
+#include "nhc/expr/intermediate.hpp"
+#include "nhc/expr/stable_symbol.hpp"
+#include "nhc/expr/work_budget.hpp"
 
 #include <algorithm>
 #include <set>

@@ -1,4 +1,4 @@
-#include "nhc/jet/expression_printer.hpp"
+#include "nhc/expr/expression_printer.hpp"
 
 #include <algorithm>
 #include <map>

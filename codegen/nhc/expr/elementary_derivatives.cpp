@@ -1,10 +1,10 @@
-#include "nhc/jet/elementary_derivatives.hpp"
+#include "nhc/expr/elementary_derivatives.hpp"
 
 #include <ginac/ginac.h>
 
 #include <mutex>
 
-#include "nhc/jet/partial_derivative.hpp"
+#include "nhc/expr/partial_derivative.hpp"
 
 namespace nhc {
 
