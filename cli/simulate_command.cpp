@@ -291,7 +291,10 @@ CommandRunner add_simulate_command(CLI::App& app) {
            << " (the constraints the steps solve; the hidden constraints above are evaluated at the\n"
               "  node velocities (q_{k+1} - q_{k-1})/2h and their interpolants, O(h^2): docs/variational.md)\n";
 
-    for (const runtime::EventHit& hit : run.events) info << "  " << app::event_line(hit) << "\n";
+    for (const runtime::EventHit& hit : run.events) {  // a contact's slip in words (contact_forces.hpp)
+      const std::optional<std::string> slip = outputs.contacts().slip_line(hit);
+      info << "  " << (slip ? *slip : app::event_line(hit)) << "\n";
+    }
     if (write_event_table && started) {
       write_file_atomically(events_path, [&](std::ostream& out) { app::write_events_csv(out, run.events); });
       info << "  wrote " << events_path << " (" << run.events.size() << " event" << (run.events.size() == 1 ? "" : "s")
