@@ -291,6 +291,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
            << " (the constraints the steps solve; the hidden constraints above are evaluated at the\n"
               "  node velocities (q_{k+1} - q_{k-1})/2h and their interpolants, O(h^2): docs/variational.md)\n";
 
+    for (const std::string& line : outputs.contacts().need_lines(run.samples)) info << "  " << line << "\n";
     for (const runtime::EventHit& hit : run.events) {  // a contact's slip in words (contact_forces.hpp)
       const std::optional<std::string> slip = outputs.contacts().slip_line(hit);
       info << "  " << (slip ? *slip : app::event_line(hit)) << "\n";

@@ -386,11 +386,11 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   if (input_failure && *input_failure) throw std::move(**input_failure);
   if (*interrupt.raised) throw std::move(**interrupt.raised);
   if (run.failure && run.samples.empty()) throw *run.failure;
-  // The scene's [outputs] after the model's columns, as nhc simulate's CSV has them (an output
+  // The scene's [outputs] and [contacts] after the model's columns, as nhc simulate's CSV has them (an output
   // the model does not compute is left out; a required one is a SceneError).
   py::object columns = built.columns();
   std::optional<app::SceneOutputs> scene_outputs;
-  if (!built.scene.outputs.empty()) scene_outputs.emplace(built.scene, *run_model, p);
+  if (!built.scene.outputs.empty() || !built.scene.contacts.empty()) scene_outputs.emplace(built.scene, *run_model, p);
   std::size_t n_columns = built.columns().size();
   std::function<void(std::size_t, std::vector<double>&)> output_values;
   if (scene_outputs && !scene_outputs->empty()) {

@@ -75,4 +75,23 @@ std::optional<std::string> ContactForces::slip_line(const runtime::EventHit& hit
   return std::nullopt;
 }
 
+std::vector<std::string> ContactForces::need_lines(const std::vector<runtime::Sample>& samples) const {
+  std::vector<double> worst(kept_.size(), -1), at(kept_.size(), 0);
+  for (const runtime::Sample& sample : samples) {
+    const std::vector<double> columns = evaluate(sample);
+    for (std::size_t i = 0; i < kept_.size(); ++i)
+      if (columns[4 * i + 2] > worst[i]) {
+        worst[i] = columns[4 * i + 2];
+        at[i] = sample.t;
+      }
+  }
+  std::vector<std::string> lines;
+  for (std::size_t i = 0; i < kept_.size(); ++i)
+    if (worst[i] >= 0)
+      lines.push_back("contact " + kept_[i].contact->name + " needs mu >= " + runtime::number_text(worst[i], 6) +
+                      " (the largest |F_t|/F_n at the output times, at t = " + runtime::number_text(at[i], 6) +
+                      "; mu = " + runtime::number_text(kept_[i].contact->mu, 6) + ")");
+  return lines;
+}
+
 }  // namespace nhc::app

@@ -42,6 +42,10 @@ class ContactForces {
   /// ratio at the hit's state; nullopt for any other event.
   std::optional<std::string> slip_line(const runtime::EventHit& hit) const;
 
+  /// Per contact, the friction the motion needs: "contact NAME needs mu >= X (the largest
+  /// |F_t|/F_n at the output times, at t = T; mu = M)" over `samples`.
+  std::vector<std::string> need_lines(const std::vector<runtime::Sample>& samples) const;
+
  private:
   struct Kept {
     const SceneContact* contact;
