@@ -104,6 +104,45 @@ TEST_CASE("nhc simulate: [contacts] forces and slip against closed forms", "[cli
     CHECK(c["t"].back() == Approx(t_slip).margin(1e-8));
     CHECK(std::abs(c["floor.ratio"].back() - 0.5) < 1e-7);
   }
+  SECTION("a cylinder launched sliding without spin: rolling at t = v0/(3 mu g), v = 2 v0/3") {
+    // docs/contacts.md, eq. (6): the sliding model (on_slip = "slide") until the stick, then rolling.
+    const std::string path = dir + "/launched.toml";
+    std::ofstream(path) << "name = \"launched\"\ncoordinates = [\"x\", \"th\"]\n"
+                           "lagrangian = \"m/2*x'^2 + m*r^2/4*th'^2\"\nconstraints = [\"x' - r*th'\"]\n"
+                           "models = [\"chetaev\"]\n[parameters]\nm = 2.0\nr = 0.3\ng = 9.81\n"
+                           "[initial]\nx = [0.0, 3.0]\nth = [0.0, 0.0]\n"
+                           "[simulate]\nt_end = 1.0\noutputs = 400\nrtol = 1e-10\natol = 1e-12\n"
+                           "[contacts.floor]\nnormal = \"m*g\"\nrolling = [1]\nmu = 0.2\non_slip = \"slide\"\n";
+    const Run r = run(nhc_command() + " simulate '" + path + "' -o '" + dir + "/launched.csv'", dir);
+    REQUIRE(r.exit_code == 0);
+    const double v0 = 3.0, mu = 0.2, t_roll = v0 / (3 * mu * kG);
+    const std::string events = read_file(dir + "/launched.events.csv");
+    REQUIRE(events.rfind("name,t\nfloor.stick,", 0) == 0);
+    CHECK(std::abs(std::stod(events.substr(std::string("name,t\nfloor.stick,").size())) - t_roll) < 1e-8);
+    auto c = columns(read_file(dir + "/launched.csv"));
+    const std::size_t n = c["t"].size();
+    REQUIRE(n == 402);  // the 401 output times and the last sliding point
+    double work = 0;  // of friction, trapezoidal: its integrand mu m g |x' - r th'| is linear while sliding
+    const auto energy = [&](std::size_t i) { return kM / 2 * std::pow(c["x'"][i], 2) + kM * kR * kR / 4 * std::pow(c["th'"][i], 2); };
+    const auto power = [&](std::size_t i) { return c["floor.tangential"][i] * std::abs(c["x'"][i] - kR * c["th'"][i]); };
+    for (std::size_t i = 0; i < n; ++i) {
+      const double t = c["t"][i];
+      if (i > 0) work += (t - c["t"][i - 1]) * (power(i) + power(i - 1)) / 2;
+      CHECK(std::abs(energy(0) - energy(i) - work) < 1e-8);  // the energy lost is the work of friction
+      if (t < t_roll - 1e-7) {
+        CHECK(c["floor.state"][i] == 0);
+        CHECK(std::abs(c["floor.tangential"][i] - mu * kM * kG) < 1e-9);  // mu m g
+        CHECK(std::abs(c["x'"][i] - (v0 - mu * kG * t)) < 1e-8);
+        CHECK(std::abs(kR * c["th'"][i] - 2 * mu * kG * t) < 1e-8);
+      } else if (t > t_roll + 1e-7) {
+        CHECK(c["floor.state"][i] == 1);
+        CHECK(std::abs(c["floor.tangential"][i]) < 1e-9);  // rolling on a level floor needs no friction
+        CHECK(std::abs(c["x'"][i] - 2 * v0 / 3) < 1e-8);
+        CHECK(std::abs(kR * c["th'"][i] - 2 * v0 / 3) < 1e-8);
+      }
+    }
+    CHECK(std::abs(work - kM * v0 * v0 / 6) < 1e-8);  // m v0^2/6 in all
+  }
   SECTION("bad [contacts]: exit 2 at FILE:LINE:COLUMN") {
     const auto refused = [&](const std::string& contact, const std::string& where, const std::string& message) {
       const std::string scene = incline(dir, contact);

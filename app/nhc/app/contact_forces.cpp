@@ -56,9 +56,22 @@ std::vector<double> ContactForces::evaluate(const runtime::Sample& sample) const
   const std::vector<double> values = expressions_.evaluate(sample);
   for (const Kept& k : kept_) {
     const double normal = values[k.normal], tangential = values[k.normal + 1];
-    out.insert(out.end(), {normal, tangential, tangential / normal, 1.0});
+    bool rolling = true;
+    for (std::size_t s = 0; s < k.sliding.size(); ++s) {
+      const auto& [from, to] = k.sliding[s];
+      if ((sample.t > from || (s == 0 && k.first_closed && sample.t == from)) && sample.t <= to) rolling = false;
+    }
+    out.insert(out.end(), {normal, tangential, tangential / normal, rolling ? 1.0 : 0.0});
   }
   return out;
+}
+
+void ContactForces::set_sliding(const std::string& name, std::vector<std::pair<double, double>> spans, bool first_closed) {
+  for (Kept& k : kept_)
+    if (k.contact->name == name) {
+      k.sliding = std::move(spans);
+      k.first_closed = first_closed;
+    }
 }
 
 std::optional<std::string> ContactForces::slip_line(const runtime::EventHit& hit) const {

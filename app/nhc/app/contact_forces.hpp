@@ -38,6 +38,9 @@ class ContactForces {
   /// The columns at one sample: F_n, |F_t|, |F_t|/F_n and the state (1 rolling).
   std::vector<double> evaluate(const runtime::Sample& sample) const;
 
+  /// The contact `name` slides over `spans` (switched_run.hpp): its state column is 0 there.
+  void set_sliding(const std::string& name, std::vector<std::pair<double, double>> spans, bool first_closed);
+
   /// "contact NAME slips at t = T (needs mu >= X)" for the hit of a slip event, X the friction
   /// ratio at the hit's state; nullopt for any other event.
   std::optional<std::string> slip_line(const runtime::EventHit& hit) const;
@@ -50,6 +53,8 @@ class ContactForces {
   struct Kept {
     const SceneContact* contact;
     std::size_t normal;  ///< index of F_n among the expressions; |F_t| follows it
+    std::vector<std::pair<double, double>> sliding;  ///< (from, to] spans of sliding
+    bool first_closed = false;                        ///< the first span is [from, to]
   };
   std::vector<Kept> kept_;
   std::vector<std::string> names_;

@@ -110,11 +110,6 @@ void check_run_request(const RunRequest& r, const Scene& scene, ModelKind kind, 
 
 std::vector<SceneEvent> run_events(const RunRequest& r, const Scene& scene, const FieldNames& names) {
   std::vector<SceneEvent> events = scene.events;
-  for (const SceneContact& contact : scene.contacts)
-    if (contact.on_slip == SlipAction::slide)
-      throw InputError(contact.on_slip_where, "contact '" + contact.name +
-                                                  "': on_slip = \"slide\" (the switch to the sliding model) is "
-                                                  "not available yet; on_slip = \"stop\" ends the run at the slip");
   const std::vector<SceneEvent> slips = slip_events(scene);  // [contacts] on_slip = "stop"
   events.insert(events.end(), slips.begin(), slips.end());
   if (!r.stop_when) return events;

@@ -28,6 +28,7 @@ class SceneOutputs {
   const std::vector<std::string>& notes() const noexcept { return notes_; }
   /// The contacts' forces ([contacts]), whose columns names() and evaluate() end with.
   const ContactForces& contacts() const noexcept { return contacts_; }
+  ContactForces& contacts() noexcept { return contacts_; }
 
   bool empty() const noexcept { return names_.empty(); }
   /// The column names, in the order of [outputs] in the scene file, then the contacts' force

@@ -199,6 +199,14 @@ void reevaluate_initial_expressions(Scene& scene);
 /// be a scene parse_scene() accepted; text that is not TOML comes back unchanged.
 std::string equations_source(const std::string& text);
 
+/// The scene text of a switched model (docs/contacts.md, "Sliding"): the constraints `removed`
+/// (0-based) dropped, `added_forces` (coordinate name -> expression) added to [forces], the
+/// multipliers' entries of [initial] dropped (the remaining ones are renumbered), and the tables
+/// that name multipliers or steer the run ([contacts], [events], [outputs], [invariants],
+/// [reference], [visual], [optimize]) removed. The text as given when it is not TOML.
+std::string switched_source(const std::string& text, const std::set<int>& removed,
+                            const std::map<std::string, std::string>& added_forces);
+
 /// True for C++ keywords and alternative tokens (and, or, …), which a scene may not use as names.
 bool is_cpp_keyword(const std::string& name);
 /// [A-Za-z_][A-Za-z0-9_]* and not a C++ keyword.

@@ -1071,6 +1071,44 @@ Scene parse_scene(const std::string& text, const std::string& path, const SceneO
   return scene;
 }
 
+std::string switched_source(const std::string& text, const std::set<int>& removed,
+                            const std::map<std::string, std::string>& added_forces) {
+  toml::table root;
+  try {
+    root = toml::parse(text);
+  } catch (const toml::parse_error&) {
+    return text;
+  }
+  for (const char* table : {"contacts", "events", "outputs", "invariants", "reference", "visual", "optimize"})
+    root.erase(table);
+  if (toml::array* constraints = root["constraints"].as_array()) {
+    toml::array kept;
+    for (std::size_t k = 0; k < constraints->size(); ++k)
+      if (!removed.count(static_cast<int>(k))) kept.push_back(*(*constraints)[k].as_string());
+    if (kept.empty()) root.erase("constraints");
+    else root.insert_or_assign("constraints", kept);
+  }
+  root.erase("dependent");  // one per constraint: the suslov model's, not the switched model's
+  if (toml::table* initial = root["initial"].as_table()) {
+    std::vector<std::string> multipliers;
+    for (auto&& [key, value] : *initial)
+      if (looks_like_multiplier(std::string(key.str()))) multipliers.emplace_back(key.str());
+    for (const std::string& key : multipliers) initial->erase(key);  // guesses; the run's own values follow
+  }
+  if (!added_forces.empty()) {
+    if (!root.contains("forces")) root.insert("forces", toml::table{});
+    toml::table& forces = *root["forces"].as_table();
+    for (const auto& [coordinate, force] : added_forces) {
+      const toml::node* old = forces.get(coordinate);
+      const std::string sum = old && old->is_string() ? "(" + *old->value<std::string>() + ") + (" + force + ")" : force;
+      forces.insert_or_assign(coordinate, sum);
+    }
+  }
+  std::ostringstream out;
+  out << toml::toml_formatter(root);
+  return out.str();
+}
+
 std::string equations_source(const std::string& text) {
   toml::table root;
   try {
