@@ -61,3 +61,18 @@ def test_bicycle_upright_carries_its_static_wheel_loads(source):
     assert np.max(np.abs(run["rear.normal"] - rear)) < 1e-9 * rear
     assert np.max(np.abs(run["front.tangential"])) < 1e-9
     assert np.max(np.abs(run["rear.tangential"])) < 1e-9
+
+
+def test_cylinder_launched_sliding_rolls_at_the_closed_form(source):
+    """examples/sliding_cylinder.toml (on_slip = "slide"): rolling starts at t = v0/(3 mu g) with
+    x' = 2 v0/3 (docs/contacts.md, eq. (6)); friction mu m g before, none after."""
+    m, g, mu, v0 = 2.0, 9.81, 0.2, 3.0
+    run = nhc.Scene.load(str(source / "examples" / "sliding_cylinder.toml")).build("chetaev").simulate(outputs=20)
+    t_roll = v0 / (3 * mu * g)
+    assert [e.name for e in run.events] == ["floor.stick"]
+    assert abs(run.events[0].t - t_roll) < 1e-8
+    sliding, rolling = run.t < t_roll - 1e-7, run.t > t_roll + 1e-7
+    assert np.all(run["floor.state"][sliding] == 0) and np.all(run["floor.state"][rolling] == 1)
+    assert np.max(np.abs(run["floor.tangential"][sliding] - mu * m * g)) < 1e-9
+    assert np.max(np.abs(run["floor.tangential"][rolling])) < 1e-9
+    assert np.max(np.abs(run["x'"][rolling] - 2 * v0 / 3)) < 1e-8
