@@ -231,6 +231,9 @@ CommandRunner add_simulate_command(CLI::App& app) {
     // A contact with on_slip = "slide": the run switches between the rolling and the sliding model
     // (app/switched_run.hpp); in the plain IDA run only, like the events.
     const SceneContact* slide = variational || build_options.sensitivities ? nullptr : app::sliding_contact(scene_set);
+    if (!slide && app::sliding_contact(scene_set))
+      std::cerr << "note: contact '" << app::sliding_contact(scene_set)->name << "' slides (on_slip = \"slide\") in a plain IDA run only: "
+                << (variational ? "the variational integrator" : "the run with sensitivities") << " integrates the rolling model\n";
     FlaggedRun flagged;
     std::vector<std::string> switch_notes;
     std::vector<app::SlidingSpan> sliding_spans;
