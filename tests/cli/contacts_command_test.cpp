@@ -143,6 +143,39 @@ TEST_CASE("nhc simulate: [contacts] forces and slip against closed forms", "[cli
     }
     CHECK(std::abs(work - kM * v0 * v0 / 6) < 1e-8);  // m v0^2/6 in all
   }
+  SECTION("a torque k t: rolling, the slip at 3 mu m g r/(2 k), then sliding (closed forms)") {
+    // Rolling: x'' = k t/(3/2 m r), so x' = k t^2/(3 m r). Sliding: m x'' = mu m g, I th'' = k t - mu m g r.
+    const std::string path = dir + "/spin.toml";
+    std::ofstream(path) << "name = \"spin\"\ncoordinates = [\"x\", \"th\"]\n"
+                           "lagrangian = \"m/2*x'^2 + m*r^2/4*th'^2\"\nconstraints = [\"x' - r*th'\"]\n"
+                           "models = [\"chetaev\"]\n[parameters]\nm = 2.0\nr = 0.3\ng = 9.81\nk = 5.0\n"
+                           "[forces]\nth = \"k*t\"\n[initial]\nx = [0.0, 0.0]\nth = [0.0, 0.0]\n"
+                           "[simulate]\nt_end = 1.5\noutputs = 30\nrtol = 1e-10\natol = 1e-12\n"
+                           "[contacts.floor]\nnormal = \"m*g\"\nrolling = [1]\nmu = 0.5\non_slip = \"slide\"\n";
+    const Run r = run(nhc_command() + " simulate '" + path + "' -o '" + dir + "/spin.csv'", dir);
+    REQUIRE(r.exit_code == 0);
+    const double k = 5.0, mu = 0.5, inertia = kM * kR * kR / 2, ts = 3 * mu * kM * kG * kR / (2 * k);
+    const std::string events = read_file(dir + "/spin.events.csv");
+    REQUIRE(events.rfind("name,t\nfloor.slip,", 0) == 0);
+    CHECK(std::abs(std::stod(events.substr(std::string("name,t\nfloor.slip,").size())) - ts) < 1e-8);
+    auto c = columns(read_file(dir + "/spin.csv"));
+    const double vs = k * ts * ts / (3 * kM * kR);  // x' = r th' at the slip
+    for (std::size_t i = 0; i < c["t"].size(); ++i) {
+      const double t = c["t"][i];
+      if (t <= ts + 1e-8) {  // the last rolling row is the slip point
+        CHECK(c["floor.state"][i] == 1);
+        CHECK(std::abs(c["x'"][i] - k * t * t / (3 * kM * kR)) < 1e-8);
+      } else {
+        CHECK(c["floor.state"][i] == 0);
+        CHECK(std::abs(c["floor.tangential"][i] - mu * kM * kG) < 1e-9);
+        // The slip speed grows from 0 as (t - ts)^2 here: the Coulomb force, with |f| evaluated as
+        // sqrt(f.f + 1e-14), reaches mu m g after about 1e-4 s, which leaves 1.7e-6 in x'
+        // (docs/contacts.md, "Sliding").
+        CHECK(std::abs(c["x'"][i] - (vs + mu * kG * (t - ts))) < 3e-6);
+        CHECK(std::abs(c["th'"][i] - (vs / kR + (k * (t * t - ts * ts) / 2 - mu * kM * kG * kR * (t - ts)) / inertia)) < 3e-5);
+      }
+    }
+  }
   SECTION("bad [contacts]: exit 2 at FILE:LINE:COLUMN") {
     const auto refused = [&](const std::string& contact, const std::string& where, const std::string& message) {
       const std::string scene = incline(dir, contact);
