@@ -227,9 +227,7 @@ SwitchedRun simulate_switched(const Scene& scene, const SceneContact& contact, c
   runtime::InitialState start = sliding_now ? sliding_start(at) : initial;
   double t = initial.t0;
   bool first = true;
-  bool from_included = true;
-  SlidingSpan span{t, 0, true};
-  if (sliding_now) span.from_included = true;
+  SlidingSpan span{t, 0, true};  // the run starts sliding: [t0, ...
   for (int switches = 0;; ++switches) {
     std::vector<double> phase_times;
     for (double x : times)
@@ -360,7 +358,6 @@ SwitchedRun simulate_switched(const Scene& scene, const SceneContact& contact, c
       start = sliding_start(r);
       span = {hit.t, 0, false};
     }
-    from_included = false;
     sliding_now = !sliding_now;
     t = hit.t;
     first = false;
@@ -369,7 +366,6 @@ SwitchedRun simulate_switched(const Scene& scene, const SceneContact& contact, c
     span.to = INFINITY;
     out.sliding.push_back(span);
   }
-  (void)from_included;
   return out;
 }
 
