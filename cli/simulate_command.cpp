@@ -23,6 +23,7 @@
 #include "model_requirements.hpp"
 #include "nhc/analysis/model_analysis.hpp"
 #include "nhc/app/scene_events.hpp"
+#include "nhc/app/switched_run.hpp"
 #include "nhc/derive/models.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/io/atomic_file.hpp"
@@ -161,7 +162,8 @@ CommandRunner add_simulate_command(CLI::App& app) {
     const bool csv_to_stdout = options->output == "-";
     const std::vector<SceneEvent> scene_events = run_events(options->run, scene);
     // The event table beside the CSV (docs/scenes.md, [events]).
-    const bool write_event_table = !scene_events.empty() && !options->output.empty() && !csv_to_stdout;
+    const bool write_event_table = (!scene_events.empty() || app::sliding_contact(scene)) && !options->output.empty() &&
+                                   !csv_to_stdout;
     const std::string events_path = write_event_table ? app::events_csv_path(options->output) : std::string();
     // Every file the run reads: the scene and the --input series (nhc/io/output_path.hpp).
     std::vector<std::string> inputs = input_files(options->run.inputs);
@@ -181,8 +183,10 @@ CommandRunner add_simulate_command(CLI::App& app) {
     const auto inputs_start = Clock::now();
     const InputSignals input_signals = parse_input_signals(scene_set, options->run.inputs, t0, t_end);
     const double input_seconds = seconds_since(inputs_start);  // reading --input files is not deriving
+    // Initial values that violate a sliding contact's rolling constraints start it sliding
+    // (app/switched_run.hpp): the rolling model's check does not apply.
     const InitialPointCheck check =
-        check_initial_point(scene_set, kind, options->run.rtol.value_or(scene.simulate.rtol),
+        app::sliding_contact(scene_set) ? InitialPointCheck{} : check_initial_point(scene_set, kind, options->run.rtol.value_or(scene.simulate.rtol),
                             options->run.atol.value_or(scene.simulate.atol), options->run.repair);
     const double load_seconds = seconds_since(load_start) - input_seconds;
     jit::BuildOptions build_options;
@@ -211,7 +215,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
         if (bar) bar(at);
       };
     const std::vector<double> p = parameters_with_overrides(model, overrides);
-    const app::SceneOutputs outputs(scene_set, model, p);  // [outputs]: extra CSV columns
+    app::SceneOutputs outputs(scene_set, model, p);  // [outputs] and [contacts]: extra CSV columns
     for (const std::string& note : outputs.notes()) std::cerr << note << "\n";
     const std::vector<std::string> columns =
         options->columns.empty() ? std::vector<std::string>{}
@@ -224,8 +228,28 @@ CommandRunner add_simulate_command(CLI::App& app) {
     if (!events.empty() && (variational || build_options.sensitivities))
       std::cerr << "note: the scene's [events] are located by IDA in a plain run only: "
                 << (variational ? "the variational integrator" : "the run with sensitivities") << " ignores them\n";
-    const FlaggedRun flagged =
-        run_with_flags(options->run, model, p, initial, times, io, input_function(input_signals, model, p), events);
+    // A contact with on_slip = "slide": the run switches between the rolling and the sliding model
+    // (app/switched_run.hpp); in the plain IDA run only, like the events.
+    const SceneContact* slide = variational || build_options.sensitivities ? nullptr : app::sliding_contact(scene_set);
+    if (!slide && app::sliding_contact(scene_set))
+      std::cerr << "note: contact '" << app::sliding_contact(scene_set)->name << "' slides (on_slip = \"slide\") in a plain IDA run only: "
+                << (variational ? "the variational integrator" : "the run with sensitivities") << " integrates the rolling model\n";
+    FlaggedRun flagged;
+    std::vector<std::string> switch_notes;
+    std::vector<app::SlidingSpan> sliding_spans;
+    if (slide) {
+      const jit::LoadedModel sliding = jit::build(app::sliding_scene(scene_set, *slide), kind, build_options);
+      app::SwitchedRun switched = app::simulate_switched(scene_set, *slide, model, sliding.model(), p, initial, times, io,
+                                                         scene_events, input_function(input_signals, model, p));
+      flagged.run = std::move(switched.run);
+      switch_notes = std::move(switched.notes);
+      sliding_spans = switched.sliding;
+      std::vector<std::pair<double, double>> spans;
+      for (const app::SlidingSpan& s : switched.sliding) spans.emplace_back(s.from, s.to);
+      outputs.contacts().set_sliding(slide->name, spans, !switched.sliding.empty() && switched.sliding[0].from_included);
+    } else {
+      flagged = run_with_flags(options->run, model, p, initial, times, io, input_function(input_signals, model, p), events);
+    }
     const runtime::RunResult& run = flagged.run;
     std::optional<runtime::SensitivityRun> sensitivities;  // --sensitivity: the CSV comes from this run
     if (build_options.sensitivities)
@@ -253,7 +277,23 @@ CommandRunner add_simulate_command(CLI::App& app) {
 
     // Summary.
     const runtime::Statistics& st = run.statistics;
-    const runtime::DriftReport drift = runtime::measure_drift(model, p, run.samples);
+    // A contact that slid: the rolling model's hidden constraints and invariants hold while it
+    // rolls; the drift is measured over those samples.
+    std::vector<runtime::Sample> rolling_samples;
+    if (!sliding_spans.empty()) {
+      for (const runtime::Sample& s : run.samples) {
+        bool rolls = true;
+        for (std::size_t k = 0; k < sliding_spans.size(); ++k)
+          rolls = rolls && !((s.t > sliding_spans[k].from || (sliding_spans[k].from_included && s.t == sliding_spans[k].from)) &&
+                             s.t <= sliding_spans[k].to);
+        if (rolls) rolling_samples.push_back(s);
+      }
+      switch_notes.push_back("the drift above is measured over the samples where contact " + slide->name +
+                             " rolls (" + std::to_string(rolling_samples.size()) + " of " +
+                             std::to_string(run.samples.size()) + ")");
+    }
+    const runtime::DriftReport drift =
+        runtime::measure_drift(model, p, sliding_spans.empty() ? run.samples : rolling_samples);
     const bool started = !run.samples.empty();
     info << "nhc simulate: " << scene.name << ", model " << to_string(kind);
     if (started)
@@ -291,7 +331,12 @@ CommandRunner add_simulate_command(CLI::App& app) {
            << " (the constraints the steps solve; the hidden constraints above are evaluated at the\n"
               "  node velocities (q_{k+1} - q_{k-1})/2h and their interpolants, O(h^2): docs/variational.md)\n";
 
-    for (const runtime::EventHit& hit : run.events) info << "  " << app::event_line(hit) << "\n";
+    for (const std::string& line : outputs.contacts().need_lines(run.samples)) info << "  " << line << "\n";
+    for (const std::string& line : switch_notes) info << "  " << line << "\n";
+    for (const runtime::EventHit& hit : run.events) {  // a contact's slip in words (contact_forces.hpp)
+      const std::optional<std::string> slip = outputs.contacts().slip_line(hit);
+      info << "  " << (slip ? *slip : app::event_line(hit)) << "\n";
+    }
     if (write_event_table && started) {
       write_file_atomically(events_path, [&](std::ostream& out) { app::write_events_csv(out, run.events); });
       info << "  wrote " << events_path << " (" << run.events.size() << " event" << (run.events.size() == 1 ? "" : "s")

@@ -19,6 +19,7 @@
 #include "nhc/app/run_request.hpp"
 #include "nhc/app/scene_events.hpp"
 #include "nhc/app/scene_outputs.hpp"
+#include "nhc/app/switched_run.hpp"
 #include "nhc/analysis/structural_analysis.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/jit.hpp"
@@ -367,6 +368,14 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   std::map<std::string, long> extra;
   std::optional<double> max_discrete_constraint;
   if (variational) run_model = &built.variational_model();  // a build: symbolic work, with the GIL
+  // A contact with on_slip = "slide": the run switches between the rolling and the sliding model
+  // (app/switched_run.hpp), as nhc simulate's.
+  const SceneContact* slide = variational ? nullptr : app::sliding_contact(built.scene);
+  std::shared_ptr<jit::LoadedModel> sliding;
+  if (slide)
+    sliding = std::make_shared<jit::LoadedModel>(
+        symbolic_work([&] { return jit::build(app::sliding_scene(built.scene, *slide), built.kind); }));
+  std::vector<app::SlidingSpan> sliding_spans;
   try {
     py::gil_scoped_release unlocked;
     const runtime::InitialState initial = runtime::initial_state_from(model, t0, built.scene.initial.values);
@@ -376,6 +385,11 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
       run = std::move(v.run);
       max_discrete_constraint = v.max_discrete_constraint;
       extra["newton_iterations"] = run.statistics.nonlinear_iterations;
+    } else if (slide) {
+      app::SwitchedRun switched = app::simulate_switched(built.scene, *slide, model, sliding->model(), p, initial, times,
+                                                         options, scene_events, input_function);
+      run = std::move(switched.run);
+      sliding_spans = std::move(switched.sliding);
     } else {
       run = runtime::simulate(model, p, initial, times, options, events, input_function);
     }
@@ -386,11 +400,16 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   if (input_failure && *input_failure) throw std::move(**input_failure);
   if (*interrupt.raised) throw std::move(**interrupt.raised);
   if (run.failure && run.samples.empty()) throw *run.failure;
-  // The scene's [outputs] after the model's columns, as nhc simulate's CSV has them (an output
+  // The scene's [outputs] and [contacts] after the model's columns, as nhc simulate's CSV has them (an output
   // the model does not compute is left out; a required one is a SceneError).
   py::object columns = built.columns();
   std::optional<app::SceneOutputs> scene_outputs;
-  if (!built.scene.outputs.empty()) scene_outputs.emplace(built.scene, *run_model, p);
+  if (!built.scene.outputs.empty() || !built.scene.contacts.empty()) scene_outputs.emplace(built.scene, *run_model, p);
+  if (slide && scene_outputs) {
+    std::vector<std::pair<double, double>> spans;
+    for (const app::SlidingSpan& s : sliding_spans) spans.emplace_back(s.from, s.to);
+    scene_outputs->contacts().set_sliding(slide->name, spans, !sliding_spans.empty() && sliding_spans[0].from_included);
+  }
   std::size_t n_columns = built.columns().size();
   std::function<void(std::size_t, std::vector<double>&)> output_values;
   if (scene_outputs && !scene_outputs->empty()) {

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "nhc/derive/discrete_lagrange_dalembert.hpp"
+#include "nhc/app/contact_forces.hpp"
 #include "nhc/app/scene_events.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/expr/jet_space.hpp"
@@ -109,6 +110,8 @@ void check_run_request(const RunRequest& r, const Scene& scene, ModelKind kind, 
 
 std::vector<SceneEvent> run_events(const RunRequest& r, const Scene& scene, const FieldNames& names) {
   std::vector<SceneEvent> events = scene.events;
+  const std::vector<SceneEvent> slips = slip_events(scene);  // [contacts] on_slip = "stop"
+  events.insert(events.end(), slips.begin(), slips.end());
   if (!r.stop_when) return events;
   if (r.variational)
     refuse(names.stop_when, names.stop_when + ": events are located by IDA's root finding; " + names.variational +

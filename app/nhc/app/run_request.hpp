@@ -65,7 +65,8 @@ std::vector<double> run_output_times(const RunRequest& request, const Scene& sce
 /// Equally spaced output times from t0 to t_end; InputError at `fields` where they collapse.
 std::vector<double> equally_spaced_output_times(double t0, double t_end, long long intervals, const std::string& fields);
 
-/// The events of the run: the scene's [events], then the request's stop_when (scene_events.hpp).
+/// The events of the run: the scene's [events], the slips of its [contacts] (contact_forces.hpp),
+/// then the request's stop_when (scene_events.hpp).
 /// stop_when with the variational integrator is refused (IDA locates events; the fixed-step
 /// integrator does not). InputError at the field.
 std::vector<SceneEvent> run_events(const RunRequest& request, const Scene& scene, const FieldNames& names);

@@ -48,6 +48,7 @@ std::vector<runtime::Event> runtime_events(const std::vector<SceneEvent>& events
     runtime::Event e;
     e.name = event.name;
     e.terminal = event.action == EventAction::stop;
+    e.met_below_at_start = event.met_below_at_start;
     e.direction = event.direction == EventDirection::up ? 1 : event.direction == EventDirection::down ? -1 : 0;
     e.function = [expression, sample, n](double t, const double* y, const double* yp) {
       sample->t = t;

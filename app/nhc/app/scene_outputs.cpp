@@ -8,7 +8,7 @@
 namespace nhc::app {
 
 SceneOutputs::SceneOutputs(const Scene& scene, const runtime::Model& model, const std::vector<double>& p)
-    : expressions_(scene, model, p) {
+    : expressions_(scene, model, p), contacts_(scene, model, p) {
   const auto left_out = [&](const SceneQuantity& q, const std::string& what, const std::string& missing) {
     const std::string why = "uses " + missing + ", which the " + model.model_name() + " model does not compute";
     if (q.required) throw InputError(q.where, what + " '" + q.name + "' " + why);
@@ -31,8 +31,15 @@ SceneOutputs::SceneOutputs(const Scene& scene, const runtime::Model& model, cons
     const std::string missing = expressions_.missing(invariant.expression);
     left_out(invariant, "invariant", missing.empty() ? "a quantity" : missing);
   }
+  names_.insert(names_.end(), contacts_.names().begin(), contacts_.names().end());
+  notes_.insert(notes_.end(), contacts_.notes().begin(), contacts_.notes().end());
 }
 
-std::vector<double> SceneOutputs::evaluate(const runtime::Sample& sample) const { return expressions_.evaluate(sample); }
+std::vector<double> SceneOutputs::evaluate(const runtime::Sample& sample) const {
+  std::vector<double> values = expressions_.evaluate(sample);
+  const std::vector<double> forces = contacts_.evaluate(sample);
+  values.insert(values.end(), forces.begin(), forces.end());
+  return values;
+}
 
 }  // namespace nhc::app

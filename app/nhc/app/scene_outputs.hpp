@@ -4,6 +4,7 @@
 /// derivatives and the multipliers) evaluated on the samples of a run, as extra CSV columns of
 /// `nhc simulate`. They are not invariants: nothing checks them for drift.
 
+#include "nhc/app/contact_forces.hpp"
 #include <ginac/ginac.h>
 
 #include <string>
@@ -25,9 +26,13 @@ class SceneOutputs {
 
   /// One line per [outputs] or [invariants] entry this model leaves out ("note: …").
   const std::vector<std::string>& notes() const noexcept { return notes_; }
+  /// The contacts' forces ([contacts]), whose columns names() and evaluate() end with.
+  const ContactForces& contacts() const noexcept { return contacts_; }
+  ContactForces& contacts() noexcept { return contacts_; }
 
   bool empty() const noexcept { return names_.empty(); }
-  /// The column names, in the order of [outputs] in the scene file.
+  /// The column names, in the order of [outputs] in the scene file, then the contacts' force
+  /// columns (contact_forces.hpp).
   const std::vector<std::string>& names() const noexcept { return names_; }
   /// The outputs at one sample; NaN where an expression is not a finite real number there
   /// (sqrt of a negative number, a division by zero).
@@ -37,6 +42,7 @@ class SceneOutputs {
   std::vector<std::string> names_;
   std::vector<std::string> notes_;
   app::SampleExpressions expressions_;
+  ContactForces contacts_;
 };
 
 }  // namespace nhc::app

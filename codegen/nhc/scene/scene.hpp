@@ -60,6 +60,24 @@ struct SceneEvent {
   SourceLocation where;   ///< the expression's place in the scene file (or the flag)
   EventDirection direction = EventDirection::any;
   EventAction action = EventAction::stop;
+  /// Also met at t0 when the value starts below zero (a contact that slips from the start).
+  bool met_below_at_start = false;
+};
+
+/// One entry of [contacts]: the normal force (an expression, or a multiplier of a holonomic
+/// contact constraint), the rolling constraints whose multipliers are the tangential force's
+/// components, the friction coefficient and what a slip does (docs/scenes.md, "Contacts";
+/// docs/contacts.md).
+enum class SlipAction { stop, slide };
+struct SceneContact {
+  std::string name;
+  GiNaC::ex normal;           ///< F_n(t, q, q', …, λ)
+  std::string normal_text;    ///< as written
+  SourceLocation where;       ///< the contact's table in the scene file
+  SourceLocation on_slip_where;
+  std::vector<int> rolling;   ///< 0-based constraint indices: the slip velocity's components
+  double mu = 0;
+  SlipAction on_slip = SlipAction::stop;
 };
 
 /// [reference]: closed forms q(t) of coordinates, for every model, and per model
@@ -123,6 +141,7 @@ struct Scene {
   std::vector<SceneQuantity> invariants;  ///< [invariants]: I(t, q, q', …, λ), checked for drift
   std::vector<SceneQuantity> outputs;     ///< [outputs], in file order
   std::vector<SceneEvent> events;         ///< [events], in file order
+  std::vector<SceneContact> contacts;     ///< [contacts], in file order
   /// Generalized non-conservative forces Q_i(t, q, q') of [forces], one per coordinate (0 when
   /// not given); every model adds Q_i to its residual R_i (docs/forces.md).
   std::vector<GiNaC::ex> forces;
@@ -179,6 +198,14 @@ void reevaluate_initial_expressions(Scene& scene);
 /// cache finds one header for every start and tolerance (nhc/jit/scene_cache.hpp). `text` must
 /// be a scene parse_scene() accepted; text that is not TOML comes back unchanged.
 std::string equations_source(const std::string& text);
+
+/// The scene text of a switched model (docs/contacts.md, "Sliding"): the constraints `removed`
+/// (0-based) dropped, `added_forces` (coordinate name -> expression) added to [forces], the
+/// multipliers' entries of [initial] dropped (the remaining ones are renumbered), and the tables
+/// that name multipliers or steer the run ([contacts], [events], [outputs], [invariants],
+/// [reference], [visual], [optimize]) removed. The text as given when it is not TOML.
+std::string switched_source(const std::string& text, const std::set<int>& removed,
+                            const std::map<std::string, std::string>& added_forces);
 
 /// True for C++ keywords and alternative tokens (and, or, …), which a scene may not use as names.
 bool is_cpp_keyword(const std::string& name);

@@ -176,7 +176,7 @@ class SceneReader {
 
     check_keys(root, {"name", "coordinates", "lagrangian", "constraints", "dependent", "models",
                       "parameters", "initial", "simulate", "reference", "invariants",
-                      "definitions", "forces", "outputs", "inputs", "visual", "events",
+                      "definitions", "forces", "outputs", "inputs", "visual", "events", "contacts",
                       "optimize"});  // read by nhc::optimize (read_settings)
 
     Scene scene;
@@ -332,6 +332,7 @@ class SceneReader {
       scene.invariants = read_quantities(*in, "invariants", "invariant", *scene.jet, multipliers_allowed(mechanics));
     read_outputs(root, scene, mechanics);
     read_events(root, scene, mechanics);
+    read_contacts(root, scene, mechanics);
     read_forces(root, scene, mechanics);
     read_visuals(root, scene, mechanics);
     definitions.resolve_all();
@@ -546,6 +547,54 @@ class SceneReader {
         else fail(*a, "action '" + printable(text) + "': stop or record");
       }
       scene.events.push_back(std::move(event));
+    }
+  }
+
+  /// [contacts.NAME]: normal = "expression" (or a multiplier's name), rolling = [1-based constraint
+  /// indices], mu = number >= 0, on_slip = "stop"|"slide" (docs/scenes.md, "Contacts").
+  void read_contacts(const toml::table& root, Scene& scene, const ExpressionRules& rules) {
+    const toml::node* node = root.get("contacts");
+    if (!node) return;
+    std::set<int> claimed;  // a rolling constraint belongs to one contact
+    for (const auto& [key, value] : entries_in_file_order(*node, "contacts")) {
+      const std::string n(key->str());
+      check_variable_name_at(at(key->source()), n, "contact");
+      const toml::table* t = value->as_table();
+      if (!t)
+        fail(*value, "contact '" + n + "' must be a table: [contacts." + n +
+                         "] with normal = \"m*g\", rolling = [1, 2], mu = 0.5");
+      check_keys(*t, {"normal", "rolling", "mu", "on_slip"});
+      SceneContact contact;
+      contact.name = n;
+      contact.where = at(key->source());
+      const toml::node& normal = require(*t, "normal", "contacts." + n);
+      contact.normal_text = string_value(normal, "normal");
+      contact.normal = expression(normal, "the normal force of contact '" + n + "'", *scene.jet,
+                                  multipliers_allowed(rules));
+      const toml::node& rolling = require(*t, "rolling", "contacts." + n);
+      const toml::array& indices = array_value(rolling, "rolling");
+      if (indices.empty()) fail(rolling, "'rolling' of contact '" + n + "' is empty: name the rolling constraints");
+      for (const toml::node& i : indices) {
+        if (!i.is_integer()) fail(i, "a rolling constraint is a 1-based index into 'constraints', not " + type_name(i));
+        const int64_t k = *i.value<int64_t>();
+        if (k < 1 || k > scene.constraint_count())
+          fail(i, "rolling constraint " + std::to_string(k) + " is not one of the scene's " +
+                      std::to_string(scene.constraint_count()) + " constraints (1-based)");
+        if (!claimed.insert(static_cast<int>(k)).second)
+          fail(i, "constraint " + std::to_string(k) + " is already a rolling constraint of a contact");
+        contact.rolling.push_back(static_cast<int>(k - 1));
+      }
+      const toml::node& mu = require(*t, "mu", "contacts." + n);
+      contact.mu = number_value(mu, "mu");
+      if (contact.mu < 0) fail(mu, "mu must not be negative");
+      if (const toml::node* s = t->get("on_slip")) {
+        const std::string text = string_value(*s, "on_slip");
+        if (text == "stop") contact.on_slip = SlipAction::stop;
+        else if (text == "slide") contact.on_slip = SlipAction::slide;
+        else fail(*s, "on_slip '" + printable(text) + "': stop or slide");
+        contact.on_slip_where = at(*s);
+      }
+      scene.contacts.push_back(std::move(contact));
     }
   }
 
@@ -995,6 +1044,44 @@ Scene parse_scene(const std::string& text, const std::string& path, const SceneO
   return scene;
 }
 
+std::string switched_source(const std::string& text, const std::set<int>& removed,
+                            const std::map<std::string, std::string>& added_forces) {
+  toml::table root;
+  try {
+    root = toml::parse(text);
+  } catch (const toml::parse_error&) {
+    return text;
+  }
+  for (const char* table : {"contacts", "events", "outputs", "invariants", "reference", "visual", "optimize"})
+    root.erase(table);
+  if (toml::array* constraints = root["constraints"].as_array()) {
+    toml::array kept;
+    for (std::size_t k = 0; k < constraints->size(); ++k)
+      if (!removed.count(static_cast<int>(k))) kept.push_back(*(*constraints)[k].as_string());
+    if (kept.empty()) root.erase("constraints");
+    else root.insert_or_assign("constraints", kept);
+  }
+  root.erase("dependent");  // one per constraint: the suslov model's, not the switched model's
+  if (toml::table* initial = root["initial"].as_table()) {
+    std::vector<std::string> multipliers;
+    for (auto&& [key, value] : *initial)
+      if (looks_like_multiplier(std::string(key.str()))) multipliers.emplace_back(key.str());
+    for (const std::string& key : multipliers) initial->erase(key);  // guesses; the run's own values follow
+  }
+  if (!added_forces.empty()) {
+    if (!root.contains("forces")) root.insert("forces", toml::table{});
+    toml::table& forces = *root["forces"].as_table();
+    for (const auto& [coordinate, force] : added_forces) {
+      const toml::node* old = forces.get(coordinate);
+      const std::string sum = old && old->is_string() ? "(" + *old->value<std::string>() + ") + (" + force + ")" : force;
+      forces.insert_or_assign(coordinate, sum);
+    }
+  }
+  std::ostringstream out;
+  out << toml::toml_formatter(root);
+  return out.str();
+}
+
 std::string equations_source(const std::string& text) {
   toml::table root;
   try {
@@ -1007,6 +1094,7 @@ std::string equations_source(const std::string& text) {
   root.erase("optimize");  // steers nhc optimize, not part of the equations
   root.erase("visual");  // drawn from the run, not part of the equations
   root.erase("events");  // located along the run, not part of the equations
+  root.erase("contacts");  // forces read from the multipliers along the run
   std::ostringstream out;
   out << toml::toml_formatter(root);
   return out.str();

@@ -109,6 +109,7 @@ struct Integrator::Impl {
   IntegratorOptions options;
   std::vector<Event> user_events;
   std::vector<EventHit> hits;
+  bool start_events_checked = false;  // Event::met_below_at_start, once per run
 
   sd::Context ctx;
   sd::Vector y, yp, id, work;
@@ -683,6 +684,21 @@ void Integrator::integrate(const std::vector<double>& times, const std::function
       deliver(out);
     }
     ++next;
+  }
+  if (!s.start_events_checked) {  // conditions that fail at the initial point (Event::met_below_at_start)
+    s.start_events_checked = true;
+    bool stop = false;
+    for (const Event& e : s.user_events) {
+      if (!e.met_below_at_start) continue;
+      const double value = e.function(s.t, s.y_last.data(), s.yp_last.data());
+      if (!(value < 0)) continue;
+      s.hits.push_back({e.name, s.t, s.y_last, s.yp_last});
+      stop = stop || e.terminal;
+    }
+    if (stop) {
+      emit_last_accepted();
+      return;
+    }
   }
   if (next == times.size()) return;
   s.check(IDASetStopTime(s.ida, t_final), "setting the stop time");

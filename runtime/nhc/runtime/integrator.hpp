@@ -108,6 +108,9 @@ struct Event {
   bool terminal = false;
   /// The crossings that count: +1 increasing only, -1 decreasing only, 0 both (IDASetRootDirection).
   int direction = 0;
+  /// Also met at the initial point when `function` starts below zero there (a condition that
+  /// fails from the start, as a contact that slips at t0); IDA reports crossings only.
+  bool met_below_at_start = false;
 };
 
 struct EventHit {
