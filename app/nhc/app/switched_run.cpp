@@ -10,7 +10,7 @@
 #include "nhc/app/sample_expressions.hpp"
 #include "nhc/app/scene_events.hpp"
 #include "nhc/errors.hpp"
-#include "nhc/jet/intermediate.hpp"
+#include "nhc/expr/intermediate.hpp"
 #include "nhc/runtime/number_text.hpp"
 
 namespace nhc::app {
