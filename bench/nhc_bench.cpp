@@ -214,6 +214,10 @@ std::pair<long long, long long> joint_residual_jacobian_ops(const nhc::Index1Sys
   in[system.jet->time()] = "t";
   for (size_t k = 0; k < system.jet->parameters().size(); ++k)
     in[system.jet->parameter(static_cast<int>(k))] = "p[" + std::to_string(k) + "]";
+  // The inputs after the parameters (docs/generated-code.md, "Input additions"): the bicycle's Tphi.
+  const std::size_t n_parameters = system.jet->parameters().size();
+  for (std::size_t k = 0; k < system.jet->inputs().size(); ++k)
+    in[system.jet->input(static_cast<int>(k))] = "p[" + std::to_string(n_parameters + k) + "]";
   for (size_t k = 0; k < system.y.size(); ++k) in[system.y[k]] = "y[" + std::to_string(k) + "]";
   for (size_t k = 0; k < system.yp.size(); ++k) in[system.yp[k]] = "yp[" + std::to_string(k) + "]";
   in[jac.cj] = "cj";
