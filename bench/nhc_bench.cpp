@@ -41,6 +41,7 @@
 #include "nhc/analysis/index1_reduction.hpp"
 #include "nhc/derive/models.hpp"
 #include "nhc/jet/common_arguments.hpp"
+#include "nhc/jet/common_factors.hpp"
 #include "nhc/jet/expression_dag.hpp"
 #include "nhc/emit/header_emitter.hpp"
 #include "nhc/jit.hpp"
@@ -206,8 +207,8 @@ std::string banner_counts(const std::string& text) {
 
 /// Operations after CSE of the residual and the Jacobian lowered into one DAG (one function
 /// computing both, as sympy.cse of both lists does), without and with CSE; CSE is what the
-/// header gets: hash-consing, then common pairs of operands shared (common_arguments.hpp, as
-/// sympy.cse's opt_cse).
+/// header gets: hash-consing, common factors taken out of sums (common_factors.hpp), then common
+/// pairs of operands shared (common_arguments.hpp, as sympy.cse's opt_cse).
 std::pair<long long, long long> joint_residual_jacobian_ops(const nhc::Index1System& system) {
   const nhc::SymbolicJacobian jac = nhc::index1_jacobian(system);
   std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> in;
@@ -227,7 +228,7 @@ std::pair<long long, long long> joint_residual_jacobian_ops(const nhc::Index1Sys
   for (const auto& e : jac.values)
     if (!e.is_zero()) outputs.push_back(dag.add(e));
   const long long before = nhc::tree_operation_count(dag, outputs).total();
-  const nhc::ExpressionDag shared = nhc::share_common_arguments(dag, outputs);
+  const nhc::ExpressionDag shared = nhc::share_common_arguments(nhc::factor_common_terms(dag, outputs), outputs);
   return {before, nhc::dag_operation_count(shared, outputs).total()};
 }
 

@@ -14,10 +14,10 @@
 //   jacobian                         163      39
 //   hidden_constraints                 6       6
 //   hidden_constraints_jacobian       14       9
-//   invariants                        15      15
+//   invariants                        12      12
 //   reference                          6       4
 //   singular_quantities                3       3
-//   total                            249     100
+//   total                            246      97
 
 #pragma once
 
@@ -192,7 +192,7 @@ inline void hidden_constraints_jacobian(double /*t*/, const double* y, const dou
 
 /// The scene's invariants I(t, y, y'), in invariant_names order.
 inline void invariants(double /*t*/, const double* y, const double* /*yp*/, const double* p, double* out) noexcept {
-  out[0] = 0.5 * (y[1] * y[1]) + 0.5 * (y[5] * y[5]) + 0.5 * (y[3] * y[3]) + p[1] * p[1] * 0.5 * (y[2] * y[2] + y[0] * y[0]);  // energy
+  out[0] = 0.5 * (y[1] * y[1] + y[3] * y[3] + y[5] * y[5] + p[1] * p[1] * (y[2] * y[2] + y[0] * y[0]));  // energy
 }
 
 /// The scene's reference solution q_c(t) for the coordinates reference_coordinate.

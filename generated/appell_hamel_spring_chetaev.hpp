@@ -10,14 +10,14 @@
 //
 // Floating-point operations (+, -, *, /, calls) without and with common-subexpression
 // elimination:
-//   residual                          64      43
+//   residual                          62      42
 //   jacobian                         179      41
 //   hidden_constraints                 7       7
 //   hidden_constraints_jacobian       16      10
-//   invariants                        10      10
+//   invariants                         9       9
 //   reference                         39      20
 //   singular_quantities                3       3
-//   total                            318     134
+//   total                            315     132
 
 #pragma once
 
@@ -123,14 +123,13 @@ inline constexpr const char* singular_names[n_singular] = {"y' * y' + x' * x'"};
 
 /// F(t, y, y') = 0, IDA form; r has n_states entries.
 inline void residual(double t, const double* y, const double* yp, const double* p, double* r) noexcept {
-  const double w0 = p[0] * p[5];
-  const double w1 = p[2] / (std::sqrt(y[1] * y[1] + y[3] * y[3]) * p[1]);
-  const double w2 = y[1] * w1;
-  const double w3 = y[3] * w1;
-  r[0] = t * w0 - p[0] * y[0] - w2 * y[6] - w0 * (0.20000000000000001 * (std::sqrt(5.0) * (p[3] / (p[1] * p[1] + p[2] * p[2]) * (p[1] * p[2]) * (t * t)))) - p[4] * yp[1];  // R_x
-  r[1] = -p[4] * yp[3] - y[6] * w3;  // R_y
-  r[2] = y[6] - p[4] * yp[5] - p[4] * p[3];  // R_z
-  r[3] = yp[5] - w2 * yp[1] - yp[3] * w3;  // D f1
+  const double w0 = p[2] / (std::sqrt(y[1] * y[1] + y[3] * y[3]) * p[1]);
+  const double w1 = y[1] * w0;
+  const double w2 = y[3] * w0;
+  r[0] = p[0] * (t * p[5] - y[0]) - p[0] * p[5] * (0.20000000000000001 * (std::sqrt(5.0) * (p[3] / (p[1] * p[1] + p[2] * p[2]) * (p[1] * p[2]) * (t * t)))) - w1 * y[6] - p[4] * yp[1];  // R_x
+  r[1] = -p[4] * yp[3] - y[6] * w2;  // R_y
+  r[2] = y[6] + p[4] * (-yp[5] - p[3]);  // R_z
+  r[3] = yp[5] - w1 * yp[1] - yp[3] * w2;  // D f1
   r[4] = yp[0] - y[1];  // chain x' = x'
   r[5] = yp[2] - y[3];  // chain y' = y'
   r[6] = yp[4] - y[5];  // chain z' = z'
@@ -191,7 +190,7 @@ inline void hidden_constraints_jacobian(double /*t*/, const double* y, const dou
 
 /// The scene's invariants I(t, y, y'), in invariant_names order.
 inline void invariants(double /*t*/, const double* y, const double* /*yp*/, const double* p, double* out) noexcept {
-  out[0] = p[4] * 0.5 * (y[1] * y[1] + y[3] * y[3] + y[5] * y[5]) + p[4] * p[3] * y[4];  // energy
+  out[0] = p[4] * (0.5 * (y[1] * y[1] + y[3] * y[3] + y[5] * y[5]) + y[4] * p[3]);  // energy
 }
 
 /// The scene's reference solution q_c(t) for the coordinates reference_coordinate.
