@@ -40,6 +40,8 @@
 
 #include "nhc/analysis/index1_reduction.hpp"
 #include "nhc/derive/models.hpp"
+#include "nhc/expr/common_arguments.hpp"
+#include "nhc/expr/common_factors.hpp"
 #include "nhc/expr/expression_dag.hpp"
 #include "nhc/emit/header_emitter.hpp"
 #include "nhc/jit.hpp"
@@ -204,13 +206,19 @@ std::string banner_counts(const std::string& text) {
 }
 
 /// Operations after CSE of the residual and the Jacobian lowered into one DAG (one function
-/// computing both, as sympy.cse of both lists does), without and with CSE.
+/// computing both, as sympy.cse of both lists does), without and with CSE; CSE is what the
+/// header gets: hash-consing, common factors taken out of sums (common_factors.hpp), then common
+/// pairs of operands shared (common_arguments.hpp, as sympy.cse's opt_cse).
 std::pair<long long, long long> joint_residual_jacobian_ops(const nhc::Index1System& system) {
   const nhc::SymbolicJacobian jac = nhc::index1_jacobian(system);
   std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> in;
   in[system.jet->time()] = "t";
   for (size_t k = 0; k < system.jet->parameters().size(); ++k)
     in[system.jet->parameter(static_cast<int>(k))] = "p[" + std::to_string(k) + "]";
+  // The inputs after the parameters (docs/generated-code.md, "Input additions"): the bicycle's Tphi.
+  const std::size_t n_parameters = system.jet->parameters().size();
+  for (std::size_t k = 0; k < system.jet->inputs().size(); ++k)
+    in[system.jet->input(static_cast<int>(k))] = "p[" + std::to_string(n_parameters + k) + "]";
   for (size_t k = 0; k < system.y.size(); ++k) in[system.y[k]] = "y[" + std::to_string(k) + "]";
   for (size_t k = 0; k < system.yp.size(); ++k) in[system.yp[k]] = "yp[" + std::to_string(k) + "]";
   in[jac.cj] = "cj";
@@ -219,7 +227,9 @@ std::pair<long long, long long> joint_residual_jacobian_ops(const nhc::Index1Sys
   for (const auto& r : system.residuals) outputs.push_back(dag.add(r));
   for (const auto& e : jac.values)
     if (!e.is_zero()) outputs.push_back(dag.add(e));
-  return {nhc::tree_operation_count(dag, outputs).total(), nhc::dag_operation_count(dag, outputs).total()};
+  const long long before = nhc::tree_operation_count(dag, outputs).total();
+  const nhc::ExpressionDag shared = nhc::share_common_arguments(nhc::factor_common_terms(dag, outputs), outputs);
+  return {before, nhc::dag_operation_count(shared, outputs).total()};
 }
 
 struct Integration {

@@ -233,6 +233,13 @@ if command -v perf > /dev/null; then
     NHC_STARTUP_REPEAT=$([ $quick = 1 ] && echo 5 || echo 30) bench/startup.sh "$nhc" || echo "(bench/startup.sh failed)"
   } >> "$results/results.md"
 fi
+# Issue 50: cold `nhc simulate` (empty caches, --backend auto) of the bicycle, the rattleback and
+# the knife chain N = 512, and their results against --backend compiled (bench/cold_simulate.sh).
+"$python" bench/knife_chain.py "$out/scenes" 512 > /dev/null
+{ echo; echo "## Cold nhc simulate (issue 50, bench/cold_simulate.sh)"; echo
+  bench/cold_simulate.sh "$nhc" examples/whipple/whipple_bicycle.toml examples/rattleback.toml \
+    "$out/scenes/knife_chain_512.toml" || echo "(bench/cold_simulate.sh failed)"
+} >> "$results/results.md"
 # Issue 49: nhc optimize on the car parking, the wheeled pendulum and the Heisenberg loop with the
 # generated derivatives against IPOPT's approximations (bench/optimize.py, which also writes
 # bench/optimize.md). Not with --quick: the approximations take minutes. Its table is appended.

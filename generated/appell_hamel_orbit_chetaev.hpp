@@ -10,14 +10,14 @@
 //
 // Floating-point operations (+, -, *, /, calls) without and with common-subexpression
 // elimination:
-//   residual                          42      28
-//   jacobian                         163      48
+//   residual                          42      24
+//   jacobian                         163      39
 //   hidden_constraints                 6       6
-//   hidden_constraints_jacobian       14      10
-//   invariants                        15      15
+//   hidden_constraints_jacobian       14       9
+//   invariants                        12      12
 //   reference                          6       4
 //   singular_quantities                3       3
-//   total                            249     114
+//   total                            246      97
 
 #pragma once
 
@@ -124,12 +124,13 @@ inline constexpr const char* singular_names[n_singular] = {"y' * y' + x' * x'"};
 /// F(t, y, y') = 0, IDA form; r has n_states entries.
 inline void residual(double /*t*/, const double* y, const double* yp, const double* p, double* r) noexcept {
   const double w0 = p[1] * p[1];
-  const double w1 = std::sqrt(y[1] * y[1] + y[3] * y[3]);
-  const double w2 = p[0] * y[3];
-  r[0] = -w0 * y[0] - p[0] * y[6] * y[1] / w1 - yp[1];  // R_x
-  r[1] = -w0 * y[2] - y[6] * w2 / w1 - yp[3];  // R_y
+  const double w1 = p[0] / std::sqrt(y[1] * y[1] + y[3] * y[3]);
+  const double w2 = w1 * y[1];
+  const double w3 = y[3] * w1;
+  r[0] = -w0 * y[0] - y[6] * w2 - yp[1];  // R_x
+  r[1] = -w0 * y[2] - w3 * y[6] - yp[3];  // R_y
   r[2] = y[6] - yp[5];  // R_z
-  r[3] = yp[5] - y[1] * (p[0] * yp[1]) / w1 - yp[3] * w2 / w1;  // D f1
+  r[3] = yp[5] - w3 * yp[3] - w2 * yp[1];  // D f1
   r[4] = yp[0] - y[1];  // chain x' = x'
   r[5] = yp[2] - y[3];  // chain y' = y'
   r[6] = yp[4] - y[5];  // chain z' = z'
@@ -140,36 +141,36 @@ inline void jacobian(double /*t*/, const double* y, const double* yp, double cj,
   for (int k = 0; k < n_states * n_states; ++k) J[k] = 0.0;
   const double w0 = -(p[1] * p[1]);
   const double w1 = y[1] * y[1];
-  const double w2 = p[0] * y[6];
-  const double w3 = y[3] * y[3];
-  const double w4 = w1 + w3;
-  const double w5 = std::sqrt(w4);
-  const double w6 = w5 * w4;
-  const double w7 = cj + w2 / w5;
-  const double w8 = p[0] * y[3];
-  const double w9 = w8 * y[1];
-  const double w10 = w9 * y[6] / w6;
-  const double w11 = p[0] * yp[1];
-  const double w12 = p[0] * y[1];
-  const double w13 = p[0] * yp[3];
+  const double w2 = y[3] * y[3];
+  const double w3 = w1 + w2;
+  const double w4 = std::sqrt(w3);
+  const double w5 = p[0] / (w4 * w3);
+  const double w6 = w5 * w1;
+  const double w7 = p[0] / w4;
+  const double w8 = w7 * y[6] + cj;
+  const double w9 = y[3] * y[1] * w5;
+  const double w10 = w9 * y[6];
+  const double w11 = w7 * y[1];
+  const double w12 = w5 * w2;
+  const double w13 = y[3] * w7;
   J[0] = w0;  // (0, 0)
   J[4] = cj;  // (4, 0)
-  J[7] = w1 * w2 / w6 - w7;  // (0, 1)
+  J[7] = w6 * y[6] - w8;  // (0, 1)
   J[8] = w10;  // (1, 1)
-  J[10] = w9 * yp[3] / w6 + w1 * w11 / w6 - w11 / w5 - w12 * cj / w5;  // (3, 1)
+  J[10] = w6 * yp[1] + w9 * yp[3] - cj * w11 - w7 * yp[1];  // (3, 1)
   J[11] = -1.0;  // (4, 1)
   J[15] = w0;  // (1, 2)
   J[19] = cj;  // (5, 2)
   J[21] = w10;  // (0, 3)
-  J[22] = w2 * w3 / w6 - w7;  // (1, 3)
-  J[24] = w3 * w13 / w6 + w9 * yp[1] / w6 - w8 * cj / w5 - w13 / w5;  // (3, 3)
+  J[22] = y[6] * w12 - w8;  // (1, 3)
+  J[24] = w9 * yp[1] + yp[3] * w12 - w13 * cj - w7 * yp[3];  // (3, 3)
   J[26] = -1.0;  // (5, 3)
   J[34] = cj;  // (6, 4)
   J[37] = -cj;  // (2, 5)
   J[38] = cj;  // (3, 5)
   J[41] = -1.0;  // (6, 5)
-  J[42] = -(w12 / w5);  // (0, 6)
-  J[43] = -(w8 / w5);  // (1, 6)
+  J[42] = -w11;  // (0, 6)
+  J[43] = -w13;  // (1, 6)
   J[44] = 1.0;  // (2, 6)
 }
 
@@ -183,15 +184,15 @@ inline void hidden_constraints(double /*t*/, const double* y, const double* p, d
 /// G = dg/dy, column-major n_hidden x n_states.
 inline void hidden_constraints_jacobian(double /*t*/, const double* y, const double* p, double* G) noexcept {
   for (int k = 0; k < n_hidden * n_states; ++k) G[k] = 0.0;
-  const double w0 = std::sqrt(y[1] * y[1] + y[3] * y[3]);
-  G[1] = -(p[0] * y[1] / w0);  // (0, 1)
-  G[3] = -(p[0] * y[3] / w0);  // (0, 3)
+  const double w0 = p[0] / std::sqrt(y[1] * y[1] + y[3] * y[3]);
+  G[1] = -(w0 * y[1]);  // (0, 1)
+  G[3] = -(y[3] * w0);  // (0, 3)
   G[5] = 1.0;  // (0, 5)
 }
 
 /// The scene's invariants I(t, y, y'), in invariant_names order.
 inline void invariants(double /*t*/, const double* y, const double* /*yp*/, const double* p, double* out) noexcept {
-  out[0] = 0.5 * (y[1] * y[1]) + 0.5 * (y[5] * y[5]) + 0.5 * (y[3] * y[3]) + p[1] * p[1] * 0.5 * (y[2] * y[2] + y[0] * y[0]);  // energy
+  out[0] = 0.5 * (y[1] * y[1] + y[3] * y[3] + y[5] * y[5] + p[1] * p[1] * (y[2] * y[2] + y[0] * y[0]));  // energy
 }
 
 /// The scene's reference solution q_c(t) for the coordinates reference_coordinate.

@@ -10,14 +10,14 @@
 //
 // Floating-point operations (+, -, *, /, calls) without and with common-subexpression
 // elimination:
-//   residual                          45      29
-//   jacobian                         178      48
+//   residual                          44      24
+//   jacobian                         178      39
 //   hidden_constraints                 7       7
-//   hidden_constraints_jacobian       16      11
-//   invariants                        10      10
-//   reference                         39      22
+//   hidden_constraints_jacobian       16      10
+//   invariants                         9       9
+//   reference                         39      20
 //   singular_quantities                3       3
-//   total                            298     130
+//   total                            296     112
 
 #pragma once
 
@@ -123,12 +123,13 @@ inline constexpr const char* singular_names[n_singular] = {"y' * y' + x' * x'"};
 
 /// F(t, y, y') = 0, IDA form; r has n_states entries.
 inline void residual(double /*t*/, const double* y, const double* yp, const double* p, double* r) noexcept {
-  const double w0 = p[1] * y[1];
-  const double w1 = p[0] * std::sqrt(y[1] * y[1] + y[3] * y[3]);
-  r[0] = -y[6] * w0 / w1 - p[3] * yp[1];  // R_x
-  r[1] = -y[3] * (y[6] * p[1]) / w1 - yp[3] * p[3];  // R_y
-  r[2] = y[6] - yp[5] * p[3] - p[3] * p[2];  // R_z
-  r[3] = yp[5] - yp[3] * (y[3] * p[1]) / w1 - w0 * yp[1] / w1;  // D f1
+  const double w0 = p[1] / (p[0] * std::sqrt(y[1] * y[1] + y[3] * y[3]));
+  const double w1 = w0 * y[1];
+  const double w2 = y[3] * w0;
+  r[0] = -p[3] * yp[1] - w1 * y[6];  // R_x
+  r[1] = -yp[3] * p[3] - y[6] * w2;  // R_y
+  r[2] = (-yp[5] - p[2]) * p[3] + y[6];  // R_z
+  r[3] = yp[5] - yp[3] * w2 - w1 * yp[1];  // D f1
   r[4] = yp[0] - y[1];  // chain x' = x'
   r[5] = yp[2] - y[3];  // chain y' = y'
   r[6] = yp[4] - y[5];  // chain z' = z'
@@ -138,35 +139,35 @@ inline void residual(double /*t*/, const double* y, const double* yp, const doub
 inline void jacobian(double /*t*/, const double* y, const double* yp, double cj, const double* p, double* J) noexcept {
   for (int k = 0; k < n_states * n_states; ++k) J[k] = 0.0;
   const double w0 = y[1] * y[1];
-  const double w1 = y[6] * p[1];
-  const double w2 = y[3] * y[3];
-  const double w3 = w0 + w2;
-  const double w4 = p[0] * std::sqrt(w3);
-  const double w5 = w4 * w3;
+  const double w1 = y[3] * y[3];
+  const double w2 = w0 + w1;
+  const double w3 = p[0] * std::sqrt(w2);
+  const double w4 = p[1] / (w3 * w2);
+  const double w5 = w0 * w4;
   const double w6 = cj * p[3];
-  const double w7 = w6 + w1 / w4;
-  const double w8 = p[1] * y[1];
-  const double w9 = y[3] * w8;
-  const double w10 = y[6] * w9 / w5;
-  const double w11 = p[1] * yp[1];
-  const double w12 = yp[3] * p[1];
-  const double w13 = y[3] * p[1];
+  const double w7 = p[1] / w3;
+  const double w8 = w6 + y[6] * w7;
+  const double w9 = y[3] * w4 * y[1];
+  const double w10 = y[6] * w9;
+  const double w11 = w7 * y[1];
+  const double w12 = w4 * w1;
+  const double w13 = y[3] * w7;
   J[4] = cj;  // (4, 0)
-  J[7] = w0 * w1 / w5 - w7;  // (0, 1)
+  J[7] = w5 * y[6] - w8;  // (0, 1)
   J[8] = w10;  // (1, 1)
-  J[10] = w0 * w11 / w5 + yp[3] * w9 / w5 - w8 * cj / w4 - w11 / w4;  // (3, 1)
+  J[10] = w5 * yp[1] + yp[3] * w9 - w11 * cj - w7 * yp[1];  // (3, 1)
   J[11] = -1.0;  // (4, 1)
   J[19] = cj;  // (5, 2)
   J[21] = w10;  // (0, 3)
-  J[22] = w1 * w2 / w5 - w7;  // (1, 3)
-  J[24] = w12 * w2 / w5 + w9 * yp[1] / w5 - w13 * cj / w4 - w12 / w4;  // (3, 3)
+  J[22] = y[6] * w12 - w8;  // (1, 3)
+  J[24] = yp[3] * w12 + w9 * yp[1] - yp[3] * w7 - w13 * cj;  // (3, 3)
   J[26] = -1.0;  // (5, 3)
   J[34] = cj;  // (6, 4)
   J[37] = -w6;  // (2, 5)
   J[38] = cj;  // (3, 5)
   J[41] = -1.0;  // (6, 5)
-  J[42] = -(w8 / w4);  // (0, 6)
-  J[43] = -(w13 / w4);  // (1, 6)
+  J[42] = -w11;  // (0, 6)
+  J[43] = -w13;  // (1, 6)
   J[44] = 1.0;  // (2, 6)
 }
 
@@ -174,32 +175,31 @@ inline void jacobian(double /*t*/, const double* y, const double* yp, double cj,
 /// differentiated away); they fix consistent initial values and drift during
 /// integration.
 inline void hidden_constraints(double /*t*/, const double* y, const double* p, double* g) noexcept {
-  g[0] = y[5] - std::sqrt(y[1] * y[1] + y[3] * y[3]) * p[1] / p[0];  // f1
+  g[0] = y[5] - std::sqrt(y[1] * y[1] + y[3] * y[3]) * (p[1] / p[0]);  // f1
 }
 
 /// G = dg/dy, column-major n_hidden x n_states.
 inline void hidden_constraints_jacobian(double /*t*/, const double* y, const double* p, double* G) noexcept {
   for (int k = 0; k < n_hidden * n_states; ++k) G[k] = 0.0;
-  const double w0 = p[0] * std::sqrt(y[1] * y[1] + y[3] * y[3]);
-  G[1] = -(p[1] * y[1] / w0);  // (0, 1)
-  G[3] = -(y[3] * p[1] / w0);  // (0, 3)
+  const double w0 = p[1] / (p[0] * std::sqrt(y[1] * y[1] + y[3] * y[3]));
+  G[1] = -(w0 * y[1]);  // (0, 1)
+  G[3] = -(y[3] * w0);  // (0, 3)
   G[5] = 1.0;  // (0, 5)
 }
 
 /// The scene's invariants I(t, y, y'), in invariant_names order.
 inline void invariants(double /*t*/, const double* y, const double* /*yp*/, const double* p, double* out) noexcept {
-  out[0] = 0.5 * (y[1] * y[1] + y[3] * y[3] + y[5] * y[5]) * p[3] + y[4] * (p[3] * p[2]);  // energy
+  out[0] = (0.5 * (y[1] * y[1] + y[3] * y[3] + y[5] * y[5]) + y[4] * p[2]) * p[3];  // energy
 }
 
 /// The scene's reference solution q_c(t) for the coordinates reference_coordinate.
 inline void reference(double t, const double* p, double* q) noexcept {
   const double w0 = std::sqrt(5.0);
-  const double w1 = t * t * (p[0] * (p[1] * p[2]));
+  const double w1 = t * t * (p[0] * (p[1] * p[2] / (p[1] * p[1] + p[0] * p[0])));
   const double w2 = w0 * w1;
-  const double w3 = p[1] * p[1] + p[0] * p[0];
-  q[0] = t - w2 * 0.20000000000000001 / w3;  // x
-  q[1] = t * 0.5 - 0.10000000000000001 * w2 / w3;  // y
-  q[2] = 0.5 * p[1] * (t * w0 - w1 / w3) / p[0];  // z
+  q[0] = t - 0.20000000000000001 * w2;  // x
+  q[1] = t * 0.5 - 0.10000000000000001 * w2;  // y
+  q[2] = 0.5 * (t * w0 - w1) * (p[1] / p[0]);  // z
 }
 
 /// Quantities that vanish where the equations are singular (bases of square roots,

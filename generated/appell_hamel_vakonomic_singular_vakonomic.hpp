@@ -10,12 +10,12 @@
 //
 // Floating-point operations (+, -, *, /, calls) without and with common-subexpression
 // elimination:
-//   residual                         107      56
-//   jacobian                         567     145
+//   residual                         102      55
+//   jacobian                         547     143
 //   hidden_constraints                 7       7
 //   hidden_constraints_jacobian       16      11
 //   singular_quantities                3       3
-//   total                            700     222
+//   total                            675     219
 
 #pragma once
 
@@ -121,19 +121,16 @@ inline constexpr const char* singular_names[n_singular] = {"y' * y' + x' * x'"};
 inline void residual(double /*t*/, const double* y, const double* yp, const double* p, double* r) noexcept {
   const double w0 = yp[3] * y[6];
   const double w1 = p[1] * y[1];
-  const double w2 = y[3] * w1;
-  const double w3 = y[3] * y[3];
-  const double w4 = y[6] * yp[1];
-  const double w5 = y[1] * y[1];
-  const double w6 = w5 + w3;
-  const double w7 = p[0] * std::sqrt(w6);
-  const double w8 = w6 * (w7 * p[3]);
-  const double w9 = w7 * w6;
-  const double w10 = w5 * p[1];
-  r[0] = (-(w0 * w2 - p[1] * w3 * w4) - (w8 * yp[1] - (y[1] * y[1] * y[1] * p[1] * yp[6] + w1 * w3 * yp[6]))) / w9;  // R_x
-  r[1] = (p[1] * (y[3] * y[3] * y[3]) * yp[6] + y[3] * (w10 * yp[6]) + w10 * w0 - w8 * yp[3] - w4 * w2) / w9;  // R_y
-  r[2] = -yp[5] * p[3] - yp[6] - p[3] * p[2];  // R_z
-  r[3] = yp[5] - yp[3] * (y[3] * p[1]) / w7 - w1 * yp[1] / w7;  // D f1
+  const double w2 = y[3] * y[3];
+  const double w3 = y[1] * y[1];
+  const double w4 = w3 + w2;
+  const double w5 = p[0] * std::sqrt(w4);
+  const double w6 = w4 * (w5 * p[3]);
+  const double w7 = w5 * w4;
+  r[0] = (-(w0 * (y[3] * w1) - w2 * (y[6] * (p[1] * yp[1]))) - (w6 * yp[1] - (y[1] * y[1] * y[1] * p[1] * yp[6] + w1 * yp[6] * w2))) / w7;  // R_x
+  r[1] = ((w3 * w0 + y[3] * (w3 * yp[6] - y[1] * yp[1] * y[6]) + yp[6] * (y[3] * y[3] * y[3])) * p[1] - w6 * yp[3]) / w7;  // R_y
+  r[2] = (-yp[5] - p[2]) * p[3] - yp[6];  // R_z
+  r[3] = yp[5] - yp[3] * (y[3] * (p[1] / w5)) - w1 / w5 * yp[1];  // D f1
   r[4] = yp[0] - y[1];  // chain x' = x'
   r[5] = yp[2] - y[3];  // chain y' = y'
   r[6] = yp[4] - y[5];  // chain z' = z'
@@ -142,54 +139,53 @@ inline void residual(double /*t*/, const double* y, const double* yp, const doub
 /// J = dF/dy + cj dF/dy', column-major n_states x n_states.
 inline void jacobian(double /*t*/, const double* y, const double* yp, double cj, const double* p, double* J) noexcept {
   for (int k = 0; k < n_states * n_states; ++k) J[k] = 0.0;
-  const double w0 = y[3] * y[3];
-  const double w1 = p[1] * w0;
-  const double w2 = y[1] * y[1];
-  const double w3 = w2 + w0;
-  const double w4 = p[0] * std::sqrt(w3);
-  const double w5 = w4 * p[3];
-  const double w6 = w3 * w5;
-  const double w7 = w4 * w3;
-  const double w8 = y[1] * 3.0;
-  const double w9 = yp[3] * y[6];
-  const double w10 = p[1] * y[1];
-  const double w11 = y[3] * w10;
-  const double w12 = y[6] * yp[1];
-  const double w13 = y[1] * y[1] * y[1] * p[1];
-  const double w14 = w10 * w0;
-  const double w15 = w9 * w11 - w1 * w12 + (w6 * yp[1] - (w13 * yp[6] + w14 * yp[6]));
-  const double w16 = w4 * (w3 * w3);
-  const double w17 = y[3] * p[1];
-  const double w18 = w8 * w5;
-  const double w19 = w1 * yp[6];
-  const double w20 = w2 * p[1];
-  const double w21 = w20 * yp[6];
-  const double w22 = w12 * w17;
-  const double w23 = 2.0 * yp[6] * w11;
-  const double w24 = w10 * w9;
-  const double w25 = y[6] * cj * w11 / w7;
-  const double w26 = p[1] * (y[3] * y[3] * y[3]);
-  const double w27 = w26 * yp[6] + y[3] * w21 + w20 * w9 - w6 * yp[3] - w12 * w11;
-  const double w28 = yp[3] * w11;
-  const double w29 = y[3] * 3.0;
-  const double w30 = w29 * w5;
-  const double w31 = w11 * yp[1];
+  const double w0 = y[1] * y[1];
+  const double w1 = y[3] * y[3];
+  const double w2 = w0 + w1;
+  const double w3 = p[0] * std::sqrt(w2);
+  const double w4 = w3 * w2;
+  const double w5 = cj / w4;
+  const double w6 = y[6] * p[1];
+  const double w7 = w3 * p[3];
+  const double w8 = w2 * w7;
+  const double w9 = 3.0 / (w3 * (w2 * w2));
+  const double w10 = w9 * y[1];
+  const double w11 = yp[3] * y[6];
+  const double w12 = p[1] * y[1];
+  const double w13 = y[3] * w12;
+  const double w14 = p[1] * yp[1];
+  const double w15 = y[6] * w14;
+  const double w16 = y[1] * y[1] * y[1];
+  const double w17 = w11 * w13 - w1 * w15 + (w8 * yp[1] - (w16 * p[1] * yp[6] + w12 * yp[6] * w1));
+  const double w18 = y[1] * yp[1];
+  const double w19 = w7 * 3.0;
+  const double w20 = y[6] * w5 * w13;
+  const double w21 = w18 * y[6];
+  const double w22 = y[3] * y[3] * y[3];
+  const double w23 = (w0 * w11 + y[3] * (w0 * yp[6] - w21) + yp[6] * w22) * p[1] - w8 * yp[3];
+  const double w24 = w19 - w6 * 2.0;
+  const double w25 = 2.0 * yp[6] * w13;
+  const double w26 = yp[3] * w13;
+  const double w27 = y[3] * w9;
+  const double w28 = yp[3] * p[1];
+  const double w29 = w13 * yp[1];
+  const double w30 = p[1] / w3;
   J[4] = cj;  // (4, 0)
-  J[7] = (w1 * y[6] - w6) * cj / w7 + w8 * w15 / w16 - (w17 * w9 + w18 * yp[1] - w19 - w21 * 3.0) / w7;  // (0, 1)
-  J[8] = -(w22 + w18 * yp[3] - w23 - w24 * 2.0) / w7 - w25 - w8 * w27 / w16;  // (1, 1)
-  J[10] = w20 * yp[1] / w7 + w28 / w7 - w10 * cj / w4 - p[1] * yp[1] / w4;  // (3, 1)
+  J[7] = w5 * (w6 * w1 - w8) + w10 * w17 - ((y[3] * w11 + (-w0 * 3.0 - w1) * yp[6]) * p[1] + w18 * w19) / w4;  // (0, 1)
+  J[8] = -w20 - w23 * w10 - (yp[3] * (w24 * y[1]) + y[3] * w15 - w25) / w4;  // (1, 1)
+  J[10] = w0 * w14 / w4 + w26 / w4 - cj * (w12 / w3) - w14 / w3;  // (3, 1)
   J[11] = -1.0;  // (4, 1)
   J[19] = cj;  // (5, 2)
-  J[21] = w29 * w15 / w16 - w25 - (w24 + yp[1] * w30 - w23 - w22 * 2.0) / w7;  // (0, 3)
-  J[22] = (w21 + w19 * 3.0 - w12 * w10 - yp[3] * w30) / w7 - w29 * w27 / w16 - (w6 - w20 * y[6]) * cj / w7;  // (1, 3)
-  J[24] = w1 * yp[3] / w7 + w31 / w7 - w17 * cj / w4 - yp[3] * p[1] / w4;  // (3, 3)
+  J[21] = w27 * w17 - w20 - (w12 * w11 + y[3] * (w24 * yp[1]) - w25) / w4;  // (0, 3)
+  J[22] = (p[1] * ((w0 + 3.0 * w1) * yp[6] - w21) - y[3] * yp[3] * w19) / w4 - (w8 - w0 * w6) * w5 - w23 * w27;  // (1, 3)
+  J[24] = w28 * w1 / w4 + w29 / w4 - yp[3] * w30 - y[3] * w30 * cj;  // (3, 3)
   J[26] = -1.0;  // (5, 3)
   J[34] = cj;  // (6, 4)
   J[37] = -(cj * p[3]);  // (2, 5)
   J[38] = cj;  // (3, 5)
   J[41] = -1.0;  // (6, 5)
-  J[42] = (w13 + w14) * cj / w7 + (w1 * yp[1] - w28) / w7;  // (0, 6)
-  J[43] = cj * (w26 + w20 * y[3]) / w7 + (w20 * yp[3] - w31) / w7;  // (1, 6)
+  J[42] = (y[1] * w1 + w16) * p[1] * w5 + (w14 * w1 - w26) / w4;  // (0, 6)
+  J[43] = w5 * (p[1] * (y[3] * w0 + w22)) + (w0 * w28 - w29) / w4;  // (1, 6)
   J[44] = -cj;  // (2, 6)
 }
 
@@ -205,7 +201,7 @@ inline void hidden_constraints_jacobian(double /*t*/, const double* y, const dou
   for (int k = 0; k < n_hidden * n_states; ++k) G[k] = 0.0;
   const double w0 = p[0] * std::sqrt(y[1] * y[1] + y[3] * y[3]);
   G[1] = -(p[1] * y[1] / w0);  // (0, 1)
-  G[3] = -(y[3] * p[1] / w0);  // (0, 3)
+  G[3] = -(y[3] * (p[1] / w0));  // (0, 3)
   G[5] = 1.0;  // (0, 5)
 }
 

@@ -11,6 +11,7 @@
 
 #include "nhc/expr/cpp_printer.hpp"
 #include "nhc/expr/common_arguments.hpp"
+#include "nhc/expr/common_factors.hpp"
 #include "nhc/expr/expression_dag.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/expr/intermediate.hpp"
@@ -221,5 +222,61 @@ TEST_CASE("pairs common to several sums or products are computed once", "[codege
     INFO(expressions[k]);
     const double expected = GiNaC::ex_to<GiNaC::numeric>(expressions[k].subs(point).evalf()).to_double();
     CHECK(value_of(shared, outputs[k], inputs) == Approx(expected).epsilon(1e-15));
+  }
+}
+
+TEST_CASE("a factor over a common denominator is one quotient, as SymPy's opt_cse finds it", "[codegen][common-arguments]") {
+  Fixture f;
+  const ex& x = f.x;
+  const ex& y = f.y;
+  const ex& a = f.a;
+  const ex& t = f.t;
+  // x·a/(y² + 1) over a different factor each time (Appell–Hamel's residual has y₆·p₁/w₁ so).
+  const ex w = y * y + 1;
+  const std::vector<ex> expressions = {x * a * t / w, x * a * GiNaC::sin(t) / w, x * a * y / w};
+  std::vector<int> outputs;
+  for (const ex& e : expressions) outputs.push_back(f.dag.add(e));
+  const nhc::OperationCount before = nhc::dag_operation_count(f.dag, outputs);
+  const nhc::ExpressionDag shared = nhc::share_common_arguments(f.dag, outputs);
+  const nhc::OperationCount after = nhc::dag_operation_count(shared, outputs);
+  // Before: w (2), sin (1), three quotients of three factors (3 each) = 12. After: w (2), sin (1),
+  // x·a/w once (2: a pair, then the pair over w), times the other factor (1 each) = 8; sharing
+  // only products, x·a (1) and then (x·a·factor)/w (2 each) would be 10.
+  CHECK(before.total() == 12);
+  CHECK(after.total() == 8);
+  CHECK(after.divisions == 1);
+  const std::map<std::string, double> inputs = {{"y[0]", 0.7}, {"y[1]", -1.3}, {"t", 0.4}, {"p[0]", 2.1}};
+  const GiNaC::exmap point = {{x, 0.7}, {y, -1.3}, {t, 0.4}, {a, 2.1}};
+  for (std::size_t k = 0; k < expressions.size(); ++k) {
+    INFO(expressions[k]);
+    const double expected = GiNaC::ex_to<GiNaC::numeric>(expressions[k].subs(point).evalf()).to_double();
+    CHECK(value_of(shared, outputs[k], inputs) == Approx(expected).epsilon(1e-15));
+  }
+}
+
+TEST_CASE("a factor common to several terms of a sum is taken out of them", "[codegen][common-factors]") {
+  Fixture f;
+  const ex& x = f.x;
+  const ex& y = f.y;
+  const ex& a = f.a;
+  const ex& t = f.t;
+  // Like the knife chain's D f: y·x·sin t + a·sin a·x − t·sin a; and x·y + a·x·t where x·y is
+  // an output itself (so that it stays one product and is not taken apart).
+  const std::vector<ex> expressions = {y * x * GiNaC::sin(t) + a * GiNaC::sin(a) * x - t * GiNaC::sin(a),
+                                       x * y + a * x * t, x * y};
+  std::vector<int> outputs;
+  for (const ex& e : expressions) outputs.push_back(f.dag.add(e));
+  const nhc::OperationCount before = nhc::dag_operation_count(f.dag, outputs);
+  const nhc::ExpressionDag factored = nhc::factor_common_terms(f.dag, outputs);
+  const nhc::OperationCount after = nhc::dag_operation_count(factored, outputs);
+  // First sum: x (or sin a) out of two of its terms, one multiplication fewer. Second: x·y is
+  // shared (the third output), so only a·x·t is a product that may be taken apart: no change.
+  CHECK(after.total() == before.total() - 1);
+  const std::map<std::string, double> inputs = {{"y[0]", 0.7}, {"y[1]", -1.3}, {"t", 0.4}, {"p[0]", 2.1}};
+  const GiNaC::exmap point = {{x, 0.7}, {y, -1.3}, {t, 0.4}, {a, 2.1}};
+  for (std::size_t k = 0; k < expressions.size(); ++k) {
+    INFO(expressions[k]);
+    const double expected = GiNaC::ex_to<GiNaC::numeric>(expressions[k].subs(point).evalf()).to_double();
+    CHECK(value_of(factored, outputs[k], inputs) == Approx(expected).epsilon(1e-15));
   }
 }

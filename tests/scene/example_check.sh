@@ -9,6 +9,7 @@
 #   abs:COLUMN:TOL          |value| <= TOL on every row (a reference error, a hidden constraint)
 #   decreasing:COLUMN:TOL   value <= previous value + TOL, and the last value < the first
 #   decays:COLUMN:FRACTION  max |value| over the last fifth <= FRACTION * max |value| over the first fifth
+#   reverses:COLUMN:FRACTION  the last value has the first's opposite sign and >= FRACTION of its size
 # Columns are matched by prefix (hidden: matches every hidden constraint).
 set -eu
 nhc=$1 scene=$2 work=$3
@@ -29,7 +30,7 @@ fi
 "$nhc" simulate "$scene" -o "$work/run.csv"
 for check in "$@"; do
   kind=${check%%:*} rest=${check#*:}
-  column=${rest%%:*} limit=${rest#*:}
+  column=${rest%:*} limit=${rest##*:}  # the column may hold colons (invariant:energy)
   awk -F, -v kind="$kind" -v column="$column" -v limit="$limit" '
     NR == 1 { for (i = 1; i <= NF; ++i) if (index($i, column) == 1) cols[++n] = i
               if (n == 0) { print "no column " column; bad = 1; exit 1 }
@@ -52,6 +53,8 @@ for check in "$@"; do
         if ((kind == "drift" || kind == "abs") && worst > limit) { print kind " " column ": " worst " > " limit; exit 1 }
         if (kind == "decreasing" && !(previous < first)) { print column " does not decrease"; exit 1 }
         if (kind == "decays" && !(late <= limit * early)) { print column ": late " late " vs early " early; exit 1 }
+        if (kind == "reverses" && !(previous * first < 0 && (previous < 0 ? -previous : previous) >= limit * (first < 0 ? -first : first))) {
+          print column ": first " first ", last " previous; exit 1 }
         printf "%s %s: ok (%g %g %g)\n", kind, column, worst, early, late
       }
     }' "$work/run.csv"

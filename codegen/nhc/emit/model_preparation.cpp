@@ -4,6 +4,7 @@
 #include "nhc/primed_name.hpp"
 
 #include "nhc/expr/common_arguments.hpp"
+#include "nhc/expr/common_factors.hpp"
 
 #include "nhc/emit/parameter_jacobian.hpp"
 #include "nhc/derive/discrete_lagrange_dalembert.hpp"
@@ -528,11 +529,12 @@ PreparedModel prepare_model(const Scene& scene, const Index1System& system, Jaco
     m.functions.push_back(variational_momentum_function(*step, system, m.dag));
   }
 
-  // Pairs of operands common to several sums or products computed once (common_arguments.hpp).
+  // Factors common to several terms of a sum taken out (common_factors.hpp), then pairs of
+  // operands common to several sums or products computed once (common_arguments.hpp).
   std::vector<int> all_outputs;
   for (const FunctionPlan& f : m.functions)
     for (const Assignment& a : f.assignments) all_outputs.push_back(a.value);
-  m.dag = share_common_arguments(m.dag, all_outputs);
+  m.dag = share_common_arguments(factor_common_terms(m.dag, all_outputs), all_outputs);
   std::size_t next = 0;
   for (FunctionPlan& f : m.functions)
     for (Assignment& a : f.assignments) a.value = all_outputs[next++];

@@ -14,10 +14,14 @@ namespace nhc {
 namespace {
 
 /// One operand of a sum or product: an instruction of the input DAG (index < N) or a shared pair
-/// made by this pass (index ≥ N); `negated` only in sums.
+/// made by this pass (index ≥ N); `negated` only in sums. A quotient n / d takes part as the
+/// product of n's factors and d⁻¹ (as SymPy's Mul holds Pow(d, −1)), so that y·p/w common to
+/// several quotients is found: d⁻¹ is the operand ~d (negative), `inverse`.
 struct Operand {
   int node = 0;
   bool negated = false;
+  int id() const { return inverse ? ~node : node; }
+  bool inverse = false;
 };
 
 /// A sum or product of the input DAG whose operands the pass may rewrite.
@@ -28,7 +32,8 @@ struct Site {
 };
 
 /// (sum?, first, second, opposite): first + second or first − second (sums), first · second
-/// (products), first and second ordered by their structural keys.
+/// (products; one of them may be an inverse ~d, the pair then being a quotient), first and second
+/// ordered by their structural keys.
 using PairId = std::tuple<bool, int, int, bool>;
 
 struct PairIdHash {
@@ -51,12 +56,37 @@ struct Pair {
 class CommonArguments {
  public:
   CommonArguments(const ExpressionDag& dag, const std::vector<int>& outputs) : dag_(dag) {
-    for (int id : dag.reachable(outputs)) {
+    const std::vector<int> reached = dag.reachable(outputs);
+    // A quotient's numerator that is a product used by nothing else is taken apart into the
+    // quotient's site (absorbed: no site of its own, and not rebuilt).
+    std::unordered_map<int, int> uses;
+    for (int id : reached)
+      for (int a : dag[id].args) ++uses[a];
+    for (int o : outputs) uses[o] += 2;
+    std::unordered_map<int, bool> absorbed;
+    for (int id : reached) {
       const Instruction& in = dag[id];
+      if (in.op == OpCode::quotient && dag[in.args[0]].op == OpCode::product && uses[in.args[0]] == 1)
+        absorbed[in.args[0]] = true;
+    }
+    for (int id : reached) {
+      const Instruction& in = dag[id];
+      if (in.op == OpCode::quotient) {
+        Site site{id, false, {}};
+        if (absorbed.count(in.args[0]))
+          for (int a : dag[in.args[0]].args) site.operands.push_back({a, false, false});
+        else
+          site.operands.push_back({in.args[0], false, false});
+        site.operands.push_back({in.args[1], false, true});
+        site_of_.emplace(id, static_cast<int>(sites_.size()));
+        sites_.push_back(std::move(site));
+        continue;
+      }
       if (in.op != OpCode::sum && in.op != OpCode::product) continue;
+      if (absorbed.count(id)) continue;
       Site site{id, in.op == OpCode::sum, {}};
       for (std::size_t k = 0; k < in.args.size(); ++k)
-        site.operands.push_back({in.args[k], in.op == OpCode::sum && in.negated[k]});
+        site.operands.push_back({in.args[k], in.op == OpCode::sum && in.negated[k], false});
       site_of_.emplace(id, static_cast<int>(sites_.size()));
       sites_.push_back(std::move(site));
     }
@@ -94,15 +124,16 @@ class CommonArguments {
 
  private:
   std::uint64_t key_of(int node) const {
+    if (node < 0) return mix_keys(key_of(~node), 0x696e7665727365ULL);  // an inverse ~d
     return node < dag_.size() ? dag_[node].key : pairs_[static_cast<std::size_t>(node - dag_.size())].key;
   }
 
   /// The canonical pair of two operands of one site.
   PairId pair_of(bool sum, const Operand& a, const Operand& b) const {
-    const bool a_first = std::make_pair(key_of(a.node), a.node) < std::make_pair(key_of(b.node), b.node);
+    const bool a_first = std::make_pair(key_of(a.id()), a.id()) < std::make_pair(key_of(b.id()), b.id());
     const Operand& first = a_first ? a : b;
     const Operand& second = a_first ? b : a;
-    return {sum, first.node, second.node, sum && first.negated != second.negated};
+    return {sum, first.id(), second.id(), sum && first.negated != second.negated};
   }
 
   template <class F>
@@ -110,7 +141,8 @@ class CommonArguments {
     const Site& site = sites_[static_cast<std::size_t>(s)];
     for (std::size_t i = 0; i < site.operands.size(); ++i)
       for (std::size_t j = i + 1; j < site.operands.size(); ++j)
-        if (site.operands[i].node != site.operands[j].node) f(pair_of(site.sum, site.operands[i], site.operands[j]));
+        if (site.operands[i].node != site.operands[j].node && !(site.operands[i].inverse && site.operands[j].inverse))
+          f(pair_of(site.sum, site.operands[i], site.operands[j]));
   }
 
   static std::uint64_t tie_of(const PairId& p, std::uint64_t first_key, std::uint64_t second_key) {
@@ -145,7 +177,7 @@ class CommonArguments {
     for (int s : sites) {
       const Site& site = sites_[static_cast<std::size_t>(s)];
       if (site.operands.size() > 2) larger.push_back(s);
-      else if (!(site.operands[0].node == first ? site.operands[0] : site.operands[1]).negated) exact.push_back(s);
+      else if (!(site.operands[0].id() == first ? site.operands[0] : site.operands[1]).negated) exact.push_back(s);
     }
     if (static_cast<int>(larger.size()) - (exact.empty() ? 1 : 0) < 1) return;
 
@@ -160,16 +192,16 @@ class CommonArguments {
       std::vector<Operand> rest;
       bool first_negated = false, taken_first = false, taken_second = false;
       for (const Operand& o : site.operands) {
-        if (!taken_first && o.node == first) {
+        if (!taken_first && o.id() == first) {
           taken_first = true;
           first_negated = o.negated;
-        } else if (!taken_second && o.node == second) {
+        } else if (!taken_second && o.id() == second) {
           taken_second = true;
         } else {
           rest.push_back(o);
         }
       }
-      rest.push_back({node, sum && first_negated});
+      rest.push_back({node, sum && first_negated, false});
       site.operands = std::move(rest);
       if (static_cast<int>(site.operands.size()) <= kLargestPairedArity)
         for_each_pair(s, [&](const PairId& q) { enter(q, s); });
@@ -187,9 +219,14 @@ class CommonArguments {
       } else {
         const auto [sum, first, second, opposite] = pair.id;
         Instruction in;
-        in.op = sum ? OpCode::sum : OpCode::product;
-        in.args = {build(out, first), build(out, second)};
-        if (sum) in.negated = {false, opposite};
+        if (first < 0 || second < 0) {  // a · d⁻¹
+          in.op = OpCode::quotient;
+          in.args = {build(out, first < 0 ? second : first), build(out, first < 0 ? ~first : ~second)};
+        } else {
+          in.op = sum ? OpCode::sum : OpCode::product;
+          in.args = {build(out, first), build(out, second)};
+          if (sum) in.negated = {false, opposite};
+        }
         result = out.append(std::move(in));
       }
     } else {
@@ -198,9 +235,23 @@ class CommonArguments {
       if (site != site_of_.end()) {
         in.args.clear();
         in.negated.clear();
+        int denominator = -1;
         for (const Operand& o : sites_[static_cast<std::size_t>(site->second)].operands) {
+          if (o.inverse) {
+            denominator = build(out, o.node);
+            continue;
+          }
           in.args.push_back(build(out, o.node));
           if (in.op == OpCode::sum) in.negated.push_back(o.negated);
+        }
+        if (in.op == OpCode::quotient) {  // the site of n / d: a product, over d if d⁻¹ is left
+          in.op = OpCode::product;
+          if (denominator >= 0) {
+            Instruction q;
+            q.op = OpCode::quotient;
+            q.args = {in.args.size() == 1 ? in.args[0] : out.append(std::move(in)), denominator};
+            in = std::move(q);
+          }
         }
       } else {
         for (int& a : in.args) a = build(out, a);

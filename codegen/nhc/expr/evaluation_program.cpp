@@ -1,5 +1,6 @@
 #include "nhc/expr/evaluation_program.hpp"
 
+#include <climits>
 #include <cmath>
 #include <map>
 #include <unordered_map>
@@ -31,6 +32,8 @@ EvaluationProgram::EvaluationProgram(const ExpressionDag& dag, const std::vector
   for (const Output& o : outputs) roots.push_back(o.instruction);
   // reachable() is increasing in index, which is topological: operands come first.
   const std::vector<int> reached = dag.reachable(roots);
+  // First one register per instruction; allocate_registers() then lets registers whose value is
+  // dead be reused, so that the registers a program touches stay few and in cache.
   std::unordered_map<int, int> register_of;
   for (int id : reached) register_of[id] = register_count_++;
   // sin and cos of one argument: one sincos call, as the compiler makes of the printed code.
@@ -42,6 +45,7 @@ EvaluationProgram::EvaluationProgram(const ExpressionDag& dag, const std::vector
     if (in.name == "std::cos") cosine_of[in.args[0]] = id;
   }
   std::unordered_map<int, bool> paired;  // call instruction → computed with its partner
+  std::vector<int> pinned;               // the constants' registers
   for (int id : reached) {
     const Instruction& in = dag[id];
     const int target = register_of.at(id);
@@ -65,6 +69,7 @@ EvaluationProgram::EvaluationProgram(const ExpressionDag& dag, const std::vector
     switch (in.op) {
       case OpCode::constant:
         constants_.emplace_back(target, in.value);
+        pinned.push_back(target);
         continue;
       case OpCode::input: {
         const InputLocation at = locate(in);
@@ -74,10 +79,31 @@ EvaluationProgram::EvaluationProgram(const ExpressionDag& dag, const std::vector
         break;
       }
       case OpCode::sum:
+        if (in.args.size() == 2) {
+          static constexpr Code codes[2][2] = {{Code::add, Code::subtract}, {Code::negated_add, Code::negated_subtract}};
+          op.code = codes[in.negated[0] ? 1 : 0][in.negated[1] ? 1 : 0];
+          op.a = reg(0);
+          op.b = reg(1);
+          break;
+        }
+        [[fallthrough]];
       case OpCode::product:
+        if (in.op == OpCode::product && in.args.size() == 2) {
+          op.code = Code::multiply;
+          op.a = reg(0);
+          op.b = reg(1);
+          break;
+        }
+        if (in.op == OpCode::product && in.args.size() == 3) {
+          op.code = Code::multiply3;
+          op.a = reg(0);
+          op.b = reg(1);
+          op.c = reg(2);
+          break;
+        }
         op.code = in.op == OpCode::sum ? Code::sum : Code::product;
-        op.first = static_cast<int>(operands_.size());
-        op.count = static_cast<int>(in.args.size());
+        op.a = static_cast<int>(operands_.size());
+        op.b = static_cast<int>(in.args.size());
         for (std::size_t k = 0; k < in.args.size(); ++k) {
           operands_.push_back(reg(k));
           negated_.push_back(in.op == OpCode::sum && in.negated[k] ? 1 : 0);
@@ -97,18 +123,22 @@ EvaluationProgram::EvaluationProgram(const ExpressionDag& dag, const std::vector
         op.a = reg(0);
         break;
       case OpCode::integer_power:
-        op.code = Code::power;
+        op.code = in.exponent == 2 ? Code::square : Code::power;
         op.a = reg(0);
         op.b = in.exponent;
         break;
       case OpCode::call:
-        if (in.args.size() == 1 && (op.unary = unary_function(in.name))) {
+        if (in.args.size() == 1 && unary_function(in.name)) {
           op.code = Code::call1;
           op.a = reg(0);
-        } else if (in.args.size() == 2 && (op.binary = binary_function(in.name))) {
+          op.b = static_cast<int>(unary_.size());
+          unary_.push_back(unary_function(in.name));
+        } else if (in.args.size() == 2 && binary_function(in.name)) {
           op.code = Code::call2;
           op.a = reg(0);
-          op.b = reg(1);
+          op.c = reg(1);
+          op.b = static_cast<int>(binary_.size());
+          binary_.push_back(binary_function(in.name));
         } else {
           throw MathError("no numeric evaluation for " + in.name + " with " + std::to_string(in.args.size()) +
                           " arguments");
@@ -122,6 +152,7 @@ EvaluationProgram::EvaluationProgram(const ExpressionDag& dag, const std::vector
     }
     operations_.push_back(op);
   }
+  std::vector<int> kept;  // the outputs' registers: read by the stores at the end
   for (const Output& o : outputs) {
     Operation store;
     store.code = Code::store;
@@ -129,11 +160,138 @@ EvaluationProgram::EvaluationProgram(const ExpressionDag& dag, const std::vector
     store.a = register_of.at(o.instruction);
     store.b = o.index;
     operations_.push_back(store);
+    kept.push_back(store.a);
   }
+  allocate_registers(pinned, kept);
+  Operation halt;
+  halt.code = Code::halt;
+  operations_.push_back(halt);
 }
+
+void EvaluationProgram::allocate_registers(const std::vector<int>& pinned, const std::vector<int>& kept) {
+  // Visits the registers an operation reads (read = true) or writes, by reference.
+  auto visit = [this](Operation& op, bool read, auto&& f) {
+    switch (op.code) {
+      case Code::load:
+        if (!read) f(op.target);
+        break;
+      case Code::sum:
+      case Code::product:
+        if (read)
+          for (int k = op.a; k < op.a + op.b; ++k) f(operands_[static_cast<std::size_t>(k)]);
+        else
+          f(op.target);
+        break;
+      case Code::add:
+      case Code::subtract:
+      case Code::negated_add:
+      case Code::negated_subtract:
+      case Code::multiply:
+      case Code::quotient:
+        if (read) {
+          f(op.a);
+          f(op.b);
+        } else {
+          f(op.target);
+        }
+        break;
+      case Code::multiply3:
+        if (read) {
+          f(op.a);
+          f(op.b);
+          f(op.c);
+        } else {
+          f(op.target);
+        }
+        break;
+      case Code::call2:
+        if (read) {
+          f(op.a);
+          f(op.c);
+        } else {
+          f(op.target);
+        }
+        break;
+      case Code::negate:
+      case Code::square_root:
+      case Code::square:
+      case Code::power:
+      case Code::call1:
+      case Code::sign:
+      case Code::step:
+        if (read) f(op.a);
+        else f(op.target);
+        break;
+      case Code::sincos:
+        if (read) {
+          f(op.a);
+        } else {
+          f(op.target);
+          f(op.b);
+        }
+        break;
+      case Code::store:
+        if (read) f(op.a);
+        break;
+      case Code::halt:
+        break;
+    }
+  };
+  const auto n = static_cast<std::size_t>(register_count_);
+  std::vector<int> last_use(n, -1);
+  for (std::size_t i = 0; i < operations_.size(); ++i)
+    visit(operations_[i], true, [&](int v) { last_use[static_cast<std::size_t>(v)] = static_cast<int>(i); });
+  // Constants are written once per thread, outputs read by the stores at the end: never reused.
+  for (int v : kept) last_use[static_cast<std::size_t>(v)] = INT_MAX;
+  for (int v : pinned) last_use[static_cast<std::size_t>(v)] = INT_MAX;
+  std::vector<int> physical(n, -1);
+  int count = 0;
+  for (int v : pinned) physical[static_cast<std::size_t>(v)] = count++;
+  for (auto& [at, value] : constants_) at = physical[static_cast<std::size_t>(at)];
+  std::vector<int> free, unread;
+  for (std::size_t i = 0; i < operations_.size(); ++i) {
+    Operation& op = operations_[i];
+    // Targets are taken before the operands are freed: no operation writes a register it reads.
+    visit(op, false, [&](int& v) {
+      int& p = physical[static_cast<std::size_t>(v)];
+      if (p < 0) {
+        if (free.empty()) {
+          p = count++;
+        } else {
+          p = free.back();
+          free.pop_back();
+        }
+      }
+      if (last_use[static_cast<std::size_t>(v)] < 0) {  // never read (one of a sincos): free after this operation
+        unread.push_back(p);
+        last_use[static_cast<std::size_t>(v)] = INT_MAX;
+      }
+      v = p;
+    });
+    free.insert(free.end(), unread.begin(), unread.end());
+    unread.clear();
+    visit(op, true, [&](int& v) {
+      const auto u = static_cast<std::size_t>(v);
+      v = physical[u];
+      if (last_use[u] == static_cast<int>(i)) {
+        free.push_back(physical[u]);
+        last_use[u] = INT_MAX;  // freed once, however often this operation reads it
+      }
+    });
+  }
+  register_count_ = count;
+}
+
+// The dispatch: GCC's and Clang's labels as values (one indirect jump per operation, each
+// predicted on its own), else a switch.
+#if defined(__GNUC__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpedantic"
+#endif
 
 void EvaluationProgram::run(const double* const* arguments, double* const* outputs,
                             std::vector<double>& registers) const {
+  if (operations_.empty()) return;
   if (registers.size() != static_cast<std::size_t>(register_count_)) {
     registers.assign(static_cast<std::size_t>(register_count_), 0.0);
     for (const auto& [at, value] : constants_) registers[static_cast<std::size_t>(at)] = value;
@@ -141,44 +299,93 @@ void EvaluationProgram::run(const double* const* arguments, double* const* outpu
   double* r = registers.data();
   const int* operand = operands_.data();
   const char* minus = negated_.data();
+  const Operation* op = operations_.data();
   // Each case computes as the printed code does (cpp_printer.cpp), left to right, so that the
   // interpreted and the compiled model agree to the last bit where the compiler keeps IEEE order.
-  for (const Operation& op : operations_) {
-    switch (op.code) {
-      case Code::load: r[op.target] = arguments[op.a][op.b]; break;
-      case Code::sum: {
-        const int* k = operand + op.first;
-        const char* s = minus + op.first;
-        double v = s[0] ? -r[k[0]] : r[k[0]];
-        for (int j = 1; j < op.count; ++j) v = s[j] ? v - r[k[j]] : v + r[k[j]];
-        r[op.target] = v;
-        break;
-      }
-      case Code::product: {
-        const int* k = operand + op.first;
-        double v = r[k[0]];
-        for (int j = 1; j < op.count; ++j) v *= r[k[j]];
-        r[op.target] = v;
-        break;
-      }
-      case Code::quotient: r[op.target] = r[op.a] / r[op.b]; break;
-      case Code::negate: r[op.target] = -r[op.a]; break;
-      case Code::square_root: r[op.target] = std::sqrt(r[op.a]); break;
-      case Code::power: {
-        const double base = r[op.a];
-        double v = base;
-        for (int j = 1; j < op.b; ++j) v *= base;
-        r[op.target] = v;
-        break;
-      }
-      case Code::call1: r[op.target] = op.unary(r[op.a]); break;
-      case Code::call2: r[op.target] = op.binary(r[op.a], r[op.b]); break;
-      case Code::sincos: sincos(r[op.a], &r[op.target], &r[op.b]); break;
-      case Code::sign: r[op.target] = static_cast<double>((0.0 < r[op.a]) - (r[op.a] < 0.0)); break;
-      case Code::step: r[op.target] = r[op.a] < 0.0 ? 0.0 : (0.0 < r[op.a] ? 1.0 : 0.5); break;
-      case Code::store: outputs[op.target][op.b] = r[op.a]; break;
+#if defined(__GNUC__)
+  static const void* const labels[] = {
+      &&op_load,     &&op_add,         &&op_subtract, &&op_negated_add, &&op_negated_subtract, &&op_sum, &&op_multiply,
+      &&op_multiply3, &&op_product,    &&op_quotient, &&op_negate,      &&op_square_root,      &&op_square, &&op_power,
+      &&op_call1,    &&op_call2,       &&op_sincos,   &&op_sign,        &&op_step,             &&op_store, &&op_halt};
+  static_assert(sizeof(labels) / sizeof(labels[0]) == static_cast<int>(Code::halt) + 1);
+#define NHC_OP(name) op_##name:
+#define NHC_NEXT goto* labels[static_cast<int>((++op)->code)]
+  goto* labels[static_cast<int>(op->code)];
+#else
+#define NHC_OP(name) case Code::name:
+#define NHC_NEXT \
+  ++op;          \
+  continue
+  for (;;) {
+    switch (op->code) {
+#endif
+  NHC_OP(load) r[op->target] = arguments[op->a][op->b];
+  NHC_NEXT;
+  NHC_OP(add) r[op->target] = r[op->a] + r[op->b];
+  NHC_NEXT;
+  NHC_OP(subtract) r[op->target] = r[op->a] - r[op->b];
+  NHC_NEXT;
+  NHC_OP(negated_add) r[op->target] = -r[op->a] + r[op->b];
+  NHC_NEXT;
+  NHC_OP(negated_subtract) r[op->target] = -r[op->a] - r[op->b];
+  NHC_NEXT;
+  NHC_OP(sum) {
+    const int* k = operand + op->a;
+    const char* s = minus + op->a;
+    double v = s[0] ? -r[k[0]] : r[k[0]];
+    for (int j = 1; j < op->b; ++j) v = s[j] ? v - r[k[j]] : v + r[k[j]];
+    r[op->target] = v;
+  }
+  NHC_NEXT;
+  NHC_OP(multiply) r[op->target] = r[op->a] * r[op->b];
+  NHC_NEXT;
+  NHC_OP(multiply3) r[op->target] = r[op->a] * r[op->b] * r[op->c];
+  NHC_NEXT;
+  NHC_OP(product) {
+    const int* k = operand + op->a;
+    double v = r[k[0]];
+    for (int j = 1; j < op->b; ++j) v *= r[k[j]];
+    r[op->target] = v;
+  }
+  NHC_NEXT;
+  NHC_OP(quotient) r[op->target] = r[op->a] / r[op->b];
+  NHC_NEXT;
+  NHC_OP(negate) r[op->target] = -r[op->a];
+  NHC_NEXT;
+  NHC_OP(square_root) r[op->target] = std::sqrt(r[op->a]);
+  NHC_NEXT;
+  NHC_OP(square) r[op->target] = r[op->a] * r[op->a];
+  NHC_NEXT;
+  NHC_OP(power) {
+    const double base = r[op->a];
+    double v = base;
+    for (int j = 1; j < op->b; ++j) v *= base;
+    r[op->target] = v;
+  }
+  NHC_NEXT;
+  NHC_OP(call1) r[op->target] = unary_[static_cast<std::size_t>(op->b)](r[op->a]);
+  NHC_NEXT;
+  NHC_OP(call2) r[op->target] = binary_[static_cast<std::size_t>(op->b)](r[op->a], r[op->c]);
+  NHC_NEXT;
+  NHC_OP(sincos) sincos(r[op->a], &r[op->target], &r[op->b]);
+  NHC_NEXT;
+  NHC_OP(sign) r[op->target] = static_cast<double>((0.0 < r[op->a]) - (r[op->a] < 0.0));
+  NHC_NEXT;
+  NHC_OP(step) r[op->target] = r[op->a] < 0.0 ? 0.0 : (0.0 < r[op->a] ? 1.0 : 0.5);
+  NHC_NEXT;
+  NHC_OP(store) outputs[op->target][op->b] = r[op->a];
+  NHC_NEXT;
+  NHC_OP(halt) return;
+#if !defined(__GNUC__)
     }
   }
+#endif
+#undef NHC_OP
+#undef NHC_NEXT
 }
+
+#if defined(__GNUC__)
+#pragma GCC diagnostic pop
+#endif
 
 }  // namespace nhc

@@ -42,24 +42,49 @@ class EvaluationProgram {
   void run(const double* const* arguments, double* const* outputs, std::vector<double>& registers) const;
 
   int register_count() const noexcept { return register_count_; }
-  std::size_t operation_count() const noexcept { return operations_.size(); }
+  std::size_t operation_count() const noexcept { return operations_.empty() ? 0 : operations_.size() - 1; }
 
  private:
-  enum class Code : std::uint8_t { load, sum, product, quotient, negate, square_root, power, call1, call2, sincos, sign, step, store };
+  // One operation of the program. Binary sums and products (most of a CSE'd list) have codes of
+  // their own, so that they run without the operand list's indirection and loop.
+  enum class Code : std::uint8_t {
+    load,       ///< r[target] = arguments[a][b]
+    add,        ///< r[a] + r[b]
+    subtract,   ///< r[a] - r[b]
+    negated_add,       ///< -r[a] + r[b]
+    negated_subtract,  ///< -r[a] - r[b]
+    sum,        ///< the operands operands_[a, a + b), signs negated_
+    multiply,   ///< r[a] * r[b]
+    multiply3,  ///< r[a] * r[b] * r[c]
+    product,    ///< the operands operands_[a, a + b)
+    quotient,
+    negate,
+    square_root,
+    square,     ///< r[a] * r[a]
+    power,      ///< r[a] multiplied out b times
+    call1,      ///< unary_[b](r[a])
+    call2,      ///< binary_[b](r[a], r[c])
+    sincos,     ///< r[target], r[b] = sin, cos of r[a]
+    sign,
+    step,
+    store,      ///< outputs[target][b] = r[a]
+    halt,       ///< the last operation
+  };
   struct Operation {
     Code code = Code::load;
-    int target = 0;  ///< register written (store: the output slot)
-    int a = 0;       ///< first operand register (load: argument; store: the register stored)
-    int b = 0;       ///< second operand (load, store: the index; power: the exponent; sincos: the cosine's register)
-    int first = 0;   ///< sum, product: the operands in operands_[first, first + count)
-    int count = 0;
-    double (*unary)(double) = nullptr;
-    double (*binary)(double, double) = nullptr;
+    int target = 0;
+    int a = 0;
+    int b = 0;
+    int c = 0;
   };
+
+  void allocate_registers(const std::vector<int>& pinned, const std::vector<int>& kept);
 
   std::vector<Operation> operations_;
   std::vector<int> operands_;
   std::vector<char> negated_;
+  std::vector<double (*)(double)> unary_;
+  std::vector<double (*)(double, double)> binary_;
   std::vector<std::pair<int, double>> constants_;  ///< (register, value)
   int register_count_ = 0;
 };
