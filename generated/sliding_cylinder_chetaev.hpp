@@ -14,8 +14,8 @@
 //   jacobian                          10      10
 //   hidden_constraints                 2       2
 //   hidden_constraints_jacobian        1       1
-//   invariants                         9       9
-//   total                             34      34
+//   invariants                         8       8
+//   total                             33      33
 
 #pragma once
 
@@ -120,7 +120,7 @@ inline constexpr const char* invariant_names[n_invariants] = {"energy"};
 /// F(t, y, y') = 0, IDA form; r has n_states entries.
 inline void residual(double /*t*/, const double* y, const double* yp, const double* p, double* r) noexcept {
   r[0] = y[4] - p[0] * yp[1];  // R_x
-  r[1] = -p[1] * y[4] - p[1] * p[1] * (p[0] * 0.5) * yp[3];  // R_th
+  r[1] = -p[1] * y[4] - yp[3] * (p[0] * (p[1] * p[1] * 0.5));  // R_th
   r[2] = yp[1] - yp[3] * p[1];  // D f1
   r[3] = yp[0] - y[1];  // chain x' = x'
   r[4] = yp[2] - y[3];  // chain th' = th'
@@ -134,7 +134,7 @@ inline void jacobian(double /*t*/, const double* /*y*/, const double* /*yp*/, do
   J[7] = cj;  // (2, 1)
   J[8] = -1.0;  // (3, 1)
   J[14] = cj;  // (4, 2)
-  J[16] = -(p[1] * p[1] * (p[0] * 0.5) * cj);  // (1, 3)
+  J[16] = -(cj * (p[0] * (p[1] * p[1] * 0.5)));  // (1, 3)
   J[17] = -(p[1] * cj);  // (2, 3)
   J[19] = -1.0;  // (4, 3)
   J[20] = 1.0;  // (0, 4)
@@ -157,7 +157,7 @@ inline void hidden_constraints_jacobian(double /*t*/, const double* /*y*/, const
 
 /// The scene's invariants I(t, y, y'), in invariant_names order.
 inline void invariants(double /*t*/, const double* y, const double* /*yp*/, const double* p, double* out) noexcept {
-  out[0] = y[1] * y[1] * (p[0] * 0.5) + p[0] * (p[1] * p[1]) * 0.25 * (y[3] * y[3]);  // energy
+  out[0] = p[0] * (0.5 * (y[1] * y[1]) + p[1] * p[1] * 0.25 * (y[3] * y[3]));  // energy
 }
 
 /// Everything above as the C table of docs/generated-code.md, filled by field name.
