@@ -21,7 +21,7 @@
 #include "parameter_overrides.hpp"
 #include "progress_bar.hpp"
 #include "model_requirements.hpp"
-#include "nhc/analysis/model_analysis.hpp"
+#include "nhc/app/preparation.hpp"
 #include "nhc/app/scene_events.hpp"
 #include "nhc/app/switched_run.hpp"
 #include "nhc/derive/models.hpp"
@@ -51,52 +51,6 @@ struct SimulateOptions {
 };
 
 std::string format(double v, int precision = 3) { return format_number(v, precision); }
-
-/// The initial-point check's outcome in the scene cache (nhc/jit/scene_cache.hpp): whether a run
-/// with the same scene, overrides, tolerances, model and --repair-initial passed it before.
-struct InitialPointCheck {
-  std::optional<std::string> key;  ///< none: the scene cache is off, or the scene has no text
-  bool cached = false;
-  /// What the analysis found wrong at t0 that does not stop the run before it starts (a system
-  /// Jacobian singular there): the words for a run that then fails at t0.
-  std::vector<std::string> problems_at_t0;
-};
-
-/// Given initial values that miss a hidden constraint: the analysis' words (the same rule as
-/// the runtime, initial_point.hpp), before anything is compiled or written. A check passed
-/// before (in the scene cache) is not repeated: an unchanged run derives and analyses nothing.
-InitialPointCheck check_initial_point(Scene scene, ModelKind kind, double rtol, double atol, bool repair) {
-  scene.simulate.rtol = rtol;
-  scene.simulate.atol = atol;
-  InitialPointCheck check;
-  if (jit::scene_cache_enabled())
-    check.key = jit::scene_cache_key(scene, "initial point check",
-                                     "model " + to_string(kind) + ", repair " + (repair ? "yes" : "no"));
-  if (check.key)
-    if (const std::optional<jit::SceneCacheRecord> record = jit::SceneCache().load(*check.key))
-      check.cached = record->get("outcome") == std::string("passed");
-  if (check.cached) return check;
-  InitializationOptions init;
-  init.repair = repair;
-  const ModelAnalysis a = analyze_model(scene, derive_model(scene, kind), init);
-  if (!a.initial_values_repairable) {
-    check.problems_at_t0 = a.errors;
-    return check;
-  }
-  std::string message;
-  for (const std::string& e : a.errors) message += (message.empty() ? "" : "\nnhc: error: ") + e;
-  throw MathError(message);
-}
-
-/// A passed check stored once the model is built, beside its library: a refused or interrupted
-/// run leaves no entry.
-void remember_check(const InitialPointCheck& check, const jit::LoadedModel& built) {
-  // A point with problems is analysed again by every run, so that a failure there gets its words.
-  if (!check.key || check.cached || !check.problems_at_t0.empty()) return;
-  jit::SceneCacheRecord record;
-  record.set("outcome", "passed");
-  jit::SceneCache(built.library().path.parent_path()).store(*check.key, record);
-}
 
 /// The run's drift lines: the reference error, the hidden (or, for suslov, monitored) constraints
 /// and the invariants over the samples.
@@ -183,18 +137,23 @@ CommandRunner add_simulate_command(CLI::App& app) {
     const auto inputs_start = Clock::now();
     const InputSignals input_signals = parse_input_signals(scene_set, options->run.inputs, t0, t_end);
     const double input_seconds = seconds_since(inputs_start);  // reading --input files is not deriving
+    // Derived and analysed once (app::Preparation): the check's analysis is what the build reduces.
+    Scene scene_checked = scene_set;
+    scene_checked.simulate.rtol = options->run.rtol.value_or(scene.simulate.rtol);
+    scene_checked.simulate.atol = options->run.atol.value_or(scene.simulate.atol);
+    app::Preparation preparation(std::move(scene_checked), kind);
     // Initial values that violate a sliding contact's rolling constraints start it sliding
     // (app/switched_run.hpp): the rolling model's check does not apply.
-    const InitialPointCheck check =
-        app::sliding_contact(scene_set) ? InitialPointCheck{} : check_initial_point(scene_set, kind, options->run.rtol.value_or(scene.simulate.rtol),
-                            options->run.atol.value_or(scene.simulate.atol), options->run.repair);
+    const app::InitialPointCheck check = app::sliding_contact(scene_set)
+                                             ? app::InitialPointCheck{}
+                                             : app::check_initial_point(preparation, options->run.repair);
     const double load_seconds = seconds_since(load_start) - input_seconds;
     jit::BuildOptions build_options;
     build_options.sensitivities = !options->sensitivity.names.empty();
     build_options.variational = variational;
     build_options.backend = run_backend(options->run);
-    const jit::LoadedModel built = jit::build(scene, kind, build_options);
-    remember_check(check, built);
+    const jit::LoadedModel built = preparation.build(scene, build_options);
+    app::remember_check(check, built);
     for (const std::string& name : options->sensitivity.names)
       refuse_unread_parameter(scene, built.model(), name, "--sensitivity", "its sensitivities are all zero");
     if (build_options.sensitivities) parse_sensitivities(built.model(), options->sensitivity.names);

@@ -21,6 +21,12 @@ Index1System reduce_to_index1(const Scene& scene, const DerivedModel& model) {
                      [&] { return reduce_to_index1(analyze_structure(dae_system_of(scene, model))); });
 }
 
+Index1System reduce_to_index1(const Scene& scene, const StructuralAnalysis& analysis) {
+  const work_budget::Stage stage("reducing to index 1");
+  return refusing_at(scene.file_location(), "reducing the " + to_string(analysis.system.model) + " model to index 1",
+                     [&] { return reduce_to_index1(analysis); });
+}
+
 Index1System reduce_to_index1(const StructuralAnalysis& a) {
   a.require_nonsingular();
   const DaeSystem& sys = a.system;

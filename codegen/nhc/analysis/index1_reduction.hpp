@@ -22,6 +22,9 @@ namespace nhc {
 /// Throws MathError when the model is not applicable or its system is structurally singular
 /// (the message names the equations and unknowns).
 Index1System reduce_to_index1(const Scene& scene, const DerivedModel& model);
+/// Same, from the structure of an analysis already made (app::Preparation): the Σ-method is not
+/// run again; the refusal names the scene as the overload above.
+Index1System reduce_to_index1(const Scene& scene, const StructuralAnalysis& analysis);
 /// Same, from an analysis already made.
 Index1System reduce_to_index1(const StructuralAnalysis& analysis);
 

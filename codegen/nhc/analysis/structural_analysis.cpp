@@ -1,6 +1,7 @@
 #include "nhc/analysis/structural_analysis.hpp"
 
 #include <algorithm>
+#include <atomic>
 
 #include <stdexcept>
 
@@ -69,9 +70,14 @@ std::string describe_deficiency(const DaeSystem& system, const StructuralDeficie
   return s;
 }
 
+std::atomic<long> analyses{0};
+
 }  // namespace
 
+long analyze_structure_calls() { return analyses.load(); }
+
 StructuralAnalysis analyze_structure(DaeSystem system) {
+  ++analyses;
   StructuralAnalysis a;
   a.sigma = signature_matrix(system);
   a.column_of_unknown = unknown_columns(system);

@@ -53,6 +53,9 @@ struct StructuralAnalysis {
 /// Runs steps 1–3 and derives index, dof, needed initial values and hidden constraints.
 /// Does not throw for structurally singular systems: it fills singular_reason instead.
 StructuralAnalysis analyze_structure(DaeSystem system);
+/// How many times analyze_structure() has run in this process: the tests of app::Preparation
+/// check with it that a simulate runs the Σ-method once.
+long analyze_structure_calls();
 
 /// D^r f_i, simplified (simplify_expression), in the x_j^(k) with k ≤ d_j + r − c_i. Jet
 /// symbols of higher order, which can occur only with identically vanishing coefficients,

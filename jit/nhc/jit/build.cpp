@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <sstream>
+#include <stdexcept>
 
 #include "nhc/analysis/index1_reduction.hpp"
 #include "nhc/long_work.hpp"
@@ -129,7 +130,8 @@ void remember_compiled_header(const Scene& scene, ModelKind kind, const BuildOpt
     SceneCache(library_directory, options.compile.warn).store(*key, header_record(header, jacobian));
 }
 
-LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& options) {
+LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& options,
+                  const StructuralAnalysis* structure) {
   // The scene cache first: an unchanged scene skips derive, reduce and generate.
   auto start = Clock::now();
   std::optional<std::string> key;
@@ -153,11 +155,17 @@ LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& option
   const double lookup_seconds = seconds_since(start);
 
   start = Clock::now();
-  const DerivedModel derived = derive_model(scene, kind);
-  if (!derived.applicable)
-    throw MathError("the " + to_string(kind) + " model does not apply to " + scene.name + ": " + derived.reason);
-  check_for_stop_now();
-  const Index1System system = reduce_to_index1(scene, derived);
+  const Index1System system = [&] {
+    if (structure) {
+      if (structure->system.model != kind) throw std::logic_error("jit::build: the analysis is of another model");
+      return reduce_to_index1(scene, *structure);
+    }
+    const DerivedModel derived = derive_model(scene, kind);
+    if (!derived.applicable)
+      throw MathError("the " + to_string(kind) + " model does not apply to " + scene.name + ": " + derived.reason);
+    check_for_stop_now();
+    return reduce_to_index1(scene, derived);
+  }();
   check_for_stop_now();
   const double derive_seconds = seconds_since(start);
 

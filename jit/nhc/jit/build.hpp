@@ -4,6 +4,7 @@
 
 #include <optional>
 
+#include "nhc/analysis/structural_analysis.hpp"
 #include "nhc/emit/header_emitter.hpp"
 #include "nhc/jit/compiler.hpp"
 #include "nhc/jit/scene_cache.hpp"
@@ -90,7 +91,10 @@ class LoadedModel {
 /// Derives `kind` for the scene (MathError when it does not apply), reduces it to index 1,
 /// generates the header, compiles it (cached) and loads it. An unchanged scene built before with
 /// the same model and options takes its header from the scene cache instead (scene_cache.hpp).
-LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& options = {});
+/// Given the structure of an analysis of the same model already made (app::Preparation), the
+/// model is reduced from it: neither derived nor analysed again.
+LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& options = {},
+                  const StructuralAnalysis* structure = nullptr);
 
 /// Records in the scene cache that `header` (built for `scene`, `kind`, `options`) compiled into
 /// a library in `library_directory`, as build() does after compiling, so that the next build

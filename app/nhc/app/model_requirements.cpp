@@ -1,4 +1,4 @@
-#include "model_requirements.hpp"
+#include "nhc/app/model_requirements.hpp"
 
 #include "nhc/scene/scene_toml.hpp"
 
@@ -6,7 +6,7 @@
 
 #include "nhc/errors.hpp"
 
-namespace nhc::cli {
+namespace nhc::app {
 
 namespace {
 
@@ -71,4 +71,4 @@ void require_model_inputs(const Scene& scene, ModelKind kind) {
   throw InputError(location_of(scene, where), missing);
 }
 
-}  // namespace nhc::cli
+}  // namespace nhc::app

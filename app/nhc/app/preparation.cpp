@@ -1,0 +1,53 @@
+#include "nhc/app/preparation.hpp"
+
+#include "nhc/errors.hpp"
+#include "nhc/jit/scene_cache.hpp"
+
+namespace nhc::app {
+
+const ModelAnalysis& Preparation::analysis(const InitializationOptions& options) {
+  if (!analysis_) analysis_ = analyze_model(scene_, derive_model(scene_, kind_), options);
+  return *analysis_;
+}
+
+const StructuralAnalysis* Preparation::structure() const noexcept {
+  if (!analysis_ || !analysis_->structure || analysis_->structure->structurally_singular) return nullptr;
+  return &*analysis_->structure;
+}
+
+jit::LoadedModel Preparation::build(const Scene& scene, const jit::BuildOptions& options) const {
+  return jit::build(scene, kind_, options, structure());
+}
+
+InitialPointCheck check_initial_point(Preparation& preparation, bool repair) {
+  const Scene& scene = preparation.scene();
+  const ModelKind kind = preparation.kind();
+  InitialPointCheck check;
+  if (jit::scene_cache_enabled())
+    check.key = jit::scene_cache_key(scene, "initial point check",
+                                     "model " + to_string(kind) + ", repair " + (repair ? "yes" : "no"));
+  if (check.key)
+    if (const std::optional<jit::SceneCacheRecord> record = jit::SceneCache().load(*check.key))
+      check.cached = record->get("outcome") == std::string("passed");
+  if (check.cached) return check;
+  InitializationOptions init;
+  init.repair = repair;
+  const ModelAnalysis& a = preparation.analysis(init);
+  if (!a.initial_values_repairable) {
+    check.problems_at_t0 = a.errors;
+    return check;
+  }
+  std::string message;
+  for (const std::string& e : a.errors) message += (message.empty() ? "" : "\nnhc: error: ") + e;
+  throw MathError(message);
+}
+
+void remember_check(const InitialPointCheck& check, const jit::LoadedModel& built) {
+  // A point with problems is analysed again by every run, so that a failure there gets its words.
+  if (!check.key || check.cached || !check.problems_at_t0.empty()) return;
+  jit::SceneCacheRecord record;
+  record.set("outcome", "passed");
+  jit::SceneCache(built.library().path.parent_path()).store(*check.key, record);
+}
+
+}  // namespace nhc::app
