@@ -1,7 +1,7 @@
 """nhc.Model and nhc.Run: a scene's model compiled and run; runs as numpy arrays (docs/python.md)."""
 from __future__ import annotations
 
-from typing import Any, Callable, Dict, Iterable, List, Optional, Sequence, Union
+from typing import Any, Callable, Dict, Iterable, List, Mapping, Optional, Sequence, Union
 from typing import cast as _cast
 
 import numpy as _np
@@ -166,7 +166,8 @@ class Model:
                  output_times: Optional[Iterable[float]] = None,
                  inputs: Optional[Callable[[float, _npt.NDArray[_np.float64]], Sequence[float]]] = None,
                  max_steps: int = 1000000, sensitivity: Union[str, Sequence[str], None] = None,
-                 integrator: str = "ida", step: Optional[float] = None, stop_when: Optional[str] = None) -> Run:
+                 integrator: str = "ida", step: Optional[float] = None, stop_when: Optional[str] = None,
+                 initial: Optional[Mapping[str, float]] = None, t0: Optional[float] = None) -> Run:
         """Integrates from the scene's [initial] (as ``nhc simulate``) and returns the :class:`Run`.
 
         Arguments not given take the scene's ``[simulate]`` values (else 1, 1e-8, 1e-10 and 200), as on
@@ -191,6 +192,11 @@ class Model:
         :param stop_when: an expression (of t, the coordinates, their derivatives, the multipliers)
             whose first zero crossing ends the run (the event ``stop_when``; as ``--stop-when``).
             The scene's ``[events]`` are located in every IDA run: :attr:`Run.events`.
+        :param initial: ``[initial]`` values from outside the scene, as if written there (as
+            ``--initial``): ``{"th": 0.2, "th'": 0.0}``, coordinates and multipliers with as many
+            primes as the derivative's order; the consistent initial point is found as for the
+            scene's own values.
+        :param t0: the start of the run instead of the scene's t0.
         :returns: the run's columns as arrays.
         :raises nhc.MathError: the run failed (``.t`` is where; ``.run`` the motion up to there).
         :raises nhc.SceneError: a bad argument (an unknown sensitivity name, bad output times).
@@ -204,7 +210,9 @@ class Model:
         result = self._model.simulate(number(t_end), number(rtol), number(atol),
                                       None if outputs is None else _count("outputs", outputs), times, inputs,
                                       _count("max_steps", max_steps), names, str(integrator), number(step),
-                                      None if stop_when is None else str(stop_when))
+                                      None if stop_when is None else str(stop_when),
+                                      None if initial is None else [(str(k), float(v)) for k, v in initial.items()],
+                                      number(t0))
         if "failure" in result:
             error = MathError(result["failure"], t=result["failure_t"])
             error.run = Run(result)  # the motion up to the failure

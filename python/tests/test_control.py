@@ -410,3 +410,90 @@ lagrangian = "x'^2/2 - x^2/2"
 [initial]
 x = [1.0, 0.0]
 """
+
+
+def csv_table(path):
+    """A CSV nhc wrote: {column: array}."""
+    header = path.read_text().splitlines()[0].split(",")
+    table = np.loadtxt(path, delimiter=",", skiprows=1)
+    return {name: table[:, c] for c, name in enumerate(header)}
+
+
+def test_initial_values_from_outside_equal_the_same_values_written_in_the_scene(source, tmp_path):
+    # The wheeled pendulum started at t0 = 0.5 from a tilt with a pitch rate and a yaw rate: once
+    # written into the scene's [initial], once from --initial, once from Python's initial=/t0=.
+    path = source / "examples" / "wheeled_pendulum.toml"
+    text = path.read_text()
+    written = (text.replace("t0 = 0.0", "t0 = 0.5").replace("th = [0.05, 0.0]", "th = [0.12, -0.3]")
+               .replace("psi = [0.0, 0.0]", "psi = [0.0, 0.4]").replace("phL = [0.0, 0.0]", "phL = [0.0, -0.6]")
+               .replace("phR = [0.0, 0.0]", "phR = [0.0, 0.6]"))  # a turn on the spot: r (phR' - phL') / 2d = psi'
+
+    assert written != text
+    scene = tmp_path / "written.toml"
+    scene.write_text(written)
+    flags = ["--t-end", "1.2", "--outputs", "20"]
+    subprocess.run([nhc_command(), "simulate", str(scene), *flags, "-o", str(tmp_path / "written.csv")],
+                   capture_output=True, check=True)
+    subprocess.run([nhc_command(), "simulate", str(path), *flags, "--initial", "t0=0.5", "--initial", "th=0.12",
+                    "--initial", "th'=-0.3", "--initial", "psi'=0.4", "--initial", "phL'=-0.6", "--initial", "phR'=0.6", "-o", str(tmp_path / "flags.csv")],
+                   capture_output=True, check=True)
+    a, b = csv_table(tmp_path / "written.csv"), csv_table(tmp_path / "flags.csv")
+    assert a["t"][0] == 0.5 and abs(a["psi"][-1]) > 0.1  # the run starts at t0 and turns
+    for name in a:
+        assert np.array_equal(a[name], b[name]), name
+    run = nhc.Scene.load(path).build().simulate(t_end=1.2, outputs=20, t0=0.5,
+                                                initial={"th": 0.12, "th'": -0.3, "psi'": 0.4,
+                                                         "phL'": -0.6, "phR'": 0.6})
+    for name in a:
+        if name in run:
+            assert np.max(np.abs(a[name] - run[name])) <= 1e-12 * (1 + np.max(np.abs(a[name]))), name
+
+
+def test_initial_values_from_outside_are_checked(source):
+    path = source / "examples" / "wheeled_pendulum.toml"
+    for flag, words in (("z=1", "neither t0, a coordinate nor a multiplier"), ("th=inf", "--initial"),
+                        ("x''=1", "x' is not given")):
+        refused = subprocess.run([nhc_command(), "simulate", str(path), "--initial", flag],
+                                 capture_output=True, text=True)
+        assert refused.returncode == 2 and words in refused.stderr and "--initial" in refused.stderr, refused.stderr
+    with pytest.raises(nhc.SceneError, match="neither t0"):
+        nhc.Scene.load(path).build().simulate(initial={"z": 1.0})
+
+
+LAW_L = "0.7*psi + 11*th + 2.4*th' - 0.01*phL' + 0.33*phR'"
+LAW_R = "-0.7*psi + 11*th + 2.4*th' + 0.33*phL' - 0.01*phR'"
+
+
+def test_a_state_law_from_the_scene_from_input_and_from_python_agree(source, tmp_path):
+    # An LQR law (tests/scene/wheeled_pendulum_sympy.py) closing the wheeled pendulum from a 0.3 rad
+    # tilt: written in [inputs], given as --input TL=..., and computed by a Python inputs= callback.
+    path = source / "examples" / "wheeled_pendulum.toml"
+    text = path.read_text().replace("th = [0.05, 0.0]", "th = [0.3, 0.0]")
+    closed = tmp_path / "closed.toml"
+    closed.write_text(text.replace('TL = "0"', f'TL = "{LAW_L}"').replace('TR = "0"', f'TR = "{LAW_R}"'))
+    flags = ["--t-end", "2", "--outputs", "40", "--rtol", "1e-12", "--atol", "1e-13"]
+    subprocess.run([nhc_command(), "simulate", str(closed), *flags, "-o", str(tmp_path / "scene.csv")],
+                   capture_output=True, check=True)
+    subprocess.run([nhc_command(), "simulate", str(path), *flags, "--initial", "th=0.3", "--input", f"TL={LAW_L}",
+                    "--input", f"TR={LAW_R}", "-o", str(tmp_path / "flag.csv")], capture_output=True, check=True)
+    a, b = csv_table(tmp_path / "scene.csv"), csv_table(tmp_path / "flag.csv")
+    assert abs(a["th"][-1]) < 0.01  # the law holds the pendulum up
+    for name in a:
+        if name.startswith("TL") or name.startswith("TR"):
+            continue
+        assert np.max(np.abs(a[name] - b[name])) <= 1e-9, name
+    model = nhc.Scene.load(path).build()
+    k = {name: i for i, name in enumerate(model.state_names)}
+
+    def law(t, y):
+        psi, th, dth, dL, dR = y[k["psi"]], y[k["th"]], y[k["th'"]], y[k["phL'"]], y[k["phR'"]]
+        return [0.7 * psi + 11 * th + 2.4 * dth - 0.01 * dL + 0.33 * dR,
+                -0.7 * psi + 11 * th + 2.4 * dth + 0.33 * dL - 0.01 * dR]
+
+    run = model.simulate(t_end=2, outputs=40, rtol=1e-12, atol=1e-13, initial={"th": 0.3}, inputs=law)
+    worst = max(float(np.max(np.abs(a[name] - run[name]))) for name in model.state_names)
+    assert worst <= 1e-9, worst
+    # A law of an acceleration from --input is an algebraic loop, refused naming the flag.
+    refused = subprocess.run([nhc_command(), "simulate", str(path), "--input", "TL=3*th''"],
+                             capture_output=True, text=True)
+    assert refused.returncode == 2 and "algebraic loop" in refused.stderr and "--input" in refused.stderr
