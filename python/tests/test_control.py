@@ -497,3 +497,81 @@ def test_a_state_law_from_the_scene_from_input_and_from_python_agree(source, tmp
     refused = subprocess.run([nhc_command(), "simulate", str(path), "--input", "TL=3*th''"],
                              capture_output=True, text=True)
     assert refused.returncode == 2 and "algebraic loop" in refused.stderr and "--input" in refused.stderr
+
+
+def zero_order_hold(A, B, h):
+    """Ad, Bd of x' = A x + B u with u held over h: the exponential of [[A, B], [0, 0]] h (Taylor
+    series after scaling by 2^-s, then squaring)."""
+    n, m = B.shape
+    G = np.zeros((n + m, n + m))
+    G[:n, :n], G[:n, n:] = A * h, B * h
+    s = max(0, int(np.ceil(np.log2(max(np.linalg.norm(G, 1), 1e-300)))) + 4)
+    G = G / 2**s
+    E, term = np.eye(n + m), np.eye(n + m)
+    for k in range(1, 20):
+        term = term @ G / k
+        E = E + term
+    for _ in range(s):
+        E = E @ E
+    return E[:n, :n], E[:n, n:]
+
+
+def discrete_lqr(Ad, Bd, Q, R):
+    """The gain K of u = -K x minimizing sum x'Qx + u'Ru: the Riccati difference equation iterated to its fixed point."""
+    P = Q.copy()
+    for _ in range(20000):
+        K = np.linalg.solve(R + Bd.T @ P @ Bd, Bd.T @ P @ Ad)
+        after = Q + Ad.T @ P @ (Ad - Bd @ K)
+        if np.max(np.abs(after - P)) < 1e-12 * np.max(np.abs(P)):
+            break
+        P = after
+    return K
+
+
+def test_a_sampled_lqr_with_integral_action_matches_the_discrete_linear_model(source):
+    # The wheeled pendulum's pitch and forward motion (equal torques TL = TR = u), linearized by the
+    # SymPy model above, held over h = 0.01 s (100 Hz) and closed by a discrete LQR with an
+    # integrator of x; nhc's nonlinear run under simulate(controller=, period=) against the
+    # discrete recursion of the linear model, whose difference shrinks as the tilt cubed (the
+    # nonlinear terms are of third order in th at this symmetric operating point).
+    path = source / "examples" / "wheeled_pendulum.toml"
+    model = nhc.Scene.load(path).build()
+    A6, B6 = sympy_linearization(nhc.Scene.load(path).parameters)
+    A, B = A6[:4, :4], (B6[:4, 0] + B6[:4, 1]).reshape(4, 1)  # (x, v, th, th'), u = TL = TR
+    h = 0.01
+    Ad, Bd = zero_order_hold(A, B, h)
+    Aa = np.zeros((5, 5))  # z_{k+1} = z_k + h x_k: the integral of the position error
+    Aa[:4, :4], Aa[4, 0], Aa[4, 4] = Ad, h, 1.0
+    Ba = np.vstack([Bd, [[0.0]]])
+    K = discrete_lqr(Aa, Ba, np.diag([10.0, 1.0, 10.0, 1.0, 1.0]), np.eye(1))
+    k = {n: i for i, n in enumerate(model.state_names)}
+    steps = 150
+
+    def run_from(tilt):
+        times = []
+
+        def controller(t, y, z):
+            times.append(t)
+            s = np.array([y[k["x"]], y[k["x'"]], y[k["th"]], y[k["th'"]], z])
+            u = float(-(K @ s)[0])
+            return [u, u], z + h * y[k["x"]]
+
+        run = model.simulate(controller=controller, period=h, t_end=steps * h, controller_state=0.0,
+                             initial={"th": tilt}, rtol=1e-11, atol=1e-13)
+        s = np.array([0.0, 0.0, tilt, 0.0, 0.0])
+        linear = [s[:4]]
+        for _ in range(steps):
+            s = (Aa - Ba @ K) @ s
+            linear.append(s[:4])
+        mine = np.column_stack([run["x"], run["x'"], run["th"], run["th'"]])
+        return run, times, float(np.max(np.abs(mine - np.array(linear))))
+
+    run, times, small = run_from(0.01)
+    # The controller ran at the samples only, exactly at k h, and the rows are those samples.
+    assert len(times) == steps and times == [j * h for j in range(steps)]
+    assert np.array_equal(run.t, np.array([j * h for j in range(steps + 1)]))
+    assert abs(run["th"][-1]) < 0.2 * 0.01  # the loop brings the pendulum up
+    _, _, large = run_from(0.02)
+    print(f"largest difference to the discrete linear model: {small:.3e} (tilt 0.01), {large:.3e} (tilt 0.02)")
+    assert small < 10 * 0.01**3  # the size of the nonlinear terms (cubic in the tilt, coefficients ~ g/l)
+    assert 5 < large / small < 11  # third order in the tilt
