@@ -86,8 +86,8 @@ CommandRunner add_animate_command(CLI::App& app) {
                   "draw the motion in this CSV (t and the model's states by name, e.g. nhc optimize's -o) instead of running");
 
   return [options]() {
+    const Scene scene = load_run_scene(options->run);
     const RunFlags& flags = options->run;
-    const Scene scene = load_scene(flags.scene_path, flags.read);
     if (scene.visuals.empty())
       throw InputError(scene.file_location(),
                        "the scene has no [visual] table: nothing to draw (shapes: " + visual_shape_names() +

@@ -3,8 +3,11 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <map>
 
 #include "commands.hpp"
+#include "nhc/app/initial_values.hpp"
+#include "nhc/app/input_laws.hpp"
 #include "nhc/derive/discrete_lagrange_dalembert.hpp"
 #include "nhc/errors.hpp"
 #include "output_selection.hpp"
@@ -28,8 +31,13 @@ void add_run_flags(CLI::App* sub, RunFlags& flags) {
   add_set_option(sub, flags.set);
   sub->add_option("--input", flags.inputs,
                   "NAME=EXPR or NAME=@FILE.csv: replace the default signal of the scene's input NAME by an "
-                  "expression of t and the parameters, or a time series (columns t and NAME, linear "
+                  "expression of t and the parameters, a feedback law of the coordinates and their first "
+                  "derivatives (compiled into the equations), or a time series (columns t and NAME, linear "
                   "interpolation; repeatable)");
+  sub->add_option("--initial", flags.initial,
+                  "NAME=VALUE: an [initial] value from outside the scene, as if written there: a coordinate or "
+                  "multiplier (x), a derivative (x') or t0 (repeatable; the consistent initial point is found "
+                  "as for the scene's own values)");
   add_expand_flag(sub, flags.read);
   add_work_limit_flag(sub);
   sub->add_flag("--project", flags.project, "project onto the hidden constraints (docs/projection.md)");
@@ -77,6 +85,28 @@ app::FieldNames field_names(const RunFlags& flags) {
 }
 
 }  // namespace
+
+Scene load_run_scene(RunFlags& flags) {
+  Scene scene = load_scene(flags.scene_path, flags.read);
+  // --input NAME=EXPR of the coordinates: a feedback law, read as if written in [inputs] (the
+  // scene read again); the signals of t stay --input's.
+  std::map<std::string, std::string> laws;
+  std::vector<std::string> signals;
+  for (const std::string& text : flags.inputs) {
+    const auto [name, value] = split_assignment("--input", text);
+    if (value.rfind('@', 0) != 0 && app::is_feedback_law(scene, name, value, "--input")) laws[name] = value;
+    else signals.push_back(text);
+  }
+  flags.inputs = signals;
+  scene = app::scene_with_input_laws(scene, laws, flags.read, "--input");
+  std::vector<app::InitialValue> values;
+  for (const std::string& text : flags.initial) {
+    const auto [name, value] = split_assignment("--initial", text);
+    values.push_back({name, parse_number("--initial", value), "--initial " + text});
+  }
+  app::apply_initial_values(scene, values, "--initial");
+  return scene;
+}
 
 app::RunRequest run_request(const RunFlags& flags, const Scene& scene) {
   app::RunRequest r;

@@ -26,6 +26,7 @@ struct RunFlags {
   std::string output_times;
   std::vector<std::string> set;
   std::vector<std::string> inputs;  ///< --input NAME=EXPR | NAME=@FILE.csv
+  std::vector<std::string> initial; ///< --initial NAME=VALUE: [initial] values (x, x', t0) from outside
   std::string integrator = "ida";   ///< --integrator ida | variational
   std::optional<double> step;       ///< --step H of the variational integrator
   std::optional<std::string> stop_when;  ///< --stop-when EXPR: an event that ends the run
@@ -33,7 +34,12 @@ struct RunFlags {
   SceneOptions read;
 };
 
-/// Registers SCENE, --model, --t-end, --rtol, --atol, --max-steps, --set, --input, --expand,
+/// The scene of SCENE (with --expand), with the --input feedback laws (expressions of the
+/// coordinates, app::input_laws.hpp) written into its [inputs] and taken out of `flags.inputs`,
+/// and the --initial values written into its [initial] (app::apply_initial_values).
+Scene load_run_scene(RunFlags& flags);
+
+/// Registers SCENE, --model, --t-end, --rtol, --atol, --max-steps, --set, --input, --initial, --expand,
 /// --project, --repair-initial, --outputs, --output-times, --integrator, --step and --stop-when on `sub`.
 void add_run_flags(CLI::App* sub, RunFlags& flags);
 

@@ -100,7 +100,7 @@ CommandRunner add_simulate_command(CLI::App& app) {
   return [options]() {
     // Derive, reduce, generate (Jacobian kind by nhc::default_jacobian_kind), compile (or reuse), load.
     const auto load_start = Clock::now();
-    const Scene scene = load_scene(options->run.scene_path, options->run.read);
+    const Scene scene = load_run_scene(options->run);
     const ModelKind kind = model_or_default(scene, options->run.model);
     require_model_inputs(scene, kind);
     // Sensitivities follow the inputs' default signals, whose dependence on the parameters the

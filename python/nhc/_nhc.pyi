@@ -1,6 +1,6 @@
 # Type stubs of the compiled module nhc._nhc (python/src/*.cpp, pybind11): the private layer under
 # nhc.Scene and nhc.Model, so that type checkers and editors see through the package.
-from typing import Any, Callable, Dict, List, Optional, Sequence
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 import numpy.typing as npt
@@ -57,7 +57,8 @@ class _Model:
                  output_times: Optional[List[float]] = ...,
                  inputs: Optional[Callable[[float, npt.NDArray[np.float64]], Sequence[float]]] = ...,
                  max_steps: int = ..., sensitivity: Optional[List[str]] = ..., integrator: str = ...,
-                 step: Optional[float] = ..., stop_when: Optional[str] = ...) -> Dict[str, Any]: ...
+                 step: Optional[float] = ..., stop_when: Optional[str] = ...,
+                 initial: Optional[List[Tuple[str, float]]] = ..., t0: Optional[float] = ...) -> Dict[str, Any]: ...
     @property
     def differential(self) -> List[bool]: ...
     def input_jacobian(self, t: float, y: npt.NDArray[np.float64], yp: npt.NDArray[np.float64],

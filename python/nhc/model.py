@@ -1,7 +1,7 @@
 """nhc.Model and nhc.Run: a scene's model compiled and run; runs as numpy arrays (docs/python.md)."""
 from __future__ import annotations
 
-from typing import Any, Callable, Dict, Iterable, List, Optional, Sequence, Union
+from typing import Any, Callable, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
 from typing import cast as _cast
 
 import numpy as _np
@@ -166,7 +166,10 @@ class Model:
                  output_times: Optional[Iterable[float]] = None,
                  inputs: Optional[Callable[[float, _npt.NDArray[_np.float64]], Sequence[float]]] = None,
                  max_steps: int = 1000000, sensitivity: Union[str, Sequence[str], None] = None,
-                 integrator: str = "ida", step: Optional[float] = None, stop_when: Optional[str] = None) -> Run:
+                 integrator: str = "ida", step: Optional[float] = None, stop_when: Optional[str] = None,
+                 initial: Optional[Mapping[str, float]] = None, t0: Optional[float] = None,
+                 controller: Optional[Callable[[float, _npt.NDArray[_np.float64], Any], Tuple[Sequence[float], Any]]] = None,
+                 period: Optional[float] = None, controller_state: Any = None) -> Run:
         """Integrates from the scene's [initial] (as ``nhc simulate``) and returns the :class:`Run`.
 
         Arguments not given take the scene's ``[simulate]`` values (else 1, 1e-8, 1e-10 and 200), as on
@@ -191,11 +194,33 @@ class Model:
         :param stop_when: an expression (of t, the coordinates, their derivatives, the multipliers)
             whose first zero crossing ends the run (the event ``stop_when``; as ``--stop-when``).
             The scene's ``[events]`` are located in every IDA run: :attr:`Run.events`.
+        :param initial: ``[initial]`` values from outside the scene, as if written there (as
+            ``--initial``): ``{"th": 0.2, "th'": 0.0}``, coordinates and multipliers with as many
+            primes as the derivative's order; the consistent initial point is found as for the
+            scene's own values.
+        :param t0: the start of the run instead of the scene's t0.
+        :param controller: a sampled controller f(t, y, state) -> (inputs, new_state), called only
+            at the sample times t0 + k*period (y in :attr:`state_names` order); its inputs are held
+            (zero-order hold) until the next sample, and the integrator stops and restarts exactly at
+            each sample from the state it reached (given by name, as `initial`). The run's rows are
+            the sample times. Needs `t_end` and `period`; not with `inputs`, `outputs`,
+            `output_times`, `sensitivity`, `stop_when` or the variational integrator.
+        :param period: the controller's sample period h.
+        :param controller_state: the controller's state at t0 (passed to its first call).
         :returns: the run's columns as arrays.
         :raises nhc.MathError: the run failed (``.t`` is where; ``.run`` the motion up to there).
         :raises nhc.SceneError: a bad argument (an unknown sensitivity name, bad output times).
 
         Ctrl-C (KeyboardInterrupt) stops a long run."""
+        if controller is not None or period is not None:
+            if controller is None or period is None or t_end is None:
+                raise SceneError("controller=, period= and t_end= go together")
+            if (inputs is not None or outputs is not None or output_times is not None or sensitivity is not None
+                    or stop_when is not None or integrator != "ida"):
+                raise SceneError("controller= runs IDA from sample to sample: it does not take inputs, outputs, "
+                                 "output_times, sensitivity, stop_when or another integrator")
+            return self._simulate_sampled(controller, float(period), controller_state, float(t_end), rtol, atol,
+                                          max_steps, initial, t0)
         times = None if output_times is None else [float(t) for t in _np.asarray(output_times).ravel()]
         names = None if sensitivity is None else [sensitivity] if isinstance(sensitivity, str) else list(sensitivity)
         def number(value: Optional[float]) -> Optional[float]:
@@ -204,12 +229,55 @@ class Model:
         result = self._model.simulate(number(t_end), number(rtol), number(atol),
                                       None if outputs is None else _count("outputs", outputs), times, inputs,
                                       _count("max_steps", max_steps), names, str(integrator), number(step),
-                                      None if stop_when is None else str(stop_when))
+                                      None if stop_when is None else str(stop_when),
+                                      None if initial is None else [(str(k), float(v)) for k, v in initial.items()],
+                                      number(t0))
         if "failure" in result:
             error = MathError(result["failure"], t=result["failure_t"])
             error.run = Run(result)  # the motion up to the failure
             raise error
         return Run(result)
+
+    def _simulate_sampled(self, controller: Callable[[float, _npt.NDArray[_np.float64], Any], Tuple[Sequence[float], Any]],
+                          period: float, state: Any, t_end: float, rtol: Optional[float], atol: Optional[float],
+                          max_steps: int, initial: Optional[Mapping[str, float]], t0: Optional[float]) -> Run:
+        """simulate(controller=f, period=h): one IDA run per sample interval [t_k, t_k+1], t_k = t0 + k h,
+        each started at the state the previous one reached, with the inputs f returned at t_k held."""
+        if not (_np.isfinite(period) and period > 0):
+            raise SceneError(f"period: {period!r} is not a positive number")
+        names = self.state_names
+        moving = list(self._model.differential)
+        # The state at t0: the consistent initial point (the inputs' default signals for the
+        # algebraic states, which the differential ones do not depend on).
+        start = self.simulate(rtol=rtol, atol=atol, initial=initial, t0=t0, max_steps=max_steps,
+                              t_end=None, outputs=1)
+        t = float(start.t[0])
+        count = int(_np.floor((t_end - t) / period + 1e-9))
+        if count < 1:
+            raise SceneError(f"period: {period!r} does not fit once in the run from t0 = {t!r} to t_end = {t_end!r}")
+        y = _np.array([start[n][0] for n in names])
+        rows: List[_npt.NDArray[_np.float64]] = []
+        columns: List[str] = []
+        calls = 0
+        for k in range(count):
+            t_k = t + k * period
+            t_next = t + (k + 1) * period
+            returned = controller(t_k, y.copy(), state)
+            calls += 1
+            u, state = returned
+            held = [float(v) for v in _np.asarray(u, dtype=float).ravel()]
+            given = {n: float(v) for n, v, d in zip(names, y, moving) if d}
+            def hold(_t: float, _y: _npt.NDArray[_np.float64], held: List[float] = held) -> Sequence[float]:
+                return held  # the zero-order hold of the sample's inputs
+
+            run = self.simulate(output_times=[t_k, t_next], rtol=rtol, atol=atol, max_steps=max_steps,
+                                inputs=hold, initial=given, t0=t_k)
+            columns = run.columns
+            data = run.to_numpy()
+            rows.append(data if k == 0 else data[1:])
+            y = _np.array([run[n][-1] for n in names])
+        summary = {"samples": count + 1, "controller_calls": calls, "period": period}
+        return Run({"columns": columns, "data": _np.vstack(rows), "summary": summary, "events": []})
 
     def residual(self, t: float, y: _npt.ArrayLike, yp: _npt.ArrayLike,
                  u: Optional[_npt.ArrayLike] = None) -> _npt.NDArray[_np.float64]:

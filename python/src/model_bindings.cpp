@@ -16,6 +16,7 @@
 
 #include "model_argument.hpp"
 #include "nhc/app/parameter_values.hpp"
+#include "nhc/app/initial_values.hpp"
 #include "nhc/app/run_request.hpp"
 #include "nhc/app/scene_events.hpp"
 #include "nhc/app/scene_outputs.hpp"
@@ -24,6 +25,7 @@
 #include "nhc/errors.hpp"
 #include "nhc/jit.hpp"
 #include "nhc/linearize.hpp"
+#include "nhc/runtime/number_text.hpp"
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/derive/discrete_lagrange_dalembert.hpp"
 #include "nhc/scene/scene.hpp"
@@ -269,13 +271,13 @@ std::string join_numbers(const std::vector<double>& values) {
 
 /// simulate(sensitivity=[names]): the run with IDAS's forward sensitivities; the columns are the
 /// plain ones followed by d(<state>)/d(<name>) (runtime::sensitivity_csv_header).
-py::dict simulate_sensitivities(const BuiltModel& built, const std::vector<std::string>& names,
+py::dict simulate_sensitivities(const BuiltModel& built, const Scene& scene, const std::vector<std::string>& names,
                                 const std::vector<double>& times, runtime::IntegratorOptions options,
                                 InterruptCheck interrupt) {
   const runtime::Model& plain = built.model();  // the inputs follow their default signals
   std::vector<runtime::SensitivityParameter> thetas;
   const runtime::InitialState initial =
-      runtime::initial_state_from(plain, built.scene.initial.t0, built.scene.initial.values);
+      runtime::initial_state_from(plain, scene.initial.t0, scene.initial.values);
   try {
     thetas = runtime::sensitivity_parameters(plain, names);
     if (thetas.empty()) throw std::invalid_argument("no quantity to differentiate by");
@@ -316,8 +318,18 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
                   const std::optional<std::vector<double>>& output_times, const std::optional<py::function>& inputs,
                   long long max_steps, const std::optional<std::vector<std::string>>& sensitivity,
                   const std::string& integrator, const std::optional<double>& step,
-                  const std::optional<std::string>& stop_when) {
+                  const std::optional<std::string>& stop_when,
+                  const std::optional<std::vector<std::pair<std::string, double>>>& initial_values,
+                  const std::optional<double>& t0_value) {
   const bool variational = integrator == "variational";
+  // initial= and t0= are [initial] values written from outside, the command line's --initial rule.
+  Scene scene = built.scene;
+  std::vector<app::InitialValue> given;
+  if (t0_value) given.push_back({"t0", *t0_value, "t0=" + runtime::number_text(*t0_value, 17)});
+  if (initial_values)
+    for (const auto& [name, value] : *initial_values)
+      given.push_back({name, value, "initial['" + name + "'] = " + runtime::number_text(value, 17)});
+  app::apply_initial_values(scene, given, initial_values ? "initial" : "t0");
   if (!variational && integrator != "ida")
     throw InputError({"integrator", 0, 0}, "integrator '" + integrator + "': ida or variational");
   if (variational && sensitivity)
@@ -337,18 +349,18 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   request.variational = variational;
   request.step = step;
   request.stop_when = stop_when;
-  app::check_run_request(request, built.scene, built.kind, app::python_names());
-  const std::vector<SceneEvent> scene_events = app::run_events(request, built.scene, app::python_names());
+  app::check_run_request(request, scene, built.kind, app::python_names());
+  const std::vector<SceneEvent> scene_events = app::run_events(request, scene, app::python_names());
   const runtime::Model& model = built.model();
-  const double t0 = built.scene.initial.t0;
-  const std::vector<double> times = app::run_output_times(request, built.scene, app::python_names());
-  runtime::IntegratorOptions options = app::run_integrator_options(request, built.scene);
+  const double t0 = scene.initial.t0;
+  const std::vector<double> times = app::run_output_times(request, scene, app::python_names());
+  runtime::IntegratorOptions options = app::run_integrator_options(request, scene);
   const InterruptCheck interrupt;
   if (sensitivity) {
     if (inputs)
       throw InputError({"inputs", 0, 0}, "forward sensitivities follow the scene's default input signals: they do not "
                                          "take an inputs function (its derivative by the parameters is not known)");
-    return simulate_sensitivities(built, *sensitivity, times, options, interrupt);
+    return simulate_sensitivities(built, scene, *sensitivity, times, options, interrupt);
   }
   options.stop_requested = interrupt;
   const std::vector<double>& p = built.parameters;
@@ -362,7 +374,7 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   }
   // Events are located by IDA in the plain run (app::run_events refuses stop_when otherwise).
   const std::vector<runtime::Event> events =
-      variational ? std::vector<runtime::Event>{} : app::runtime_events(scene_events, built.scene, model, p);
+      variational ? std::vector<runtime::Event>{} : app::runtime_events(scene_events, scene, model, p);
   runtime::RunResult run;
   const runtime::Model* run_model = &model;
   std::map<std::string, long> extra;
@@ -378,7 +390,7 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   std::vector<app::SlidingSpan> sliding_spans;
   try {
     py::gil_scoped_release unlocked;
-    const runtime::InitialState initial = runtime::initial_state_from(model, t0, built.scene.initial.values);
+    const runtime::InitialState initial = runtime::initial_state_from(model, t0, scene.initial.values);
     if (variational) {
       const runtime::VariationalOptions vo = runtime::variational_options(*step, options.max_steps, options);
       runtime::VariationalRun v = runtime::simulate_variational(*run_model, p, initial, times, vo, input_function);
@@ -404,7 +416,7 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   // the model does not compute is left out; a required one is a SceneError).
   py::object columns = built.columns();
   std::optional<app::SceneOutputs> scene_outputs;
-  if (!built.scene.outputs.empty() || !built.scene.contacts.empty()) scene_outputs.emplace(built.scene, *run_model, p);
+  if (!scene.outputs.empty() || !scene.contacts.empty()) scene_outputs.emplace(scene, *run_model, p);
   if (slide && scene_outputs) {
     std::vector<std::pair<double, double>> spans;
     for (const app::SlidingSpan& s : sliding_spans) spans.emplace_back(s.from, s.to);
@@ -639,7 +651,7 @@ void register_model(py::module_& m) {
            py::arg("atol") = std::nullopt, py::arg("outputs") = std::nullopt,
            py::arg("output_times") = std::nullopt, py::arg("inputs") = std::nullopt, py::arg("max_steps") = 1000000,
            py::arg("sensitivity") = std::nullopt, py::arg("integrator") = "ida", py::arg("step") = std::nullopt,
-           py::arg("stop_when") = std::nullopt)
+           py::arg("stop_when") = std::nullopt, py::arg("initial") = std::nullopt, py::arg("t0") = std::nullopt)
       .def_property_readonly("inputs",
                              [](const BuiltModel& b) {
                                std::vector<std::string> names;

@@ -410,3 +410,168 @@ lagrangian = "x'^2/2 - x^2/2"
 [initial]
 x = [1.0, 0.0]
 """
+
+
+def csv_table(path):
+    """A CSV nhc wrote: {column: array}."""
+    header = path.read_text().splitlines()[0].split(",")
+    table = np.loadtxt(path, delimiter=",", skiprows=1)
+    return {name: table[:, c] for c, name in enumerate(header)}
+
+
+def test_initial_values_from_outside_equal_the_same_values_written_in_the_scene(source, tmp_path):
+    # The wheeled pendulum started at t0 = 0.5 from a tilt with a pitch rate and a yaw rate: once
+    # written into the scene's [initial], once from --initial, once from Python's initial=/t0=.
+    path = source / "examples" / "wheeled_pendulum.toml"
+    text = path.read_text()
+    written = (text.replace("t0 = 0.0", "t0 = 0.5").replace("th = [0.05, 0.0]", "th = [0.12, -0.3]")
+               .replace("psi = [0.0, 0.0]", "psi = [0.0, 0.4]").replace("phL = [0.0, 0.0]", "phL = [0.0, -0.6]")
+               .replace("phR = [0.0, 0.0]", "phR = [0.0, 0.6]"))  # a turn on the spot: r (phR' - phL') / 2d = psi'
+
+    assert written != text
+    scene = tmp_path / "written.toml"
+    scene.write_text(written)
+    flags = ["--t-end", "1.2", "--outputs", "20"]
+    subprocess.run([nhc_command(), "simulate", str(scene), *flags, "-o", str(tmp_path / "written.csv")],
+                   capture_output=True, check=True)
+    subprocess.run([nhc_command(), "simulate", str(path), *flags, "--initial", "t0=0.5", "--initial", "th=0.12",
+                    "--initial", "th'=-0.3", "--initial", "psi'=0.4", "--initial", "phL'=-0.6", "--initial", "phR'=0.6", "-o", str(tmp_path / "flags.csv")],
+                   capture_output=True, check=True)
+    a, b = csv_table(tmp_path / "written.csv"), csv_table(tmp_path / "flags.csv")
+    assert a["t"][0] == 0.5 and abs(a["psi"][-1]) > 0.1  # the run starts at t0 and turns
+    for name in a:
+        assert np.array_equal(a[name], b[name]), name
+    run = nhc.Scene.load(path).build().simulate(t_end=1.2, outputs=20, t0=0.5,
+                                                initial={"th": 0.12, "th'": -0.3, "psi'": 0.4,
+                                                         "phL'": -0.6, "phR'": 0.6})
+    for name in a:
+        if name in run:
+            assert np.max(np.abs(a[name] - run[name])) <= 1e-12 * (1 + np.max(np.abs(a[name]))), name
+
+
+def test_initial_values_from_outside_are_checked(source):
+    path = source / "examples" / "wheeled_pendulum.toml"
+    for flag, words in (("z=1", "neither t0, a coordinate nor a multiplier"), ("th=inf", "--initial"),
+                        ("x''=1", "x' is not given")):
+        refused = subprocess.run([nhc_command(), "simulate", str(path), "--initial", flag],
+                                 capture_output=True, text=True)
+        assert refused.returncode == 2 and words in refused.stderr and "--initial" in refused.stderr, refused.stderr
+    with pytest.raises(nhc.SceneError, match="neither t0"):
+        nhc.Scene.load(path).build().simulate(initial={"z": 1.0})
+
+
+LAW_L = "0.7*psi + 11*th + 2.4*th' - 0.01*phL' + 0.33*phR'"
+LAW_R = "-0.7*psi + 11*th + 2.4*th' + 0.33*phL' - 0.01*phR'"
+
+
+def test_a_state_law_from_the_scene_from_input_and_from_python_agree(source, tmp_path):
+    # An LQR law (tests/scene/wheeled_pendulum_sympy.py) closing the wheeled pendulum from a 0.3 rad
+    # tilt: written in [inputs], given as --input TL=..., and computed by a Python inputs= callback.
+    path = source / "examples" / "wheeled_pendulum.toml"
+    text = path.read_text().replace("th = [0.05, 0.0]", "th = [0.3, 0.0]")
+    closed = tmp_path / "closed.toml"
+    closed.write_text(text.replace('TL = "0"', f'TL = "{LAW_L}"').replace('TR = "0"', f'TR = "{LAW_R}"'))
+    flags = ["--t-end", "2", "--outputs", "40", "--rtol", "1e-12", "--atol", "1e-13"]
+    subprocess.run([nhc_command(), "simulate", str(closed), *flags, "-o", str(tmp_path / "scene.csv")],
+                   capture_output=True, check=True)
+    subprocess.run([nhc_command(), "simulate", str(path), *flags, "--initial", "th=0.3", "--input", f"TL={LAW_L}",
+                    "--input", f"TR={LAW_R}", "-o", str(tmp_path / "flag.csv")], capture_output=True, check=True)
+    a, b = csv_table(tmp_path / "scene.csv"), csv_table(tmp_path / "flag.csv")
+    assert abs(a["th"][-1]) < 0.01  # the law holds the pendulum up
+    for name in a:
+        if name.startswith("TL") or name.startswith("TR"):
+            continue
+        assert np.max(np.abs(a[name] - b[name])) <= 1e-9, name
+    model = nhc.Scene.load(path).build()
+    k = {name: i for i, name in enumerate(model.state_names)}
+
+    def law(t, y):
+        psi, th, dth, dL, dR = y[k["psi"]], y[k["th"]], y[k["th'"]], y[k["phL'"]], y[k["phR'"]]
+        return [0.7 * psi + 11 * th + 2.4 * dth - 0.01 * dL + 0.33 * dR,
+                -0.7 * psi + 11 * th + 2.4 * dth + 0.33 * dL - 0.01 * dR]
+
+    run = model.simulate(t_end=2, outputs=40, rtol=1e-12, atol=1e-13, initial={"th": 0.3}, inputs=law)
+    worst = max(float(np.max(np.abs(a[name] - run[name]))) for name in model.state_names)
+    assert worst <= 1e-9, worst
+    # A law of an acceleration from --input is an algebraic loop, refused naming the flag.
+    refused = subprocess.run([nhc_command(), "simulate", str(path), "--input", "TL=3*th''"],
+                             capture_output=True, text=True)
+    assert refused.returncode == 2 and "algebraic loop" in refused.stderr and "--input" in refused.stderr
+
+
+def zero_order_hold(A, B, h):
+    """Ad, Bd of x' = A x + B u with u held over h: the exponential of [[A, B], [0, 0]] h (Taylor
+    series after scaling by 2^-s, then squaring)."""
+    n, m = B.shape
+    G = np.zeros((n + m, n + m))
+    G[:n, :n], G[:n, n:] = A * h, B * h
+    s = max(0, int(np.ceil(np.log2(max(np.linalg.norm(G, 1), 1e-300)))) + 4)
+    G = G / 2**s
+    E, term = np.eye(n + m), np.eye(n + m)
+    for k in range(1, 20):
+        term = term @ G / k
+        E = E + term
+    for _ in range(s):
+        E = E @ E
+    return E[:n, :n], E[:n, n:]
+
+
+def discrete_lqr(Ad, Bd, Q, R):
+    """The gain K of u = -K x minimizing sum x'Qx + u'Ru: the Riccati difference equation iterated to its fixed point."""
+    P = Q.copy()
+    for _ in range(20000):
+        K = np.linalg.solve(R + Bd.T @ P @ Bd, Bd.T @ P @ Ad)
+        after = Q + Ad.T @ P @ (Ad - Bd @ K)
+        if np.max(np.abs(after - P)) < 1e-12 * np.max(np.abs(P)):
+            break
+        P = after
+    return K
+
+
+def test_a_sampled_lqr_with_integral_action_matches_the_discrete_linear_model(source):
+    # The wheeled pendulum's pitch and forward motion (equal torques TL = TR = u), linearized by the
+    # SymPy model above, held over h = 0.01 s (100 Hz) and closed by a discrete LQR with an
+    # integrator of x; nhc's nonlinear run under simulate(controller=, period=) against the
+    # discrete recursion of the linear model, whose difference shrinks as the tilt cubed (the
+    # nonlinear terms are of third order in th at this symmetric operating point).
+    path = source / "examples" / "wheeled_pendulum.toml"
+    model = nhc.Scene.load(path).build()
+    A6, B6 = sympy_linearization(nhc.Scene.load(path).parameters)
+    A, B = A6[:4, :4], (B6[:4, 0] + B6[:4, 1]).reshape(4, 1)  # (x, v, th, th'), u = TL = TR
+    h = 0.01
+    Ad, Bd = zero_order_hold(A, B, h)
+    Aa = np.zeros((5, 5))  # z_{k+1} = z_k + h x_k: the integral of the position error
+    Aa[:4, :4], Aa[4, 0], Aa[4, 4] = Ad, h, 1.0
+    Ba = np.vstack([Bd, [[0.0]]])
+    K = discrete_lqr(Aa, Ba, np.diag([10.0, 1.0, 10.0, 1.0, 1.0]), np.eye(1))
+    k = {n: i for i, n in enumerate(model.state_names)}
+    steps = 150
+
+    def run_from(tilt):
+        times = []
+
+        def controller(t, y, z):
+            times.append(t)
+            s = np.array([y[k["x"]], y[k["x'"]], y[k["th"]], y[k["th'"]], z])
+            u = float(-(K @ s)[0])
+            return [u, u], z + h * y[k["x"]]
+
+        run = model.simulate(controller=controller, period=h, t_end=steps * h, controller_state=0.0,
+                             initial={"th": tilt}, rtol=1e-11, atol=1e-13)
+        s = np.array([0.0, 0.0, tilt, 0.0, 0.0])
+        linear = [s[:4]]
+        for _ in range(steps):
+            s = (Aa - Ba @ K) @ s
+            linear.append(s[:4])
+        mine = np.column_stack([run["x"], run["x'"], run["th"], run["th'"]])
+        return run, times, float(np.max(np.abs(mine - np.array(linear))))
+
+    run, times, small = run_from(0.01)
+    # The controller ran at the samples only, exactly at k h, and the rows are those samples.
+    assert len(times) == steps and times == [j * h for j in range(steps)]
+    assert np.array_equal(run.t, np.array([j * h for j in range(steps + 1)]))
+    assert abs(run["th"][-1]) < 0.2 * 0.01  # the loop brings the pendulum up
+    _, _, large = run_from(0.02)
+    print(f"largest difference to the discrete linear model: {small:.3e} (tilt 0.01), {large:.3e} (tilt 0.02)")
+    assert small < 10 * 0.01**3  # the size of the nonlinear terms (cubic in the tilt, coefficients ~ g/l)
+    assert 5 < large / small < 11  # third order in the tilt

@@ -26,6 +26,7 @@
 #include "nhc/expr/work_stage.hpp"
 #include "nhc/expr/zero_test.hpp"
 #include "nhc/scene/scene.hpp"
+#include "nhc/scene/scene_text.hpp"
 
 namespace nhc {
 
@@ -1098,6 +1099,32 @@ std::string equations_source(const std::string& text) {
   std::ostringstream out;
   out << toml::toml_formatter(root);
   return out.str();
+}
+
+std::string scene_text_with_inputs(const std::string& text, const std::map<std::string, std::string>& laws) {
+  const toml::table root = toml::parse(text);
+  // Each entry's value replaced in place, the last in the text first, so that every other line
+  // and column of the file (its messages' locations) stays where it was.
+  std::vector<std::pair<std::size_t, std::pair<std::size_t, std::string>>> edits;
+  std::vector<std::size_t> line_start{0};
+  for (std::size_t i = 0; i < text.size(); ++i)
+    if (text[i] == '\n') line_start.push_back(i + 1);
+  const auto offset = [&](const toml::source_position& at) {
+    return line_start.at(static_cast<std::size_t>(at.line) - 1) + static_cast<std::size_t>(at.column) - 1;
+  };
+  const toml::table* inputs = root["inputs"].as_table();
+  for (const auto& [name, law] : laws) {
+    const toml::node* node = inputs ? inputs->get(name) : nullptr;
+    if (!node) throw std::invalid_argument("the scene has no input '" + name + "'");
+    if (law.find_first_of("\"\\\n") != std::string::npos)
+      throw std::invalid_argument("the law of '" + name + "' holds a quote, backslash or line break");
+    const std::size_t begin = offset(node->source().begin), end = offset(node->source().end);
+    edits.push_back({begin, {end, "\"" + law + "\""}});
+  }
+  std::sort(edits.begin(), edits.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::string out = text;
+  for (const auto& [begin, edit] : edits) out.replace(begin, edit.first - begin, edit.second);
+  return out;
 }
 
 Scene load_scene(const std::string& path, const SceneOptions& options) {
