@@ -15,7 +15,10 @@
 //   hidden_constraints                 5       5
 //   hidden_constraints_jacobian        8       6
 //   default_inputs                     0       0
-//   total                            185     110
+//   velocities                         4       4
+//   mass_matrix                        7       6
+//   forcing                           55      32
+//   total                            251     152
 
 #pragma once
 
@@ -29,7 +32,8 @@
  * "Runtime additions" of docs/generated-code.md; read them only when abi_version >= 2.
  * abi_version 3 appends the "Sensitivity additions"; read them only when abi_version >= 3.
  * abi_version 4 appends the "Input additions"; read them only when abi_version >= 4.
- * abi_version 5 appends the "Variational additions"; read them only when abi_version >= 5. */
+ * abi_version 5 appends the "Variational additions"; read them only when abi_version >= 5.
+ * abi_version 6 appends the "Reduced-form additions"; read them only when abi_version >= 6. */
 #ifndef NHC_MODEL_TABLE_DEFINED
 #define NHC_MODEL_TABLE_DEFINED
 
@@ -81,6 +85,14 @@ struct nhc_model_table {
   void (*variational_jacobian)(double, double, double, const double*, const double*, const double*, const double*,
                                const double*, double*);
   void (*variational_momentum)(double, double, const double*, const double*, const double*, double*);
+  /* abi_version >= 6 (Reduced-form additions; n_speeds = 0 and null functions where the model has
+   * no multiplier-free form): M_r(t, q, u) u' = f_r(t, q, u) on the independent speeds
+   * u = q'[speed_coordinate[k]] (docs/reduced-form.md); each function reads (t, q, u, p) */
+  int n_speeds;
+  const int* speed_coordinate;
+  void (*velocities)(double, const double*, const double*, const double*, double*);
+  void (*mass_matrix)(double, const double*, const double*, const double*, double*);
+  void (*forcing)(double, const double*, const double*, const double*, double*);
 };
 
 #ifdef __cplusplus
@@ -101,6 +113,8 @@ inline constexpr int n_reference = 0;
 inline constexpr int n_singular = 0;
 /// p holds n_parameters parameters, then n_inputs inputs.
 inline constexpr int n_inputs = 1;
+/// The independent speeds u of M_r u' = f_r (0: no multiplier-free form).
+inline constexpr int n_speeds = 2;
 inline constexpr const char* model_name = "chetaev";
 inline constexpr const char* scene_name = "chaplygin_sleigh_gait";
 
@@ -116,6 +130,8 @@ inline constexpr const char* parameter_names[n_parameters] = {"J", "a", "b", "k"
 inline constexpr double default_parameters[n_parameters] = {0.20000000000000001, 0.29999999999999999, 0.20000000000000001, 0.050000000000000003, 1.0};
 inline constexpr const char* input_names[n_inputs] = {"tau"};
 inline constexpr const char* hidden_names[n_hidden] = {"f1"};
+/// u[k] = q'[speed_coordinate[k]].
+inline constexpr int speed_coordinate[n_speeds] = {0, 2};
 
 /// F(t, y, y') = 0, IDA form; r has n_states entries.
 inline void residual(double /*t*/, const double* y, const double* yp, const double* p, double* r) noexcept {
@@ -196,10 +212,39 @@ inline void default_inputs(double /*t*/, const double* /*p*/, double* u) noexcep
   u[0] = 0.0;  // tau
 }
 
+/// q'(t, q, u): the independent speeds u and the dependent ones from them, n_coordinates.
+inline void velocities(double /*t*/, const double* q, const double* u, const double* /*p*/, double* qp) noexcept {
+  qp[0] = u[0];  // x'
+  qp[1] = std::sin(q[2]) * u[0] / std::cos(q[2]);  // y'
+  qp[2] = u[1];  // th'
+}
+
+/// M_r(t, q, u) of M_r u' = f_r, column-major n_speeds x n_speeds.
+inline void mass_matrix(double /*t*/, const double* q, const double* /*u*/, const double* p, double* M) noexcept {
+  for (int k = 0; k < 4; ++k) M[k] = 0.0;
+  const double w0 = std::cos(q[2]);
+  M[0] = p[4] / (w0 * w0);  // (0, 0)
+  M[3] = p[0] + p[4] * (p[1] * p[1]);  // (1, 1)
+}
+
+/// f_r(t, q, u) of M_r u' = f_r, n_speeds.
+inline void forcing(double /*t*/, const double* q, const double* u, const double* p, double* f) noexcept {
+  const double w0 = std::cos(q[2]);
+  const double w1 = p[4] * p[1];
+  const double w2 = u[1] * u[1] * w1;
+  const double w3 = u[0] * p[2];
+  const double w4 = std::sin(q[2]);
+  const double w5 = w4 * w4 * u[0];
+  const double w6 = w0 * u[0];
+  const double w7 = w1 * u[1];
+  f[0] = w0 * w2 - w3 - w4 * (w4 * w3 / w0 + u[1] * (w5 / w0 + w6) * p[4] / w0 - w4 * w2) / w0;  // x'
+  f[1] = p[5] - w7 * w5 / w0 - u[1] * p[3] - w7 * w6;  // th'
+}
+
 /// Everything above as the C table of docs/generated-code.md, filled by field name.
 inline nhc_model_table make_model_table() noexcept {
   nhc_model_table t{};
-  t.abi_version = 5;
+  t.abi_version = 6;
   t.scene_name = scene_name;
   t.model_name = model_name;
   t.n_states = n_states;
@@ -220,11 +265,16 @@ inline nhc_model_table make_model_table() noexcept {
   t.n_singular = n_singular;
   t.n_inputs = n_inputs;
   t.input_names = input_names;
+  t.n_speeds = n_speeds;
+  t.speed_coordinate = speed_coordinate;
   t.residual = &residual;
   t.jacobian = &jacobian;
   t.hidden_constraints = &hidden_constraints;
   t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
   t.default_inputs = &default_inputs;
+  t.velocities = &velocities;
+  t.mass_matrix = &mass_matrix;
+  t.forcing = &forcing;
   return t;
 }
 

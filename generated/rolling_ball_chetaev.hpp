@@ -17,7 +17,10 @@
 //   hidden_constraints_jacobian       41      19
 //   invariants                        41      32
 //   reference                          0       0
-//   total                            489     232
+//   velocities                        18      12
+//   mass_matrix                       14       9
+//   forcing                           35      19
+//   total                            556     272
 
 #pragma once
 
@@ -31,7 +34,8 @@
  * "Runtime additions" of docs/generated-code.md; read them only when abi_version >= 2.
  * abi_version 3 appends the "Sensitivity additions"; read them only when abi_version >= 3.
  * abi_version 4 appends the "Input additions"; read them only when abi_version >= 4.
- * abi_version 5 appends the "Variational additions"; read them only when abi_version >= 5. */
+ * abi_version 5 appends the "Variational additions"; read them only when abi_version >= 5.
+ * abi_version 6 appends the "Reduced-form additions"; read them only when abi_version >= 6. */
 #ifndef NHC_MODEL_TABLE_DEFINED
 #define NHC_MODEL_TABLE_DEFINED
 
@@ -83,6 +87,14 @@ struct nhc_model_table {
   void (*variational_jacobian)(double, double, double, const double*, const double*, const double*, const double*,
                                const double*, double*);
   void (*variational_momentum)(double, double, const double*, const double*, const double*, double*);
+  /* abi_version >= 6 (Reduced-form additions; n_speeds = 0 and null functions where the model has
+   * no multiplier-free form): M_r(t, q, u) u' = f_r(t, q, u) on the independent speeds
+   * u = q'[speed_coordinate[k]] (docs/reduced-form.md); each function reads (t, q, u, p) */
+  int n_speeds;
+  const int* speed_coordinate;
+  void (*velocities)(double, const double*, const double*, const double*, double*);
+  void (*mass_matrix)(double, const double*, const double*, const double*, double*);
+  void (*forcing)(double, const double*, const double*, const double*, double*);
 };
 
 #ifdef __cplusplus
@@ -103,6 +115,8 @@ inline constexpr int n_reference = 2;
 inline constexpr int n_singular = 0;
 /// p holds n_parameters parameters, then n_inputs inputs.
 inline constexpr int n_inputs = 0;
+/// The independent speeds u of M_r u' = f_r (0: no multiplier-free form).
+inline constexpr int n_speeds = 3;
 inline constexpr const char* model_name = "chetaev";
 inline constexpr const char* scene_name = "rolling_ball";
 
@@ -119,6 +133,8 @@ inline constexpr double default_parameters[n_parameters] = {0.10000000000000001,
 inline constexpr const char* hidden_names[n_hidden] = {"f1", "f2"};
 inline constexpr const char* invariant_names[n_invariants] = {"energy", "spin_x", "spin_y", "spin_z"};
 inline constexpr int reference_coordinate[n_reference] = {0, 1};
+/// u[k] = q'[speed_coordinate[k]].
+inline constexpr int speed_coordinate[n_speeds] = {2, 3, 4};
 
 /// F(t, y, y') = 0, IDA form; r has n_states entries.
 inline void residual(double /*t*/, const double* y, const double* yp, const double* p, double* r) noexcept {
@@ -272,10 +288,48 @@ inline void reference(double t, const double* /*p*/, double* q) noexcept {
   q[1] = t;  // y
 }
 
+/// q'(t, q, u): the independent speeds u and the dependent ones from them, n_coordinates.
+inline void velocities(double /*t*/, const double* q, const double* u, const double* p, double* qp) noexcept {
+  const double w0 = std::sin(q[2]) * p[2];
+  const double w1 = u[2] * std::sin(q[3]);
+  const double w2 = std::cos(q[2]) * p[2];
+  qp[0] = w0 * u[1] - w1 * w2;  // x'
+  qp[1] = -u[1] * w2 - w0 * w1;  // y'
+  qp[2] = u[0];  // psi'
+  qp[3] = u[1];  // th'
+  qp[4] = u[2];  // ph'
+}
+
+/// M_r(t, q, u) of M_r u' = f_r, column-major n_speeds x n_speeds.
+inline void mass_matrix(double /*t*/, const double* q, const double* /*u*/, const double* p, double* M) noexcept {
+  for (int k = 0; k < 9; ++k) M[k] = 0.0;
+  const double w0 = p[0] * std::cos(q[3]);
+  const double w1 = p[1] * (p[2] * p[2]);
+  const double w2 = std::sin(q[3]);
+  M[0] = p[0];  // (0, 0)
+  M[2] = w0;  // (2, 0)
+  M[4] = p[0] + w1;  // (1, 1)
+  M[6] = w0;  // (0, 2)
+  M[8] = p[0] + w1 * (w2 * w2);  // (2, 2)
+}
+
+/// f_r(t, q, u) of M_r u' = f_r, n_speeds.
+inline void forcing(double /*t*/, const double* q, const double* u, const double* p, double* f) noexcept {
+  const double w0 = std::sin(q[3]);
+  const double w1 = u[2] * w0;
+  const double w2 = p[0] * w1;
+  const double w3 = p[1] * (p[2] * p[2]);
+  const double w4 = w3 * w1;
+  const double w5 = u[0] * u[1] * w0;
+  f[0] = w2 * u[1];  // psi'
+  f[1] = -w2 * u[0] - u[0] * w4;  // th'
+  f[2] = p[0] * w5 + w5 * w3 - std::cos(q[3]) * u[1] * w4;  // ph'
+}
+
 /// Everything above as the C table of docs/generated-code.md, filled by field name.
 inline nhc_model_table make_model_table() noexcept {
   nhc_model_table t{};
-  t.abi_version = 5;
+  t.abi_version = 6;
   t.scene_name = scene_name;
   t.model_name = model_name;
   t.n_states = n_states;
@@ -297,12 +351,17 @@ inline nhc_model_table make_model_table() noexcept {
   t.residual_names = residual_names;
   t.n_singular = n_singular;
   t.n_inputs = n_inputs;
+  t.n_speeds = n_speeds;
+  t.speed_coordinate = speed_coordinate;
   t.residual = &residual;
   t.jacobian = &jacobian;
   t.hidden_constraints = &hidden_constraints;
   t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
   t.invariants = &invariants;
   t.reference = &reference;
+  t.velocities = &velocities;
+  t.mass_matrix = &mass_matrix;
+  t.forcing = &forcing;
   return t;
 }
 

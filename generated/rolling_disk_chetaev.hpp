@@ -16,7 +16,10 @@
 //   hidden_constraints                 8       8
 //   hidden_constraints_jacobian       13       9
 //   invariants                        80      54
-//   total                            891     337
+//   velocities                         6       5
+//   mass_matrix                       27      10
+//   forcing                           47      28
+//   total                            971     380
 
 #pragma once
 
@@ -30,7 +33,8 @@
  * "Runtime additions" of docs/generated-code.md; read them only when abi_version >= 2.
  * abi_version 3 appends the "Sensitivity additions"; read them only when abi_version >= 3.
  * abi_version 4 appends the "Input additions"; read them only when abi_version >= 4.
- * abi_version 5 appends the "Variational additions"; read them only when abi_version >= 5. */
+ * abi_version 5 appends the "Variational additions"; read them only when abi_version >= 5.
+ * abi_version 6 appends the "Reduced-form additions"; read them only when abi_version >= 6. */
 #ifndef NHC_MODEL_TABLE_DEFINED
 #define NHC_MODEL_TABLE_DEFINED
 
@@ -82,6 +86,14 @@ struct nhc_model_table {
   void (*variational_jacobian)(double, double, double, const double*, const double*, const double*, const double*,
                                const double*, double*);
   void (*variational_momentum)(double, double, const double*, const double*, const double*, double*);
+  /* abi_version >= 6 (Reduced-form additions; n_speeds = 0 and null functions where the model has
+   * no multiplier-free form): M_r(t, q, u) u' = f_r(t, q, u) on the independent speeds
+   * u = q'[speed_coordinate[k]] (docs/reduced-form.md); each function reads (t, q, u, p) */
+  int n_speeds;
+  const int* speed_coordinate;
+  void (*velocities)(double, const double*, const double*, const double*, double*);
+  void (*mass_matrix)(double, const double*, const double*, const double*, double*);
+  void (*forcing)(double, const double*, const double*, const double*, double*);
 };
 
 #ifdef __cplusplus
@@ -102,6 +114,8 @@ inline constexpr int n_reference = 0;
 inline constexpr int n_singular = 0;
 /// p holds n_parameters parameters, then n_inputs inputs.
 inline constexpr int n_inputs = 0;
+/// The independent speeds u of M_r u' = f_r (0: no multiplier-free form).
+inline constexpr int n_speeds = 3;
 inline constexpr const char* model_name = "chetaev";
 inline constexpr const char* scene_name = "rolling_disk";
 
@@ -117,6 +131,8 @@ inline constexpr const char* parameter_names[n_parameters] = {"g", "m", "r"};
 inline constexpr double default_parameters[n_parameters] = {9.8100000000000005, 1.0, 0.5};
 inline constexpr const char* hidden_names[n_hidden] = {"f1", "f2"};
 inline constexpr const char* invariant_names[n_invariants] = {"energy", "lean", "yaw_rate", "spin_rate"};
+/// u[k] = q'[speed_coordinate[k]].
+inline constexpr int speed_coordinate[n_speeds] = {2, 3, 4};
 
 /// F(t, y, y') = 0, IDA form; r has n_states entries.
 inline void residual(double /*t*/, const double* y, const double* yp, const double* p, double* r) noexcept {
@@ -146,7 +162,7 @@ inline void residual(double /*t*/, const double* y, const double* yp, const doub
   const double w23 = p[2] * w4;
   r[0] = y[10] + (w0 * w5 + (w6 * w5 - (w10 * w12 + (yp[5] * w13 + yp[7] * w14)))) - p[1] * yp[1];  // R_x
   r[1] = y[11] - (w0 * w13 + w13 * w6 + yp[5] * w5 + w12 * w14 - w10 * yp[7]) - yp[3] * p[1];  // R_y
-  r[2] = yp[5] * (w7 * w7) * w16 - w18 * yp[9] - yp[3] * w5 - w13 * yp[1] - w19 * (y[9] * y[7]) - yp[5] * 1.5 * w15 - 2.5 * w15 * w20 * w11;  // R_psi
+  r[2] = yp[5] * (w7 * w7) * w16 - w18 * yp[9] - 1.5 * w15 * yp[5] - yp[3] * w5 - w13 * yp[1] - w19 * (y[9] * y[7]) - 2.5 * w15 * w20 * w11;  // R_psi
   r[3] = w10 * yp[3] + w6 * w16 * w20 + w19 * w21 + p[0] * w3 - w14 * yp[1] - yp[7] * w16;  // R_phi
   r[4] = -w19 * w11 - w22 * y[10] - yp[9] * w17 - yp[5] * w18 - w23 * y[11];  // R_ph
   r[5] = w23 * w21 - w22 * yp[9] + yp[1];  // D f1
@@ -296,10 +312,47 @@ inline void invariants(double /*t*/, const double* y, const double* /*yp*/, cons
   out[3] = y[9];  // spin_rate
 }
 
+/// q'(t, q, u): the independent speeds u and the dependent ones from them, n_coordinates.
+inline void velocities(double /*t*/, const double* q, const double* u, const double* p, double* qp) noexcept {
+  const double w0 = u[2] * p[2];
+  qp[0] = w0 * std::cos(q[2]);  // x'
+  qp[1] = std::sin(q[2]) * w0;  // y'
+  qp[2] = u[0];  // psi'
+  qp[3] = u[1];  // phi'
+  qp[4] = u[2];  // ph'
+}
+
+/// M_r(t, q, u) of M_r u' = f_r, column-major n_speeds x n_speeds.
+inline void mass_matrix(double /*t*/, const double* q, const double* /*u*/, const double* p, double* M) noexcept {
+  for (int k = 0; k < 9; ++k) M[k] = 0.0;
+  const double w0 = p[1] * (p[2] * p[2]);
+  const double w1 = 1.5 * w0;
+  const double w2 = std::cos(q[3]);
+  const double w3 = 1.25 * w0;
+  const double w4 = w1 * std::sin(q[3]);
+  M[0] = w1 - w2 * w2 * w3;  // (0, 0)
+  M[2] = w4;  // (2, 0)
+  M[4] = w3;  // (1, 1)
+  M[6] = w4;  // (0, 2)
+  M[8] = w1;  // (2, 2)
+}
+
+/// f_r(t, q, u) of M_r u' = f_r, n_speeds.
+inline void forcing(double /*t*/, const double* q, const double* u, const double* p, double* f) noexcept {
+  const double w0 = p[1] * (p[2] * p[2]);
+  const double w1 = std::cos(q[3]);
+  const double w2 = w1 * u[0];
+  const double w3 = 2.5 * w0 * u[1] * w2;
+  const double w4 = std::sin(q[3]);
+  f[0] = -w3 * w4 - w1 * u[2] * u[1] * (0.5 * w0);  // psi'
+  f[1] = u[0] * u[0] * w1 * w4 * (1.25 * w0) + 1.5 * w0 * w2 * u[2] + p[0] * w4 * (p[1] * p[2]);  // phi'
+  f[2] = -w3;  // ph'
+}
+
 /// Everything above as the C table of docs/generated-code.md, filled by field name.
 inline nhc_model_table make_model_table() noexcept {
   nhc_model_table t{};
-  t.abi_version = 5;
+  t.abi_version = 6;
   t.scene_name = scene_name;
   t.model_name = model_name;
   t.n_states = n_states;
@@ -320,11 +373,16 @@ inline nhc_model_table make_model_table() noexcept {
   t.residual_names = residual_names;
   t.n_singular = n_singular;
   t.n_inputs = n_inputs;
+  t.n_speeds = n_speeds;
+  t.speed_coordinate = speed_coordinate;
   t.residual = &residual;
   t.jacobian = &jacobian;
   t.hidden_constraints = &hidden_constraints;
   t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
   t.invariants = &invariants;
+  t.velocities = &velocities;
+  t.mass_matrix = &mass_matrix;
+  t.forcing = &forcing;
   return t;
 }
 

@@ -18,7 +18,10 @@
 //   hidden_constraints_jacobian       25      11
 //   invariants                       163      80
 //   default_inputs                     0       0
-//   total                           3608     734
+//   velocities                        23      16
+//   mass_matrix                      251      50
+//   forcing                         1615     187
+//   total                           5497     987
 
 #pragma once
 
@@ -32,7 +35,8 @@
  * "Runtime additions" of docs/generated-code.md; read them only when abi_version >= 2.
  * abi_version 3 appends the "Sensitivity additions"; read them only when abi_version >= 3.
  * abi_version 4 appends the "Input additions"; read them only when abi_version >= 4.
- * abi_version 5 appends the "Variational additions"; read them only when abi_version >= 5. */
+ * abi_version 5 appends the "Variational additions"; read them only when abi_version >= 5.
+ * abi_version 6 appends the "Reduced-form additions"; read them only when abi_version >= 6. */
 #ifndef NHC_MODEL_TABLE_DEFINED
 #define NHC_MODEL_TABLE_DEFINED
 
@@ -84,6 +88,14 @@ struct nhc_model_table {
   void (*variational_jacobian)(double, double, double, const double*, const double*, const double*, const double*,
                                const double*, double*);
   void (*variational_momentum)(double, double, const double*, const double*, const double*, double*);
+  /* abi_version >= 6 (Reduced-form additions; n_speeds = 0 and null functions where the model has
+   * no multiplier-free form): M_r(t, q, u) u' = f_r(t, q, u) on the independent speeds
+   * u = q'[speed_coordinate[k]] (docs/reduced-form.md); each function reads (t, q, u, p) */
+  int n_speeds;
+  const int* speed_coordinate;
+  void (*velocities)(double, const double*, const double*, const double*, double*);
+  void (*mass_matrix)(double, const double*, const double*, const double*, double*);
+  void (*forcing)(double, const double*, const double*, const double*, double*);
 };
 
 #ifdef __cplusplus
@@ -104,6 +116,8 @@ inline constexpr int n_reference = 0;
 inline constexpr int n_singular = 0;
 /// p holds n_parameters parameters, then n_inputs inputs.
 inline constexpr int n_inputs = 2;
+/// The independent speeds u of M_r u' = f_r (0: no multiplier-free form).
+inline constexpr int n_speeds = 3;
 inline constexpr const char* model_name = "chetaev";
 inline constexpr const char* scene_name = "wheeled_pendulum";
 
@@ -120,6 +134,8 @@ inline constexpr double default_parameters[n_parameters] = {0.059999999999999998
 inline constexpr const char* input_names[n_inputs] = {"TL", "TR"};
 inline constexpr const char* hidden_names[n_hidden] = {"f1", "f2", "f3"};
 inline constexpr const char* invariant_names[n_invariants] = {"energy"};
+/// u[k] = q'[speed_coordinate[k]].
+inline constexpr int speed_coordinate[n_speeds] = {3, 4, 5};
 
 /// F(t, y, y') = 0, IDA form; r has n_states entries.
 inline void residual(double /*t*/, const double* y, const double* yp, const double* p, double* r) noexcept {
@@ -179,7 +195,7 @@ inline void residual(double /*t*/, const double* y, const double* yp, const doub
   r[0] = w1 * w6 - (y[14] * w5 - y[12] * w7 - (w8 * w11 - (yp[7] * w12 - (y[13] * w7 + w13 * w11) - yp[5] * w14))) - p[6] * yp[1] - w15 * yp[1];  // R_x
   r[1] = -p[6] * yp[3] - yp[3] * w15 - (yp[7] * w6 - w14 * w13 - (w8 * w14 + y[14] * w7 - yp[5] * w11 - (w1 * w12 - y[12] * w5) + y[13] * w5));  // R_y
   r[2] = y[13] * p[3] + (w19 - w21) + w24 + ((w0 * p[2] * w25 - w0 * w26 - p[6] * (w37 + w34 * w38 - w39 * w28)) * y[7] + w14 * yp[1] + w40 * (w35 * w28 - w41 - w34 * w31) - yp[3] * w11 - yp[5] * (p[6] * (w42 * w45 + w45 * w46) + w47 * p[2] + p[0] * w44)) + p[6] * (w31 * w36 - w32 * w35) - y[12] * p[3] - (w21 + w19) - w24;  // R_psi
-  r[3] = p[4] * w10 + (p[6] * (w8 * w48 + w38 * w36 - w32 * w39) + w13 * w26 - w25 * (w13 * p[2])) - (w12 * yp[1] + yp[3] * w6 + yp[7] * (p[1] + (w49 * w46 + w42 * w49 + w45) * p[6]) + (w37 - w31 * w33 - w35 * w30) * w40 - p[6] * y[7] * (w39 * w30 + w38 * w33 - w48 * (2.0 * y[7]) - w41)) - p[10] - p[9];  // R_th
+  r[3] = p[4] * w10 + (p[6] * (w8 * w48 + w38 * w36 - w32 * w39) + w13 * w26 - w25 * (w13 * p[2])) - (w12 * yp[1] + yp[3] * w6 + yp[7] * (p[1] + (w49 * w46 + w42 * w49 + w45) * p[6]) + (w37 - w31 * w33 - w35 * w30) * w40 - p[6] * y[7] * (w39 * w30 + w38 * w33 - w48 * (2.0 * y[7]) - w41)) - (p[10] + p[9]);  // R_th
   r[4] = p[9] - y[12] * p[8] - w50 * yp[9];  // R_phL
   r[5] = p[10] - p[8] * y[13] - w50 * yp[11];  // R_phR
   r[6] = -w51 - p[8] * yp[9] - w52;  // D f1
@@ -385,24 +401,24 @@ inline void hidden_constraints_jacobian(double /*t*/, const double* y, const dou
 
 /// The scene's invariants I(t, y, y'), in invariant_names order.
 inline void invariants(double /*t*/, const double* y, const double* /*yp*/, const double* p, double* out) noexcept {
-  const double w0 = y[7] * y[7];
-  const double w1 = std::cos(y[6]);
-  const double w2 = y[5] * y[5];
-  const double w3 = std::sin(y[6]);
-  const double w4 = w3 * w3;
-  const double w5 = std::cos(y[4]);
-  const double w6 = w3 * p[5];
-  const double w7 = std::sin(y[4]);
-  const double w8 = p[5] * w1;
-  const double w9 = y[3] + (y[5] * (w5 * w6) + w7 * w8 * y[7]);
-  const double w10 = w6 * w7 * y[5] - w5 * w8 * y[7] - y[1];
+  const double w0 = std::cos(y[6]);
+  const double w1 = p[5] * w0;
+  const double w2 = y[7] * y[7];
+  const double w3 = y[5] * y[5];
+  const double w4 = std::sin(y[6]);
+  const double w5 = w4 * w4;
+  const double w6 = std::cos(y[4]);
+  const double w7 = w4 * p[5];
+  const double w8 = std::sin(y[4]);
+  const double w9 = y[3] + (y[5] * (w6 * w7) + w8 * w1 * y[7]);
+  const double w10 = w7 * w8 * y[5] - w6 * w1 * y[7] - y[1];
   const double w11 = p[7] * (p[8] * p[8]);
   const double w12 = 0.25 * w11;
   const double w13 = 0.5 * p[7];
-  const double w14 = w13 * w2 * (p[3] * p[3]) + y[1] * y[1] * w13 + w11 * w2 * 0.125 + w13 * (y[3] * y[3]);
+  const double w14 = w13 * w3 * (p[3] * p[3]) + y[1] * y[1] * w13 + w11 * w3 * 0.125 + w13 * (y[3] * y[3]);
   const double w15 = p[7] * p[3];
-  const double w16 = y[1] * y[5] * (w5 * w15) + y[3] * y[5] * (w15 * w7);
-  out[0] = 0.5 * w0 * p[1] + w1 * w1 * (w2 * p[2]) * 0.5 + (w0 * (p[5] * p[5] * w4) + w9 * w9 + w10 * w10) * p[6] * 0.5 + 0.5 * (w2 * (p[0] * w4)) + (y[11] * y[11] * w12 + w14 + w16) - (w16 - y[9] * y[9] * w12 - w14) + p[4] * p[6] * (p[8] + w8);  // energy
+  const double w16 = y[1] * y[5] * (w6 * w15) + y[3] * y[5] * (w15 * w8);
+  out[0] = p[4] * p[6] * (p[8] + w1) + (0.5 * w2 * p[1] + w0 * w0 * (w3 * p[2]) * 0.5 + 0.5 * (w3 * (p[0] * w5)) + p[6] * 0.5 * (w2 * (p[5] * p[5] * w5) + w9 * w9 + w10 * w10) + (y[11] * y[11] * w12 + w14 + w16) - (w16 - y[9] * y[9] * w12 - w14));  // energy
 }
 
 /// The inputs' default signals u(t), in input_names order (what p[n_parameters + k] holds
@@ -412,10 +428,112 @@ inline void default_inputs(double /*t*/, const double* /*p*/, double* u) noexcep
   u[1] = 0.0;  // TR
 }
 
+/// q'(t, q, u): the independent speeds u and the dependent ones from them, n_coordinates.
+inline void velocities(double /*t*/, const double* q, const double* u, const double* p, double* qp) noexcept {
+  const double w0 = std::cos(q[2]);
+  const double w1 = 0.5 * p[8];
+  const double w2 = u[2] * w1;
+  const double w3 = u[1] * w1;
+  const double w4 = std::sin(q[2]);
+  qp[0] = w0 * w2 + w0 * w3;  // x'
+  qp[1] = w4 * w3 + w4 * w2;  // y'
+  qp[2] = 0.5 * (p[8] * u[2] - p[8] * u[1]) / p[3];  // psi'
+  qp[3] = u[0];  // th'
+  qp[4] = u[1];  // phL'
+  qp[5] = u[2];  // phR'
+}
+
+/// M_r(t, q, u) of M_r u' = f_r, column-major n_speeds x n_speeds.
+inline void mass_matrix(double /*t*/, const double* q, const double* /*u*/, const double* p, double* M) noexcept {
+  for (int k = 0; k < 9; ++k) M[k] = 0.0;
+  const double w0 = p[5] * p[5];
+  const double w1 = std::sin(q[3]);
+  const double w2 = w1 * w1;
+  const double w3 = std::cos(q[3]);
+  const double w4 = w0 * (w3 * w3);
+  const double w5 = std::cos(q[2]);
+  const double w6 = std::sin(q[2]);
+  const double w7 = w3 * (p[6] * p[5]) * (0.5 * p[8]);
+  const double w8 = p[3] * p[3];
+  const double w9 = p[8] * p[8];
+  const double w10 = 0.25 * w9;
+  const double w11 = w2 * w10;
+  const double w12 = p[7] * (p[8] * p[8] * p[8] * p[8]) * 0.125 / w8 + (p[0] * w11 / w8 + (w0 * p[6] * w11 / w8 + p[2] * w10 / w8) - w11 * p[2] / w8);
+  const double w13 = p[6] * w10;
+  const double w14 = w12 + w13 + 1.5 * (p[7] * w9);
+  const double w15 = w13 - w12;
+  M[0] = p[1] + p[6] * (w0 * w2 + w4 * (w5 * w5) + w6 * w6 * w4);  // (0, 0)
+  M[1] = w7;  // (1, 0)
+  M[2] = w7;  // (2, 0)
+  M[3] = w7;  // (0, 1)
+  M[4] = w14;  // (1, 1)
+  M[5] = w15;  // (2, 1)
+  M[6] = w7;  // (0, 2)
+  M[7] = w15;  // (1, 2)
+  M[8] = w14;  // (2, 2)
+}
+
+/// f_r(t, q, u) of M_r u' = f_r, n_speeds.
+inline void forcing(double /*t*/, const double* q, const double* u, const double* p, double* f) noexcept {
+  const double w0 = std::cos(q[3]);
+  const double w1 = p[6] * p[5];
+  const double w2 = p[8] * u[1];
+  const double w3 = p[8] * u[2];
+  const double w4 = w2 - w3;
+  const double w5 = 0.25 * w4;
+  const double w6 = w0 * w1 * w5;
+  const double w7 = std::sin(q[2]);
+  const double w8 = std::cos(q[2]);
+  const double w9 = w8 * w2 + w8 * w3;
+  const double w10 = w7 * w9;
+  const double w11 = p[6] * 0.25;
+  const double w12 = u[0] * u[0];
+  const double w13 = std::sin(q[3]);
+  const double w14 = w0 * w13;
+  const double w15 = p[5] * p[5] * (4.0 * w14);
+  const double w16 = w7 * p[5];
+  const double w17 = w13 * w16;
+  const double w18 = w8 * p[5];
+  const double w19 = w0 * w18;
+  const double w20 = u[0] * 2.0;
+  const double w21 = w17 * w4 / p[3] + w19 * w20;
+  const double w22 = w21 + w9;
+  const double w23 = w0 * w16;
+  const double w24 = w13 * w18;
+  const double w25 = w23 * w4 / p[3] - w24 * w20;
+  const double w26 = w24 * w4 / p[3] - w23 * w20;
+  const double w27 = w7 * w3 + w7 * w2;
+  const double w28 = w26 - w27;
+  const double w29 = w19 * w4 / p[3] + w17 * w20;
+  const double w30 = w4 * w4;
+  const double w31 = w14 * 0.25 * w30;
+  const double w32 = p[3] * p[3];
+  const double w33 = w22 * w24 - w17 * w28;
+  const double w34 = w28 * w19 + w22 * w23;
+  const double w35 = p[6] * w5;
+  const double w36 = w1 * w13;
+  const double w37 = w8 * w27;
+  const double w38 = 0.5 * p[8];
+  const double w39 = p[8] * 0.125;
+  const double w40 = w39 * w4;
+  const double w41 = w14 * w4 * 2.0;
+  const double w42 = w11 * (w21 * w28 - w22 * w26) * w38 / p[3] - (w7 * w36 * w40 * w27 / w32 - (((w26 * w17 + w33 - w21 * w24) * w35 / p[3] - 0.5 * (p[0] * w41 / p[3] + p[6] * (w24 * w29 + w34 + w17 * w25) - w41 * p[2] / p[3]) * u[0]) * w38 / p[3] - w8 * w40 * w9 * w36 / w32));
+  const double w43 = p[7] * p[3];
+  const double w44 = (w37 * w43 - w43 * w10) * w5 / p[3] * w38 / p[3];
+  const double w45 = p[7] * w5;
+  const double w46 = (w45 * w37 - w45 * w10) * w38 / p[3];
+  const double w47 = p[6] * w40;
+  const double w48 = w45 * p[8];
+  const double w49 = w44 + w46 - (w39 * w30 * w36 / w32 - w37 * w47 / p[3]) + (w37 * w48 / p[3] - (w10 * w47 / p[3] + w10 * w48 / p[3]) + (w46 - (w12 * w38 * w36 - w44)));
+  f[0] = w6 * w10 / p[3] + (w11 * (w12 * w15 + w22 * w25 + w28 * w29) + p[0] * w31 / w32 - w31 * p[2] / w32) + (p[6] * 0.5 * (w23 * w29 + w33 - w15 * u[0] - w25 * w19) * u[0] - (w34 - w21 * w23 - w26 * w19) * w35 / p[3]) + p[4] * w36 - w6 * w37 / p[3] - (p[10] + p[9]);  // th'
+  f[1] = p[9] + w42 - w49;  // phL'
+  f[2] = p[10] - w49 - w42;  // phR'
+}
+
 /// Everything above as the C table of docs/generated-code.md, filled by field name.
 inline nhc_model_table make_model_table() noexcept {
   nhc_model_table t{};
-  t.abi_version = 5;
+  t.abi_version = 6;
   t.scene_name = scene_name;
   t.model_name = model_name;
   t.n_states = n_states;
@@ -437,12 +555,17 @@ inline nhc_model_table make_model_table() noexcept {
   t.n_singular = n_singular;
   t.n_inputs = n_inputs;
   t.input_names = input_names;
+  t.n_speeds = n_speeds;
+  t.speed_coordinate = speed_coordinate;
   t.residual = &residual;
   t.jacobian = &jacobian;
   t.hidden_constraints = &hidden_constraints;
   t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
   t.invariants = &invariants;
   t.default_inputs = &default_inputs;
+  t.velocities = &velocities;
+  t.mass_matrix = &mass_matrix;
+  t.forcing = &forcing;
   return t;
 }
 

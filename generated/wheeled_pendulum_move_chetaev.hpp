@@ -15,7 +15,10 @@
 //   hidden_constraints                 2       2
 //   hidden_constraints_jacobian        1       1
 //   default_inputs                     0       0
-//   total                             88      64
+//   velocities                         1       1
+//   mass_matrix                       15      11
+//   forcing                           12      10
+//   total                            116      86
 
 #pragma once
 
@@ -29,7 +32,8 @@
  * "Runtime additions" of docs/generated-code.md; read them only when abi_version >= 2.
  * abi_version 3 appends the "Sensitivity additions"; read them only when abi_version >= 3.
  * abi_version 4 appends the "Input additions"; read them only when abi_version >= 4.
- * abi_version 5 appends the "Variational additions"; read them only when abi_version >= 5. */
+ * abi_version 5 appends the "Variational additions"; read them only when abi_version >= 5.
+ * abi_version 6 appends the "Reduced-form additions"; read them only when abi_version >= 6. */
 #ifndef NHC_MODEL_TABLE_DEFINED
 #define NHC_MODEL_TABLE_DEFINED
 
@@ -81,6 +85,14 @@ struct nhc_model_table {
   void (*variational_jacobian)(double, double, double, const double*, const double*, const double*, const double*,
                                const double*, double*);
   void (*variational_momentum)(double, double, const double*, const double*, const double*, double*);
+  /* abi_version >= 6 (Reduced-form additions; n_speeds = 0 and null functions where the model has
+   * no multiplier-free form): M_r(t, q, u) u' = f_r(t, q, u) on the independent speeds
+   * u = q'[speed_coordinate[k]] (docs/reduced-form.md); each function reads (t, q, u, p) */
+  int n_speeds;
+  const int* speed_coordinate;
+  void (*velocities)(double, const double*, const double*, const double*, double*);
+  void (*mass_matrix)(double, const double*, const double*, const double*, double*);
+  void (*forcing)(double, const double*, const double*, const double*, double*);
 };
 
 #ifdef __cplusplus
@@ -101,6 +113,8 @@ inline constexpr int n_reference = 0;
 inline constexpr int n_singular = 0;
 /// p holds n_parameters parameters, then n_inputs inputs.
 inline constexpr int n_inputs = 1;
+/// The independent speeds u of M_r u' = f_r (0: no multiplier-free form).
+inline constexpr int n_speeds = 2;
 inline constexpr const char* model_name = "chetaev";
 inline constexpr const char* scene_name = "wheeled_pendulum_move";
 
@@ -116,6 +130,8 @@ inline constexpr const char* parameter_names[n_parameters] = {"Ib", "Iw", "g", "
 inline constexpr double default_parameters[n_parameters] = {0.29999999999999999, 0.02, 9.8100000000000005, 0.40000000000000002, 5.0, 1.0, 0.20000000000000001};
 inline constexpr const char* input_names[n_inputs] = {"tau"};
 inline constexpr const char* hidden_names[n_hidden] = {"f1"};
+/// u[k] = q'[speed_coordinate[k]].
+inline constexpr int speed_coordinate[n_speeds] = {1, 2};
 
 /// F(t, y, y') = 0, IDA form; r has n_states entries.
 inline void residual(double /*t*/, const double* y, const double* yp, const double* p, double* r) noexcept {
@@ -177,10 +193,35 @@ inline void default_inputs(double /*t*/, const double* /*p*/, double* u) noexcep
   u[0] = 0.0;  // tau
 }
 
+/// q'(t, q, u): the independent speeds u and the dependent ones from them, n_coordinates.
+inline void velocities(double /*t*/, const double* /*q*/, const double* u, const double* p, double* qp) noexcept {
+  qp[0] = p[6] * u[0];  // x'
+  qp[1] = u[0];  // phi'
+  qp[2] = u[1];  // theta'
+}
+
+/// M_r(t, q, u) of M_r u' = f_r, column-major n_speeds x n_speeds.
+inline void mass_matrix(double /*t*/, const double* q, const double* /*u*/, const double* p, double* M) noexcept {
+  for (int k = 0; k < 4; ++k) M[k] = 0.0;
+  const double w0 = std::cos(q[2]) * (p[6] * (p[4] * p[3]));
+  M[0] = p[6] * p[6] * (p[4] + p[5]) + p[1];  // (0, 0)
+  M[1] = w0;  // (1, 0)
+  M[2] = w0;  // (0, 1)
+  M[3] = p[0] + p[4] * (p[3] * p[3]);  // (1, 1)
+}
+
+/// f_r(t, q, u) of M_r u' = f_r, n_speeds.
+inline void forcing(double /*t*/, const double* q, const double* u, const double* p, double* f) noexcept {
+  const double w0 = std::sin(q[2]);
+  const double w1 = p[4] * p[3];
+  f[0] = p[7] + u[1] * u[1] * w0 * (p[6] * w1);  // phi'
+  f[1] = w0 * w1 * p[2] - p[7];  // theta'
+}
+
 /// Everything above as the C table of docs/generated-code.md, filled by field name.
 inline nhc_model_table make_model_table() noexcept {
   nhc_model_table t{};
-  t.abi_version = 5;
+  t.abi_version = 6;
   t.scene_name = scene_name;
   t.model_name = model_name;
   t.n_states = n_states;
@@ -201,11 +242,16 @@ inline nhc_model_table make_model_table() noexcept {
   t.n_singular = n_singular;
   t.n_inputs = n_inputs;
   t.input_names = input_names;
+  t.n_speeds = n_speeds;
+  t.speed_coordinate = speed_coordinate;
   t.residual = &residual;
   t.jacobian = &jacobian;
   t.hidden_constraints = &hidden_constraints;
   t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
   t.default_inputs = &default_inputs;
+  t.velocities = &velocities;
+  t.mass_matrix = &mass_matrix;
+  t.forcing = &forcing;
   return t;
 }
 
