@@ -470,10 +470,14 @@ struct ReducedFunctions {
   std::vector<GiNaC::ex> velocities, mass_matrix, forcing;  ///< mass_matrix column-major
 };
 ReducedFunctions reduced_functions(const ReducedForm& reduced, const JetSpace& jet) {
+  // X u + y may hold the dependent speeds through named intermediates (y from b = v − A q', which
+  // does not depend on q' but need not cancel symbolically): there they are set to 0, exactly.
   GiNaC::exmap map;
   for (int j = 0; j < jet.coordinate_count(); ++j) map[jet.q(j, 2)] = 0;
+  for (int d : reduced.dependent) map[jet.q(d, 1)] = 0;
+  const SymbolSubstitution without_dependent(map);
   for (std::size_t r = 0; r < reduced.dependent.size(); ++r)
-    map[jet.q(reduced.dependent[r], 1)] = substitute_symbols(reduced.dependent_speeds[r], map);
+    map[jet.q(reduced.dependent[r], 1)] = without_dependent(reduced.dependent_speeds[r]);
   const SymbolSubstitution substitute(map);
   ReducedFunctions out;
   out.velocities.resize(static_cast<std::size_t>(jet.coordinate_count()));
