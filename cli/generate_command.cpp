@@ -13,6 +13,7 @@
 #include "model_requirements.hpp"
 #include "nhc/analysis/index1_reduction.hpp"
 #include "nhc/derive/models.hpp"
+#include "nhc/derive/reduced_form.hpp"
 #include "nhc/emit/header_emitter.hpp"
 #include "nhc/io/atomic_file.hpp"
 #include "nhc/io/output_path.hpp"
@@ -78,7 +79,10 @@ CommandRunner add_generate_command(CLI::App& app) {
       throw MathError("the " + to_string(kind) + " model does not apply to " + scene.name + ": " +
                       derived.reason);
     const Index1System system = reduce_to_index1(scene, derived);
+    // The multiplier-free form where the model has one (docs/reduced-form.md), on the default speeds.
+    const ReducedForm reduced = reduce_to_independent_speeds(scene, derived);
     HeaderOptions header_options;
+    header_options.reduced = &reduced;
     header_options.jacobian = *parse_jacobian_kind(options->jacobian);
     header_options.sensitivities = options->sensitivities;
     header_options.variational = options->variational;

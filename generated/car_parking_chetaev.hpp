@@ -11,12 +11,15 @@
 //
 // Floating-point operations (+, -, *, /, calls) without and with common-subexpression
 // elimination:
-//   residual                          71      56
-//   jacobian                         177      94
-//   hidden_constraints                16      14
-//   hidden_constraints_jacobian       38      21
+//   residual                          90      60
+//   jacobian                         216     104
+//   hidden_constraints                18      15
+//   hidden_constraints_jacobian       40      24
 //   default_inputs                     0       0
-//   total                            302     185
+//   velocities                        11      10
+//   mass_matrix                       24      15
+//   forcing                           91      35
+//   total                            490     263
 
 #pragma once
 
@@ -30,7 +33,8 @@
  * "Runtime additions" of docs/generated-code.md; read them only when abi_version >= 2.
  * abi_version 3 appends the "Sensitivity additions"; read them only when abi_version >= 3.
  * abi_version 4 appends the "Input additions"; read them only when abi_version >= 4.
- * abi_version 5 appends the "Variational additions"; read them only when abi_version >= 5. */
+ * abi_version 5 appends the "Variational additions"; read them only when abi_version >= 5.
+ * abi_version 6 appends the "Reduced-form additions"; read them only when abi_version >= 6. */
 #ifndef NHC_MODEL_TABLE_DEFINED
 #define NHC_MODEL_TABLE_DEFINED
 
@@ -82,6 +86,14 @@ struct nhc_model_table {
   void (*variational_jacobian)(double, double, double, const double*, const double*, const double*, const double*,
                                const double*, double*);
   void (*variational_momentum)(double, double, const double*, const double*, const double*, double*);
+  /* abi_version >= 6 (Reduced-form additions; n_speeds = 0 and null functions where the model has
+   * no multiplier-free form): M_r(t, q, u) u' = f_r(t, q, u) on the independent speeds
+   * u = q'[speed_coordinate[k]] (docs/reduced-form.md); each function reads (t, q, u, p) */
+  int n_speeds;
+  const int* speed_coordinate;
+  void (*velocities)(double, const double*, const double*, const double*, double*);
+  void (*mass_matrix)(double, const double*, const double*, const double*, double*);
+  void (*forcing)(double, const double*, const double*, const double*, double*);
 };
 
 #ifdef __cplusplus
@@ -102,6 +114,8 @@ inline constexpr int n_reference = 0;
 inline constexpr int n_singular = 0;
 /// p holds n_parameters parameters, then n_inputs inputs.
 inline constexpr int n_inputs = 2;
+/// The independent speeds u of M_r u' = f_r (0: no multiplier-free form).
+inline constexpr int n_speeds = 2;
 inline constexpr const char* model_name = "chetaev";
 inline constexpr const char* scene_name = "car_parking";
 
@@ -117,19 +131,26 @@ inline constexpr const char* parameter_names[n_parameters] = {"J", "Js", "l", "m
 inline constexpr double default_parameters[n_parameters] = {0.5, 0.050000000000000003, 1.0, 1.0};
 inline constexpr const char* input_names[n_inputs] = {"F", "tau"};
 inline constexpr const char* hidden_names[n_hidden] = {"f1", "f2"};
+/// u[k] = q'[speed_coordinate[k]].
+inline constexpr int speed_coordinate[n_speeds] = {0, 3};
 
 /// F(t, y, y') = 0, IDA form; r has n_states entries.
 inline void residual(double /*t*/, const double* y, const double* yp, const double* p, double* r) noexcept {
   const double w0 = std::sin(y[4]);
   const double w1 = std::sin(y[6]);
   const double w2 = std::cos(y[4]);
-  const double w3 = std::cos(y[6]);
-  r[0] = y[8] * w0 - (y[9] * (w1 * w2) - p[4] * w2) - p[3] * yp[1];  // R_x
-  r[1] = -(w1 * w0 * y[9] + y[8] * w2 - p[4] * w0) - yp[3] * p[3];  // R_y
-  r[2] = w3 * p[2] * y[9] - p[0] * yp[5];  // R_theta
+  const double w3 = w1 * w2;
+  const double w4 = w1 * w0;
+  const double w5 = std::cos(y[6]);
+  const double w6 = w5 * p[2];
+  const double w7 = y[3] * y[5];
+  const double w8 = y[1] * y[5];
+  r[0] = y[8] * w0 - (y[9] * w3 - p[4] * w2) - p[3] * yp[1];  // R_x
+  r[1] = -(w4 * y[9] + y[8] * w2 - p[4] * w0) - yp[3] * p[3];  // R_y
+  r[2] = w6 * y[9] - p[0] * yp[5];  // R_theta
   r[3] = p[5] - yp[7] * p[1];  // R_phi
-  r[4] = (y[1] * y[5] - yp[3]) * w2 + (y[3] * y[5] + yp[1]) * w0;  // D f1
-  r[5] = w1 * ((y[1] * w0 - y[3] * w2 - p[2] * y[7]) * y[5] - w2 * yp[1] - yp[3] * w0) + w3 * ((-w2 * y[1] - y[3] * w0) * y[7] + yp[5] * p[2]);  // D f2
+  r[4] = w0 * yp[1] + w7 * w0 + w8 * w2 - yp[3] * w2;  // D f1
+  r[5] = w4 * w8 + yp[5] * w6 - y[1] * y[7] * (w5 * w2) - y[3] * y[7] * (w5 * w0) - w3 * yp[1] - w1 * p[2] * y[7] * y[5] - w7 * w3 - w4 * yp[3];  // D f2
   r[6] = yp[0] - y[1];  // chain x' = x'
   r[7] = yp[2] - y[3];  // chain y' = y'
   r[8] = yp[4] - y[5];  // chain theta' = theta'
@@ -141,55 +162,51 @@ inline void jacobian(double /*t*/, const double* y, const double* yp, double cj,
   for (int k = 0; k < n_states * n_states; ++k) J[k] = 0.0;
   const double w0 = -(cj * p[3]);
   const double w1 = std::sin(y[4]);
-  const double w2 = cj * w1;
-  const double w3 = std::cos(y[4]);
-  const double w4 = w3 * y[5];
-  const double w5 = std::sin(y[6]);
-  const double w6 = y[5] * w1 - w3 * cj;
-  const double w7 = std::cos(y[6]);
-  const double w8 = w7 * w3;
-  const double w9 = w7 * w1;
-  const double w10 = w5 * w1;
-  const double w11 = w5 * w3;
-  const double w12 = y[1] * y[5];
-  const double w13 = y[3] * y[5] + yp[1];
-  const double w14 = y[1] * w1 - y[3] * w3;
-  const double w15 = w3 * y[1];
-  const double w16 = y[3] * w1;
-  const double w17 = w15 + w16;
-  const double w18 = w5 * p[2];
+  const double w2 = std::cos(y[4]);
+  const double w3 = std::sin(y[6]);
+  const double w4 = w3 * w1;
+  const double w5 = std::cos(y[6]);
+  const double w6 = w5 * w2;
+  const double w7 = w3 * w2;
+  const double w8 = w5 * w1;
+  const double w9 = y[3] * y[5];
+  const double w10 = y[1] * y[5];
+  const double w11 = y[1] * y[7];
+  const double w12 = y[3] * y[7];
+  const double w13 = w5 * p[2];
+  const double w14 = w3 * p[2];
   J[6] = cj;  // (6, 0)
   J[10] = w0;  // (0, 1)
-  J[14] = w2 + w4;  // (4, 1)
-  J[15] = w5 * w6 - w8 * y[7];  // (5, 1)
+  J[14] = cj * w1 + w2 * y[5];  // (4, 1)
+  J[15] = w4 * y[5] - w6 * y[7] - w7 * cj;  // (5, 1)
   J[16] = -1.0;  // (6, 1)
   J[27] = cj;  // (7, 2)
   J[31] = w0;  // (1, 3)
-  J[34] = w6;  // (4, 3)
-  J[35] = w5 * (-w2 - w4) - w9 * y[7];  // (5, 3)
+  J[34] = y[5] * w1 - w2 * cj;  // (4, 3)
+  J[35] = -w7 * y[5] - w8 * y[7] - w4 * cj;  // (5, 3)
   J[37] = -1.0;  // (7, 3)
-  J[40] = w10 * y[9] + y[8] * w3 - p[4] * w1;  // (0, 4)
-  J[41] = y[8] * w1 - (y[9] * w11 - p[4] * w3);  // (1, 4)
-  J[44] = (yp[3] - w12) * w1 + w13 * w3;  // (4, 4)
-  J[45] = w7 * (w14 * y[7]) + w5 * ((w12 - yp[3]) * w3 + w13 * w1);  // (5, 4)
+  J[40] = w4 * y[9] + y[8] * w2 - p[4] * w1;  // (0, 4)
+  J[41] = y[8] * w1 - (y[9] * w7 - p[4] * w2);  // (1, 4)
+  J[44] = w2 * yp[1] + yp[3] * w1 + w9 * w2 - w10 * w1;  // (4, 4)
+  J[45] = w4 * yp[1] + w4 * w9 + w10 * w7 + w11 * w8 - yp[3] * w7 - w12 * w6;  // (5, 4)
   J[48] = cj;  // (8, 4)
   J[52] = -(p[0] * cj);  // (2, 5)
-  J[54] = w17;  // (4, 5)
-  J[55] = w10 * y[1] + p[2] * (w7 * cj - w5 * y[7]) - y[3] * w11;  // (5, 5)
+  J[54] = w2 * y[1] + y[3] * w1;  // (4, 5)
+  J[55] = w4 * y[1] + w13 * cj - w14 * y[7] - y[3] * w7;  // (5, 5)
   J[58] = -1.0;  // (8, 5)
-  J[60] = -(y[9] * w8);  // (0, 6)
-  J[61] = -(y[9] * w9);  // (1, 6)
-  J[62] = -(y[9] * w18);  // (2, 6)
-  J[65] = w7 * ((w14 - p[2] * y[7]) * y[5] - w3 * yp[1] - yp[3] * w1) + w5 * (w17 * y[7] - yp[5] * p[2]);  // (5, 6)
+  J[60] = -(y[9] * w6);  // (0, 6)
+  J[61] = -(y[9] * w8);  // (1, 6)
+  J[62] = -(y[9] * w14);  // (2, 6)
+  J[65] = w4 * w12 + w11 * w7 + w10 * w8 - w9 * w6 - w13 * y[5] * y[7] - yp[3] * w8 - yp[5] * w14 - w6 * yp[1];  // (5, 6)
   J[69] = cj;  // (9, 6)
   J[73] = -(p[1] * cj);  // (3, 7)
-  J[75] = (-w15 - w16) * w7 - y[5] * w18;  // (5, 7)
+  J[75] = -y[3] * w8 - y[5] * w14 - y[1] * w6;  // (5, 7)
   J[79] = -1.0;  // (9, 7)
   J[80] = w1;  // (0, 8)
-  J[81] = -w3;  // (1, 8)
-  J[90] = -w11;  // (0, 9)
-  J[91] = -w10;  // (1, 9)
-  J[92] = w7 * p[2];  // (2, 9)
+  J[81] = -w2;  // (1, 8)
+  J[90] = -w7;  // (0, 9)
+  J[91] = -w4;  // (1, 9)
+  J[92] = w13;  // (2, 9)
 }
 
 /// Hidden constraints g(t, y) = 0 (derivatives of the equations the index-1 form
@@ -198,8 +215,9 @@ inline void jacobian(double /*t*/, const double* y, const double* yp, double cj,
 inline void hidden_constraints(double /*t*/, const double* y, const double* p, double* g) noexcept {
   const double w0 = std::sin(y[4]);
   const double w1 = std::cos(y[4]);
+  const double w2 = std::sin(y[6]);
   g[0] = y[1] * w0 - y[3] * w1;  // f1
-  g[1] = std::cos(y[6]) * p[2] * y[5] + (-w1 * y[1] - y[3] * w0) * std::sin(y[6]);  // f2
+  g[1] = std::cos(y[6]) * p[2] * y[5] - w2 * w1 * y[1] - w2 * w0 * y[3];  // f2
 }
 
 /// G = dg/dy, column-major n_hidden x n_states.
@@ -210,17 +228,15 @@ inline void hidden_constraints_jacobian(double /*t*/, const double* y, const dou
   const double w2 = std::cos(y[4]);
   const double w3 = w1 * w2;
   const double w4 = w1 * w0;
-  const double w5 = w2 * y[1];
-  const double w6 = y[3] * w0;
-  const double w7 = std::cos(y[6]);
+  const double w5 = std::cos(y[6]);
   G[2] = w0;  // (0, 1)
   G[3] = -w3;  // (1, 1)
   G[6] = -w2;  // (0, 3)
   G[7] = -w4;  // (1, 3)
-  G[8] = w5 + w6;  // (0, 4)
+  G[8] = w2 * y[1] + y[3] * w0;  // (0, 4)
   G[9] = w4 * y[1] - y[3] * w3;  // (1, 4)
-  G[11] = w7 * p[2];  // (1, 5)
-  G[13] = (-w5 - w6) * w7 - y[5] * (w1 * p[2]);  // (1, 6)
+  G[11] = w5 * p[2];  // (1, 5)
+  G[13] = -y[3] * (w5 * w0) - y[5] * (w1 * p[2]) - y[1] * (w5 * w2);  // (1, 6)
 }
 
 /// The inputs' default signals u(t), in input_names order (what p[n_parameters + k] holds
@@ -230,10 +246,44 @@ inline void default_inputs(double /*t*/, const double* /*p*/, double* u) noexcep
   u[1] = 0.0;  // tau
 }
 
+/// q'(t, q, u): the independent speeds u and the dependent ones from them, n_coordinates.
+inline void velocities(double /*t*/, const double* q, const double* u, const double* p, double* qp) noexcept {
+  const double w0 = std::cos(q[2]);
+  qp[0] = u[0];  // x'
+  qp[1] = std::sin(q[2]) * u[0] / w0;  // y'
+  qp[2] = std::sin(q[3]) / (std::cos(q[3]) * w0 * p[2]) * u[0];  // theta'
+  qp[3] = u[1];  // phi'
+}
+
+/// M_r(t, q, u) of M_r u' = f_r, column-major n_speeds x n_speeds.
+inline void mass_matrix(double /*t*/, const double* q, const double* /*u*/, const double* p, double* M) noexcept {
+  for (int k = 0; k < 4; ++k) M[k] = 0.0;
+  const double w0 = std::cos(q[2]);
+  const double w1 = std::sin(q[3]) / (std::cos(q[3]) * w0 * p[2]);
+  const double w2 = std::sin(q[2]);
+  M[0] = p[0] * (w1 * w1) + w2 * w2 * p[3] / (w0 * w0) + p[3];  // (0, 0)
+  M[3] = p[1];  // (1, 1)
+}
+
+/// f_r(t, q, u) of M_r u' = f_r, n_speeds.
+inline void forcing(double /*t*/, const double* q, const double* u, const double* p, double* f) noexcept {
+  const double w0 = std::sin(q[2]);
+  const double w1 = std::sin(q[3]);
+  const double w2 = std::cos(q[3]);
+  const double w3 = std::cos(q[2]);
+  const double w4 = w2 * w3 * p[2];
+  const double w5 = w1 / w4;
+  const double w6 = w5 * u[0];
+  const double w7 = w0 * w0 * u[0] / w3 + w3 * u[0];
+  const double w8 = w6 * w7;
+  f[0] = w0 * (p[4] * w0 - w8 * p[3] / w3) / w3 + p[4] * w3 - p[0] * w5 * ((w0 * w8 * w1 + (w2 * w7 + w6 * w1 * p[2]) * u[1] * w3) / w4);  // x'
+  f[1] = p[5];  // phi'
+}
+
 /// Everything above as the C table of docs/generated-code.md, filled by field name.
 inline nhc_model_table make_model_table() noexcept {
   nhc_model_table t{};
-  t.abi_version = 5;
+  t.abi_version = 6;
   t.scene_name = scene_name;
   t.model_name = model_name;
   t.n_states = n_states;
@@ -254,11 +304,16 @@ inline nhc_model_table make_model_table() noexcept {
   t.n_singular = n_singular;
   t.n_inputs = n_inputs;
   t.input_names = input_names;
+  t.n_speeds = n_speeds;
+  t.speed_coordinate = speed_coordinate;
   t.residual = &residual;
   t.jacobian = &jacobian;
   t.hidden_constraints = &hidden_constraints;
   t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
   t.default_inputs = &default_inputs;
+  t.velocities = &velocities;
+  t.mass_matrix = &mass_matrix;
+  t.forcing = &forcing;
   return t;
 }
 

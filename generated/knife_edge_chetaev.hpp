@@ -10,11 +10,14 @@
 //
 // Floating-point operations (+, -, *, /, calls) without and with common-subexpression
 // elimination:
-//   residual                          22      20
-//   jacobian                          37      25
+//   residual                          26      22
+//   jacobian                          41      25
 //   hidden_constraints                 5       5
 //   hidden_constraints_jacobian        8       6
-//   total                             72      56
+//   velocities                         4       4
+//   mass_matrix                        4       3
+//   forcing                           21      13
+//   total                            109      78
 
 #pragma once
 
@@ -28,7 +31,8 @@
  * "Runtime additions" of docs/generated-code.md; read them only when abi_version >= 2.
  * abi_version 3 appends the "Sensitivity additions"; read them only when abi_version >= 3.
  * abi_version 4 appends the "Input additions"; read them only when abi_version >= 4.
- * abi_version 5 appends the "Variational additions"; read them only when abi_version >= 5. */
+ * abi_version 5 appends the "Variational additions"; read them only when abi_version >= 5.
+ * abi_version 6 appends the "Reduced-form additions"; read them only when abi_version >= 6. */
 #ifndef NHC_MODEL_TABLE_DEFINED
 #define NHC_MODEL_TABLE_DEFINED
 
@@ -80,6 +84,14 @@ struct nhc_model_table {
   void (*variational_jacobian)(double, double, double, const double*, const double*, const double*, const double*,
                                const double*, double*);
   void (*variational_momentum)(double, double, const double*, const double*, const double*, double*);
+  /* abi_version >= 6 (Reduced-form additions; n_speeds = 0 and null functions where the model has
+   * no multiplier-free form): M_r(t, q, u) u' = f_r(t, q, u) on the independent speeds
+   * u = q'[speed_coordinate[k]] (docs/reduced-form.md); each function reads (t, q, u, p) */
+  int n_speeds;
+  const int* speed_coordinate;
+  void (*velocities)(double, const double*, const double*, const double*, double*);
+  void (*mass_matrix)(double, const double*, const double*, const double*, double*);
+  void (*forcing)(double, const double*, const double*, const double*, double*);
 };
 
 #ifdef __cplusplus
@@ -100,6 +112,8 @@ inline constexpr int n_reference = 0;
 inline constexpr int n_singular = 0;
 /// p holds n_parameters parameters, then n_inputs inputs.
 inline constexpr int n_inputs = 0;
+/// The independent speeds u of M_r u' = f_r (0: no multiplier-free form).
+inline constexpr int n_speeds = 2;
 inline constexpr const char* model_name = "chetaev";
 inline constexpr const char* scene_name = "knife_edge";
 
@@ -114,6 +128,8 @@ inline constexpr const char* residual_names[n_states] = {"R_x", "R_y", "R_phi", 
 inline constexpr const char* parameter_names[n_parameters] = {"J", "m"};
 inline constexpr double default_parameters[n_parameters] = {0.5, 1.0};
 inline constexpr const char* hidden_names[n_hidden] = {"f1"};
+/// u[k] = q'[speed_coordinate[k]].
+inline constexpr int speed_coordinate[n_speeds] = {0, 2};
 
 /// F(t, y, y') = 0, IDA form; r has n_states entries.
 inline void residual(double /*t*/, const double* y, const double* yp, const double* p, double* r) noexcept {
@@ -122,7 +138,7 @@ inline void residual(double /*t*/, const double* y, const double* yp, const doub
   r[0] = y[6] * w0 - p[1] * yp[1];  // R_x
   r[1] = -y[6] * w1 - yp[3] * p[1];  // R_y
   r[2] = -(p[0] * yp[5]);  // R_phi
-  r[3] = (y[1] * y[5] - yp[3]) * w1 + (y[3] * y[5] + yp[1]) * w0;  // D f1
+  r[3] = y[3] * (y[5] * w0) + y[1] * (w1 * y[5]) + w0 * yp[1] - yp[3] * w1;  // D f1
   r[4] = yp[0] - y[1];  // chain x' = x'
   r[5] = yp[2] - y[3];  // chain y' = y'
   r[6] = yp[4] - y[5];  // chain phi' = phi'
@@ -134,17 +150,19 @@ inline void jacobian(double /*t*/, const double* y, const double* yp, double cj,
   const double w0 = -(p[1] * cj);
   const double w1 = std::sin(y[4]);
   const double w2 = std::cos(y[4]);
+  const double w3 = w2 * y[5];
+  const double w4 = y[5] * w1;
   J[4] = cj;  // (4, 0)
   J[7] = w0;  // (0, 1)
-  J[10] = cj * w1 + w2 * y[5];  // (3, 1)
+  J[10] = cj * w1 + w3;  // (3, 1)
   J[11] = -1.0;  // (4, 1)
   J[19] = cj;  // (5, 2)
   J[22] = w0;  // (1, 3)
-  J[24] = y[5] * w1 - w2 * cj;  // (3, 3)
+  J[24] = w4 - w2 * cj;  // (3, 3)
   J[26] = -1.0;  // (5, 3)
   J[28] = y[6] * w2;  // (0, 4)
   J[29] = y[6] * w1;  // (1, 4)
-  J[31] = (yp[3] - y[1] * y[5]) * w1 + (y[3] * y[5] + yp[1]) * w2;  // (3, 4)
+  J[31] = w2 * yp[1] + y[3] * w3 + yp[3] * w1 - y[1] * w4;  // (3, 4)
   J[34] = cj;  // (6, 4)
   J[37] = -(p[0] * cj);  // (2, 5)
   J[38] = w2 * y[1] + y[3] * w1;  // (3, 5)
@@ -170,10 +188,34 @@ inline void hidden_constraints_jacobian(double /*t*/, const double* y, const dou
   G[4] = w1 * y[1] + y[3] * w0;  // (0, 4)
 }
 
+/// q'(t, q, u): the independent speeds u and the dependent ones from them, n_coordinates.
+inline void velocities(double /*t*/, const double* q, const double* u, const double* /*p*/, double* qp) noexcept {
+  qp[0] = u[0];  // x'
+  qp[1] = std::sin(q[2]) * u[0] / std::cos(q[2]);  // y'
+  qp[2] = u[1];  // phi'
+}
+
+/// M_r(t, q, u) of M_r u' = f_r, column-major n_speeds x n_speeds.
+inline void mass_matrix(double /*t*/, const double* q, const double* /*u*/, const double* p, double* M) noexcept {
+  for (int k = 0; k < 4; ++k) M[k] = 0.0;
+  const double w0 = std::cos(q[2]);
+  M[0] = p[1] / (w0 * w0);  // (0, 0)
+  M[3] = p[0];  // (1, 1)
+}
+
+/// f_r(t, q, u) of M_r u' = f_r, n_speeds.
+inline void forcing(double /*t*/, const double* q, const double* u, const double* p, double* f) noexcept {
+  const double w0 = std::sin(q[2]);
+  const double w1 = u[0] * u[1] * p[1];
+  const double w2 = std::cos(q[2]);
+  f[0] = (-w0 * w0 * w0 * w1 / w2 - w0 * w2 * w1) / (w2 * w2);  // x'
+  f[1] = 0.0;  // phi'
+}
+
 /// Everything above as the C table of docs/generated-code.md, filled by field name.
 inline nhc_model_table make_model_table() noexcept {
   nhc_model_table t{};
-  t.abi_version = 5;
+  t.abi_version = 6;
   t.scene_name = scene_name;
   t.model_name = model_name;
   t.n_states = n_states;
@@ -193,10 +235,15 @@ inline nhc_model_table make_model_table() noexcept {
   t.residual_names = residual_names;
   t.n_singular = n_singular;
   t.n_inputs = n_inputs;
+  t.n_speeds = n_speeds;
+  t.speed_coordinate = speed_coordinate;
   t.residual = &residual;
   t.jacobian = &jacobian;
   t.hidden_constraints = &hidden_constraints;
   t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
+  t.velocities = &velocities;
+  t.mass_matrix = &mass_matrix;
+  t.forcing = &forcing;
   return t;
 }
 

@@ -12,13 +12,16 @@
 //
 // Floating-point operations (+, -, *, /, calls) without and with common-subexpression
 // elimination:
-//   residual                         711     243
-//   jacobian                        2367     395
+//   residual                         787     240
+//   jacobian                        2610     388
 //   hidden_constraints                23      15
 //   hidden_constraints_jacobian       25      11
-//   invariants                       158      77
+//   invariants                       163      80
 //   default_inputs                     0       0
-//   total                           3284     741
+//   velocities                        23      16
+//   mass_matrix                      251      50
+//   forcing                         1615     187
+//   total                           5497     987
 
 #pragma once
 
@@ -32,7 +35,8 @@
  * "Runtime additions" of docs/generated-code.md; read them only when abi_version >= 2.
  * abi_version 3 appends the "Sensitivity additions"; read them only when abi_version >= 3.
  * abi_version 4 appends the "Input additions"; read them only when abi_version >= 4.
- * abi_version 5 appends the "Variational additions"; read them only when abi_version >= 5. */
+ * abi_version 5 appends the "Variational additions"; read them only when abi_version >= 5.
+ * abi_version 6 appends the "Reduced-form additions"; read them only when abi_version >= 6. */
 #ifndef NHC_MODEL_TABLE_DEFINED
 #define NHC_MODEL_TABLE_DEFINED
 
@@ -84,6 +88,14 @@ struct nhc_model_table {
   void (*variational_jacobian)(double, double, double, const double*, const double*, const double*, const double*,
                                const double*, double*);
   void (*variational_momentum)(double, double, const double*, const double*, const double*, double*);
+  /* abi_version >= 6 (Reduced-form additions; n_speeds = 0 and null functions where the model has
+   * no multiplier-free form): M_r(t, q, u) u' = f_r(t, q, u) on the independent speeds
+   * u = q'[speed_coordinate[k]] (docs/reduced-form.md); each function reads (t, q, u, p) */
+  int n_speeds;
+  const int* speed_coordinate;
+  void (*velocities)(double, const double*, const double*, const double*, double*);
+  void (*mass_matrix)(double, const double*, const double*, const double*, double*);
+  void (*forcing)(double, const double*, const double*, const double*, double*);
 };
 
 #ifdef __cplusplus
@@ -104,6 +116,8 @@ inline constexpr int n_reference = 0;
 inline constexpr int n_singular = 0;
 /// p holds n_parameters parameters, then n_inputs inputs.
 inline constexpr int n_inputs = 2;
+/// The independent speeds u of M_r u' = f_r (0: no multiplier-free form).
+inline constexpr int n_speeds = 3;
 inline constexpr const char* model_name = "chetaev";
 inline constexpr const char* scene_name = "wheeled_pendulum";
 
@@ -120,66 +134,73 @@ inline constexpr double default_parameters[n_parameters] = {0.059999999999999998
 inline constexpr const char* input_names[n_inputs] = {"TL", "TR"};
 inline constexpr const char* hidden_names[n_hidden] = {"f1", "f2", "f3"};
 inline constexpr const char* invariant_names[n_invariants] = {"energy"};
+/// u[k] = q'[speed_coordinate[k]].
+inline constexpr int speed_coordinate[n_speeds] = {3, 4, 5};
 
 /// F(t, y, y') = 0, IDA form; r has n_states entries.
 inline void residual(double /*t*/, const double* y, const double* yp, const double* p, double* r) noexcept {
-  const double w0 = -p[6] - p[7] * 2.0;
-  const double w1 = p[6] * p[5];
-  const double w2 = std::cos(y[6]);
-  const double w3 = std::sin(y[4]);
+  const double w0 = y[5] * 2.0;
+  const double w1 = w0 * y[7];
+  const double w2 = p[6] * p[5];
+  const double w3 = std::cos(y[6]);
   const double w4 = w2 * w3;
-  const double w5 = w1 * w4;
-  const double w6 = 2.0 * y[7];
-  const double w7 = y[5] * w6;
-  const double w8 = std::cos(y[4]);
-  const double w9 = y[7] * y[7];
-  const double w10 = std::sin(y[6]);
-  const double w11 = w10 * w1;
-  const double w12 = w11 * w8;
-  const double w13 = w2 * w8;
-  const double w14 = w1 * w13;
-  const double w15 = y[5] * y[5];
-  const double w16 = w11 * w3;
-  const double w17 = w8 * y[5];
-  const double w18 = w10 * p[5];
-  const double w19 = p[5] * w4;
-  const double w20 = w17 * w18 + w19 * y[7];
-  const double w21 = y[5] * w3;
-  const double w22 = p[5] * w13;
-  const double w23 = w21 * w18 - w22 * y[7];
-  const double w24 = w23 - y[1];
-  const double w25 = y[3] + w20;
-  const double w26 = (y[3] * w8 - y[1] * w3) * p[3];
-  const double w27 = w8 * yp[1];
-  const double w28 = p[7] * p[3];
-  const double w29 = yp[3] * w3;
-  const double w30 = y[5] * (w26 * p[7]) + (w27 * w28 + w28 * w29);
-  const double w31 = p[8] * p[8];
-  const double w32 = yp[5] * 0.25 * (p[7] * (4.0 * (p[3] * p[3]) + w31));
-  const double w33 = p[7] * (w26 * y[5]);
-  const double w34 = w19 * w24 + w22 * w25;
-  const double w35 = w10 * y[7];
-  const double w36 = p[5] * (y[5] * w4 + w35 * w8);
-  const double w37 = (w35 * w3 - y[5] * w13) * p[5];
-  const double w38 = w24 * (w8 * w18) - w18 * w3 * w25;
-  const double w39 = w2 * w2;
-  const double w40 = w10 * w10;
-  const double w41 = p[5] * p[5];
-  const double w42 = w3 * w3 + w8 * w8;
-  const double w43 = w10 * w41;
-  const double w44 = w27 + w29;
-  const double w45 = 0.5 * p[7] * w31;
-  const double w46 = y[1] * w21 - (y[3] * w17 + w44);
-  const double w47 = yp[5] * p[3];
-  r[0] = w0 * yp[1] + (w5 * w7 - (y[14] * w3 - y[12] * w8 - (w9 * w12 - (yp[7] * w14 - (y[13] * w8 + w15 * w12) - yp[5] * w16))));  // R_x
-  r[1] = yp[3] * w0 - (w5 * yp[7] - w16 * w15 - (y[13] * w3 + (w9 * w16 + y[14] * w8 - yp[5] * w12 - (w7 * w14 - y[12] * w3))));  // R_y
-  r[2] = p[6] * (w20 * w24 - w23 * w25) + (w30 - w32) + (y[13] - y[12]) * p[3] + w33 + ((w10 * ((p[2] - p[0]) * 2.0 * y[5] * w2) - p[6] * (w34 + w10 * (p[5] * (w36 * w3 - w8 * w37)))) * y[7] + p[6] * (w10 * (p[5] * (w3 * yp[1] - yp[3] * w8)) + (w10 * (p[5] * (w23 * w8 - w20 * w3)) - w38) * y[5]) - yp[5] * (w39 * p[2] + p[0] * w40 + p[6] * (w41 * (w40 * w42)))) - (w30 + w32) - w33;  // R_psi
-  r[3] = p[4] * w11 + (p[6] * (w24 * w36 + w9 * (w43 * w2) - w37 * w25) + w10 * (w15 * (p[0] - p[2]) * w2)) - p[10] - p[9] - (yp[7] * (p[6] * (w41 * (w40 + w39 * w42)) + p[1]) + p[6] * (p[5] * (w2 * w44) + y[5] * (w34 + p[5] * (w2 * (-w20 * w8 - w23 * w3))) - (w2 * (p[5] * (w37 * w3 + w8 * w36) - w43 * w6) - w38) * y[7]));  // R_th
-  r[4] = p[9] - y[12] * p[8] - w45 * yp[9];  // R_phL
-  r[5] = p[10] - p[8] * y[13] - w45 * yp[11];  // R_phR
-  r[6] = -w46 - p[8] * yp[9] - w47;  // D f1
-  r[7] = w47 - w46 - p[8] * yp[11];  // D f2
-  r[8] = (yp[3] - y[1] * y[5]) * w8 + (-y[3] * y[5] - yp[1]) * w3;  // D f3
+  const double w5 = std::sin(y[4]);
+  const double w6 = w4 * w5;
+  const double w7 = std::cos(y[4]);
+  const double w8 = y[7] * y[7];
+  const double w9 = std::sin(y[6]);
+  const double w10 = w9 * w2;
+  const double w11 = w10 * w7;
+  const double w12 = w4 * w7;
+  const double w13 = y[5] * y[5];
+  const double w14 = w10 * w5;
+  const double w15 = p[7] * 2.0;
+  const double w16 = p[7] * p[3];
+  const double w17 = w16 * w5;
+  const double w18 = w7 * w16;
+  const double w19 = yp[3] * w17 + (w18 * yp[1] + y[5] * (y[3] * w18 - w17 * y[1]));
+  const double w20 = p[7] * (p[8] * p[8]);
+  const double w21 = yp[5] * (4.0 * (p[7] * (p[3] * p[3])) + w20) * 0.25;
+  const double w22 = y[3] * y[5];
+  const double w23 = y[1] * y[5];
+  const double w24 = w22 * w18 - w17 * w23;
+  const double w25 = w9 * w3;
+  const double w26 = p[0] * w25;
+  const double w27 = w9 * p[5];
+  const double w28 = w7 * w27;
+  const double w29 = p[5] * w3;
+  const double w30 = w5 * w29;
+  const double w31 = y[5] * w28 + w30 * y[7];
+  const double w32 = y[3] + w31;
+  const double w33 = w7 * w29;
+  const double w34 = w27 * w5;
+  const double w35 = w34 * y[5] - w33 * y[7];
+  const double w36 = w35 - y[1];
+  const double w37 = w32 * w33 + w36 * w30;
+  const double w38 = y[7] * w28 + y[5] * w30;
+  const double w39 = w34 * y[7] - w33 * y[5];
+  const double w40 = p[6] * y[5];
+  const double w41 = w36 * w28 - w34 * w32;
+  const double w42 = w5 * w5;
+  const double w43 = p[5] * p[5];
+  const double w44 = w9 * w9;
+  const double w45 = w43 * w44;
+  const double w46 = w7 * w7;
+  const double w47 = w3 * w3;
+  const double w48 = w43 * w25;
+  const double w49 = w43 * w47;
+  const double w50 = 0.5 * w20;
+  const double w51 = w23 * w5 - (w7 * yp[1] + yp[3] * w5 + w22 * w7);
+  const double w52 = yp[5] * p[3];
+  r[0] = w1 * w6 - (y[14] * w5 - y[12] * w7 - (w8 * w11 - (yp[7] * w12 - (y[13] * w7 + w13 * w11) - yp[5] * w14))) - p[6] * yp[1] - w15 * yp[1];  // R_x
+  r[1] = -p[6] * yp[3] - yp[3] * w15 - (yp[7] * w6 - w14 * w13 - (w8 * w14 + y[14] * w7 - yp[5] * w11 - (w1 * w12 - y[12] * w5) + y[13] * w5));  // R_y
+  r[2] = y[13] * p[3] + (w19 - w21) + w24 + ((w0 * p[2] * w25 - w0 * w26 - p[6] * (w37 + w34 * w38 - w39 * w28)) * y[7] + w14 * yp[1] + w40 * (w35 * w28 - w41 - w34 * w31) - yp[3] * w11 - yp[5] * (p[6] * (w42 * w45 + w45 * w46) + w47 * p[2] + p[0] * w44)) + p[6] * (w31 * w36 - w32 * w35) - y[12] * p[3] - (w21 + w19) - w24;  // R_psi
+  r[3] = p[4] * w10 + (p[6] * (w8 * w48 + w38 * w36 - w32 * w39) + w13 * w26 - w25 * (w13 * p[2])) - (w12 * yp[1] + yp[3] * w6 + yp[7] * (p[1] + (w49 * w46 + w42 * w49 + w45) * p[6]) + (w37 - w31 * w33 - w35 * w30) * w40 - p[6] * y[7] * (w39 * w30 + w38 * w33 - w48 * (2.0 * y[7]) - w41)) - (p[10] + p[9]);  // R_th
+  r[4] = p[9] - y[12] * p[8] - w50 * yp[9];  // R_phL
+  r[5] = p[10] - p[8] * y[13] - w50 * yp[11];  // R_phR
+  r[6] = -w51 - p[8] * yp[9] - w52;  // D f1
+  r[7] = w52 - w51 - p[8] * yp[11];  // D f2
+  r[8] = yp[3] * w7 - w5 * yp[1] - w22 * w5 - w23 * w7;  // D f3
   r[9] = yp[0] - y[1];  // chain x' = x'
   r[10] = yp[2] - y[3];  // chain y' = y'
   r[11] = yp[4] - y[5];  // chain psi' = psi'
@@ -192,162 +213,155 @@ inline void residual(double /*t*/, const double* y, const double* yp, const doub
 inline void jacobian(double /*t*/, const double* y, const double* yp, double cj, const double* p, double* J) noexcept {
   for (int k = 0; k < n_states * n_states; ++k) J[k] = 0.0;
   const double w0 = (-p[6] - p[7] * 2.0) * cj;
-  const double w1 = std::sin(y[6]);
-  const double w2 = std::cos(y[4]);
-  const double w3 = w2 * y[5];
-  const double w4 = std::cos(y[6]);
-  const double w5 = std::sin(y[4]);
-  const double w6 = w4 * w5;
-  const double w7 = p[6] * p[5];
-  const double w8 = w1 * w7;
-  const double w9 = w8 * w5;
-  const double w10 = w1 * p[5];
-  const double w11 = p[5] * w6;
-  const double w12 = w3 * w10 + w11 * y[7];
-  const double w13 = w1 * y[7];
-  const double w14 = y[5] * w6 + w13 * w2;
-  const double w15 = p[5] * w14;
-  const double w16 = p[6] * w15;
-  const double w17 = w4 * w2;
-  const double w18 = w7 * w17;
-  const double w19 = cj * w18;
-  const double w20 = y[5] * w5;
-  const double w21 = w2 * cj - w20;
-  const double w22 = cj * w5;
-  const double w23 = w17 * y[7];
-  const double w24 = w1 * w20;
-  const double w25 = w8 * w2;
-  const double w26 = cj * w25;
-  const double w27 = p[5] * w17;
-  const double w28 = w20 * w10 - w27 * y[7];
-  const double w29 = w7 * w6;
-  const double w30 = w29 * cj;
-  const double w31 = y[5] * w17;
-  const double w32 = w13 * w5;
-  const double w33 = w32 - w31;
-  const double w34 = w33 * p[5];
-  const double w35 = w22 + w3;
-  const double w36 = y[5] * y[5];
-  const double w37 = y[7] * y[7];
-  const double w38 = 2.0 * y[7];
-  const double w39 = y[5] * w38;
-  const double w40 = w28 - y[1];
-  const double w41 = y[3] + w12;
-  const double w42 = w28 * w40 + w12 * w41;
-  const double w43 = p[6] * y[5];
-  const double w44 = w10 * w5;
-  const double w45 = w2 * w10;
-  const double w46 = w44 * w28 + w12 * w45;
-  const double w47 = w44 * w40 + w45 * w41;
-  const double w48 = w46 - w47;
-  const double w49 = yp[3] * w9 - w43 * w48 + w25 * yp[1];
-  const double w50 = p[6] * y[7];
-  const double w51 = w12 * w11 - w28 * w27;
-  const double w52 = w40 * w27 - w11 * w41;
-  const double w53 = w51 + w52;
-  const double w54 = p[7] * p[3];
-  const double w55 = y[1] * w3 * w54 + y[3] * w54 * w20;
-  const double w56 = w2 * y[1];
-  const double w57 = y[3] * w5;
-  const double w58 = (w56 + w57) * p[3] * p[7] * y[5] + p[7] * (p[3] * (w5 * yp[1] - yp[3] * w2));
-  const double w59 = w53 * w43 - (w29 * yp[1] - yp[3] * w18);
-  const double w60 = p[6] * ((w40 - w28) * w34 + (w41 - w12) * w15);
-  const double w61 = (yp[3] - y[1] * y[5]) * w2 + (-y[3] * y[5] - yp[1]) * w5;
-  const double w62 = w40 * w45 - w44 * w41;
-  const double w63 = (w1 * (p[5] * (w28 * w2 - w12 * w5)) - w62) * p[6];
-  const double w64 = p[2] - p[0];
-  const double w65 = w5 * w5;
-  const double w66 = p[5] * p[5];
-  const double w67 = w1 * w66;
-  const double w68 = w67 * w4;
-  const double w69 = w2 * w2;
-  const double w70 = w65 * w68 + w68 * w69;
-  const double w71 = w1 * (w4 * w64) - p[6] * w70;
-  const double w72 = y[3] * w2;
-  const double w73 = y[1] * w5;
-  const double w74 = (w72 - w73) * p[3] * p[7];
-  const double w75 = p[8] * p[8];
-  const double w76 = (p[3] * p[3] + 0.25 * w75) * p[7];
-  const double w77 = w4 * w4;
-  const double w78 = w1 * w1;
-  const double w79 = w65 + w69;
-  const double w80 = w11 * w40 + w27 * w41;
-  const double w81 = p[6] * (w80 + p[5] * (w4 * (-w12 * w2 - w28 * w5)));
-  const double w82 = w15 * w5;
-  const double w83 = w2 * w34;
-  const double w84 = w1 * (w64 * 2.0 * y[5] * w4) - p[6] * (w80 + w1 * (p[5] * (w82 - w83)));
-  const double w85 = cj * p[3];
-  const double w86 = w73 - w72;
-  const double w87 = w37 + w36;
-  const double w88 = w77 - w78;
-  const double w89 = p[2] * (w78 - w77) + p[0] * w88;
-  const double w90 = w66 * w37;
-  const double w91 = p[5] * (w34 * w5 + w2 * w15);
-  const double w92 = w70 - w68;
-  const double w93 = p[6] * (w4 * (w91 - w67 * w38) - w62);
-  const double w94 = -(0.5 * p[7] * w75 * cj);
-  const double w95 = -(p[8] * cj);
-  const double w96 = -p[8];
+  const double w1 = p[6] * p[5];
+  const double w2 = std::cos(y[6]);
+  const double w3 = w1 * w2;
+  const double w4 = std::sin(y[4]);
+  const double w5 = w3 * w4;
+  const double w6 = std::sin(y[6]);
+  const double w7 = w6 * w1;
+  const double w8 = std::cos(y[4]);
+  const double w9 = w7 * w8;
+  const double w10 = w7 * w4;
+  const double w11 = w10 * cj;
+  const double w12 = w6 * p[5];
+  const double w13 = w8 * w12;
+  const double w14 = p[5] * w2;
+  const double w15 = w4 * w14;
+  const double w16 = y[5] * w13 + w15 * y[7];
+  const double w17 = w3 * w8;
+  const double w18 = w17 * cj;
+  const double w19 = y[7] * w13 + y[5] * w15;
+  const double w20 = w8 * cj - y[5] * w4;
+  const double w21 = cj * w4;
+  const double w22 = w8 * y[5];
+  const double w23 = w12 * w4;
+  const double w24 = w8 * w14;
+  const double w25 = w23 * y[5] - w24 * y[7];
+  const double w26 = cj * w9;
+  const double w27 = w23 * y[7] - w24 * y[5];
+  const double w28 = cj * w5;
+  const double w29 = w21 + w22;
+  const double w30 = y[5] * y[5];
+  const double w31 = y[7] * y[7];
+  const double w32 = y[5] * 2.0;
+  const double w33 = w32 * y[7];
+  const double w34 = p[7] * p[3];
+  const double w35 = w34 * w4;
+  const double w36 = w8 * w34;
+  const double w37 = (y[3] * w35 + y[1] * w36) * y[5] + w35 * yp[1] - yp[3] * w36;
+  const double w38 = p[6] * y[5];
+  const double w39 = w23 * w25 + w16 * w13;
+  const double w40 = w25 - y[1];
+  const double w41 = y[3] + w16;
+  const double w42 = w23 * w40 + w41 * w13;
+  const double w43 = w39 - w42;
+  const double w44 = yp[3] * w10 - w38 * w43 + w9 * yp[1];
+  const double w45 = w16 * w15 - w25 * w24;
+  const double w46 = w40 * w24 - w41 * w15;
+  const double w47 = w45 + w46;
+  const double w48 = p[6] * y[7];
+  const double w49 = w40 * w25 + w16 * w41;
+  const double w50 = y[1] * y[5];
+  const double w51 = y[3] * y[5];
+  const double w52 = w50 * w36 + w51 * w35;
+  const double w53 = p[6] * (w27 * w40 + w41 * w19 - w16 * w19 - w27 * w25);
+  const double w54 = w47 * w38 - (w5 * yp[1] - yp[3] * w17);
+  const double w55 = yp[3] * w8 - w4 * yp[1] - w51 * w4 - w50 * w8;
+  const double w56 = 2.0 * y[7];
+  const double w57 = y[3] * w36 - w35 * y[1];
+  const double w58 = w6 * w2;
+  const double w59 = w4 * w4;
+  const double w60 = p[5] * p[5];
+  const double w61 = w60 * w58;
+  const double w62 = w8 * w8;
+  const double w63 = w59 * w61 + w61 * w62;
+  const double w64 = p[0] * w58;
+  const double w65 = w58 * p[2] - p[6] * w63 - w64;
+  const double w66 = w40 * w13 - w23 * w41;
+  const double w67 = p[6] * (w25 * w13 - w66 - w23 * w16);
+  const double w68 = w6 * w6;
+  const double w69 = w60 * w68;
+  const double w70 = w2 * w2;
+  const double w71 = p[0] * w68;
+  const double w72 = p[7] * (p[8] * p[8]);
+  const double w73 = p[7] * (p[3] * p[3]) + 0.25 * w72;
+  const double w74 = w41 * w24 + w40 * w15;
+  const double w75 = (w74 - w16 * w24 - w25 * w15) * p[6];
+  const double w76 = w32 * p[2];
+  const double w77 = w76 * w58 - w32 * w64 - p[6] * (w74 + w23 * w19 - w27 * w13);
+  const double w78 = cj * p[3];
+  const double w79 = y[1] * w4 - y[3] * w8;
+  const double w80 = p[0] * w70;
+  const double w81 = w27 * 2.0;
+  const double w82 = w19 * 2.0;
+  const double w83 = w30 * p[2];
+  const double w84 = w60 * w70;
+  const double w85 = p[6] * (w63 - w61);
+  const double w86 = p[6] * (w27 * w15 + w19 * w24 - w61 * w56 - w66);
+  const double w87 = -(0.5 * w72 * cj);
+  const double w88 = -(p[8] * cj);
+  const double w89 = -p[8];
   J[9] = cj;  // (9, 0)
   J[15] = w0;  // (0, 1)
-  J[17] = p[6] * ((w1 * w3 + w6 * y[7]) * p[5]) + w9 * cj - p[6] * w12;  // (2, 1)
-  J[18] = w16 - w19 - w16;  // (3, 1)
-  J[21] = w21;  // (6, 1)
-  J[22] = w21;  // (7, 1)
-  J[23] = -w22 - w3;  // (8, 1)
+  J[17] = y[7] * w5 + y[5] * w9 + w11 - p[6] * w16;  // (2, 1)
+  J[18] = y[5] * w5 + w9 * y[7] - w18 - p[6] * w19;  // (3, 1)
+  J[21] = w20;  // (6, 1)
+  J[22] = w20;  // (7, 1)
+  J[23] = -w21 - w22;  // (8, 1)
   J[24] = -1.0;  // (9, 1)
   J[40] = cj;  // (10, 2)
   J[46] = w0;  // (1, 3)
-  J[47] = -p[6] * (p[5] * (w23 - w24)) - w26 - p[6] * w28;  // (2, 3)
-  J[48] = -w30 - p[6] * (p[5] * (w31 - w32)) - p[6] * w34;  // (3, 3)
-  J[51] = w35;  // (6, 3)
-  J[52] = w35;  // (7, 3)
-  J[53] = w21;  // (8, 3)
+  J[47] = -p[6] * w25 - (w17 * y[7] - w10 * y[5]) - w26;  // (2, 3)
+  J[48] = -(w17 * y[5] - w10 * y[7]) - p[6] * w27 - w28;  // (3, 3)
+  J[51] = w29;  // (6, 3)
+  J[52] = w29;  // (7, 3)
+  J[53] = w20;  // (8, 3)
   J[55] = -1.0;  // (10, 3)
-  J[60] = w29 * yp[7] - w9 * w36 - (y[13] * w5 + (w37 * w9 + y[14] * w2 - yp[5] * w25 - (w39 * w18 - y[12] * w5)));  // (0, 4)
-  J[61] = w29 * w39 - (y[14] * w5 - y[12] * w2 - (w37 * w25 - (yp[7] * w18 - (y[13] * w2 + w36 * w25) - yp[5] * w9)));  // (1, 4)
-  J[62] = p[6] * (w12 * w12 + w28 * w28 - w42) + (w49 - w50 * w53) + w55 + w58 - w55 - w58;  // (2, 4)
-  J[63] = -(w59 + w50 * w48) - w60;  // (3, 4)
-  J[66] = w61;  // (6, 4)
-  J[67] = w61;  // (7, 4)
-  J[68] = y[1] * w20 - (y[3] * w3 + (w2 * yp[1] + yp[3] * w5));  // (8, 4)
+  J[60] = yp[7] * w5 - w10 * w30 - (w31 * w10 + y[14] * w8 - yp[5] * w9 - (w33 * w17 - y[12] * w4) + y[13] * w4);  // (0, 4)
+  J[61] = w33 * w5 - (y[14] * w4 - y[12] * w8 - (w31 * w9 - (yp[7] * w17 - (y[13] * w8 + w30 * w9) - yp[5] * w10)));  // (1, 4)
+  J[62] = w37 + (w44 - w47 * w48) + p[6] * (w16 * w16 + w25 * w25 - w49) + w52 - w37 - w52;  // (2, 4)
+  J[63] = -w53 - (w48 * w43 + w54);  // (3, 4)
+  J[66] = w55;  // (6, 4)
+  J[67] = w55;  // (7, 4)
+  J[68] = w50 * w4 - (w8 * yp[1] + yp[3] * w4 + w51 * w8);  // (8, 4)
   J[71] = cj;  // (11, 4)
-  J[75] = p[6] * ((w38 * w6 + w1 * (w3 * 2.0 + w22)) * p[5]);  // (0, 5)
-  J[76] = p[6] * (p[5] * ((w24 - w23) * 2.0)) - w26;  // (1, 5)
-  J[77] = w63 + w71 * w38 + w74 + w74 - w63 - w74 - w74 - cj * (w76 + w76 + (w77 * p[2] + p[0] * w78 + p[6] * (w66 * (w78 * w79))));  // (2, 5)
-  J[78] = -w81 - w84;  // (3, 5)
-  J[81] = -w85 - w86;  // (6, 5)
-  J[82] = w85 - w86;  // (7, 5)
-  J[83] = -w56 - w57;  // (8, 5)
+  J[75] = w32 * w9 + w11 + w56 * w5;  // (0, 5)
+  J[76] = w32 * w10 - w26 - w17 * w56;  // (1, 5)
+  J[77] = w57 + w57 + (w65 * w56 + w67) - cj * (p[6] * (w59 * w69 + w69 * w62) + w70 * p[2] + w71 + w73 + w73) - w67 - w57 - w57;  // (2, 5)
+  J[78] = -w75 - w77;  // (3, 5)
+  J[81] = -w78 - w79;  // (6, 5)
+  J[82] = w78 - w79;  // (7, 5)
+  J[83] = -w8 * y[1] - y[3] * w4;  // (8, 5)
   J[86] = -1.0;  // (11, 5)
-  J[90] = p[6] * ((w1 * (yp[7] * w2 - w38 * w20) + w4 * (yp[5] * w5 + w87 * w2)) * p[5]);  // (0, 6)
-  J[91] = p[6] * ((w1 * (w3 * w38 + yp[7] * w5) + (w87 * w5 - yp[5] * w2) * w4) * p[5]);  // (1, 6)
-  J[92] = -((w89 * 2.0 * y[5] - p[6] * (w46 + w4 * ((w83 - w82) * 2.0) * p[5] + w47)) * y[7] + w59 - yp[5] * w71 * 2.0) - w60;  // (2, 6)
-  J[93] = p[4] * w7 * w4 + (w89 * w36 + p[6] * (w34 * w34 + w15 * w15 + w90 * w77 - w90 * w78 - w42)) - (p[6] * ((w52 + (w1 * w91 + w66 * (w88 * y[7])) * 2.0 - w51) * y[7] - yp[7] * 2.0 * w92) - w49);  // (3, 6)
+  J[90] = yp[5] * w5 + w31 * w17 + yp[7] * w9 + w30 * w17 - w33 * w10;  // (0, 6)
+  J[91] = w30 * w5 + yp[7] * w10 + w33 * w9 + w31 * w5 - yp[5] * w17;  // (1, 6)
+  J[92] = -w53 - ((w68 * w76 + w32 * w80 - p[6] * (w39 + w42 + w24 * w81 - w82 * w15) - w70 * w76 - w32 * w71) * y[7] + w54 - yp[5] * w65 * 2.0);  // (2, 6)
+  J[93] = w68 * w83 + w80 * w30 + p[6] * (w31 * w84 + w27 * w27 + w19 * w19 - w31 * w69 - w49) - w70 * w83 - w30 * w71 + p[4] * w3 - ((w84 * w56 + w82 * w13 + w46 + w23 * w81 - w45 - w69 * w56) * w48 - yp[7] * w85 * 2.0 - w44);  // (3, 6)
   J[102] = cj;  // (12, 6)
-  J[105] = p[6] * (p[5] * (w14 * 2.0)) - w19;  // (0, 7)
-  J[106] = p[6] * (p[5] * (w33 * 2.0)) - w30;  // (1, 7)
-  J[107] = w81 + w84;  // (2, 7)
-  J[108] = p[6] * w38 * w92 + w93 - cj * (p[6] * (w66 * (w78 + w77 * w79)) + p[1]) - w93;  // (3, 7)
+  J[105] = w32 * w5 + w56 * w9 - w18;  // (0, 7)
+  J[106] = w10 * w56 - w32 * w17 - w28;  // (1, 7)
+  J[107] = w75 + w77;  // (2, 7)
+  J[108] = w85 * w56 + w86 - cj * (p[1] + (w84 * w62 + w59 * w84 + w69) * p[6]) - w86;  // (3, 7)
   J[117] = -1.0;  // (12, 7)
   J[133] = cj;  // (13, 8)
-  J[139] = w94;  // (4, 9)
-  J[141] = w95;  // (6, 9)
+  J[139] = w87;  // (4, 9)
+  J[141] = w88;  // (6, 9)
   J[148] = -1.0;  // (13, 9)
   J[164] = cj;  // (14, 10)
-  J[170] = w94;  // (5, 11)
-  J[172] = w95;  // (7, 11)
+  J[170] = w87;  // (5, 11)
+  J[172] = w88;  // (7, 11)
   J[179] = -1.0;  // (14, 11)
-  J[180] = w2;  // (0, 12)
-  J[181] = w5;  // (1, 12)
+  J[180] = w8;  // (0, 12)
+  J[181] = w4;  // (1, 12)
   J[182] = -p[3];  // (2, 12)
-  J[184] = w96;  // (4, 12)
-  J[195] = w2;  // (0, 13)
-  J[196] = w5;  // (1, 13)
+  J[184] = w89;  // (4, 12)
+  J[195] = w8;  // (0, 13)
+  J[196] = w4;  // (1, 13)
   J[197] = p[3];  // (2, 13)
-  J[200] = w96;  // (5, 13)
-  J[210] = -w5;  // (0, 14)
-  J[211] = w2;  // (1, 14)
+  J[200] = w89;  // (5, 13)
+  J[210] = -w4;  // (0, 14)
+  J[211] = w8;  // (1, 14)
 }
 
 /// Hidden constraints g(t, y) = 0 (derivatives of the equations the index-1 form
@@ -387,25 +401,24 @@ inline void hidden_constraints_jacobian(double /*t*/, const double* y, const dou
 
 /// The scene's invariants I(t, y, y'), in invariant_names order.
 inline void invariants(double /*t*/, const double* y, const double* /*yp*/, const double* p, double* out) noexcept {
-  const double w0 = 0.5 * p[7];
-  const double w1 = y[5] * y[5];
-  const double w2 = p[8] * p[8];
-  const double w3 = w0 * w1 * (p[3] * p[3]) + y[1] * y[1] * w0 + p[7] * w2 * w1 * 0.125 + w0 * (y[3] * y[3]);
-  const double w4 = p[7] * (0.25 * w2);
-  const double w5 = std::cos(y[4]);
-  const double w6 = w5 * y[5];
-  const double w7 = p[7] * p[3];
+  const double w0 = std::cos(y[6]);
+  const double w1 = p[5] * w0;
+  const double w2 = y[7] * y[7];
+  const double w3 = y[5] * y[5];
+  const double w4 = std::sin(y[6]);
+  const double w5 = w4 * w4;
+  const double w6 = std::cos(y[4]);
+  const double w7 = w4 * p[5];
   const double w8 = std::sin(y[4]);
-  const double w9 = y[5] * w8;
-  const double w10 = y[1] * w6 * w7 + y[3] * w7 * w9;
-  const double w11 = std::cos(y[6]);
-  const double w12 = std::sin(y[6]);
-  const double w13 = w12 * w12;
-  const double w14 = y[7] * y[7];
-  const double w15 = w12 * p[5];
-  const double w16 = w9 * w15 - p[5] * (w11 * w5) * y[7] - y[1];
-  const double w17 = y[3] + (w6 * w15 + p[5] * (w11 * w8) * y[7]);
-  out[0] = w3 + w4 * (y[11] * y[11]) + w10 + 0.5 * ((w11 * w11 * p[2] + p[0] * w13) * w1 + w14 * p[1] + p[6] * (p[5] * p[5] * w14 * w13 + w16 * w16 + w17 * w17)) - (w10 - w3 - y[9] * y[9] * w4) + p[4] * p[6] * (p[8] + p[5] * w11);  // energy
+  const double w9 = y[3] + (y[5] * (w6 * w7) + w8 * w1 * y[7]);
+  const double w10 = w7 * w8 * y[5] - w6 * w1 * y[7] - y[1];
+  const double w11 = p[7] * (p[8] * p[8]);
+  const double w12 = 0.25 * w11;
+  const double w13 = 0.5 * p[7];
+  const double w14 = w13 * w3 * (p[3] * p[3]) + y[1] * y[1] * w13 + w11 * w3 * 0.125 + w13 * (y[3] * y[3]);
+  const double w15 = p[7] * p[3];
+  const double w16 = y[1] * y[5] * (w6 * w15) + y[3] * y[5] * (w15 * w8);
+  out[0] = p[4] * p[6] * (p[8] + w1) + (0.5 * w2 * p[1] + w0 * w0 * (w3 * p[2]) * 0.5 + 0.5 * (w3 * (p[0] * w5)) + p[6] * 0.5 * (w2 * (p[5] * p[5] * w5) + w9 * w9 + w10 * w10) + (y[11] * y[11] * w12 + w14 + w16) - (w16 - y[9] * y[9] * w12 - w14));  // energy
 }
 
 /// The inputs' default signals u(t), in input_names order (what p[n_parameters + k] holds
@@ -415,10 +428,112 @@ inline void default_inputs(double /*t*/, const double* /*p*/, double* u) noexcep
   u[1] = 0.0;  // TR
 }
 
+/// q'(t, q, u): the independent speeds u and the dependent ones from them, n_coordinates.
+inline void velocities(double /*t*/, const double* q, const double* u, const double* p, double* qp) noexcept {
+  const double w0 = std::cos(q[2]);
+  const double w1 = 0.5 * p[8];
+  const double w2 = u[2] * w1;
+  const double w3 = u[1] * w1;
+  const double w4 = std::sin(q[2]);
+  qp[0] = w0 * w2 + w0 * w3;  // x'
+  qp[1] = w4 * w3 + w4 * w2;  // y'
+  qp[2] = 0.5 * (p[8] * u[2] - p[8] * u[1]) / p[3];  // psi'
+  qp[3] = u[0];  // th'
+  qp[4] = u[1];  // phL'
+  qp[5] = u[2];  // phR'
+}
+
+/// M_r(t, q, u) of M_r u' = f_r, column-major n_speeds x n_speeds.
+inline void mass_matrix(double /*t*/, const double* q, const double* /*u*/, const double* p, double* M) noexcept {
+  for (int k = 0; k < 9; ++k) M[k] = 0.0;
+  const double w0 = p[5] * p[5];
+  const double w1 = std::sin(q[3]);
+  const double w2 = w1 * w1;
+  const double w3 = std::cos(q[3]);
+  const double w4 = w0 * (w3 * w3);
+  const double w5 = std::cos(q[2]);
+  const double w6 = std::sin(q[2]);
+  const double w7 = w3 * (p[6] * p[5]) * (0.5 * p[8]);
+  const double w8 = p[3] * p[3];
+  const double w9 = p[8] * p[8];
+  const double w10 = 0.25 * w9;
+  const double w11 = w2 * w10;
+  const double w12 = p[7] * (p[8] * p[8] * p[8] * p[8]) * 0.125 / w8 + (p[0] * w11 / w8 + (w0 * p[6] * w11 / w8 + p[2] * w10 / w8) - w11 * p[2] / w8);
+  const double w13 = p[6] * w10;
+  const double w14 = w12 + w13 + 1.5 * (p[7] * w9);
+  const double w15 = w13 - w12;
+  M[0] = p[1] + p[6] * (w0 * w2 + w4 * (w5 * w5) + w6 * w6 * w4);  // (0, 0)
+  M[1] = w7;  // (1, 0)
+  M[2] = w7;  // (2, 0)
+  M[3] = w7;  // (0, 1)
+  M[4] = w14;  // (1, 1)
+  M[5] = w15;  // (2, 1)
+  M[6] = w7;  // (0, 2)
+  M[7] = w15;  // (1, 2)
+  M[8] = w14;  // (2, 2)
+}
+
+/// f_r(t, q, u) of M_r u' = f_r, n_speeds.
+inline void forcing(double /*t*/, const double* q, const double* u, const double* p, double* f) noexcept {
+  const double w0 = std::cos(q[3]);
+  const double w1 = p[6] * p[5];
+  const double w2 = p[8] * u[1];
+  const double w3 = p[8] * u[2];
+  const double w4 = w2 - w3;
+  const double w5 = 0.25 * w4;
+  const double w6 = w0 * w1 * w5;
+  const double w7 = std::sin(q[2]);
+  const double w8 = std::cos(q[2]);
+  const double w9 = w8 * w2 + w8 * w3;
+  const double w10 = w7 * w9;
+  const double w11 = p[6] * 0.25;
+  const double w12 = u[0] * u[0];
+  const double w13 = std::sin(q[3]);
+  const double w14 = w0 * w13;
+  const double w15 = p[5] * p[5] * (4.0 * w14);
+  const double w16 = w7 * p[5];
+  const double w17 = w13 * w16;
+  const double w18 = w8 * p[5];
+  const double w19 = w0 * w18;
+  const double w20 = u[0] * 2.0;
+  const double w21 = w17 * w4 / p[3] + w19 * w20;
+  const double w22 = w21 + w9;
+  const double w23 = w0 * w16;
+  const double w24 = w13 * w18;
+  const double w25 = w23 * w4 / p[3] - w24 * w20;
+  const double w26 = w24 * w4 / p[3] - w23 * w20;
+  const double w27 = w7 * w3 + w7 * w2;
+  const double w28 = w26 - w27;
+  const double w29 = w19 * w4 / p[3] + w17 * w20;
+  const double w30 = w4 * w4;
+  const double w31 = w14 * 0.25 * w30;
+  const double w32 = p[3] * p[3];
+  const double w33 = w22 * w24 - w17 * w28;
+  const double w34 = w28 * w19 + w22 * w23;
+  const double w35 = p[6] * w5;
+  const double w36 = w1 * w13;
+  const double w37 = w8 * w27;
+  const double w38 = 0.5 * p[8];
+  const double w39 = p[8] * 0.125;
+  const double w40 = w39 * w4;
+  const double w41 = w14 * w4 * 2.0;
+  const double w42 = w11 * (w21 * w28 - w22 * w26) * w38 / p[3] - (w7 * w36 * w40 * w27 / w32 - (((w26 * w17 + w33 - w21 * w24) * w35 / p[3] - 0.5 * (p[0] * w41 / p[3] + p[6] * (w24 * w29 + w34 + w17 * w25) - w41 * p[2] / p[3]) * u[0]) * w38 / p[3] - w8 * w40 * w9 * w36 / w32));
+  const double w43 = p[7] * p[3];
+  const double w44 = (w37 * w43 - w43 * w10) * w5 / p[3] * w38 / p[3];
+  const double w45 = p[7] * w5;
+  const double w46 = (w45 * w37 - w45 * w10) * w38 / p[3];
+  const double w47 = p[6] * w40;
+  const double w48 = w45 * p[8];
+  const double w49 = w44 + w46 - (w39 * w30 * w36 / w32 - w37 * w47 / p[3]) + (w37 * w48 / p[3] - (w10 * w47 / p[3] + w10 * w48 / p[3]) + (w46 - (w12 * w38 * w36 - w44)));
+  f[0] = w6 * w10 / p[3] + (w11 * (w12 * w15 + w22 * w25 + w28 * w29) + p[0] * w31 / w32 - w31 * p[2] / w32) + (p[6] * 0.5 * (w23 * w29 + w33 - w15 * u[0] - w25 * w19) * u[0] - (w34 - w21 * w23 - w26 * w19) * w35 / p[3]) + p[4] * w36 - w6 * w37 / p[3] - (p[10] + p[9]);  // th'
+  f[1] = p[9] + w42 - w49;  // phL'
+  f[2] = p[10] - w49 - w42;  // phR'
+}
+
 /// Everything above as the C table of docs/generated-code.md, filled by field name.
 inline nhc_model_table make_model_table() noexcept {
   nhc_model_table t{};
-  t.abi_version = 5;
+  t.abi_version = 6;
   t.scene_name = scene_name;
   t.model_name = model_name;
   t.n_states = n_states;
@@ -440,12 +555,17 @@ inline nhc_model_table make_model_table() noexcept {
   t.n_singular = n_singular;
   t.n_inputs = n_inputs;
   t.input_names = input_names;
+  t.n_speeds = n_speeds;
+  t.speed_coordinate = speed_coordinate;
   t.residual = &residual;
   t.jacobian = &jacobian;
   t.hidden_constraints = &hidden_constraints;
   t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
   t.invariants = &invariants;
   t.default_inputs = &default_inputs;
+  t.velocities = &velocities;
+  t.mass_matrix = &mass_matrix;
+  t.forcing = &forcing;
   return t;
 }
 

@@ -10,12 +10,15 @@
 //
 // Floating-point operations (+, -, *, /, calls) without and with common-subexpression
 // elimination:
-//   residual                          34      32
-//   jacobian                          41      32
+//   residual                          40      33
+//   jacobian                          45      28
 //   hidden_constraints                 2       2
 //   hidden_constraints_jacobian        1       1
 //   default_inputs                     0       0
-//   total                             78      67
+//   velocities                         1       1
+//   mass_matrix                       15      11
+//   forcing                           12      10
+//   total                            116      86
 
 #pragma once
 
@@ -29,7 +32,8 @@
  * "Runtime additions" of docs/generated-code.md; read them only when abi_version >= 2.
  * abi_version 3 appends the "Sensitivity additions"; read them only when abi_version >= 3.
  * abi_version 4 appends the "Input additions"; read them only when abi_version >= 4.
- * abi_version 5 appends the "Variational additions"; read them only when abi_version >= 5. */
+ * abi_version 5 appends the "Variational additions"; read them only when abi_version >= 5.
+ * abi_version 6 appends the "Reduced-form additions"; read them only when abi_version >= 6. */
 #ifndef NHC_MODEL_TABLE_DEFINED
 #define NHC_MODEL_TABLE_DEFINED
 
@@ -81,6 +85,14 @@ struct nhc_model_table {
   void (*variational_jacobian)(double, double, double, const double*, const double*, const double*, const double*,
                                const double*, double*);
   void (*variational_momentum)(double, double, const double*, const double*, const double*, double*);
+  /* abi_version >= 6 (Reduced-form additions; n_speeds = 0 and null functions where the model has
+   * no multiplier-free form): M_r(t, q, u) u' = f_r(t, q, u) on the independent speeds
+   * u = q'[speed_coordinate[k]] (docs/reduced-form.md); each function reads (t, q, u, p) */
+  int n_speeds;
+  const int* speed_coordinate;
+  void (*velocities)(double, const double*, const double*, const double*, double*);
+  void (*mass_matrix)(double, const double*, const double*, const double*, double*);
+  void (*forcing)(double, const double*, const double*, const double*, double*);
 };
 
 #ifdef __cplusplus
@@ -101,6 +113,8 @@ inline constexpr int n_reference = 0;
 inline constexpr int n_singular = 0;
 /// p holds n_parameters parameters, then n_inputs inputs.
 inline constexpr int n_inputs = 1;
+/// The independent speeds u of M_r u' = f_r (0: no multiplier-free form).
+inline constexpr int n_speeds = 2;
 inline constexpr const char* model_name = "chetaev";
 inline constexpr const char* scene_name = "wheeled_pendulum_move";
 
@@ -116,14 +130,17 @@ inline constexpr const char* parameter_names[n_parameters] = {"Ib", "Iw", "g", "
 inline constexpr double default_parameters[n_parameters] = {0.29999999999999999, 0.02, 9.8100000000000005, 0.40000000000000002, 5.0, 1.0, 0.20000000000000001};
 inline constexpr const char* input_names[n_inputs] = {"tau"};
 inline constexpr const char* hidden_names[n_hidden] = {"f1"};
+/// u[k] = q'[speed_coordinate[k]].
+inline constexpr int speed_coordinate[n_speeds] = {1, 2};
 
 /// F(t, y, y') = 0, IDA form; r has n_states entries.
 inline void residual(double /*t*/, const double* y, const double* yp, const double* p, double* r) noexcept {
-  const double w0 = std::sin(y[4]);
-  const double w1 = std::cos(y[4]);
-  r[0] = y[6] + p[4] * ((y[5] * y[5] * w0 - yp[5] * w1) * p[3] - yp[1]) - p[5] * yp[1];  // R_x
+  const double w0 = p[4] * p[3];
+  const double w1 = w0 * std::sin(y[4]);
+  const double w2 = std::cos(y[4]) * w0;
+  r[0] = w1 * (y[5] * y[5]) + y[6] - p[5] * yp[1] - yp[5] * w2 - p[4] * yp[1];  // R_x
   r[1] = p[7] - p[6] * y[6] - yp[3] * p[1];  // R_phi
-  r[2] = p[4] * ((p[2] * w0 - w1 * yp[1]) * p[3] - yp[5] * (p[3] * p[3])) - p[7] - p[0] * yp[5];  // R_theta
+  r[2] = w1 * p[2] - yp[5] * (p[4] * (p[3] * p[3])) - w2 * yp[1] - p[7] - p[0] * yp[5];  // R_theta
   r[3] = yp[1] - p[6] * yp[3];  // D f1
   r[4] = yp[0] - y[1];  // chain x' = x'
   r[5] = yp[2] - y[3];  // chain phi' = phi'
@@ -133,10 +150,10 @@ inline void residual(double /*t*/, const double* y, const double* yp, const doub
 /// J = dF/dy + cj dF/dy', column-major n_states x n_states.
 inline void jacobian(double /*t*/, const double* y, const double* yp, double cj, const double* p, double* J) noexcept {
   for (int k = 0; k < n_states * n_states; ++k) J[k] = 0.0;
-  const double w0 = std::cos(y[4]);
-  const double w1 = p[4] * p[3];
-  const double w2 = w0 * w1 * cj;
-  const double w3 = std::sin(y[4]);
+  const double w0 = p[4] * p[3];
+  const double w1 = std::cos(y[4]) * w0;
+  const double w2 = w1 * cj;
+  const double w3 = w0 * std::sin(y[4]);
   J[4] = cj;  // (4, 0)
   J[7] = (-p[4] - p[5]) * cj;  // (0, 1)
   J[9] = -w2;  // (2, 1)
@@ -146,10 +163,10 @@ inline void jacobian(double /*t*/, const double* y, const double* yp, double cj,
   J[22] = -(p[1] * cj);  // (1, 3)
   J[24] = -(p[6] * cj);  // (3, 3)
   J[26] = -1.0;  // (5, 3)
-  J[28] = (yp[5] * w3 + w0 * (y[5] * y[5])) * p[3] * p[4];  // (0, 4)
-  J[30] = p[4] * ((w0 * p[2] + w3 * yp[1]) * p[3]);  // (2, 4)
+  J[28] = yp[5] * w3 + w1 * (y[5] * y[5]);  // (0, 4)
+  J[30] = w3 * yp[1] + w1 * p[2];  // (2, 4)
   J[34] = cj;  // (6, 4)
-  J[35] = w1 * y[5] * 2.0 * w3 - w2;  // (0, 5)
+  J[35] = w3 * y[5] * 2.0 - w2;  // (0, 5)
   J[37] = (-p[0] - p[4] * (p[3] * p[3])) * cj;  // (2, 5)
   J[41] = -1.0;  // (6, 5)
   J[42] = 1.0;  // (0, 6)
@@ -176,10 +193,35 @@ inline void default_inputs(double /*t*/, const double* /*p*/, double* u) noexcep
   u[0] = 0.0;  // tau
 }
 
+/// q'(t, q, u): the independent speeds u and the dependent ones from them, n_coordinates.
+inline void velocities(double /*t*/, const double* /*q*/, const double* u, const double* p, double* qp) noexcept {
+  qp[0] = p[6] * u[0];  // x'
+  qp[1] = u[0];  // phi'
+  qp[2] = u[1];  // theta'
+}
+
+/// M_r(t, q, u) of M_r u' = f_r, column-major n_speeds x n_speeds.
+inline void mass_matrix(double /*t*/, const double* q, const double* /*u*/, const double* p, double* M) noexcept {
+  for (int k = 0; k < 4; ++k) M[k] = 0.0;
+  const double w0 = std::cos(q[2]) * (p[6] * (p[4] * p[3]));
+  M[0] = p[6] * p[6] * (p[4] + p[5]) + p[1];  // (0, 0)
+  M[1] = w0;  // (1, 0)
+  M[2] = w0;  // (0, 1)
+  M[3] = p[0] + p[4] * (p[3] * p[3]);  // (1, 1)
+}
+
+/// f_r(t, q, u) of M_r u' = f_r, n_speeds.
+inline void forcing(double /*t*/, const double* q, const double* u, const double* p, double* f) noexcept {
+  const double w0 = std::sin(q[2]);
+  const double w1 = p[4] * p[3];
+  f[0] = p[7] + u[1] * u[1] * w0 * (p[6] * w1);  // phi'
+  f[1] = w0 * w1 * p[2] - p[7];  // theta'
+}
+
 /// Everything above as the C table of docs/generated-code.md, filled by field name.
 inline nhc_model_table make_model_table() noexcept {
   nhc_model_table t{};
-  t.abi_version = 5;
+  t.abi_version = 6;
   t.scene_name = scene_name;
   t.model_name = model_name;
   t.n_states = n_states;
@@ -200,11 +242,16 @@ inline nhc_model_table make_model_table() noexcept {
   t.n_singular = n_singular;
   t.n_inputs = n_inputs;
   t.input_names = input_names;
+  t.n_speeds = n_speeds;
+  t.speed_coordinate = speed_coordinate;
   t.residual = &residual;
   t.jacobian = &jacobian;
   t.hidden_constraints = &hidden_constraints;
   t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
   t.default_inputs = &default_inputs;
+  t.velocities = &velocities;
+  t.mass_matrix = &mass_matrix;
+  t.forcing = &forcing;
   return t;
 }
 

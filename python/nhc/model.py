@@ -299,6 +299,66 @@ class Model:
         :param cj: the scalar multiplying dF/dy' (IDA's cj)."""
         return self._model.jacobian(float(t), _np.asarray(y, dtype=float), _np.asarray(yp, dtype=float), float(cj))
 
+    @property
+    def coordinates(self) -> List[str]:
+        """The coordinates' names, in the order of q in :meth:`mass_matrix`, :meth:`forcing` and
+        :meth:`velocities`."""
+        return list(self._model.coordinates)
+
+    @property
+    def speeds(self) -> List[str]:
+        """The independent speeds u of the multiplier-free form M_r u' = f_r (``["phi'", ...]``,
+        docs/reduced-form.md); empty when the model has no such form."""
+        return list(self._model.speeds)
+
+    @property
+    def speed_coordinates(self) -> List[int]:
+        """For each independent speed, the index in :attr:`coordinates` of the coordinate whose
+        first derivative it is."""
+        return list(self._model.speed_coordinates)
+
+    def _reduced(self, which: int, t: float, q: _npt.ArrayLike, u: _npt.ArrayLike,
+                 inputs: Optional[_npt.ArrayLike]) -> _npt.NDArray[_np.float64]:
+        values = None if inputs is None else [float(v) for v in _np.asarray(inputs, dtype=float).ravel()]
+        return self._model.reduced_function(which, float(t), _np.asarray(q, dtype=float),
+                                            _np.asarray(u, dtype=float), values)
+
+    def mass_matrix(self, t: float, q: _npt.ArrayLike, u: _npt.ArrayLike,
+                    inputs: Optional[_npt.ArrayLike] = None) -> _npt.NDArray[_np.float64]:
+        """M_r(t, q, u) of the multiplier-free form M_r u' = f_r, a k x k numpy array (k =
+        ``len(speeds)``); with :meth:`forcing` and :meth:`velocities` the model is an ODE in
+        (q, u) for one's own integrator (docs/reduced-form.md).
+
+        :param t: the time.
+        :param q: the coordinates, in :attr:`coordinates` order.
+        :param u: the independent speeds, in :attr:`speeds` order.
+        :param inputs: the inputs (:attr:`inputs` order); without it, the scene's default signals at t.
+        :raises nhc.MathError: when the model has no multiplier-free form."""
+        return self._reduced(1, t, q, u, inputs)
+
+    def forcing(self, t: float, q: _npt.ArrayLike, u: _npt.ArrayLike,
+                inputs: Optional[_npt.ArrayLike] = None) -> _npt.NDArray[_np.float64]:
+        """f_r(t, q, u) of the multiplier-free form M_r u' = f_r, k numbers.
+
+        :param t: the time.
+        :param q: the coordinates, in :attr:`coordinates` order.
+        :param u: the independent speeds, in :attr:`speeds` order.
+        :param inputs: the inputs (:attr:`inputs` order); without it, the scene's default signals at t.
+        :raises nhc.MathError: when the model has no multiplier-free form."""
+        return self._reduced(2, t, q, u, inputs)
+
+    def velocities(self, t: float, q: _npt.ArrayLike, u: _npt.ArrayLike,
+                   inputs: Optional[_npt.ArrayLike] = None) -> _npt.NDArray[_np.float64]:
+        """q'(t, q, u): the independent speeds u in their places and the dependent speeds from
+        the constraints, one per coordinate (the kinematic half of the ODE).
+
+        :param t: the time.
+        :param q: the coordinates, in :attr:`coordinates` order.
+        :param u: the independent speeds, in :attr:`speeds` order.
+        :param inputs: the inputs (:attr:`inputs` order); without it, the scene's default signals at t.
+        :raises nhc.MathError: when the model has no multiplier-free form."""
+        return self._reduced(0, t, q, u, inputs)
+
     def input_jacobian(self, t: float, y: _npt.ArrayLike, yp: _npt.ArrayLike,
                        u: Optional[_npt.ArrayLike] = None) -> _npt.NDArray[_np.float64]:
         """dF/du of the index-1 residual F(t, y, y', u): an n x m numpy array (rows: residuals,

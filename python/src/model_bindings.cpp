@@ -490,6 +490,51 @@ py::array_t<double> jacobian(const BuiltModel& built, double t, const py::array_
   return J;
 }
 
+/// One function of the multiplier-free form (Reduced-form additions, docs/reduced-form.md) at
+/// (t, q, u): `which` is 0 (velocities: n_coordinates), 1 (mass_matrix: n_speeds x n_speeds) or 2
+/// (forcing: n_speeds). The inputs are `given` or the scene's default signals at t.
+py::array_t<double> reduced_function(const BuiltModel& built, int which, double t,
+                                     const py::array_t<double, py::array::c_style | py::array::forcecast>& q,
+                                     const py::array_t<double, py::array::c_style | py::array::forcecast>& u,
+                                     const std::optional<std::vector<double>>& given) {
+  const runtime::Model& model = built.model();
+  const int n = model.n_coordinates(), k = model.n_speeds();
+  if (k == 0)
+    throw MathError("the " + model.model_name() + " model of " + model.scene_name() +
+                    " has no multiplier-free form (docs/reduced-form.md: nhc derive --form reduced says why)");
+  const std::vector<double> qv = vector_of(q, n, "q"), uv = vector_of(u, k, "u");
+  std::vector<double> p = built.parameters;
+  p.resize(static_cast<std::size_t>(model.n_parameters()));
+  const int m = model.n_inputs();
+  if (given) {
+    if (given->size() != static_cast<std::size_t>(m))
+      throw InputError({"inputs", 0, 0}, "inputs must be a vector of " + std::to_string(m) + " numbers (" +
+                                             std::to_string(given->size()) + " given)");
+    p.insert(p.end(), given->begin(), given->end());
+  } else if (m > 0) {
+    p.resize(p.size() + static_cast<std::size_t>(m));
+    model.table().default_inputs(t, p.data(), p.data() + model.n_parameters());
+  }
+  const nhc_model_table& table = model.table();
+  if (which == 0) {
+    py::array_t<double> out(n);
+    table.velocities(t, qv.data(), uv.data(), p.data(), out.mutable_data());
+    return out;
+  }
+  if (which == 2) {
+    py::array_t<double> out(k);
+    table.forcing(t, qv.data(), uv.data(), p.data(), out.mutable_data());
+    return out;
+  }
+  std::vector<double> column_major(static_cast<std::size_t>(k) * static_cast<std::size_t>(k), 0.0);
+  table.mass_matrix(t, qv.data(), uv.data(), p.data(), column_major.data());
+  py::array_t<double> M({k, k});
+  auto view = M.mutable_unchecked<2>();
+  for (int i = 0; i < k; ++i)
+    for (int j = 0; j < k; ++j) view(i, j) = column_major[static_cast<std::size_t>(i + k * j)];
+  return M;
+}
+
 /// A Linearizer of the built model's scene with `options`: the shared one without options. Its
 /// index-1 states must be the compiled model's (both come from reduce_to_index1 of one scene).
 const Linearizer& linearizer_of(const BuiltModel& built, const LinearizeOptions& options,
@@ -668,7 +713,32 @@ void register_model(py::module_& m) {
       .def("linearize_along", &linearize_along, py::arg("t"), py::arg("y"), py::arg("yp"), py::arg("inputs") = std::nullopt,
            py::arg("keep") = std::vector<std::string>{}, py::arg("states") = std::vector<std::string>{})
       .def("residual", &residual, py::arg("t"), py::arg("y"), py::arg("yp"), py::arg("u") = std::nullopt)
-      .def("jacobian", &jacobian, py::arg("t"), py::arg("y"), py::arg("yp"), py::arg("cj"));
+      .def("jacobian", &jacobian, py::arg("t"), py::arg("y"), py::arg("yp"), py::arg("cj"))
+      .def_property_readonly("speeds",
+                             [](const BuiltModel& b) {
+                               std::vector<std::string> names;
+                               for (int k = 0; k < b.model().n_speeds(); ++k)
+                                 names.push_back(b.model().variable_name(b.model().speed_coordinate(k)) + "'");
+                               return names;
+                             })
+      .def_property_readonly("speed_coordinates",
+                             [](const BuiltModel& b) {
+                               std::vector<int> out;
+                               for (int k = 0; k < b.model().n_speeds(); ++k) out.push_back(b.model().speed_coordinate(k));
+                               return out;
+                             })
+      .def_property_readonly("coordinates",
+                             [](const BuiltModel& b) {
+                               std::vector<std::string> names;
+                               for (int j = 0; j < b.model().n_coordinates(); ++j) names.push_back(b.model().variable_name(j));
+                               return names;
+                             })
+      .def(
+          "reduced_function",
+          [](const BuiltModel& b, int which, double t, const py::array_t<double, py::array::c_style | py::array::forcecast>& q,
+             const py::array_t<double, py::array::c_style | py::array::forcecast>& u,
+             const std::optional<std::vector<double>>& inputs) { return reduced_function(b, which, t, q, u, inputs); },
+          py::arg("which"), py::arg("t"), py::arg("q"), py::arg("u"), py::arg("inputs") = std::nullopt);
 
   m.def("_build", &build, py::arg("scene"), py::arg("model"), py::arg("header_scene") = std::nullopt);
   m.def(

@@ -88,7 +88,7 @@ GeneratedHeader generate_header(const Scene& scene, const Index1System& system,
   PreparedModel model =
       refusing_at(scene.file_location(), "generating code for the " + to_string(system.model) + " model",
                   [&] { return prepare_model(scene, system, options.jacobian, options.sensitivities,
-                                                       options.variational); });
+                                                       options.variational, options.reduced); });
   GeneratedHeader header;
   header.namespace_name = model.namespace_name;
   header.file_name = generated_header_file_name(scene.name, system.model);

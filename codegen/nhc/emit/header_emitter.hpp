@@ -19,6 +19,7 @@
 namespace nhc {
 
 enum class JacobianKind { dense, sparse, none };
+struct ReducedForm;  // derive/reduced_form.hpp
 std::string to_string(JacobianKind kind);
 std::optional<JacobianKind> parse_jacobian_kind(const std::string& name);
 
@@ -41,6 +42,9 @@ struct HeaderOptions {
   /// compiler's fixed cost outweighs the halved optimization (bench/compile-time.md), and the
   /// small header stays free of it. 0: always.
   std::size_t split_from_bytes = 100000;
+  /// The multiplier-free form (derive/reduced_form.hpp): when given and available, the header
+  /// carries velocities, mass_matrix and forcing (docs/generated-code.md, "Reduced-form additions").
+  const ReducedForm* reduced = nullptr;
 };
 
 struct GeneratedHeader {

@@ -113,6 +113,8 @@ void print_metadata(std::ostream& out, const Scene& scene, const Index1System& s
       << "inline constexpr int n_singular = " << m.n_singular << ";\n"
       << "/// p holds n_parameters parameters, then n_inputs inputs.\n"
       << "inline constexpr int n_inputs = " << m.n_inputs << ";\n"
+      << "/// The independent speeds u of M_r u' = f_r (0: no multiplier-free form).\n"
+      << "inline constexpr int n_speeds = " << m.n_speeds << ";\n"
       << "inline constexpr const char* model_name = " << cpp_string_literal(m.model) << ";\n"
       << "inline constexpr const char* scene_name = " << cpp_string_literal(scene.name) << ";\n\n"
       << part0_begin(splittable)
@@ -140,6 +142,9 @@ void print_metadata(std::ostream& out, const Scene& scene, const Index1System& s
     out << "inline constexpr const char* invariant_names[n_invariants] = " << strings(layout.invariant_names) << ";\n";
   if (m.n_reference > 0)
     out << "inline constexpr int reference_coordinate[n_reference] = " << ints(layout.reference_coordinate) << ";\n";
+  if (m.n_speeds > 0)
+    out << "/// u[k] = q'[speed_coordinate[k]].\n"
+        << "inline constexpr int speed_coordinate[n_speeds] = " << ints(m.speed_coordinate) << ";\n";
   if (m.n_singular > 0)
     out << "inline constexpr const char* singular_names[n_singular] = " << strings(layout.singular_names) << ";\n";
   out << part0_end(splittable);
@@ -291,6 +296,11 @@ void print_table(std::ostream& out, const PreparedModel& m, bool splittable) {
       {"variational_residual", pointer("variational_residual")},
       {"variational_jacobian", pointer("variational_jacobian")},
       {"variational_momentum", pointer("variational_momentum")},
+      {"n_speeds", "n_speeds"},  // abi_version >= 6
+      {"speed_coordinate", field(m.n_speeds > 0, "speed_coordinate")},
+      {"velocities", pointer("velocities")},
+      {"mass_matrix", pointer("mass_matrix")},
+      {"forcing", pointer("forcing")},
   };
   out << "\n" << part0_begin(splittable)
       << "/// Everything above as the C table of docs/generated-code.md, filled by field name.\n"

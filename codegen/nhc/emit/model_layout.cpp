@@ -20,6 +20,7 @@ ModelLayout model_layout(const Scene& scene, const Index1System& system, const P
   for (const auto& invariant : m.invariants) layout.invariant_names.push_back(invariant.name);
   for (const auto& r : m.reference) layout.reference_coordinate.push_back(r.first);
   for (const auto& q : m.singular) layout.singular_names.push_back(q.name);
+  layout.speed_coordinate = m.speed_coordinate;
   return layout;
 }
 

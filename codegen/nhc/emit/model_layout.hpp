@@ -24,6 +24,7 @@ struct ModelLayout {
   std::vector<std::string> invariant_names;
   std::vector<int> reference_coordinate;
   std::vector<std::string> singular_names;
+  std::vector<int> speed_coordinate;  ///< Reduced-form additions: u[k] = q'[speed_coordinate[k]]
 };
 
 ModelLayout model_layout(const Scene& scene, const Index1System& system, const PreparedModel& model);

@@ -8,6 +8,8 @@
 
 #include "nhc/emit/parameter_jacobian.hpp"
 #include "nhc/derive/discrete_lagrange_dalembert.hpp"
+#include "nhc/derive/reduced_form.hpp"
+#include "nhc/expr/symbol_substitution.hpp"
 
 #include <algorithm>
 #include <optional>
@@ -198,8 +200,15 @@ std::vector<int> parameters_in(const std::vector<GiNaC::ex>& expressions, const 
 std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> function_inputs(const Index1System& system,
                                                                     const std::vector<int>& parameters,
                                                                     const GiNaC::realsymbol& cj,
-                                                                    const DiscreteLagrangeDAlembert* step) {
+                                                                    const DiscreteLagrangeDAlembert* step,
+                                                                    const ReducedForm* reduced) {
   std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> in;
+  if (reduced) {  // Reduced-form additions: q and the independent speeds u = q_I'
+    const JetSpace& jet = *system.jet;
+    for (int j = 0; j < jet.coordinate_count(); ++j) in[jet.q(j, 0)] = "q[" + std::to_string(j) + "]";
+    for (std::size_t k = 0; k < reduced->independent.size(); ++k)
+      in[jet.q(reduced->independent[k], 1)] = "u[" + std::to_string(k) + "]";
+  }
   if (step) {  // Variational additions (docs/generated-code.md)
     in[step->h] = "h";
     in[step->w] = "impulse_weight";
@@ -453,6 +462,56 @@ FunctionPlan variational_momentum_function(const DiscreteLagrangeDAlembert& step
   return f;
 }
 
+const std::vector<std::pair<std::string, std::string>> kSpeedInputs = {
+    {"double", "t"}, {"const double*", "q"}, {"const double*", "u"}, {"const double*", "p"}};
+
+/// The reduced form's expressions in (t, q, u, p): the dependent speeds replaced by X u + y, and
+/// the accelerations, which f_r is written over but does not depend on (reduced_form.hpp), by 0.
+struct ReducedFunctions {
+  std::vector<GiNaC::ex> velocities, mass_matrix, forcing;  ///< mass_matrix column-major
+};
+ReducedFunctions reduced_functions(const ReducedForm& reduced, const JetSpace& jet) {
+  // X u + y may hold the dependent speeds through named intermediates (y from b = v − A q', which
+  // does not depend on q' but need not cancel symbolically): there they are set to 0, exactly.
+  GiNaC::exmap map;
+  for (int j = 0; j < jet.coordinate_count(); ++j) map[jet.q(j, 2)] = 0;
+  for (int d : reduced.dependent) map[jet.q(d, 1)] = 0;
+  const SymbolSubstitution without_dependent(map);
+  for (std::size_t r = 0; r < reduced.dependent.size(); ++r)
+    map[jet.q(reduced.dependent[r], 1)] = without_dependent(reduced.dependent_speeds[r]);
+  const SymbolSubstitution substitute(map);
+  ReducedFunctions out;
+  out.velocities.resize(static_cast<std::size_t>(jet.coordinate_count()));
+  for (int j : reduced.independent) out.velocities[static_cast<std::size_t>(j)] = jet.q(j, 1);
+  for (std::size_t r = 0; r < reduced.dependent.size(); ++r)
+    out.velocities[static_cast<std::size_t>(reduced.dependent[r])] = substitute(reduced.dependent_speeds[r]);
+  const unsigned n = reduced.mass_matrix.rows();
+  for (unsigned c = 0; c < n; ++c)
+    for (unsigned r = 0; r < n; ++r) out.mass_matrix.push_back(substitute(reduced.mass_matrix(r, c)));
+  for (const GiNaC::ex& f : reduced.forcing) out.forcing.push_back(substitute(f));
+  return out;
+}
+
+/// One function of the Reduced-form additions: out[k] = values[k], zero-filled when `zero_fill`.
+FunctionPlan reduced_function(const std::string& name, const std::string& doc, const std::string& out,
+                              const std::vector<GiNaC::ex>& values, const std::vector<std::string>& comments,
+                              bool zero_fill, ExpressionDag& dag) {
+  FunctionPlan f;
+  f.name = name;
+  f.doc = doc;
+  f.parameters = kSpeedInputs;
+  f.parameters.push_back({"double*", out});
+  if (zero_fill) {
+    f.prologue = "  for (int k = 0; k < " + std::to_string(values.size()) + "; ++k) " + out + "[k] = 0.0;\n";
+    f.zero_fill = static_cast<int>(values.size());
+  }
+  for (std::size_t k = 0; k < values.size(); ++k)
+    if (!zero_fill || !values[k].is_zero())
+      f.assignments.push_back({out + "[" + std::to_string(k) + "]", dag.add(values[k]),
+                               k < comments.size() ? sanitize_comment(comments[k]) : ""});
+  return f;
+}
+
 }  // namespace
 
 bool PreparedModel::has_function(const std::string& name) const {
@@ -460,7 +519,7 @@ bool PreparedModel::has_function(const std::string& name) const {
 }
 
 PreparedModel prepare_model(const Scene& scene, const Index1System& system, JacobianKind jacobian,
-                            bool sensitivities, bool variational) {
+                            bool sensitivities, bool variational, const ReducedForm* reduced) {
   PreparedModel m;
   m.model = to_string(system.model);
   m.namespace_name = generated_namespace_name(scene.name, system.model);
@@ -490,6 +549,16 @@ PreparedModel prepare_model(const Scene& scene, const Index1System& system, Jaco
     read.insert(read.end(), step->residual.begin(), step->residual.end());
   }
   m.variational = step.has_value();
+  // Reduced-form additions (docs/generated-code.md): the multiplier-free form where it exists.
+  if (reduced && !reduced->available) reduced = nullptr;
+  std::optional<ReducedFunctions> speeds;
+  if (reduced) {
+    speeds = reduced_functions(*reduced, *system.jet);
+    for (const auto* list : {&speeds->velocities, &speeds->mass_matrix, &speeds->forcing})
+      read.insert(read.end(), list->begin(), list->end());
+    m.n_speeds = static_cast<int>(reduced->independent.size());
+    m.speed_coordinate = reduced->independent;
+  }
   m.parameters = parameters_in(read, *system.jet);
   m.n_parameters = static_cast<int>(m.parameters.size());
   for (int k : m.parameters) m.parameter_names.push_back(system.jet->parameters().at(static_cast<std::size_t>(k)));
@@ -497,7 +566,8 @@ PreparedModel prepare_model(const Scene& scene, const Index1System& system, Jaco
   for (const SceneInput& u : scene.inputs) m.input_names.push_back(u.name);
 
   // Lowered in the order the functions are printed.
-  m.dag = ExpressionDag(function_inputs(system, m.parameters, m.symbolic_jacobian.cj, step ? &*step : nullptr));
+  m.dag = ExpressionDag(
+      function_inputs(system, m.parameters, m.symbolic_jacobian.cj, step ? &*step : nullptr, reduced));
   m.functions.push_back(residual_function(system, m.dag));
   if (dense || sparse) m.functions.push_back(jacobian_function(m.symbolic_jacobian, dense, m.dag));
   if (m.n_hidden > 0) {
@@ -527,6 +597,21 @@ PreparedModel prepare_model(const Scene& scene, const Index1System& system, Jaco
     m.functions.push_back(variational_residual_function(*step, system, m.dag));
     m.functions.push_back(variational_jacobian_function(*step, m.dag));
     m.functions.push_back(variational_momentum_function(*step, system, m.dag));
+  }
+  if (speeds) {
+    std::vector<std::string> velocity_names, mass_names;
+    for (const std::string& c : system.jet->coordinates()) velocity_names.push_back(c + "'");
+    for (int c = 0; c < m.n_speeds; ++c)
+      for (int r = 0; r < m.n_speeds; ++r)
+        mass_names.push_back("(" + std::to_string(r) + ", " + std::to_string(c) + ")");
+    m.functions.push_back(reduced_function(
+        "velocities", "/// q'(t, q, u): the independent speeds u and the dependent ones from them, n_coordinates.\n",
+        "qp", speeds->velocities, velocity_names, false, m.dag));
+    m.functions.push_back(reduced_function(
+        "mass_matrix", "/// M_r(t, q, u) of M_r u' = f_r, column-major n_speeds x n_speeds.\n", "M",
+        speeds->mass_matrix, mass_names, true, m.dag));
+    m.functions.push_back(reduced_function("forcing", "/// f_r(t, q, u) of M_r u' = f_r, n_speeds.\n", "f",
+                                           speeds->forcing, reduced->speeds, false, m.dag));
   }
 
   // Factors common to several terms of a sum taken out (common_factors.hpp), then pairs of

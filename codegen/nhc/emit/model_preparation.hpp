@@ -22,6 +22,7 @@
 namespace nhc {
 
 enum class JacobianKind;  // header_emitter.hpp
+struct ReducedForm;       // derive/reduced_form.hpp
 
 /// J = dF/dy + cj dF/dy' of the index-1 residual (SUNDIALS IDA's iteration matrix), with its
 /// compressed-column structure: the entries that are not identically zero after GiNaC's
@@ -99,6 +100,10 @@ struct PreparedModel {
   SceneReference::Entries reference;                  ///< the scene's closed forms for this model
   SymbolicJacobian symbolic_jacobian;  ///< empty for JacobianKind::none
   std::vector<SingularQuantity> singular;
+  /// The multiplier-free form's independent speeds (Reduced-form additions of
+  /// docs/generated-code.md): u[k] is the first derivative of coordinate speed_coordinate[k].
+  int n_speeds = 0;
+  std::vector<int> speed_coordinate;
   /// Every function's assignments lowered into this one DAG, in the order the functions are
   /// printed: a subexpression is one instruction wherever it occurs.
   ExpressionDag dag{{}};
@@ -111,8 +116,11 @@ struct PreparedModel {
 /// The symbolic preparation of the header of `system` (an index-1 form of `scene`);
 /// `sensitivities`: also dF/dp and dg/dp (docs/generated-code.md, "Sensitivity additions");
 /// `variational`: also the discrete Lagrange–d'Alembert step of the chetaev model ("Variational
-/// additions"; an InputError for another model or a scene the method does not take).
+/// additions"; an InputError for another model or a scene the method does not take);
+/// `reduced`: when given and available, also velocities, mass_matrix and forcing of the
+/// multiplier-free form ("Reduced-form additions").
 PreparedModel prepare_model(const Scene& scene, const Index1System& system, JacobianKind jacobian,
-                            bool sensitivities = false, bool variational = false);
+                            bool sensitivities = false, bool variational = false,
+                            const ReducedForm* reduced = nullptr);
 
 }  // namespace nhc

@@ -10,6 +10,6 @@ namespace nhc {
 const char* model_table_text() noexcept;
 
 /// The table's abi_version written by generated headers.
-inline constexpr int kModelTableAbiVersion = 5;
+inline constexpr int kModelTableAbiVersion = 6;
 
 }  // namespace nhc

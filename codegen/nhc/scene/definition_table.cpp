@@ -4,6 +4,7 @@
 #include <cctype>
 
 #include "nhc/expr/intermediate.hpp"
+#include "nhc/expr/jet_space.hpp"
 #include "nhc/expr/work_budget.hpp"
 
 namespace nhc {
@@ -47,7 +48,10 @@ Value DefinitionTable::named(const std::string& name, Value value) {
       if (value.rows > 1) suffix += std::to_string(i + 1);
       if (value.cols > 1) suffix += std::to_string(j + 1);
       const std::string full = suffix.empty() ? name : name + "_" + suffix;
-      entry = Intermediate(full, suffix.empty() ? name : name + "_{" + suffix + "}", entry);
+      // Printed as the coordinates are (jet_space.hpp): a multi-letter name upright, \mathrm{Tb},
+      // so that it does not read as a product of letters (issue 47).
+      const std::string latex = jet_symbol_latex(name, VariableKind::coordinate, 0);
+      entry = Intermediate(full, suffix.empty() ? latex : latex + "_{" + suffix + "}", entry);
     }
   return value;
 }

@@ -9,6 +9,7 @@
 #include "nhc/analysis/index1_reduction.hpp"
 #include "nhc/long_work.hpp"
 #include "nhc/derive/models.hpp"
+#include "nhc/derive/reduced_form.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/jit/interpreted_model.hpp"
 
@@ -167,6 +168,8 @@ LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& option
     return reduce_to_index1(scene, derived);
   }();
   check_for_stop_now();
+  // The multiplier-free form where the model has one (docs/reduced-form.md), on the default speeds.
+  const ReducedForm reduced = reduce_to_independent_speeds(scene, derived);
   const double derive_seconds = seconds_since(start);
 
   start = Clock::now();
@@ -175,6 +178,7 @@ LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& option
   header_options.sensitivities = options.sensitivities;
   header_options.variational = options.variational;
   header_options.split_from_bytes = options.split_from_bytes;
+  header_options.reduced = &reduced;
   const bool may_interpret = options.backend != Backend::compiled;
   PreparedModel prepared;
   GeneratedHeader header = generate_header(scene, system, header_options, may_interpret ? &prepared : nullptr);

@@ -22,7 +22,8 @@ namespace {
 #define NHC_INTERPRETED_FIELDS(X)                                                                                 \
   X(residual) X(jacobian) X(jacobian_values) X(hidden_constraints) X(hidden_constraints_jacobian) X(invariants) \
   X(reference) X(singular_quantities) X(residual_parameter_jacobian) X(hidden_parameter_jacobian)               \
-  X(default_inputs) X(momentum) X(variational_residual) X(variational_jacobian) X(variational_momentum)
+  X(default_inputs) X(momentum) X(variational_residual) X(variational_jacobian) X(variational_momentum)          \
+  X(velocities) X(mass_matrix) X(forcing)
 
 enum Field : int {
 #define NHC_FIELD_ENUM(name) field_##name,
@@ -212,6 +213,8 @@ Interpreter::Interpreter(const Scene& scene, const Index1System& system, const P
   if (m.n_singular > 0) t.singular_names = singular_names_.data();
   t.n_inputs = m.n_inputs;
   if (m.n_inputs > 0) t.input_names = input_pointers_.data();
+  t.n_speeds = m.n_speeds;
+  if (m.n_speeds > 0) t.speed_coordinate = layout_.speed_coordinate.data();
 }
 
 void Interpreter::install() {

@@ -16,8 +16,8 @@ void validate(const nhc_model_table* t, const std::string& origin) {
     throw ModelError("model table of " + origin + ": " + what + " (see docs/generated-code.md)");
   };
   if (!t) fail("null table");
-  if (t->abi_version < 1 || t->abi_version > 5)
-    fail("unsupported ABI version " + std::to_string(t->abi_version) + " (this runtime reads 1 to 5)");
+  if (t->abi_version < 1 || t->abi_version > 6)
+    fail("unsupported ABI version " + std::to_string(t->abi_version) + " (this runtime reads 1 to 6)");
   if (t->n_states <= 0) fail("no states");
   if (!t->residual) fail("no residual function");
   if (!t->state_names || !t->state_variable || !t->state_order || !t->differential_id)
@@ -40,6 +40,9 @@ void validate(const nhc_model_table* t, const std::string& origin) {
   if (t->abi_version >= 5 && t->variational_residual &&
       (!t->momentum || !t->variational_jacobian || !t->variational_momentum))
     fail("a variational step without its Jacobian or momenta");
+  if (t->abi_version >= 6 && t->n_speeds > 0 &&
+      (!t->speed_coordinate || !t->velocities || !t->mass_matrix || !t->forcing))
+    fail("independent speeds declared but their functions are missing");
 }
 
 }  // namespace
@@ -83,6 +86,12 @@ bool Model::has_parameter_jacobian() const noexcept {
 bool Model::has_variational_step() const noexcept {
   return table_->abi_version >= 5 && table_->variational_residual != nullptr;
 }
+
+int Model::n_speeds() const noexcept {
+  return table_->abi_version >= 6 && table_->mass_matrix ? table_->n_speeds : 0;
+}
+
+int Model::speed_coordinate(int k) const noexcept { return table_->speed_coordinate[k]; }
 
 int Model::n_singular() const noexcept {
   return table_->abi_version >= 2 && table_->singular_quantities ? table_->n_singular : 0;

@@ -48,6 +48,13 @@ class Model {
   /// what `simulate_variational` (variational.hpp) integrates with.
   bool has_variational_step() const noexcept;
 
+  /// The independent speeds of the multiplier-free form M_r u' = f_r (Reduced-form additions,
+  /// abi_version >= 6, docs/reduced-form.md), else 0: then mass_matrix, forcing and velocities
+  /// of the table are null.
+  int n_speeds() const noexcept;
+  /// The coordinate whose first derivative is independent speed k (0 <= k < n_speeds()).
+  int speed_coordinate(int k) const noexcept;
+
   bool has_dense_jacobian() const noexcept { return table_->jacobian != nullptr; }
   bool has_sparse_jacobian() const noexcept;
   /// J = dF/dy + cj dF/dy' at (t, y, y') with the parameters and inputs `p`, column-major n×n:
