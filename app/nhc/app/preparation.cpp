@@ -6,7 +6,10 @@
 namespace nhc::app {
 
 const ModelAnalysis& Preparation::analysis(const InitializationOptions& options) {
-  if (!analysis_) analysis_ = analyze_model(scene_, derive_model(scene_, kind_), options);
+  if (!analysis_) {
+    derived_ = derive_model(scene_, kind_);
+    analysis_ = analyze_model(scene_, *derived_, options);
+  }
   return *analysis_;
 }
 
@@ -16,7 +19,8 @@ const StructuralAnalysis* Preparation::structure() const noexcept {
 }
 
 jit::LoadedModel Preparation::build(const Scene& scene, const jit::BuildOptions& options) const {
-  return jit::build(scene, kind_, options, structure());
+  const StructuralAnalysis* analysed = structure();
+  return jit::build(scene, kind_, options, analysed, analysed ? &*derived_ : nullptr);
 }
 
 InitialPointCheck check_initial_point(Preparation& preparation, bool repair) {

@@ -37,6 +37,7 @@ class Preparation {
  private:
   Scene scene_;
   ModelKind kind_;
+  std::optional<DerivedModel> derived_;
   std::optional<ModelAnalysis> analysis_;
 };
 

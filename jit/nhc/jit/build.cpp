@@ -132,7 +132,7 @@ void remember_compiled_header(const Scene& scene, ModelKind kind, const BuildOpt
 }
 
 LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& options,
-                  const StructuralAnalysis* structure) {
+                  const StructuralAnalysis* structure, const DerivedModel* derived_given) {
   // The scene cache first: an unchanged scene skips derive, reduce and generate.
   auto start = Clock::now();
   std::optional<std::string> key;
@@ -156,12 +156,15 @@ LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& option
   const double lookup_seconds = seconds_since(start);
 
   start = Clock::now();
+  // Derived once: from the preparation (with its analysis) when given, else here.
+  std::optional<DerivedModel> derived_here;
+  if (!structure || !derived_given) derived_here = derive_model(scene, kind);
+  const DerivedModel& derived = derived_here ? *derived_here : *derived_given;
   const Index1System system = [&] {
-    if (structure) {
+    if (structure && derived_given) {
       if (structure->system.model != kind) throw std::logic_error("jit::build: the analysis is of another model");
       return reduce_to_index1(scene, *structure);
     }
-    const DerivedModel derived = derive_model(scene, kind);
     if (!derived.applicable)
       throw MathError("the " + to_string(kind) + " model does not apply to " + scene.name + ": " + derived.reason);
     check_for_stop_now();

@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "nhc/analysis/structural_analysis.hpp"
+#include "nhc/derive/models.hpp"
 #include "nhc/emit/header_emitter.hpp"
 #include "nhc/jit/compiler.hpp"
 #include "nhc/jit/scene_cache.hpp"
@@ -92,9 +93,11 @@ class LoadedModel {
 /// generates the header, compiles it (cached) and loads it. An unchanged scene built before with
 /// the same model and options takes its header from the scene cache instead (scene_cache.hpp).
 /// Given the structure of an analysis of the same model already made (app::Preparation), the
-/// model is reduced from it: neither derived nor analysed again.
+/// model is reduced from it, and the multiplier-free form taken from its derivation (`derived`,
+/// given with it): neither derived nor analysed again.
 LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& options = {},
-                  const StructuralAnalysis* structure = nullptr);
+                  const StructuralAnalysis* structure = nullptr,
+                  const DerivedModel* derived = nullptr);
 
 /// Records in the scene cache that `header` (built for `scene`, `kind`, `options`) compiled into
 /// a library in `library_directory`, as build() does after compiling, so that the next build
