@@ -11,15 +11,15 @@
 //
 // Floating-point operations (+, -, *, /, calls) without and with common-subexpression
 // elimination:
-//   residual                          90      60
-//   jacobian                         216     104
-//   hidden_constraints                18      15
-//   hidden_constraints_jacobian       40      24
+//   residual                          71      56
+//   jacobian                         177      94
+//   hidden_constraints                16      14
+//   hidden_constraints_jacobian       38      21
 //   default_inputs                     0       0
 //   velocities                        11      10
 //   mass_matrix                       24      15
 //   forcing                           91      35
-//   total                            490     263
+//   total                            428     245
 
 #pragma once
 
@@ -139,18 +139,13 @@ inline void residual(double /*t*/, const double* y, const double* yp, const doub
   const double w0 = std::sin(y[4]);
   const double w1 = std::sin(y[6]);
   const double w2 = std::cos(y[4]);
-  const double w3 = w1 * w2;
-  const double w4 = w1 * w0;
-  const double w5 = std::cos(y[6]);
-  const double w6 = w5 * p[2];
-  const double w7 = y[3] * y[5];
-  const double w8 = y[1] * y[5];
-  r[0] = y[8] * w0 - (y[9] * w3 - p[4] * w2) - p[3] * yp[1];  // R_x
-  r[1] = -(w4 * y[9] + y[8] * w2 - p[4] * w0) - yp[3] * p[3];  // R_y
-  r[2] = w6 * y[9] - p[0] * yp[5];  // R_theta
+  const double w3 = std::cos(y[6]);
+  r[0] = y[8] * w0 - (y[9] * (w1 * w2) - p[4] * w2) - p[3] * yp[1];  // R_x
+  r[1] = -(w1 * w0 * y[9] + y[8] * w2 - p[4] * w0) - yp[3] * p[3];  // R_y
+  r[2] = w3 * p[2] * y[9] - p[0] * yp[5];  // R_theta
   r[3] = p[5] - yp[7] * p[1];  // R_phi
-  r[4] = w0 * yp[1] + w7 * w0 + w8 * w2 - yp[3] * w2;  // D f1
-  r[5] = w4 * w8 + yp[5] * w6 - y[1] * y[7] * (w5 * w2) - y[3] * y[7] * (w5 * w0) - w3 * yp[1] - w1 * p[2] * y[7] * y[5] - w7 * w3 - w4 * yp[3];  // D f2
+  r[4] = (y[1] * y[5] - yp[3]) * w2 + (y[3] * y[5] + yp[1]) * w0;  // D f1
+  r[5] = w1 * ((y[1] * w0 - y[3] * w2 - p[2] * y[7]) * y[5] - w2 * yp[1] - yp[3] * w0) + w3 * ((-w2 * y[1] - y[3] * w0) * y[7] + yp[5] * p[2]);  // D f2
   r[6] = yp[0] - y[1];  // chain x' = x'
   r[7] = yp[2] - y[3];  // chain y' = y'
   r[8] = yp[4] - y[5];  // chain theta' = theta'
@@ -162,51 +157,55 @@ inline void jacobian(double /*t*/, const double* y, const double* yp, double cj,
   for (int k = 0; k < n_states * n_states; ++k) J[k] = 0.0;
   const double w0 = -(cj * p[3]);
   const double w1 = std::sin(y[4]);
-  const double w2 = std::cos(y[4]);
-  const double w3 = std::sin(y[6]);
-  const double w4 = w3 * w1;
-  const double w5 = std::cos(y[6]);
-  const double w6 = w5 * w2;
-  const double w7 = w3 * w2;
-  const double w8 = w5 * w1;
-  const double w9 = y[3] * y[5];
-  const double w10 = y[1] * y[5];
-  const double w11 = y[1] * y[7];
-  const double w12 = y[3] * y[7];
-  const double w13 = w5 * p[2];
-  const double w14 = w3 * p[2];
+  const double w2 = cj * w1;
+  const double w3 = std::cos(y[4]);
+  const double w4 = w3 * y[5];
+  const double w5 = std::sin(y[6]);
+  const double w6 = y[5] * w1 - w3 * cj;
+  const double w7 = std::cos(y[6]);
+  const double w8 = w7 * w3;
+  const double w9 = w7 * w1;
+  const double w10 = w5 * w1;
+  const double w11 = w5 * w3;
+  const double w12 = y[1] * y[5];
+  const double w13 = y[3] * y[5] + yp[1];
+  const double w14 = y[1] * w1 - y[3] * w3;
+  const double w15 = w3 * y[1];
+  const double w16 = y[3] * w1;
+  const double w17 = w15 + w16;
+  const double w18 = w5 * p[2];
   J[6] = cj;  // (6, 0)
   J[10] = w0;  // (0, 1)
-  J[14] = cj * w1 + w2 * y[5];  // (4, 1)
-  J[15] = w4 * y[5] - w6 * y[7] - w7 * cj;  // (5, 1)
+  J[14] = w2 + w4;  // (4, 1)
+  J[15] = w5 * w6 - w8 * y[7];  // (5, 1)
   J[16] = -1.0;  // (6, 1)
   J[27] = cj;  // (7, 2)
   J[31] = w0;  // (1, 3)
-  J[34] = y[5] * w1 - w2 * cj;  // (4, 3)
-  J[35] = -w7 * y[5] - w8 * y[7] - w4 * cj;  // (5, 3)
+  J[34] = w6;  // (4, 3)
+  J[35] = w5 * (-w2 - w4) - w9 * y[7];  // (5, 3)
   J[37] = -1.0;  // (7, 3)
-  J[40] = w4 * y[9] + y[8] * w2 - p[4] * w1;  // (0, 4)
-  J[41] = y[8] * w1 - (y[9] * w7 - p[4] * w2);  // (1, 4)
-  J[44] = w2 * yp[1] + yp[3] * w1 + w9 * w2 - w10 * w1;  // (4, 4)
-  J[45] = w4 * yp[1] + w4 * w9 + w10 * w7 + w11 * w8 - yp[3] * w7 - w12 * w6;  // (5, 4)
+  J[40] = w10 * y[9] + y[8] * w3 - p[4] * w1;  // (0, 4)
+  J[41] = y[8] * w1 - (y[9] * w11 - p[4] * w3);  // (1, 4)
+  J[44] = (yp[3] - w12) * w1 + w13 * w3;  // (4, 4)
+  J[45] = w7 * (w14 * y[7]) + w5 * ((w12 - yp[3]) * w3 + w13 * w1);  // (5, 4)
   J[48] = cj;  // (8, 4)
   J[52] = -(p[0] * cj);  // (2, 5)
-  J[54] = w2 * y[1] + y[3] * w1;  // (4, 5)
-  J[55] = w4 * y[1] + w13 * cj - w14 * y[7] - y[3] * w7;  // (5, 5)
+  J[54] = w17;  // (4, 5)
+  J[55] = w10 * y[1] + p[2] * (w7 * cj - w5 * y[7]) - y[3] * w11;  // (5, 5)
   J[58] = -1.0;  // (8, 5)
-  J[60] = -(y[9] * w6);  // (0, 6)
-  J[61] = -(y[9] * w8);  // (1, 6)
-  J[62] = -(y[9] * w14);  // (2, 6)
-  J[65] = w4 * w12 + w11 * w7 + w10 * w8 - w9 * w6 - w13 * y[5] * y[7] - yp[3] * w8 - yp[5] * w14 - w6 * yp[1];  // (5, 6)
+  J[60] = -(y[9] * w8);  // (0, 6)
+  J[61] = -(y[9] * w9);  // (1, 6)
+  J[62] = -(y[9] * w18);  // (2, 6)
+  J[65] = w7 * ((w14 - p[2] * y[7]) * y[5] - w3 * yp[1] - yp[3] * w1) + w5 * (w17 * y[7] - yp[5] * p[2]);  // (5, 6)
   J[69] = cj;  // (9, 6)
   J[73] = -(p[1] * cj);  // (3, 7)
-  J[75] = -y[3] * w8 - y[5] * w14 - y[1] * w6;  // (5, 7)
+  J[75] = (-w15 - w16) * w7 - y[5] * w18;  // (5, 7)
   J[79] = -1.0;  // (9, 7)
   J[80] = w1;  // (0, 8)
-  J[81] = -w2;  // (1, 8)
-  J[90] = -w7;  // (0, 9)
-  J[91] = -w4;  // (1, 9)
-  J[92] = w13;  // (2, 9)
+  J[81] = -w3;  // (1, 8)
+  J[90] = -w11;  // (0, 9)
+  J[91] = -w10;  // (1, 9)
+  J[92] = w7 * p[2];  // (2, 9)
 }
 
 /// Hidden constraints g(t, y) = 0 (derivatives of the equations the index-1 form
@@ -215,9 +214,8 @@ inline void jacobian(double /*t*/, const double* y, const double* yp, double cj,
 inline void hidden_constraints(double /*t*/, const double* y, const double* p, double* g) noexcept {
   const double w0 = std::sin(y[4]);
   const double w1 = std::cos(y[4]);
-  const double w2 = std::sin(y[6]);
   g[0] = y[1] * w0 - y[3] * w1;  // f1
-  g[1] = std::cos(y[6]) * p[2] * y[5] - w2 * w1 * y[1] - w2 * w0 * y[3];  // f2
+  g[1] = std::cos(y[6]) * p[2] * y[5] + (-w1 * y[1] - y[3] * w0) * std::sin(y[6]);  // f2
 }
 
 /// G = dg/dy, column-major n_hidden x n_states.
@@ -228,15 +226,17 @@ inline void hidden_constraints_jacobian(double /*t*/, const double* y, const dou
   const double w2 = std::cos(y[4]);
   const double w3 = w1 * w2;
   const double w4 = w1 * w0;
-  const double w5 = std::cos(y[6]);
+  const double w5 = w2 * y[1];
+  const double w6 = y[3] * w0;
+  const double w7 = std::cos(y[6]);
   G[2] = w0;  // (0, 1)
   G[3] = -w3;  // (1, 1)
   G[6] = -w2;  // (0, 3)
   G[7] = -w4;  // (1, 3)
-  G[8] = w2 * y[1] + y[3] * w0;  // (0, 4)
+  G[8] = w5 + w6;  // (0, 4)
   G[9] = w4 * y[1] - y[3] * w3;  // (1, 4)
-  G[11] = w5 * p[2];  // (1, 5)
-  G[13] = -y[3] * (w5 * w0) - y[5] * (w1 * p[2]) - y[1] * (w5 * w2);  // (1, 6)
+  G[11] = w7 * p[2];  // (1, 5)
+  G[13] = (-w5 - w6) * w7 - y[5] * (w1 * p[2]);  // (1, 6)
 }
 
 /// The inputs' default signals u(t), in input_names order (what p[n_parameters + k] holds
@@ -250,7 +250,7 @@ inline void default_inputs(double /*t*/, const double* /*p*/, double* u) noexcep
 inline void velocities(double /*t*/, const double* q, const double* u, const double* p, double* qp) noexcept {
   const double w0 = std::cos(q[2]);
   qp[0] = u[0];  // x'
-  qp[1] = std::sin(q[2]) * u[0] / w0;  // y'
+  qp[1] = u[0] / w0 * std::sin(q[2]);  // y'
   qp[2] = std::sin(q[3]) / (std::cos(q[3]) * w0 * p[2]) * u[0];  // theta'
   qp[3] = u[1];  // phi'
 }
@@ -274,9 +274,9 @@ inline void forcing(double /*t*/, const double* q, const double* u, const double
   const double w4 = w2 * w3 * p[2];
   const double w5 = w1 / w4;
   const double w6 = w5 * u[0];
-  const double w7 = w0 * w0 * u[0] / w3 + w3 * u[0];
+  const double w7 = w0 * w0 * (u[0] / w3) + w3 * u[0];
   const double w8 = w6 * w7;
-  f[0] = w0 * (p[4] * w0 - w8 * p[3] / w3) / w3 + p[4] * w3 - p[0] * w5 * ((w0 * w8 * w1 + (w2 * w7 + w6 * w1 * p[2]) * u[1] * w3) / w4);  // x'
+  f[0] = w0 * (p[4] * w0 - p[3] * w8 / w3) / w3 + p[4] * w3 - p[0] * w5 * ((w3 * ((w2 * w7 + w6 * w1 * p[2]) * u[1]) + w0 * w1 * w8) / w4);  // x'
   f[1] = p[5];  // phi'
 }
 

@@ -10,15 +10,15 @@
 //
 // Floating-point operations (+, -, *, /, calls) without and with common-subexpression
 // elimination:
-//   residual                          67      47
-//   jacobian                         104      51
+//   residual                          60      46
+//   jacobian                          98      53
 //   hidden_constraints                 5       5
 //   hidden_constraints_jacobian        8       6
-//   invariants                        25      17
+//   invariants                        24      15
 //   velocities                         4       4
 //   mass_matrix                        7       6
-//   forcing                           54      31
-//   total                            274     167
+//   forcing                           53      30
+//   total                            259     165
 
 #pragma once
 
@@ -143,8 +143,8 @@ inline void residual(double /*t*/, const double* y, const double* yp, const doub
   const double w5 = y[5] * y[5];
   r[0] = yp[5] * w2 - (y[6] * w1 - w4 * w5) - y[1] * p[2] - p[4] * yp[1];  // R_x
   r[1] = y[6] * w3 - p[4] * yp[3] - y[3] * p[2] - (yp[5] * w4 - w2 * w5);  // R_y
-  r[2] = w2 * yp[1] - w4 * yp[3] - yp[5] * (p[4] * (p[1] * p[1])) - p[0] * yp[5] - y[5] * p[3];  // R_th
-  r[3] = yp[3] * w3 - y[3] * (y[5] * w1) - y[1] * (w3 * y[5]) - w1 * yp[1];  // D f1
+  r[2] = p[4] * (p[1] * (w1 * yp[1] - yp[3] * w3) - yp[5] * (p[1] * p[1])) - p[0] * yp[5] - y[5] * p[3];  // R_th
+  r[3] = (yp[3] - y[1] * y[5]) * w3 + (-y[3] * y[5] - yp[1]) * w1;  // D f1
   r[4] = yp[0] - y[1];  // chain x' = x'
   r[5] = yp[2] - y[3];  // chain y' = y'
   r[6] = yp[4] - y[5];  // chain th' = th'
@@ -159,29 +159,27 @@ inline void jacobian(double /*t*/, const double* y, const double* yp, double cj,
   const double w3 = w1 * w2;
   const double w4 = w3 * cj;
   const double w5 = std::cos(y[4]);
-  const double w6 = w5 * y[5];
-  const double w7 = w5 * w1;
-  const double w8 = w7 * cj;
-  const double w9 = y[5] * w2;
-  const double w10 = y[5] * y[5];
-  const double w11 = y[5] * 2.0;
+  const double w6 = w5 * w1;
+  const double w7 = w6 * cj;
+  const double w8 = y[5] * y[5];
+  const double w9 = y[5] * 2.0;
   J[4] = cj;  // (4, 0)
   J[7] = w0;  // (0, 1)
   J[9] = w4;  // (2, 1)
-  J[10] = -cj * w2 - w6;  // (3, 1)
+  J[10] = -cj * w2 - w5 * y[5];  // (3, 1)
   J[11] = -1.0;  // (4, 1)
   J[19] = cj;  // (5, 2)
   J[22] = w0;  // (1, 3)
-  J[23] = -w8;  // (2, 3)
-  J[24] = w5 * cj - w9;  // (3, 3)
+  J[23] = -w7;  // (2, 3)
+  J[24] = w5 * cj - y[5] * w2;  // (3, 3)
   J[26] = -1.0;  // (5, 3)
-  J[28] = yp[5] * w7 - w3 * w10 - y[6] * w5;  // (0, 4)
-  J[29] = yp[5] * w3 - (y[6] * w2 - w7 * w10);  // (1, 4)
-  J[30] = w7 * yp[1] + w3 * yp[3];  // (2, 4)
-  J[31] = y[1] * w9 - w5 * yp[1] - y[3] * w6 - yp[3] * w2;  // (3, 4)
+  J[28] = yp[5] * w6 - w3 * w8 - y[6] * w5;  // (0, 4)
+  J[29] = yp[5] * w3 - (y[6] * w2 - w6 * w8);  // (1, 4)
+  J[30] = p[4] * (p[1] * (w5 * yp[1] + yp[3] * w2));  // (2, 4)
+  J[31] = w5 * (-y[3] * y[5] - yp[1]) + (y[1] * y[5] - yp[3]) * w2;  // (3, 4)
   J[34] = cj;  // (6, 4)
-  J[35] = w4 + w7 * w11;  // (0, 5)
-  J[36] = w3 * w11 - w8;  // (1, 5)
+  J[35] = w4 + w6 * w9;  // (0, 5)
+  J[36] = w3 * w9 - w7;  // (1, 5)
   J[37] = -cj * (p[0] + p[4] * (p[1] * p[1])) - p[3];  // (2, 5)
   J[38] = -w5 * y[1] - y[3] * w2;  // (3, 5)
   J[41] = -1.0;  // (6, 5)
@@ -208,15 +206,16 @@ inline void hidden_constraints_jacobian(double /*t*/, const double* y, const dou
 
 /// The scene's invariants I(t, y, y'), in invariant_names order.
 inline void invariants(double /*t*/, const double* y, const double* /*yp*/, const double* p, double* out) noexcept {
-  const double w0 = y[3] + p[1] * (std::cos(y[4]) * y[5]);
-  const double w1 = p[1] * (y[5] * std::sin(y[4])) - y[1];
-  out[0] = p[0] * 0.5 * (y[5] * y[5]) + p[4] * 0.5 * (w0 * w0 + w1 * w1);  // energy
+  const double w0 = p[1] * y[5];
+  const double w1 = y[3] + std::cos(y[4]) * w0;
+  const double w2 = w0 * std::sin(y[4]) - y[1];
+  out[0] = 0.5 * (p[4] * (w1 * w1 + w2 * w2) + p[0] * (y[5] * y[5]));  // energy
 }
 
 /// q'(t, q, u): the independent speeds u and the dependent ones from them, n_coordinates.
 inline void velocities(double /*t*/, const double* q, const double* u, const double* /*p*/, double* qp) noexcept {
   qp[0] = u[0];  // x'
-  qp[1] = std::sin(q[2]) * u[0] / std::cos(q[2]);  // y'
+  qp[1] = u[0] / std::cos(q[2]) * std::sin(q[2]);  // y'
   qp[2] = u[1];  // th'
 }
 
@@ -233,13 +232,12 @@ inline void forcing(double /*t*/, const double* q, const double* u, const double
   const double w0 = std::cos(q[2]);
   const double w1 = p[4] * p[1];
   const double w2 = u[1] * u[1] * w1;
-  const double w3 = u[0] * p[2];
-  const double w4 = std::sin(q[2]);
-  const double w5 = w4 * w4 * u[0];
+  const double w3 = std::sin(q[2]);
+  const double w4 = u[0] / w0;
+  const double w5 = w3 * w3 * w4;
   const double w6 = w0 * u[0];
-  const double w7 = w1 * u[1];
-  f[0] = w0 * w2 - w3 - w4 * (w4 * w3 / w0 + u[1] * (w5 / w0 + w6) * p[4] / w0 - w4 * w2) / w0;  // x'
-  f[1] = -w7 * w5 / w0 - u[1] * p[3] - w7 * w6;  // th'
+  f[0] = w0 * w2 - w3 * (w4 * w3 * p[2] + p[4] * (u[1] * (w5 + w6)) / w0 - w3 * w2) / w0 - u[0] * p[2];  // x'
+  f[1] = (-w1 * w6 - p[3]) * u[1] - w5 * w1 * u[1];  // th'
 }
 
 /// Everything above as the C table of docs/generated-code.md, filled by field name.

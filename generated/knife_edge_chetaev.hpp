@@ -10,14 +10,14 @@
 //
 // Floating-point operations (+, -, *, /, calls) without and with common-subexpression
 // elimination:
-//   residual                          26      22
-//   jacobian                          41      25
+//   residual                          22      20
+//   jacobian                          37      25
 //   hidden_constraints                 5       5
 //   hidden_constraints_jacobian        8       6
 //   velocities                         4       4
 //   mass_matrix                        4       3
-//   forcing                           21      13
-//   total                            109      78
+//   forcing                           21      14
+//   total                            101      77
 
 #pragma once
 
@@ -138,7 +138,7 @@ inline void residual(double /*t*/, const double* y, const double* yp, const doub
   r[0] = y[6] * w0 - p[1] * yp[1];  // R_x
   r[1] = -y[6] * w1 - yp[3] * p[1];  // R_y
   r[2] = -(p[0] * yp[5]);  // R_phi
-  r[3] = y[3] * (y[5] * w0) + y[1] * (w1 * y[5]) + w0 * yp[1] - yp[3] * w1;  // D f1
+  r[3] = (y[1] * y[5] - yp[3]) * w1 + (y[3] * y[5] + yp[1]) * w0;  // D f1
   r[4] = yp[0] - y[1];  // chain x' = x'
   r[5] = yp[2] - y[3];  // chain y' = y'
   r[6] = yp[4] - y[5];  // chain phi' = phi'
@@ -150,19 +150,17 @@ inline void jacobian(double /*t*/, const double* y, const double* yp, double cj,
   const double w0 = -(p[1] * cj);
   const double w1 = std::sin(y[4]);
   const double w2 = std::cos(y[4]);
-  const double w3 = w2 * y[5];
-  const double w4 = y[5] * w1;
   J[4] = cj;  // (4, 0)
   J[7] = w0;  // (0, 1)
-  J[10] = cj * w1 + w3;  // (3, 1)
+  J[10] = cj * w1 + w2 * y[5];  // (3, 1)
   J[11] = -1.0;  // (4, 1)
   J[19] = cj;  // (5, 2)
   J[22] = w0;  // (1, 3)
-  J[24] = w4 - w2 * cj;  // (3, 3)
+  J[24] = y[5] * w1 - w2 * cj;  // (3, 3)
   J[26] = -1.0;  // (5, 3)
   J[28] = y[6] * w2;  // (0, 4)
   J[29] = y[6] * w1;  // (1, 4)
-  J[31] = w2 * yp[1] + y[3] * w3 + yp[3] * w1 - y[1] * w4;  // (3, 4)
+  J[31] = (yp[3] - y[1] * y[5]) * w1 + (y[3] * y[5] + yp[1]) * w2;  // (3, 4)
   J[34] = cj;  // (6, 4)
   J[37] = -(p[0] * cj);  // (2, 5)
   J[38] = w2 * y[1] + y[3] * w1;  // (3, 5)
@@ -191,7 +189,7 @@ inline void hidden_constraints_jacobian(double /*t*/, const double* y, const dou
 /// q'(t, q, u): the independent speeds u and the dependent ones from them, n_coordinates.
 inline void velocities(double /*t*/, const double* q, const double* u, const double* /*p*/, double* qp) noexcept {
   qp[0] = u[0];  // x'
-  qp[1] = std::sin(q[2]) * u[0] / std::cos(q[2]);  // y'
+  qp[1] = u[0] / std::cos(q[2]) * std::sin(q[2]);  // y'
   qp[2] = u[1];  // phi'
 }
 
@@ -206,9 +204,9 @@ inline void mass_matrix(double /*t*/, const double* q, const double* /*u*/, cons
 /// f_r(t, q, u) of M_r u' = f_r, n_speeds.
 inline void forcing(double /*t*/, const double* q, const double* u, const double* p, double* f) noexcept {
   const double w0 = std::sin(q[2]);
-  const double w1 = u[0] * u[1] * p[1];
-  const double w2 = std::cos(q[2]);
-  f[0] = (-w0 * w0 * w0 * w1 / w2 - w0 * w2 * w1) / (w2 * w2);  // x'
+  const double w1 = std::cos(q[2]);
+  const double w2 = p[1] * u[1];
+  f[0] = (-w0 * w0 * w0 * (u[0] / w1) * w2 - w2 * w0 * w1 * u[0]) / (w1 * w1);  // x'
   f[1] = 0.0;  // phi'
 }
 

@@ -17,7 +17,10 @@
 //   hidden_constraints_jacobian     8138     322
 //   invariants                       451     107
 //   singular_quantities               25      18
-//   total                         136123    3506
+//   velocities                      2770     111
+//   mass_matrix                    10225     252
+//   forcing                        41411     626
+//   total                         190529    4495
 
 #pragma once
 
@@ -31,7 +34,8 @@
  * "Runtime additions" of docs/generated-code.md; read them only when abi_version >= 2.
  * abi_version 3 appends the "Sensitivity additions"; read them only when abi_version >= 3.
  * abi_version 4 appends the "Input additions"; read them only when abi_version >= 4.
- * abi_version 5 appends the "Variational additions"; read them only when abi_version >= 5. */
+ * abi_version 5 appends the "Variational additions"; read them only when abi_version >= 5.
+ * abi_version 6 appends the "Reduced-form additions"; read them only when abi_version >= 6. */
 #ifndef NHC_MODEL_TABLE_DEFINED
 #define NHC_MODEL_TABLE_DEFINED
 
@@ -83,6 +87,14 @@ struct nhc_model_table {
   void (*variational_jacobian)(double, double, double, const double*, const double*, const double*, const double*,
                                const double*, double*);
   void (*variational_momentum)(double, double, const double*, const double*, const double*, double*);
+  /* abi_version >= 6 (Reduced-form additions; n_speeds = 0 and null functions where the model has
+   * no multiplier-free form): M_r(t, q, u) u' = f_r(t, q, u) on the independent speeds
+   * u = q'[speed_coordinate[k]] (docs/reduced-form.md); each function reads (t, q, u, p) */
+  int n_speeds;
+  const int* speed_coordinate;
+  void (*velocities)(double, const double*, const double*, const double*, double*);
+  void (*mass_matrix)(double, const double*, const double*, const double*, double*);
+  void (*forcing)(double, const double*, const double*, const double*, double*);
 };
 
 #ifdef __cplusplus
@@ -103,6 +115,8 @@ inline constexpr int n_reference = 0;
 inline constexpr int n_singular = 1;
 /// p holds n_parameters parameters, then n_inputs inputs.
 inline constexpr int n_inputs = 0;
+/// The independent speeds u of M_r u' = f_r (0: no multiplier-free form).
+inline constexpr int n_speeds = 3;
 inline constexpr const char* model_name = "chetaev";
 inline constexpr const char* scene_name = "rattleback";
 
@@ -118,6 +132,8 @@ inline constexpr const char* parameter_names[n_parameters] = {"A1", "B1", "C1", 
 inline constexpr double default_parameters[n_parameters] = {0.00020000000000000001, 0.0016000000000000001, 0.0016999999999999999, -2.0000000000000002e-05, 0.20000000000000001, 0.029999999999999999, 0.02, 9.8100000000000005, 0.01, 1.0};
 inline constexpr const char* hidden_names[n_hidden] = {"f1", "f2"};
 inline constexpr const char* invariant_names[n_invariants] = {"energy", "spin"};
+/// u[k] = q'[speed_coordinate[k]].
+inline constexpr int speed_coordinate[n_speeds] = {2, 3, 4};
 inline constexpr const char* singular_names[n_singular] = {"a * a * (std::sin(ph) * std::sin(ph)) * (std::cos(th) * std::cos(th)) + c * c * (std::cos(th) * std::cos(th)) * (std::cos(ph) * std::cos(ph)) + std::sin(th) * std::sin(th) * (b * b)"};
 
 /// F(t, y, y') = 0, IDA form; r has n_states entries.
@@ -1000,10 +1016,268 @@ inline void singular_quantities(double /*t*/, const double* y, const double* p, 
   s[0] = p[4] * p[4] * (w0 * w0) * w2 + w2 * (w3 * w3 * (p[6] * p[6])) + p[5] * p[5] * (w4 * w4);
 }
 
+/// q'(t, q, u): the independent speeds u and the dependent ones from them, n_coordinates.
+inline void velocities(double /*t*/, const double* q, const double* u, const double* p, double* qp) noexcept {
+  const double w0 = std::cos(q[2]);
+  const double w1 = std::sin(q[3]);
+  const double w2 = w0 * w1;
+  const double w3 = std::sin(q[4]);
+  const double w4 = std::sin(q[2]);
+  const double w5 = std::cos(q[4]);
+  const double w6 = p[4] * p[4];
+  const double w7 = p[5] * p[5];
+  const double w8 = std::cos(q[3]);
+  const double w9 = w8 * w8;
+  const double w10 = p[6] * p[6];
+  const double w11 = w7 * (w1 * w1) + (w9 * (w3 * w3) * w6 + w9 * (w10 * (w5 * w5)));
+  const double w12 = std::sqrt(w11);
+  const double w13 = w6 / w12 * (w8 * w3);
+  const double w14 = p[8] - w10 / w12 * (w8 * w5);
+  const double w15 = w8 * (w7 / w12);
+  const double w16 = (w2 * w3 + w4 * w5) * w13 - (w2 * w5 - w4 * w3) * w14 - w2 * w15;
+  const double w17 = w0 * u[2];
+  const double w18 = w5 * p[8];
+  const double w19 = w18 * w8;
+  const double w20 = (w11 - w12 * w19) / w12;
+  const double w21 = w8 * w20;
+  const double w22 = w4 * w1;
+  const double w23 = p[8] * w3;
+  const double w24 = u[2] * w1;
+  const double w25 = w16 * u[0] + (w17 * w21 - (u[2] * (w22 * w23) - (w20 * (w4 * u[1]) - u[0] * (w4 * w23) + w18 * w17) - (w2 * w18 * u[0] + w4 * w19 * u[1])) + w16 * w24);
+  const double w26 = w13 * (w22 * w3 - w0 * w5) - w22 * w15 - (w5 * w22 + w0 * w3) * w14;
+  const double w27 = w0 * u[1];
+  const double w28 = w4 * u[2];
+  const double w29 = w26 * w24 + (w26 * u[0] - (w20 * w27 - (w18 * w28 - w19 * w27 + w18 * w22 * u[0]) - (w28 * w21 + u[2] * (w2 * w23)) - u[0] * (w0 * w23)));
+  qp[0] = w25 - w25 + w25;  // x'
+  qp[1] = w29 - w29 + w29;  // y'
+  qp[2] = u[0];  // psi'
+  qp[3] = u[1];  // th'
+  qp[4] = u[2];  // ph'
+}
+
+/// M_r(t, q, u) of M_r u' = f_r, column-major n_speeds x n_speeds.
+inline void mass_matrix(double /*t*/, const double* q, const double* /*u*/, const double* p, double* M) noexcept {
+  for (int k = 0; k < 9; ++k) M[k] = 0.0;
+  const double w0 = std::sin(q[3]);
+  const double w1 = w0 * w0;
+  const double w2 = std::cos(q[4]);
+  const double w3 = w2 * p[8];
+  const double w4 = std::sin(q[2]);
+  const double w5 = w4 * w0;
+  const double w6 = std::cos(q[2]);
+  const double w7 = std::sin(q[4]);
+  const double w8 = p[8] * w7;
+  const double w9 = w3 * w5 + w6 * w8;
+  const double w10 = w6 * w0;
+  const double w11 = w10 * w2 - w4 * w7;
+  const double w12 = p[8] * p[8];
+  const double w13 = std::cos(q[3]);
+  const double w14 = w13 * w13;
+  const double w15 = w7 * w7;
+  const double w16 = w2 * w2;
+  const double w17 = w0 * p[3];
+  const double w18 = w13 * w7;
+  const double w19 = p[4] * p[4];
+  const double w20 = p[5] * p[5];
+  const double w21 = p[6] * p[6];
+  const double w22 = w21 * w16;
+  const double w23 = w20 * w1 + (w14 * w15 * w19 + w14 * w22);
+  const double w24 = std::sqrt(w23);
+  const double w25 = w19 / w24 * w18;
+  const double w26 = p[8] - w21 / w24 * (w13 * w2);
+  const double w27 = w13 * (w20 / w24);
+  const double w28 = (w10 * w7 + w4 * w2) * w25 - w11 * w26 - w10 * w27;
+  const double w29 = w28 + (w10 * w3 - w4 * w8);
+  const double w30 = w5 * w7 - w6 * w2;
+  const double w31 = w25 * w30 - w5 * w27 - (w2 * w5 + w6 * w7) * w26;
+  const double w32 = w9 + w31;
+  const double w33 = w9 * p[9];
+  const double w34 = w32 * w33;
+  const double w35 = p[8] * w11 * p[9];
+  const double w36 = w29 * w35;
+  const double w37 = w3 * w13;
+  const double w38 = p[9] * (w6 * w37);
+  const double w39 = (w23 - w24 * w37) / w24;
+  const double w40 = w39 + w37;
+  const double w41 = w4 * w40;
+  const double w42 = w6 * w40;
+  const double w43 = w4 * w37 * p[9];
+  const double w44 = w12 * w11;
+  const double w45 = w6 * p[8];
+  const double w46 = w38 * w32 + (w29 * w41 - w42 * w32) * p[9] + w42 * w33 - w29 * w43 - (w2 * (w13 * (w7 * (p[0] - p[2])) - w17) - w13 * ((w4 * w44 - w9 * w45) * w2) * p[9]) - w41 * w35;
+  const double w47 = w3 * w4 + w10 * w8;
+  const double w48 = w13 * w39;
+  const double w49 = w28 * w0 + w6 * w48 - (w5 * w8 - w3 * w6);
+  const double w50 = p[9] * (p[8] * w30);
+  const double w51 = w47 + w4 * w48 + w31 * w0;
+  const double w52 = p[9] * w47;
+  const double w53 = p[1] * w0 + p[9] * (w9 * w47 - w44 * w30) - p[3] * w18 + w49 * (w29 * p[9] - w35) + w29 * w50 + (p[9] * w32 - w33) * w51 - w52 * w32;
+  const double w54 = w13 * (w0 * (w20 - (w19 * w15 + w22))) / w24 + w3 * w0;
+  const double w55 = w43 * w41;
+  const double w56 = w38 * w42;
+  const double w57 = p[8] * w18 - w2 * ((w21 - w19) * w7 * w14) / w24;
+  const double w58 = w51 * (w38 - p[9] * w42) + w50 * w41 + w52 * w42 + w49 * (p[9] * w41 - w43) + (w2 * p[3] + (w54 * w57 - w13 * (w2 * (w4 * w12 * w30 + w45 * w47))) * p[9]);
+  const double w59 = w49 * w50;
+  const double w60 = w52 * w51;
+  M[0] = p[1] * w1 + p[9] * (w9 * w9 + w11 * w11 * w12) + w14 * (p[0] * w15 + w16 * p[2]) - 2.0 * w17 * w18 + p[9] * (w29 * w29 + w32 * w32) - w34 - w34 - w36 - w36;  // (0, 0)
+  M[1] = w46;  // (1, 0)
+  M[2] = w53;  // (2, 0)
+  M[3] = w46;  // (0, 1)
+  M[4] = p[9] * (w41 * w41 + w42 * w42) + (p[0] * w16 + p[9] * (w12 * (w16 * (w4 * w4 + w6 * w6)) * w14 + w54 * w54) + w15 * p[2]) - w55 - w55 - w56 - w56;  // (1, 1)
+  M[5] = w58;  // (2, 1)
+  M[6] = w53;  // (0, 2)
+  M[7] = w58;  // (1, 2)
+  M[8] = p[1] + (w30 * w30 * w12 + w47 * w47 + w57 * w57) * p[9] + (w49 * w49 + w51 * w51) * p[9] + w59 + w59 - w60 - w60;  // (2, 2)
+}
+
+/// f_r(t, q, u) of M_r u' = f_r, n_speeds.
+inline void forcing(double /*t*/, const double* q, const double* u, const double* p, double* f) noexcept {
+  const double w0 = std::sin(q[2]);
+  const double w1 = std::cos(q[4]);
+  const double w2 = w1 * p[8];
+  const double w3 = std::cos(q[3]);
+  const double w4 = w2 * w3;
+  const double w5 = w0 * w4;
+  const double w6 = std::cos(q[2]);
+  const double w7 = w6 * u[2];
+  const double w8 = std::sin(q[4]);
+  const double w9 = w3 * w8;
+  const double w10 = p[8] * w9;
+  const double w11 = std::sin(q[3]);
+  const double w12 = w6 * w11;
+  const double w13 = w12 * w2;
+  const double w14 = w5 * u[0] + (w7 * w10 + w13 * u[1]);
+  const double w15 = p[8] * w8;
+  const double w16 = w0 * w15;
+  const double w17 = w13 - w16;
+  const double w18 = w6 * u[1];
+  const double w19 = w10 * w18;
+  const double w20 = w0 * w11;
+  const double w21 = w20 * w15;
+  const double w22 = w21 - w2 * w6;
+  const double w23 = u[2] * w17 + w19 - u[0] * w22;
+  const double w24 = w5 * u[1];
+  const double w25 = w24 + u[0] * w17 - u[2] * w22;
+  const double w26 = p[6] * p[6];
+  const double w27 = p[4] * p[4];
+  const double w28 = (w26 - w27) * w8;
+  const double w29 = w3 * w3;
+  const double w30 = w1 * (w28 * w29);
+  const double w31 = p[5] * p[5];
+  const double w32 = w11 * w11;
+  const double w33 = w8 * w8;
+  const double w34 = w29 * w33;
+  const double w35 = w1 * w1;
+  const double w36 = w26 * w35;
+  const double w37 = w34 * w27 + w29 * w36;
+  const double w38 = w31 * w32 + w37;
+  const double w39 = std::sqrt(w38);
+  const double w40 = w38 * w39;
+  const double w41 = w30 / w40;
+  const double w42 = w38 - w39 * w4;
+  const double w43 = w30 / w39;
+  const double w44 = w27 * w33;
+  const double w45 = w44 + w36;
+  const double w46 = w3 * (w11 * (w31 - w45));
+  const double w47 = w46 / w40;
+  const double w48 = w46 / w39;
+  const double w49 = (w41 * w42 + ((w29 * ((w27 - w26) * 2.0) * w1 + w3 * p[8] * w39) * w8 + w43 * w4) / w39) * u[2] - u[1] * (w47 * w42 + (w48 * w4 + (w3 * ((w45 - w31) * 2.0) - w2 * w39) * w11) / w39);
+  const double w50 = w0 * u[2];
+  const double w51 = w12 * w8 + w0 * w1;
+  const double w52 = w27 / w39;
+  const double w53 = w52 * w9;
+  const double w54 = w12 * w1 - w0 * w8;
+  const double w55 = w26 / w39;
+  const double w56 = w3 * w1;
+  const double w57 = p[8] - w55 * w56;
+  const double w58 = w31 / w39;
+  const double w59 = w3 * w58;
+  const double w60 = w51 * w53 - w54 * w57 - w12 * w59;
+  const double w61 = w60 * u[0];
+  const double w62 = w52 * w34;
+  const double w63 = w31 * w3;
+  const double w64 = w47 * w63;
+  const double w65 = w58 * w32;
+  const double w66 = w1 * w20 + w6 * w8;
+  const double w67 = w26 * w56;
+  const double w68 = w1 * w11 * w55 + w47 * w67;
+  const double w69 = w20 * w8 - w6 * w1;
+  const double w70 = w52 * w69;
+  const double w71 = w11 * w8;
+  const double w72 = w29 * w58;
+  const double w73 = w56 * w57;
+  const double w74 = w27 * w9;
+  const double w75 = w47 * w74;
+  const double w76 = w41 * w74;
+  const double w77 = w41 * w67 - w55 * w9;
+  const double w78 = w41 * w63;
+  const double w79 = u[2] * w11;
+  const double w80 = u[0] + w79;
+  const double w81 = w42 / w39;
+  const double w82 = w3 * w81;
+  const double w83 = w0 * u[1];
+  const double w84 = w7 * w82 - (u[2] * w21 - (w81 * w83 - u[0] * w16 + w2 * w7) - (w13 * u[0] + w24));
+  const double w85 = w53 * w69 - w20 * w59 - w66 * w57;
+  const double w86 = u[0] * w11;
+  const double w87 = w1 * w80;
+  const double w88 = w49 * (w3 * w50 - w18) + (w61 + u[1] * (w62 * w0 + w20 * w64 + w0 * w65 - w66 * w68 - w70 * w71 - w0 * w72 - w0 * w73 - w75 * w69) + u[2] * (w76 * w69 + w69 * w57 + w77 * w66 + w56 * w70 + w66 * w53 - w20 * w78)) * w80 + w84 * u[0] + (w14 + u[2] * (w3 * w85 - w81 * w20)) * u[1] + ((w0 * ((-u[2] - w86) * w8) + w87 * w6) * p[8] + w19) * u[2];
+  const double w89 = p[9] * (w14 * u[1] + u[2] * w23 + w25 * u[0]) - w88 * p[9];
+  const double w90 = w2 * w20;
+  const double w91 = w6 * w15;
+  const double w92 = w90 + w91;
+  const double w93 = w12 * w15;
+  const double w94 = w2 * w0 + w93;
+  const double w95 = w4 * w18;
+  const double w96 = w85 * u[0];
+  const double w97 = w81 * w18 - (w2 * w50 - w95 + w90 * u[0]) - (w50 * w82 + u[2] * w93);
+  const double w98 = u[0] * w91;
+  const double w99 = w92 * u[0] + u[2] * w94 - w95 - (w85 * w79 + (w96 - (w97 - w98)));
+  const double w100 = p[8] * (w66 * u[0] + w51 * u[2]) - w95;
+  const double w101 = w24 + p[8] * (u[0] * w54 - u[2] * w69) - (w61 + (w84 + w60 * w79));
+  const double w102 = u[1] * w8 + u[0] * w56;
+  const double w103 = w11 * p[3];
+  const double w104 = p[2] - p[0];
+  const double w105 = u[0] * w9 - w1 * u[1];
+  const double w106 = u[2] + w86;
+  const double w107 = w106 * p[3];
+  const double w108 = w104 * w105 + w107;
+  const double w109 = p[8] * w54;
+  const double w110 = w10 * w83;
+  const double w111 = p[8] * (w51 * u[0] + u[2] * w66) + w110;
+  const double w112 = w101 * p[8];
+  const double w113 = w99 * w22 + w51 * w112;
+  const double w114 = (w107 - p[0] * w105) * w8 - w1 * w102 * p[2];
+  const double w115 = w6 * w4;
+  const double w116 = w101 * w115 + w5 * w99;
+  const double w117 = w90 * u[1] - (u[0] * w115 - w50 * w10);
+  const double w118 = p[1] * w106;
+  const double w119 = w66 * w112 - w99 * w17;
+  const double w120 = w51 * w52;
+  const double w121 = u[1] * ((w12 * w81 - w3 * w60) * u[2] + w117) + (w98 - w97) * u[0] + u[2] * ((w106 * w8 * w6 + w87 * w0) * p[8] + w110) + ((w75 * w51 + w6 * w73 + w6 * w72 + w120 * w71 + w68 * w54 - w62 * w6 - w65 * w6 - w12 * w64) * u[1] + w96 - (w51 * w57 + w77 * w54 + w56 * w120 + w76 * w51 + w53 * w54 - w12 * w78) * u[2]) * w80 - (w83 + w3 * w7) * w49;
+  const double w122 = (u[2] * w111 + w100 * u[0] + u[1] * w117) * p[9] - p[9] * w121;
+  const double w123 = w3 * (w1 * (w28 * w11)) * 2.0 / w39 + w41 * w46 - w11 * w15;
+  const double w124 = (w4 - w46 * w46 / w40 - ((-w44 - w36) * w32 + w38 - w31 * w29) / w39) * u[1] + w123 * u[2];
+  const double w125 = w10 - w43;
+  const double w126 = w48 + w2 * w11;
+  const double w127 = u[2] * w125 + w126 * u[1];
+  const double w128 = w124 * w127;
+  const double w129 = p[7] * p[9];
+  const double w130 = w81 + w4;
+  const double w131 = ((w29 * (-w26 * w33 - w27 * w35) + w37) / w39 + w30 * w30 / w40 - w4) * u[2] - w123 * u[1];
+  const double w132 = u[2] * w131 - w124 * u[1];
+  const double w133 = p[0] - p[2];
+  const double w134 = w0 * w101 * w10 - w6 * w10 * w99;
+  const double w135 = p[8] * w69;
+  const double w136 = w127 * w131;
+  f[0] = w89 * (w92 + w85) + p[9] * (w25 * w99 - w100 * w101) + w88 * (w92 * p[9]) + (u[2] * (w102 * w103 + (w104 * w8 * w102 + w1 * w108) * w3 - p[9] * (w92 * w23 - w109 * w111 - w113)) - (w11 * (w3 * (u[0] * (p[1] - (p[0] * w33 + w35 * p[2]))) + w114) + (w116 + w14 * w92 - w109 * w117) * p[9] + w3 * w118 + ((w32 - w29) * w8 * u[0] - w3 * w105) * p[3]) * u[1] - p[9] * u[0] * (w25 * w92 - w100 * w109 - w119)) - (w60 + w17) * w122 - w109 * p[9] * w121;  // psi'
+  f[1] = (w3 * (w118 - w105 * p[3]) + w11 * w114) * u[0] + (w14 * w99 + w128 - w101 * w117) * p[9] - p[9] * w115 * w88 - w129 * w126 - w122 * (w0 * w130) - w5 * p[9] * w121 - w89 * (w6 * w130) - ((w128 - u[0] * (w3 * (w1 * ((w100 * w0 + w25 * w6) * p[8])) - w116) - w132 * w126) * p[9] + (p[9] * (p[8] * ((-w3 * w117 - w101 * w11) * w0 + w6 * (w99 * w11 - w14 * w3)) * w1) + w1 * (u[0] * (w11 * (w8 * w133) + w3 * p[3]))) * u[1] - (w1 * w133 * w102 + w108 * w8 - p[9] * (p[8] * (-w6 * w23 - w0 * w111) * w1 * w3 - w134)) * u[2]);  // th'
+  f[2] = p[9] * w135 * w121 + p[9] * w94 * w88 + (w102 * (w105 * w133 - w107) - (w136 + w101 * w111 - w99 * w23) * p[9]) + (w94 + w0 * w82 + w85 * w11) * w89 - (w60 * w11 + w6 * w82 - w22) * w122 - ((u[0] * (w3 * p[1] + w103 * w8) + p[9] * (w117 * w135 + w14 * w94 - w134)) * u[1] + (-w132 * w125 - u[0] * (w113 - w100 * w135 - w25 * w94) - w136) * p[9] - (w102 * p[3] - p[9] * (w23 * w94 + w111 * w135 - w119)) * u[2]) - w129 * w125;  // ph'
+}
+
 /// Everything above as the C table of docs/generated-code.md, filled by field name.
 inline nhc_model_table make_model_table() noexcept {
   nhc_model_table t{};
-  t.abi_version = 5;
+  t.abi_version = 6;
   t.scene_name = scene_name;
   t.model_name = model_name;
   t.n_states = n_states;
@@ -1025,12 +1299,17 @@ inline nhc_model_table make_model_table() noexcept {
   t.n_singular = n_singular;
   t.singular_names = singular_names;
   t.n_inputs = n_inputs;
+  t.n_speeds = n_speeds;
+  t.speed_coordinate = speed_coordinate;
   t.residual = &residual;
   t.jacobian = &jacobian;
   t.hidden_constraints = &hidden_constraints;
   t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
   t.invariants = &invariants;
   t.singular_quantities = &singular_quantities;
+  t.velocities = &velocities;
+  t.mass_matrix = &mass_matrix;
+  t.forcing = &forcing;
   return t;
 }
 

@@ -11,16 +11,16 @@
 //
 // Floating-point operations (+, -, *, /, calls) without and with common-subexpression
 // elimination:
-//   residual                         113      67
-//   jacobian                         274     100
+//   residual                         104      64
+//   jacobian                         246     112
 //   hidden_constraints                20      14
 //   hidden_constraints_jacobian       41      19
-//   invariants                        41      32
+//   invariants                        34      28
 //   reference                          0       0
-//   velocities                        18      12
+//   velocities                        16      12
 //   mass_matrix                       14       9
-//   forcing                           35      19
-//   total                            556     272
+//   forcing                           24      18
+//   total                            499     276
 
 #pragma once
 
@@ -140,24 +140,22 @@ inline constexpr int speed_coordinate[n_speeds] = {2, 3, 4};
 inline void residual(double /*t*/, const double* y, const double* yp, const double* p, double* r) noexcept {
   const double w0 = std::sin(y[6]);
   const double w1 = w0 * y[9];
-  const double w2 = p[0] * yp[5];
-  const double w3 = p[0] * yp[9];
-  const double w4 = std::cos(y[6]);
-  const double w5 = std::cos(y[4]) * p[2];
-  const double w6 = p[0] * y[5];
-  const double w7 = p[2] * std::sin(y[4]);
-  const double w8 = w0 * w5;
-  const double w9 = w0 * w7;
-  const double w10 = w5 * y[7];
-  const double w11 = y[9] * w4;
-  const double w12 = w7 * y[7];
+  const double w2 = std::cos(y[6]);
+  const double w3 = std::cos(y[4]);
+  const double w4 = std::sin(y[4]);
+  const double w5 = w1 * y[5];
+  const double w6 = y[5] * y[7];
+  const double w7 = w3 * p[2];
+  const double w8 = w0 * yp[9];
+  const double w9 = y[9] * w2 * y[7];
+  const double w10 = p[2] * w4;
   r[0] = y[10] - p[1] * yp[1];  // R_x
   r[1] = y[11] - yp[3] * p[1];  // R_y
-  r[2] = p[0] * y[7] * w1 - w2 - w3 * w4;  // R_psi
-  r[3] = y[11] * w5 - p[0] * yp[7] - w1 * w6 - w7 * y[10];  // R_th
-  r[4] = y[10] * w8 + w0 * (w6 * y[7]) + y[11] * w9 - w3 - w4 * w2;  // R_ph
-  r[5] = w8 * yp[9] + (w10 * w11 - (w7 * yp[7] + (w1 * (w7 * y[5]) + y[5] * w10))) + yp[1];  // D f1
-  r[6] = w9 * yp[9] + yp[3] + (w1 * (w5 * y[5]) + w12 * w11 + (yp[7] * w5 - w12 * y[5]));  // D f2
+  r[2] = p[0] * (w1 * y[7] - yp[5] - w2 * yp[9]);  // R_psi
+  r[3] = (y[11] * w3 - y[10] * w4) * p[2] + p[0] * (-yp[7] - w5);  // R_th
+  r[4] = p[0] * (w0 * w6 - yp[5] * w2 - yp[9]) + w0 * (p[2] * (y[10] * w3 + y[11] * w4));  // R_ph
+  r[5] = w7 * w8 + (w7 * w9 - (w10 * yp[7] + (w10 * w5 + w7 * w6))) + yp[1];  // D f1
+  r[6] = w10 * w9 + w7 * w5 + (yp[7] * w7 - w10 * w6) + w10 * w8 + yp[3];  // D f2
   r[7] = yp[0] - y[1];  // chain x' = x'
   r[8] = yp[2] - y[3];  // chain y' = y'
   r[9] = yp[4] - y[5];  // chain psi' = psi'
@@ -169,28 +167,31 @@ inline void residual(double /*t*/, const double* y, const double* yp, const doub
 inline void jacobian(double /*t*/, const double* y, const double* yp, double cj, const double* p, double* J) noexcept {
   for (int k = 0; k < n_states * n_states; ++k) J[k] = 0.0;
   const double w0 = -(p[1] * cj);
-  const double w1 = std::cos(y[4]) * p[2];
-  const double w2 = w1 * y[10];
-  const double w3 = p[2] * std::sin(y[4]);
-  const double w4 = w3 * y[11];
+  const double w1 = std::cos(y[4]);
+  const double w2 = y[10] * w1;
+  const double w3 = std::sin(y[4]);
+  const double w4 = y[11] * w3;
   const double w5 = std::sin(y[6]);
-  const double w6 = w5 * w1;
-  const double w7 = w5 * w3;
-  const double w8 = w5 * y[9];
-  const double w9 = w1 * y[5];
-  const double w10 = w3 * y[7];
-  const double w11 = std::cos(y[6]);
-  const double w12 = y[9] * w11;
-  const double w13 = w1 * y[7];
-  const double w14 = w3 * y[5];
-  const double w15 = p[0] * cj;
-  const double w16 = -w15;
-  const double w17 = p[0] * w8;
-  const double w18 = p[0] * y[7];
-  const double w19 = w18 * w5 - w11 * w15;
-  const double w20 = p[0] * y[5];
-  const double w21 = w11 * yp[9];
-  const double w22 = w5 * w20;
+  const double w6 = p[2] * w3;
+  const double w7 = std::cos(y[6]);
+  const double w8 = y[9] * w7;
+  const double w9 = w8 * y[7];
+  const double w10 = w1 * p[2];
+  const double w11 = w5 * y[9];
+  const double w12 = w11 * y[5];
+  const double w13 = y[5] * y[7];
+  const double w14 = w5 * yp[9];
+  const double w15 = -(p[0] * cj);
+  const double w16 = p[0] * w11;
+  const double w17 = p[0] * (w5 * y[7] - w7 * cj);
+  const double w18 = p[0] * y[5];
+  const double w19 = y[5] * w3;
+  const double w20 = w7 * w1;
+  const double w21 = w3 * y[7];
+  const double w22 = w5 * w18;
+  const double w23 = cj * w3;
+  const double w24 = w1 * y[5];
+  const double w25 = w1 * cj - w19;
   J[7] = cj;  // (7, 0)
   J[12] = w0;  // (0, 1)
   J[17] = cj;  // (5, 1)
@@ -199,42 +200,42 @@ inline void jacobian(double /*t*/, const double* y, const double* yp, double cj,
   J[37] = w0;  // (1, 3)
   J[42] = cj;  // (6, 3)
   J[44] = -1.0;  // (8, 3)
-  J[51] = -w2 - w4;  // (3, 4)
-  J[52] = y[11] * w6 - y[10] * w7;  // (4, 4)
-  J[53] = -w7 * yp[9] - (w8 * w9 + w10 * w12 + (yp[7] * w1 - w10 * y[5]));  // (5, 4)
-  J[54] = w6 * yp[9] + (w13 * w12 - (w3 * yp[7] + (w8 * w14 + y[5] * w13)));  // (6, 4)
+  J[51] = (-w2 - w4) * p[2];  // (3, 4)
+  J[52] = w5 * ((y[11] * w1 - y[10] * w3) * p[2]);  // (4, 4)
+  J[53] = -(w6 * w9 + w10 * w12 + (yp[7] * w10 - w6 * w13)) - w6 * w14;  // (5, 4)
+  J[54] = w10 * w14 + (w10 * w9 - (w6 * yp[7] + (w6 * w12 + w10 * w13)));  // (6, 4)
   J[57] = cj;  // (9, 4)
-  J[62] = w16;  // (2, 5)
-  J[63] = -w17;  // (3, 5)
-  J[64] = w19;  // (4, 5)
-  J[65] = -w13 - w3 * w8;  // (5, 5)
-  J[66] = w8 * w1 - w10;  // (6, 5)
+  J[62] = w15;  // (2, 5)
+  J[63] = -w16;  // (3, 5)
+  J[64] = w17;  // (4, 5)
+  J[65] = -w10 * y[7] - w6 * w11;  // (5, 5)
+  J[66] = w11 * w10 - w6 * y[7];  // (6, 5)
   J[69] = -1.0;  // (9, 5)
-  J[74] = w18 * w12 + w5 * (p[0] * yp[9]);  // (2, 6)
-  J[75] = -(w20 * w12);  // (3, 6)
-  J[76] = w5 * (p[0] * yp[5]) + w11 * (w20 * y[7]) + w11 * w2 + w11 * w4;  // (4, 6)
-  J[77] = w21 * w1 - w14 * w12 - w8 * w13;  // (5, 6)
-  J[78] = w9 * w12 + w3 * w21 - w8 * w10;  // (6, 6)
+  J[74] = p[0] * (w14 + w9);  // (2, 6)
+  J[75] = -(w18 * w8);  // (3, 6)
+  J[76] = p[0] * w5 * yp[5] + w7 * (p[0] * w13 + p[2] * (w2 + w4));  // (4, 6)
+  J[77] = (y[9] * (-w5 * (w1 * y[7]) - w7 * w19) + w20 * yp[9]) * p[2];  // (5, 6)
+  J[78] = (w7 * yp[9] * w3 + (y[5] * w20 - w5 * w21) * y[9]) * p[2];  // (6, 6)
   J[82] = cj;  // (10, 6)
-  J[86] = w17;  // (2, 7)
-  J[87] = w16;  // (3, 7)
+  J[86] = w16;  // (2, 7)
+  J[87] = w15;  // (3, 7)
   J[88] = w22;  // (4, 7)
-  J[89] = w1 * w12 - w3 * cj - w9;  // (5, 7)
-  J[90] = w3 * w12 + w1 * cj - w14;  // (6, 7)
+  J[89] = w10 * w8 + (-w23 - w24) * p[2];  // (5, 7)
+  J[90] = w6 * w8 + w25 * p[2];  // (6, 7)
   J[94] = -1.0;  // (10, 7)
   J[107] = cj;  // (11, 8)
-  J[110] = w19;  // (2, 9)
+  J[110] = w17;  // (2, 9)
   J[111] = -w22;  // (3, 9)
-  J[112] = w16;  // (4, 9)
-  J[113] = cj * w6 + w11 * w13 - y[5] * w7;  // (5, 9)
-  J[114] = w11 * w10 + y[5] * w6 + cj * w7;  // (6, 9)
+  J[112] = w15;  // (4, 9)
+  J[113] = (w20 * y[7] + w5 * w25) * p[2];  // (5, 9)
+  J[114] = (w21 * w7 + w5 * (w23 + w24)) * p[2];  // (6, 9)
   J[119] = -1.0;  // (11, 9)
   J[120] = 1.0;  // (0, 10)
-  J[123] = -w3;  // (3, 10)
-  J[124] = w6;  // (4, 10)
+  J[123] = -w6;  // (3, 10)
+  J[124] = w5 * w10;  // (4, 10)
   J[133] = 1.0;  // (1, 11)
-  J[135] = w1;  // (3, 11)
-  J[136] = w7;  // (4, 11)
+  J[135] = w10;  // (3, 11)
+  J[136] = w5 * w6;  // (4, 11)
 }
 
 /// Hidden constraints g(t, y) = 0 (derivatives of the equations the index-1 form
@@ -270,16 +271,14 @@ inline void hidden_constraints_jacobian(double /*t*/, const double* y, const dou
 
 /// The scene's invariants I(t, y, y'), in invariant_names order.
 inline void invariants(double /*t*/, const double* y, const double* /*yp*/, const double* p, double* out) noexcept {
-  const double w0 = 0.5 * p[1];
-  const double w1 = y[9] * std::cos(y[6]);
-  const double w2 = p[0] * 0.5;
-  const double w3 = std::cos(y[4]);
-  const double w4 = std::sin(y[6]) * y[9];
-  const double w5 = std::sin(y[4]);
-  out[0] = w0 * (y[3] * y[3]) + y[1] * y[1] * w0 + p[0] * y[5] * w1 + w2 * (y[5] * y[5]) + y[7] * y[7] * w2 + y[9] * y[9] * w2;  // energy
-  out[1] = w3 * y[7] + w4 * w5;  // spin_x
-  out[2] = w5 * y[7] - w4 * w3;  // spin_y
-  out[3] = y[5] + w1;  // spin_z
+  const double w0 = y[9] * std::cos(y[6]);
+  const double w1 = std::cos(y[4]);
+  const double w2 = std::sin(y[6]) * y[9];
+  const double w3 = std::sin(y[4]);
+  out[0] = p[0] * y[5] * w0 + 0.5 * ((y[1] * y[1] + y[3] * y[3]) * p[1] + p[0] * (y[7] * y[7] + y[9] * y[9] + y[5] * y[5]));  // energy
+  out[1] = w1 * y[7] + w2 * w3;  // spin_x
+  out[2] = w3 * y[7] - w2 * w1;  // spin_y
+  out[3] = y[5] + w0;  // spin_z
 }
 
 /// The scene's reference solution q_c(t) for the coordinates reference_coordinate.
@@ -290,11 +289,11 @@ inline void reference(double t, const double* /*p*/, double* q) noexcept {
 
 /// q'(t, q, u): the independent speeds u and the dependent ones from them, n_coordinates.
 inline void velocities(double /*t*/, const double* q, const double* u, const double* p, double* qp) noexcept {
-  const double w0 = std::sin(q[2]) * p[2];
-  const double w1 = u[2] * std::sin(q[3]);
-  const double w2 = std::cos(q[2]) * p[2];
-  qp[0] = w0 * u[1] - w1 * w2;  // x'
-  qp[1] = -u[1] * w2 - w0 * w1;  // y'
+  const double w0 = std::sin(q[2]);
+  const double w1 = std::cos(q[2]);
+  const double w2 = u[2] * std::sin(q[3]);
+  qp[0] = (w0 * u[1] - w1 * w2) * p[2];  // x'
+  qp[1] = (-w0 * w2 - w1 * u[1]) * p[2];  // y'
   qp[2] = u[0];  // psi'
   qp[3] = u[1];  // th'
   qp[4] = u[2];  // ph'
@@ -316,14 +315,10 @@ inline void mass_matrix(double /*t*/, const double* q, const double* /*u*/, cons
 /// f_r(t, q, u) of M_r u' = f_r, n_speeds.
 inline void forcing(double /*t*/, const double* q, const double* u, const double* p, double* f) noexcept {
   const double w0 = std::sin(q[3]);
-  const double w1 = u[2] * w0;
-  const double w2 = p[0] * w1;
-  const double w3 = p[1] * (p[2] * p[2]);
-  const double w4 = w3 * w1;
-  const double w5 = u[0] * u[1] * w0;
-  f[0] = w2 * u[1];  // psi'
-  f[1] = -w2 * u[0] - u[0] * w4;  // th'
-  f[2] = p[0] * w5 + w5 * w3 - std::cos(q[3]) * u[1] * w4;  // ph'
+  const double w1 = p[1] * (p[2] * p[2]);
+  f[0] = p[0] * u[1] * (u[2] * w0);  // psi'
+  f[1] = (-p[0] - w1) * w0 * u[0] * u[2];  // th'
+  f[2] = w0 * (u[1] * ((p[0] + w1) * u[0] - std::cos(q[3]) * u[2] * w1));  // ph'
 }
 
 /// Everything above as the C table of docs/generated-code.md, filled by field name.

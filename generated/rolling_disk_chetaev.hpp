@@ -11,15 +11,15 @@
 //
 // Floating-point operations (+, -, *, /, calls) without and with common-subexpression
 // elimination:
-//   residual                         225     102
-//   jacobian                         565     164
+//   residual                         182     107
+//   jacobian                         480     194
 //   hidden_constraints                 8       8
 //   hidden_constraints_jacobian       13       9
-//   invariants                        80      54
+//   invariants                        54      46
 //   velocities                         6       5
 //   mass_matrix                       27      10
-//   forcing                           47      28
-//   total                            971     380
+//   forcing                           35      29
+//   total                            805     408
 
 #pragma once
 
@@ -151,22 +151,18 @@ inline void residual(double /*t*/, const double* y, const double* yp, const doub
   const double w12 = w11 * 2.0;
   const double w13 = w3 * w9;
   const double w14 = w8 * w4;
-  const double w15 = p[1] * (p[2] * p[2]);
-  const double w16 = 1.25 * w15;
-  const double w17 = 0.5 * w15;
-  const double w18 = w1 * w17;
-  const double w19 = w7 * w17;
-  const double w20 = w1 * w7;
-  const double w21 = y[9] * y[5];
-  const double w22 = w9 * p[2];
-  const double w23 = p[2] * w4;
+  const double w15 = w7 * w11;
+  const double w16 = p[2] * p[2];
+  const double w17 = y[9] * y[5];
+  const double w18 = p[2] * w4;
+  const double w19 = w9 * p[2];
   r[0] = y[10] + (w0 * w5 + (w6 * w5 - (w10 * w12 + (yp[5] * w13 + yp[7] * w14)))) - p[1] * yp[1];  // R_x
   r[1] = y[11] - (w0 * w13 + w13 * w6 + yp[5] * w5 + w12 * w14 - w10 * yp[7]) - yp[3] * p[1];  // R_y
-  r[2] = yp[5] * (w7 * w7) * w16 - w18 * yp[9] - 1.5 * w15 * yp[5] - yp[3] * w5 - w13 * yp[1] - w19 * (y[9] * y[7]) - 2.5 * w15 * w20 * w11;  // R_psi
-  r[3] = w10 * yp[3] + w6 * w16 * w20 + w19 * w21 + p[0] * w3 - w14 * yp[1] - yp[7] * w16;  // R_phi
-  r[4] = -w19 * w11 - w22 * y[10] - yp[9] * w17 - yp[5] * w18 - w23 * y[11];  // R_ph
-  r[5] = w23 * w21 - w22 * yp[9] + yp[1];  // D f1
-  r[6] = yp[3] - (w22 * w21 + w23 * yp[9]);  // D f2
+  r[2] = (w1 * ((-w9 * yp[1] - yp[3] * w4) * p[2]) + (yp[5] * (w7 * w7 * 1.25 - 1.5) + w1 * (-0.5 * yp[9] - 2.5 * w15) - 0.5 * y[9] * (w7 * y[7])) * w16) * p[1];  // R_psi
+  r[3] = p[1] * (w7 * ((w1 * 1.25 * w6 + 0.5 * w17) * w16 + (yp[3] * w9 - w4 * yp[1]) * p[2]) + w1 * (p[0] * p[2]) - yp[7] * 1.25 * w16);  // R_phi
+  r[4] = 0.5 * ((-w15 - w1 * yp[5] - yp[9]) * w16 * p[1]) + (-y[10] * w9 - y[11] * w4) * p[2];  // R_ph
+  r[5] = w18 * w17 - w19 * yp[9] + yp[1];  // D f1
+  r[6] = yp[3] - (w19 * w17 + w18 * yp[9]);  // D f2
   r[7] = yp[0] - y[1];  // chain x' = x'
   r[8] = yp[2] - y[3];  // chain y' = y'
   r[9] = yp[4] - y[5];  // chain psi' = psi'
@@ -200,26 +196,25 @@ inline void jacobian(double /*t*/, const double* y, const double* yp, double cj,
   const double w20 = w12 * yp[1] - yp[3] * w5;
   const double w21 = w14 * yp[1];
   const double w22 = yp[3] * w10;
-  const double w23 = p[2] * w9;
-  const double w24 = w4 * p[2];
-  const double w25 = y[9] * y[5];
-  const double w26 = y[5] * 2.0;
-  const double w27 = 2.0 * y[7];
-  const double w28 = p[1] * (p[2] * p[2]);
-  const double w29 = w7 * w7;
-  const double w30 = 2.5 * w28;
-  const double w31 = w30 * (w1 * w7);
-  const double w32 = 0.5 * w28;
-  const double w33 = w7 * w32;
+  const double w23 = w4 * p[2];
+  const double w24 = y[9] * y[5];
+  const double w25 = p[2] * w9;
+  const double w26 = w1 * y[5];
+  const double w27 = w7 * y[7];
+  const double w28 = w7 * w7;
+  const double w29 = p[2] * p[2];
+  const double w30 = p[1] * w29;
+  const double w31 = 2.5 * w30;
+  const double w32 = w26 * w31 * w7;
+  const double w33 = 0.5 * w30;
   const double w34 = y[9] * w33;
-  const double w35 = w31 * y[5];
-  const double w36 = w1 * w32;
-  const double w37 = -w36 * cj - w33 * y[7];
-  const double w38 = w1 * w1;
-  const double w39 = w30 * w18;
-  const double w40 = 1.25 * w28;
-  const double w41 = w17 * w40;
-  const double w42 = w33 * y[5];
+  const double w35 = w7 * w34;
+  const double w36 = 0.5 * ((-w1 * cj - w27) * w29 * p[1]);
+  const double w37 = w1 * w1;
+  const double w38 = yp[5] * w7;
+  const double w39 = w1 * y[7];
+  const double w40 = w7 * y[5];
+  const double w41 = w40 * w33;
   J[7] = cj;  // (7, 0)
   J[12] = w0;  // (0, 1)
   J[14] = -w6;  // (2, 1)
@@ -236,41 +231,41 @@ inline void jacobian(double /*t*/, const double* y, const double* yp, double cj,
   J[49] = w16 * w12 + (w17 * w12 - (w14 * w19 + (yp[5] * w5 + yp[7] * w10)));  // (1, 4)
   J[50] = w20;  // (2, 4)
   J[51] = -w21 - w22;  // (3, 4)
-  J[52] = w23 * y[10] - y[11] * w24;  // (4, 4)
-  J[53] = w24 * w25 + w23 * yp[9];  // (5, 4)
-  J[54] = w23 * w25 - w24 * yp[9];  // (6, 4)
+  J[52] = (y[10] * w9 - y[11] * w4) * p[2];  // (4, 4)
+  J[53] = w23 * w24 + w25 * yp[9];  // (5, 4)
+  J[54] = w25 * w24 - w23 * yp[9];  // (6, 4)
   J[57] = cj;  // (9, 4)
-  J[60] = w26 * w12 - w14 * w27 - w6;  // (0, 5)
-  J[61] = -w10 * w27 - w26 * w5 - w13;  // (1, 5)
-  J[62] = -0.25 * (6.0 * w28 - w29 * 5.0 * w28) * cj - w31 * y[7];  // (2, 5)
-  J[63] = w34 + w35;  // (3, 5)
-  J[64] = w37;  // (4, 5)
-  J[65] = w23 * y[9];  // (5, 5)
-  J[66] = -(w24 * y[9]);  // (6, 5)
+  J[60] = p[1] * (2.0 * ((w26 * w9 - w27 * w4) * p[2])) - w6;  // (0, 5)
+  J[61] = p[1] * (2.0 * (p[2] * (-w27 * w9 - w26 * w4))) - w13;  // (1, 5)
+  J[62] = -(6.0 - w28 * 5.0) * w29 * p[1] * 0.25 * cj - w1 * w31 * w27;  // (2, 5)
+  J[63] = w32 + w35;  // (3, 5)
+  J[64] = w36;  // (4, 5)
+  J[65] = w25 * y[9];  // (5, 5)
+  J[66] = -(w23 * y[9]);  // (6, 5)
   J[69] = -1.0;  // (9, 5)
-  J[72] = w16 * w10 + w19 * w5 + w17 * w10 + yp[7] * w12 - yp[5] * w14;  // (0, 6)
-  J[73] = w19 * w12 - w14 * w16 - yp[7] * w5 - yp[5] * w10 - w14 * w17;  // (1, 6)
-  J[74] = w38 * w39 + w36 * (y[9] * y[7]) - w29 * w39 - w21 - w33 * yp[9] - yp[5] * w31 - w22;  // (2, 6)
-  J[75] = w20 + p[0] * w8 + w29 * w41 - w38 * w41 - w36 * w25;  // (3, 6)
-  J[76] = w36 * w18 - yp[5] * w33;  // (4, 6)
+  J[72] = p[1] * ((((w16 + w17) * w9 - yp[5] * w4) * w7 + w1 * (yp[7] * w9 + w19 * w4)) * p[2]);  // (0, 6)
+  J[73] = (w1 * (w19 * w9 - yp[7] * w4) + w7 * ((-w16 - w17) * w4 - yp[5] * w9)) * p[2] * p[1];  // (1, 6)
+  J[74] = p[1] * ((2.5 * (y[5] * ((w37 - w28) * y[7]) - w1 * w38) + 0.5 * (y[9] * w39 - w7 * yp[9])) * w29) - w21 - w22;  // (2, 6)
+  J[75] = w20 + (w28 - w37) * w29 * w17 * p[1] * 1.25 + p[0] * w8 - w26 * w34;  // (3, 6)
+  J[76] = 0.5 * (p[1] * ((w1 * w18 - w38) * w29));  // (4, 6)
   J[82] = cj;  // (10, 6)
-  J[84] = w27 * w12 - w14 * w26 - w11;  // (0, 7)
-  J[85] = w15 - w26 * w10 - w5 * w27;  // (1, 7)
-  J[86] = -w34 - w35;  // (2, 7)
-  J[87] = -(cj * w40);  // (3, 7)
-  J[88] = -w42;  // (4, 7)
+  J[84] = p[1] * ((w39 * w9 - w4 * w40) * p[2] * 2.0) - w11;  // (0, 7)
+  J[85] = w15 + 2.0 * ((-w40 * w9 - w39 * w4) * p[2]) * p[1];  // (1, 7)
+  J[86] = -w32 - w35;  // (2, 7)
+  J[87] = -(cj * (1.25 * w30));  // (3, 7)
+  J[88] = -w41;  // (4, 7)
   J[94] = -1.0;  // (10, 7)
   J[107] = cj;  // (11, 8)
-  J[110] = w37;  // (2, 9)
-  J[111] = w42;  // (3, 9)
-  J[112] = -(cj * w32);  // (4, 9)
-  J[113] = w23 * y[5] - w24 * cj;  // (5, 9)
-  J[114] = -w23 * cj - w24 * y[5];  // (6, 9)
+  J[110] = w36;  // (2, 9)
+  J[111] = w41;  // (3, 9)
+  J[112] = -(cj * w33);  // (4, 9)
+  J[113] = (y[5] * w9 - w4 * cj) * p[2];  // (5, 9)
+  J[114] = (-cj * w9 - w4 * y[5]) * p[2];  // (6, 9)
   J[119] = -1.0;  // (11, 9)
   J[120] = 1.0;  // (0, 10)
-  J[124] = -w24;  // (4, 10)
+  J[124] = -w23;  // (4, 10)
   J[133] = 1.0;  // (1, 11)
-  J[136] = -w23;  // (4, 11)
+  J[136] = -w25;  // (4, 11)
 }
 
 /// Hidden constraints g(t, y) = 0 (derivatives of the equations the index-1 form
@@ -296,17 +291,13 @@ inline void hidden_constraints_jacobian(double /*t*/, const double* y, const dou
 
 /// The scene's invariants I(t, y, y'), in invariant_names order.
 inline void invariants(double /*t*/, const double* y, const double* /*yp*/, const double* p, double* out) noexcept {
-  const double w0 = std::sin(y[6]);
-  const double w1 = p[1] * p[2];
-  const double w2 = w0 * w1;
-  const double w3 = std::cos(y[4]);
-  const double w4 = std::sin(y[4]);
-  const double w5 = 0.5 * p[1];
-  const double w6 = p[1] * (p[2] * p[2]);
-  const double w7 = std::cos(y[6]);
-  const double w8 = w7 * w1;
-  const double w9 = w6 * (y[5] * y[5]);
-  out[0] = w2 * w3 * y[1] * y[5] + y[3] * y[5] * (w2 * w4) + w5 * (y[3] * y[3]) + y[1] * y[1] * w5 + w0 * (0.5 * w6) * (y[9] * y[5]) + y[1] * (w8 * w4) * y[7] + 0.25 * (y[9] * y[9]) * w6 + 0.625 * (y[7] * y[7]) * w6 + 0.75 * w9 - 0.625 * (w7 * w7) * w9 - y[3] * (w8 * w3) * y[7] + p[0] * w8;  // energy
+  const double w0 = std::cos(y[6]);
+  const double w1 = std::sin(y[4]);
+  const double w2 = std::cos(y[4]);
+  const double w3 = std::sin(y[6]);
+  const double w4 = y[5] * y[5];
+  const double w5 = p[2] * p[2];
+  out[0] = p[1] * ((w0 * ((y[1] * w1 - y[3] * w2) * y[7]) + w3 * ((w2 * y[1] + y[3] * w1) * y[5])) * p[2] + 0.5 * (y[1] * y[1] + y[3] * y[3]) + (0.75 * w4 + 0.625 * (y[7] * y[7] - w0 * w0 * w4) + 0.25 * (y[9] * y[9])) * w5) + w3 * y[5] * (y[9] * (0.5 * (p[1] * w5))) + p[0] * (w0 * (p[1] * p[2]));  // energy
   out[1] = y[6];  // lean
   out[2] = y[5];  // yaw_rate
   out[3] = y[9];  // spin_rate
@@ -339,14 +330,12 @@ inline void mass_matrix(double /*t*/, const double* q, const double* /*u*/, cons
 
 /// f_r(t, q, u) of M_r u' = f_r, n_speeds.
 inline void forcing(double /*t*/, const double* q, const double* u, const double* p, double* f) noexcept {
-  const double w0 = p[1] * (p[2] * p[2]);
-  const double w1 = std::cos(q[3]);
-  const double w2 = w1 * u[0];
-  const double w3 = 2.5 * w0 * u[1] * w2;
-  const double w4 = std::sin(q[3]);
-  f[0] = -w3 * w4 - w1 * u[2] * u[1] * (0.5 * w0);  // psi'
-  f[1] = u[0] * u[0] * w1 * w4 * (1.25 * w0) + 1.5 * w0 * w2 * u[2] + p[0] * w4 * (p[1] * p[2]);  // phi'
-  f[2] = -w3;  // ph'
+  const double w0 = std::cos(q[3]);
+  const double w1 = std::sin(q[3]);
+  const double w2 = p[2] * p[2];
+  f[0] = w0 * (p[1] * ((-0.5 * u[2] - 2.5 * u[0] * w1) * w2 * u[1]));  // psi'
+  f[1] = (w0 * ((1.5 * u[2] * u[0] + u[0] * u[0] * 1.25 * w1) * w2) + w1 * (p[0] * p[2])) * p[1];  // phi'
+  f[2] = -(2.5 * (p[1] * w2) * w0 * u[0] * u[1]);  // ph'
 }
 
 /// Everything above as the C table of docs/generated-code.md, filled by field name.

@@ -15,7 +15,10 @@
 //   hidden_constraints                 2       2
 //   hidden_constraints_jacobian        1       1
 //   invariants                         8       8
-//   total                             33      33
+//   velocities                         1       1
+//   mass_matrix                        3       3
+//   forcing                            0       0
+//   total                             37      37
 
 #pragma once
 
@@ -29,7 +32,8 @@
  * "Runtime additions" of docs/generated-code.md; read them only when abi_version >= 2.
  * abi_version 3 appends the "Sensitivity additions"; read them only when abi_version >= 3.
  * abi_version 4 appends the "Input additions"; read them only when abi_version >= 4.
- * abi_version 5 appends the "Variational additions"; read them only when abi_version >= 5. */
+ * abi_version 5 appends the "Variational additions"; read them only when abi_version >= 5.
+ * abi_version 6 appends the "Reduced-form additions"; read them only when abi_version >= 6. */
 #ifndef NHC_MODEL_TABLE_DEFINED
 #define NHC_MODEL_TABLE_DEFINED
 
@@ -81,6 +85,14 @@ struct nhc_model_table {
   void (*variational_jacobian)(double, double, double, const double*, const double*, const double*, const double*,
                                const double*, double*);
   void (*variational_momentum)(double, double, const double*, const double*, const double*, double*);
+  /* abi_version >= 6 (Reduced-form additions; n_speeds = 0 and null functions where the model has
+   * no multiplier-free form): M_r(t, q, u) u' = f_r(t, q, u) on the independent speeds
+   * u = q'[speed_coordinate[k]] (docs/reduced-form.md); each function reads (t, q, u, p) */
+  int n_speeds;
+  const int* speed_coordinate;
+  void (*velocities)(double, const double*, const double*, const double*, double*);
+  void (*mass_matrix)(double, const double*, const double*, const double*, double*);
+  void (*forcing)(double, const double*, const double*, const double*, double*);
 };
 
 #ifdef __cplusplus
@@ -101,6 +113,8 @@ inline constexpr int n_reference = 0;
 inline constexpr int n_singular = 0;
 /// p holds n_parameters parameters, then n_inputs inputs.
 inline constexpr int n_inputs = 0;
+/// The independent speeds u of M_r u' = f_r (0: no multiplier-free form).
+inline constexpr int n_speeds = 1;
 inline constexpr const char* model_name = "chetaev";
 inline constexpr const char* scene_name = "sliding_cylinder";
 
@@ -116,11 +130,13 @@ inline constexpr const char* parameter_names[n_parameters] = {"m", "r"};
 inline constexpr double default_parameters[n_parameters] = {2.0, 0.29999999999999999};
 inline constexpr const char* hidden_names[n_hidden] = {"f1"};
 inline constexpr const char* invariant_names[n_invariants] = {"energy"};
+/// u[k] = q'[speed_coordinate[k]].
+inline constexpr int speed_coordinate[n_speeds] = {1};
 
 /// F(t, y, y') = 0, IDA form; r has n_states entries.
 inline void residual(double /*t*/, const double* y, const double* yp, const double* p, double* r) noexcept {
   r[0] = y[4] - p[0] * yp[1];  // R_x
-  r[1] = -p[1] * y[4] - yp[3] * (p[0] * (p[1] * p[1] * 0.5));  // R_th
+  r[1] = -p[1] * y[4] - yp[3] * (0.5 * (p[0] * (p[1] * p[1])));  // R_th
   r[2] = yp[1] - yp[3] * p[1];  // D f1
   r[3] = yp[0] - y[1];  // chain x' = x'
   r[4] = yp[2] - y[3];  // chain th' = th'
@@ -134,7 +150,7 @@ inline void jacobian(double /*t*/, const double* /*y*/, const double* /*yp*/, do
   J[7] = cj;  // (2, 1)
   J[8] = -1.0;  // (3, 1)
   J[14] = cj;  // (4, 2)
-  J[16] = -(cj * (p[0] * (p[1] * p[1] * 0.5)));  // (1, 3)
+  J[16] = -(cj * (0.5 * (p[0] * (p[1] * p[1]))));  // (1, 3)
   J[17] = -(p[1] * cj);  // (2, 3)
   J[19] = -1.0;  // (4, 3)
   J[20] = 1.0;  // (0, 4)
@@ -160,10 +176,27 @@ inline void invariants(double /*t*/, const double* y, const double* /*yp*/, cons
   out[0] = p[0] * (0.5 * (y[1] * y[1]) + p[1] * p[1] * 0.25 * (y[3] * y[3]));  // energy
 }
 
+/// q'(t, q, u): the independent speeds u and the dependent ones from them, n_coordinates.
+inline void velocities(double /*t*/, const double* /*q*/, const double* u, const double* p, double* qp) noexcept {
+  qp[0] = u[0] * p[1];  // x'
+  qp[1] = u[0];  // th'
+}
+
+/// M_r(t, q, u) of M_r u' = f_r, column-major n_speeds x n_speeds.
+inline void mass_matrix(double /*t*/, const double* /*q*/, const double* /*u*/, const double* p, double* M) noexcept {
+  for (int k = 0; k < 1; ++k) M[k] = 0.0;
+  M[0] = 1.5 * (p[0] * (p[1] * p[1]));  // (0, 0)
+}
+
+/// f_r(t, q, u) of M_r u' = f_r, n_speeds.
+inline void forcing(double /*t*/, const double* /*q*/, const double* /*u*/, const double* /*p*/, double* f) noexcept {
+  f[0] = 0.0;  // th'
+}
+
 /// Everything above as the C table of docs/generated-code.md, filled by field name.
 inline nhc_model_table make_model_table() noexcept {
   nhc_model_table t{};
-  t.abi_version = 5;
+  t.abi_version = 6;
   t.scene_name = scene_name;
   t.model_name = model_name;
   t.n_states = n_states;
@@ -184,11 +217,16 @@ inline nhc_model_table make_model_table() noexcept {
   t.residual_names = residual_names;
   t.n_singular = n_singular;
   t.n_inputs = n_inputs;
+  t.n_speeds = n_speeds;
+  t.speed_coordinate = speed_coordinate;
   t.residual = &residual;
   t.jacobian = &jacobian;
   t.hidden_constraints = &hidden_constraints;
   t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
   t.invariants = &invariants;
+  t.velocities = &velocities;
+  t.mass_matrix = &mass_matrix;
+  t.forcing = &forcing;
   return t;
 }
 

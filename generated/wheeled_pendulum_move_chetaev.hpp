@@ -10,15 +10,15 @@
 //
 // Floating-point operations (+, -, *, /, calls) without and with common-subexpression
 // elimination:
-//   residual                          40      33
-//   jacobian                          45      28
+//   residual                          34      32
+//   jacobian                          41      32
 //   hidden_constraints                 2       2
 //   hidden_constraints_jacobian        1       1
 //   default_inputs                     0       0
 //   velocities                         1       1
 //   mass_matrix                       15      11
 //   forcing                           12      10
-//   total                            116      86
+//   total                            106      89
 
 #pragma once
 
@@ -135,12 +135,11 @@ inline constexpr int speed_coordinate[n_speeds] = {1, 2};
 
 /// F(t, y, y') = 0, IDA form; r has n_states entries.
 inline void residual(double /*t*/, const double* y, const double* yp, const double* p, double* r) noexcept {
-  const double w0 = p[4] * p[3];
-  const double w1 = w0 * std::sin(y[4]);
-  const double w2 = std::cos(y[4]) * w0;
-  r[0] = w1 * (y[5] * y[5]) + y[6] - p[5] * yp[1] - yp[5] * w2 - p[4] * yp[1];  // R_x
+  const double w0 = std::sin(y[4]);
+  const double w1 = std::cos(y[4]);
+  r[0] = y[6] + p[4] * ((y[5] * y[5] * w0 - yp[5] * w1) * p[3] - yp[1]) - p[5] * yp[1];  // R_x
   r[1] = p[7] - p[6] * y[6] - yp[3] * p[1];  // R_phi
-  r[2] = w1 * p[2] - yp[5] * (p[4] * (p[3] * p[3])) - w2 * yp[1] - p[7] - p[0] * yp[5];  // R_theta
+  r[2] = p[4] * ((p[2] * w0 - w1 * yp[1]) * p[3] - yp[5] * (p[3] * p[3])) - p[7] - p[0] * yp[5];  // R_theta
   r[3] = yp[1] - p[6] * yp[3];  // D f1
   r[4] = yp[0] - y[1];  // chain x' = x'
   r[5] = yp[2] - y[3];  // chain phi' = phi'
@@ -150,10 +149,10 @@ inline void residual(double /*t*/, const double* y, const double* yp, const doub
 /// J = dF/dy + cj dF/dy', column-major n_states x n_states.
 inline void jacobian(double /*t*/, const double* y, const double* yp, double cj, const double* p, double* J) noexcept {
   for (int k = 0; k < n_states * n_states; ++k) J[k] = 0.0;
-  const double w0 = p[4] * p[3];
-  const double w1 = std::cos(y[4]) * w0;
-  const double w2 = w1 * cj;
-  const double w3 = w0 * std::sin(y[4]);
+  const double w0 = std::cos(y[4]);
+  const double w1 = p[4] * p[3];
+  const double w2 = w0 * w1 * cj;
+  const double w3 = std::sin(y[4]);
   J[4] = cj;  // (4, 0)
   J[7] = (-p[4] - p[5]) * cj;  // (0, 1)
   J[9] = -w2;  // (2, 1)
@@ -163,10 +162,10 @@ inline void jacobian(double /*t*/, const double* y, const double* yp, double cj,
   J[22] = -(p[1] * cj);  // (1, 3)
   J[24] = -(p[6] * cj);  // (3, 3)
   J[26] = -1.0;  // (5, 3)
-  J[28] = yp[5] * w3 + w1 * (y[5] * y[5]);  // (0, 4)
-  J[30] = w3 * yp[1] + w1 * p[2];  // (2, 4)
+  J[28] = (yp[5] * w3 + w0 * (y[5] * y[5])) * p[3] * p[4];  // (0, 4)
+  J[30] = p[4] * ((w0 * p[2] + w3 * yp[1]) * p[3]);  // (2, 4)
   J[34] = cj;  // (6, 4)
-  J[35] = w3 * y[5] * 2.0 - w2;  // (0, 5)
+  J[35] = w1 * y[5] * 2.0 * w3 - w2;  // (0, 5)
   J[37] = (-p[0] - p[4] * (p[3] * p[3])) * cj;  // (2, 5)
   J[41] = -1.0;  // (6, 5)
   J[42] = 1.0;  // (0, 6)
