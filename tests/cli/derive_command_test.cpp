@@ -507,6 +507,25 @@ TEST_CASE("LaTeX reads like a textbook: d/dt of partials, like terms gathered, e
   CHECK(math.out.find("&\\text{Model }\\mathtt{chetaev}") != std::string::npos);
 }
 
+TEST_CASE("constraints of order two or more have no multiplier-free form, said in words",
+          "[cli][reduced][issue47]") {
+  // docs/reduced-form.md, "Constraints of higher order": a second-order constraint leaves every
+  // speed a state; a third-order one makes the accelerations states.
+  const std::string dir = scratch_dir("reduced_higher_order");
+  const std::string scene = dir + "/second.toml";
+  std::ofstream(scene) << "name = \"second\"\ncoordinates = [\"x\", \"y\"]\n"
+                          "lagrangian = \"1/2*(x'^2 + y'^2) - 1/2*(x^2 + y^2)\"\n"
+                          "constraints = [\"x'' + c*y''\"]\nmodels = [\"chetaev\"]\n[parameters]\nc = 0.5\n";
+  const Run second = run(nhc_command() + " derive '" + scene + "' --form reduced", dir);
+  REQUIRE(second.exit_code == 0);
+  CHECK(second.out.find("not available: constraint f1 is of order 2: it leaves every speed a state") !=
+        std::string::npos);
+  const Run third = run(nhc_command() + " derive '" + example("third_order") + "' --form reduced", dir);
+  REQUIRE(third.exit_code == 0);
+  CHECK(third.out.find("not available: constraint f1 is of order 3: its multiplier is fixed only by the "
+                       "derivatives of the second-order equations") != std::string::npos);
+}
+
 TEST_CASE("every example's LaTeX document compiles with pdflatex", "[cli][latex][issue47]") {
   REQUIRE(std::system("command -v pdflatex >/dev/null 2>&1") == 0);  // scripts/setup.sh installs it
   std::vector<std::string> scenes;

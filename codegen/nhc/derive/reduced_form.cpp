@@ -114,9 +114,16 @@ ReducedForm reduce_to_independent_speeds(const Scene& scene, const DerivedModel&
     if (model.kind == ModelKind::holder && m != 1)
       return refuse("constraint " + fa + " is of order " + std::to_string(m) +
                     "; the holder model's multiplier-free form takes constraints on velocities only");
-    if (m > 1)
-      return refuse("constraint " + fa + " is of order " + std::to_string(m) +
-                    " (the multiplier-free form takes constraints on positions and velocities)");
+    // docs/reduced-form.md, "Constraints of higher order": why these are refused.
+    if (m == 2)
+      return refuse("constraint " + fa + " is of order 2: it leaves every speed a state, so its multiplier-free "
+                    "form would be on independent accelerations, not speeds, which nhc does not build (the "
+                    "multiplier-free form takes constraints on positions and velocities)");
+    if (m > 2)
+      return refuse("constraint " + fa + " is of order " + std::to_string(m) + ": its multiplier is fixed only by the "
+                    "derivatives of the second-order equations, so the accelerations are part of the state "
+                    "and the equations are not of the form M_r u' = f_r on speeds (the multiplier-free form "
+                    "takes constraints on positions and velocities)");
     if (m < 0) return refuse("constraint " + fa + " names no coordinate");
     velocity[static_cast<std::size_t>(a)] = m == 0 ? jet.total_derivative(f) : f;
   }
