@@ -493,11 +493,18 @@ TEST_CASE("LaTeX reads like a textbook: d/dt of partials, like terms gathered, e
   CHECK(json.out.find("\"equation_names\": [\n        \"R_x\",\n        \"R_psi\",\n        \"R_q1\"") != std::string::npos);
 
   // The bicycle's time derivatives of partial derivatives: d/dt before the fraction, never a dot over it.
-  const Run bicycle = run(nhc_command() + " derive '" + example("whipple/whipple_bicycle") + "' --format latex", dir);
+  const Run bicycle =
+      run(nhc_command() + " derive '" + example("whipple/whipple_bicycle") + "' --form reduced --format latex", dir);
   REQUIRE(bicycle.exit_code == 0);
   CHECK(bicycle.out.find("\\frac{d}{dt}\\frac{\\partial ") != std::string::npos);
   CHECK(bicycle.out.find("\\dot{\\partial") == std::string::npos);
   CHECK(bicycle.out.find("\\dot{\\frac") == std::string::npos);
+  // Multi-letter names of definitions and of coordinates in subscripts upright, like the
+  // coordinates: \mathrm{mB}\,\mathrm{vB}_{1}, not mB vB_{1} (v times B_1); C_{\psi,\mathrm{thf}}.
+  CHECK(bicycle.out.find("\\mathrm{mB}\\,\\mathrm{vB}_{1}") != std::string::npos);
+  CHECK(bicycle.out.find("vB_{") == std::string::npos);
+  CHECK(bicycle.out.find("C_{\\psi,\\mathrm{thf}}") != std::string::npos);
+  CHECK(bicycle.out.find(",thf}") == std::string::npos);
 
   // The math-only form has no document structure (MathJax renders math, not \section).
   const Run math = run(nhc_command() + " derive '" + scene + "' --format latex-math", dir);

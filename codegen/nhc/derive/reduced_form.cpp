@@ -253,6 +253,8 @@ ReducedForm reduce_to_independent_speeds(const Scene& scene, const DerivedModel&
     return refuse(message);
   }
 
+  // Subscripts name coordinates as the equations print them (C_{x,\psi}, not C_{x,psi}).
+  auto tex = [](const std::string& coordinate) { return jet_symbol_latex(coordinate, VariableKind::coordinate, 0); };
   const auto ni = static_cast<unsigned>(out.independent.size());
   const auto ng = static_cast<unsigned>(g);
   // A_D [X y w_D] = −[A_I b h], A_D's entries named where large.
@@ -261,12 +263,12 @@ ReducedForm reduce_to_independent_speeds(const Scene& scene, const DerivedModel&
     for (unsigned k = 0; k < ng; ++k) {
       const std::string& d = names[static_cast<std::size_t>(out.dependent[k])];
       AD(a, k) = named(A(a, static_cast<unsigned>(out.dependent[k])), "A_" + std::to_string(a + 1) + "_" + d,
-                       "A_{" + std::to_string(a + 1) + "," + d + "}");
+                       "A_{" + std::to_string(a + 1) + "," + tex(d) + "}");
     }
     for (unsigned k = 0; k < ni; ++k) {
       const std::string& i = names[static_cast<std::size_t>(out.independent[k])];
       rhs(a, k) = -named(A(a, static_cast<unsigned>(out.independent[k])), "A_" + std::to_string(a + 1) + "_" + i,
-                         "A_{" + std::to_string(a + 1) + "," + i + "}");
+                         "A_{" + std::to_string(a + 1) + "," + tex(i) + "}");
     }
     rhs(a, ni) = -b[a];
     rhs(a, ni + 1) = -named(h[a], "h_" + std::to_string(a + 1), "h_{" + std::to_string(a + 1) + "}");
@@ -287,12 +289,12 @@ ReducedForm reduce_to_independent_speeds(const Scene& scene, const DerivedModel&
     ex speed = 0;
     for (unsigned k = 0; k < ni; ++k) {
       const std::string& in = names[static_cast<std::size_t>(out.independent[k])];
-      C[static_cast<std::size_t>(d)][k] = named(XY(r, k), "C_" + dn + "_" + in, "C_{" + dn + "," + in + "}");
+      C[static_cast<std::size_t>(d)][k] = named(XY(r, k), "C_" + dn + "_" + in, "C_{" + tex(dn) + "," + tex(in) + "}");
       speed += C[static_cast<std::size_t>(d)][k] * jet.q(out.independent[k], 1);
     }
     speed += XY(r, ni);
     out.dependent_speeds.push_back(simplified_where_it_pays(speed));
-    w[static_cast<std::size_t>(d)] = named(XY(r, ni + 1), "w_" + dn, "w_{" + dn + "}");
+    w[static_cast<std::size_t>(d)] = named(XY(r, ni + 1), "w_" + dn, "w_{" + tex(dn) + "}");
   }
 
   // M_r = −C^T K C, f_r = C^T (R0 + K (w − q'')).

@@ -4,6 +4,7 @@
 #include <cctype>
 
 #include "nhc/jet/intermediate.hpp"
+#include "nhc/jet/jet_space.hpp"
 #include "nhc/jet/work_budget.hpp"
 
 namespace nhc {
@@ -47,7 +48,10 @@ Value DefinitionTable::named(const std::string& name, Value value) {
       if (value.rows > 1) suffix += std::to_string(i + 1);
       if (value.cols > 1) suffix += std::to_string(j + 1);
       const std::string full = suffix.empty() ? name : name + "_" + suffix;
-      entry = Intermediate(full, suffix.empty() ? name : name + "_{" + suffix + "}", entry);
+      // Named in LaTeX as the coordinates are (multi-letter names upright: \mathrm{vB}_{1}, not
+      // vB_{1}, which reads as v times B_1).
+      const std::string tex = jet_symbol_latex(name, VariableKind::coordinate, 0);
+      entry = Intermediate(full, suffix.empty() ? tex : tex + "_{" + suffix + "}", entry);
     }
   return value;
 }
