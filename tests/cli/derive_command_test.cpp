@@ -514,6 +514,23 @@ TEST_CASE("LaTeX reads like a textbook: d/dt of partials, like terms gathered, e
   CHECK(math.out.find("&\\text{Model }\\mathtt{chetaev}") != std::string::npos);
 }
 
+TEST_CASE("the reduced form's forcing reads without accelerations", "[cli][reduced][issue47]") {
+  // f_r = C^T (r + K w) holds no q'' (docs/reduced-form.md): written as C^T (R + K (w - q'')) the
+  // sleigh's f_r[x'] carried m (h_1/cos th + y'') - m y'', like terms apart.
+  const std::string dir = scratch_dir("reduced_forcing");
+  const Run r = run(nhc_command() + " derive '" + example("chaplygin_sleigh") + "' --model chetaev --form reduced", dir);
+  REQUIRE(r.exit_code == 0);
+  std::istringstream lines(r.out);
+  int forcing_rows = 0;
+  for (std::string line; std::getline(lines, line);)
+    if (line.find("f_r[") != std::string::npos) {
+      INFO(line);
+      CHECK(line.find("_d2") == std::string::npos);
+      ++forcing_rows;
+    }
+  CHECK(forcing_rows == 2);
+}
+
 TEST_CASE("constraints of order two or more have no multiplier-free form, said in words",
           "[cli][reduced][issue47]") {
   // docs/reduced-form.md, "Constraints of higher order": a second-order constraint leaves every

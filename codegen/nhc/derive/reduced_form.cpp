@@ -298,12 +298,20 @@ ReducedForm reduce_to_independent_speeds(const Scene& scene, const DerivedModel&
   }
 
   // M_r = −C^T K C, f_r = C^T (R0 + K (w − q'')).
-  std::vector<ex> residual(static_cast<std::size_t>(n));  // R0 + K (w − q''): r + K w
+  // r = R0 − K q'' first: R0's terms in q'' are those K q'' gives back, so they cancel as the sum
+  // is formed and f_r reads without accelerations (not m (w_y + y'') − m y'').
+  std::vector<ex> r(static_cast<std::size_t>(n));
   for (int j = 0; j < n; ++j) {
     ex e = R0[static_cast<std::size_t>(j)];
+    for (int k = 0; k < n; ++k) e -= K(static_cast<unsigned>(j), static_cast<unsigned>(k)) * jet.q(k, 2);
+    r[static_cast<std::size_t>(j)] = e;
+  }
+  std::vector<ex> residual(static_cast<std::size_t>(n));  // r + K w
+  for (int j = 0; j < n; ++j) {
+    ex e = r[static_cast<std::size_t>(j)];
     for (int k = 0; k < n; ++k) {
       const ex& Kjk = K(static_cast<unsigned>(j), static_cast<unsigned>(k));
-      if (!Kjk.is_zero()) e += Kjk * (w[static_cast<std::size_t>(k)] - jet.q(k, 2));
+      if (!Kjk.is_zero() && !w[static_cast<std::size_t>(k)].is_zero()) e += Kjk * w[static_cast<std::size_t>(k)];
     }
     residual[static_cast<std::size_t>(j)] = e;
   }
@@ -328,24 +336,25 @@ ReducedForm reduce_to_independent_speeds(const Scene& scene, const DerivedModel&
     out.forcing.push_back(simplified_where_it_pays(f));
   }
 
-  // The multipliers: B_D^T λ = −(R0 + K (q''_sub − q''))_D, q''_sub = C u' + w (u' = q_I'').
-  std::vector<ex> accel_gap(static_cast<std::size_t>(n), ex(0));  // q''_sub − q''
-  for (unsigned r = 0; r < ng; ++r) {
-    const int d = out.dependent[r];
-    ex e = w[static_cast<std::size_t>(d)] - jet.q(d, 2);
+  // The multipliers: B_D^T λ = −(r + K q''_sub)_D, q''_sub = C u' + w (u' = q_I'').
+  std::vector<ex> accel(static_cast<std::size_t>(n), ex(0));  // q''_sub
+  for (int k = 0; k < n; ++k) accel[static_cast<std::size_t>(k)] = jet.q(k, 2);
+  for (unsigned row = 0; row < ng; ++row) {
+    const int d = out.dependent[row];
+    ex e = w[static_cast<std::size_t>(d)];
     for (unsigned k = 0; k < ni; ++k) e += C[static_cast<std::size_t>(d)][k] * jet.q(out.independent[k], 2);
-    accel_gap[static_cast<std::size_t>(d)] = e;
+    accel[static_cast<std::size_t>(d)] = e;
   }
   GiNaC::matrix BT(ng, ng), lrhs(ng, 1);
-  for (unsigned r = 0; r < ng; ++r) {
-    const int d = out.dependent[r];
-    ex e = R0[static_cast<std::size_t>(d)];
+  for (unsigned row = 0; row < ng; ++row) {
+    const int d = out.dependent[row];
+    ex e = r[static_cast<std::size_t>(d)];
     for (int k = 0; k < n; ++k) {
       const ex& Kdk = K(static_cast<unsigned>(d), static_cast<unsigned>(k));
-      if (!Kdk.is_zero() && !accel_gap[static_cast<std::size_t>(k)].is_zero()) e += Kdk * accel_gap[static_cast<std::size_t>(k)];
+      if (!Kdk.is_zero()) e += Kdk * accel[static_cast<std::size_t>(k)];
     }
-    lrhs(r, 0) = -e;
-    for (unsigned a = 0; a < ng; ++a) BT(r, a) = B(a, static_cast<unsigned>(d));
+    lrhs(row, 0) = -e;
+    for (unsigned a = 0; a < ng; ++a) BT(row, a) = B(a, static_cast<unsigned>(d));
   }
   try {
     const GiNaC::matrix lambda = solve(BT, lrhs);
