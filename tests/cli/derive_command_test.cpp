@@ -493,11 +493,18 @@ TEST_CASE("LaTeX reads like a textbook: d/dt of partials, like terms gathered, e
   CHECK(json.out.find("\"equation_names\": [\n        \"R_x\",\n        \"R_psi\",\n        \"R_q1\"") != std::string::npos);
 
   // The bicycle's time derivatives of partial derivatives: d/dt before the fraction, never a dot over it.
-  const Run bicycle = run(nhc_command() + " derive '" + example("whipple/whipple_bicycle") + "' --format latex", dir);
+  const Run bicycle =
+      run(nhc_command() + " derive '" + example("whipple/whipple_bicycle") + "' --form reduced --format latex", dir);
   REQUIRE(bicycle.exit_code == 0);
   CHECK(bicycle.out.find("\\frac{d}{dt}\\frac{\\partial ") != std::string::npos);
   CHECK(bicycle.out.find("\\dot{\\partial") == std::string::npos);
   CHECK(bicycle.out.find("\\dot{\\frac") == std::string::npos);
+  // Multi-letter names of definitions and of coordinates in subscripts upright, like the
+  // coordinates: \mathrm{mB}\,\mathrm{vB}_{1}, not mB vB_{1} (v times B_1); C_{\psi,\mathrm{thf}}.
+  CHECK(bicycle.out.find("\\mathrm{mB}\\,\\mathrm{vB}_{1}") != std::string::npos);
+  CHECK(bicycle.out.find("vB_{") == std::string::npos);
+  CHECK(bicycle.out.find("C_{\\psi,\\mathrm{thf}}") != std::string::npos);
+  CHECK(bicycle.out.find(",thf}") == std::string::npos);
 
   // The math-only form has no document structure (MathJax renders math, not \section).
   const Run math = run(nhc_command() + " derive '" + scene + "' --format latex-math", dir);
@@ -505,6 +512,42 @@ TEST_CASE("LaTeX reads like a textbook: d/dt of partials, like terms gathered, e
   CHECK(math.out.find("\\section") == std::string::npos);
   CHECK(math.out.find("\\documentclass") == std::string::npos);
   CHECK(math.out.find("&\\text{Model }\\mathtt{chetaev}") != std::string::npos);
+}
+
+TEST_CASE("the reduced form's forcing reads without accelerations", "[cli][reduced][issue47]") {
+  // f_r = C^T (r + K w) holds no q'' (docs/reduced-form.md): written as C^T (R + K (w - q'')) the
+  // sleigh's f_r[x'] carried m (h_1/cos th + y'') - m y'', like terms apart.
+  const std::string dir = scratch_dir("reduced_forcing");
+  const Run r = run(nhc_command() + " derive '" + example("chaplygin_sleigh") + "' --model chetaev --form reduced", dir);
+  REQUIRE(r.exit_code == 0);
+  std::istringstream lines(r.out);
+  int forcing_rows = 0;
+  for (std::string line; std::getline(lines, line);)
+    if (line.find("f_r[") != std::string::npos) {
+      INFO(line);
+      CHECK(line.find("_d2") == std::string::npos);
+      ++forcing_rows;
+    }
+  CHECK(forcing_rows == 2);
+}
+
+TEST_CASE("constraints of order two or more have no multiplier-free form, said in words",
+          "[cli][reduced][issue47]") {
+  // docs/reduced-form.md, "Constraints of higher order": a second-order constraint leaves every
+  // speed a state; a third-order one makes the accelerations states.
+  const std::string dir = scratch_dir("reduced_higher_order");
+  const std::string scene = dir + "/second.toml";
+  std::ofstream(scene) << "name = \"second\"\ncoordinates = [\"x\", \"y\"]\n"
+                          "lagrangian = \"1/2*(x'^2 + y'^2) - 1/2*(x^2 + y^2)\"\n"
+                          "constraints = [\"x'' + c*y''\"]\nmodels = [\"chetaev\"]\n[parameters]\nc = 0.5\n";
+  const Run second = run(nhc_command() + " derive '" + scene + "' --form reduced", dir);
+  REQUIRE(second.exit_code == 0);
+  CHECK(second.out.find("not available: constraint f1 is of order 2: it leaves every speed a state") !=
+        std::string::npos);
+  const Run third = run(nhc_command() + " derive '" + example("third_order") + "' --form reduced", dir);
+  REQUIRE(third.exit_code == 0);
+  CHECK(third.out.find("not available: constraint f1 is of order 3: its multiplier is fixed only by the "
+                       "derivatives of the second-order equations") != std::string::npos);
 }
 
 TEST_CASE("every example's LaTeX document compiles with pdflatex", "[cli][latex][issue47]") {

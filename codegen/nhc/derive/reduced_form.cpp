@@ -114,9 +114,16 @@ ReducedForm reduce_to_independent_speeds(const Scene& scene, const DerivedModel&
     if (model.kind == ModelKind::holder && m != 1)
       return refuse("constraint " + fa + " is of order " + std::to_string(m) +
                     "; the holder model's multiplier-free form takes constraints on velocities only");
-    if (m > 1)
-      return refuse("constraint " + fa + " is of order " + std::to_string(m) +
-                    " (the multiplier-free form takes constraints on positions and velocities)");
+    // docs/reduced-form.md, "Constraints of higher order": why these are refused.
+    if (m == 2)
+      return refuse("constraint " + fa + " is of order 2: it leaves every speed a state, so its multiplier-free "
+                    "form would be on independent accelerations, not speeds, which nhc does not build (the "
+                    "multiplier-free form takes constraints on positions and velocities)");
+    if (m > 2)
+      return refuse("constraint " + fa + " is of order " + std::to_string(m) + ": its multiplier is fixed only by the "
+                    "derivatives of the second-order equations, so the accelerations are part of the state "
+                    "and the equations are not of the form M_r u' = f_r on speeds (the multiplier-free form "
+                    "takes constraints on positions and velocities)");
     if (m < 0) return refuse("constraint " + fa + " names no coordinate");
     velocity[static_cast<std::size_t>(a)] = m == 0 ? jet.total_derivative(f) : f;
   }
@@ -246,6 +253,8 @@ ReducedForm reduce_to_independent_speeds(const Scene& scene, const DerivedModel&
     return refuse(message);
   }
 
+  // Subscripts name coordinates as the equations print them (C_{x,\psi}, not C_{x,psi}).
+  auto tex = [](const std::string& coordinate) { return jet_symbol_latex(coordinate, VariableKind::coordinate, 0); };
   const auto ni = static_cast<unsigned>(out.independent.size());
   const auto ng = static_cast<unsigned>(g);
   // A_D [X y w_D] = −[A_I b h], A_D's entries named where large.
@@ -254,12 +263,12 @@ ReducedForm reduce_to_independent_speeds(const Scene& scene, const DerivedModel&
     for (unsigned k = 0; k < ng; ++k) {
       const std::string& d = names[static_cast<std::size_t>(out.dependent[k])];
       AD(a, k) = named(A(a, static_cast<unsigned>(out.dependent[k])), "A_" + std::to_string(a + 1) + "_" + d,
-                       "A_{" + std::to_string(a + 1) + "," + d + "}");
+                       "A_{" + std::to_string(a + 1) + "," + tex(d) + "}");
     }
     for (unsigned k = 0; k < ni; ++k) {
       const std::string& i = names[static_cast<std::size_t>(out.independent[k])];
       rhs(a, k) = -named(A(a, static_cast<unsigned>(out.independent[k])), "A_" + std::to_string(a + 1) + "_" + i,
-                         "A_{" + std::to_string(a + 1) + "," + i + "}");
+                         "A_{" + std::to_string(a + 1) + "," + tex(i) + "}");
     }
     rhs(a, ni) = -b[a];
     rhs(a, ni + 1) = -named(h[a], "h_" + std::to_string(a + 1), "h_{" + std::to_string(a + 1) + "}");
@@ -280,21 +289,29 @@ ReducedForm reduce_to_independent_speeds(const Scene& scene, const DerivedModel&
     ex speed = 0;
     for (unsigned k = 0; k < ni; ++k) {
       const std::string& in = names[static_cast<std::size_t>(out.independent[k])];
-      C[static_cast<std::size_t>(d)][k] = named(XY(r, k), "C_" + dn + "_" + in, "C_{" + dn + "," + in + "}");
+      C[static_cast<std::size_t>(d)][k] = named(XY(r, k), "C_" + dn + "_" + in, "C_{" + tex(dn) + "," + tex(in) + "}");
       speed += C[static_cast<std::size_t>(d)][k] * jet.q(out.independent[k], 1);
     }
     speed += XY(r, ni);
     out.dependent_speeds.push_back(simplified_where_it_pays(speed));
-    w[static_cast<std::size_t>(d)] = named(XY(r, ni + 1), "w_" + dn, "w_{" + dn + "}");
+    w[static_cast<std::size_t>(d)] = named(XY(r, ni + 1), "w_" + dn, "w_{" + tex(dn) + "}");
   }
 
   // M_r = −C^T K C, f_r = C^T (R0 + K (w − q'')).
-  std::vector<ex> residual(static_cast<std::size_t>(n));  // R0 + K (w − q''): r + K w
+  // r = R0 − K q'' first: R0's terms in q'' are those K q'' gives back, so they cancel as the sum
+  // is formed and f_r reads without accelerations (not m (w_y + y'') − m y'').
+  std::vector<ex> r(static_cast<std::size_t>(n));
   for (int j = 0; j < n; ++j) {
     ex e = R0[static_cast<std::size_t>(j)];
+    for (int k = 0; k < n; ++k) e -= K(static_cast<unsigned>(j), static_cast<unsigned>(k)) * jet.q(k, 2);
+    r[static_cast<std::size_t>(j)] = e;
+  }
+  std::vector<ex> residual(static_cast<std::size_t>(n));  // r + K w
+  for (int j = 0; j < n; ++j) {
+    ex e = r[static_cast<std::size_t>(j)];
     for (int k = 0; k < n; ++k) {
       const ex& Kjk = K(static_cast<unsigned>(j), static_cast<unsigned>(k));
-      if (!Kjk.is_zero()) e += Kjk * (w[static_cast<std::size_t>(k)] - jet.q(k, 2));
+      if (!Kjk.is_zero() && !w[static_cast<std::size_t>(k)].is_zero()) e += Kjk * w[static_cast<std::size_t>(k)];
     }
     residual[static_cast<std::size_t>(j)] = e;
   }
@@ -319,24 +336,25 @@ ReducedForm reduce_to_independent_speeds(const Scene& scene, const DerivedModel&
     out.forcing.push_back(simplified_where_it_pays(f));
   }
 
-  // The multipliers: B_D^T λ = −(R0 + K (q''_sub − q''))_D, q''_sub = C u' + w (u' = q_I'').
-  std::vector<ex> accel_gap(static_cast<std::size_t>(n), ex(0));  // q''_sub − q''
-  for (unsigned r = 0; r < ng; ++r) {
-    const int d = out.dependent[r];
-    ex e = w[static_cast<std::size_t>(d)] - jet.q(d, 2);
+  // The multipliers: B_D^T λ = −(r + K q''_sub)_D, q''_sub = C u' + w (u' = q_I'').
+  std::vector<ex> accel(static_cast<std::size_t>(n), ex(0));  // q''_sub
+  for (int k = 0; k < n; ++k) accel[static_cast<std::size_t>(k)] = jet.q(k, 2);
+  for (unsigned row = 0; row < ng; ++row) {
+    const int d = out.dependent[row];
+    ex e = w[static_cast<std::size_t>(d)];
     for (unsigned k = 0; k < ni; ++k) e += C[static_cast<std::size_t>(d)][k] * jet.q(out.independent[k], 2);
-    accel_gap[static_cast<std::size_t>(d)] = e;
+    accel[static_cast<std::size_t>(d)] = e;
   }
   GiNaC::matrix BT(ng, ng), lrhs(ng, 1);
-  for (unsigned r = 0; r < ng; ++r) {
-    const int d = out.dependent[r];
-    ex e = R0[static_cast<std::size_t>(d)];
+  for (unsigned row = 0; row < ng; ++row) {
+    const int d = out.dependent[row];
+    ex e = r[static_cast<std::size_t>(d)];
     for (int k = 0; k < n; ++k) {
       const ex& Kdk = K(static_cast<unsigned>(d), static_cast<unsigned>(k));
-      if (!Kdk.is_zero() && !accel_gap[static_cast<std::size_t>(k)].is_zero()) e += Kdk * accel_gap[static_cast<std::size_t>(k)];
+      if (!Kdk.is_zero()) e += Kdk * accel[static_cast<std::size_t>(k)];
     }
-    lrhs(r, 0) = -e;
-    for (unsigned a = 0; a < ng; ++a) BT(r, a) = B(a, static_cast<unsigned>(d));
+    lrhs(row, 0) = -e;
+    for (unsigned a = 0; a < ng; ++a) BT(row, a) = B(a, static_cast<unsigned>(d));
   }
   try {
     const GiNaC::matrix lambda = solve(BT, lrhs);

@@ -11,8 +11,8 @@
 /// ch. III §2):
 ///     M_r = −C^T K C,   f_r = C^T (K w + R|_{λ=0} − K q''),   w = [0; w_D],  A_D w_D = −h,
 ///     h = D(A q' + b) − A q''   (the constraint's acceleration terms without q'').
-/// f_r and the multipliers are written over q'' as well but do not depend on it (R|_{λ=0} − K q''
-/// is r); everything is evaluated with q_D' = X u + y. Entries stay over the scene's named
+/// f_r does not depend on q'' (R|_{λ=0} − K q'' is r, formed first so that R's terms in q''
+/// cancel; q'' inside a named intermediate stays); everything is evaluated with q_D' = X u + y. Entries stay over the scene's named
 /// intermediates; A_D's entries, X, y and w_D become intermediates where they are not small.
 
 #include <ginac/ginac.h>
