@@ -16,8 +16,8 @@
 //   hidden_constraints_jacobian        8       6
 //   velocities                         4       4
 //   mass_matrix                        4       3
-//   forcing                           21      14
-//   total                            101      77
+//   forcing                           18      13
+//   total                             98      76
 
 #pragma once
 
@@ -205,8 +205,7 @@ inline void mass_matrix(double /*t*/, const double* q, const double* /*u*/, cons
 inline void forcing(double /*t*/, const double* q, const double* u, const double* p, double* f) noexcept {
   const double w0 = std::sin(q[2]);
   const double w1 = std::cos(q[2]);
-  const double w2 = p[1] * u[1];
-  f[0] = (-w0 * w0 * w0 * (u[0] / w1) * w2 - w2 * w0 * w1 * u[0]) / (w1 * w1);  // x'
+  f[0] = -(w0 * (p[1] / (w1 * w1)) * (u[1] * (w0 * w0 * (u[0] / w1) + w1 * u[0])));  // x'
   f[1] = 0.0;  // phi'
 }
 

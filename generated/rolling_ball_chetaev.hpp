@@ -17,10 +17,10 @@
 //   hidden_constraints_jacobian       41      19
 //   invariants                        34      28
 //   reference                          0       0
-//   velocities                        16      12
+//   velocities                        17      13
 //   mass_matrix                       14       9
-//   forcing                           24      18
-//   total                            499     276
+//   forcing                           53      37
+//   total                            529     296
 
 #pragma once
 
@@ -293,7 +293,7 @@ inline void velocities(double /*t*/, const double* q, const double* u, const dou
   const double w1 = std::cos(q[2]);
   const double w2 = u[2] * std::sin(q[3]);
   qp[0] = (w0 * u[1] - w1 * w2) * p[2];  // x'
-  qp[1] = (-w0 * w2 - w1 * u[1]) * p[2];  // y'
+  qp[1] = -p[2] * (w1 * u[1]) - w0 * w2 * p[2];  // y'
   qp[2] = u[0];  // psi'
   qp[3] = u[1];  // th'
   qp[4] = u[2];  // ph'
@@ -314,11 +314,16 @@ inline void mass_matrix(double /*t*/, const double* q, const double* /*u*/, cons
 
 /// f_r(t, q, u) of M_r u' = f_r, n_speeds.
 inline void forcing(double /*t*/, const double* q, const double* u, const double* p, double* f) noexcept {
-  const double w0 = std::sin(q[3]);
-  const double w1 = p[1] * (p[2] * p[2]);
-  f[0] = p[0] * u[1] * (u[2] * w0);  // psi'
-  f[1] = (-p[0] - w1) * w0 * u[0] * u[2];  // th'
-  f[2] = w0 * (u[1] * ((p[0] + w1) * u[0] - std::cos(q[3]) * u[2] * w1));  // ph'
+  const double w0 = p[0] * u[1];
+  const double w1 = std::sin(q[3]);
+  const double w2 = u[2] * w1;
+  const double w3 = std::cos(q[2]);
+  const double w4 = p[2] * (w3 * u[1]);
+  const double w5 = std::sin(q[2]);
+  const double w6 = std::cos(q[3]) * u[2];
+  f[0] = w0 * w2;  // psi'
+  f[1] = (-p[0] - p[1] * (p[2] * p[2])) * w1 * u[0] * u[2];  // th'
+  f[2] = ((w3 * ((w4 + w5 * w2 * p[2]) * u[0] - w4 * w6) - w5 * (p[2] * (w5 * ((w6 - u[0]) * u[1]) + w3 * w2 * u[0]))) * p[2] * p[1] + w0 * u[0]) * w1;  // ph'
 }
 
 /// Everything above as the C table of docs/generated-code.md, filled by field name.
