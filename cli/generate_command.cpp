@@ -29,6 +29,7 @@ struct GenerateOptions {
   std::string jacobian = "dense";
   std::string directory = ".";
   bool quiet = false;
+  bool reduced_form = false;
   bool sensitivities = false;
   bool variational = false;
   bool print_file_name = false;
@@ -62,6 +63,8 @@ CommandRunner add_generate_command(CLI::App& app) {
   add_expand_flag(sub, options->read);
   add_work_limit_flag(sub);
   sub->add_flag("-q,--quiet", options->quiet, "do not print the written file and operation counts");
+  sub->add_flag("--reduced-form", options->reduced_form,
+                "also emit mass_matrix, forcing and velocities of the multiplier-free form (docs/reduced-form.md)");
 
   return [options]() {
     if (options->print_file_name) {
@@ -80,9 +83,10 @@ CommandRunner add_generate_command(CLI::App& app) {
                       derived.reason);
     const Index1System system = reduce_to_index1(scene, derived);
     // The multiplier-free form where the model has one (docs/reduced-form.md), on the default speeds.
-    const ReducedForm reduced = reduce_to_independent_speeds(scene, derived);
+    std::optional<ReducedForm> reduced;
+    if (options->reduced_form) reduced = reduce_to_independent_speeds(scene, derived);
     HeaderOptions header_options;
-    header_options.reduced = &reduced;
+    header_options.reduced = reduced ? &*reduced : nullptr;
     header_options.jacobian = *parse_jacobian_kind(options->jacobian);
     header_options.sensitivities = options->sensitivities;
     header_options.variational = options->variational;

@@ -56,6 +56,7 @@ struct BuiltModel {
   std::vector<double> parameters;  ///< the model's parameters at `scene`'s values
   std::shared_ptr<SensitivityBuild> with_sensitivities = std::make_shared<SensitivityBuild>();
   std::shared_ptr<SensitivityBuild> with_variational_step = std::make_shared<SensitivityBuild>();
+  std::shared_ptr<SensitivityBuild> with_reduced_form = std::make_shared<SensitivityBuild>();
   /// The symbolic linearization of the model (input_jacobian, linearize_along without keep or
   /// states), made on first use; created, used and destroyed with the GIL held (GiNaC inside).
   std::shared_ptr<std::optional<Linearizer>> linearizer = std::make_shared<std::optional<Linearizer>>();
@@ -86,6 +87,14 @@ struct BuiltModel {
     jit::BuildOptions options;
     options.variational = true;
     return built_once(*with_variational_step, options);
+  }
+
+  /// The model with the multiplier-free form's functions (BuildOptions::reduced_form: mass_matrix,
+  /// forcing, velocities, speeds), built on first use. Called with the GIL held.
+  const runtime::Model& reduced_form_model() const {
+    jit::BuildOptions options;
+    options.reduced_form = true;
+    return built_once(*with_reduced_form, options);
   }
 
  private:
@@ -497,7 +506,7 @@ py::array_t<double> reduced_function(const BuiltModel& built, int which, double 
                                      const py::array_t<double, py::array::c_style | py::array::forcecast>& q,
                                      const py::array_t<double, py::array::c_style | py::array::forcecast>& u,
                                      const std::optional<std::vector<double>>& given) {
-  const runtime::Model& model = built.model();
+  const runtime::Model& model = built.reduced_form_model();
   const int n = model.n_coordinates(), k = model.n_speeds();
   if (k == 0)
     throw MathError("the " + model.model_name() + " model of " + model.scene_name() +
@@ -717,14 +726,16 @@ void register_model(py::module_& m) {
       .def_property_readonly("speeds",
                              [](const BuiltModel& b) {
                                std::vector<std::string> names;
-                               for (int k = 0; k < b.model().n_speeds(); ++k)
-                                 names.push_back(b.model().variable_name(b.model().speed_coordinate(k)) + "'");
+                               const runtime::Model& m = b.reduced_form_model();
+                               for (int k = 0; k < m.n_speeds(); ++k)
+                                 names.push_back(m.variable_name(m.speed_coordinate(k)) + "'");
                                return names;
                              })
       .def_property_readonly("speed_coordinates",
                              [](const BuiltModel& b) {
                                std::vector<int> out;
-                               for (int k = 0; k < b.model().n_speeds(); ++k) out.push_back(b.model().speed_coordinate(k));
+                               const runtime::Model& m = b.reduced_form_model();
+                               for (int k = 0; k < m.n_speeds(); ++k) out.push_back(m.speed_coordinate(k));
                                return out;
                              })
       .def_property_readonly("coordinates",

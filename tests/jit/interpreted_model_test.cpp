@@ -24,6 +24,7 @@ namespace {
 
 nhc::jit::BuildOptions options_in(const std::string& cache, Backend backend) {
   nhc::jit::BuildOptions options;
+  options.reduced_form = true;  // the multiplier-free form's functions are compared too
   options.compile.cache_directory = fs::path(NHC_BINARY_DIR) / "tests" / "jit" / cache;
   options.scene_cache = false;
   options.backend = backend;

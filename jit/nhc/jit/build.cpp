@@ -36,7 +36,7 @@ constexpr const char* kHeaderProduct = "generated header";
 std::string header_options_text(ModelKind kind, const BuildOptions& options) {
   return "model " + to_string(kind) + ", jacobian " + (options.jacobian ? to_string(*options.jacobian) : "default") +
          ", sensitivities " + (options.sensitivities ? "yes" : "no") +
-         (options.variational ? ", variational step" : "") + ", split from " +
+         (options.variational ? ", variational step" : "") + (options.reduced_form ? ", reduced form" : "") + ", split from " +
          std::to_string(options.split_from_bytes) + " bytes";
 }
 
@@ -172,7 +172,8 @@ LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& option
   }();
   check_for_stop_now();
   // The multiplier-free form where the model has one (docs/reduced-form.md), on the default speeds.
-  const ReducedForm reduced = reduce_to_independent_speeds(scene, derived);
+  std::optional<ReducedForm> reduced;
+  if (options.reduced_form) reduced = reduce_to_independent_speeds(scene, derived);
   const double derive_seconds = seconds_since(start);
 
   start = Clock::now();
@@ -181,7 +182,7 @@ LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& option
   header_options.sensitivities = options.sensitivities;
   header_options.variational = options.variational;
   header_options.split_from_bytes = options.split_from_bytes;
-  header_options.reduced = &reduced;
+  header_options.reduced = reduced ? &*reduced : nullptr;
   const bool may_interpret = options.backend != Backend::compiled;
   PreparedModel prepared;
   GeneratedHeader header = generate_header(scene, system, header_options, may_interpret ? &prepared : nullptr);

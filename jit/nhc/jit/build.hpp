@@ -41,6 +41,10 @@ struct BuildOptions {
   /// HeaderOptions::split_from_bytes: from this size the header may be compiled as several
   /// translation units (compile.translation_units).
   std::size_t split_from_bytes = HeaderOptions{}.split_from_bytes;
+  /// Also the multiplier-free form's mass_matrix, forcing and velocities (HeaderOptions::reduced)
+  /// where the model has one. Asked for, not by default: forming it costs more than the rest of
+  /// the header on large systems (docs/generated-code.md, "Reduced-form additions").
+  bool reduced_form = false;
   /// Reuse the header generated for the same scene text, model and options by an earlier build
   /// (scene_cache.hpp): derivation, reduction and generation are skipped. `NHC_SCENE_CACHE=off`
   /// turns it off too. A scene without source text (Scene::source_text) is never cached.
