@@ -30,7 +30,9 @@ targets=(nhc nhc_tests_scene nhc_tests_derive nhc_tests_analysis nhc_tests_cli n
          nhc_tests_codegen_units nhc_test_appell_hamel_module nhc_scene_fuzzer nhc_expression_fuzzer)
 # The Python module, when it is configured (python/CMakeLists.txt skips it without pybind11):
 # python:threads_asan runs Python threads doing symbolic work at once through it.
-if cmake --build "$build" --target help | grep -qw _nhc; then targets+=(_nhc nhc_python); fi
+# grep reads the whole list (-q would stop at the first match, and under pipefail the listing's
+# SIGPIPE would make the test false).
+if cmake --build "$build" --target help | grep -w _nhc >/dev/null; then targets+=(_nhc nhc_python); fi
 cmake --build "$build" -j "$jobs" --target "${targets[@]}"
 
 # ctest names: <executable>:<test case> (catch_discover_tests) and cli:simulate_* (add_test).
