@@ -20,7 +20,9 @@ const StructuralAnalysis* Preparation::structure() const noexcept {
 
 jit::LoadedModel Preparation::build(const Scene& scene, const jit::BuildOptions& options) const {
   const StructuralAnalysis* analysed = structure();
-  return jit::build(scene, kind_, options, analysed, analysed ? &*derived_ : nullptr);
+  if (!analysed) return jit::build(scene, kind_, options);
+  const jit::DerivedAndAnalysed given{*derived_, *analysed};
+  return jit::build(scene, kind_, options, &given);
 }
 
 InitialPointCheck check_initial_point(Preparation& preparation, bool repair) {

@@ -132,7 +132,7 @@ void remember_compiled_header(const Scene& scene, ModelKind kind, const BuildOpt
 }
 
 LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& options,
-                  const StructuralAnalysis* structure, const DerivedModel* derived_given) {
+                  const DerivedAndAnalysed* given) {
   // The scene cache first: an unchanged scene skips derive, reduce and generate.
   auto start = Clock::now();
   std::optional<std::string> key;
@@ -158,12 +158,12 @@ LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& option
   start = Clock::now();
   // Derived once: from the preparation (with its analysis) when given, else here.
   std::optional<DerivedModel> derived_here;
-  if (!structure || !derived_given) derived_here = derive_model(scene, kind);
-  const DerivedModel& derived = derived_here ? *derived_here : *derived_given;
+  if (!given) derived_here = derive_model(scene, kind);
+  const DerivedModel& derived = given ? given->derived : *derived_here;
   const Index1System system = [&] {
-    if (structure && derived_given) {
-      if (structure->system.model != kind) throw std::logic_error("jit::build: the analysis is of another model");
-      return reduce_to_index1(scene, *structure);
+    if (given) {
+      if (given->structure.system.model != kind) throw std::logic_error("jit::build: the analysis is of another model");
+      return reduce_to_index1(scene, given->structure);
     }
     if (!derived.applicable)
       throw MathError("the " + to_string(kind) + " model does not apply to " + scene.name + ": " + derived.reason);

@@ -93,15 +93,20 @@ class LoadedModel {
   BuildTimings timings_;
 };
 
+/// A derivation of a scene's model and the structure of its analysis, made before the build
+/// (app::Preparation): the build reduces from them instead of deriving and analysing again.
+struct DerivedAndAnalysed {
+  const DerivedModel& derived;
+  const StructuralAnalysis& structure;
+};
+
 /// Derives `kind` for the scene (MathError when it does not apply), reduces it to index 1,
 /// generates the header, compiles it (cached) and loads it. An unchanged scene built before with
 /// the same model and options takes its header from the scene cache instead (scene_cache.hpp).
-/// Given the structure of an analysis of the same model already made (app::Preparation), the
-/// model is reduced from it, and the multiplier-free form taken from its derivation (`derived`,
-/// given with it): neither derived nor analysed again.
+/// Given a derivation and analysis of the same model already made, the model is reduced from its
+/// structure (the multiplier-free form from its derivation): neither derived nor analysed again.
 LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& options = {},
-                  const StructuralAnalysis* structure = nullptr,
-                  const DerivedModel* derived = nullptr);
+                  const DerivedAndAnalysed* given = nullptr);
 
 /// Records in the scene cache that `header` (built for `scene`, `kind`, `options`) compiled into
 /// a library in `library_directory`, as build() does after compiling, so that the next build
