@@ -1,5 +1,5 @@
 // nhc compare SCENE [--models M,…] [--t-end T] [--rtol R] [--atol A] [--outputs N] [--tolerance TOL]
-//                   [--plot-xy a,b] -o DIR
+//                   [--initial NAME=VALUE]... [--plot-xy a,b] -o DIR
 //
 // The models of a scene side by side: each one derived, compiled and integrated from the same
 // [initial] data (completed to its own consistent point), one CSV per model, overlaid plots of
@@ -25,6 +25,7 @@
 #include "nhc/runtime/runtime.hpp"
 #include "pipeline.hpp"
 #include "plots.hpp"
+#include "run_flags.hpp"
 #include "trajectory_plots.hpp"
 
 namespace nhc::cli {
@@ -37,6 +38,7 @@ struct CompareOptions {
   std::optional<double> t_end, rtol, atol;
   int outputs = 200;
   double tolerance = 1e-6;
+  std::vector<std::string> initial;  ///< --initial NAME=VALUE
   std::string plot_xy;
   std::string output;
 };
@@ -53,6 +55,7 @@ std::string command_line(const CompareOptions& o) {
   if (o.atol) s += " --atol " + format_number(*o.atol, 15);
   if (o.outputs != 200) s += " --outputs " + std::to_string(o.outputs);
   if (o.tolerance != 1e-6) s += " --tolerance " + format_number(o.tolerance, 15);
+  for (const std::string& a : o.initial) s += " --initial " + a;
   if (!o.plot_xy.empty()) s += " --plot-xy " + o.plot_xy;
   return s;
 }
@@ -181,7 +184,8 @@ std::vector<Plot> comparison_plots(const std::filesystem::path& dir, const Compa
 
 int run_compare(const CompareOptions& options) {
   flag_rules::refuse_duplicates(options.models, "--models", "model");
-  const Scene scene = load_scene(options.scene_path);
+  Scene scene = load_scene(options.scene_path);
+  apply_initial_flags(scene, options.initial);  // every model starts from them
   const CompareSettings settings = settings_of(options, scene);
   const PathPlane plane = path_plane(scene, options.plot_xy, "--plot-xy");
   require_gnuplot("-o");
@@ -226,6 +230,7 @@ CommandRunner add_compare_command(CLI::App& app) {
   sub->add_option("--tolerance", options->tolerance,
                   "the motions separate where a coordinate differs by more than this (default 1e-6)")
       ->check(flag_rules::positive());
+  add_initial_flag(sub, options->initial);
   sub->add_option("--plot-xy", options->plot_xy, "a,b: the plane of the path plot (default: the first two coordinates)");
   sub->add_option("-o,--output", options->output, "directory for compare.md, the CSV files and the plots")
       ->required();

@@ -1,5 +1,6 @@
 // nhc connect SCENE --to x=1,y=0,z=0.25 --t-end T [--free x'(0),y'(0),lambda1(0)] [--segments K]
-//             [--model M] [--rtol R] [--atol A] [--tolerance E] [--max-iterations N] [-o FILE.csv]
+//             [--model M] [--initial NAME=VALUE]... [--rtol R] [--atol A] [--tolerance E] [--max-iterations N]
+//             [-o FILE.csv]
 //
 // A boundary-value problem (docs/connect.md): the free initial values that take the scene's
 // motion to the target states at T, by Newton's method on the shooting function with the IDAS
@@ -22,6 +23,7 @@
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/scene/scene.hpp"
 #include "pipeline.hpp"
+#include "run_flags.hpp"
 
 namespace nhc::cli {
 
@@ -32,6 +34,7 @@ struct ConnectOptions {
   std::string model;
   std::vector<std::string> to;
   std::vector<std::string> free;
+  std::vector<std::string> initial;  ///< --initial NAME=VALUE
   double t_end = 0;
   int segments = 1;
   std::optional<double> rtol, atol;
@@ -99,7 +102,8 @@ SourceLocation initial_entry(const std::string& path, const std::string& variabl
 }
 
 std::vector<int> parse_free(const runtime::Model& model, const runtime::InitialState& initial,
-                            const std::vector<std::string>& names, const std::string& scene_path) {
+                            const std::vector<std::string>& names, const std::string& scene_path,
+                            const std::vector<std::string>& initial_flags) {
   std::vector<int> states;
   for (const std::string& name : names) {
     const std::string suffix = "(0)";
@@ -110,6 +114,10 @@ std::vector<int> parse_free(const runtime::Model& model, const runtime::InitialS
                                             " model's initial values are " + state_list(model, true, "(0)"));
     if (!model.is_differential(state))
       throw InputError({"--free", 0, 0}, name + " belongs to an algebraic state: it follows from the others");
+    if (initial.given[static_cast<size_t>(state)])
+      for (const std::string& a : initial_flags)
+        if (a.substr(0, a.find('=')) == model.state_name(state))
+          throw InputError({"--initial", 0, 0}, a + ": " + name + " is given here, so it cannot be free (--free " + name + ")");
     if (initial.given[static_cast<size_t>(state)])
       throw InputError(initial_entry(scene_path, model.variable_name(model.table().state_variable[state])),
                        name + " is given in the scene's [initial], so it cannot be free (--free " + name + ")");
@@ -158,6 +166,7 @@ CommandRunner add_connect_command(CLI::App& app) {
       ->check(flag_rules::count(1, 1000));
   sub->add_option("--model,-m", options->model, "model (default: the scene's [simulate] model, else chetaev)")
       ->check(CLI::IsMember(model_names()));
+  add_initial_flag(sub, options->initial);
   sub->add_option("--rtol", options->rtol, "relative tolerance of the integrations (default: [simulate] rtol)")
       ->check(flag_rules::relative_tolerance());
   sub->add_option("--atol", options->atol, "absolute tolerance of the integrations (default: [simulate] atol)")
@@ -171,7 +180,8 @@ CommandRunner add_connect_command(CLI::App& app) {
   sub->add_option("-o,--output", options->output, "CSV file for the trajectory found");
 
   return [options]() {
-    const Scene scene = load_scene(options->scene_path);
+    Scene scene = load_scene(options->scene_path);
+    apply_initial_flags(scene, options->initial);  // given values: not free by default
     if (!options->output.empty()) check_output_file(options->output, {options->scene_path});
     const ModelKind kind = model_or_default(scene, options->model);
     require_model_inputs(scene, kind);  // exit 2 at the scene, as simulate
@@ -187,7 +197,7 @@ CommandRunner add_connect_command(CLI::App& app) {
     problem.conditions = parse_targets(model, options->to);
     problem.free_states = options->free.empty()
                               ? connect::default_free_states(model, problem.parameters, problem.initial)
-                              : parse_free(model, problem.initial, options->free, options->scene_path);
+                              : parse_free(model, problem.initial, options->free, options->scene_path, options->initial);
     if (problem.free_states.empty())
       throw InputError({"--free", 0, 0}, "no free initial values: the scene gives every one the " + to_string(kind) +
                                              " model needs; name some with --free");

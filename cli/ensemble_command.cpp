@@ -1,6 +1,6 @@
 // nhc ensemble SCENE [--model M] --vary NAME=a:b:n [--vary …]
 //                    | --sample NAME=uniform(a,b)|normal(m,s) [--sample …] --samples N --seed S
-//              [--t-end T] [--outputs K] [--keep trajectories|final] [--resume] [--plot OUTCOME]
+//              [--t-end T] [--initial NAME=VALUE]... [--outputs K] [--keep trajectories|final] [--resume] [--plot OUTCOME]
 //              [--threads N] -o FILE.h5
 //
 // Many runs of one model (docs/ensemble.md). Rank 0 derives and compiles the model once through
@@ -25,6 +25,7 @@
 #include "nhc/jit/sha256.hpp"
 #include "nhc/errors.hpp"
 #include "pipeline.hpp"
+#include "run_flags.hpp"
 
 #ifdef NHC_HAVE_ENSEMBLE
 #include <filesystem>
@@ -41,6 +42,7 @@ namespace {
 struct EnsembleOptions {
   std::string scene_path, model, output, keep = "final", plot;
   std::vector<std::string> vary, sample;
+  std::vector<std::string> initial;  ///< --initial NAME=VALUE
   std::optional<long> samples;
   std::uint64_t seed = 0;
   std::optional<double> t_end, rtol, atol;
@@ -166,7 +168,8 @@ Prepared prepare(const EnsembleOptions& o, int ranks, int threads) {
   // Before the design's values are made: at least one state per run.
   check_design_fits(o, 1, 0, o.keep == "trajectories");
   Design design = make_design(o);
-  const Scene scene = load_scene(o.scene_path);
+  Scene scene = load_scene(o.scene_path);
+  apply_initial_flags(scene, o.initial);
   const ModelKind kind = model_or_default(scene, o.model);
   require_model_inputs(scene, kind);
   const double t0 = scene.initial.t0, t_end = o.t_end.value_or(scene.simulate.t_end);
@@ -199,7 +202,11 @@ Prepared prepare(const EnsembleOptions& o, int ranks, int threads) {
   EnsembleInfo& info = p.results.info;
   info.scene = scene.name;
   info.scene_file = o.scene_path;
-  info.scene_digest = jit::sha256_hex(scene.source_text);
+  // The runs start from the scene's [initial] with the --initial values: --resume continues only
+  // an ensemble computed from the same ones (the text alone when there are none, as before).
+  std::string computed_from = scene.source_text;
+  for (const std::string& a : o.initial) computed_from += "\n--initial " + a;
+  info.scene_digest = jit::sha256_hex(computed_from);
   info.model = to_string(kind);
   info.nhc_version = NHC_VERSION;
   info.rtol = spec.rtol;
@@ -393,6 +400,7 @@ CommandRunner add_ensemble_command(CLI::App& app) {
   sub->add_option("--t-end", o->t_end, "final time (default: [simulate] t_end)")->check(flag_rules::finite());
   sub->add_option("--rtol", o->rtol, "relative tolerance (default: [simulate] rtol)")->check(flag_rules::relative_tolerance());
   sub->add_option("--atol", o->atol, "absolute tolerance (default: [simulate] atol)")->check(flag_rules::absolute_tolerance());
+  add_initial_flag(sub, o->initial);
   sub->add_option("--outputs", o->outputs, "K: output intervals per run, for drift and trajectories (default 100)")
       ->check(flag_rules::count(1, flag_rules::kMaxOutputs));
   sub->add_option("--keep", o->keep, "final (default): final states only; trajectories: also the sampled states");

@@ -37,6 +37,7 @@
 #include "nhc/scene/scene.hpp"
 #include "nhc/scene/tolerances.hpp"
 #include "pipeline.hpp"
+#include "run_flags.hpp"
 #include "work_precision.hpp"
 
 namespace nhc::cli {
@@ -54,6 +55,7 @@ struct ReportOptions {
   std::string projection = "both";
   int outputs = 200;
   std::vector<std::string> set;
+  std::vector<std::string> initial;  ///< --initial NAME=VALUE
   std::string sweep;
   int repeats = 5;
   double reference_rtol = 1e-13;
@@ -93,6 +95,10 @@ struct PreparedReport {
 
 PreparedReport prepare(const ReportOptions& o) {
   PreparedReport r{load_scene(o.scene_path), ModelKind::chetaev, {}};
+  apply_initial_flags(r.scene, o.initial);
+  // The scene's [reference] solves the motion from its own [initial]: from other values the error
+  // is measured against a reference run.
+  if (!o.initial.empty()) r.scene.reference = {};
   r.kind = model_or_default(r.scene, o.model);
   require_model_inputs(r.scene, r.kind);
   WorkPrecisionSettings& s = r.settings;
@@ -238,7 +244,7 @@ std::string derivation_text(const Scene& scene, ModelKind kind) {
 }
 
 void write_report(const std::string& path, const Scene& scene, ModelKind kind, const WorkPrecision& wp,
-                  const std::vector<std::string>& images) {
+                  const std::vector<std::string>& images, const std::vector<std::string>& initial) {
   const std::string equations = derivation_text(scene, kind);
   const WorkPrecisionSettings& s = wp.settings;
   const bool sweep = !s.sweep_parameter.empty();
@@ -267,6 +273,11 @@ void write_report(const std::string& path, const Scene& scene, ModelKind kind, c
     if (!s.parameter_overrides.empty()) {
       out << "- parameters set:";
       for (const auto& [n, v] : s.parameter_overrides) out << " " << n << " = " << fmt(v, 6);
+      out << "\n";
+    }
+    if (!initial.empty()) {
+      out << "- initial values set (as if written in [initial]):";
+      for (const std::string& a : initial) out << " `" << a << "`";
       out << "\n";
     }
     if (sweep) out << "- sweep: " << s.sweep_parameter << " = " << fmt(s.sweep_values.front()) << " … " << fmt(s.sweep_values.back()) << " by decades.\n";
@@ -386,7 +397,7 @@ int run_report(const ReportOptions& o) {
   } catch (const std::runtime_error& e) {
     plot_error = e.what();
   }
-  write_report(dir.file("report.md"), prepared.scene, prepared.kind, wp, images);
+  write_report(dir.file("report.md"), prepared.scene, prepared.kind, wp, images, o.initial);
   dir.commit();
   if (!o.quiet) {
     std::cout << "nhc report: " << wp.scene_name << " (" << wp.model_name << "), " << wp.measurements.size()
@@ -419,6 +430,7 @@ CommandRunner add_report_command(CLI::App& app) {
   sub->add_option("--outputs", options->outputs, "output intervals where error and drift are measured (default 200)")
       ->check(flag_rules::count(1, flag_rules::kMaxOutputs));
   add_set_option(sub, options->set);
+  add_initial_flag(sub, options->initial);
   sub->add_option("--sweep", options->sweep, "NAME=LO:HI: repeat for the parameter at every decade from LO to HI");
   sub->add_option("--repeats", options->repeats, "at most this many timed repeats of a short run (default 5)")
       ->check(flag_rules::count(1, 1000));

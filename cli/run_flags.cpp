@@ -34,10 +34,7 @@ void add_run_flags(CLI::App* sub, RunFlags& flags) {
                   "expression of t and the parameters, a feedback law of the coordinates and their first "
                   "derivatives (compiled into the equations), or a time series (columns t and NAME, linear "
                   "interpolation; repeatable)");
-  sub->add_option("--initial", flags.initial,
-                  "NAME=VALUE: an [initial] value from outside the scene, as if written there: a coordinate or "
-                  "multiplier (x), a derivative (x') or t0 (repeatable; the consistent initial point is found "
-                  "as for the scene's own values)");
+  add_initial_flag(sub, flags.initial);
   add_expand_flag(sub, flags.read);
   add_work_limit_flag(sub);
   sub->add_flag("--project", flags.project, "project onto the hidden constraints (docs/projection.md)");
@@ -63,6 +60,35 @@ void add_run_flags(CLI::App* sub, RunFlags& flags) {
                   "$NHC_BACKEND: compiled when this model was compiled before, else interpreted and compiled "
                   "behind a long run; docs/interpreter.md)")
       ->check(CLI::IsMember({"compiled", "interpreted", "auto"}));
+}
+
+void add_initial_flag(CLI::App* sub, std::vector<std::string>& assignments) {
+  sub->add_option("--initial", assignments,
+                  "NAME=VALUE: an [initial] value from outside the scene, as if written there: a coordinate or "
+                  "multiplier (x), a derivative (x') or t0 (repeatable; the consistent initial point is found "
+                  "as for the scene's own values)");
+}
+
+void apply_initial_flags(Scene& scene, const std::vector<std::string>& assignments) {
+  const std::string flag = "--initial";
+  std::vector<app::InitialValue> values;
+  for (const std::string& text : assignments) {
+    // The message names the flag once (its location) and quotes the assignment as written.
+    const std::size_t eq = text.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
+      throw InputError({flag, 0, 0}, text + ": expected NAME=VALUE");
+    const std::string value = text.substr(eq + 1);
+    std::size_t used = 0;
+    double number = 0;
+    try {
+      number = std::stod(value, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != value.size()) throw InputError({flag, 0, 0}, text + ": '" + value + "' is not a number");
+    values.push_back({text.substr(0, eq), number, text});  // a value that is not finite: the rule's to refuse
+  }
+  app::apply_initial_values(scene, values, flag);
 }
 
 jit::Backend run_backend(const RunFlags& flags) {
@@ -99,12 +125,7 @@ Scene load_run_scene(RunFlags& flags) {
   }
   flags.inputs = signals;
   scene = app::scene_with_input_laws(scene, laws, flags.read, "--input");
-  std::vector<app::InitialValue> values;
-  for (const std::string& text : flags.initial) {
-    const auto [name, value] = split_assignment("--initial", text);
-    values.push_back({name, parse_number("--initial", value), "--initial " + text});
-  }
-  app::apply_initial_values(scene, values, "--initial");
+  apply_initial_flags(scene, flags.initial);
   return scene;
 }
 

@@ -39,6 +39,12 @@ struct RunFlags {
 /// and the --initial values written into its [initial] (app::apply_initial_values).
 Scene load_run_scene(RunFlags& flags);
 
+/// Registers --initial NAME=VALUE (repeatable) on `sub`: every command that runs the model has it.
+void add_initial_flag(CLI::App* sub, std::vector<std::string>& assignments);
+/// The --initial assignments written into the scene's [initial] as app::apply_initial_values
+/// rules (Python's initial= and t0= follow the same rule). InputError at --initial.
+void apply_initial_flags(Scene& scene, const std::vector<std::string>& assignments);
+
 /// Registers SCENE, --model, --t-end, --rtol, --atol, --max-steps, --set, --input, --initial, --expand,
 /// --project, --repair-initial, --outputs, --output-times, --integrator, --step and --stop-when on `sub`.
 void add_run_flags(CLI::App* sub, RunFlags& flags);

@@ -203,7 +203,8 @@ class Model:
             at the sample times t0 + k*period (y in :attr:`state_names` order); its inputs are held
             (zero-order hold) until the next sample, and the integrator stops and restarts exactly at
             each sample from the state it reached (given by name, as `initial`). The run's rows are
-            the sample times. Needs `t_end` and `period`; not with `inputs`, `outputs`,
+            the sample times. Needs `period`; the run ends at `t_end`, else at the scene's ``[simulate]``
+            t_end (t0 + 1 without one) as a plain run does; not with `inputs`, `outputs`,
             `output_times`, `sensitivity`, `stop_when` or the variational integrator.
         :param period: the controller's sample period h.
         :param controller_state: the controller's state at t0 (passed to its first call).
@@ -213,14 +214,14 @@ class Model:
 
         Ctrl-C (KeyboardInterrupt) stops a long run."""
         if controller is not None or period is not None:
-            if controller is None or period is None or t_end is None:
-                raise SceneError("controller=, period= and t_end= go together")
+            if controller is None or period is None:
+                raise SceneError("controller= and period= go together")
             if (inputs is not None or outputs is not None or output_times is not None or sensitivity is not None
                     or stop_when is not None or integrator != "ida"):
                 raise SceneError("controller= runs IDA from sample to sample: it does not take inputs, outputs, "
                                  "output_times, sensitivity, stop_when or another integrator")
-            return self._simulate_sampled(controller, float(period), controller_state, float(t_end), rtol, atol,
-                                          max_steps, initial, t0)
+            return self._simulate_sampled(controller, float(period), controller_state,
+                                          None if t_end is None else float(t_end), rtol, atol, max_steps, initial, t0)
         times = None if output_times is None else [float(t) for t in _np.asarray(output_times).ravel()]
         names = None if sensitivity is None else [sensitivity] if isinstance(sensitivity, str) else list(sensitivity)
         def number(value: Optional[float]) -> Optional[float]:
@@ -239,7 +240,7 @@ class Model:
         return Run(result)
 
     def _simulate_sampled(self, controller: Callable[[float, _npt.NDArray[_np.float64], Any], Tuple[Sequence[float], Any]],
-                          period: float, state: Any, t_end: float, rtol: Optional[float], atol: Optional[float],
+                          period: float, state: Any, t_end: Optional[float], rtol: Optional[float], atol: Optional[float],
                           max_steps: int, initial: Optional[Mapping[str, float]], t0: Optional[float]) -> Run:
         """simulate(controller=f, period=h): one IDA run per sample interval [t_k, t_k+1], t_k = t0 + k h,
         each started at the state the previous one reached, with the inputs f returned at t_k held."""
@@ -249,8 +250,11 @@ class Model:
         moving = list(self._model.differential)
         # The state at t0: the consistent initial point (the inputs' default signals for the
         # algebraic states, which the differential ones do not depend on).
+        first, last = self._model.run_span(None if t0 is None else float(t0))
+        if t_end is None:
+            t_end = last  # the scene's [simulate] t_end, counted from this t0 as a plain run's
         start = self.simulate(rtol=rtol, atol=atol, initial=initial, t0=t0, max_steps=max_steps,
-                              t_end=None, outputs=1)
+                              output_times=[first, first + period])
         t = float(start.t[0])
         count = int(_np.floor((t_end - t) / period + 1e-9))
         if count < 1:

@@ -333,12 +333,12 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   const bool variational = integrator == "variational";
   // initial= and t0= are [initial] values written from outside, the command line's --initial rule.
   Scene scene = built.scene;
+  if (t0_value) app::apply_initial_values(scene, {{"t0", *t0_value, ""}}, "t0");
   std::vector<app::InitialValue> given;
-  if (t0_value) given.push_back({"t0", *t0_value, "t0=" + runtime::number_text(*t0_value, 17)});
   if (initial_values)
     for (const auto& [name, value] : *initial_values)
-      given.push_back({name, value, "initial['" + name + "'] = " + runtime::number_text(value, 17)});
-  app::apply_initial_values(scene, given, initial_values ? "initial" : "t0");
+      given.push_back({name, value, name + " = " + runtime::number_text(value, 17)});
+  app::apply_initial_values(scene, given, "initial");
   if (!variational && integrator != "ida")
     throw InputError({"integrator", 0, 0}, "integrator '" + integrator + "': ida or variational");
   if (variational && sensitivity)
@@ -718,6 +718,15 @@ void register_model(py::module_& m) {
                                for (int i = 0; i < b.model().n_states(); ++i) out.push_back(b.model().is_differential(i));
                                return out;
                              })
+      // The span a run takes by default: t0 (the scene's, or the given one, checked as t0= is)
+      // and the scene's [simulate] t_end, which follows a new t0 when the scene gives none.
+      .def("run_span",
+           [](const BuiltModel& b, const std::optional<double>& t0) {
+             Scene scene = b.scene;
+             if (t0) app::apply_initial_values(scene, {{"t0", *t0, ""}}, "t0");
+             return std::make_pair(scene.initial.t0, scene.simulate.t_end);
+           },
+           py::arg("t0") = std::nullopt)
       .def("input_jacobian", &input_jacobian, py::arg("t"), py::arg("y"), py::arg("yp"), py::arg("u") = std::nullopt)
       .def("linearize_along", &linearize_along, py::arg("t"), py::arg("y"), py::arg("yp"), py::arg("inputs") = std::nullopt,
            py::arg("keep") = std::vector<std::string>{}, py::arg("states") = std::vector<std::string>{})

@@ -154,14 +154,19 @@ def test_a_parameter_study_compiles_once_and_matches_simulate_set(source, tmp_pa
     monkeypatch.setenv("NHC_CACHE_DIR", str(tmp_path / "cache"))
     path = source / "examples" / "rolling_disk.toml"
     values = np.linspace(0.3, 0.7, 20)
-    runs = []
-    for r in values:
-        runs.append(nhc.Scene.load(path, set={"r": float(r)}).build().simulate(t_end=0.5, outputs=10))
+    runs = [nhc.Scene.load(path, set={"r": float(values[0])}).build().simulate(t_end=0.5, outputs=10)]
     libraries = [f for f in (tmp_path / "cache").rglob("*.so")]
     assert len(libraries) == 1, libraries
+    compiled = libraries[0].stat()
+    for r in values[1:]:
+        runs.append(nhc.Scene.load(path, set={"r": float(r)}).build().simulate(t_end=0.5, outputs=10))
+    # The other 19 values compiled nothing: the one library, untouched since the first build.
+    assert [f for f in (tmp_path / "cache").rglob("*.so")] == libraries
+    assert (libraries[0].stat().st_ino, libraries[0].stat().st_mtime_ns) == (compiled.st_ino, compiled.st_mtime_ns)
     assert runs[0].summary["compile_seconds"] > 0
+    assert len({float(run["x"][-1]) for run in runs}) == 20  # 20 different motions
     # The same numbers as the command line's --set (CSV of 17 significant digits).
-    for k in (0, 7, 19):
+    for k in (0, 5, 10, 15, 19):  # spread over the study (each a command-line run of its own)
         csv = tmp_path / f"set{k}.csv"
         subprocess.run([nhc_command(), "simulate", str(path), "--set", f"r={values[k]!r}", "--t-end", "0.5",
                         "--outputs", "10", "-o", str(csv)], capture_output=True, check=True)

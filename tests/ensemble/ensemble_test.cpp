@@ -141,6 +141,28 @@ TEST_CASE("Appell–Hamel stop times on a grid of v0 and b/a match t* = v0 (1 + 
   CHECK_FALSE(file_exists(dir + "/m.svg"));
 }
 
+TEST_CASE("ensemble runs start from --initial: stop times from x'(0) = 1.5 and t0 = 0.25", "[ensemble]") {
+  // The Appell–Hamel stop time t* = v0 (1 + k^2)/(g k) after t0, with v0 and t0 given from outside
+  // the scene (whose [initial] has x'(0) = 1, t0 = 0).
+  const std::string dir = scratch_dir("ensemble_initial");
+  const std::string file = dir + "/stop.h5";
+  const std::string args = "--vary b=0.5:1:2 --initial \"x'=1.5\" --initial t0=0.25 ";
+  const auto r = run(ensemble(args + "-o '" + file + "'"), dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const std::vector<double> design = read_doubles(file, "/design/values"), t_stop = read_doubles(file, "/runs/t_stop");
+  REQUIRE(t_stop.size() == 2);
+  for (std::size_t k = 0; k < 2; ++k) {
+    const double ratio = design[k], t_star = 1.5 * (1 + ratio * ratio) / (9.81 * ratio);
+    INFO("b/a = " << ratio << ", t_stop = " << t_stop[k]);
+    CHECK(std::abs(t_stop[k] - (0.25 + t_star * (1 - std::sqrt(1e-14)))) < 1e-9);
+  }
+  // Runs from other initial values are another ensemble: not resumed.
+  const auto other = run(ensemble("--vary b=0.5:1:2 --resume -o '" + file + "'"), dir);
+  CHECK(other.exit_code == 2);
+  CHECK(other.err.find("its --initial values differ") != std::string::npos);
+}
+
 TEST_CASE("a 1-D grid is drawn as a line", "[ensemble]") {
   const std::string dir = scratch_dir("ensemble_line");
   const auto r = run(ensemble("--vary b=0.2:2:9 --plot drift:energy -o '" + dir + "/line.h5'"), dir);
@@ -211,7 +233,7 @@ TEST_CASE("resuming runs only the runs a checkpoint lacks and gives the same fil
                           dir);
   INFO(edited.err);
   CHECK(edited.exit_code == 2);
-  CHECK(edited.err.find("the scene's text differs from the one its runs were computed from") != std::string::npos);
+  CHECK(edited.err.find("the scene's text or its --initial values differ from those its runs were computed from") != std::string::npos);
 }
 
 TEST_CASE("bad input: exit 2, the flag named, no FILE.h5", "[ensemble]") {

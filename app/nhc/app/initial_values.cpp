@@ -6,6 +6,7 @@
 #include "nhc/errors.hpp"
 #include "nhc/runtime/number_text.hpp"
 #include "nhc/scene/expression_parser.hpp"
+#include "nhc/scene/scene_text.hpp"
 
 namespace nhc::app {
 
@@ -14,6 +15,9 @@ namespace {
 [[noreturn]] void refuse(const std::string& field, const std::string& message) {
   throw InputError({field, 0, 0}, message);
 }
+
+/// "x=abc: " before a message about the value written `written`; nothing when the field alone names it.
+std::string quoted(const std::string& written) { return written.empty() ? std::string() : written + ": "; }
 
 bool names_coordinate_or_multiplier(const Scene& scene, const std::string& base) {
   const JetSpace& jet = *scene.jet;
@@ -29,9 +33,11 @@ void apply_initial_values(Scene& scene, const std::vector<InitialValue>& values,
   // Which orders of each name the new values give; checked for gaps once all are in.
   std::map<std::string, std::string> written_by_name;
   for (const InitialValue& v : values) {
-    if (!std::isfinite(v.value)) refuse(field, v.written + ": " + runtime::number_text(v.value, 17) + " is not a finite number");
+    if (!std::isfinite(v.value)) refuse(field, quoted(v.written) + runtime::number_text(v.value, 17) + " is not a finite number");
     if (v.name == "t0") {
       scene.initial.t0 = v.value;
+      // Without [simulate] t_end the run lasts 1 from t0 (scene_loader.cpp): from this t0.
+      if (!scene.source_text.empty() && !scene_gives_t_end(scene.source_text)) scene.simulate.t_end = v.value + 1.0;
       continue;
     }
     const std::size_t primes = v.name.size() - std::min(v.name.size(), v.name.find_last_not_of('\'') + 1);
@@ -39,11 +45,11 @@ void apply_initial_values(Scene& scene, const std::vector<InitialValue>& values,
     if (!names_coordinate_or_multiplier(scene, base)) {
       std::string known;
       for (const std::string& c : scene.jet->coordinates()) known += (known.empty() ? "" : ", ") + c;
-      refuse(field, v.written + ": '" + base + "' is neither t0, a coordinate nor a multiplier of the scene (coordinates: " +
+      refuse(field, quoted(v.written) + "'" + base + "' is neither t0, a coordinate nor a multiplier of the scene (coordinates: " +
                         known + ")");
     }
     if (primes > static_cast<std::size_t>(kMaxDerivativeOrder))
-      refuse(field, v.written + ": derivative order " + std::to_string(primes) + " is beyond the limit " +
+      refuse(field, quoted(v.written) + "derivative order " + std::to_string(primes) + " is beyond the limit " +
                         std::to_string(kMaxDerivativeOrder));
     std::vector<double>& list = scene.initial.values[base];
     if (list.size() <= primes) list.resize(primes + 1, std::nan(""));  // NaN: not given (checked below)
@@ -55,7 +61,7 @@ void apply_initial_values(Scene& scene, const std::vector<InitialValue>& values,
   for (const auto& [base, written] : written_by_name)
     for (std::size_t k = 0; k < scene.initial.values[base].size(); ++k)
       if (std::isnan(scene.initial.values[base][k]))
-        refuse(field, written + ": " + (k == 0 ? base : base + std::string(k, '\'')) +
+        refuse(field, quoted(written) + (k == 0 ? base : base + std::string(k, '\'')) +
                           " is not given (neither in the scene's [initial] nor here); the values of " + base +
                           " are a value and its derivatives in order, so give it too");
 }

@@ -13,7 +13,8 @@ namespace nhc::app {
 
 /// One value: `name` is t0, or a coordinate or multiplier with as many primes as the
 /// derivative's order ("x", "x'", "lambda1"); `written` is the assignment as the caller gave it,
-/// for messages.
+/// for messages, which are located at the caller's field and quote it ("--initial: error: x=nan:
+/// …"); empty when the field alone names the value (Python's t0=).
 struct InitialValue {
   std::string name;
   double value = 0;
@@ -24,7 +25,8 @@ struct InitialValue {
 /// that is neither t0, a coordinate nor a multiplier, a derivative order beyond the scene's
 /// limit, a value that is not finite, or a derivative whose lower orders neither the scene nor
 /// `values` give ("x'" without x) is an InputError at `field`. A value written over an [initial]
-/// expression of the parameters replaces it (a later --set does not re-evaluate it).
+/// expression of the parameters replaces it (a later --set does not re-evaluate it). A new t0
+/// moves the default end of the run, t0 + 1, with it when [simulate] gives no t_end.
 void apply_initial_values(Scene& scene, const std::vector<InitialValue>& values, const std::string& field);
 
 }  // namespace nhc::app

@@ -17,6 +17,7 @@
 
 #include "nhc/io/input_file.hpp"
 #include "nhc/runtime/number_text.hpp"
+#include "nhc/expr/intermediate.hpp"
 #include "nhc/expr/work_budget.hpp"
 #include "nhc/scene/definition_table.hpp"
 #include "nhc/scene/constant_expression.hpp"
@@ -263,16 +264,23 @@ class SceneReader {
     plain.definition = [this, &jet](const std::string& n) { return derived_parameter(n, jet); };
     plain.rotation_check.point = &initial_point;
     plain.node_budget = std::make_shared<std::size_t>(kMaxSceneNodes);
-    read_input_signals(input_nodes, scene, plain);
-    plain.input_law = [&scene](int k) -> std::optional<GiNaC::ex> {
+    // A feedback law is written in place of its input's name. The laws may use the definitions,
+    // so they are read after them; while they are read every input stays a symbol, so that a law
+    // reaching another input through a definition is refused at the law whatever the order of
+    // the entries (read_input_signals), and no definition keeps a symbol its law should replace.
+    bool inputs_read = false;
+    plain.input_law = [&scene, &inputs_read](int k) -> std::optional<GiNaC::ex> {
+      if (!inputs_read) return std::nullopt;
       const SceneInput& input = scene.inputs[static_cast<std::size_t>(k)];
       if (!input.feedback) return std::nullopt;
       return input.law;
     };
     DefinitionTable definitions(jet, plain, options_.keep_definitions);
     scene.keep_definitions = options_.keep_definitions;
-    read_definitions(root, definitions);
+    read_definitions(root, definitions);  // resolved when first used
     const ExpressionRules mechanics = definitions.rules_with_definitions(plain);
+    read_input_signals(input_nodes, scene, mechanics);
+    inputs_read = true;
     const toml::node& lagrangian_node = require(root, "lagrangian", "top level");
     scene.lagrangian = expression(lagrangian_node, "lagrangian", jet, mechanics);
     scene.lagrangian_where = at(lagrangian_node);
@@ -773,9 +781,12 @@ class SceneReader {
 
   /// [forces]: coordinate = "Q(t, q, q')", the generalized force of docs/forces.md.
   /// [inputs]: name = "u(t, parameters)" (a number is a constant signal), the default signal.
+  /// Either may name the [definitions] (`rules` has them): a definition is resolved once, so one
+  /// that names an input whose entry comes later holds that input's symbol, which a law may not
+  /// reach (the symbols are searched through the definitions' named intermediates).
   void read_input_signals(const std::vector<std::pair<const toml::node*, SourceLocation>>& nodes, Scene& scene,
-                          const ExpressionRules& plain) {
-    ExpressionRules signal = plain;
+                          const ExpressionRules& rules) {
+    ExpressionRules signal = rules;
     signal.allow_inputs = false;  // a signal of t, or a feedback law of t, q and q'; no other input
     for (std::size_t k = 0; k < nodes.size(); ++k) {
       const toml::node& value = *nodes[k].first;
@@ -784,7 +795,14 @@ class SceneReader {
       if (value.is_number()) u = number_value(value, "input '" + name + "'");
       else if (value.is_string()) u = expression(value, "input '" + name + "'", *scene.jet, signal);
       else fail(value, "input '" + name + "' must be a number or an expression of t, the parameters and the coordinates (a string)");
+      for (const GiNaC::ex& s : symbols_through(u))
+        if (const std::optional<int> j = scene.jet->input_of(s))
+          fail(value, "input '" + name + "' uses input '" + scene.jet->inputs()[static_cast<std::size_t>(*j)] +
+                          "' through a definition: an input's law may not use another input");
       const int order = scene.jet->highest_coordinate_order(u);
+      // A signal is evaluated by substitution of t and the parameters (Scene::input_substitution),
+      // which does not look into named intermediates (SceneOptions::keep_definitions).
+      if (order < 0) u = expand_intermediates(u);
       // The equations' states hold q and q' (forces are Q(t, q, q')); q'' is what the input
       // drives, so a law of q'' would be an equation for itself (docs/scenes.md, "Feedback laws").
       if (order > 1)
@@ -1125,6 +1143,17 @@ std::string scene_text_with_inputs(const std::string& text, const std::map<std::
   std::string out = text;
   for (const auto& [begin, edit] : edits) out.replace(begin, edit.first - begin, edit.second);
   return out;
+}
+
+bool scene_gives_t_end(const std::string& text) {
+  return toml::parse(text)["simulate"]["t_end"].node() != nullptr;
+}
+
+std::set<std::string> scene_definition_names(const std::string& text) {
+  std::set<std::string> names;
+  if (const toml::table* definitions = toml::parse(text)["definitions"].as_table())
+    for (const auto& [key, value] : *definitions) names.insert(std::string(key.str()));
+  return names;
 }
 
 Scene load_scene(const std::string& path, const SceneOptions& options) {

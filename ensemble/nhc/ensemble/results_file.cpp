@@ -422,7 +422,7 @@ std::string resume_mismatch(const EnsembleInfo& s, const EnsembleInfo& w) {
   // By content: a scene edited under the same name is another system.
   if (s.scene_digest.empty()) return "it records no digest of its scene's text (written by an older nhc)";
   if (s.scene_digest != w.scene_digest)
-    return "the scene's text differs from the one its runs were computed from (SHA-256 " +
+    return "the scene's text or its --initial values differ from those its runs were computed from (SHA-256 " +
            s.scene_digest.substr(0, 12) + "… there, " + w.scene_digest.substr(0, 12) + "… now)";
   if (s.model != w.model) return differ("the model", s.model, w.model);
   if (s.rtol != w.rtol || s.atol != w.atol) return "the tolerances differ";

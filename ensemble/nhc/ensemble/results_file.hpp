@@ -30,8 +30,8 @@ inline constexpr const char* kFormat = "nhc-ensemble 1";
 
 struct EnsembleInfo {
   std::string scene, scene_file, model, nhc_version;
-  /// SHA-256 of the scene's text, what every run is computed from beyond the fields below
-  /// (--resume compares it, not the scene's name).
+  /// SHA-256 of the scene's text (followed by the --initial values, when given), what every run
+  /// is computed from beyond the fields below (--resume compares it, not the scene's name).
   std::string scene_digest;
   double rtol = 0, atol = 0, t0 = 0, t_end = 0;
   int outputs = 0;
