@@ -247,3 +247,14 @@ def test_a_sampled_controller_without_t_end_runs_to_the_scenes_t_end(tmp_path):
     assert np.max(np.abs(run["x"] - run.t**2 / 2)) < 1e-8
     run = nhc.Scene.from_toml(DRIVEN).build().simulate(controller=controller, period=0.25, t0=2.0)
     assert len(run) == 5 and run.t[0] == 2.0 and abs(run.t[-1] - 3.0) < 1e-12
+
+
+def test_a_t0_after_the_scenes_t_end_asks_for_t_end(tmp_path):
+    scene = oscillator(tmp_path, "[simulate]\nt_end = 1.0\n")
+    refused = command("simulate", scene, "--initial", "t0=2", check=False)
+    assert refused.returncode == 2
+    assert "error: the scene's [simulate] t_end 1 is not after t0 = 2: give --t-end" in refused.stderr, refused.stderr
+    with pytest.raises(nhc.SceneError, match=r"t_end 1 is not after t0 = 2: give t_end"):
+        nhc.Scene.load(scene).build().simulate(t0=2.0)
+    command("simulate", scene, "--initial", "t0=2", "--t-end", "2.5", "-o", tmp_path / "a.csv")
+    assert csv_table(tmp_path / "a.csv")["t"][-1] == 2.5

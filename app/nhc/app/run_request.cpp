@@ -86,6 +86,10 @@ void check_run_request(const RunRequest& r, const Scene& scene, ModelKind kind, 
   const std::string here = names.at.empty() ? names.t_end : names.at;
   if (r.t_end && !(*r.t_end > scene.initial.t0))
     refuse(here, names.t_end + " " + number(*r.t_end, 17) + " must be after t0 = " + number(scene.initial.t0, 17));
+  // The scene's own t_end is after its own t0 (scene_loader.cpp); a t0 from outside may pass it.
+  if (!r.t_end && !r.output_times && !(scene.simulate.t_end > scene.initial.t0))
+    refuse(here, "the scene's [simulate] t_end " + number(scene.simulate.t_end, 17) + " is not after t0 = " +
+                     number(scene.initial.t0, 17) + ": give " + names.t_end);
   const std::string at_step = names.at.empty() ? names.step : names.at;
   if (!r.variational) {
     if (r.step) refuse(at_step, names.step + " is the fixed step of " + names.variational + "; IDA chooses its own");
