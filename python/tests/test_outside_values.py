@@ -185,6 +185,17 @@ def test_report_starts_from_the_initial_flag(tmp_path):
     text = (out / "report.md").read_text()
     assert "- t from 0.5 to 1.5;" in text  # the default end follows the new t0
     assert "- initial values set (as if written in [initial]): `t0=0.5` `x=2`" in text
+    # The scene's [reference] x = cos 2t is the motion from its own x = 1: from x = 2 the error is
+    # measured against a reference run (2 cos 2t against the closed form would be an error of 1).
+    scene = oscillator(tmp_path, '[reference]\nx = "cos(2*t)"\n')
+    for initial, source in (([], "reference"), (["--initial", "x=2"], "reference run")):
+        out = tmp_path / f"report{len(initial)}"
+        command("report", scene, *initial, "--tolerances", "1e-6", "--jacobian", "dense", "--projection", "off",
+                "--outputs", "10", "-q", "-o", out)
+        rows = (out / "workprec.csv").read_text().splitlines()
+        header, row = rows[0].split(","), rows[1].split(",")
+        assert row[header.index("error_source")] == source
+        assert float(row[header.index("error")]) < 1e-4
 
 
 def test_compare_starts_every_model_from_the_initial_flag(tmp_path):
