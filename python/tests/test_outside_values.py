@@ -269,3 +269,9 @@ def test_a_t0_after_the_scenes_t_end_asks_for_t_end(tmp_path):
         nhc.Scene.load(scene).build().simulate(t0=2.0)
     command("simulate", scene, "--initial", "t0=2", "--t-end", "2.5", "-o", tmp_path / "a.csv")
     assert csv_table(tmp_path / "a.csv")["t"][-1] == 2.5
+
+
+def test_animate_starts_from_the_initial_flag(source, tmp_path):
+    out = tmp_path / "page"
+    command("animate", source / "examples" / "rolling_disk.toml", "--initial", "t0=0.5", "--outputs", "4", "-o", out)
+    assert '"t":[0.5,1.625,2.75,3.875,5]' in (out / "index.html").read_text()  # [simulate] t_end = 5 stays
