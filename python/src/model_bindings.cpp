@@ -17,6 +17,9 @@
 #include "model_argument.hpp"
 #include "nhc/app/parameter_values.hpp"
 #include "nhc/app/initial_values.hpp"
+#include "nhc/app/pipeline.hpp"
+#include "nhc/app/preparation.hpp"
+#include "nhc/app/parameter_overrides.hpp"
 #include "nhc/app/run_request.hpp"
 #include "nhc/app/scene_events.hpp"
 #include "nhc/app/scene_outputs.hpp"
@@ -114,11 +117,16 @@ struct BuiltModel {
 };
 
 /// `header_scene`: the scene as written (before `set=`), whose header every parameter value shares;
-/// none: `scene` itself.
+/// none: `scene` itself. The path of nhc simulate (app::prepare_and_build): given initial values that
+/// miss a hidden constraint are refused in its words before anything is compiled, and the model
+/// is derived and analysed once.
 BuiltModel build(const Scene& scene, const std::string& model, const std::optional<Scene>& header_scene) {
   const ModelKind kind = model_named(model);
   const Scene& written = header_scene ? *header_scene : scene;
-  auto loaded = std::make_shared<jit::LoadedModel>(symbolic_work([&] { return jit::build(written, kind); }));
+  auto loaded = std::make_shared<jit::LoadedModel>(symbolic_work([&] {
+    app::Preparation preparation(scene, kind);
+    return std::move(app::prepare_and_build(preparation, written, false, {}).built);
+  }));
   std::vector<double> p = app::model_parameters(loaded->model(), scene);
   return BuiltModel{scene, written, kind, std::move(loaded), std::move(p)};  // with the GIL: it holds Python objects
 }
@@ -285,8 +293,9 @@ py::dict simulate_sensitivities(const BuiltModel& built, const Scene& scene, con
                                 InterruptCheck interrupt) {
   const runtime::Model& plain = built.model();  // the inputs follow their default signals
   std::vector<runtime::SensitivityParameter> thetas;
-  const runtime::InitialState initial =
-      runtime::initial_state_from(plain, scene.initial.t0, scene.initial.values);
+  const runtime::InitialState initial = app::initial_state_of(scene, plain);
+  for (const std::string& name : names)  // as nhc simulate --sensitivity
+    app::refuse_unread_parameter(scene, plain, name, "sensitivity", "its sensitivities are all zero");
   try {
     thetas = runtime::sensitivity_parameters(plain, names);
     if (thetas.empty()) throw std::invalid_argument("no quantity to differentiate by");
@@ -361,7 +370,6 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   app::check_run_request(request, scene, built.kind, app::python_names());
   const std::vector<SceneEvent> scene_events = app::run_events(request, scene, app::python_names());
   const runtime::Model& model = built.model();
-  const double t0 = scene.initial.t0;
   const std::vector<double> times = app::run_output_times(request, scene, app::python_names());
   runtime::IntegratorOptions options = app::run_integrator_options(request, scene);
   const InterruptCheck interrupt;
@@ -395,11 +403,11 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   std::shared_ptr<jit::LoadedModel> sliding;
   if (slide)
     sliding = std::make_shared<jit::LoadedModel>(
-        symbolic_work([&] { return jit::build(app::sliding_scene(built.scene, *slide), built.kind); }));
+        symbolic_work([&] { return app::build_sliding_model(built.scene, *slide, built.kind, {}); }));
   std::vector<app::SlidingSpan> sliding_spans;
   try {
     py::gil_scoped_release unlocked;
-    const runtime::InitialState initial = runtime::initial_state_from(model, t0, scene.initial.values);
+    const runtime::InitialState initial = app::initial_state_of(scene, model);
     if (variational) {
       const runtime::VariationalOptions vo = runtime::variational_options(*step, options.max_steps, options);
       runtime::VariationalRun v = runtime::simulate_variational(*run_model, p, initial, times, vo, input_function);

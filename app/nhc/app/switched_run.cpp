@@ -113,6 +113,11 @@ Scene sliding_scene(const Scene& scene, const SceneContact& contact) {
   return parse_scene(switched_source(scene.source_text, removed, forces), scene.source_path);
 }
 
+jit::LoadedModel build_sliding_model(const Scene& scene, const SceneContact& contact, ModelKind kind,
+                                     const jit::BuildOptions& options) {
+  return jit::build(sliding_scene(scene, contact), kind, options);
+}
+
 SwitchedRun simulate_switched(const Scene& scene, const SceneContact& contact, const runtime::Model& rolling,
                               const runtime::Model& sliding, const std::vector<double>& p,
                               const runtime::InitialState& initial, const std::vector<double>& times,

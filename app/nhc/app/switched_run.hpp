@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "nhc/jit/build.hpp"
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/scene/scene.hpp"
 
@@ -24,6 +25,12 @@ const SceneContact* sliding_contact(const Scene& scene);
 /// with the generalized Coulomb force Q_i = -mu F_n sum_k (f^k/|f|) df^k/dq_i' (docs/contacts.md,
 /// eq. (8)) in [forces]; parsed like any scene, so its model is cached like any model.
 Scene sliding_scene(const Scene& scene, const SceneContact& contact);
+
+/// The sliding model of `scene` (the scene of the run, after its parameter values) for
+/// `contact`: sliding_scene() built as `kind` with `options`, as nhc simulate and Python's
+/// simulate integrate it.
+jit::LoadedModel build_sliding_model(const Scene& scene, const SceneContact& contact, ModelKind kind,
+                                     const jit::BuildOptions& options);
 
 /// A time span the contact slides: (from, to], or [from, to] when the run starts sliding; `to`
 /// is +infinity when the run ends sliding.
