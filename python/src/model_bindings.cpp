@@ -17,6 +17,7 @@
 #include "model_argument.hpp"
 #include "nhc/app/parameter_values.hpp"
 #include "nhc/app/initial_values.hpp"
+#include "nhc/app/integrate.hpp"
 #include "nhc/app/pipeline.hpp"
 #include "nhc/app/preparation.hpp"
 #include "nhc/app/parameter_overrides.hpp"
@@ -408,19 +409,17 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   try {
     py::gil_scoped_release unlocked;
     const runtime::InitialState initial = app::initial_state_of(scene, model);
-    if (variational) {
-      const runtime::VariationalOptions vo = runtime::variational_options(*step, options.max_steps, options);
-      runtime::VariationalRun v = runtime::simulate_variational(*run_model, p, initial, times, vo, input_function);
-      run = std::move(v.run);
-      max_discrete_constraint = v.max_discrete_constraint;
-      extra["newton_iterations"] = run.statistics.nonlinear_iterations;
-    } else if (slide) {
+    if (slide) {
       app::SwitchedRun switched = app::simulate_switched(built.scene, *slide, model, sliding->model(), p, initial, times,
                                                          options, scene_events, input_function);
       run = std::move(switched.run);
       sliding_spans = std::move(switched.sliding);
-    } else {
-      run = runtime::simulate(model, p, initial, times, options, events, input_function);
+    } else {  // IDA or the variational integrator, as nhc simulate's --integrator
+      app::IntegratedRun integrated =
+          app::integrate(request, *run_model, p, initial, times, options, events, input_function);
+      run = std::move(integrated.run);
+      max_discrete_constraint = integrated.max_discrete_constraint;
+      if (variational) extra["newton_iterations"] = run.statistics.nonlinear_iterations;
     }
   } catch (...) {
     if (*interrupt.raised) throw std::move(**interrupt.raised);
