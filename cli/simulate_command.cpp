@@ -218,13 +218,7 @@ int run_simulate(SimulateOptions& options) {
   // rolls; the drift is measured over those samples.
   std::vector<runtime::Sample> rolling_samples;
   if (!sliding_spans.empty()) {
-    for (const runtime::Sample& s : run.samples) {
-      bool rolls = true;
-      for (std::size_t k = 0; k < sliding_spans.size(); ++k)
-        rolls = rolls && !((s.t > sliding_spans[k].from || (sliding_spans[k].from_included && s.t == sliding_spans[k].from)) &&
-                           s.t <= sliding_spans[k].to);
-      if (rolls) rolling_samples.push_back(s);
-    }
+    rolling_samples = app::rolling_samples(run.samples, sliding_spans);
     switch_notes.push_back("the drift above is measured over the samples where contact " + slide->name +
                            " rolls (" + std::to_string(rolling_samples.size()) + " of " +
                            std::to_string(run.samples.size()) + ")");

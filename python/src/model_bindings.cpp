@@ -449,7 +449,11 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   }
   py::array_t<double> data = data_of(*run_model, p, run.samples, n_columns, output_values);
   py::dict result = result_of(columns, std::move(data),
-                              summary_of(built, *run_model, p, run.statistics, std::move(run.samples), extra),
+                              // a contact that slid: the drift over the samples where it rolls, as nhc simulate's
+                              summary_of(built, *run_model, p, run.statistics,
+                                         sliding_spans.empty() ? std::move(run.samples)
+                                                               : app::rolling_samples(run.samples, sliding_spans),
+                                         extra),
                               run.failure);
   if (max_discrete_constraint) result["max_discrete_constraint"] = *max_discrete_constraint;
   py::list hits;  // run.events: name, t, the state at the crossing by state name

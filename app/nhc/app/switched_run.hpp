@@ -39,6 +39,11 @@ struct SlidingSpan {
   bool from_included = false;
 };
 
+/// The samples at which the contact rolls (outside every span of `sliding`): where the rolling
+/// model's hidden constraints and invariants hold, so a run's drift is measured over them.
+std::vector<runtime::Sample> rolling_samples(const std::vector<runtime::Sample>& samples,
+                                             const std::vector<SlidingSpan>& sliding);
+
 struct SwitchedRun {
   /// The samples and event hits in the rolling model's states: while sliding, the multipliers
   /// of the contact's rolling constraints hold the friction force's components.
