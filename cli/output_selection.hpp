@@ -1,36 +1,15 @@
 #pragma once
 /// \file output_selection.hpp
-/// \brief What `nhc simulate` writes: the output times (`--outputs N`, `[simulate] outputs = N`,
-/// `--output-times a:h:b` or `t1,t2,…`) and the CSV columns (`--columns x,y`; t always first;
-/// the scene's [outputs] after the model's columns).
-/// Bad specifications are bad input naming the flag (exit 2), checked before the run.
+/// \brief The output times and CSV columns of a run, from their home in app/
+/// (nhc/app/output_selection.hpp).
 
-#include <iosfwd>
-#include <string>
-#include <vector>
-
-#include "nhc/runtime/runtime.hpp"
-#include "nhc/app/scene_outputs.hpp"
+#include "nhc/app/output_selection.hpp"
 
 namespace nhc::cli {
 
-/// "a:h:b" (a, a + h, …, b; (b − a)/h must be a whole number to 1e-9) or "t1,t2,…" (increasing),
-/// all at or after t0 with the last after t0.
-std::vector<double> parse_output_times(const std::string& spec, double t0);
-
-/// The columns of the CSV runtime::write_csv writes for `model` (its header line, split), then
-/// the scene's [outputs].
-std::vector<std::string> csv_columns(const runtime::Model& model, const std::vector<double>& p,
-                                     const app::SceneOutputs& outputs);
-
-/// "x,y,lambda1" → the names, each checked against `available` (InputError naming --columns);
-/// a name given twice is refused. "t" is kept in the list: `--columns t` selects t alone.
-std::vector<std::string> parse_columns(const std::string& spec, const std::vector<std::string>& available);
-
-/// runtime::write_csv with the [outputs] columns appended, restricted to t and `columns` in that
-/// order (all when `columns` is empty; t is always first, once).
-void write_selected_csv(std::ostream& out, const runtime::Model& model, const std::vector<double>& p,
-                        const std::vector<runtime::Sample>& samples, const std::vector<std::string>& columns,
-                        const app::SceneOutputs& outputs);
+using app::csv_columns;
+using app::parse_columns;
+using app::parse_output_times;
+using app::write_selected_csv;
 
 }  // namespace nhc::cli

@@ -1,29 +1,15 @@
 #pragma once
 /// \file pipeline.hpp
-/// \brief What the commands integrating a scene share (nhc simulate, nhc report) beyond
-/// nhc::jit: the scene's [initial] as the runtime's initial state, timing and number format.
+/// \brief What the commands integrating a scene share, from its home in app/
+/// (nhc/app/pipeline.hpp).
 
-#include <chrono>
-#include <filesystem>
-#include <optional>
-#include <string>
-
-#include "nhc/runtime/runtime.hpp"
-#include "nhc/scene/scene.hpp"
+#include "nhc/app/pipeline.hpp"
 
 namespace nhc::cli {
 
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start);
-
-// shell_quote() and run_command(): nhc/io/shell.hpp.
-
-/// The scene's [initial] as the runtime's InitialState: `x = [x0, x'0]` gives the states x and x';
-/// values beyond the states' orders are y' guesses.
-runtime::InitialState initial_state_of(const Scene& scene, const runtime::Model& model);
-
-/// A number with `precision` significant digits (iostream default notation).
-std::string format_number(double v, int precision = 3);
+using app::Clock;
+using app::format_number;
+using app::initial_state_of;
+using app::seconds_since;
 
 }  // namespace nhc::cli

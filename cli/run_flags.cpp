@@ -155,16 +155,11 @@ FlaggedRun run_with_flags(const RunFlags& flags, const runtime::Model& model, co
                           const runtime::InitialState& initial, const std::vector<double>& times,
                           const runtime::IntegratorOptions& io, const runtime::InputFunction& inputs,
                           const std::vector<runtime::Event>& events) {
-  FlaggedRun out;
-  if (!variational_integrator(flags)) {
-    out.run = runtime::simulate(model, p, initial, times, io, events, inputs);
-    return out;
-  }
-  const runtime::VariationalOptions vo = runtime::variational_options(*flags.step, flags.max_steps, io);
-  runtime::VariationalRun run = runtime::simulate_variational(model, p, initial, times, vo, inputs);
-  out.run = std::move(run.run);
-  out.max_discrete_constraint = run.max_discrete_constraint;
-  return out;
+  app::RunRequest request;  // what app::integrate reads of it
+  request.variational = variational_integrator(flags);
+  request.step = flags.step;
+  request.max_steps = flags.max_steps;
+  return app::integrate(request, model, p, initial, times, io, events, inputs);
 }
 
 std::vector<SceneEvent> run_events(const RunFlags& flags, const Scene& scene) {

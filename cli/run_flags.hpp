@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "nhc/app/integrate.hpp"
 #include "nhc/app/run_request.hpp"
 #include "nhc/jit/build.hpp"
 #include "nhc/runtime/runtime.hpp"
@@ -61,12 +62,9 @@ inline bool variational_integrator(const RunFlags& flags) { return flags.integra
 /// The jit backend --backend names.
 jit::Backend run_backend(const RunFlags& flags);
 
-/// A run as the flags ask for it: IDA, or the variational integrator (docs/variational.md), whose
-/// largest discrete-constraint residual comes with it.
-struct FlaggedRun {
-  runtime::RunResult run;
-  std::optional<double> max_discrete_constraint;  ///< the variational integrator's
-};
+/// A run as the flags ask for it (app::integrate): IDA, or the variational integrator
+/// (docs/variational.md), whose largest discrete-constraint residual comes with it.
+using FlaggedRun = app::IntegratedRun;
 FlaggedRun run_with_flags(const RunFlags& flags, const runtime::Model& model, const std::vector<double>& p,
                           const runtime::InitialState& initial, const std::vector<double>& times,
                           const runtime::IntegratorOptions& io, const runtime::InputFunction& inputs,

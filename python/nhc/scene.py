@@ -171,6 +171,8 @@ class Scene:
         compiled model: a parameter study compiles once.
 
         :param model: the model's name (default: the scene's ``[simulate]`` model, as on the command line).
+        :raises nhc.MathError: the given initial values miss a hidden constraint (checked before
+            anything is compiled, in ``nhc simulate``'s words).
         :raises nhc.HostError: the compiler or the cache failed."""
         return Model(_nhc._build(self._scene, model or self._scene.default_model, self._written))
 

@@ -17,6 +17,10 @@
 #include "model_argument.hpp"
 #include "nhc/app/parameter_values.hpp"
 #include "nhc/app/initial_values.hpp"
+#include "nhc/app/integrate.hpp"
+#include "nhc/app/pipeline.hpp"
+#include "nhc/app/preparation.hpp"
+#include "nhc/app/parameter_overrides.hpp"
 #include "nhc/app/run_request.hpp"
 #include "nhc/app/scene_events.hpp"
 #include "nhc/app/scene_outputs.hpp"
@@ -114,11 +118,16 @@ struct BuiltModel {
 };
 
 /// `header_scene`: the scene as written (before `set=`), whose header every parameter value shares;
-/// none: `scene` itself.
+/// none: `scene` itself. The path of nhc simulate (app::prepare_and_build): given initial values that
+/// miss a hidden constraint are refused in its words before anything is compiled, and the model
+/// is derived and analysed once.
 BuiltModel build(const Scene& scene, const std::string& model, const std::optional<Scene>& header_scene) {
   const ModelKind kind = model_named(model);
   const Scene& written = header_scene ? *header_scene : scene;
-  auto loaded = std::make_shared<jit::LoadedModel>(symbolic_work([&] { return jit::build(written, kind); }));
+  auto loaded = std::make_shared<jit::LoadedModel>(symbolic_work([&] {
+    app::Preparation preparation(scene, kind);
+    return std::move(app::prepare_and_build(preparation, written, false, {}).built);
+  }));
   std::vector<double> p = app::model_parameters(loaded->model(), scene);
   return BuiltModel{scene, written, kind, std::move(loaded), std::move(p)};  // with the GIL: it holds Python objects
 }
@@ -285,8 +294,9 @@ py::dict simulate_sensitivities(const BuiltModel& built, const Scene& scene, con
                                 InterruptCheck interrupt) {
   const runtime::Model& plain = built.model();  // the inputs follow their default signals
   std::vector<runtime::SensitivityParameter> thetas;
-  const runtime::InitialState initial =
-      runtime::initial_state_from(plain, scene.initial.t0, scene.initial.values);
+  const runtime::InitialState initial = app::initial_state_of(scene, plain);
+  for (const std::string& name : names)  // as nhc simulate --sensitivity
+    app::refuse_unread_parameter(scene, plain, name, "sensitivity", "its sensitivities are all zero");
   try {
     thetas = runtime::sensitivity_parameters(plain, names);
     if (thetas.empty()) throw std::invalid_argument("no quantity to differentiate by");
@@ -361,7 +371,6 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   app::check_run_request(request, scene, built.kind, app::python_names());
   const std::vector<SceneEvent> scene_events = app::run_events(request, scene, app::python_names());
   const runtime::Model& model = built.model();
-  const double t0 = scene.initial.t0;
   const std::vector<double> times = app::run_output_times(request, scene, app::python_names());
   runtime::IntegratorOptions options = app::run_integrator_options(request, scene);
   const InterruptCheck interrupt;
@@ -395,24 +404,22 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   std::shared_ptr<jit::LoadedModel> sliding;
   if (slide)
     sliding = std::make_shared<jit::LoadedModel>(
-        symbolic_work([&] { return jit::build(app::sliding_scene(built.scene, *slide), built.kind); }));
+        symbolic_work([&] { return app::build_sliding_model(built.scene, *slide, built.kind, {}); }));
   std::vector<app::SlidingSpan> sliding_spans;
   try {
     py::gil_scoped_release unlocked;
-    const runtime::InitialState initial = runtime::initial_state_from(model, t0, scene.initial.values);
-    if (variational) {
-      const runtime::VariationalOptions vo = runtime::variational_options(*step, options.max_steps, options);
-      runtime::VariationalRun v = runtime::simulate_variational(*run_model, p, initial, times, vo, input_function);
-      run = std::move(v.run);
-      max_discrete_constraint = v.max_discrete_constraint;
-      extra["newton_iterations"] = run.statistics.nonlinear_iterations;
-    } else if (slide) {
+    const runtime::InitialState initial = app::initial_state_of(scene, model);
+    if (slide) {
       app::SwitchedRun switched = app::simulate_switched(built.scene, *slide, model, sliding->model(), p, initial, times,
                                                          options, scene_events, input_function);
       run = std::move(switched.run);
       sliding_spans = std::move(switched.sliding);
-    } else {
-      run = runtime::simulate(model, p, initial, times, options, events, input_function);
+    } else {  // IDA or the variational integrator, as nhc simulate's --integrator
+      app::IntegratedRun integrated =
+          app::integrate(request, *run_model, p, initial, times, options, events, input_function);
+      run = std::move(integrated.run);
+      max_discrete_constraint = integrated.max_discrete_constraint;
+      if (variational) extra["newton_iterations"] = run.statistics.nonlinear_iterations;
     }
   } catch (...) {
     if (*interrupt.raised) throw std::move(**interrupt.raised);
@@ -442,7 +449,11 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   }
   py::array_t<double> data = data_of(*run_model, p, run.samples, n_columns, output_values);
   py::dict result = result_of(columns, std::move(data),
-                              summary_of(built, *run_model, p, run.statistics, std::move(run.samples), extra),
+                              // a contact that slid: the drift over the samples where it rolls, as nhc simulate's
+                              summary_of(built, *run_model, p, run.statistics,
+                                         sliding_spans.empty() ? std::move(run.samples)
+                                                               : app::rolling_samples(run.samples, sliding_spans),
+                                         extra),
                               run.failure);
   if (max_discrete_constraint) result["max_discrete_constraint"] = *max_discrete_constraint;
   py::list hits;  // run.events: name, t, the state at the crossing by state name

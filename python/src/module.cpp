@@ -10,6 +10,8 @@
 #include <cmath>
 #include <string>
 
+#include "nhc/analysis/structural_analysis.hpp"
+#include "nhc/derive/models.hpp"
 #include "nhc/expr/work_stage.hpp"
 
 namespace nhc::python {
@@ -45,4 +47,9 @@ PYBIND11_MODULE(_nhc, m) {
   m.def(
       "_work_limit", [] { return nhc::python::work_limit_seconds(); },
       "The processor seconds of symbolic work one call may spend (nhc.set_work_limit).");
+  // The library's counters of its two costly symbolic steps, for the tests that show a build
+  // derives and analyses its model once (app/nhc/app/preparation.hpp).
+  m.def("_derive_model_calls", &nhc::derive_model_calls, "How many models this process has derived.");
+  m.def("_analyze_structure_calls", &nhc::analyze_structure_calls,
+        "How many structural analyses (the Sigma-method) this process has run.");
 }

@@ -1,5 +1,8 @@
 #include "nhc/app/preparation.hpp"
 
+#include <chrono>
+
+#include "nhc/app/switched_run.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/jit/scene_cache.hpp"
 
@@ -54,6 +57,17 @@ void remember_check(const InitialPointCheck& check, const jit::LoadedModel& buil
   jit::SceneCacheRecord record;
   record.set("outcome", "passed");
   jit::SceneCache(built.library().path.parent_path()).store(*check.key, record);
+}
+
+PreparedModel prepare_and_build(Preparation& preparation, const Scene& written, bool repair,
+                                const jit::BuildOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  InitialPointCheck check = sliding_contact(preparation.scene()) ? InitialPointCheck{}
+                                                                 : check_initial_point(preparation, repair);
+  const double check_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  jit::LoadedModel built = preparation.build(written, options);
+  remember_check(check, built);
+  return PreparedModel{std::move(check), check_seconds, std::move(built)};
 }
 
 }  // namespace nhc::app

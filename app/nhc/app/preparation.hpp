@@ -61,4 +61,19 @@ InitialPointCheck check_initial_point(Preparation& preparation, bool repair);
 /// run leaves no entry.
 void remember_check(const InitialPointCheck& check, const jit::LoadedModel& built);
 
+/// A run's model and the check it passed.
+struct PreparedModel {
+  InitialPointCheck check;
+  double check_seconds = 0;  ///< the time the check took (deriving and analysing, when it was made)
+  jit::LoadedModel built;
+};
+
+/// The one path of nhc simulate and Python's Scene.build to a model: the initial-point check of
+/// `preparation` (check_initial_point; none for a scene with a sliding contact, whose violated
+/// rolling constraints start it sliding, switched_run.hpp), then the build of `written` (the scene
+/// as written, whose values are the model's defaults) from the check's analysis, then the passed
+/// check remembered. Refused initial values throw before anything is compiled.
+PreparedModel prepare_and_build(Preparation& preparation, const Scene& written, bool repair,
+                                const jit::BuildOptions& options);
+
 }  // namespace nhc::app

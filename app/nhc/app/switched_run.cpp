@@ -113,6 +113,23 @@ Scene sliding_scene(const Scene& scene, const SceneContact& contact) {
   return parse_scene(switched_source(scene.source_text, removed, forces), scene.source_path);
 }
 
+std::vector<runtime::Sample> rolling_samples(const std::vector<runtime::Sample>& samples,
+                                             const std::vector<SlidingSpan>& sliding) {
+  std::vector<runtime::Sample> rolling;
+  for (const runtime::Sample& s : samples) {
+    bool rolls = true;
+    for (const SlidingSpan& span : sliding)
+      rolls = rolls && !((s.t > span.from || (span.from_included && s.t == span.from)) && s.t <= span.to);
+    if (rolls) rolling.push_back(s);
+  }
+  return rolling;
+}
+
+jit::LoadedModel build_sliding_model(const Scene& scene, const SceneContact& contact, ModelKind kind,
+                                     const jit::BuildOptions& options) {
+  return jit::build(sliding_scene(scene, contact), kind, options);
+}
+
 SwitchedRun simulate_switched(const Scene& scene, const SceneContact& contact, const runtime::Model& rolling,
                               const runtime::Model& sliding, const std::vector<double>& p,
                               const runtime::InitialState& initial, const std::vector<double>& times,

@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "nhc/jit/build.hpp"
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/scene/scene.hpp"
 
@@ -25,12 +26,23 @@ const SceneContact* sliding_contact(const Scene& scene);
 /// eq. (8)) in [forces]; parsed like any scene, so its model is cached like any model.
 Scene sliding_scene(const Scene& scene, const SceneContact& contact);
 
+/// The sliding model of `scene` (the scene of the run, after its parameter values) for
+/// `contact`: sliding_scene() built as `kind` with `options`, as nhc simulate and Python's
+/// simulate integrate it.
+jit::LoadedModel build_sliding_model(const Scene& scene, const SceneContact& contact, ModelKind kind,
+                                     const jit::BuildOptions& options);
+
 /// A time span the contact slides: (from, to], or [from, to] when the run starts sliding; `to`
 /// is +infinity when the run ends sliding.
 struct SlidingSpan {
   double from = 0, to = 0;
   bool from_included = false;
 };
+
+/// The samples at which the contact rolls (outside every span of `sliding`): where the rolling
+/// model's hidden constraints and invariants hold, so a run's drift is measured over them.
+std::vector<runtime::Sample> rolling_samples(const std::vector<runtime::Sample>& samples,
+                                             const std::vector<SlidingSpan>& sliding);
 
 struct SwitchedRun {
   /// The samples and event hits in the rolling model's states: while sliding, the multipliers

@@ -1,4 +1,4 @@
-#include "output_selection.hpp"
+#include "nhc/app/output_selection.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,10 +7,10 @@
 
 #include "nhc/app/run_request.hpp"
 #include "nhc/errors.hpp"
-#include "parameter_overrides.hpp"
-#include "pipeline.hpp"
+#include "nhc/app/parameter_overrides.hpp"
+#include "nhc/app/pipeline.hpp"
 
-namespace nhc::cli {
+namespace nhc::app {
 
 namespace {
 
@@ -46,12 +46,12 @@ std::vector<double> parse_output_times(const std::string& spec, double t0) {
   } else {
     for (const std::string& part : split(spec, ',')) times.push_back(parse_number(flag, part));
   }
-  app::check_output_times(times, t0, flag, spec);  // the rules Python's output_times= obey too
+  check_output_times(times, t0, flag, spec);  // the rules Python's output_times= obey too
   return times;
 }
 
 std::vector<std::string> csv_columns(const runtime::Model& model, const std::vector<double>& p,
-                                     const app::SceneOutputs& outputs) {
+                                     const SceneOutputs& outputs) {
   std::ostringstream header;
   runtime::write_csv(header, model, p, {});
   std::string line = header.str();
@@ -82,7 +82,7 @@ std::vector<std::string> parse_columns(const std::string& spec, const std::vecto
 
 void write_selected_csv(std::ostream& out, const runtime::Model& model, const std::vector<double>& p,
                         const std::vector<runtime::Sample>& samples, const std::vector<std::string>& columns,
-                        const app::SceneOutputs& outputs) {
+                        const SceneOutputs& outputs) {
   if (columns.empty() && outputs.empty()) {
     runtime::write_csv(out, model, p, samples);
     return;
@@ -120,4 +120,4 @@ void write_selected_csv(std::ostream& out, const runtime::Model& model, const st
   }
 }
 
-}  // namespace nhc::cli
+}  // namespace nhc::app

@@ -1,4 +1,4 @@
-#include "parameter_overrides.hpp"
+#include "nhc/app/parameter_overrides.hpp"
 
 #include <cmath>
 
@@ -7,7 +7,7 @@
 #include "nhc/errors.hpp"
 #include "nhc/expr/jet_space.hpp"
 
-namespace nhc::cli {
+namespace nhc::app {
 
 std::pair<std::string, std::string> split_assignment(const std::string& flag, const std::string& text) {
   const size_t eq = text.find('=');
@@ -28,17 +28,13 @@ double parse_number(const std::string& flag, const std::string& text) {
   return v;
 }
 
-void add_set_option(CLI::App* sub, std::vector<std::string>& assignments) {
-  sub->add_option("--set", assignments, "NAME=VALUE: override a parameter of the scene (repeatable)");
-}
-
 std::vector<ParameterOverride> parse_parameter_overrides(const Scene& scene, const std::vector<std::string>& assignments) {
   std::vector<ParameterOverride> overrides;
   for (const std::string& a : assignments) {
     const auto [name, value] = split_assignment("--set", a);
-    app::check_parameter_name(scene, name, "--set", "--set " + a);
+    check_parameter_name(scene, name, "--set", "--set " + a);
     const double v = parse_number("--set", value);
-    app::check_parameter_value(scene, name, v, "--set", "--set " + a);  // Python's set= obeys the same
+    check_parameter_value(scene, name, v, "--set", "--set " + a);  // Python's set= obeys the same
     overrides.push_back({name, v});
   }
   return overrides;
@@ -47,7 +43,7 @@ std::vector<ParameterOverride> parse_parameter_overrides(const Scene& scene, con
 void apply_parameter_overrides(Scene& scene, const std::vector<ParameterOverride>& overrides) {
   std::vector<std::pair<std::string, double>> values;
   for (const ParameterOverride& o : overrides) values.emplace_back(o.name, o.value);
-  app::set_parameter_values(scene, values);  // the rule Python's set= follows too
+  set_parameter_values(scene, values);  // the rule Python's set= follows too
 }
 
 std::vector<double> parameters_with_overrides(const runtime::Model& model, const std::vector<ParameterOverride>& overrides) {
@@ -66,4 +62,4 @@ void refuse_unread_parameter(const Scene& scene, const runtime::Model& model, co
                                        name + "': " + consequence);
 }
 
-}  // namespace nhc::cli
+}  // namespace nhc::app

@@ -1,11 +1,11 @@
 // The shared pipeline of the integrating commands (pipeline.hpp).
-#include "pipeline.hpp"
+#include "nhc/app/pipeline.hpp"
 
 #include "nhc/runtime/number_text.hpp"
 
 #include <sstream>
 
-namespace nhc::cli {
+namespace nhc::app {
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -17,4 +17,4 @@ runtime::InitialState initial_state_of(const Scene& scene, const runtime::Model&
 
 std::string format_number(double v, int precision) { return runtime::number_text(v, precision); }
 
-}  // namespace nhc::cli
+}  // namespace nhc::app

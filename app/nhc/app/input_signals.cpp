@@ -1,4 +1,4 @@
-#include "input_signals.hpp"
+#include "nhc/app/input_signals.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -13,9 +13,9 @@
 #include "nhc/io/input_file.hpp"
 #include "nhc/io/printable.hpp"
 #include "nhc/scene/expression_parser.hpp"
-#include "parameter_overrides.hpp"
+#include "nhc/app/parameter_overrides.hpp"
 
-namespace nhc::cli {
+namespace nhc::app {
 
 namespace {
 
@@ -188,4 +188,4 @@ runtime::InputFunction input_function(const InputSignals& signals, const runtime
   };
 }
 
-}  // namespace nhc::cli
+}  // namespace nhc::app

@@ -1,0 +1,46 @@
+#pragma once
+/// \file parameter_overrides.hpp
+/// \brief `--set NAME=VALUE` (repeatable), one helper for derive, analyze, generate, simulate and
+/// report: a scene parameter replaced by a value from the command line (the flag itself:
+/// cli/parameter_overrides.hpp). Bad assignments and unknown names are bad input naming the
+/// flag (exit 2).
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "nhc/runtime/model.hpp"
+#include "nhc/scene/scene.hpp"
+
+namespace nhc::app {
+
+struct ParameterOverride {
+  std::string name;
+  double value = 0;
+};
+
+/// "NAME=VALUE" → (NAME, VALUE); VALUE kept as text. InputError naming `flag` otherwise.
+std::pair<std::string, std::string> split_assignment(const std::string& flag, const std::string& text);
+/// A finite number, all of `text`; InputError naming `flag` otherwise.
+double parse_number(const std::string& flag, const std::string& text);
+
+/// The assignments checked against the scene's [parameters] (the last of repeated names wins).
+std::vector<ParameterOverride> parse_parameter_overrides(const Scene& scene, const std::vector<std::string>& assignments);
+
+/// The scene with its parameter values replaced (derivation, analysis and generated defaults),
+/// and its [initial] values written through parameters re-evaluated.
+void apply_parameter_overrides(Scene& scene, const std::vector<ParameterOverride>& overrides);
+
+/// The model's default parameters with the overrides (a compiled model reused for any value).
+/// An override of a scene parameter the model does not read (it occurs in no equation,
+/// invariant or reference, so it does not reach the header) changes nothing there and is
+/// skipped; apply_parameter_overrides() has given it to the scene for its outputs.
+std::vector<double> parameters_with_overrides(const runtime::Model& model, const std::vector<ParameterOverride>& overrides);
+
+/// InputError at `flag` when `name` is a parameter of the scene that `model` does not read:
+/// varying it, or differentiating with respect to it, would change nothing. `consequence`
+/// says so in the flag's terms ("varying it would change nothing").
+void refuse_unread_parameter(const Scene& scene, const runtime::Model& model, const std::string& name,
+                             const std::string& flag, const std::string& consequence);
+
+}  // namespace nhc::app
