@@ -22,6 +22,7 @@
 #include <map>
 #include <sstream>
 
+#include "nhc/app/sampled_run.hpp"
 #include "commands.hpp"
 #include "model_requirements.hpp"
 #include "flag_rules.hpp"
@@ -93,6 +94,7 @@ struct PreparedReport {
 
 PreparedReport prepare(const ReportOptions& o) {
   PreparedReport r{load_scene(o.scene_path), ModelKind::chetaev, {}};
+  app::refuse_scene_controller(r.scene, "nhc report");
   r.kind = model_or_default(r.scene, o.model);
   require_model_inputs(r.scene, r.kind);
   WorkPrecisionSettings& s = r.settings;

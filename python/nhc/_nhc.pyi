@@ -59,6 +59,13 @@ class _Model:
                  max_steps: int = ..., sensitivity: Optional[List[str]] = ..., integrator: str = ...,
                  step: Optional[float] = ..., stop_when: Optional[str] = ...,
                  initial: Optional[List[Tuple[str, float]]] = ..., t0: Optional[float] = ...) -> Dict[str, Any]: ...
+    def simulate_sampled(self, t_end: Optional[float] = ..., rtol: Optional[float] = ..., atol: Optional[float] = ...,
+                         max_steps: int = ..., initial: Optional[List[Tuple[str, float]]] = ...,
+                         t0: Optional[float] = ...,
+                         controller: Optional[Callable[[float, npt.NDArray[np.float64], Any], Tuple[Sequence[float], Any]]] = ...,
+                         period: Optional[float] = ..., controller_state: Any = ...) -> Dict[str, Any]: ...
+    @property
+    def has_controller(self) -> bool: ...
     @property
     def differential(self) -> List[bool]: ...
     def input_jacobian(self, t: float, y: npt.NDArray[np.float64], yp: npt.NDArray[np.float64],
