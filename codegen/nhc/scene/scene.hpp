@@ -106,8 +106,8 @@ struct SceneInput {
   bool feedback = false;
 };
 
-/// [controller]: a sampled (discrete-time) controller (docs/scenes.md, "[controller]";
-/// docs/scenes.md, "Sampled controllers"). At each sample t_k = t0 + k*period it reads the state the run reached,
+/// [controller]: a sampled (discrete-time) controller (docs/scenes.md, "Sampled controllers").
+/// At each sample t_k = t0 + k*period it reads the state the run reached,
 /// sets the inputs it drives (held until the next sample) and its discrete states' next values.
 struct SceneControllerState {
   std::string name;
