@@ -664,3 +664,50 @@ def test_scene_controller_refusals(source, tmp_path):
         nhc.Scene.load(path).build().simulate(outputs=10)
     with pytest.raises(nhc.SceneError, match="period"):
         nhc.Scene.load(source / "examples" / "wheeled_pendulum.toml").build().simulate(period=0.01, t_end=0.1)
+
+
+SAMPLED_OSCILLATOR = """
+name = "sampled_oscillator"
+coordinates = ["x"]
+lagrangian = "x'^2/2 - k*x^2/2"
+[parameters]
+k = 4.0
+a = 0.5
+w = 3.0
+g = 1.5
+[inputs]
+u = "a*sin(w*t)"
+v = "0"
+[forces]
+x = "u + v"
+[initial]
+x = [0.2, 0.0]
+[controller]
+period = 0.1
+states = { s = 0.0 }
+inputs = { v = "-g*x - s" }
+update = { s = "s + period*x'" }
+"""
+
+
+def test_inputs_the_controller_does_not_set_keep_their_signals(tmp_path):
+    # x'' = -k x + a sin(w t) + v, v = -g x_k - s_k held over [t_k, t_k+1), s_{k+1} = s_k + h x'_k:
+    # against SciPy's solve_ivp interval by interval (the signal u continuous, v held).
+    scipy_integrate = pytest.importorskip("scipy.integrate")
+    run = nhc.Scene.from_toml(SAMPLED_OSCILLATOR).build().simulate(t_end=2.0, rtol=1e-11, atol=1e-13)
+    k, a, w, g, h = 4.0, 0.5, 3.0, 1.5, 0.1
+    state, s, rows = np.array([0.2, 0.0]), 0.0, []
+    for j in range(21):
+        t = j * h
+        v = -g * state[0] - s
+        rows.append((t, state[0], state[1], v, s))
+        s = s + h * state[1]
+        if j < 20:
+            done = scipy_integrate.solve_ivp(lambda t, y: [y[1], -k * y[0] + a * np.sin(w * t) + v], (t, t + h), state,
+                                             rtol=1e-12, atol=1e-14, method="DOP853")
+            state = done.y[:, -1]
+    rows = np.array(rows)
+    assert np.array_equal(run.t, rows[:, 0])
+    for c, name in enumerate(["x", "x'", "input:v", "controller:s"], start=1):
+        assert np.max(np.abs(run[name] - rows[:, c])) < 1e-8, name
+    assert np.max(np.abs(run["input:u"] - a * np.sin(w * run.t))) < 1e-15  # the signal, not held
