@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "nhc/app/sampled_run.hpp"
 #include "animation_page.hpp"
 #include "commands.hpp"
 #include "input_signals.hpp"
@@ -87,6 +88,7 @@ CommandRunner add_animate_command(CLI::App& app) {
 
   return [options]() {
     const Scene scene = load_run_scene(options->run);
+    app::refuse_scene_controller(scene, "nhc animate");
     const RunFlags& flags = options->run;
     if (scene.visuals.empty())
       throw InputError(scene.file_location(),

@@ -8,6 +8,7 @@
 // not at all (nhc/io/atomic_directory.hpp). Exit 3 when no model gets past t0.
 #include <cmath>
 
+#include "nhc/app/sampled_run.hpp"
 #include "nhc/primed_name.hpp"
 #include <iostream>
 #include <optional>
@@ -185,6 +186,7 @@ std::vector<Plot> comparison_plots(const std::filesystem::path& dir, const Compa
 int run_compare(const CompareOptions& options) {
   flag_rules::refuse_duplicates(options.models, "--models", "model");
   Scene scene = load_scene(options.scene_path);
+  app::refuse_scene_controller(scene, "nhc compare");
   apply_initial_flags(scene, options.initial);  // every model starts from them
   const CompareSettings settings = settings_of(options, scene);
   const PathPlane plane = path_plane(scene, options.plot_xy, "--plot-xy");

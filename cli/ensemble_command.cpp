@@ -15,6 +15,7 @@
 
 #include <unistd.h>
 
+#include "nhc/app/sampled_run.hpp"
 #include "command_programs.hpp"
 #include "commands.hpp"
 #include "failure_report.hpp"
@@ -169,6 +170,7 @@ Prepared prepare(const EnsembleOptions& o, int ranks, int threads) {
   check_design_fits(o, 1, 0, o.keep == "trajectories");
   Design design = make_design(o);
   Scene scene = load_scene(o.scene_path);
+  app::refuse_scene_controller(scene, "nhc ensemble");
   apply_initial_flags(scene, o.initial);
   const ModelKind kind = model_or_default(scene, o.model);
   require_model_inputs(scene, kind);

@@ -11,5 +11,6 @@ using app::csv_columns;
 using app::parse_columns;
 using app::parse_output_times;
 using app::write_selected_csv;
+using app::ExtraColumns;
 
 }  // namespace nhc::cli

@@ -22,6 +22,7 @@
 #include <map>
 #include <sstream>
 
+#include "nhc/app/sampled_run.hpp"
 #include "commands.hpp"
 #include "model_requirements.hpp"
 #include "flag_rules.hpp"
@@ -95,6 +96,7 @@ struct PreparedReport {
 
 PreparedReport prepare(const ReportOptions& o) {
   PreparedReport r{load_scene(o.scene_path), ModelKind::chetaev, {}};
+  app::refuse_scene_controller(r.scene, "nhc report");
   apply_initial_flags(r.scene, o.initial);
   // The scene's [reference] solves the motion from its own [initial]: from other values the error
   // is measured against a reference run.

@@ -25,6 +25,7 @@
 #include "model_requirements.hpp"
 #include "nhc/app/preparation.hpp"
 #include "nhc/app/scene_events.hpp"
+#include "nhc/app/sampled_run.hpp"
 #include "nhc/app/switched_run.hpp"
 #include "nhc/derive/models.hpp"
 #include "nhc/errors.hpp"
@@ -89,6 +90,23 @@ int run_simulate(SimulateOptions& options) {
     throw InputError({"--input", 0, 0}, "--sensitivity follows the scene's default input signals: it does not go with "
                                         "--input (the derivative of a replaced input by the parameters is not known)");
   check_run_flags(options.run, scene, kind);  // before anything is compiled or written
+  // The scene's [controller]: the run goes from sample to sample (app/sampled_run.hpp).
+  const bool sampled = scene.controller.present;
+  if (sampled) {
+    if (!options.sensitivity.names.empty())
+      throw InputError({"--sensitivity", 0, 0}, "--sensitivity: the scene's [controller] (" +
+                                                    scene.controller.where.str() + ") is not differentiated");
+    for (const std::string& assignment : options.run.inputs) {
+      const std::string name = assignment.substr(0, assignment.find('='));
+      for (const SceneControllerLaw& law : scene.controller.inputs)
+        if (law.name == name)
+          throw InputError({"--input", 0, 0}, "--input " + name + ": the scene's [controller] sets it (" +
+                                                  law.where.str() + ")");
+    }
+    if (app::sliding_contact(scene))
+      throw InputError(scene.controller.where, "a [controller] and a contact that slides (on_slip = \"slide\") do not "
+                                               "go together yet: the sampled run integrates one model");
+  }
   const bool variational = variational_integrator(options.run);
   if (variational && !options.sensitivity.names.empty())
     throw InputError({options.run.scene_path, 0, 0},
@@ -112,7 +130,9 @@ int run_simulate(SimulateOptions& options) {
   Scene scene_set = scene;  // the overridden values for the analysis; the model takes them at run time
   apply_parameter_overrides(scene_set, overrides);
   const double t0 = scene.initial.t0;
-  const std::vector<double> times = run_output_times(options.run, scene);
+  const std::vector<double> times =
+      sampled ? app::scene_controller_samples(run_request(options.run, scene), scene, app::command_line_names())
+              : run_output_times(options.run, scene);
   const double t_end = times.back();
   const auto inputs_start = Clock::now();
   const InputSignals input_signals = parse_input_signals(scene_set, options.run.inputs, t0, t_end);
@@ -154,9 +174,17 @@ int run_simulate(SimulateOptions& options) {
   const std::vector<double> p = parameters_with_overrides(model, overrides);
   app::SceneOutputs outputs(scene_set, model, p);  // [outputs] and [contacts]: extra CSV columns
   for (const std::string& note : outputs.notes()) std::cerr << note << "\n";
+  // The controller's laws against the model, before the run; its states are CSV columns.
+  std::shared_ptr<app::ControllerLaws> controller;
+  ExtraColumns controller_columns;
+  if (sampled) {
+    controller = std::make_shared<app::ControllerLaws>(scene_set, model, p);
+    controller_columns.names = controller->state_columns();
+  }
+  const ExtraColumns* extra = sampled ? &controller_columns : nullptr;
   const std::vector<std::string> columns =
       options.columns.empty() ? std::vector<std::string>{}
-                               : parse_columns(options.columns, csv_columns(model, p, outputs));
+                              : parse_columns(options.columns, csv_columns(model, p, outputs, extra));
   const runtime::InitialState initial = run_initial_state(options.run, scene_set, model);
   if (build_options.sensitivities) check_sensitivities_given(model, initial, options.sensitivity.names);
   // Events are located by IDA in the plain run; the sensitivities' run and the variational
@@ -174,7 +202,14 @@ int run_simulate(SimulateOptions& options) {
   FlaggedRun flagged;
   std::vector<std::string> switch_notes;
   std::vector<app::SlidingSpan> sliding_spans;
-  if (slide) {
+  if (sampled) {
+    io.progress = nullptr;  // one integration per sample: a bar would restart at every one
+    app::SampledRun s = app::simulate_sampled(model, p, initial, times, io, app::sample_law(controller),
+                                              controller->held(), input_function(input_signals, model, p));
+    flagged.run = std::move(s.run);
+    controller_columns.rows = controller->state_history();
+    controller_columns.rows.resize(flagged.run.samples.size());
+  } else if (slide) {
     const jit::LoadedModel sliding = app::build_sliding_model(scene_set, *slide, kind, build_options);
     app::SwitchedRun switched = app::simulate_switched(scene_set, *slide, model, sliding.model(), p, initial, times, io,
                                                        scene_events, input_function(input_signals, model, p));
@@ -196,7 +231,7 @@ int run_simulate(SimulateOptions& options) {
       runtime::write_sensitivity_csv(out, model, p, parse_sensitivities(model, options.sensitivity.names),
                                      sensitivities->samples);
     else
-      write_selected_csv(out, model, p, run.samples, columns, outputs);
+      write_selected_csv(out, model, p, run.samples, columns, outputs, extra);
   };
   // No row, no file: a header-only CSV would look like a result.
   const std::size_t csv_rows = sensitivities ? sensitivities->samples.size() : run.samples.size();
@@ -273,6 +308,9 @@ int run_simulate(SimulateOptions& options) {
     info << "  wrote " << events_path << " (" << run.events.size() << " event" << (run.events.size() == 1 ? "" : "s")
          << ")\n";
   }
+  if (sampled)
+    info << "  sampled controller: period " << scene.controller.period << ", " << run.samples.size()
+         << " samples at t0 + k*period, inputs held between them\n";
   if (!outputs.empty()) {
     info << "  outputs (CSV columns, not checked for drift):";
     for (const std::string& name : outputs.names()) info << " " << name;

@@ -45,7 +45,8 @@ def loader_keys(nhc):
               ("[simulate]", ask(nhc, f"[simulate]\n{PROBE} = 1\n"), "scenes.md"),
               ("[invariants] and [outputs] entries written as tables",
                ask(nhc, f'[invariants]\ne = {{ expression = "x", {PROBE} = 1 }}\n'), "scenes.md"),
-              ("[contacts.NAME]", ask(nhc, f"[contacts.c]\n{PROBE} = 1\n"), "scenes.md")]
+              ("[contacts.NAME]", ask(nhc, f"[contacts.c]\n{PROBE} = 1\n"), "scenes.md"),
+              ("[controller]", ask(nhc, f"[controller]\n{PROBE} = 1\n"), "scenes.md")]
     shapes = ask(nhc, f'[visual]\ns = {{ shape = "{PROBE}" }}\n')
     for shape in shapes:
         tables.append((f'[visual] shape = "{shape}"',

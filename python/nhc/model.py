@@ -168,7 +168,7 @@ class Model:
                  max_steps: int = 1000000, sensitivity: Union[str, Sequence[str], None] = None,
                  integrator: str = "ida", step: Optional[float] = None, stop_when: Optional[str] = None,
                  initial: Optional[Mapping[str, float]] = None, t0: Optional[float] = None,
-                 controller: Optional[Callable[[float, _npt.NDArray[_np.float64], Any], Tuple[Sequence[float], Any]]] = None,
+                 controller: Union[Callable[[float, _npt.NDArray[_np.float64], Any], Tuple[Sequence[float], Any]], bool, None] = None,
                  period: Optional[float] = None, controller_state: Any = None) -> Run:
         """Integrates from the scene's [initial] (as ``nhc simulate``) and returns the :class:`Run`.
 
@@ -200,28 +200,46 @@ class Model:
             scene's own values.
         :param t0: the start of the run instead of the scene's t0.
         :param controller: a sampled controller f(t, y, state) -> (inputs, new_state), called only
-            at the sample times t0 + k*period (y in :attr:`state_names` order); its inputs are held
-            (zero-order hold) until the next sample, and the integrator stops and restarts exactly at
-            each sample from the state it reached (given by name, as `initial`). The run's rows are
-            the sample times. Needs `period`; the run ends at `t_end`, else at the scene's ``[simulate]``
-            t_end (t0 + 1 without one) as a plain run does; not with `inputs`, `outputs`,
-            `output_times`, `sensitivity`, `stop_when` or the variational integrator.
-        :param period: the controller's sample period h.
-        :param controller_state: the controller's state at t0 (passed to its first call).
+            at the sample times t0 + k*period, k = 0 ... N (the last sample too; y in
+            :attr:`state_names` order, the state the run reached there); its inputs are held
+            (zero-order hold) until the next sample, and the integrator restarts exactly at each
+            sample (the states stay; y' and the algebraic states follow the new inputs). The rows
+            are the samples; the run ends at the last one at or before `t_end` (without it, the scene's
+            ``[simulate]`` t_end, t0 + 1 without one, as a plain run). Without a function, a
+            scene with ``[controller]`` runs that (its states are the columns
+            ``"controller:NAME"``); ``controller=False`` runs such a scene without it. Not with
+            `inputs`, `outputs`, `output_times`, `sensitivity`, `stop_when` or the variational
+            integrator. The one loop of ``nhc simulate``'s (docs/scenes.md, "Sampled controllers").
+        :param period: the controller's sample period h (with a controller function).
+        :param controller_state: the controller's state at t0 (passed to its first call; each call
+            returns the next).
         :returns: the run's columns as arrays.
         :raises nhc.MathError: the run failed (``.t`` is where; ``.run`` the motion up to there).
         :raises nhc.SceneError: a bad argument (an unknown sensitivity name, bad output times).
 
         Ctrl-C (KeyboardInterrupt) stops a long run."""
-        if controller is not None or period is not None:
-            if controller is None or period is None:
-                raise SceneError("controller= and period= go together")
+        if controller is None and self._model.has_controller:
+            controller = True  # the scene's [controller]
+        if controller is not False and (controller is not None or period is not None):
             if (inputs is not None or outputs is not None or output_times is not None or sensitivity is not None
                     or stop_when is not None or integrator != "ida"):
-                raise SceneError("controller= runs IDA from sample to sample: it does not take inputs, outputs, "
-                                 "output_times, sensitivity, stop_when or another integrator")
-            return self._simulate_sampled(controller, float(period), controller_state,
-                                          None if t_end is None else float(t_end), rtol, atol, max_steps, initial, t0)
+                raise SceneError("a sampled controller runs IDA from sample to sample: it does not take inputs, "
+                                 "outputs, output_times, sensitivity, stop_when or another integrator"
+                                 + (" (controller=False runs the scene without its [controller])"
+                                    if controller is True else ""))
+            if controller is None:
+                raise SceneError("period= goes with controller= (a function f(t, y, state) -> (inputs, new_state))")
+            f = controller if callable(controller) else None
+            result = self._model.simulate_sampled(
+                None if t_end is None else float(t_end), None if rtol is None else float(rtol),
+                None if atol is None else float(atol), _count("max_steps", max_steps),
+                None if initial is None else [(str(k), float(v)) for k, v in initial.items()],
+                None if t0 is None else float(t0), f, None if period is None else float(period), controller_state)
+            if "failure" in result:
+                error = MathError(result["failure"], t=result["failure_t"])
+                error.run = Run(result)
+                raise error
+            return Run(result)
         times = None if output_times is None else [float(t) for t in _np.asarray(output_times).ravel()]
         names = None if sensitivity is None else [sensitivity] if isinstance(sensitivity, str) else list(sensitivity)
         def number(value: Optional[float]) -> Optional[float]:
@@ -238,50 +256,6 @@ class Model:
             error.run = Run(result)  # the motion up to the failure
             raise error
         return Run(result)
-
-    def _simulate_sampled(self, controller: Callable[[float, _npt.NDArray[_np.float64], Any], Tuple[Sequence[float], Any]],
-                          period: float, state: Any, t_end: Optional[float], rtol: Optional[float], atol: Optional[float],
-                          max_steps: int, initial: Optional[Mapping[str, float]], t0: Optional[float]) -> Run:
-        """simulate(controller=f, period=h): one IDA run per sample interval [t_k, t_k+1], t_k = t0 + k h,
-        each started at the state the previous one reached, with the inputs f returned at t_k held."""
-        if not (_np.isfinite(period) and period > 0):
-            raise SceneError(f"period: {period!r} is not a positive number")
-        names = self.state_names
-        moving = list(self._model.differential)
-        # The state at t0: the consistent initial point (the inputs' default signals for the
-        # algebraic states, which the differential ones do not depend on).
-        first, last = self._model.run_span(None if t0 is None else float(t0))
-        if t_end is None:
-            t_end = last  # the scene's [simulate] t_end, counted from this t0 as a plain run's
-        start = self.simulate(rtol=rtol, atol=atol, initial=initial, t0=t0, max_steps=max_steps,
-                              output_times=[first, first + period])
-        t = float(start.t[0])
-        count = int(_np.floor((t_end - t) / period + 1e-9))
-        if count < 1:
-            raise SceneError(f"period: {period!r} does not fit once in the run from t0 = {t!r} to t_end = {t_end!r}")
-        y = _np.array([start[n][0] for n in names])
-        rows: List[_npt.NDArray[_np.float64]] = []
-        columns: List[str] = []
-        calls = 0
-        for k in range(count):
-            t_k = t + k * period
-            t_next = t + (k + 1) * period
-            returned = controller(t_k, y.copy(), state)
-            calls += 1
-            u, state = returned
-            held = [float(v) for v in _np.asarray(u, dtype=float).ravel()]
-            given = {n: float(v) for n, v, d in zip(names, y, moving) if d}
-            def hold(_t: float, _y: _npt.NDArray[_np.float64], held: List[float] = held) -> Sequence[float]:
-                return held  # the zero-order hold of the sample's inputs
-
-            run = self.simulate(output_times=[t_k, t_next], rtol=rtol, atol=atol, max_steps=max_steps,
-                                inputs=hold, initial=given, t0=t_k)
-            columns = run.columns
-            data = run.to_numpy()
-            rows.append(data if k == 0 else data[1:])
-            y = _np.array([run[n][-1] for n in names])
-        summary = {"samples": count + 1, "controller_calls": calls, "period": period}
-        return Run({"columns": columns, "data": _np.vstack(rows), "summary": summary, "events": []})
 
     def residual(self, t: float, y: _npt.ArrayLike, yp: _npt.ArrayLike,
                  u: Optional[_npt.ArrayLike] = None) -> _npt.NDArray[_np.float64]:

@@ -23,6 +23,7 @@
 #include "nhc/app/parameter_overrides.hpp"
 #include "nhc/app/run_request.hpp"
 #include "nhc/app/scene_events.hpp"
+#include "nhc/app/sampled_run.hpp"
 #include "nhc/app/scene_outputs.hpp"
 #include "nhc/app/switched_run.hpp"
 #include "nhc/analysis/structural_analysis.hpp"
@@ -330,6 +331,112 @@ py::dict simulate_sensitivities(const BuiltModel& built, const Scene& scene, con
                    summary_of(built, *model, p, run.statistics.state, std::move(states),
                               {{"sensitivity_residual_evaluations", run.statistics.sensitivity_residual_evaluations}}),
                    run.failure);
+}
+
+/// simulate(controller=f, period=h) and the scene's [controller]: app::simulate_sampled, the one
+/// loop of both (app/sampled_run.hpp). `controller` none: the scene's [controller]; else
+/// f(t, y, state) -> (inputs, new_state), called with the GIL at each sample. An exception in f
+/// ends the run and is raised afterwards.
+py::dict simulate_sampled(const BuiltModel& built, const std::optional<double>& t_end, const std::optional<double>& rtol,
+                          const std::optional<double>& atol, long long max_steps,
+                          const std::optional<std::vector<std::pair<std::string, double>>>& initial_values,
+                          const std::optional<double>& t0_value, const std::optional<py::function>& controller,
+                          const std::optional<double>& period, py::object controller_state) {
+  Scene scene = built.scene;
+  std::vector<app::InitialValue> given;
+  if (t0_value) given.push_back({"t0", *t0_value, "t0=" + runtime::number_text(*t0_value, 17)});
+  if (initial_values)
+    for (const auto& [name, value] : *initial_values)
+      given.push_back({name, value, "initial['" + name + "'] = " + runtime::number_text(value, 17)});
+  app::apply_initial_values(scene, given, initial_values ? "initial" : "t0");
+  app::RunRequest request;
+  request.t_end = t_end;
+  request.rtol = rtol;
+  request.atol = atol;
+  request.max_steps = max_steps;
+  app::check_run_request(request, scene, built.kind, app::python_names());
+  const runtime::Model& model = built.model();
+  const std::vector<double>& p = built.parameters;
+  std::vector<double> samples;
+  std::shared_ptr<app::ControllerLaws> laws;
+  app::SampleLaw law;
+  std::vector<bool> held;
+  auto failure = std::make_shared<std::optional<py::error_already_set>>();
+  auto state = std::make_shared<py::object>(std::move(controller_state));
+  if (controller) {
+    if (!period) throw InputError({"period", 0, 0}, "controller= needs period= (the sample period h)");
+    samples = app::sample_times(scene.initial.t0, t_end.value_or(scene.simulate.t_end), *period, {"period", 0, 0},
+                                "period");
+    const py::function f = *controller;
+    const int n_states = model.n_states(), n_inputs = model.n_inputs();
+    law = [f, state, failure, n_states, n_inputs](const runtime::Sample& reached) -> std::vector<double> {
+      py::gil_scoped_acquire locked;
+      try {
+        const py::array_t<double> y(n_states, reached.y.data());
+        const py::object returned = f(reached.t, y, *state);
+        const py::tuple pair(returned);  // any pair: (u, state) or [u, state]
+        if (pair.size() != 2) throw py::type_error("the controller " + describe(f) + " must return (inputs, new_state)");
+        const py::object first = pair[0];
+        const py::array_t<double, py::array::c_style | py::array::forcecast> values(first);
+        if (values.size() != n_inputs)
+          throw py::type_error("the controller " + describe(f) + " returned " + std::to_string(values.size()) +
+                               " inputs, the model has " + std::to_string(n_inputs));
+        *state = py::object(pair[1]);
+        return std::vector<double>(values.data(), values.data() + n_inputs);
+      } catch (py::error_already_set& e) {
+        failure->emplace(std::move(e));
+      } catch (const py::builtin_exception& e) {
+        e.set_error();
+        failure->emplace();
+      }
+      throw runtime::SolverError(runtime::FailureKind::stopped, reached.t, "the controller raised an exception");
+    };
+  } else {
+    if (!scene.controller.present)
+      throw InputError({"controller", 0, 0}, "the scene has no [controller]: give controller= and period=");
+    if (period) throw InputError({"period", 0, 0}, "period= goes with controller=; the scene's [controller] has its own");
+    samples = app::scene_controller_samples(request, scene, app::python_names());
+    laws = symbolic_work([&] { return std::make_shared<app::ControllerLaws>(scene, model, p); });
+    law = app::sample_law(laws);
+    held = laws->held();
+  }
+  runtime::IntegratorOptions options = app::run_integrator_options(request, scene);
+  const InterruptCheck interrupt;
+  options.stop_requested = interrupt;
+  app::SampledRun sampled;
+  try {
+    py::gil_scoped_release unlocked;
+    const runtime::InitialState initial = runtime::initial_state_from(model, scene.initial.t0, scene.initial.values);
+    sampled = app::simulate_sampled(model, p, initial, samples, options, law, held);
+  } catch (...) {
+    if (*interrupt.raised) throw std::move(**interrupt.raised);
+    throw;
+  }
+  if (*failure) throw std::move(**failure);
+  if (*interrupt.raised) throw std::move(**interrupt.raised);
+  runtime::RunResult& run = sampled.run;
+  if (run.failure && run.samples.empty()) throw *run.failure;
+  // The model's columns, the scene's [outputs] and [contacts], then the controller's states.
+  py::list names(built.columns());
+  std::optional<app::SceneOutputs> scene_outputs;
+  if (!scene.outputs.empty() || !scene.contacts.empty()) scene_outputs.emplace(scene, model, p);
+  if (scene_outputs)
+    for (const std::string& name : scene_outputs->names()) names.append(name);
+  if (laws)
+    for (const std::string& name : laws->state_columns()) names.append(name);
+  std::function<void(std::size_t, std::vector<double>&)> extra_values = [&](std::size_t r, std::vector<double>& v) {
+    v.clear();
+    if (scene_outputs) v = scene_outputs->evaluate(run.samples[r]);
+    if (laws) v.insert(v.end(), laws->state_history().at(r).begin(), laws->state_history().at(r).end());
+  };
+  py::array_t<double> data = data_of(model, p, run.samples, names.size(), extra_values);
+  py::dict result = result_of(py::tuple(names), std::move(data),
+                              summary_of(built, model, p, run.statistics, run.samples,
+                                         {{"samples", static_cast<long>(run.samples.size())},
+                                          {"controller_calls", sampled.controller_calls}}),
+                              run.failure);
+  result["events"] = py::list();
+  return result;
 }
 
 py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, const std::optional<double>& rtol,
@@ -717,6 +824,11 @@ void register_model(py::module_& m) {
            py::arg("output_times") = std::nullopt, py::arg("inputs") = std::nullopt, py::arg("max_steps") = 1000000,
            py::arg("sensitivity") = std::nullopt, py::arg("integrator") = "ida", py::arg("step") = std::nullopt,
            py::arg("stop_when") = std::nullopt, py::arg("initial") = std::nullopt, py::arg("t0") = std::nullopt)
+      .def("simulate_sampled", &simulate_sampled, py::arg("t_end") = std::nullopt, py::arg("rtol") = std::nullopt,
+           py::arg("atol") = std::nullopt, py::arg("max_steps") = 1000000, py::arg("initial") = std::nullopt,
+           py::arg("t0") = std::nullopt, py::arg("controller") = std::nullopt, py::arg("period") = std::nullopt,
+           py::arg("controller_state") = py::none())
+      .def_property_readonly("has_controller", [](const BuiltModel& b) { return b.scene.controller.present; })
       .def_property_readonly("inputs",
                              [](const BuiltModel& b) {
                                std::vector<std::string> names;
@@ -729,15 +841,6 @@ void register_model(py::module_& m) {
                                for (int i = 0; i < b.model().n_states(); ++i) out.push_back(b.model().is_differential(i));
                                return out;
                              })
-      // The span a run takes by default: t0 (the scene's, or the given one, checked as t0= is)
-      // and the scene's [simulate] t_end, which follows a new t0 when the scene gives none.
-      .def("run_span",
-           [](const BuiltModel& b, const std::optional<double>& t0) {
-             Scene scene = b.scene;
-             if (t0) app::apply_initial_values(scene, {{"t0", *t0, ""}}, "t0");
-             return std::make_pair(scene.initial.t0, scene.simulate.t_end);
-           },
-           py::arg("t0") = std::nullopt)
       .def("input_jacobian", &input_jacobian, py::arg("t"), py::arg("y"), py::arg("yp"), py::arg("u") = std::nullopt)
       .def("linearize_along", &linearize_along, py::arg("t"), py::arg("y"), py::arg("yp"), py::arg("inputs") = std::nullopt,
            py::arg("keep") = std::vector<std::string>{}, py::arg("states") = std::vector<std::string>{})

@@ -536,8 +536,9 @@ def discrete_lqr(Ad, Bd, Q, R):
 def test_a_sampled_lqr_with_integral_action_matches_the_discrete_linear_model(source):
     # The wheeled pendulum's pitch and forward motion (equal torques TL = TR = u), linearized by the
     # SymPy model above, held over h = 0.01 s (100 Hz) and closed by a discrete LQR with an
-    # integrator of x; nhc's nonlinear run under simulate(controller=, period=) against the
-    # discrete recursion of the linear model, whose difference shrinks as the tilt cubed (the
+    # integrator of x; nhc's nonlinear run under simulate(controller=, period=) and under the
+    # scene's [controller] (examples/wheeled_pendulum_discrete.toml, whose gains are these) against
+    # the discrete recursion of the linear model, whose difference shrinks as the tilt cubed (the
     # nonlinear terms are of third order in th at this symmetric operating point).
     path = source / "examples" / "wheeled_pendulum.toml"
     model = nhc.Scene.load(path).build()
@@ -549,10 +550,15 @@ def test_a_sampled_lqr_with_integral_action_matches_the_discrete_linear_model(so
     Aa[:4, :4], Aa[4, 0], Aa[4, 4] = Ad, h, 1.0
     Ba = np.vstack([Bd, [[0.0]]])
     K = discrete_lqr(Aa, Ba, np.diag([10.0, 1.0, 10.0, 1.0, 1.0]), np.eye(1))
+    # The scene's gains are these (its header says how they were computed).
+    discrete = nhc.Scene.load(source / "examples" / "wheeled_pendulum_discrete.toml")
+    written = np.array([[discrete.parameters[f"k{j}"] for j in range(1, 6)]])
+    assert np.max(np.abs(written - K)) < 1e-9 * np.max(np.abs(K)), (written, K)
+    scene_model = discrete.build()
     k = {n: i for i, n in enumerate(model.state_names)}
     steps = 150
 
-    def run_from(tilt):
+    def run_from(tilt, scene=False):
         times = []
 
         def controller(t, y, z):
@@ -561,8 +567,11 @@ def test_a_sampled_lqr_with_integral_action_matches_the_discrete_linear_model(so
             u = float(-(K @ s)[0])
             return [u, u], z + h * y[k["x"]]
 
-        run = model.simulate(controller=controller, period=h, t_end=steps * h, controller_state=0.0,
-                             initial={"th": tilt}, rtol=1e-11, atol=1e-13)
+        options = dict(t_end=steps * h, initial={"th": tilt}, rtol=1e-11, atol=1e-13)
+        if scene:
+            run = scene_model.simulate(**options)
+        else:
+            run = model.simulate(controller=controller, period=h, controller_state=0.0, **options)
         s = np.array([0.0, 0.0, tilt, 0.0, 0.0])
         linear = [s[:4]]
         for _ in range(steps):
@@ -572,11 +581,138 @@ def test_a_sampled_lqr_with_integral_action_matches_the_discrete_linear_model(so
         return run, times, float(np.max(np.abs(mine - np.array(linear))))
 
     run, times, small = run_from(0.01)
-    # The controller ran at the samples only, exactly at k h, and the rows are those samples.
-    assert len(times) == steps and times == [j * h for j in range(steps)]
+    # The controller ran at the samples only (the last one too), exactly at k h, and the rows are
+    # those samples.
+    assert len(times) == steps + 1 and times == [j * h for j in range(steps + 1)]
     assert np.array_equal(run.t, np.array([j * h for j in range(steps + 1)]))
+    assert run.summary["controller_calls"] == steps + 1
     assert abs(run["th"][-1]) < 0.2 * 0.01  # the loop brings the pendulum up
     _, _, large = run_from(0.02)
     print(f"largest difference to the discrete linear model: {small:.3e} (tilt 0.01), {large:.3e} (tilt 0.02)")
     assert small < 10 * 0.01**3  # the size of the nonlinear terms (cubic in the tilt, coefficients ~ g/l)
     assert 5 < large / small < 11  # third order in the tilt
+    # The scene's [controller] the same way.
+    scene_run, _, scene_small = run_from(0.01, scene=True)
+    _, _, scene_large = run_from(0.02, scene=True)
+    print(f"scene [controller]: {scene_small:.3e} (tilt 0.01), {scene_large:.3e} (tilt 0.02)")
+    assert np.array_equal(scene_run.t, run.t)
+    assert scene_small < 10 * 0.01**3 and 5 < scene_large / scene_small < 11
+
+
+def test_the_scenes_controller_and_a_python_controller_agree(source, tmp_path):
+    # examples/wheeled_pendulum_discrete.toml's [controller] from the command line and from
+    # Python's model.simulate(), and its law written as a Python controller: one loop
+    # (app/sampled_run.hpp), the law evaluated from the scene's expressions or in Python.
+    path = source / "examples" / "wheeled_pendulum_discrete.toml"
+    scene = nhc.Scene.load(path)
+    model = scene.build()
+    gains = [scene.parameters[f"k{j}"] for j in range(1, 6)]
+    k = {n: i for i, n in enumerate(model.state_names)}
+    h, t_end = 0.01, 1.0
+    options = dict(t_end=t_end, rtol=1e-11, atol=1e-13)
+    from_scene = model.simulate(**options)
+    assert from_scene.columns[-1] == "controller:z" and "input:TL" in from_scene.columns
+    calls = []
+
+    def law(t, y, z):
+        s = [y[k["x"]], y[k["x'"]], y[k["th"]], y[k["th'"]], z]
+        u = -sum(g * v for g, v in zip(gains, s))
+        calls.append((t, z, u))
+        return [u, u], z + h * y[k["x"]]
+
+    from_python = model.simulate(controller=law, period=h, controller_state=0.0, **options)
+    n = 100
+    assert np.array_equal(from_scene.t, np.arange(n + 1) * h)  # t0 + k h exactly (t0 = 0)
+    worst = max(float(np.max(np.abs(from_scene[name] - from_python[name]))) for name in model.state_names)
+    print(f"scene [controller] against the Python controller: {worst:.3e}")
+    assert worst <= 1e-9
+    assert np.max(np.abs(from_scene["controller:z"] - np.array([c[1] for c in calls]))) <= 1e-9
+    assert np.max(np.abs(from_scene["input:TL"] - np.array([c[2] for c in calls]))) <= 1e-9
+    assert np.array_equal(from_scene["input:TL"], from_scene["input:TR"])
+    assert abs(from_scene["th"][-1]) < 0.2 * abs(from_scene["th"][0])  # it holds the pendulum up
+    # controller=False: the scene without its controller (open loop, it falls).
+    falling = model.simulate(controller=False, t_end=0.5, outputs=5)
+    assert falling["th"][-1] > 0.3
+    # nhc simulate writes the same run.
+    csv = tmp_path / "discrete.csv"
+    done = subprocess.run([nhc_command(), "simulate", str(path), "--t-end", str(t_end), "--rtol", "1e-11",
+                           "--atol", "1e-13", "-o", str(csv)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert "sampled controller: period 0.01, 101 samples" in done.stdout
+    table = csv_table(csv)
+    assert list(table) == from_scene.columns
+    for name in table:
+        assert np.max(np.abs(table[name] - from_scene[name])) <= 1e-12 * (1 + np.max(np.abs(table[name]))), name
+
+
+def test_scene_controller_refusals(source, tmp_path):
+    path = source / "examples" / "wheeled_pendulum_discrete.toml"
+    text = path.read_text()
+    for flags, words in ((["--outputs", "10"], "--outputs: the scene's [controller] runs from sample to sample"),
+                         (["--input", "TL=0"], "--input TL: the scene's [controller] sets it"),
+                         (["--t-end", "0.005"], "is shorter than one period")):
+        done = subprocess.run([nhc_command(), "simulate", str(path), *flags], capture_output=True, text=True)
+        assert done.returncode == 2 and words in done.stderr and done.stdout == "", (flags, done.stderr)
+    done = subprocess.run([nhc_command(), "animate", str(path), "-o", str(tmp_path / "a.html")],
+                          capture_output=True, text=True)
+    assert done.returncode == 2 and "does not run the scene's [controller]" in done.stderr, done.stderr
+    assert not (tmp_path / "a.html").exists()
+    # An acceleration is not a state: located at the expression when the model is known.
+    bad = tmp_path / "accelerating.toml"
+    bad.write_text(text.replace('update = { z = "z + period*x" }', 'update = { z = "z + period*th\'\'" }'))
+    done = subprocess.run([nhc_command(), "simulate", str(bad)], capture_output=True, text=True)
+    line = next(n for n, l in enumerate(bad.read_text().splitlines(), 1) if l.startswith("update ="))
+    assert done.returncode == 2 and f"accelerating.toml:{line}:" in done.stderr and "th''" in done.stderr, done.stderr
+    with pytest.raises(nhc.SceneError, match="th''"):
+        nhc.Scene.load(bad).build().simulate()
+    with pytest.raises(nhc.SceneError, match="outputs"):
+        nhc.Scene.load(path).build().simulate(outputs=10)
+    with pytest.raises(nhc.SceneError, match="period"):
+        nhc.Scene.load(source / "examples" / "wheeled_pendulum.toml").build().simulate(period=0.01, t_end=0.1)
+
+
+SAMPLED_OSCILLATOR = """
+name = "sampled_oscillator"
+coordinates = ["x"]
+lagrangian = "x'^2/2 - k*x^2/2"
+[parameters]
+k = 4.0
+a = 0.5
+w = 3.0
+g = 1.5
+[inputs]
+u = "a*sin(w*t)"
+v = "0"
+[forces]
+x = "u + v"
+[initial]
+x = [0.2, 0.0]
+[controller]
+period = 0.1
+states = { s = 0.0 }
+inputs = { v = "-g*x - s" }
+update = { s = "s + period*x'" }
+"""
+
+
+def test_inputs_the_controller_does_not_set_keep_their_signals(tmp_path):
+    # x'' = -k x + a sin(w t) + v, v = -g x_k - s_k held over [t_k, t_k+1), s_{k+1} = s_k + h x'_k:
+    # against SciPy's solve_ivp interval by interval (the signal u continuous, v held).
+    scipy_integrate = pytest.importorskip("scipy.integrate")
+    run = nhc.Scene.from_toml(SAMPLED_OSCILLATOR).build().simulate(t_end=2.0, rtol=1e-11, atol=1e-13)
+    k, a, w, g, h = 4.0, 0.5, 3.0, 1.5, 0.1
+    state, s, rows = np.array([0.2, 0.0]), 0.0, []
+    for j in range(21):
+        t = j * h
+        v = -g * state[0] - s
+        rows.append((t, state[0], state[1], v, s))
+        s = s + h * state[1]
+        if j < 20:
+            done = scipy_integrate.solve_ivp(lambda t, y: [y[1], -k * y[0] + a * np.sin(w * t) + v], (t, t + h), state,
+                                             rtol=1e-12, atol=1e-14, method="DOP853")
+            state = done.y[:, -1]
+    rows = np.array(rows)
+    assert np.array_equal(run.t, rows[:, 0])
+    for c, name in enumerate(["x", "x'", "input:v", "controller:s"], start=1):
+        assert np.max(np.abs(run[name] - rows[:, c])) < 1e-8, name
+    assert np.max(np.abs(run["input:u"] - a * np.sin(w * run.t))) < 1e-15  # the signal, not held

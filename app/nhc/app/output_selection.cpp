@@ -51,13 +51,14 @@ std::vector<double> parse_output_times(const std::string& spec, double t0) {
 }
 
 std::vector<std::string> csv_columns(const runtime::Model& model, const std::vector<double>& p,
-                                     const SceneOutputs& outputs) {
+                                     const SceneOutputs& outputs, const ExtraColumns* extra) {
   std::ostringstream header;
   runtime::write_csv(header, model, p, {});
   std::string line = header.str();
   if (!line.empty() && line.back() == '\n') line.pop_back();
   std::vector<std::string> columns = split(line, ',');
   columns.insert(columns.end(), outputs.names().begin(), outputs.names().end());
+  if (extra) columns.insert(columns.end(), extra->names.begin(), extra->names.end());
   return columns;
 }
 
@@ -82,8 +83,8 @@ std::vector<std::string> parse_columns(const std::string& spec, const std::vecto
 
 void write_selected_csv(std::ostream& out, const runtime::Model& model, const std::vector<double>& p,
                         const std::vector<runtime::Sample>& samples, const std::vector<std::string>& columns,
-                        const SceneOutputs& outputs) {
-  if (columns.empty() && outputs.empty()) {
+                        const SceneOutputs& outputs, const ExtraColumns* extra) {
+  if (columns.empty() && outputs.empty() && !extra) {
     runtime::write_csv(out, model, p, samples);
     return;
   }
@@ -94,6 +95,7 @@ void write_selected_csv(std::ostream& out, const runtime::Model& model, const st
   std::getline(in, line);
   std::vector<std::string> header = split(line, ',');
   header.insert(header.end(), outputs.names().begin(), outputs.names().end());
+  if (extra) header.insert(header.end(), extra->names.begin(), extra->names.end());
   std::vector<std::size_t> keep;
   if (columns.empty())
     for (std::size_t k = 0; k < header.size(); ++k) keep.push_back(k);
@@ -112,6 +114,12 @@ void write_selected_csv(std::ostream& out, const runtime::Model& model, const st
     std::vector<std::string> fields = split(line, ',');
     if (!outputs.empty())
       for (double v : outputs.evaluate(samples.at(row))) {
+        number.str("");
+        number << v;
+        fields.push_back(number.str());
+      }
+    if (extra)
+      for (double v : extra->rows.at(row)) {
         number.str("");
         number << v;
         fields.push_back(number.str());

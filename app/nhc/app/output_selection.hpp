@@ -20,8 +20,14 @@ std::vector<double> parse_output_times(const std::string& spec, double t0);
 
 /// The columns of the CSV runtime::write_csv writes for `model` (its header line, split), then
 /// the scene's [outputs].
+/// Columns after the [outputs] with one row of values per sample (a sampled controller's states).
+struct ExtraColumns {
+  std::vector<std::string> names;
+  std::vector<std::vector<double>> rows;
+};
+
 std::vector<std::string> csv_columns(const runtime::Model& model, const std::vector<double>& p,
-                                     const SceneOutputs& outputs);
+                                     const SceneOutputs& outputs, const ExtraColumns* extra = nullptr);
 
 /// "x,y,lambda1" → the names, each checked against `available` (InputError naming --columns);
 /// a name given twice is refused. "t" is kept in the list: `--columns t` selects t alone.
@@ -31,6 +37,6 @@ std::vector<std::string> parse_columns(const std::string& spec, const std::vecto
 /// order (all when `columns` is empty; t is always first, once).
 void write_selected_csv(std::ostream& out, const runtime::Model& model, const std::vector<double>& p,
                         const std::vector<runtime::Sample>& samples, const std::vector<std::string>& columns,
-                        const SceneOutputs& outputs);
+                        const SceneOutputs& outputs, const ExtraColumns* extra = nullptr);
 
 }  // namespace nhc::app

@@ -3,6 +3,7 @@
 #include "nhc/primed_name.hpp"
 
 #include <cmath>
+#include <stdexcept>
 
 #include "nhc/errors.hpp"
 #include "nhc/expr/intermediate.hpp"
@@ -26,6 +27,12 @@ SampleExpressions::SampleExpressions(const Scene& scene, const runtime::Model& m
     parameters_[jet.parameter(k)] =
         i >= 0 ? p.at(static_cast<std::size_t>(i)) : scene.parameter_values.at(static_cast<std::size_t>(k));
   }
+}
+
+SampleExpressions::SampleExpressions(const Scene& scene, const runtime::Model& model, const std::vector<double>& p,
+                                     std::vector<GiNaC::ex> free)
+    : SampleExpressions(scene, model, p) {
+  free_ = std::move(free);
 }
 
 std::string SampleExpressions::locate(const GiNaC::ex& e, std::vector<Source>& found) const {
@@ -83,6 +90,7 @@ void SampleExpressions::prepare() const {
   if (program_ || substitute_) return;
   std::vector<GiNaC::ex> inputs{scene_->jet->time()};
   for (const Source& s : sources_) inputs.push_back(s.symbol);
+  inputs.insert(inputs.end(), free_.begin(), free_.end());
   try {
     program_ = std::make_unique<NumericProgram>(inputs);
     for (const GiNaC::ex& e : expressions_) program_->add(e);
@@ -93,7 +101,10 @@ void SampleExpressions::prepare() const {
   }
 }
 
-std::vector<double> SampleExpressions::evaluate(const runtime::Sample& sample) const {
+std::vector<double> SampleExpressions::evaluate(const runtime::Sample& sample) const { return evaluate(sample, {}); }
+
+std::vector<double> SampleExpressions::evaluate(const runtime::Sample& sample, const std::vector<double>& free) const {
+  if (free.size() != free_.size()) throw std::invalid_argument("SampleExpressions::evaluate: wrong number of free values");
   if (!program_ && !substitute_) {
     const SymbolicSection symbolic;
     prepare();
@@ -103,6 +114,7 @@ std::vector<double> SampleExpressions::evaluate(const runtime::Sample& sample) c
     std::vector<double> values{sample.t};
     for (const Source& s : sources_)
       values.push_back(value_of(s, sample));
+    values.insert(values.end(), free.begin(), free.end());
     try {
       out = program_->values_at(values);
     } catch (const MathError&) {  // as above, found while evaluating
@@ -117,6 +129,7 @@ std::vector<double> SampleExpressions::evaluate(const runtime::Sample& sample) c
     values[scene_->jet->time()] = sample.t;
     for (const Source& s : sources_)
       values[s.symbol] = value_of(s, sample);
+    for (std::size_t k = 0; k < free_.size(); ++k) values[free_[k]] = free[k];
     for (const GiNaC::ex& e : expressions_) {
       double v = NAN;
       try {

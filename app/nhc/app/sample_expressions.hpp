@@ -22,6 +22,10 @@ class SampleExpressions {
   /// Parameters take the model's values `p` (the model's order), and the scene's for one the
   /// model does not read.
   SampleExpressions(const Scene& scene, const runtime::Model& model, const std::vector<double>& p);
+  /// With `free` symbols besides the scene's (a sampled controller's states), whose values each
+  /// evaluate() is given.
+  SampleExpressions(const Scene& scene, const runtime::Model& model, const std::vector<double>& p,
+                    std::vector<GiNaC::ex> free);
 
   /// Adds e (its definitions substituted); its value is evaluate()'s entry number size() - 1.
   /// When the model does not compute a quantity e uses (a multiplier of the suslov model,
@@ -38,6 +42,8 @@ class SampleExpressions {
   /// The GiNaC work it may do (the first call's lowering, GiNaC's evaluation of what cannot be
   /// lowered) holds the symbolic lock (nhc/long_work.hpp): a run may call it without.
   std::vector<double> evaluate(const runtime::Sample& sample) const;
+  /// The same with the free symbols' values (in the constructor's order).
+  std::vector<double> evaluate(const runtime::Sample& sample, const std::vector<double>& free) const;
   /// Lowers the expressions now, as the first evaluate() would: a run that evaluates them
   /// without the symbolic lock then does no symbolic work unless an expression cannot be lowered.
   void prepare() const;
@@ -61,6 +67,7 @@ class SampleExpressions {
   std::vector<GiNaC::ex> expressions_;  // parameters already substituted
   std::vector<Source> sources_;
   GiNaC::exset bound_;
+  std::vector<GiNaC::ex> free_;  ///< symbols whose values evaluate() is given
   /// The expressions lowered once (inputs: t, then the sources' symbols), made on the first
   /// evaluate(): GiNaC's substitution per sample costs milliseconds for a rigid body's rotation.
   mutable std::unique_ptr<NumericProgram> program_;

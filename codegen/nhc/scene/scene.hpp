@@ -106,6 +106,34 @@ struct SceneInput {
   bool feedback = false;
 };
 
+/// [controller]: a sampled (discrete-time) controller (docs/scenes.md, "Sampled controllers").
+/// At each sample t_k = t0 + k*period it reads the state the run reached,
+/// sets the inputs it drives (held until the next sample) and its discrete states' next values.
+struct SceneControllerState {
+  std::string name;
+  double initial = 0;       ///< its value at t0
+  GiNaC::symbol symbol;     ///< the name in the controller's expressions
+  SourceLocation where;     ///< the entry of `states`
+};
+/// An entry of `inputs` (target: the input's index in JetSpace::inputs()) or of `update`
+/// (target: the state's index in SceneController::states).
+struct SceneControllerLaw {
+  int target = 0;
+  std::string name;
+  GiNaC::ex expression;  ///< of t, parameters, coordinates and derivatives, the states (definitions substituted)
+  std::string text;      ///< as written
+  SourceLocation where;  ///< the expression's place in the scene file
+};
+struct SceneController {
+  bool present = false;
+  double period = 0;
+  SourceLocation where;         ///< the table
+  SourceLocation period_where;  ///< its period
+  std::vector<SceneControllerState> states;
+  std::vector<SceneControllerLaw> inputs;  ///< in file order
+  std::vector<SceneControllerLaw> update;  ///< one per state, in the states' order
+};
+
 /// A [parameters] entry written through other parameters (`Ja = "mw*r^2/2"`): not a parameter of
 /// the equations but an expression of them, substituted where its name appears, so that it
 /// follows every change of the parameters it uses (--set, ensembles, sweeps).
@@ -149,6 +177,8 @@ struct Scene {
   std::vector<SceneInput> inputs;
   /// [visual], in file order: what `nhc animate` draws.
   std::vector<SceneVisual> visuals;
+  /// [controller]: a sampled controller; `present` false when the scene has none.
+  SceneController controller;
   /// "FILE:LINE:COLUMN: warning: …" lines (a definition never used); load_scene prints them.
   std::vector<std::string> warnings;
 

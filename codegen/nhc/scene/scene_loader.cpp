@@ -179,6 +179,7 @@ class SceneReader {
     check_keys(root, {"name", "coordinates", "lagrangian", "constraints", "dependent", "models",
                       "parameters", "initial", "simulate", "reference", "invariants",
                       "definitions", "forces", "outputs", "inputs", "visual", "events", "contacts",
+                      "controller",  // read by the sampled run (app/sampled_run.hpp)
                       "optimize"});  // read by nhc::optimize (read_settings)
 
     Scene scene;
@@ -344,6 +345,7 @@ class SceneReader {
     read_contacts(root, scene, mechanics);
     read_forces(root, scene, mechanics);
     read_visuals(root, scene, mechanics);
+    read_controller(root, scene, mechanics);
     definitions.resolve_all();
     for (const auto& [name, where] : definitions.unused())
       scene.warnings.push_back(where.str() + ": warning: definition '" + name + "' is never used");
@@ -819,6 +821,97 @@ class SceneReader {
     }
   }
 
+  /// [controller]: period = h > 0, states = { z = value }, inputs = { U = "law" } (each an
+  /// [inputs] entry without a law of its own), update = { z = "next value" } (one per state).
+  /// The expressions may use what a feedback law may, the states, and `period` (docs/scenes.md).
+  void read_controller(const toml::table& root, Scene& scene, const ExpressionRules& rules) {
+    const toml::node* node = root.get("controller");
+    if (!node) return;
+    const toml::table& table = table_value(*node, "controller");
+    check_keys(table, {"period", "states", "inputs", "update"});
+    SceneController& controller = scene.controller;
+    controller.present = true;
+    controller.where = at(*node);
+    if (controller.where.line <= 0) controller.where = scene.file_location();
+    const toml::node& period = require(table, "period", "controller");
+    controller.period = number_value(period, "period");
+    controller.period_where = at(period);
+    if (!(controller.period > 0)) fail(period, "period must be a positive number (the controller's sample period h)");
+    const JetSpace& jet = *scene.jet;
+    std::map<std::string, int> state_index;
+    if (const toml::node* states = table.get("states")) {
+      for (const auto& [key, value] : entries_in_file_order(*states, "controller.states")) {
+        const std::string n(key->str());
+        if (jet.coordinate_index(n))
+          throw InputError(at(key->source()), "controller state '" + printable(n) +
+                                                  "' is named like a coordinate: a discrete state needs a name of its own");
+        if (n == "period") throw InputError(at(key->source()), "'period' is the controller's sample period, not a state name");
+        check_variable_name_at(at(key->source()), n, "controller state");
+        SceneControllerState state{n, number_value(*value, "controller state '" + n + "'"), GiNaC::symbol(n), at(key->source())};
+        state_index[n] = static_cast<int>(controller.states.size());
+        controller.states.push_back(state);
+      }
+    }
+    // The states and `period` are names of the controller's expressions; the rest is the scene's.
+    ExpressionRules law = rules;
+    law.allow_multipliers = false;
+    law.allow_inputs = false;  // the controller sets inputs; it does not read them
+    law.input_law = nullptr;
+    const GiNaC::ex h = GiNaC::numeric(controller.period);
+    law.definition = [&controller, state_index, h, outer = rules.definition](const std::string& name) -> std::optional<Value> {
+      if (const auto it = state_index.find(name); it != state_index.end())
+        return Value::scalar(controller.states[static_cast<std::size_t>(it->second)].symbol);
+      if (name == "period") return Value::scalar(h);
+      return outer ? outer(name) : std::nullopt;
+    };
+    auto read_law = [&](const toml::node& value, int target, const std::string& name, const std::string& what) {
+      SceneControllerLaw entry;
+      entry.target = target;
+      entry.name = name;
+      if (value.is_number()) {
+        entry.expression = number_value(value, what);
+        entry.text = shortest(GiNaC::ex_to<GiNaC::numeric>(entry.expression).to_double());
+      } else {
+        entry.text = string_value(value, what);
+        entry.expression = expression(value, what, jet, law);
+      }
+      entry.where = at(value);
+      return entry;
+    };
+    if (const toml::node* inputs = table.get("inputs")) {
+      for (const auto& [key, value] : entries_in_file_order(*inputs, "controller.inputs")) {
+        const std::string n(key->str());
+        const std::optional<int> k = jet.input_index(n);
+        if (!k)
+          throw InputError(at(key->source()), "[controller] sets '" + printable(n) +
+                                                  "', which is not an [inputs] entry (the controller drives inputs)");
+        const SceneInput& input = scene.inputs.at(static_cast<std::size_t>(*k));
+        if (input.feedback)
+          throw InputError(at(key->source()), "[controller] sets input '" + n + "', whose [inputs] entry is a feedback law (" +
+                                                  input.where.str() + "): an input has one law; give it a signal there");
+        controller.inputs.push_back(read_law(*value, *k, n, "controller input '" + n + "'"));
+      }
+    }
+    std::vector<const toml::node*> updates(controller.states.size(), nullptr);
+    if (const toml::node* update = table.get("update")) {
+      for (const auto& [key, value] : entries_in_file_order(*update, "controller.update")) {
+        const std::string n(key->str());
+        const auto it = state_index.find(n);
+        if (it == state_index.end())
+          throw InputError(at(key->source()), "[controller] update names '" + printable(n) +
+                                                  "', which is not one of the controller's states");
+        updates[static_cast<std::size_t>(it->second)] = value;
+      }
+    }
+    for (std::size_t i = 0; i < controller.states.size(); ++i) {
+      const SceneControllerState& state = controller.states[i];
+      if (!updates[i])
+        throw InputError(state.where, "controller state '" + state.name + "' has no update (update = { " + state.name +
+                                          " = \"its next value\" })");
+      controller.update.push_back(read_law(*updates[i], static_cast<int>(i), state.name, "update of '" + state.name + "'"));
+    }
+  }
+
   void read_forces(const toml::table& root, Scene& scene, const ExpressionRules& rules) {
     const JetSpace& jet = *scene.jet;
     scene.forces.assign(static_cast<std::size_t>(jet.coordinate_count()), GiNaC::ex(0));
@@ -1071,7 +1164,7 @@ std::string switched_source(const std::string& text, const std::set<int>& remove
   } catch (const toml::parse_error&) {
     return text;
   }
-  for (const char* table : {"contacts", "events", "outputs", "invariants", "reference", "visual", "optimize"})
+  for (const char* table : {"contacts", "events", "outputs", "invariants", "reference", "visual", "optimize", "controller"})
     root.erase(table);
   if (toml::array* constraints = root["constraints"].as_array()) {
     toml::array kept;
@@ -1114,6 +1207,7 @@ std::string equations_source(const std::string& text) {
   root.erase("visual");  // drawn from the run, not part of the equations
   root.erase("events");  // located along the run, not part of the equations
   root.erase("contacts");  // forces read from the multipliers along the run
+  root.erase("controller");  // sets the inputs along the run, not part of the equations
   std::ostringstream out;
   out << toml::toml_formatter(root);
   return out.str();

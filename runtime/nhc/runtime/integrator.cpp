@@ -550,6 +550,15 @@ void Integrator::hold_inputs(std::vector<double> u) {
   impl_->restart_at_last_output();
 }
 
+Sample Integrator::point() const {
+  const Impl& s = *impl_;
+  if (!s.initialized) throw std::logic_error("point before initialize");
+  Sample here{s.t, s.y_last, s.yp_last, {}};
+  const double* p = s.inputs.at(s.t, here.y.data());
+  here.u.assign(p + s.model.n_parameters(), p + s.model.n_parameters() + s.model.n_inputs());
+  return here;
+}
+
 void Integrator::add_event(Event event) {
   if (impl_->initialized) throw std::logic_error("add_event after initialize");
   impl_->user_events.push_back(std::move(event));

@@ -154,6 +154,10 @@ class Integrator {
   void set_inputs(InputFunction u);
   void hold_inputs(std::vector<double> u);
 
+  /// The point the integration stands at (after initialize(), integrate() or a restart by
+  /// set_inputs/hold_inputs, whose y' and algebraic states follow the new inputs), with its inputs.
+  Sample point() const;
+
   /// Registers an event; call before initialize().
   void add_event(Event event);
 

@@ -1,0 +1,175 @@
+#include "nhc/app/sampled_run.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "nhc/app/run_request.hpp"
+#include "nhc/errors.hpp"
+#include "nhc/expr/intermediate.hpp"
+#include "nhc/primed_name.hpp"
+#include "nhc/runtime/number_text.hpp"
+
+namespace nhc::app {
+
+namespace {
+
+/// A number as short as reads back (0.005, not 0.0050000000000000001).
+std::string shortest(double v) {
+  const std::string short_text = runtime::number_text(v, 15);
+  return std::isfinite(v) && std::stod(short_text) != v ? runtime::number_text(v, 17) : short_text;
+}
+
+}  // namespace
+
+std::vector<double> sample_times(double t0, double t_end, double period, const SourceLocation& where,
+                                 const std::string& what) {
+  const std::string shown = what + " " + shortest(period);
+  if (!(std::isfinite(period) && period > 0))
+    throw InputError(where, shown + ": the sample period must be a positive number");
+  // The samples are t0 + k h; the run ends at the last one at or before t_end (1e-9 of a period
+  // spares a t_end that is a whole number of periods written in decimals).
+  const double count = std::floor((t_end - t0) / period + 1e-9);
+  if (!(count >= 1))
+    throw InputError(where, shown + ": the run from t0 = " + shortest(t0) + " to t_end = " +
+                                shortest(t_end) + " is shorter than one period");
+  if (count > static_cast<double>(kMaxOutputs))
+    throw InputError(where, shown + ": more than " + std::to_string(kMaxOutputs) + " samples up to t_end");
+  std::vector<double> times;
+  const long n = static_cast<long>(count);
+  for (long k = 0; k <= n; ++k) times.push_back(t0 + static_cast<double>(k) * period);
+  if (const std::optional<std::size_t> i = runtime::collapsed_output_time(times))
+    throw InputError(where, shown + ": samples " + std::to_string(*i - 1) + " and " + std::to_string(*i) +
+                                " fall on the same double at t = " + shortest(times[*i]));
+  return times;
+}
+
+std::vector<double> scene_controller_samples(const RunRequest& request, const Scene& scene, const FieldNames& names) {
+  const SceneController& controller = scene.controller;
+  const std::string why = ": the scene's [controller] runs from sample to sample, whose times are the rows (" +
+                          controller.where.str() + ")";
+  if (request.outputs) throw InputError({names.outputs, 0, 0}, names.outputs + why);
+  if (request.output_times) throw InputError({names.output_times, 0, 0}, names.output_times + why);
+  if (request.stop_when) throw InputError({names.stop_when, 0, 0}, names.stop_when + why);
+  if (request.variational) throw InputError({names.variational, 0, 0}, names.variational + why);
+  const double t0 = scene.initial.t0;
+  return sample_times(t0, request.t_end.value_or(scene.simulate.t_end), controller.period, controller.period_where,
+                      "period");
+}
+
+void refuse_scene_controller(const Scene& scene, const std::string& command) {
+  if (!scene.controller.present) return;
+  throw InputError(scene.controller.where, command + " does not run the scene's [controller] (a sampled controller): "
+                                           "nhc simulate and Python's Model.simulate do; without the table it runs open loop");
+}
+
+SampledRun simulate_sampled(const runtime::Model& model, const std::vector<double>& p,
+                            const runtime::InitialState& initial, const std::vector<double>& samples,
+                            const runtime::IntegratorOptions& options, const SampleLaw& law,
+                            const std::vector<bool>& held, const runtime::InputFunction& others) {
+  SampledRun out;
+  runtime::Integrator integrator(model, p, options);
+  const int n_inputs = model.n_inputs();
+  const bool all_held = held.empty() || std::all_of(held.begin(), held.end(), [](bool h) { return h; });
+  // The inputs the controller does not set, between the samples and at the initial point.
+  auto defaults = std::make_shared<runtime::InputValues>(model, p);
+  runtime::InputFunction free_inputs = others;
+  if (!free_inputs)
+    free_inputs = [defaults, n_parameters = model.n_parameters(), n_inputs](double t, const double* y, double* u) {
+      const double* values = defaults->at(t, y);
+      std::copy(values + n_parameters, values + n_parameters + n_inputs, u);
+    };
+  if (others) integrator.set_inputs(others);
+  try {
+    runtime::Sample reached = integrator.initialize(initial, samples.size() > 1 ? samples[1] : initial.t0 + 1.0);
+    out.run.initial = reached;
+    for (std::size_t k = 0; k < samples.size(); ++k) {
+      if (k > 0) integrator.integrate({samples[k]}, [&](const runtime::Sample& s) { reached = s; });
+      reached.t = samples[k];  // IDA stops there exactly (its stop time)
+      std::vector<double> u = law(reached);
+      ++out.controller_calls;
+      if (static_cast<int>(u.size()) != n_inputs)
+        throw std::invalid_argument("the controller returned " + std::to_string(u.size()) + " inputs; the model has " +
+                                    std::to_string(n_inputs));
+      for (int i = 0; i < n_inputs; ++i)
+        if ((all_held || held[static_cast<std::size_t>(i)]) && !std::isfinite(u[static_cast<std::size_t>(i)]))
+          throw runtime::SolverError(runtime::FailureKind::nonfinite_residual, samples[k],
+                                     "the controller's input " + model.input_name(i) + " is " +
+                                         shortest(u[static_cast<std::size_t>(i)]) + " at t = " +
+                                         shortest(samples[k]) + " (sample " + std::to_string(k) + ")");
+      // Zero-order hold from t_k on; the restart keeps the states and recomputes y' and the
+      // algebraic states for the new inputs (Integrator::hold_inputs).
+      if (all_held) {
+        integrator.hold_inputs(std::move(u));
+      } else {
+        integrator.set_inputs([u, held, free_inputs](double t, const double* y, double* values) {
+          free_inputs(t, y, values);
+          for (std::size_t i = 0; i < held.size(); ++i)
+            if (held[i]) values[i] = u[i];
+        });
+      }
+      runtime::Sample row = integrator.point();
+      row.t = samples[k];
+      out.run.samples.push_back(std::move(row));
+    }
+  } catch (const runtime::SolverError& e) {
+    out.run.failure = e;
+  }
+  out.run.statistics = integrator.statistics();
+  out.run.events = integrator.events();
+  return out;
+}
+
+ControllerLaws::ControllerLaws(const Scene& scene, const runtime::Model& model, const std::vector<double>& p)
+    : scene_(&scene), model_(&model), p_(p), expressions_(scene, model, p, [&scene] {
+        std::vector<GiNaC::ex> symbols;
+        for (const SceneControllerState& s : scene.controller.states) symbols.push_back(s.symbol);
+        return symbols;
+      }()) {
+  const SceneController& controller = scene.controller;
+  const JetSpace& jet = *scene.jet;
+  held_.assign(static_cast<std::size_t>(model.n_inputs()), false);
+  auto add = [&](const nhc::SceneControllerLaw& law, const std::string& what) {
+    // Only what the run's states hold: an acceleration follows from the inputs being set.
+    const GiNaC::ex e = expand_intermediates(law.expression);
+    for (const JetCoordinate& c : jet.jet_coordinates_in(e)) {
+      const int variable = c.kind == VariableKind::coordinate ? c.index : model.n_coordinates() + c.index;
+      if (c.kind != VariableKind::coordinate || model.state_index(variable, c.order) < 0)
+        throw InputError(law.where, what + " \"" + law.text + "\" uses " +
+                                        primed_name(jet.variable_name(c.kind, c.index), c.order) +
+                                        ", which the " + "model's states do not hold (a controller reads the state the "
+                                        "run reached: coordinates and the derivatives that are states)");
+    }
+    if (std::string missing = expressions_.add(e); !missing.empty())
+      throw InputError(law.where, what + " \"" + law.text + "\" uses " + missing + ", which the model does not compute");
+  };
+  for (const nhc::SceneControllerLaw& law : controller.inputs) {
+    const int i = model.input_index(law.name);
+    if (i < 0)
+      throw InputError(law.where, "[controller] sets input '" + law.name + "', which the model does not read");
+    add(law, "controller input '" + law.name + "'");
+    input_slots_.push_back(i);
+    held_[static_cast<std::size_t>(i)] = true;
+  }
+  for (const nhc::SceneControllerLaw& law : controller.update) add(law, "update of '" + law.name + "'");
+  for (const SceneControllerState& s : controller.states) {
+    z_.push_back(s.initial);
+    columns_.push_back("controller:" + s.name);
+  }
+  expressions_.prepare();
+}
+
+std::vector<double> ControllerLaws::operator()(const runtime::Sample& reached) {
+  history_.push_back(z_);
+  const std::vector<double> values = expressions_.evaluate(reached, z_);
+  std::vector<double> u = reached.u;  // the inputs it does not set are not held (simulate_sampled's `held`)
+  const std::size_t n_laws = input_slots_.size();
+  for (std::size_t k = 0; k < n_laws; ++k) u.at(static_cast<std::size_t>(input_slots_[k])) = values[k];
+  for (std::size_t k = 0; k < z_.size(); ++k) z_[k] = values[n_laws + k];
+  return u;
+}
+
+SampleLaw sample_law(std::shared_ptr<ControllerLaws> law) {
+  return [law](const runtime::Sample& reached) { return (*law)(reached); };
+}
+
+}  // namespace nhc::app
