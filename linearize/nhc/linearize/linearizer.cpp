@@ -173,6 +173,8 @@ struct Linearizer::Impl {
   std::vector<SteadyFamily> families_at(const NumericPoint& p, const ManifoldLinearization& lin,
                                         const std::vector<std::string>& states, int zero_eigenvalues) const;
   std::string describe_basis(const ManifoldLinearization& lin) const;
+  /// out's states, eliminated and algebraic components and basis, by name, from lin's positions.
+  void name_states(const ManifoldLinearization& lin, Linearization& out) const;
 };
 
 NumericPoint Linearizer::Impl::operating_point(const Scene& s, Linearization& out) const {
@@ -311,6 +313,14 @@ std::vector<SteadyFamily> Linearizer::Impl::families_at(const NumericPoint& p, c
   }
   const ReducedVelocity h = [&](const Eigen::VectorXd& s) { return velocity(p, lin, G_dependent, s); };
   return steady_families(lin.A, s_star, h, zero_eigenvalues, states, options.zero_tolerance);
+}
+
+void Linearizer::Impl::name_states(const ManifoldLinearization& lin, Linearization& out) const {
+  auto name = [&](int component) { return reduced.components[static_cast<std::size_t>(component)].name; };
+  for (int k : lin.independent) out.states.push_back(name(lin.differential[static_cast<std::size_t>(k)]));
+  for (int k : lin.dependent) out.eliminated.push_back(name(lin.differential[static_cast<std::size_t>(k)]));
+  for (int k : lin.algebraic) out.algebraic.push_back(name(k));
+  out.basis = describe_basis(lin);
 }
 
 std::string Linearizer::Impl::describe_basis(const ManifoldLinearization& lin) const {
@@ -632,12 +642,7 @@ Linearization Linearizer::along(double t, const std::vector<double>& y, const st
   out.model = m.model;
   out.cyclic = m.reduced.cyclic;
   out.kept = m.reduced.kept;
-  for (int k : lin.independent)
-    out.states.push_back(m.reduced.components[static_cast<std::size_t>(lin.differential[static_cast<std::size_t>(k)])].name);
-  for (int k : lin.dependent)
-    out.eliminated.push_back(m.reduced.components[static_cast<std::size_t>(lin.differential[static_cast<std::size_t>(k)])].name);
-  for (int k : lin.algebraic) out.algebraic.push_back(m.reduced.components[static_cast<std::size_t>(k)].name);
-  out.basis = m.describe_basis(lin);
+  m.name_states(lin, out);
   out.A = lin.A;
   out.B = lin.B;
   for (const SceneInput& input : m.scene.inputs) out.inputs.push_back(input.name);
@@ -691,12 +696,7 @@ Linearization Linearizer::at(const std::vector<PointOverride>& overrides) const 
 
   const std::vector<double> jacobians = m.jacobians->evaluate(program_values(m.reduced, p), "dF/dz, dF/dz' or dg/dz");
   const ManifoldLinearization lin = linearize_on_manifold(m.manifold_input(p));
-  for (int k : lin.independent)
-    out.states.push_back(m.reduced.components[static_cast<std::size_t>(lin.differential[static_cast<std::size_t>(k)])].name);
-  for (int k : lin.dependent)
-    out.eliminated.push_back(m.reduced.components[static_cast<std::size_t>(lin.differential[static_cast<std::size_t>(k)])].name);
-  for (int k : lin.algebraic) out.algebraic.push_back(m.reduced.components[static_cast<std::size_t>(k)].name);
-  out.basis = m.describe_basis(lin);
+  m.name_states(lin, out);
   out.A = lin.A;
   if (m.turning()) {
     // In the turning frame: A − ω (DX_D T)_s, DX the generator's constant matrix over z_D.
