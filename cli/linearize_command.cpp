@@ -30,6 +30,7 @@
 #include "nhc/io/temporary_files.hpp"
 #include "nhc/jit/gnuplot.hpp"
 #include "nhc/linearize.hpp"
+#include "nhc/runtime/number_text.hpp"
 #include "nhc/scene/scene.hpp"
 #include "pipeline.hpp"
 
@@ -74,13 +75,12 @@ void write_matrix(JsonWriter& json, const Eigen::MatrixXd& m) {
 void write_matrix_csv(const fs::path& path, const Eigen::MatrixXd& m, const std::vector<std::string>& rows,
                       const std::vector<std::string>& columns) {
   write_file_atomically(path.string(), [&](std::ostream& out) {
-    out.precision(17);
     out << "state";
     for (const std::string& c : columns) out << "," << c;
     out << "\n";
     for (Eigen::Index r = 0; r < m.rows(); ++r) {
       out << rows[static_cast<std::size_t>(r)];
-      for (Eigen::Index c = 0; c < m.cols(); ++c) out << "," << m(r, c);
+      for (Eigen::Index c = 0; c < m.cols(); ++c) out << "," << runtime::shortest_text(m(r, c));
       out << "\n";
     }
   });
@@ -216,15 +216,14 @@ void write_csv(const fs::path& path, const SweepResult& sweep) {
   std::size_t count = 0;
   for (const SweepPoint& p : sweep.points) count = std::max(count, p.linearization.eigenvalues.size());
   write_file_atomically(path.string(), [&](std::ostream& out) {
-    out.precision(17);
     out << sweep.range.name;
     for (std::size_t k = 1; k <= count; ++k) out << ",re" << k << ",im" << k;
     out << ",verdict\n";
     for (const SweepPoint& p : sweep.points) {
-      out << p.value;
+      out << runtime::shortest_text(p.value);
       const auto& ev = p.linearization.eigenvalues;
       for (std::size_t k = 0; k < count; ++k)
-        if (k < ev.size()) out << ',' << ev[k].real() << ',' << ev[k].imag();
+        if (k < ev.size()) out << ',' << runtime::shortest_text(ev[k].real()) << ',' << runtime::shortest_text(ev[k].imag());
         else out << ",,";
       out << ',' << to_string(p.linearization.verdict) << '\n';
     }
@@ -240,7 +239,7 @@ std::string stability_script(const SweepResult& sweep, const std::string& scene,
     << "set multiplot layout 2,1 title " << jit::gnuplot_string("eigenvalues of " + scene + " against " + sweep.range.name)
     << " noenhanced\n";
   for (const VerdictChange& t : sweep.thresholds)
-    g << "set arrow from " << t.value << ", graph 0 to " << t.value << ", graph 1 nohead dashtype 2\n";
+    g << "set arrow from " << runtime::shortest_text(t.value) << ", graph 0 to " << runtime::shortest_text(t.value) << ", graph 1 nohead dashtype 2\n";
   for (int part = 0; part < 2; ++part) {
     g << "set ylabel " << jit::gnuplot_string(part == 0 ? "Re(lambda)" : "Im(lambda)") << "\nplot ";
     for (std::size_t k = 0; k < count; ++k)

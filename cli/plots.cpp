@@ -11,6 +11,7 @@
 #include "nhc/errors.hpp"
 #include "nhc/io/atomic_file.hpp"
 #include "nhc/jit/gnuplot.hpp"
+#include "nhc/runtime/number_text.hpp"
 
 namespace nhc::cli {
 
@@ -67,12 +68,7 @@ constexpr const char* kColours[] = {"#0072B2", "#D55E00", "#009E73", "#CC79A7", 
 constexpr int kPointTypes[] = {4, 7, 8, 13, 6, 9};
 constexpr int kWidth = 900, kHeight = 560;
 
-std::string number(double v) {
-  std::ostringstream os;
-  os.precision(17);
-  os << v;
-  return os.str();
-}
+std::string number(double v) { return runtime::shortest_text(v); }
 
 /// The smallest and largest finite value seen.
 struct Range {

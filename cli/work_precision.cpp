@@ -19,6 +19,7 @@
 #include "pipeline.hpp"
 #include "nhc/jit.hpp"
 #include "nhc/jit/gnuplot.hpp"
+#include "nhc/runtime/number_text.hpp"
 
 namespace nhc::cli {
 
@@ -112,18 +113,19 @@ void write_work_precision_csv(const std::string& path, const WorkPrecision& wp) 
            "residual_evaluations,jacobian_evaluations,linear_solver_setups,error_test_failures,"
            "nonlinear_iterations,nonlinear_failures,projections,max_hidden_drift,max_invariant_drift,t_end,"
            "t_reached,status\n";
-    out.precision(10);
+    // Ten significant digits: the times and errors are measurements, not values to read back.
+    const auto n = [](double v) { return runtime::number_text(v, 10); };
     for (const Measurement& m : wp.measurements) {
       const runtime::Statistics& s = m.statistics;
       out << m.configuration.label() << ',' << m.configuration.jacobian << ',' << (m.configuration.projection ? 1 : 0)
           << ',' << (m.sweep_value ? wp.settings.sweep_parameter : "") << ',';
-      if (m.sweep_value) out << *m.sweep_value;
-      out << ',' << m.rtol << ',' << m.atol << ',' << m.step << ',' << m.error << ',' << (wp.source.exact ? "reference" : "reference run")
-          << ',' << m.seconds << ',' << m.repeats << ',' << s.steps << ',' << s.residual_evaluations << ','
-          << s.jacobian_evaluations << ',' << s.linear_solver_setups << ',' << s.error_test_failures << ','
-          << s.nonlinear_iterations << ',' << s.nonlinear_failures << ',' << s.projections << ',' << m.max_hidden
-          << ',' << m.max_invariant_relative << ',' << wp.settings.t_end << ',' << m.t_reached << ',' << m.status()
-          << '\n';
+      if (m.sweep_value) out << n(*m.sweep_value);
+      out << ',' << n(m.rtol) << ',' << n(m.atol) << ',' << n(m.step) << ',' << n(m.error) << ','
+          << (wp.source.exact ? "reference" : "reference run") << ',' << n(m.seconds) << ',' << m.repeats << ','
+          << s.steps << ',' << s.residual_evaluations << ',' << s.jacobian_evaluations << ',' << s.linear_solver_setups
+          << ',' << s.error_test_failures << ',' << s.nonlinear_iterations << ',' << s.nonlinear_failures << ','
+          << s.projections << ',' << n(m.max_hidden) << ',' << n(m.max_invariant_relative) << ','
+          << n(wp.settings.t_end) << ',' << n(m.t_reached) << ',' << m.status() << '\n';
     }
   });
 }
@@ -141,10 +143,9 @@ struct Curve {
 
 void write_data(const fs::path& path, const std::vector<Curve>& curves) {
   write_file_atomically(path.string(), [&](std::ostream& out) {
-    out.precision(10);
     for (const Curve& c : curves) {
       out << jit::gnuplot_comment(c.title);
-      for (const auto& [x, y] : c.points) out << x << ' ' << y << '\n';
+      for (const auto& [x, y] : c.points) out << runtime::number_text(x, 10) << ' ' << runtime::number_text(y, 10) << '\n';
       out << "\n\n";
     }
   });

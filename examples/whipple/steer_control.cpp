@@ -22,7 +22,6 @@
 #include <cmath>
 #include <complex>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -30,7 +29,9 @@
 #include <vector>
 
 #include "nhc/jit.hpp"
+#include "nhc/jit/gnuplot.hpp"
 #include "nhc/linearize.hpp"
+#include "nhc/runtime/number_text.hpp"
 #include "nhc/runtime/runtime.hpp"
 
 namespace {
@@ -103,20 +104,20 @@ double largest_lean(const Motion& m) {
 }
 
 void write_csv(const std::filesystem::path& path, const Motion& free, const Motion& controlled) {
+  const auto n = [](double v) { return nhc::runtime::number_text(v, 10); };
   std::ofstream out(path);
-  out.precision(10);
   out << "t,lean_free,steer_free,lean_controlled,steer_controlled,steer_torque\n";
   for (std::size_t k = 0; k < controlled.t.size(); ++k) {
-    out << controlled.t[k];
-    if (k < free.t.size() && free.t[k] == controlled.t[k]) out << "," << free.lean[k] << "," << free.steer[k];  // not the fall's own time
+    out << n(controlled.t[k]);
+    if (k < free.t.size() && free.t[k] == controlled.t[k]) out << "," << n(free.lean[k]) << "," << n(free.steer[k]);  // not the fall's own time
     else out << ",,";
-    out << "," << controlled.lean[k] << "," << controlled.steer[k] << "," << controlled.torque[k] << "\n";
+    out << "," << n(controlled.lean[k]) << "," << n(controlled.steer[k]) << "," << n(controlled.torque[k]) << "\n";
   }
 }
 
 void plot(const std::filesystem::path& dir) {
-  if (std::system("command -v gnuplot > /dev/null 2>&1") != 0) {
-    std::cout << "gnuplot not found: no picture (the CSV has the data)\n";
+  if (const auto missing = nhc::jit::gnuplot_missing()) {
+    std::cout << *missing << ": no picture (the CSV has the data)\n";
     return;
   }
   const std::string script = R"(set datafile separator ','
@@ -136,8 +137,9 @@ do for [format in 'svg png'] {
 }
 )";
   std::ofstream(dir / "steer_control.gp") << script;
-  const std::string command = "cd '" + dir.string() + "' && gnuplot steer_control.gp";
-  if (std::system(command.c_str()) != 0) std::cout << "gnuplot failed: no picture\n";
+  // nhc's gnuplot runner: the directory and the script's name are arguments, never a shell's text.
+  std::string messages;
+  if (nhc::jit::run_gnuplot(dir, {"steer_control.gp"}, messages) != 0) std::cout << "gnuplot failed: no picture\n" << messages;
 }
 
 }  // namespace

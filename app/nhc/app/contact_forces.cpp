@@ -43,7 +43,7 @@ ContactForces::ContactForces(const Scene& scene, const runtime::Model& model, co
                        " model's CSV: its forces use " + missing + ", which the model does not compute");
       continue;
     }
-    kept_.push_back({&contact, expressions_.size()});
+    kept_.push_back({&contact, expressions_.size(), {}, false});
     expressions_.add(contact.normal);
     expressions_.add(tangential);
     for (const char* column : {".normal", ".tangential", ".ratio", ".state"}) names_.push_back(contact.name + column);

@@ -4,6 +4,7 @@
 #include <map>
 
 #include "nhc/errors.hpp"
+#include "nhc/primed_name.hpp"
 #include "nhc/runtime/number_text.hpp"
 #include "nhc/scene/expression_parser.hpp"
 #include "nhc/scene/scene_text.hpp"
@@ -61,7 +62,7 @@ void apply_initial_values(Scene& scene, const std::vector<InitialValue>& values,
   for (const auto& [base, written] : written_by_name)
     for (std::size_t k = 0; k < scene.initial.values[base].size(); ++k)
       if (std::isnan(scene.initial.values[base][k]))
-        refuse(field, quoted(written) + (k == 0 ? base : base + std::string(k, '\'')) +
+        refuse(field, quoted(written) + primed_name(base, static_cast<int>(k)) +
                           " is not given (neither in the scene's [initial] nor here); the values of " + base +
                           " are a value and its derivatives in order, so give it too");
 }

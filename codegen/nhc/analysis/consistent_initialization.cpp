@@ -130,6 +130,19 @@ class Evaluator {
   mutable std::unique_ptr<Programs> programs_;
 };
 
+/// Where the violated constraint is a rolling constraint of a contact with on_slip = "slide",
+/// the sentence saying so: such a motion starts sliding (docs/contacts.md, "Sliding"), which
+/// `nhc simulate` follows with the sliding model, while the analysis is of the rolling one.
+std::string sliding_start(const Scene& scene, int constraint) {
+  if (constraint < 0) return "";
+  for (const SceneContact& c : scene.contacts)
+    if (c.on_slip == SlipAction::slide && std::find(c.rolling.begin(), c.rolling.end(), constraint) != c.rolling.end())
+      return ". f" + std::to_string(constraint + 1) + " is a rolling constraint of the contact '" + c.name +
+             "' (on_slip = \"slide\"): the contact starts sliding, which nhc simulate follows with the sliding "
+             "model (docs/contacts.md); this analysis is of the rolling model";
+  return "";
+}
+
 }  // namespace
 
 std::vector<InitialValueConstraint> initial_value_constraints(const StructuralAnalysis& a,
@@ -137,8 +150,10 @@ std::vector<InitialValueConstraint> initial_value_constraints(const StructuralAn
   const DaeSystem& sys = a.system;
   const JetSpace& jet = *sys.jet;
   std::vector<InitialValueConstraint> out;
+  // The equations are R_q for each coordinate, then f1, f2, … (dae_system_of).
   for (const HiddenConstraint& h : a.hidden_constraints)
-    out.push_back({differentiated_equation(a, h.equation, h.order), h.name, false});
+    out.push_back({differentiated_equation(a, h.equation, h.order), h.name, false,
+                   h.equation >= jet.coordinate_count() ? h.equation - jet.coordinate_count() : -1});
   // suslov: the motion keeps f^α = 0 only if it starts on it (Suslov's equations have the
   // constraints as invariants), so the initial values must satisfy them too.
   const auto column_of_unknown = unknown_columns(sys);
@@ -150,7 +165,7 @@ std::vector<InitialValueConstraint> initial_value_constraints(const StructuralAn
       if (column != column_of_unknown.end() && c.order >= a.d(column->second)) initial_data_only = false;
     }
     const std::string& name = sys.monitored_constraint_names[m];
-    if (initial_data_only) out.push_back({f, name, true});
+    if (initial_data_only) out.push_back({f, name, true, static_cast<int>(m)});
     else if (notes)
       notes->push_back("the monitored constraint " + name + " involves derivatives the " + to_string(sys.model) +
                        " equations determine, so it is not imposed on the initial values");
@@ -231,8 +246,10 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
 
   std::vector<GiNaC::ex> hidden;
   std::vector<std::string> hidden_names;
+  std::vector<int> hidden_constraint;  // the scene's constraint each comes from, or -1
   for (const InitialValueConstraint& c : initial_value_constraints(a, &result.notes)) {
     hidden.push_back(c.expression);
+    hidden_constraint.push_back(c.constraint);
     hidden_names.push_back((c.monitored ? "monitored constraint " : "hidden constraint ") + c.name);
     result.constraint_names.push_back(c.monitored ? c.name + " (monitored)" : c.name);
   }
@@ -324,7 +341,7 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
       if (v.source == ValueSource::given) failure.given.push_back({v.name, v.given});
       else failure.free.push_back(v.name);
     }
-    throw InconsistentInitialValues(runtime::describe(failure));
+    throw InconsistentInitialValues(runtime::describe(failure) + sliding_start(scene, hidden_constraint[worst]));
   }
   x = Eigen::Map<const Eigen::VectorXd>(y.data(), count);
   const Eigen::VectorXd residual = Eigen::Map<const Eigen::VectorXd>(solve.residuals.data(), functions.count);

@@ -78,6 +78,7 @@ struct InitialValueConstraint {
   GiNaC::ex expression;
   std::string name;
   bool monitored = false;
+  int constraint = -1;  ///< the scene's constraint (0-based) it comes from
 };
 /// The constraints on the initial values, hidden ones first; the index-1 form carries the same
 /// list as its hidden constraints g(t, y). Notes why a monitored constraint is left out.

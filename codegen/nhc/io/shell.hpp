@@ -1,7 +1,8 @@
 #pragma once
 /// \file shell.hpp
-/// \brief Running shell commands with their output captured (gnuplot, compilers in tools and
-/// benchmarks). Commands that an interrupt must be able to stop use jit/nhc/jit/subprocess.hpp instead.
+/// \brief Shell quoting (for a command line shown in a message, as the compiler's in
+/// jit/compiler.cpp) and a shell runner for tests. nhc runs its programs (compilers, gnuplot)
+/// without a shell, through jit/nhc/jit/subprocess.hpp.
 
 #include <string>
 

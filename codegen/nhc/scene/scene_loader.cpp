@@ -811,7 +811,10 @@ class SceneReader {
         fail(value, "input '" + name + "' uses a derivative of order " + std::to_string(order) +
                         " of a coordinate: an algebraic loop (the input drives the accelerations it would "
                         "read); a feedback law may use t, parameters, coordinates and their first derivatives");
-      SceneInput input{name, u, nodes[k].second};
+      SceneInput input;
+      input.name = name;
+      input.default_signal = u;
+      input.where = nodes[k].second;
       if (order >= 0) {
         input.law = u;
         input.feedback = true;

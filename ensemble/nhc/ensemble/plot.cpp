@@ -17,6 +17,7 @@
 #include "nhc/io/printable.hpp"
 #include "nhc/io/temporary_files.hpp"
 #include "nhc/jit/gnuplot.hpp"
+#include "nhc/runtime/number_text.hpp"
 
 namespace nhc::ensemble {
 
@@ -99,13 +100,13 @@ std::vector<std::string> plot_outcome(const EnsembleResults& results, const std:
 
   const bool heat_map = nv == 2 && d.kind == Design::Kind::grid;
   write_file_atomically(stem + ".dat", [&](std::ostream& out) {
-    out.precision(17);
     out << jit::gnuplot_comment(joined(d.names()) + " " + outcome + " (" + results.info.scene + ", " + results.info.model + ")");
     for (long run = 0; run < d.runs; ++run) {
       // A heat map's rows are separated by blank lines (gnuplot's grid format).
       if (heat_map && run > 0 && run % d.grid_shape[1] == 0) out << "\n";
-      for (std::size_t j = 0; j < nv; ++j) out << d.row(run)[j] << ' ';
-      out << (std::isfinite(z[static_cast<std::size_t>(run)]) ? z[static_cast<std::size_t>(run)] : kNaN) << "\n";
+      for (std::size_t j = 0; j < nv; ++j) out << runtime::shortest_text(d.row(run)[j]) << ' ';
+      const double value = z[static_cast<std::size_t>(run)];
+      out << runtime::shortest_text(std::isfinite(value) ? value : kNaN) << "\n";
     }
   });
 

@@ -122,6 +122,19 @@ void order_states(Linearization& lin, const std::vector<std::string>& wanted) {
   lin.states = wanted;
 }
 
+/// ∂f/∂u_k for each residual f (rows) and each of the scene's inputs (columns).
+std::vector<std::vector<GiNaC::ex>> input_derivatives(const std::vector<GiNaC::ex>& residuals, const Scene& scene) {
+  const JetSpace& jet = *scene.jet;
+  std::vector<std::vector<GiNaC::ex>> entries;
+  for (const GiNaC::ex& f : residuals) {
+    std::vector<GiNaC::ex> row;
+    for (int k = 0; k < static_cast<int>(scene.inputs.size()); ++k)
+      row.push_back(depends_on(f, jet.input(k)) ? f.diff(jet.input(k)) : GiNaC::ex(0));
+    entries.push_back(std::move(row));
+  }
+  return entries;
+}
+
 }  // namespace
 
 struct Linearizer::Impl {
@@ -173,6 +186,12 @@ struct Linearizer::Impl {
   std::vector<SteadyFamily> families_at(const NumericPoint& p, const ManifoldLinearization& lin,
                                         const std::vector<std::string>& states, int zero_eigenvalues) const;
   std::string describe_basis(const ManifoldLinearization& lin) const;
+  /// out's states, eliminated and algebraic components and basis, by name, from lin's positions.
+  void name_states(const ManifoldLinearization& lin, Linearization& out) const;
+  /// (t, the scene's parameters, u) for a point (y, y') of the index-1 system, whose sizes are
+  /// checked (InputError naming y, yp or u).
+  std::vector<double> point_constants(double t, const std::vector<double>& y, const std::vector<double>& yp,
+                                      const std::vector<double>& u) const;
 };
 
 NumericPoint Linearizer::Impl::operating_point(const Scene& s, Linearization& out) const {
@@ -313,6 +332,14 @@ std::vector<SteadyFamily> Linearizer::Impl::families_at(const NumericPoint& p, c
   return steady_families(lin.A, s_star, h, zero_eigenvalues, states, options.zero_tolerance);
 }
 
+void Linearizer::Impl::name_states(const ManifoldLinearization& lin, Linearization& out) const {
+  auto name = [&](int component) { return reduced.components[static_cast<std::size_t>(component)].name; };
+  for (int k : lin.independent) out.states.push_back(name(lin.differential[static_cast<std::size_t>(k)]));
+  for (int k : lin.dependent) out.eliminated.push_back(name(lin.differential[static_cast<std::size_t>(k)]));
+  for (int k : lin.algebraic) out.algebraic.push_back(name(k));
+  out.basis = describe_basis(lin);
+}
+
 std::string Linearizer::Impl::describe_basis(const ManifoldLinearization& lin) const {
   auto names = [&](const std::vector<int>& positions, bool through_differential) {
     std::vector<std::string> out;
@@ -401,20 +428,13 @@ void Linearizer::Impl::compile_programs() {
   // dF/du over the scene's inputs. An input in a hidden constraint would move the constraint
   // manifold with u, which the elimination by Ĝ does not follow: refused.
   const JetSpace& jet = *scene.jet;
-  std::vector<std::vector<GiNaC::ex>> dF_du_entries;
-  for (const GiNaC::ex& f : reduced.residuals) {
-    std::vector<GiNaC::ex> row;
-    for (int k = 0; k < static_cast<int>(scene.inputs.size()); ++k)
-      row.push_back(depends_on(f, jet.input(k)) ? f.diff(jet.input(k)) : GiNaC::ex(0));
-    dF_du_entries.push_back(std::move(row));
-  }
   for (std::size_t h = 0; h < reduced.hidden.size(); ++h)
     for (int k = 0; k < static_cast<int>(scene.inputs.size()); ++k)
       if (depends_on(reduced.hidden[h], jet.input(k)))
         throw MathError("input '" + scene.inputs[static_cast<std::size_t>(k)].name + "' enters the hidden constraint " +
                         reduced.hidden_names[h] + " of the " + to_string(model) +
                         " model: linearizing with an input that moves the constraint manifold is not supported");
-  dF_du = add_matrix(*jacobians, dF_du_entries, scene.inputs.size());
+  dF_du = add_matrix(*jacobians, input_derivatives(reduced.residuals, scene), scene.inputs.size());
   compile_outputs();
   std::vector<GiNaC::ex> full_inputs{scene.jet->time()};
   for (int q = 0; q < static_cast<int>(scene.parameter_values.size()); ++q) full_inputs.push_back(scene.jet->parameter(q));
@@ -422,14 +442,7 @@ void Linearizer::Impl::compile_programs() {
   full_inputs.insert(full_inputs.end(), system.y.begin(), system.y.end());
   full_inputs.insert(full_inputs.end(), system.yp.begin(), system.yp.end());
   full_input_jacobian.emplace(full_inputs);
-  std::vector<std::vector<GiNaC::ex>> full_entries;
-  for (const GiNaC::ex& f : system.residuals) {
-    std::vector<GiNaC::ex> row;
-    for (int k = 0; k < static_cast<int>(scene.inputs.size()); ++k)
-      row.push_back(depends_on(f, jet.input(k)) ? f.diff(jet.input(k)) : GiNaC::ex(0));
-    full_entries.push_back(std::move(row));
-  }
-  dF_full_du = add_matrix(*full_input_jacobian, full_entries, scene.inputs.size());
+  dF_full_du = add_matrix(*full_input_jacobian, input_derivatives(system.residuals, scene), scene.inputs.size());
 }
 
 void Linearizer::Impl::compile_outputs() {
@@ -607,17 +620,23 @@ void require_size(const std::vector<double>& v, std::size_t n, const std::string
 
 }  // namespace
 
+std::vector<double> Linearizer::Impl::point_constants(double t, const std::vector<double>& y,
+                                                      const std::vector<double>& yp, const std::vector<double>& u) const {
+  const auto n = static_cast<std::size_t>(system.size());
+  require_size(y, n, "y");
+  require_size(yp, n, "yp");
+  require_size(u, scene.inputs.size(), "u");
+  std::vector<double> constants{t};
+  constants.insert(constants.end(), scene.parameter_values.begin(), scene.parameter_values.end());
+  constants.insert(constants.end(), u.begin(), u.end());
+  return constants;
+}
+
 Linearization Linearizer::along(double t, const std::vector<double>& y, const std::vector<double>& yp,
                                 const std::vector<double>& u) const {
   const Impl& m = *impl_;
-  const auto n = static_cast<std::size_t>(m.system.size());
-  require_size(y, n, "y");
-  require_size(yp, n, "yp");
-  require_size(u, m.scene.inputs.size(), "u");
   NumericPoint p;
-  p.constants.push_back(t);
-  p.constants.insert(p.constants.end(), m.scene.parameter_values.begin(), m.scene.parameter_values.end());
-  p.constants.insert(p.constants.end(), u.begin(), u.end());
+  p.constants = m.point_constants(t, y, yp, u);
   const auto N = static_cast<Eigen::Index>(m.reduced.components.size());
   p.z = Eigen::VectorXd::Zero(N);
   p.zp = Eigen::VectorXd::Zero(N);
@@ -632,12 +651,7 @@ Linearization Linearizer::along(double t, const std::vector<double>& y, const st
   out.model = m.model;
   out.cyclic = m.reduced.cyclic;
   out.kept = m.reduced.kept;
-  for (int k : lin.independent)
-    out.states.push_back(m.reduced.components[static_cast<std::size_t>(lin.differential[static_cast<std::size_t>(k)])].name);
-  for (int k : lin.dependent)
-    out.eliminated.push_back(m.reduced.components[static_cast<std::size_t>(lin.differential[static_cast<std::size_t>(k)])].name);
-  for (int k : lin.algebraic) out.algebraic.push_back(m.reduced.components[static_cast<std::size_t>(k)].name);
-  out.basis = m.describe_basis(lin);
+  m.name_states(lin, out);
   out.A = lin.A;
   out.B = lin.B;
   for (const SceneInput& input : m.scene.inputs) out.inputs.push_back(input.name);
@@ -650,13 +664,7 @@ Linearization Linearizer::along(double t, const std::vector<double>& y, const st
 Eigen::MatrixXd Linearizer::input_jacobian(double t, const std::vector<double>& y, const std::vector<double>& yp,
                                            const std::vector<double>& u) const {
   const Impl& m = *impl_;
-  const auto n = static_cast<std::size_t>(m.system.size());
-  require_size(y, n, "y");
-  require_size(yp, n, "yp");
-  require_size(u, m.scene.inputs.size(), "u");
-  std::vector<double> values{t};
-  values.insert(values.end(), m.scene.parameter_values.begin(), m.scene.parameter_values.end());
-  values.insert(values.end(), u.begin(), u.end());
+  std::vector<double> values = m.point_constants(t, y, yp, u);
   values.insert(values.end(), y.begin(), y.end());
   values.insert(values.end(), yp.begin(), yp.end());
   return matrix_of(m.dF_full_du, m.full_input_jacobian->evaluate(values, "dF/du")).array() + 0.0;
@@ -691,12 +699,7 @@ Linearization Linearizer::at(const std::vector<PointOverride>& overrides) const 
 
   const std::vector<double> jacobians = m.jacobians->evaluate(program_values(m.reduced, p), "dF/dz, dF/dz' or dg/dz");
   const ManifoldLinearization lin = linearize_on_manifold(m.manifold_input(p));
-  for (int k : lin.independent)
-    out.states.push_back(m.reduced.components[static_cast<std::size_t>(lin.differential[static_cast<std::size_t>(k)])].name);
-  for (int k : lin.dependent)
-    out.eliminated.push_back(m.reduced.components[static_cast<std::size_t>(lin.differential[static_cast<std::size_t>(k)])].name);
-  for (int k : lin.algebraic) out.algebraic.push_back(m.reduced.components[static_cast<std::size_t>(k)].name);
-  out.basis = m.describe_basis(lin);
+  m.name_states(lin, out);
   out.A = lin.A;
   if (m.turning()) {
     // In the turning frame: A − ω (DX_D T)_s, DX the generator's constant matrix over z_D.

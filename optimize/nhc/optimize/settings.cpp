@@ -4,8 +4,8 @@
 
 #include <cmath>
 #include <set>
-#include <sstream>
 
+#include "nhc/runtime/number_text.hpp"
 #include "nhc/scene/expression_parser.hpp"
 
 namespace nhc::optimize {
@@ -97,11 +97,7 @@ class Reader {
   SourceLocation at(const toml::source_region& r) const {
     return {path_, static_cast<int>(r.begin.line), static_cast<int>(r.begin.column)};
   }
-  static std::string format(double v) {
-    std::ostringstream out;
-    out << v;
-    return out.str();
-  }
+  static std::string format(double v) { return runtime::number_text(v, 6); }
 
   void check_keys(const toml::table& table, const std::set<std::string>& allowed) const {
     for (auto&& [key, value] : table)

@@ -9,6 +9,30 @@
 
 namespace nhc::runtime {
 
+namespace {
+
+/// The model's hidden constraints g(t, y; p) at time t as the constraint solver takes them.
+ConstraintFunctions hidden_constraint_functions(const Model& model, const double* p, double t) {
+  const auto& tab = model.table();
+  ConstraintFunctions g;
+  g.count = model.n_hidden();
+  g.size = model.n_states();
+  g.values = [&tab, p, t](const double* y, double* out) { tab.hidden_constraints(t, y, p, out); };
+  g.jacobian = [&tab, p, t](const double* y, double* out) { tab.hidden_constraints_jacobian(t, y, p, out); };
+  return g;
+}
+
+HiddenSolveReport report_of(const ConstraintSolveResult& r) {
+  HiddenSolveReport report;
+  report.iterations = r.iterations;
+  report.residual_before = r.residual_before;
+  report.residual_after = r.residual_after;
+  report.correction = r.correction;
+  return report;
+}
+
+}  // namespace
+
 double hidden_residual(const Model& model, const double* p, double t, const double* y) {
   const int m = model.n_hidden();
   if (m == 0) return 0.0;
@@ -22,21 +46,11 @@ double hidden_residual(const Model& model, const double* p, double t, const doub
 HiddenSolveReport solve_hidden_constraints(const Model& model, const double* p, double t, double* y,
                                            const std::vector<double>& scale, double tolerance,
                                            int max_iterations) {
-  HiddenSolveReport report;
-  const int m = model.n_hidden(), n = model.n_states();
-  if (m == 0) return report;
-  const auto& tab = model.table();
-  ConstraintFunctions g;
-  g.count = m;
-  g.size = n;
-  g.values = [&](const double* yy, double* out) { tab.hidden_constraints(t, yy, p, out); };
-  g.jacobian = [&](const double* yy, double* out) { tab.hidden_constraints_jacobian(t, yy, p, out); };
-  const ConstraintSolveResult r = solve_constraints(g, y, scale, tolerance, max_iterations);
-  report.iterations = r.iterations;
-  report.residual_before = r.residual_before;
-  report.residual_after = r.residual_after;
-  report.correction = r.correction;
-  if (r.converged()) return report;
+  const int n = model.n_states();
+  if (model.n_hidden() == 0) return {};
+  const ConstraintSolveResult r =
+      solve_constraints(hidden_constraint_functions(model, p, t), y, scale, tolerance, max_iterations);
+  if (r.converged()) return report_of(r);
 
   auto describe = [&](const std::string& why) {
     std::ostringstream os;
@@ -72,30 +86,21 @@ HiddenSolveReport solve_hidden_constraints(const Model& model, const double* p, 
       throw SolverError(FailureKind::inconsistent_initial_values, t,
                         describe("Gauss–Newton did not converge in " + std::to_string(max_iterations) + " iterations"));
   }
-  return report;
+  return report_of(r);
 }
 
 HiddenSolveReport solve_initial_hidden_constraints(const Model& model, const double* p, double t0, double* y,
                                                    const std::vector<double>& scale,
                                                    const InitialPointTolerance& tolerance, int max_iterations,
                                                    const std::vector<double>* repair_scale) {
-  HiddenSolveReport report;
   const int m = model.n_hidden(), n = model.n_states();
-  if (m == 0) return report;
+  if (m == 0) return {};
   const auto& tab = model.table();
-  ConstraintFunctions g;
-  g.count = m;
-  g.size = n;
-  g.values = [&](const double* yy, double* out) { tab.hidden_constraints(t0, yy, p, out); };
-  g.jacobian = [&](const double* yy, double* out) { tab.hidden_constraints_jacobian(t0, yy, p, out); };
-  const InitialPointSolve solve = solve_or_repair_initial_point(g, y, scale, repair_scale, tolerance, max_iterations);
+  const InitialPointSolve solve = solve_or_repair_initial_point(hidden_constraint_functions(model, p, t0), y, scale,
+                                                                repair_scale, tolerance, max_iterations);
   const ConstraintSolveResult& r = solve.result;
   const std::vector<double>& moved = solve.repaired ? *repair_scale : scale;
-  report.iterations = r.iterations;
-  report.residual_before = r.residual_before;
-  report.residual_after = r.residual_after;
-  report.correction = r.correction;
-  if (r.converged()) return report;
+  if (r.converged()) return report_of(r);
 
   InconsistentInitialPoint failure;
   failure.model = model.model_name();

@@ -21,6 +21,7 @@
 #include "nhc/runtime/constraint_solver.hpp"
 #include "nhc/runtime/hidden_constraints.hpp"
 #include "nhc/runtime/ida_session.hpp"
+#include "nhc/primed_name.hpp"
 #include "nhc/runtime/sundials.hpp"
 
 namespace nhc::runtime {
@@ -95,6 +96,12 @@ double calc_ic_tout(double t0, double t_next) {
   return t0 + std::min(t_next - t0, std::max(1.0, 1e-6 * std::abs(t0)));
 }
 }  // namespace
+
+double first_output_after(const std::vector<double>& times, double t0) {
+  for (double t : times)
+    if (t > t0) return t;
+  return t0 + 1.0;
+}
 
 std::vector<double> initial_repair_scale(const InitialState& state) {
   std::vector<double> scale(state.y.size(), state.repair ? 1.0 : 0.0);
@@ -263,7 +270,7 @@ struct Integrator::Impl {
       if (!model.is_differential(i))
         names.push_back(model.state_name(i));
       else if (model.state_index(tab.state_variable[i], tab.state_order[i] + 1) < 0)
-        names.push_back(model.state_name(i) + "'");
+        names.push_back(primed_name(model.state_name(i), 1));
     std::string s;
     for (std::size_t k = 0; k < names.size() && k < 6; ++k) s += (k ? ", " : "") + names[k];
     if (names.size() > 6) s += ", …";

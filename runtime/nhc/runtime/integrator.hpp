@@ -187,5 +187,8 @@ std::vector<double> output_times(double t0, double t_end, int intervals);
 /// The first index i at which times[i] <= times[i - 1]: equally spaced times closer than
 /// double precision resolves at their size (10^7 intervals of 1 s at t0 = 1e12) collapse.
 std::optional<std::size_t> collapsed_output_time(const std::vector<double>& times);
+/// The first of `times` after t0, or t0 + 1 when none is: initialize()'s t_next for a run that
+/// writes at `times`.
+double first_output_after(const std::vector<double>& times, double t0);
 
 }  // namespace nhc::runtime

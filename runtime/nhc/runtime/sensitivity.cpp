@@ -20,6 +20,7 @@
 #include <type_traits>
 #include <stdexcept>
 
+#include "nhc/primed_name.hpp"
 #include "nhc/runtime/hidden_constraints.hpp"
 #include "nhc/runtime/ida_session.hpp"
 #include "nhc/runtime/inputs.hpp"
@@ -543,12 +544,7 @@ SensitivityRun simulate_sensitivities(const Model& model, const std::vector<doub
   SensitivityRun run;
   SensitivityIntegrator integrator(model, p, thetas, options, sensitivity);
   try {
-    double t_next = initial.t0 + 1.0;
-    for (double t : times)
-      if (t > initial.t0) {
-        t_next = t;
-        break;
-      }
+    const double t_next = first_output_after(times, initial.t0);
     integrator.initialize(initial, t_next);
     integrator.integrate(times, [&](const SensitivitySample& sample) { run.samples.push_back(sample); });
   } catch (const SolverError& e) {
@@ -583,7 +579,7 @@ std::vector<std::string> sensitivity_csv_header(const Model& model, const std::v
   std::vector<std::string> header;
   for (const SensitivityParameter& th : thetas)
     for (const auto& [state, derivative] : state_columns(model))
-      header.push_back("d(" + model.state_name(state) + (derivative ? "'" : "") + ")/d(" + th.name + ")");
+      header.push_back("d(" + primed_name(model.state_name(state), derivative ? 1 : 0) + ")/d(" + th.name + ")");
   return header;
 }
 
@@ -610,16 +606,14 @@ void write_sensitivity_csv(std::ostream& out, const Model& model, const std::vec
   out << line;
   for (const std::string& name : sensitivity_csv_header(model, thetas)) out << ',' << name;
   out << '\n';
-  const auto precision = out.precision(17);
   std::vector<double> values;
   for (const SensitivitySample& s : samples) {
     std::getline(lines, line);
-    out << line;
     sensitivity_values(model, s, values);
-    for (double v : values) out << ',' << v;
-    out << '\n';
+    for (double v : values) append_shortest(line, ',', v);
+    line += '\n';
+    out << line;
   }
-  out.precision(precision);
 }
 
 }  // namespace nhc::runtime

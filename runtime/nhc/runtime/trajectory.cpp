@@ -2,11 +2,13 @@
 
 #include <unistd.h>
 
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <stdexcept>
+
+#include "nhc/primed_name.hpp"
+#include "nhc/runtime/number_text.hpp"
 
 namespace nhc::runtime {
 
@@ -111,7 +113,7 @@ std::vector<std::string> csv_header(const Model& model) {
   for (int v = 0; v < unknowns; ++v) {
     for (int i = 0; i < model.n_states(); ++i)
       if (tab.state_variable[i] == v) h.push_back(model.state_name(i));
-    if (top[v] >= 0) h.push_back(model.state_name(top[v]) + "'");
+    if (top[v] >= 0) h.push_back(primed_name(model.state_name(top[v]), 1));
   }
   for (int k = 0; k < model.n_inputs(); ++k) h.push_back("input:" + model.input_name(k));
   for (int i = 0; i < model.n_hidden(); ++i) h.push_back(hidden_column(model, i));
@@ -119,19 +121,6 @@ std::vector<std::string> csv_header(const Model& model) {
   for (int k = 0; k < model.n_reference(); ++k) h.push_back("error:" + model.variable_name(tab.reference_coordinate[k]));
   return h;
 }
-
-namespace {
-
-/// `,x` appended to `row`: the shortest text that reads back as the same double (std::to_chars;
-/// several times faster than a stream at 17 digits, which a CSV of thousands of columns felt).
-void append_value(std::string& row, double x) {
-  char text[32];
-  text[0] = ',';
-  const std::to_chars_result r = std::to_chars(text + 1, text + sizeof text, x);
-  row.append(text, static_cast<size_t>(r.ptr - text));
-}
-
-}  // namespace
 
 CsvRows::CsvRows(const Model& model, std::vector<double> parameters)
     : model_(model), parameters_(std::move(parameters)), top_(highest_differential_states(model)) {
@@ -169,7 +158,7 @@ void write_csv(std::ostream& out, const Model& model, const std::vector<double>&
   for (const Sample& s : samples) {
     rows.row(s, values);
     row.clear();
-    for (double x : values) append_value(row, x);
+    for (double x : values) append_shortest(row, ',', x);
     row.erase(0, 1);  // the first column has no comma
     row += '\n';
     out << row;
@@ -203,12 +192,7 @@ RunResult simulate(const Model& model, const std::vector<double>& p, const Initi
   for (const Event& e : events) integrator.add_event(e);
   if (inputs) integrator.set_inputs(inputs);
   try {
-    double t_next = initial.t0 + 1.0;
-    for (double t : times)
-      if (t > initial.t0) {
-        t_next = t;
-        break;
-      }
+    const double t_next = first_output_after(times, initial.t0);
     result.initial = integrator.initialize(initial, t_next);
     integrator.integrate(times, [&](const Sample& s) { result.samples.push_back(s); });
   } catch (const SolverError& e) {
