@@ -142,3 +142,39 @@ TEST_CASE("a header without the split banner is compiled as one translation unit
       fs::path(NHC_SOURCE_DIR) / "tests/runtime/handwritten/appell_hamel_chetaev.hpp", options);
   CHECK(library.translation_units == 1);
 }
+
+TEST_CASE("a long header is compiled at -O0 in place of the -O flags, the others as given", "[jit][split]") {
+  nhc::jit::CompileOptions options;
+  options.flags = {"-O2", "-g0", "-O3"};
+  options.long_header_bytes = 1000;
+  CHECK(nhc::jit::optimization_flags(options, 1000) == options.flags);
+  CHECK(nhc::jit::optimization_flags(options, 1001) == std::vector<std::string>{"-O0", "-g0"});
+  options.long_header_bytes = 0;  // the flags as given
+  CHECK(nhc::jit::optimization_flags(options, 100000000) == options.flags);
+}
+
+TEST_CASE("a header compiled at -O0 gives the numbers of the one compiled at -O2", "[jit][split]") {
+  const fs::path cache = fs::path(NHC_BINARY_DIR) / "tests" / "jit" / "level-cache";
+  fs::remove_all(cache);
+  const nhc::Scene scene = knife_chain();
+  nhc::jit::BuildOptions options;
+  options.backend = nhc::jit::Backend::compiled;
+  options.scene_cache = false;
+  options.compile.cache_directory = cache;
+  options.compile.long_header_bytes = 0;  // -O2, as given
+  const nhc::jit::LoadedModel optimized = nhc::jit::build(scene, nhc::ModelKind::chetaev, options);
+  options.compile.long_header_bytes = 1;  // every header long: -O0
+  const nhc::jit::LoadedModel quick = nhc::jit::build(scene, nhc::ModelKind::chetaev, options);
+  CHECK(quick.library().path != optimized.library().path);  // the cache key covers the level
+  REQUIRE(&quick.model().table() != &optimized.model().table());
+  std::mt19937 random_a(5), random_b(5);
+  for (int point = 0; point < 20; ++point) {
+    const std::vector<double> x = evaluate_all(optimized.model().table(), random_a);
+    const std::vector<double> z = evaluate_all(quick.model().table(), random_b);
+    REQUIRE(x.size() == z.size());
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      INFO("output " << i << " at point " << point);
+      CHECK(z[i] == Approx(x[i]).epsilon(1e-13).margin(1e-13));
+    }
+  }
+}

@@ -1,5 +1,6 @@
 #include "nhc/jit/compile_behind.hpp"
 
+#include <algorithm>
 #include <iostream>
 
 #include "nhc/errors.hpp"
@@ -7,14 +8,16 @@
 
 namespace nhc::jit {
 
-double predicted_compile_seconds(const GeneratedHeader& header) {
-  return 0.3 + 20.0 * static_cast<double>(header.text.size()) / 1e6;
+double predicted_compile_seconds(const GeneratedHeader& header, const CompileOptions& options) {
+  const std::vector<std::string> flags = optimization_flags(options, header.text.size());
+  const bool optimized = std::find(flags.begin(), flags.end(), "-O0") == flags.end();
+  return 0.3 + (optimized ? 20.0 : 3.0) * static_cast<double>(header.text.size()) / 1e6;
 }
 
 CompileBehind::CompileBehind(const Scene& scene, ModelKind kind, const BuildOptions& options, const LoadedModel& loaded)
     : scene_(scene), kind_(kind), options_(options), loaded_(loaded) {
   active_ = loaded.timings().interpreted && options.backend == Backend::automatic;
-  if (active_) predicted_seconds_ = options.compile_behind_after.value_or(predicted_compile_seconds(loaded.header()));
+  if (active_) predicted_seconds_ = options.compile_behind_after.value_or(predicted_compile_seconds(loaded.header(), options.compile));
 }
 
 CompileBehind::~CompileBehind() {

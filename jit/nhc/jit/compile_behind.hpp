@@ -15,9 +15,10 @@
 
 namespace nhc::jit {
 
-/// Seconds `header` is predicted to take to compile on this machine (a fit to measurements,
-/// docs/interpreter.md: 0.3 s plus 20 s per MB).
-double predicted_compile_seconds(const GeneratedHeader& header);
+/// Seconds `header` is predicted to take to compile with `options` on this machine (a fit to
+/// measurements, docs/interpreter.md: 0.3 s plus 20 s per MB optimized, or plus 3 s per MB at the
+/// -O0 of long headers, optimization_flags()).
+double predicted_compile_seconds(const GeneratedHeader& header, const CompileOptions& options = {});
 
 class CompileBehind {
  public:

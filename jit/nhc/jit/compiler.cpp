@@ -325,22 +325,15 @@ fs::path table_include_directory(const fs::path& dir) {
   return include;
 }
 
-/// The user's flags, with -O0 in place of the -O flags for a header above large_header_bytes,
-/// and -O1 in place of -O2 and -O3 for one above long_header_bytes.
+}  // namespace
+
 std::vector<std::string> optimization_flags(const CompileOptions& options, std::size_t header_bytes) {
-  const bool large = options.large_header_bytes != 0 && header_bytes > options.large_header_bytes;
-  const bool long_code = options.long_header_bytes != 0 && header_bytes > options.long_header_bytes;
-  if (!large && !long_code) return options.flags;
-  std::vector<std::string> flags;
-  if (large) flags.emplace_back("-O0");
-  for (const std::string& f : options.flags) {
-    if (large && f.rfind("-O", 0) == 0) continue;
-    flags.push_back(f == "-O2" || f == "-O3" ? "-O1" : f);
-  }
+  if (options.long_header_bytes == 0 || header_bytes <= options.long_header_bytes) return options.flags;
+  std::vector<std::string> flags{"-O0"};
+  for (const std::string& f : options.flags)
+    if (f.rfind("-O", 0) != 0) flags.push_back(f);
   return flags;
 }
-
-}  // namespace
 
 fs::path default_cache_directory() { return default_cache_location().path; }
 

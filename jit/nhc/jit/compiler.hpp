@@ -24,17 +24,12 @@ struct CompileOptions {
   /// hidden visibility, stripped) are always added.
   std::vector<std::string> flags{"-O2"};
   /// Headers longer than this many bytes are compiled with -O0 in place of the -O flags above:
-  /// GCC's optimizer on megabytes of straight-line code is slower than any integration it would
-  /// speed up (the Whipple bicycle's 4.5 MB header: -O0 29 s and 2.3 GB; -O1 still running
-  /// after 8 min; with its common arguments shared it is 2.0 MB, and -O1 took over 4 minutes and
-  /// 8 GB before it was stopped). The knife-edge chain at N = 512 (1.3 MB before the sharing, one
-  /// residual function of about 1 MB) still compiles at -O1 in about 20 s and its long runs want
-  /// the optimized code, hence the threshold above it. 0: always the flags as given.
-  std::size_t large_header_bytes = 1500000;
-  /// Headers longer than this many bytes (and at most large_header_bytes) are compiled with -O1
-  /// in place of -O2 or -O3 among the flags: on long straight-line code -O2's further passes
-  /// lengthen the compile and do not shorten the run (bench/compile-time.md, the knife-edge
-  /// chain from N = 64). 0: the flags as given.
+  /// on long straight-line code the optimizer costs 4–5 times the compile at -O0 and the whole
+  /// run gains little or nothing, the integration being mostly the solver's own work
+  /// (bench/compile-time.md, "Optimization level by measured benefit": the Whipple bicycle's
+  /// 155 kB header 0.8 s instead of 3.6 s at -O1, its 5 s run 4 ms either way; the knife chain at
+  /// N = 64 and 512). Shorter headers compile in well under a second at -O2, where the optimizer
+  /// pays for runs that are long. 0: always the flags as given.
   std::size_t long_header_bytes = 100000;
   /// Translation units a generated header is compiled as, in parallel, and linked into one
   /// library, when its banner says it can be split (kTranslationUnitsBanner of
@@ -60,6 +55,11 @@ struct CompileOptions {
   /// replaced); empty: printed on standard error as `nhc: warning: …`.
   Warning warn;
 };
+
+/// The optimization and extra flags a header of `header_bytes` is compiled with: options.flags,
+/// with -O0 in place of their -O flags above options.long_header_bytes (the one place of the
+/// policy; the compile cache's key holds the result).
+std::vector<std::string> optimization_flags(const CompileOptions& options, std::size_t header_bytes);
 
 /// The compiler's time limit when neither CompileOptions nor NHC_COMPILE_TIMEOUT sets one.
 inline constexpr double default_compile_timeout() { return 600; }
