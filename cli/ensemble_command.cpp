@@ -199,7 +199,7 @@ Prepared prepare(const EnsembleOptions& o, int ranks, int threads) {
   EnsembleInfo& info = p.results.info;
   info.scene = scene.name;
   info.scene_file = o.scene_path;
-  info.scene_digest = jit::sha256_hex(scene.source_text);
+  info.scene_digest = jit::sha256_hex(scene.source_text());
   info.model = to_string(kind);
   info.nhc_version = NHC_VERSION;
   info.rtol = spec.rtol;

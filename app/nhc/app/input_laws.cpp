@@ -34,7 +34,7 @@ Scene scene_with_input_laws(const Scene& scene, const std::map<std::string, std:
   if (laws.empty()) return scene;
   std::string text;
   try {
-    text = scene_text_with_inputs(scene.source_text, laws);
+    text = scene_text_with_inputs(scene.source_text(), laws);
   } catch (const std::exception& e) {
     throw InputError({field, 0, 0}, field + ": " + e.what());
   }
