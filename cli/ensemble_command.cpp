@@ -206,7 +206,7 @@ Prepared prepare(const EnsembleOptions& o, int ranks, int threads) {
   info.scene_file = o.scene_path;
   // The runs start from the scene's [initial] with the --initial values: --resume continues only
   // an ensemble computed from the same ones (the text alone when there are none, as before).
-  std::string computed_from = scene.source_text;
+  std::string computed_from = scene.source_text();
   for (const std::string& a : o.initial) computed_from += "\n--initial " + a;
   info.scene_digest = jit::sha256_hex(computed_from);
   info.model = to_string(kind);

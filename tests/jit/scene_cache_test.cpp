@@ -12,6 +12,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
+#include <memory>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -209,7 +211,7 @@ TEST_CASE("any change of the equations' text, parameters, model, options or vers
     CHECK(builder.derivations(scene) == 1);
     ::unsetenv("NHC_SCENE_CACHE");
     nhc::Scene changed_in_code = scene;
-    changed_in_code.source_text.clear();  // what code that changes a scene's expressions must do
+    changed_in_code.lagrangian = 2 * changed_in_code.lagrangian;  // a system changed in code
     CHECK_FALSE(nhc::jit::scene_cache_key(changed_in_code, "generated header", ""));
     CHECK(builder.derivations(changed_in_code) == 1);
     CHECK(builder.derivations(changed_in_code) == 1);
@@ -302,4 +304,134 @@ TEST_CASE("scene-cache records hold any bytes and refuse malformed text", "[jit]
   CHECK_FALSE(nhc::jit::SceneCacheRecord::parse("field 99\nshort\n"));
   CHECK_FALSE(nhc::jit::SceneCacheRecord::parse("no length\n"));
   CHECK(nhc::jit::SceneCacheRecord::parse(""));
+}
+
+namespace {
+
+/// Appell–Hamel with a table of every part: the system's (derived parameter, input, force,
+/// invariant, reference), the experiment's ([initial], [simulate], [events]) and the
+/// presentation's ([outputs], [visual]).
+std::string every_part_text() {
+  return "name = \"appell_hamel\"\n"
+         "coordinates = [\"x\", \"y\", \"z\"]\n"
+         "lagrangian = \"m/2*(x'^2 + y'^2 + z'^2) - m*g*z\"\n"
+         "constraints = [\"z' - k*sqrt(x'^2 + y'^2)\"]\n"
+         "[parameters]\nm = 1.0\ng = 9.81\na = 1.0\nb = 0.5\nk = \"b/a\"\n"
+         "[inputs]\nu = \"0.1*t\"\n"
+         "[forces]\nx = \"u - 0.01*x'\"\n"
+         "[invariants]\nspeed = \"x'^2 + y'^2\"\n"
+         "[reference]\ny = \"0.5*t\"\n"
+         "[initial]\nt0 = 0.0\nx = [0.0, 1.0]\ny = [0.0, 0.5]\nz = [0.0]\n"
+         "[simulate]\nt_end = 0.5\n"
+         "[events]\nhigh = { when = \"z - 1\", direction = \"up\", action = \"stop\" }\n"
+         "[outputs]\nv = \"sqrt(x'^2 + y'^2)\"\n"
+         "[visual]\npath = { shape = \"trace\", point = \"[x, y, z]\" }\n";
+}
+
+std::optional<std::string> header_key(const nhc::Scene& scene) {
+  return nhc::jit::scene_cache_key(scene, "generated header", "model chetaev", nhc::jit::scene_cache_version(),
+                                   nhc::jit::FingerprintScope::equations);
+}
+
+}  // namespace
+
+TEST_CASE("the system's key follows every change of the system and no change of the experiment or the presentation",
+          "[jit][scene-cache]") {
+  const nhc::Scene scene = scene_of(every_part_text());
+  REQUIRE(scene.derived_parameters.size() == 1);
+  REQUIRE(scene.inputs.size() == 1);
+  REQUIRE(scene.invariants.size() == 1);
+  REQUIRE(scene.reference.all.size() == 1);
+  REQUIRE(scene.events.size() == 1);
+  REQUIRE(scene.outputs.size() == 1);
+  REQUIRE(scene.visuals.size() == 1);
+  const std::optional<std::string> system = nhc::jit::system_fingerprint(scene);
+  const std::optional<std::string> header = header_key(scene);
+  REQUIRE(system);
+  REQUIRE(header);
+  CHECK(nhc::jit::system_fingerprint(nhc::Scene(scene)) == system);  // a copy is the same system
+
+  SECTION("the experiment or the presentation changed in code: the same system, the same header") {
+    using Change = std::function<void(nhc::Scene&)>;
+    const std::vector<std::pair<const char*, Change>> changes{
+        {"t0", [](nhc::Scene& s) { s.initial.t0 = 1.0; }},
+        {"initial value", [](nhc::Scene& s) { s.initial.values["x"] = {0.0, 2.0}; }},
+        {"initial expression", [](nhc::Scene& s) { s.initial.expressions["x"] = {"", "b"}; }},
+        {"fixed", [](nhc::Scene& s) { s.initial.fixed.push_back("x"); }},
+        {"model", [](nhc::Scene& s) { s.simulate.model = nhc::ModelKind::vakonomic; }},
+        {"t_end", [](nhc::Scene& s) { s.simulate.t_end = 9.0; }},
+        {"rtol", [](nhc::Scene& s) { s.simulate.rtol = 1e-4; }},
+        {"atol", [](nhc::Scene& s) { s.simulate.atol = 1e-4; }},
+        {"output intervals", [](nhc::Scene& s) { s.simulate.outputs = 7; }},
+        {"event", [](nhc::Scene& s) { s.events.front().expression = s.events.front().expression - 1; }},
+        {"events", [](nhc::Scene& s) { s.events.clear(); }},
+        {"contact", [](nhc::Scene& s) { s.contacts.push_back({"floor", s.jet->parameter(0), "m", {}, {}, {0}, 0.3}); }},
+        {"output", [](nhc::Scene& s) { s.outputs.front().expression = 2 * s.outputs.front().expression; }},
+        {"outputs", [](nhc::Scene& s) { s.outputs.clear(); }},
+        {"visuals", [](nhc::Scene& s) { s.visuals.clear(); }},
+        {"warnings", [](nhc::Scene& s) { s.warnings.push_back("a warning"); }},
+    };
+    for (const auto& [what, change] : changes) {
+      INFO(what);
+      nhc::Scene changed = scene;
+      change(changed);
+      CHECK(changed.source_text() == scene.source_text());
+      CHECK(nhc::jit::system_fingerprint(changed) == system);
+      CHECK(header_key(changed) == header);
+    }
+    // The parameter values are the header's defaults: its key has them, the system's does not.
+    nhc::Scene set = scene;
+    set.parameter_values[3] = 0.25;
+    CHECK(nhc::jit::system_fingerprint(set) == system);
+    CHECK(header_key(set) != header);
+  }
+  SECTION("the experiment's and the presentation's tables changed in the text: the same system") {
+    std::string text = every_part_text();
+    text.replace(text.find("t_end = 0.5"), 11, "t_end = 2.5");
+    text.replace(text.find("x = [0.0, 1.0]"), 14, "x = [0.0, 3.0]");
+    text.replace(text.find("\"z - 1\""), 7, "\"z - 2\"");
+    text.replace(text.find("\"sqrt(x'^2 + y'^2)\""), 19, "\"x'\"");
+    text.replace(text.find("[x, y, z]"), 9, "[x, y, 0]");
+    const nhc::Scene changed = scene_of(text);
+    CHECK(nhc::jit::system_fingerprint(changed) == system);
+    CHECK(header_key(changed) == header);
+  }
+  SECTION("any field of the system changed in code: no key, nothing cached") {
+    using Change = std::function<void(nhc::Scene&)>;
+    const std::vector<std::pair<const char*, Change>> changes{
+        {"name", [](nhc::Scene& s) { s.name = "other"; }},
+        {"source_path", [](nhc::Scene& s) { s.source_path = "other.toml"; }},
+        {"keep_definitions", [](nhc::Scene& s) { s.keep_definitions = !s.keep_definitions; }},
+        {"jet", [](nhc::Scene& s) { s.jet = std::make_shared<nhc::JetSpace>(*s.jet); }},
+        {"derived parameter", [](nhc::Scene& s) { s.derived_parameters.front().value *= 2; }},
+        {"lagrangian", [](nhc::Scene& s) { s.lagrangian = 2 * s.lagrangian; }},
+        {"lagrangian_where", [](nhc::Scene& s) { s.lagrangian_where.line += 1; }},
+        {"constraint", [](nhc::Scene& s) { s.constraints.front() = 2 * s.constraints.front(); }},
+        {"constraint added", [](nhc::Scene& s) { s.constraints.push_back(s.constraints.front()); }},
+        {"constraint text", [](nhc::Scene& s) { s.constraint_texts.front() += " "; }},
+        {"dependent", [](nhc::Scene& s) { s.dependent = {2}; }},
+        {"models", [](nhc::Scene& s) { s.models.pop_back(); }},
+        {"force", [](nhc::Scene& s) { s.forces.front() = -s.forces.front(); }},
+        {"input name", [](nhc::Scene& s) { s.inputs.front().name = "w"; }},
+        {"input signal", [](nhc::Scene& s) { s.inputs.front().default_signal = 0.2 * s.jet->time(); }},
+        {"input law", [](nhc::Scene& s) { s.inputs.front().law = s.jet->q(0, 0); }},
+        {"input feedback", [](nhc::Scene& s) { s.inputs.front().feedback = true; }},
+        {"invariant", [](nhc::Scene& s) { s.invariants.front().expression = 3 * s.invariants.front().expression; }},
+        {"invariant required", [](nhc::Scene& s) { s.invariants.front().required = true; }},
+        {"reference", [](nhc::Scene& s) { s.reference.all.front().second = s.jet->time(); }},
+        {"reference per model", [](nhc::Scene& s) { s.reference.per_model[nhc::ModelKind::vakonomic] = s.reference.all; }},
+    };
+    for (const auto& [what, change] : changes) {
+      INFO(what);
+      nhc::Scene changed = scene;
+      change(changed);
+      CHECK(changed.source_text().empty());
+      CHECK_FALSE(nhc::jit::system_fingerprint(changed));
+      CHECK_FALSE(header_key(changed));
+      CHECK_FALSE(nhc::jit::scene_cache_key(changed, "initial point check", ""));
+      // Recording the text again makes it stand for the system as it now is.
+      changed.set_source_text(scene.source_text());
+      CHECK(nhc::jit::system_fingerprint(changed));
+    }
+  }
 }

@@ -38,7 +38,7 @@ void apply_initial_values(Scene& scene, const std::vector<InitialValue>& values,
     if (v.name == "t0") {
       scene.initial.t0 = v.value;
       // Without [simulate] t_end the run lasts 1 from t0 (scene_loader.cpp): from this t0.
-      if (!scene.source_text.empty() && !scene_gives_t_end(scene.source_text)) scene.simulate.t_end = v.value + 1.0;
+      if (!scene.source_text().empty() && !scene_gives_t_end(scene.source_text())) scene.simulate.t_end = v.value + 1.0;
       continue;
     }
     const std::size_t primes = v.name.size() - std::min(v.name.size(), v.name.find_last_not_of('\'') + 1);

@@ -14,7 +14,7 @@ namespace {
 
 /// True when `text` names one of the scene's [definitions] (an identifier that is one).
 bool names_a_definition(const Scene& scene, const std::string& text) {
-  const std::set<std::string> definitions = scene_definition_names(scene.source_text);
+  const std::set<std::string> definitions = scene_definition_names(scene.source_text());
   if (definitions.empty()) return false;
   for (std::size_t k = 0; k < text.size();) {
     const auto starts = [&](char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; };
@@ -44,7 +44,7 @@ bool is_feedback_law(const Scene& scene, const std::string& name, const std::str
     // The [definitions] are the scene reader's: an expression that names one is read there, as
     // if written in [inputs] (a law, or a signal of t through them); any other is the signal
     // reader's to judge.
-    return !scene.source_text.empty() && names_a_definition(scene, text);
+    return !scene.source_text().empty() && names_a_definition(scene, text);
   }
   const int order = scene.jet->highest_coordinate_order(law);
   // As for a law in the file (scene_loader.cpp): the states hold q and q', q'' is what the input drives.
@@ -62,7 +62,7 @@ Scene scene_with_input_laws(const Scene& scene, const std::map<std::string, std:
   if (laws.empty()) return scene;
   std::string text;
   try {
-    text = scene_text_with_inputs(scene.source_text, laws);
+    text = scene_text_with_inputs(scene.source_text(), laws);
   } catch (const std::exception& e) {
     throw InputError({field, 0, 0}, e.what());
   }

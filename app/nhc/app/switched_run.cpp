@@ -88,7 +88,7 @@ const SceneContact* sliding_contact(const Scene& scene) {
 }
 
 Scene sliding_scene(const Scene& scene, const SceneContact& contact) {
-  if (scene.source_text.empty())
+  if (scene.source_text().empty())
     throw InputError(contact.on_slip_where, "contact '" + contact.name + "': the sliding model is derived from the scene's text");
   const JetSpace& jet = *scene.jet;
   // docs/contacts.md, eq. (8): Q_i = -mu F_n sum_k f^k df^k/dq_i' / |f|, |f| as sqrt(f.f + 1e-14):
@@ -110,7 +110,7 @@ Scene sliding_scene(const Scene& scene, const SceneContact& contact) {
         "-(" + runtime::number_text(contact.mu, 17) + ")*(" + contact.normal_text + ")*(" + printed(q) + ")/" + size;
   }
   const std::set<int> removed(contact.rolling.begin(), contact.rolling.end());
-  return parse_scene(switched_source(scene.source_text, removed, forces), scene.source_path);
+  return parse_scene(switched_source(scene.source_text(), removed, forces), scene.source_path);
 }
 
 std::vector<runtime::Sample> rolling_samples(const std::vector<runtime::Sample>& samples,

@@ -142,20 +142,15 @@ struct DerivedParameter {
   GiNaC::ex value;  ///< of the parameters (JetSpace::parameter symbols) and numbers
 };
 
-struct Scene {
+/// The system: what the equations and the generated model are made from (docs/architecture.md,
+/// "The scene's three parts"). Every field is listed in SceneSystem::source_text()'s check.
+struct SceneSystemFields {
   std::string name;         ///< valid C++ identifier, used for file names
   std::string source_path;  ///< file the scene came from ("" when built in code)
-  /// The text parse_scene() read (SceneBuilder's too; "" for a scene assembled field by field
-  /// in code). The scene-level cache
-  /// (nhc/jit/scene_cache.hpp) keys on it with the values code may change (parameters, initial
-  /// data, settings): code that changes a parsed scene's expressions must clear it.
-  std::string source_text;
   /// Definitions were kept as named intermediates (SceneOptions), so the expressions below
-  /// name them; a key of the scene cache.
+  /// name them.
   bool keep_definitions = false;
   std::shared_ptr<JetSpace> jet;
-
-  std::vector<double> parameter_values;  ///< in JetSpace parameter order
   std::vector<DerivedParameter> derived_parameters;  ///< each after those it uses
   GiNaC::ex lagrangian;                  ///< L(t, q, q')
   SourceLocation lagrangian_where;       ///< where the scene file writes L (refusals point there)
@@ -163,29 +158,64 @@ struct Scene {
   std::vector<std::string> constraint_texts;
   std::vector<int> dependent;            ///< coordinate indices d_1..d_g (suslov); may be empty
   std::vector<ModelKind> models;         ///< requested models, default all four
-  InitialData initial;
-  SimulateSettings simulate;
-  SceneReference reference;
-  std::vector<SceneQuantity> invariants;  ///< [invariants]: I(t, q, q', …, λ), checked for drift
-  std::vector<SceneQuantity> outputs;     ///< [outputs], in file order
-  std::vector<SceneEvent> events;         ///< [events], in file order
-  std::vector<SceneContact> contacts;     ///< [contacts], in file order
   /// Generalized non-conservative forces Q_i(t, q, q') of [forces], one per coordinate (0 when
   /// not given); every model adds Q_i to its residual R_i (docs/forces.md).
   std::vector<GiNaC::ex> forces;
-  /// [inputs], in file order (JetSpace::inputs() order).
+  /// [inputs], in file order (JetSpace::inputs() order): the symbols, the feedback laws and the
+  /// default signals, which the generated model computes (what a run feeds instead is the run's).
   std::vector<SceneInput> inputs;
-  /// [visual], in file order: what `nhc animate` draws.
-  std::vector<SceneVisual> visuals;
-  /// [controller]: a sampled controller; `present` false when the scene has none.
-  SceneController controller;
-  /// "FILE:LINE:COLUMN: warning: …" lines (a definition never used); load_scene prints them.
-  std::vector<std::string> warnings;
+  std::vector<SceneQuantity> invariants;  ///< [invariants]: I(t, q, q', …, λ), computed by the model
+  SceneReference reference;               ///< [reference]: computed by the model
+};
+
+/// The system with the text it was read from. The text stands for the system only as read:
+/// source_text() compares every field with what it was when the text was recorded, so code that
+/// changes an expression of a parsed scene leaves a system without text — which the scene cache
+/// (nhc/jit/scene_cache.hpp) never keys — and nothing has to be cleared by hand.
+class SceneSystem : public SceneSystemFields {
+ public:
+  /// The text parse_scene() read (SceneBuilder's too), while every field is still what it was
+  /// read as; "" for a system assembled in code or changed since (a field assigned, an
+  /// expression replaced by another that is not GiNaC::ex::is_equal to it).
+  const std::string& source_text() const;
+  /// Records `text` as what the system, as it is now, was read from (parse_scene() does).
+  void set_source_text(std::string text);
 
   int coordinate_count() const { return jet->coordinate_count(); }
   int constraint_count() const { return static_cast<int>(constraints.size()); }
   /// The scene file as a place for messages about the scene as a whole.
   SourceLocation file_location() const { return {source_path.empty() ? "scene" : source_path, 0, 0}; }
+
+ private:
+  struct Reading;  // the text, and every field as it was read (scene_system.cpp)
+  std::shared_ptr<const Reading> reading_;
+};
+
+/// The experiment: what starts, steers and stops a run of the system. Values here are keyed
+/// one by one where a product depends on them (the parameter values are the generated model's
+/// defaults), never through the text.
+struct SceneExperiment {
+  std::vector<double> parameter_values;  ///< in JetSpace parameter order
+  InitialData initial;
+  SimulateSettings simulate;
+  std::vector<SceneEvent> events;        ///< [events], in file order
+  std::vector<SceneContact> contacts;    ///< [contacts], in file order
+  /// [controller]: a sampled controller, evaluated by the run between integrations (not in the
+  /// generated model); `present` false when the scene has none.
+  SceneController controller;
+};
+
+/// The presentation: what a run shows of the motion.
+struct ScenePresentation {
+  std::vector<SceneQuantity> outputs;  ///< [outputs], in file order
+  /// [visual], in file order: what `nhc animate` draws.
+  std::vector<SceneVisual> visuals;
+};
+
+struct Scene : SceneSystem, SceneExperiment, ScenePresentation {
+  /// "FILE:LINE:COLUMN: warning: …" lines (a definition never used); load_scene prints them.
+  std::vector<std::string> warnings;
+
   /// Parameter symbol → value, for numeric evaluation.
   GiNaC::exmap parameter_substitution() const;
   /// Input symbol → its default signal's value at time t (parameters at their values): the
@@ -223,10 +253,11 @@ Scene parse_scene(const std::string& text, const std::string& path, const SceneO
 /// `v/rR` follow its speed v. Values given as numbers, or overridden since, are left alone.
 void reevaluate_initial_expressions(Scene& scene);
 
-/// The scene text without the tables that only start or steer a run ([initial], [simulate]),
-/// re-serialized: what the equations and the generated header are made from, so that the scene
-/// cache finds one header for every start and tolerance (nhc/jit/scene_cache.hpp). `text` must
-/// be a scene parse_scene() accepted; text that is not TOML comes back unchanged.
+/// The scene text without the tables of the experiment and the presentation ([initial],
+/// [simulate], [optimize], [events], [contacts], [outputs], [visual]), re-serialized: the
+/// system's text, what the equations and the generated header are made from, so that the scene
+/// cache finds one header for every start, tolerance and display (nhc/jit/scene_cache.hpp).
+/// `text` must be a scene parse_scene() accepted; text that is not TOML comes back unchanged.
 std::string equations_source(const std::string& text);
 
 /// The scene text of a switched model (docs/contacts.md, "Sliding"): the constraints `removed`

@@ -154,8 +154,10 @@ std::string SceneBuilder::toml() const {
 }
 
 Scene SceneBuilder::build() const {
-  Scene scene = parse_scene(toml(), name_ + " (built in code)");
+  const std::string text = toml();
+  Scene scene = parse_scene(text, name_ + " (built in code)");
   scene.source_path.clear();
+  scene.set_source_text(text);  // the text stands for the system without the path
   return scene;
 }
 

@@ -1155,7 +1155,7 @@ class SceneReader {
 Scene parse_scene(const std::string& text, const std::string& path, const SceneOptions& options) {
   work_budget::set_scene_path(path);  // the work budget's refusal names it (also for nhc.Scene.from_toml)
   Scene scene = SceneReader(text, path, options).read();
-  scene.source_text = text;
+  scene.set_source_text(text);
   return scene;
 }
 
@@ -1211,6 +1211,7 @@ std::string equations_source(const std::string& text) {
   root.erase("events");  // located along the run, not part of the equations
   root.erase("contacts");  // forces read from the multipliers along the run
   root.erase("controller");  // sets the inputs along the run, not part of the equations
+  root.erase("outputs");  // sampled from the run, not part of the equations
   std::ostringstream out;
   out << toml::toml_formatter(root);
   return out.str();

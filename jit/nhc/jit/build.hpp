@@ -47,7 +47,7 @@ struct BuildOptions {
   bool reduced_form = false;
   /// Reuse the header generated for the same scene text, model and options by an earlier build
   /// (scene_cache.hpp): derivation, reduction and generation are skipped. `NHC_SCENE_CACHE=off`
-  /// turns it off too. A scene without source text (Scene::source_text) is never cached.
+  /// turns it off too. A scene without source text (SceneSystem::source_text()) is never cached.
   bool scene_cache = true;
   /// The compile cache's directory is also the scene cache's.
   CompileOptions compile;

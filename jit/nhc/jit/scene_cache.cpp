@@ -171,15 +171,37 @@ std::optional<SceneCacheRecord> SceneCacheRecord::parse(const std::string& bytes
 // ---------------------------------------------------------------------------------------------
 // Keys
 
-std::optional<std::string> scene_fingerprint(const Scene& scene, FingerprintScope scope) {
-  if (scene.source_text.empty()) return std::nullopt;
-  const bool everything = scope == FingerprintScope::everything;
+namespace {
+
+/// The system's fingerprint with its text whole (`whole_text`) or as equations_source() keeps it.
+std::optional<std::string> fingerprint_of(const SceneSystem& system, bool whole_text) {
+  const std::string& text = system.source_text();
+  if (text.empty()) return std::nullopt;
   std::ostringstream out;
-  out << "scope " << (everything ? "everything" : "equations") << "\n";
-  out << "text " << counted(everything ? scene.source_text : equations_source(scene.source_text)) << "\n";
-  out << "file " << counted(fs::path(scene.source_path).filename().string()) << "\n";
-  out << "name " << counted(scene.name) << "\n";
-  out << "definitions " << (scene.keep_definitions ? "kept" : "substituted") << "\n";
+  if (whole_text) out << "source " << counted(text) << "\n";
+  else out << "text " << counted(equations_source(text)) << "\n";
+  out << "file " << counted(fs::path(system.source_path).filename().string()) << "\n";
+  out << "name " << counted(system.name) << "\n";
+  out << "definitions " << (system.keep_definitions ? "kept" : "substituted") << "\n";
+  out << "models";
+  for (ModelKind kind : system.models) out << " " << to_string(kind);
+  out << "\ndependent";
+  for (int d : system.dependent) out << " " << d;
+  out << "\n";
+  return out.str();
+}
+
+}  // namespace
+
+std::optional<std::string> system_fingerprint(const SceneSystem& system) { return fingerprint_of(system, false); }
+
+std::optional<std::string> scene_fingerprint(const Scene& scene, FingerprintScope scope) {
+  const bool everything = scope == FingerprintScope::everything;
+  // Everything: the whole text, which holds the equations' text (and spares parsing it again).
+  const std::optional<std::string> system = fingerprint_of(scene, everything);
+  if (!system) return std::nullopt;
+  std::ostringstream out;
+  out << "scope " << (everything ? "everything" : "equations") << "\n" << *system;
   out << "parameters";
   for (double v : scene.parameter_values) out << " " << exact(v);
   out << "\n";
@@ -197,15 +219,6 @@ std::optional<std::string> scene_fingerprint(const Scene& scene, FingerprintScop
         << exact(scene.simulate.atol) << " outputs "
         << (scene.simulate.outputs ? std::to_string(*scene.simulate.outputs) : "-") << "\n";
   }
-  out << "models";
-  for (ModelKind kind : scene.models) out << " " << to_string(kind);
-  out << "\ndependent";
-  for (int d : scene.dependent) out << " " << d;
-  // What the text alone decides, counted once more: a scene changed in code without clearing
-  // its text is caught where its sizes changed.
-  out << "\nsizes " << scene.coordinate_count() << " " << scene.parameter_values.size() << " "
-      << scene.constraints.size() << " " << scene.reference.all.size() << " " << scene.reference.per_model.size() << " " << scene.invariants.size() << " "
-      << scene.forces.size() << "\n";
   return out.str();
 }
 

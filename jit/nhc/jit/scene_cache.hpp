@@ -9,15 +9,15 @@
 /// failing a check is a miss: it is removed with a one-line warning and rebuilt, never trusted.
 ///
 /// The key of an entry is the SHA-256 of nhc's version, the product's name (what the entry holds),
-/// the product's options in words, and the scene's fingerprint: its source text, its file's name
-/// (the generated banner names it) and every value code may change after parsing (parameter values
-/// such as `--set` gives, initial data, [simulate] settings, requested models). The generated
-/// header is keyed by what it is made from (FingerprintScope::equations): the text without
-/// [initial] and [simulate], and no initial data or run settings, which it takes at run time, so
-/// a new start or tolerance reuses it (and the compile cache its library); the initial-point check
-/// keeps the key of everything. SceneBuilder's
-/// scenes have the text they are built from; a scene assembled field by field in code has none and
-/// is never cached.
+/// the product's options in words, and the scene's fingerprint: the system's (system_fingerprint)
+/// and the experiment's values the product depends on, written as numbers. The generated header
+/// is keyed by what it is made from (FingerprintScope::equations): the system and the parameter
+/// values (its defaults), not the initial data or run settings, which it takes at run time, so a
+/// new start or tolerance reuses it (and the compile cache its library); the initial-point check
+/// keeps the key of everything. The system's fingerprint is made from the text it was read from,
+/// which stands for it only while none of its fields has changed (SceneSystem::source_text()):
+/// a system assembled or changed in code has none and is never cached. SceneBuilder's scenes have
+/// the text they are built from.
 
 #include <filesystem>
 #include <map>
@@ -48,14 +48,22 @@ class SceneCacheRecord {
 enum class FingerprintScope {
   /// Everything: the text and every value code may change (an initial-point check).
   everything,
-  /// What the equations and the header are made from: the text without [initial] and
-  /// [simulate] (equations_source()), the parameter values (the header's defaults), models,
-  /// dependent coordinates, the definitions' form; not the initial data and run settings, which
-  /// the header takes at run time. A new start or tolerance finds the same header.
+  /// What the equations and the header are made from: the system (system_fingerprint()) and the
+  /// parameter values (the header's defaults); not the initial data and run settings, which the
+  /// header takes at run time. A new start or tolerance finds the same header.
   equations,
 };
 
-/// The scene's fingerprint (see the file comment); nullopt for a scene without source text.
+/// The system's fingerprint: the text it was read from without the tables of the experiment and
+/// the presentation (equations_source()), its file's name (the generated banner names it), its
+/// name, and the definitions' form (SceneOptions, not in the text); nullopt for a system without
+/// source text (assembled, or changed in code since it was read). A function of the system
+/// alone: no change of the experiment or the presentation reaches it.
+std::optional<std::string> system_fingerprint(const SceneSystem& system);
+
+/// The scene's fingerprint (see the file comment): the system's, the parameter values, and for
+/// FingerprintScope::everything the whole text, initial data and settings; nullopt for a scene
+/// without source text.
 std::optional<std::string> scene_fingerprint(const Scene& scene, FingerprintScope scope = FingerprintScope::everything);
 
 /// What made the products: NHC_VERSION and the SHA-256 of the code generator's sources (a build

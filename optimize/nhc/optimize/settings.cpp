@@ -19,7 +19,7 @@ class Reader {
   Settings read() {
     toml::table root;
     try {
-      root = toml::parse(scene_.source_text, path_);
+      root = toml::parse(scene_.source_text(), path_);
     } catch (const toml::parse_error& e) {
       throw InputError(at(e.source()), std::string("TOML syntax: ") + std::string(e.description()));
     }
