@@ -67,6 +67,7 @@ endif()
 # 3. Sphinx.
 execute_process(
   COMMAND ${CMAKE_COMMAND} -E env NHC_PYTHON_DIR=${PYTHON_DIR} PYTHONPATH=${PYTHON_DIR} NHC_VERSION=${VERSION}
+          NHC_EXECUTABLE=${NHC}
           NHC_CACHE_DIR=${WORK_DIR}/nhc-cache PYDEVD_DISABLE_FILE_VALIDATION=1 PATH=${WORK_DIR}/bin:$ENV{PATH}
           ${SPHINX} -W --keep-going -q -E -b html -d ${WORK_DIR}/doctrees ${src} ${WORK_DIR}/html
   RESULT_VARIABLE rc)
