@@ -64,6 +64,15 @@ PreparedModel prepare_and_build(Preparation& preparation, const Scene& written, 
   const auto start = std::chrono::steady_clock::now();
   InitialPointCheck check = sliding_contact(preparation.scene()) ? InitialPointCheck{}
                                                                  : check_initial_point(preparation, repair);
+  // A check found cached skipped the analysis; a build that derives then makes it here, so that it
+  // derives after the same analysis as on a cold cache: the analysis makes symbols, and GiNaC
+  // orders terms by symbol hash, which follows creation order (the model would otherwise depend on
+  // what the cache holds).
+  if (check.cached && jit::build_derives(written, preparation.kind(), options)) {
+    InitializationOptions init;
+    init.repair = repair;
+    preparation.analysis(init);
+  }
   const double check_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   jit::LoadedModel built = preparation.build(written, options);
   remember_check(check, built);

@@ -72,7 +72,9 @@ struct PreparedModel {
 /// `preparation` (check_initial_point; none for a scene with a sliding contact, whose violated
 /// rolling constraints start it sliding, switched_run.hpp), then the build of `written` (the scene
 /// as written, whose values are the model's defaults) from the check's analysis, then the passed
-/// check remembered. Refused initial values throw before anything is compiled.
+/// check remembered. Refused initial values throw before anything is compiled. A check found cached
+/// is not repeated, but a build that derives is still preceded by the analysis: the model is the
+/// same whatever the caches hold.
 PreparedModel prepare_and_build(Preparation& preparation, const Scene& written, bool repair,
                                 const jit::BuildOptions& options);
 

@@ -131,27 +131,43 @@ void remember_compiled_header(const Scene& scene, ModelKind kind, const BuildOpt
     SceneCache(library_directory, options.compile.warn).store(*key, header_record(header, jacobian));
 }
 
+namespace {
+
+/// The scene cache's key of the header build() may take from there; none when it derives anyway.
+std::optional<std::string> header_key(const Scene& scene, ModelKind kind, const BuildOptions& options) {
+  // Interpreted, the model needs the prepared instruction list: the header alone is not enough.
+  if (options.backend == Backend::interpreted || !options.scene_cache || !scene_cache_enabled()) return std::nullopt;
+  return scene_cache_key(scene, kHeaderProduct, header_options_text(kind, options), scene_cache_version(),
+                         FingerprintScope::equations);
+}
+
+std::optional<CachedHeader> lookup_header(const std::optional<std::string>& key, const BuildOptions& options) {
+  if (!key) return std::nullopt;
+  const std::optional<SceneCacheRecord> record =
+      SceneCache(options.compile.cache_directory, options.compile.warn).load(*key);
+  if (!record) return std::nullopt;
+  return cached_header(*record);
+}
+
+}  // namespace
+
+bool build_derives(const Scene& scene, ModelKind kind, const BuildOptions& options) {
+  return !lookup_header(header_key(scene, kind, options), options);
+}
+
 LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& options,
                   const DerivedAndAnalysed* given) {
   // The scene cache first: an unchanged scene skips derive, reduce and generate.
   auto start = Clock::now();
-  std::optional<std::string> key;
-  // Interpreted, the model needs the prepared instruction list: the header alone is not enough.
-  if (options.backend != Backend::interpreted && options.scene_cache && scene_cache_enabled())
-    key = scene_cache_key(scene, kHeaderProduct, header_options_text(kind, options), scene_cache_version(),
-                          FingerprintScope::equations);
-  if (key) {
-    if (const std::optional<SceneCacheRecord> record =
-            SceneCache(options.compile.cache_directory, options.compile.warn).load(*key))
-      if (std::optional<CachedHeader> cached = cached_header(*record)) {
-        const double lookup_seconds = seconds_since(start);
-        LoadedModel loaded = load_header(cached->header, kind, cached->jacobian, options.compile);
-        BuildTimings timings = loaded.timings();
-        timings.scene_cache = lookup_seconds;
-        timings.scene_cached = true;
-        return LoadedModel(kind, cached->jacobian, std::move(cached->header), loaded.library(),
-                           runtime::Model(loaded.model()), timings);
-      }
+  const std::optional<std::string> key = header_key(scene, kind, options);
+  if (std::optional<CachedHeader> cached = lookup_header(key, options)) {
+    const double lookup_seconds = seconds_since(start);
+    LoadedModel loaded = load_header(cached->header, kind, cached->jacobian, options.compile);
+    BuildTimings timings = loaded.timings();
+    timings.scene_cache = lookup_seconds;
+    timings.scene_cached = true;
+    return LoadedModel(kind, cached->jacobian, std::move(cached->header), loaded.library(),
+                       runtime::Model(loaded.model()), timings);
   }
   const double lookup_seconds = seconds_since(start);
 

@@ -108,6 +108,12 @@ struct DerivedAndAnalysed {
 LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& options = {},
                   const DerivedAndAnalysed* given = nullptr);
 
+/// Whether build() with these arguments derives the model: false when it takes the header from
+/// the scene cache. A caller that analyses before a build that derives (app::Preparation) makes
+/// the same symbols in the same order on every path, so the generated model does not depend on
+/// what its caches hold (GiNaC orders terms by symbol hash, which follows creation order).
+bool build_derives(const Scene& scene, ModelKind kind, const BuildOptions& options = {});
+
 /// Records in the scene cache that `header` (built for `scene`, `kind`, `options`) compiled into
 /// a library in `library_directory`, as build() does after compiling, so that the next build
 /// takes it from there (compile_behind.hpp, after an interpreted run). Nothing when the scene
