@@ -228,6 +228,7 @@ int run_simulate(SimulateOptions& options) {
   std::optional<runtime::SensitivityRun> sensitivities;  // --sensitivity: the CSV comes from this run
   if (build_options.sensitivities)
     sensitivities = run_sensitivities(model, p, initial, times, io, options.sensitivity);
+  if (sensitivities) app::record_law_inputs(scene_set, model, p, sensitivities->samples);
   auto write_rows = [&](std::ostream& out) {
     if (sensitivities)
       runtime::write_sensitivity_csv(out, model, p, parse_sensitivities(model, options.sensitivity.names),

@@ -325,6 +325,7 @@ py::dict simulate_sensitivities(const BuiltModel& built, const Scene& scene, con
   columns.insert(columns.end(), sensitivity_columns.begin(), sensitivity_columns.end());
   std::vector<runtime::Sample> states;
   for (const runtime::SensitivitySample& s : run.samples) states.push_back(s.state());
+  app::record_law_inputs(scene, *model, p, states);  // what the [inputs] laws applied
   py::array_t<double> data = data_of(*model, p, states, columns.size(), [&](std::size_t r, std::vector<double>& v) {
     runtime::sensitivity_values(*model, run.samples[r], v);
   });

@@ -513,7 +513,7 @@ def test_a_laws_input_column_holds_the_value_the_law_applies(source):
     text = text.replace("[definitions]\n", "[definitions]\ntilt = \"11*th + 2.4*th'\"\n", 1)
     text = text.replace('TL = "0"', 'TL = "-10*th"').replace('TR = "0"', 'TR = "tilt - 0.01*phL\'"')
     model = nhc.Scene.from_toml(text).build()
-    for options in ({}, {"integrator": "variational", "step": 0.01}):
+    for options in ({}, {"integrator": "variational", "step": 0.01}, {"sensitivity": ["l"]}):
         run = model.simulate(t_end=0.5, outputs=20, **options)
         TL, TR = -10 * run["th"], 11 * run["th"] + 2.4 * run["th'"] - 0.01 * run["phL'"]
         assert np.max(np.abs(run["input:TL"] - TL)) <= 1e-12 * (1 + np.max(np.abs(TL))), options

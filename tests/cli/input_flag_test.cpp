@@ -237,6 +237,8 @@ TEST_CASE("a feedback law's input:NAME column holds the value the law applies", 
        }},
       {" simulate '" + scene + "' --input 'TL=th*phR + 1'", "input:TL",
        [](const std::string& csv, std::size_t k) { return csv_column(csv, "th")[k] * csv_column(csv, "phR")[k] + 1; }},
+      {" simulate '" + pendulum + "' --input 'TL=-10*th' --sensitivity l", "input:TL",
+       [](const std::string& csv, std::size_t k) { return -10 * csv_column(csv, "th")[k]; }},
       {" simulate '" + scene + "' --integrator variational --step 0.01", "input:TR",
        [](const std::string& csv, std::size_t k) {
          return 11 * csv_column(csv, "th")[k] + 2.4 * csv_column(csv, "th'")[k] - 0.01 * csv_column(csv, "phL'")[k];

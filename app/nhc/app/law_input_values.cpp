@@ -30,4 +30,13 @@ void record_law_inputs(const Scene& scene, const runtime::Model& model, const st
   }
 }
 
+void record_law_inputs(const Scene& scene, const runtime::Model& model, const std::vector<double>& p,
+                       std::vector<runtime::SensitivitySample>& samples) {
+  std::vector<runtime::Sample> states;
+  states.reserve(samples.size());
+  for (const runtime::SensitivitySample& s : samples) states.push_back(s.state());
+  record_law_inputs(scene, model, p, states);
+  for (std::size_t r = 0; r < samples.size(); ++r) samples[r].u = std::move(states[r].u);
+}
+
 }  // namespace nhc::app

@@ -21,5 +21,8 @@ namespace nhc::app {
 /// a quantity the law uses. Samples without inputs (read back from a file) are left as they are.
 void record_law_inputs(const Scene& scene, const runtime::Model& model, const std::vector<double>& p,
                        std::vector<runtime::Sample>& samples);
+/// The same for the samples of a run with sensitivities (the plain columns of its CSV).
+void record_law_inputs(const Scene& scene, const runtime::Model& model, const std::vector<double>& p,
+                       std::vector<runtime::SensitivitySample>& samples);
 
 }  // namespace nhc::app
