@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "nhc/app/law_input_values.hpp"
 #include "nhc/app/sampled_run.hpp"
 #include "animation_page.hpp"
 #include "commands.hpp"
@@ -120,6 +121,7 @@ CommandRunner add_animate_command(CLI::App& app) {
       run = run_with_flags(flags, model, p, run_initial_state(flags, scene_set, model), times, io,
                            input_function(input_signals, model, p), events)
                 .run;
+      app::record_law_inputs(scene_set, model, p, run.samples);  // what the [inputs] laws applied
     }
     if (run.samples.empty()) {
       std::cerr << "nhc: error: " << (run.failure ? run.failure->what() : "the run has no sample") << "\n"

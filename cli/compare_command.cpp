@@ -8,6 +8,7 @@
 // not at all (nhc/io/atomic_directory.hpp). Exit 3 when no model gets past t0.
 #include <cmath>
 
+#include "nhc/app/law_input_values.hpp"
 #include "nhc/app/sampled_run.hpp"
 #include "nhc/primed_name.hpp"
 #include <iostream>
@@ -144,7 +145,8 @@ ComparedModel run_model(const Scene& scene, ModelKind kind, const CompareSetting
   io.rtol = settings.rtol;
   io.atol = settings.atol;
   const std::vector<double> p = model.default_parameters();
-  const runtime::RunResult run = runtime::simulate(model, p, initial_state_of(scene, model), settings.times, io);
+  runtime::RunResult run = runtime::simulate(model, p, initial_state_of(scene, model), settings.times, io);
+  app::record_law_inputs(scene, model, p, run.samples);  // what the [inputs] laws applied
   result.steps = run.statistics.steps;
   result.integrate_seconds = run.statistics.initialization_seconds + run.statistics.integration_seconds;
   if (run.samples.size() < 2) {

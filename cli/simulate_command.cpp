@@ -18,6 +18,7 @@
 #include "commands.hpp"
 #include "flag_rules.hpp"
 #include "output_selection.hpp"
+#include "nhc/app/law_input_values.hpp"
 #include "nhc/app/scene_outputs.hpp"
 #include "input_signals.hpp"
 #include "parameter_overrides.hpp"
@@ -222,10 +223,12 @@ int run_simulate(SimulateOptions& options) {
   } else {
     flagged = run_with_flags(options.run, model, p, initial, times, io, input_function(input_signals, model, p), events);
   }
+  app::record_law_inputs(scene_set, model, p, flagged.run.samples);  // the laws' input:NAME columns
   const runtime::RunResult& run = flagged.run;
   std::optional<runtime::SensitivityRun> sensitivities;  // --sensitivity: the CSV comes from this run
   if (build_options.sensitivities)
     sensitivities = run_sensitivities(model, p, initial, times, io, options.sensitivity);
+  if (sensitivities) app::record_law_inputs(scene_set, model, p, sensitivities->samples);
   auto write_rows = [&](std::ostream& out) {
     if (sensitivities)
       runtime::write_sensitivity_csv(out, model, p, parse_sensitivities(model, options.sensitivity.names),

@@ -24,6 +24,7 @@
 #include "nhc/app/run_request.hpp"
 #include "nhc/app/scene_events.hpp"
 #include "nhc/app/sampled_run.hpp"
+#include "nhc/app/law_input_values.hpp"
 #include "nhc/app/scene_outputs.hpp"
 #include "nhc/app/switched_run.hpp"
 #include "nhc/analysis/structural_analysis.hpp"
@@ -324,6 +325,7 @@ py::dict simulate_sensitivities(const BuiltModel& built, const Scene& scene, con
   columns.insert(columns.end(), sensitivity_columns.begin(), sensitivity_columns.end());
   std::vector<runtime::Sample> states;
   for (const runtime::SensitivitySample& s : run.samples) states.push_back(s.state());
+  app::record_law_inputs(scene, *model, p, states);  // what the [inputs] laws applied
   py::array_t<double> data = data_of(*model, p, states, columns.size(), [&](std::size_t r, std::vector<double>& v) {
     runtime::sensitivity_values(*model, run.samples[r], v);
   });
@@ -416,6 +418,7 @@ py::dict simulate_sampled(const BuiltModel& built, const std::optional<double>& 
   if (*interrupt.raised) throw std::move(**interrupt.raised);
   runtime::RunResult& run = sampled.run;
   if (run.failure && run.samples.empty()) throw *run.failure;
+  app::record_law_inputs(scene, model, p, run.samples);  // what the [inputs] laws applied
   // The model's columns, the scene's [outputs] and [contacts], then the controller's states.
   py::list names(built.columns());
   std::optional<app::SceneOutputs> scene_outputs;
@@ -535,6 +538,7 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   if (input_failure && *input_failure) throw std::move(**input_failure);
   if (*interrupt.raised) throw std::move(**interrupt.raised);
   if (run.failure && run.samples.empty()) throw *run.failure;
+  app::record_law_inputs(scene, *run_model, p, run.samples);  // what the [inputs] laws applied
   // The scene's [outputs] and [contacts] after the model's columns, as nhc simulate's CSV has them (an output
   // the model does not compute is left out; a required one is a SceneError).
   py::object columns = built.columns();

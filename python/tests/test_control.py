@@ -504,6 +504,22 @@ def test_a_state_law_from_the_scene_from_input_and_from_python_agree(source, tmp
     assert refused.returncode == 2 and "algebraic loop" in refused.stderr and "--input" in refused.stderr
 
 
+
+def test_a_laws_input_column_holds_the_value_the_law_applies(source):
+    # A law in [inputs] is compiled into the equations in place of its input: the run's input:NAME
+    # column is the law at each row's own state (a signal of 0 before), directly and through a
+    # definition, with IDA and with the variational integrator.
+    text = (source / "examples" / "wheeled_pendulum.toml").read_text()
+    text = text.replace("[definitions]\n", "[definitions]\ntilt = \"11*th + 2.4*th'\"\n", 1)
+    text = text.replace('TL = "0"', 'TL = "-10*th"').replace('TR = "0"', 'TR = "tilt - 0.01*phL\'"')
+    model = nhc.Scene.from_toml(text).build()
+    for options in ({}, {"integrator": "variational", "step": 0.01}, {"sensitivity": ["l"]}):
+        run = model.simulate(t_end=0.5, outputs=20, **options)
+        TL, TR = -10 * run["th"], 11 * run["th"] + 2.4 * run["th'"] - 0.01 * run["phL'"]
+        assert np.max(np.abs(run["input:TL"] - TL)) <= 1e-12 * (1 + np.max(np.abs(TL))), options
+        assert np.max(np.abs(run["input:TR"] - TR)) <= 1e-12 * (1 + np.max(np.abs(TR))), options
+        assert np.max(np.abs(TL)) > 0.01 and np.max(np.abs(TR)) > 0.01  # the laws moved
+
 def zero_order_hold(A, B, h):
     """Ad, Bd of x' = A x + B u with u held over h: the exponential of [[A, B], [0, 0]] h (Taylor
     series after scaling by 2^-s, then squaring)."""

@@ -213,3 +213,49 @@ TEST_CASE("[outputs] and [visual] read the inputs as the run drives them", "[cli
     CHECK(std::abs(centre[3 * k + 1] - std::sin(3 * t[k])) < 2e-8);
   }
 }
+
+TEST_CASE("a feedback law's input:NAME column holds the value the law applies", "[cli][inputs]") {
+  // A law is compiled into the equations in place of its input (docs/scenes.md, "Feedback laws");
+  // its column holds the law at each row's own state, not the input's default signal 0.
+  const std::string dir = scratch_dir("law_columns");
+  const std::string pendulum = std::string(NHC_SOURCE_DIR) + "/examples/wheeled_pendulum.toml";
+  std::string text = read_file(pendulum);
+  text.replace(text.find("[definitions]\n"), 14, "[definitions]\ntilt = \"11*th + 2.4*th'\"\n");
+  text.replace(text.find("TR = \"0\""), 8, "TR = \"tilt - 0.01*phL'\"");
+  const std::string scene = dir + "/closed.toml";
+  std::ofstream(scene) << text;
+  struct Case {
+    std::string command, column;
+    double (*law)(const std::string& csv, std::size_t row);
+  };
+  const std::vector<Case> cases = {
+      {" simulate '" + pendulum + "' --input 'TL=-10*th'", "input:TL",
+       [](const std::string& csv, std::size_t k) { return -10 * csv_column(csv, "th")[k]; }},
+      {" simulate '" + scene + "'", "input:TR",
+       [](const std::string& csv, std::size_t k) {
+         return 11 * csv_column(csv, "th")[k] + 2.4 * csv_column(csv, "th'")[k] - 0.01 * csv_column(csv, "phL'")[k];
+       }},
+      {" simulate '" + scene + "' --input 'TL=th*phR + 1'", "input:TL",
+       [](const std::string& csv, std::size_t k) { return csv_column(csv, "th")[k] * csv_column(csv, "phR")[k] + 1; }},
+      {" simulate '" + pendulum + "' --input 'TL=-10*th' --sensitivity l", "input:TL",
+       [](const std::string& csv, std::size_t k) { return -10 * csv_column(csv, "th")[k]; }},
+      {" simulate '" + scene + "' --integrator variational --step 0.01", "input:TR",
+       [](const std::string& csv, std::size_t k) {
+         return 11 * csv_column(csv, "th")[k] + 2.4 * csv_column(csv, "th'")[k] - 0.01 * csv_column(csv, "phL'")[k];
+       }},
+  };
+  for (const Case& c : cases) {
+    INFO(c.command);
+    const Run r = run(nhc_command() + c.command + " --t-end 0.5 --outputs 20 -o -", dir);
+    REQUIRE(r.exit_code == 0);
+    const std::vector<double> u = csv_column(r.out, c.column);
+    REQUIRE(u.size() == 21);
+    double largest = 0;
+    for (std::size_t k = 0; k < u.size(); ++k) {
+      const double law = c.law(r.out, k);
+      CHECK(std::abs(u[k] - law) <= 1e-12 * (1 + std::abs(law)));
+      largest = std::max(largest, std::abs(law));
+    }
+    CHECK(largest > 0.01);  // the law moved: a column of zeros would not pass
+  }
+}
