@@ -52,7 +52,7 @@ run -- simulate "$holder" -o "$work/h.csv"
 expect "singular at t0, again" 3 "the system Jacobian of the holder model is singular at t0 = 0"
 # Memory limits from too small to enough (issue 33 item 12): every run ends as bad input, the
 # environment (out of memory, a thread refused) or success, never "internal error" nor an abort
-# (a refused thread used to abort the ensemble with others still joinable). Below 64 MB the
+# (a refused thread used to abort the ensemble with others still joinable). Below 96 MB the
 # launcher refuses at once, in words (cli/launcher.cpp: between 38 and 41 MB the outcome used to
 # move with each build — the loader failing, CLN's initializer aborting before main, OpenSSL
 # failing as an "internal error" — a few hundred kB apart). Not under AddressSanitizer, which
@@ -60,7 +60,7 @@ expect "singular at t0, again" 3 "the system Jacobian of the holder model is sin
 if ! ldd "$nhc" 2>/dev/null | grep -q asan; then
   particle_scene=$(dirname "$knife")/particle.toml
   NHC_CACHE_DIR="$work/cache_limits" "$nhc" ensemble "$particle_scene" --vary "q1'(0)=1:2:4" -o "$work/warm.h5" >/dev/null 2>&1
-  for limit in 30000 40000 40500 50000 60000 65536 70000 80000 100000; do
+  for limit in 30000 40000 40500 50000 60000 65536 70000 80000 98304 100000 120000; do
     (ulimit -v $limit; NHC_CACHE_DIR="$work/cache_limits" "$nhc" ensemble "$particle_scene" --vary "q1'(0)=1:2:8" \
       --threads 2 -o "$work/limited.h5" >"$work/limited.out" 2>"$work/limited.err")
     code=$?
@@ -68,8 +68,8 @@ if ! ldd "$nhc" 2>/dev/null | grep -q asan; then
       0 | 2 | 4) ;;
       *) fail "ulimit -v $limit: exit $code: $(head -c 300 "$work/limited.err")" ;;
     esac
-    if [ "$limit" -lt 65536 ]; then
-      grep -q "below the 65536 kB nhc needs" "$work/limited.err" ||
+    if [ "$limit" -lt 98304 ]; then
+      grep -q "below the 98304 kB nhc needs" "$work/limited.err" ||
         fail "ulimit -v $limit: not refused by the launcher: $(head -c 300 "$work/limited.err")"
     fi
     grep -q "internal error" "$work/limited.err" && fail "ulimit -v $limit: $(head -c 300 "$work/limited.err")"

@@ -3,6 +3,7 @@
 
 #include "nhc/primed_name.hpp"
 
+#include <new>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -248,6 +249,9 @@ RunRecord run_one(const runtime::Model& model, const RunSpec& spec, std::int64_t
       if (!observer.seen || std::isfinite(e.t())) record.t_stop = e.t();
     }
     record.steps = integrator.statistics().steps;
+  } catch (const std::bad_alloc&) {
+    record.outcome = Outcome::failed;
+    record.message = "out of memory";
   } catch (const std::exception& e) {
     record.outcome = Outcome::failed;
     record.message = e.what();

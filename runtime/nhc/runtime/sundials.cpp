@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <limits>
+#include <new>
 #include <sstream>
 
 #include "nhc/runtime/number_text.hpp"
@@ -91,6 +92,17 @@ T require(T handle, const char* what) {
   if (!handle) throw SolverError(FailureKind::setup, kNoTime, std::string("cannot create ") + what);
   return handle;
 }
+
+/// SUNDIALS' N_VClone writes into the clone it gets without checking it (6.x: result->sunctx),
+/// so a clone the C library could not allocate crashed the process inside IDA (IDASetId under
+/// `ulimit -v`). Every vector nhc makes clones through this: an allocation failure is
+/// std::bad_alloc, which each front end reports as out of memory (exit 4); the C frames it
+/// crosses carry unwind tables (x86-64), and what IDA allocated before is lost with the failure.
+N_Vector checked_clone(N_Vector w) {
+  N_Vector v = N_VClone_Serial(w);
+  if (!v) throw std::bad_alloc();
+  return v;
+}
 }  // namespace
 
 Context Context::create() {
@@ -101,7 +113,9 @@ Context Context::create() {
 }
 
 Vector Vector::create(long length, SUNContext ctx) {
-  return Vector(require(N_VNew_Serial(length, ctx), "a SUNDIALS vector"));
+  N_Vector v = require(N_VNew_Serial(length, ctx), "a SUNDIALS vector");
+  v->ops->nvclone = &checked_clone;  // clones copy the operations table
+  return Vector(v);
 }
 
 long Vector::size() const noexcept { return static_cast<long>(N_VGetLength(get())); }
@@ -132,8 +146,8 @@ thread_local CloneRecorder* active_recorder = nullptr;
 thread_local std::vector<N_Vector>* active_clones = nullptr;
 
 N_Vector recording_clone(N_Vector w) {
-  N_Vector v = N_VClone_Serial(w);
-  if (v && active_clones) {
+  N_Vector v = checked_clone(w);
+  if (active_clones) {
     const sunindextype n = N_VGetLength_Serial(v);
     double* data = N_VGetArrayPointer_Serial(v);
     for (sunindextype i = 0; i < n; ++i) data[i] = std::numeric_limits<double>::quiet_NaN();
