@@ -232,6 +232,53 @@ TEST_CASE("any change of the equations' text, parameters, model, options or vers
   CHECK(builder.warnings.empty());
 }
 
+TEST_CASE("the reduced form's speeds chosen at the initial point are part of the header's key",
+          "[jit][scene-cache]") {
+  // The knife edge x' sin(phi) = y' cos(phi) with no `dependent` key: the default rule makes y
+  // dependent from phi = 0 (speeds x', phi') and x from phi = pi/2 or 0.3 (speeds y', phi';
+  // docs/reduced-form.md). M_r's first entry, T = m/2 (x'^2 + y'^2) on the chosen speed, is
+  // m / cos^2(phi) or m / sin^2(phi).
+  auto knife_edge = [](const std::string& phi0) {
+    return nhc::parse_scene("name = \"knife_edge\"\ncoordinates = [\"x\", \"y\", \"phi\"]\n"
+                            "lagrangian = \"m/2*(x'^2 + y'^2) + J/2*phi'^2\"\n"
+                            "constraints = [\"x'*sin(phi) - y'*cos(phi)\"]\nmodels = [\"chetaev\"]\n"
+                            "[parameters]\nm = 2.0\nJ = 0.5\n[initial]\nt0 = 0.0\nx = [0.0]\ny = [0.0]\nphi = [" +
+                                phi0 + "]\n",
+                            "knife_edge.toml");
+  };
+  Builder builder{fresh_cache("scene_cache_reduced_speeds")};
+  auto options = builder.options();
+  options.reduced_form = true;
+  auto speeds = [&] {
+    const nhc::runtime::Model& m = builder.last->model();
+    std::vector<int> out;
+    for (int k = 0; k < m.n_speeds(); ++k) out.push_back(m.speed_coordinate(k));
+    return out;
+  };
+  auto first_mass = [&](double phi) {
+    const nhc::runtime::Model& m = builder.last->model();
+    const std::vector<double> q{0.1, 0.2, phi}, u{0.5, 0.3}, p = m.default_parameters();
+    std::vector<double> M(4);
+    m.table().mass_matrix(0.0, q.data(), u.data(), p.data(), M.data());
+    return M[0];
+  };
+  REQUIRE(builder.derivations(knife_edge("0.0"), options) == 1);
+  CHECK(speeds() == std::vector<int>{0, 2});
+  CHECK(first_mass(0.4) == Approx(2.0 / std::pow(std::cos(0.4), 2)).epsilon(1e-12));
+  // Another start with another choice: derived again, on its own speeds (not the cached ones).
+  CHECK(builder.derivations(knife_edge("1.5707963267948966"), options) == 1);
+  CHECK(speeds() == std::vector<int>{1, 2});
+  CHECK(first_mass(0.4) == Approx(2.0 / std::pow(std::sin(0.4), 2)).epsilon(1e-12));
+  // A start with the same choice finds that header; without the reduced form every start does.
+  CHECK(builder.derivations(knife_edge("0.3"), options) == 0);
+  CHECK(speeds() == std::vector<int>{1, 2});
+  CHECK(builder.derivations(knife_edge("0.0"), options) == 0);
+  CHECK(speeds() == std::vector<int>{0, 2});
+  CHECK(builder.derivations(knife_edge("0.0")) == 1);
+  CHECK(builder.derivations(knife_edge("1.5707963267948966")) == 0);
+  CHECK(builder.warnings.empty());
+}
+
 TEST_CASE("a damaged or unsafe scene-cache entry is rebuilt with a warning, never used", "[jit][scene-cache]") {
   Builder builder{fresh_cache("scene_cache_damage")};
   const nhc::Scene scene = scene_of(appell_hamel_text());

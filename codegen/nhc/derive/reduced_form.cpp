@@ -59,7 +59,73 @@ GiNaC::matrix solve(const GiNaC::matrix& m, const GiNaC::matrix& rhs) {
   return x;
 }
 
+/// df/dq' (the velocity-level constraints' A) evaluated at the scene's initial point: t0, q from
+/// [initial] (missing values 0), the parameters and the inputs at t0; nullopt where an entry has
+/// no finite value there.
+std::optional<Eigen::MatrixXd> jacobian_at_initial_point(const Scene& scene, const GiNaC::matrix& A) {
+  const JetSpace& jet = *scene.jet;
+  const auto& names = jet.coordinates();
+  GiNaC::exmap point = scene.parameter_substitution();
+  try {
+    for (const auto& [symbol, value] : scene.input_substitution(scene.initial.t0)) point[symbol] = value;
+  } catch (const MathError&) {
+  }  // an input without a value there leaves A unevaluated below
+  point[jet.time()] = scene.initial.t0;
+  for (int j = 0; j < jet.coordinate_count(); ++j) {
+    const auto it = scene.initial.values.find(names[static_cast<std::size_t>(j)]);
+    point[jet.q(j, 0)] = it != scene.initial.values.end() && !it->second.empty() ? it->second.front() : 0.0;
+  }
+  Eigen::MatrixXd A0(A.rows(), A.cols());
+  for (unsigned a = 0; a < A.rows(); ++a)
+    for (unsigned j = 0; j < A.cols(); ++j) {
+      const auto value = finite_value(substitute_symbols(A(a, j), point), {});
+      if (!value) return std::nullopt;
+      A0(a, j) = *value;
+    }
+  return A0;
+}
+
+/// The default rule's dependent coordinates (docs/reduced-form.md, "Which speeds are
+/// independent"): the first g columns of A0, in the coordinates' order, that are independent;
+/// fewer when A0 has rank below g.
+std::vector<int> first_independent_columns(const Eigen::MatrixXd& A0, int g) {
+  std::vector<int> columns;
+  for (int j = 0; j < A0.cols() && static_cast<int>(columns.size()) < g; ++j) {
+    columns.push_back(j);
+    if (rank_of_columns(A0, columns) < static_cast<int>(columns.size())) columns.pop_back();
+  }
+  return columns;
+}
+
 }  // namespace
+
+std::optional<std::vector<int>> default_dependent_coordinates(const Scene& scene) {
+  const int g = scene.constraint_count();
+  if (g > 0 && static_cast<int>(scene.dependent.size()) == g) {
+    std::vector<int> out = scene.dependent;
+    std::sort(out.begin(), out.end());
+    return out;
+  }
+  const JetSpace& jet = *scene.jet;
+  const int n = jet.coordinate_count();
+  GiNaC::matrix A(static_cast<unsigned>(g), static_cast<unsigned>(n));
+  for (int a = 0; a < g; ++a) {
+    const ex& f = scene.constraints[static_cast<std::size_t>(a)];
+    const int m = jet.highest_coordinate_order(f);
+    if (m != 0 && m != 1) return std::nullopt;  // the reduced form refuses these
+    const ex v = m == 0 ? jet.total_derivative(f) : f;
+    for (int j = 0; j < n; ++j) {
+      const ex aj = partial_derivative(v, GiNaC::ex_to<GiNaC::symbol>(jet.q(j, 1)));
+      if (jet.highest_coordinate_order(aj) > 0) return std::nullopt;
+      A(static_cast<unsigned>(a), static_cast<unsigned>(j)) = aj;
+    }
+  }
+  const std::optional<Eigen::MatrixXd> A0 = jacobian_at_initial_point(scene, A);
+  if (!A0) return std::nullopt;
+  std::vector<int> columns = first_independent_columns(*A0, g);
+  if (static_cast<int>(columns.size()) < g) return std::nullopt;
+  return columns;
+}
 
 std::vector<std::string> parse_speed_list(const std::string& text) {
   std::vector<std::string> out;
@@ -177,25 +243,9 @@ ReducedForm reduce_to_independent_speeds(const Scene& scene, const DerivedModel&
   }
 
   // The speeds: named, the scene's `dependent`, or the first independent constraint columns.
-  GiNaC::exmap point = scene.parameter_substitution();
-  try {
-    for (const auto& [symbol, value] : scene.input_substitution(scene.initial.t0)) point[symbol] = value;
-  } catch (const MathError&) {
-  }  // an input without a value there leaves A unevaluated below
-  point[jet.time()] = scene.initial.t0;
-  for (int j = 0; j < n; ++j) {
-    const auto it = scene.initial.values.find(names[static_cast<std::size_t>(j)]);
-    point[jet.q(j, 0)] = it != scene.initial.values.end() && !it->second.empty() ? it->second.front() : 0.0;
-  }
-  Eigen::MatrixXd A0(g, n);
-  bool evaluated = true;
-  for (int a = 0; a < g && evaluated; ++a)
-    for (int j = 0; j < n && evaluated; ++j) {
-      const auto value =
-          finite_value(substitute_symbols(A(static_cast<unsigned>(a), static_cast<unsigned>(j)), point), {});
-      if (value) A0(a, j) = *value;
-      else evaluated = false;
-    }
+  const std::optional<Eigen::MatrixXd> initial_jacobian = jacobian_at_initial_point(scene, A);
+  const bool evaluated = initial_jacobian.has_value();
+  const Eigen::MatrixXd A0 = evaluated ? *initial_jacobian : Eigen::MatrixXd();
   std::vector<bool> is_dependent(static_cast<std::size_t>(n), false);
   if (!speeds.empty()) {
     if (static_cast<int>(speeds.size()) != n - g)
@@ -222,11 +272,7 @@ ReducedForm reduce_to_independent_speeds(const Scene& scene, const DerivedModel&
     if (!evaluated)
       return refuse("the constraint Jacobian df/dq' cannot be evaluated at the initial point to choose the "
                     "dependent speeds; name the independent ones (--speeds)");
-    std::vector<int> columns;
-    for (int j = 0; j < n && static_cast<int>(columns.size()) < g; ++j) {
-      columns.push_back(j);
-      if (rank_of_columns(A0, columns) < static_cast<int>(columns.size())) columns.pop_back();
-    }
+    const std::vector<int> columns = first_independent_columns(A0, g);
     if (static_cast<int>(columns.size()) < g)
       return refuse("the constraints' Jacobian df/dq' has rank below " + std::to_string(g) + " at the initial point");
     for (int d : columns) is_dependent[static_cast<std::size_t>(d)] = true;

@@ -17,6 +17,7 @@
 
 #include <ginac/ginac.h>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,13 @@ struct ReducedForm {
 ReducedForm reduce_to_independent_speeds(const Scene& scene, const DerivedModel& model,
                                          const std::vector<std::string>& speeds = {},
                                          const std::string& flag = "--speeds");
+
+/// The coordinates whose speeds the default rule (above) makes dependent, in increasing order: the
+/// scene's `dependent` key, else chosen at the initial point; nullopt when the rule cannot choose
+/// (a constraint not of order 0 or 1 or not linear in the velocities, df/dq' without a value or of
+/// rank below g there). The multiplier-free form built without named speeds depends on the initial
+/// point only through this (the scene cache keys the generated header with it, jit/build.cpp).
+std::optional<std::vector<int>> default_dependent_coordinates(const Scene& scene);
 
 /// "phi',delta', thr'" → {"phi'", "delta'", "thr'"} (commas, spaces around each name).
 std::vector<std::string> parse_speed_list(const std::string& text);

@@ -30,14 +30,24 @@ ModelIdentity identity_of(const GeneratedHeader& header, ModelKind kind) {
   return {"", model};
 }
 
+/// The reduced form's words in the key: its dependent coordinates, which the default rule may
+/// choose at the initial point, not part of the equations' fingerprint (docs/reduced-form.md).
+std::string reduced_form_text(const Scene& scene) {
+  const std::optional<std::vector<int>> dependent = default_dependent_coordinates(scene);
+  if (!dependent) return ", reduced form on no rule's choice";
+  std::string out = ", reduced form with dependent";
+  for (int d : *dependent) out += " " + std::to_string(d);
+  return out;
+}
+
 /// The product build() keeps in the scene cache, and the words naming what it depends on
-/// besides the scene (the compile options only matter to the compile cache).
+/// besides the scene's equations (the compile options only matter to the compile cache).
 constexpr const char* kHeaderProduct = "generated header";
-std::string header_options_text(ModelKind kind, const BuildOptions& options) {
+std::string header_options_text(const Scene& scene, ModelKind kind, const BuildOptions& options) {
   return "model " + to_string(kind) + ", jacobian " + (options.jacobian ? to_string(*options.jacobian) : "default") +
          ", sensitivities " + (options.sensitivities ? "yes" : "no") +
-         (options.variational ? ", variational step" : "") + (options.reduced_form ? ", reduced form" : "") + ", split from " +
-         std::to_string(options.split_from_bytes) + " bytes";
+         (options.variational ? ", variational step" : "") + (options.reduced_form ? reduced_form_text(scene) : "") +
+         ", split from " + std::to_string(options.split_from_bytes) + " bytes";
 }
 
 std::string count_text(const OperationCount& c) {
@@ -126,7 +136,7 @@ void remember_compiled_header(const Scene& scene, ModelKind kind, const BuildOpt
   // The key of a compiled build: what build() looks up first.
   BuildOptions compiled = options;
   compiled.backend = Backend::compiled;
-  if (const std::optional<std::string> key = scene_cache_key(scene, kHeaderProduct, header_options_text(kind, compiled),
+  if (const std::optional<std::string> key = scene_cache_key(scene, kHeaderProduct, header_options_text(scene, kind, compiled),
                                                              scene_cache_version(), FingerprintScope::equations))
     SceneCache(library_directory, options.compile.warn).store(*key, header_record(header, jacobian));
 }
@@ -137,7 +147,7 @@ namespace {
 std::optional<std::string> header_key(const Scene& scene, ModelKind kind, const BuildOptions& options) {
   // Interpreted, the model needs the prepared instruction list: the header alone is not enough.
   if (options.backend == Backend::interpreted || !options.scene_cache || !scene_cache_enabled()) return std::nullopt;
-  return scene_cache_key(scene, kHeaderProduct, header_options_text(kind, options), scene_cache_version(),
+  return scene_cache_key(scene, kHeaderProduct, header_options_text(scene, kind, options), scene_cache_version(),
                          FingerprintScope::equations);
 }
 
