@@ -8,6 +8,7 @@
 // not at all (nhc/io/atomic_directory.hpp). Exit 3 when no model gets past t0.
 #include <cmath>
 
+#include "nhc/app/run_request.hpp"
 #include "nhc/app/law_input_values.hpp"
 #include "nhc/app/sampled_run.hpp"
 #include "nhc/primed_name.hpp"
@@ -71,14 +72,11 @@ CompareSettings settings_of(const CompareOptions& options, const Scene& scene) {
   s.coordinates = scene.jet->coordinates();
   s.given = scene.initial.values;
   s.t0 = scene.initial.t0;
-  s.t_end = options.t_end.value_or(scene.simulate.t_end);
+  s.t_end = app::run_t_end(scene, options.t_end, "--t-end");  // the flag is checked finite
   s.rtol = options.rtol.value_or(scene.simulate.rtol);
   s.atol = options.atol.value_or(scene.simulate.atol);
   s.outputs = options.outputs;
   s.tolerance = options.tolerance;
-  if (!std::isfinite(s.t_end) || !(s.t_end > s.t0))
-    throw InputError({"--t-end", 0, 0}, format_number(s.t_end, 17) + " must be a finite time after t0 = " +
-                                            format_number(s.t0, 17));
   s.times = flag_rules::output_times(s.t0, s.t_end, s.outputs, "--t-end/--outputs");
   return s;
 }

@@ -15,6 +15,7 @@
 #include "commands.hpp"
 #include "model_requirements.hpp"
 #include "flag_rules.hpp"
+#include "nhc/app/run_request.hpp"
 #include "nhc/connect/shooting.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/io/atomic_file.hpp"
@@ -186,9 +187,7 @@ CommandRunner add_connect_command(CLI::App& app) {
     const ModelKind kind = model_or_default(scene, options->model);
     require_model_inputs(scene, kind);  // exit 2 at the scene, as simulate
     refuse_inputs(scene, "boundary-value problems", "nhc connect");
-    if (!std::isfinite(options->t_end) || !(options->t_end > scene.initial.t0))
-      throw InputError({"--t-end", 0, 0}, "T = " + format_number(options->t_end, 17) + " must be after t0 = " +
-                                              format_number(scene.initial.t0, 17));
+    app::run_t_end(scene, options->t_end, "--t-end");  // required and checked finite by the flag
     const jit::LoadedModel built = jit::build(scene, kind);
     const runtime::Model& model = built.model();
 

@@ -15,6 +15,7 @@
 
 #include <unistd.h>
 
+#include "nhc/app/run_request.hpp"
 #include "nhc/app/sampled_run.hpp"
 #include "command_programs.hpp"
 #include "commands.hpp"
@@ -174,9 +175,7 @@ Prepared prepare(const EnsembleOptions& o, int ranks, int threads) {
   apply_initial_flags(scene, o.initial);
   const ModelKind kind = model_or_default(scene, o.model);
   require_model_inputs(scene, kind);
-  const double t0 = scene.initial.t0, t_end = o.t_end.value_or(scene.simulate.t_end);
-  if (!(t_end > t0))
-    bad_flag("--t-end " + format_number(t_end, 17), "must be after t0 = " + format_number(t0, 17) + " of " + o.scene_path);
+  const double t0 = scene.initial.t0, t_end = app::run_t_end(scene, o.t_end, "--t-end");
   flag_rules::output_times(t0, t_end, o.outputs, "--t-end/--outputs");  // they must not collapse
   check_output_file(o.output, {o.scene_path});
   check_writable(o.output);

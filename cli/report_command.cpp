@@ -22,6 +22,7 @@
 #include <map>
 #include <sstream>
 
+#include "nhc/app/run_request.hpp"
 #include "nhc/app/sampled_run.hpp"
 #include "commands.hpp"
 #include "model_requirements.hpp"
@@ -111,9 +112,7 @@ PreparedReport prepare(const ReportOptions& o) {
   if (const std::string problem = relative_tolerance_problem(o.reference_rtol); !problem.empty())
     throw InputError({"--reference-rtol", 0, 0}, "--reference-rtol " + fmt(o.reference_rtol) + " " + problem);
   s.atol_scale = o.atol_scale.value_or(r.scene.simulate.atol / r.scene.simulate.rtol);
-  s.t_end = o.t_end.value_or(r.scene.simulate.t_end);
-  if (!(s.t_end > r.scene.initial.t0))
-    throw InputError({o.scene_path, 0, 0}, "--t-end " + fmt(s.t_end, 17) + " must be after t0 = " + fmt(r.scene.initial.t0, 17));
+  s.t_end = app::run_t_end(r.scene, o.t_end, "--t-end", o.scene_path);  // located as simulate's
   s.outputs = o.outputs;
   flag_rules::output_times(r.scene.initial.t0, s.t_end, s.outputs, "--t-end/--outputs");  // they must not collapse
   s.max_repeats = o.repeats;
@@ -149,7 +148,7 @@ PreparedReport prepare(const ReportOptions& o) {
   }
   for (const std::string& a : o.set) {
     const auto [name, value] = split_assignment("--set", a);
-    s.parameter_overrides.emplace_back(name, parse_number("--set", value));
+    s.parameter_overrides.emplace_back(name, parse_number("--set", value, a));
   }
   if (!o.sweep.empty()) {
     const auto [name, range] = split_assignment("--sweep", o.sweep);

@@ -180,8 +180,36 @@ TEST_CASE("parameters set by --set P=V in simulate, analyze, generate and derive
     INFO(command);
     const Run unknown = nhc_run(command + " examples/appell_hamel.toml --set q=1 -o '" + dir + "/x'", dir);
     CHECK(unknown.exit_code == 2);
-    CHECK_THAT(unknown.err, Contains("--set: error: --set q=1: 'q' is not a parameter of the scene"));
-    CHECK(nhc_run(command + " examples/appell_hamel.toml --set b=abc", dir).exit_code == 2);
+    CHECK_THAT(unknown.err, Contains("--set: error: q=1: 'q' is not a parameter of the scene"));
+    // One line, the flag named once (its location), the assignment quoted as written (as --initial).
+    const Run nan = nhc_run(command + " examples/appell_hamel.toml --set b=abc", dir);
+    CHECK(nan.exit_code == 2);
+    CHECK(first_error(nan.err) == "--set: error: b=abc: 'abc' is not a number");
+    const Run bare = nhc_run(command + " examples/appell_hamel.toml --set b", dir);
+    CHECK(bare.exit_code == 2);
+    CHECK(first_error(bare.err) == "--set: error: b: expected NAME=VALUE");
+  }
+}
+
+TEST_CASE("a t0 from --initial after the scene's t_end asks for --t-end in every command that runs", "[cli][initial]") {
+  // examples/appell_hamel.toml: [simulate] t_end = 0.2; the rule is app::run_t_end, as simulate's.
+  const std::string dir = nhc::test::scratch_dir("first_hour_t_end_after_t0");
+  // Located at the scene (simulate, report) or the flag (compare, ensemble); the words are one rule's.
+  const auto message = [](const std::string& err) {
+    const std::string line = first_error(err);
+    const std::size_t at = line.find(": error: ");
+    return at == std::string::npos ? line : line.substr(at + 9);
+  };
+  const std::string wanted = "the scene's [simulate] t_end 0.2 is not after t0 = 1: give --t-end";
+  for (const std::string command : {"simulate", "report", "compare", "ensemble"}) {
+    INFO(command);
+    const std::string extra = command == "ensemble" ? " --vary b=1:2:2" : "";
+    const Run refused = nhc_run(command + " examples/appell_hamel.toml --initial t0=1" + extra + " -o '" + dir + "/x'", dir);
+    CHECK(refused.exit_code == 2);
+    CHECK(message(refused.err) == wanted);
+    const Run given = nhc_run(command + " examples/appell_hamel.toml --initial t0=1 --t-end 0.5" + extra + " -o '" + dir + "/x'", dir);
+    CHECK(given.exit_code == 2);
+    CHECK(message(given.err) == "--t-end 0.5 must be after t0 = 1");
   }
 }
 
@@ -204,7 +232,7 @@ TEST_CASE("a parameter the scene computes from others follows --set of those and
   CHECK(std::abs(csv_row(heavier.out, 2)[1] - 0.5 * 0.5 * 0.5) < 1e-9);  // uniform rolling
   const Run refused = nhc_run("simulate '" + scene + "' --set Ja=1 -o -", dir);
   CHECK(refused.exit_code == 2);
-  CHECK_THAT(refused.err, Contains("--set Ja=1: the scene computes 'Ja' from other parameters"));
+  CHECK_THAT(refused.err, Contains("--set: error: Ja=1: the scene computes 'Ja' from other parameters"));
 }
 
 TEST_CASE("output times and columns of simulate", "[cli][issue14]") {

@@ -12,11 +12,11 @@ namespace nhc::app {
 std::pair<std::string, std::string> split_assignment(const std::string& flag, const std::string& text) {
   const size_t eq = text.find('=');
   if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
-    throw InputError({flag, 0, 0}, flag + " " + text + ": expected NAME=VALUE");
+    throw InputError({flag, 0, 0}, text + ": expected NAME=VALUE");  // the flag is the location
   return {text.substr(0, eq), text.substr(eq + 1)};
 }
 
-double parse_number(const std::string& flag, const std::string& text) {
+double parse_number(const std::string& flag, const std::string& text, const std::string& written) {
   size_t used = 0;
   double v = NAN;
   try {
@@ -24,7 +24,7 @@ double parse_number(const std::string& flag, const std::string& text) {
   } catch (const std::exception&) {
     used = 0;
   }
-  if (used != text.size() || !std::isfinite(v)) throw InputError({flag, 0, 0}, flag + ": '" + text + "' is not a number");
+  if (used != text.size() || !std::isfinite(v)) throw InputError({flag, 0, 0}, (written.empty() ? "" : written + ": ") + "'" + text + "' is not a number");
   return v;
 }
 
@@ -32,9 +32,10 @@ std::vector<ParameterOverride> parse_parameter_overrides(const Scene& scene, con
   std::vector<ParameterOverride> overrides;
   for (const std::string& a : assignments) {
     const auto [name, value] = split_assignment("--set", a);
-    check_parameter_name(scene, name, "--set", "--set " + a);
-    const double v = parse_number("--set", value);
-    check_parameter_value(scene, name, v, "--set", "--set " + a);  // Python's set= obeys the same
+    // The message names the flag once (its location) and quotes the assignment as written.
+    check_parameter_name(scene, name, "--set", a);
+    const double v = parse_number("--set", value, a);
+    check_parameter_value(scene, name, v, "--set", a);  // Python's set= obeys the same
     overrides.push_back({name, v});
   }
   return overrides;

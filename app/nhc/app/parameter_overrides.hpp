@@ -21,8 +21,9 @@ struct ParameterOverride {
 
 /// "NAME=VALUE" → (NAME, VALUE); VALUE kept as text. InputError naming `flag` otherwise.
 std::pair<std::string, std::string> split_assignment(const std::string& flag, const std::string& text);
-/// A finite number, all of `text`; InputError naming `flag` otherwise.
-double parse_number(const std::string& flag, const std::string& text);
+/// A finite number, all of `text`; InputError at `flag` otherwise, quoting `written` (the whole
+/// assignment) when given.
+double parse_number(const std::string& flag, const std::string& text, const std::string& written = "");
 
 /// The assignments checked against the scene's [parameters] (the last of repeated names wins).
 std::vector<ParameterOverride> parse_parameter_overrides(const Scene& scene, const std::vector<std::string>& assignments);

@@ -8,6 +8,7 @@
 #include "nhc/app/scene_events.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/expr/jet_space.hpp"
+#include "nhc/runtime/number_text.hpp"
 #include "nhc/runtime/variational.hpp"
 #include "nhc/scene/tolerances.hpp"
 
@@ -75,6 +76,19 @@ void check_output_times(const std::vector<double>& times, double t0, const std::
   if (!(times.back() > t0)) bad("the last time must be after t0 = " + number(t0, 17));
 }
 
+double run_t_end(const Scene& scene, const std::optional<double>& t_end, const std::string& field,
+                 const std::string& where) {
+  using runtime::shortest_text;  // 0.2, not 0.20000000000000001
+  const std::string& at = where.empty() ? field : where;
+  const double t0 = scene.initial.t0;
+  if (t_end && !(*t_end > t0)) refuse(at, field + " " + shortest_text(*t_end) + " must be after t0 = " + shortest_text(t0));
+  // The scene's own t_end is after its own t0 (scene_loader.cpp); a t0 from outside may pass it.
+  if (!t_end && !(scene.simulate.t_end > t0))
+    refuse(at, "the scene's [simulate] t_end " + shortest_text(scene.simulate.t_end) + " is not after t0 = " +
+                   shortest_text(t0) + ": give " + field);
+  return t_end.value_or(scene.simulate.t_end);
+}
+
 void check_run_request(const RunRequest& r, const Scene& scene, ModelKind kind, const FieldNames& names) {
   if (r.t_end) check_value(names.t_end, *r.t_end, finite_problem);
   if (r.rtol) check_value(names.rtol, *r.rtol, relative_tolerance_problem);
@@ -84,12 +98,7 @@ void check_run_request(const RunRequest& r, const Scene& scene, ModelKind kind, 
   check_count(names.max_steps, r.max_steps, 1, kMaxSteps);
   if (r.output_times) check_output_times(*r.output_times, scene.initial.t0, names.output_times, r.output_times_text);
   const std::string here = names.at.empty() ? names.t_end : names.at;
-  if (r.t_end && !(*r.t_end > scene.initial.t0))
-    refuse(here, names.t_end + " " + number(*r.t_end, 17) + " must be after t0 = " + number(scene.initial.t0, 17));
-  // The scene's own t_end is after its own t0 (scene_loader.cpp); a t0 from outside may pass it.
-  if (!r.t_end && !r.output_times && !(scene.simulate.t_end > scene.initial.t0))
-    refuse(here, "the scene's [simulate] t_end " + number(scene.simulate.t_end, 17) + " is not after t0 = " +
-                     number(scene.initial.t0, 17) + ": give " + names.t_end);
+  if (r.t_end || !r.output_times) run_t_end(scene, r.t_end, names.t_end, here);  // output times end the run otherwise
   const std::string at_step = names.at.empty() ? names.step : names.at;
   if (!r.variational) {
     if (r.step) refuse(at_step, names.step + " is the fixed step of " + names.variational + "; IDA chooses its own");

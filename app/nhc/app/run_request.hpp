@@ -55,6 +55,13 @@ std::string count_problem(long long value, long long low, long long high);
 /// `field` ("--output-times"), the message quoting `text` as the caller wrote the times.
 void check_output_times(const std::vector<double>& times, double t0, const std::string& field, const std::string& text);
 
+/// The end of a run: `t_end` when given (by the flag or keyword `field`), else the scene's
+/// [simulate] t_end; either must be after the scene's t0 (a t0 from outside, `--initial t0=…`,
+/// may pass the scene's own t_end: then the message says to give `field`). InputError at `where`
+/// (`field` when empty) otherwise. The one rule of simulate, report, compare, ensemble and connect.
+double run_t_end(const Scene& scene, const std::optional<double>& t_end, const std::string& field,
+                 const std::string& where = "");
+
 /// Every rule of `request` against the scene (t0, [simulate]) and the model: InputError naming
 /// the field (in `names`) otherwise.
 void check_run_request(const RunRequest& request, const Scene& scene, ModelKind kind, const FieldNames& names);

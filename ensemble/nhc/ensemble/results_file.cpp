@@ -24,11 +24,44 @@ long EnsembleResults::finished() const {
 
 namespace {
 
+/// A failed HDF5 call. Why, as far as HDF5's error stack tells: memory or another resource of the
+/// machine (H5E_RESOURCE), no reason at all (out of memory, HDF5 cannot even record one: seen
+/// under `ulimit -v`), or a wrong call of nhc's (anything else: a bug).
+class Hdf5Failure : public std::runtime_error {
+ public:
+  enum class Cause { resource, unrecorded, call };
+  Hdf5Failure(const std::string& what, Cause cause) : std::runtime_error("HDF5: cannot " + what), cause_(cause) {}
+  Cause cause() const noexcept { return cause_; }
+
+ private:
+  Cause cause_;
+};
+
+struct StackReading {
+  int entries = 0;
+  bool resource = false;
+};
+
+herr_t read_entry(unsigned, const H5E_error2_t* entry, void* reading) {
+  auto& r = *static_cast<StackReading*>(reading);
+  ++r.entries;
+  if (entry->maj_num == H5E_RESOURCE) r.resource = true;
+  return 0;
+}
+
+/// The failure of the HDF5 call just made, read from HDF5's error stack before it is cleared.
+[[noreturn]] void fail(const std::string& what) {
+  StackReading r;
+  const bool read = H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, read_entry, &r) >= 0;
+  using Cause = Hdf5Failure::Cause;
+  throw Hdf5Failure(what, r.resource ? Cause::resource : (!read || r.entries == 0) ? Cause::unrecorded : Cause::call);
+}
+
 /// An HDF5 identifier closed by its own close function.
 class Handle {
  public:
   Handle(hid_t id, herr_t (*close)(hid_t), const std::string& what) : id_(id), close_(close) {
-    if (id_ < 0) throw std::runtime_error("HDF5: cannot " + what);
+    if (id_ < 0) fail(what);
   }
   ~Handle() {
     if (id_ >= 0) close_(id_);
@@ -44,7 +77,7 @@ class Handle {
 };
 
 void check(herr_t status, const std::string& what) {
-  if (status < 0) throw std::runtime_error("HDF5: cannot " + what);
+  if (status < 0) fail(what);
 }
 
 /// HDF5 prints its error stack on stderr by default; nhc reports failures in its own words.
@@ -369,7 +402,9 @@ void check_writable(const std::string& path) { check_can_create(path); }
 void write_results(const std::string& path, const EnsembleResults& results) {
   silence_hdf5();
   std::vector<char> image;
-  {  // a failure here is nhc's own (nothing of the machine is involved): it propagates as such
+  // A failure here is nhc's own (a wrong call: it propagates as such) unless HDF5 ran out of
+  // memory for the file it keeps there: then the machine cannot hold the results (exit 4).
+  try {
     Handle access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "make file access properties");
     check(H5Pset_fapl_core(access, 1 << 16, false), "keep the file in memory");
     Handle file(H5Fcreate("nhc-ensemble-in-memory.h5", H5F_ACC_TRUNC, H5P_DEFAULT, access), H5Fclose,
@@ -380,10 +415,14 @@ void write_results(const std::string& path, const EnsembleResults& results) {
     if (results.info.keep_trajectories) write_trajectories(file, results);
     check(H5Fflush(file, H5F_SCOPE_GLOBAL), "flush the file in memory");
     const ssize_t size = H5Fget_file_image(file, nullptr, 0);
-    if (size < 0) throw std::runtime_error("HDF5: cannot measure the file's image");
+    if (size < 0) fail("measure the file's image");
     image.resize(static_cast<std::size_t>(size));
-    if (H5Fget_file_image(file, image.data(), image.size()) != size)
-      throw std::runtime_error("HDF5: cannot copy the file's image");
+    if (H5Fget_file_image(file, image.data(), image.size()) != size) fail("copy the file's image");
+  } catch (const Hdf5Failure& e) {
+    if (e.cause() == Hdf5Failure::Cause::call) throw;  // nhc's bug: "internal error"
+    throw EnvironmentError("cannot write " + path + ": " + e.what() + " in memory: " +
+                           (e.cause() == Hdf5Failure::Cause::resource ? std::strerror(ENOMEM)
+                                                                       : "HDF5 gave no reason (out of memory?)"));
   }
   write_file_atomically(path, [&](std::ostream& out) { out.write(image.data(), static_cast<std::streamsize>(image.size())); });
 }
