@@ -11,27 +11,17 @@
 
 namespace nhc::app {
 
-namespace {
-
-/// A number as short as reads back (0.005, not 0.0050000000000000001).
-std::string shortest(double v) {
-  const std::string short_text = runtime::number_text(v, 15);
-  return std::isfinite(v) && std::stod(short_text) != v ? runtime::number_text(v, 17) : short_text;
-}
-
-}  // namespace
-
 std::vector<double> sample_times(double t0, double t_end, double period, const SourceLocation& where,
                                  const std::string& what) {
-  const std::string shown = what + " " + shortest(period);
+  const std::string shown = what + " " + runtime::shortest_text(period);
   if (!(std::isfinite(period) && period > 0))
     throw InputError(where, shown + ": the sample period must be a positive number");
   // The samples are t0 + k h; the run ends at the last one at or before t_end (1e-9 of a period
   // spares a t_end that is a whole number of periods written in decimals).
   const double count = std::floor((t_end - t0) / period + 1e-9);
   if (!(count >= 1))
-    throw InputError(where, shown + ": the run from t0 = " + shortest(t0) + " to t_end = " +
-                                shortest(t_end) + " is shorter than one period");
+    throw InputError(where, shown + ": the run from t0 = " + runtime::shortest_text(t0) + " to t_end = " +
+                                runtime::shortest_text(t_end) + " is shorter than one period");
   if (count > static_cast<double>(kMaxOutputs))
     throw InputError(where, shown + ": more than " + std::to_string(kMaxOutputs) + " samples up to t_end");
   std::vector<double> times;
@@ -39,7 +29,7 @@ std::vector<double> sample_times(double t0, double t_end, double period, const S
   for (long k = 0; k <= n; ++k) times.push_back(t0 + static_cast<double>(k) * period);
   if (const std::optional<std::size_t> i = runtime::collapsed_output_time(times))
     throw InputError(where, shown + ": samples " + std::to_string(*i - 1) + " and " + std::to_string(*i) +
-                                " fall on the same double at t = " + shortest(times[*i]));
+                                " fall on the same double at t = " + runtime::shortest_text(times[*i]));
   return times;
 }
 
@@ -94,8 +84,8 @@ SampledRun simulate_sampled(const runtime::Model& model, const std::vector<doubl
         if ((all_held || held[static_cast<std::size_t>(i)]) && !std::isfinite(u[static_cast<std::size_t>(i)]))
           throw runtime::SolverError(runtime::FailureKind::nonfinite_residual, samples[k],
                                      "the controller's input " + model.input_name(i) + " is " +
-                                         shortest(u[static_cast<std::size_t>(i)]) + " at t = " +
-                                         shortest(samples[k]) + " (sample " + std::to_string(k) + ")");
+                                         runtime::shortest_text(u[static_cast<std::size_t>(i)]) + " at t = " +
+                                         runtime::shortest_text(samples[k]) + " (sample " + std::to_string(k) + ")");
       // Zero-order hold from t_k on; the restart keeps the states and recomputes y' and the
       // algebraic states for the new inputs (Integrator::hold_inputs).
       if (all_held) {
