@@ -151,15 +151,50 @@ void check_run_flags(const RunFlags& flags, const Scene& scene, ModelKind kind) 
   app::check_run_request(run_request(flags, scene), scene, kind, field_names(flags));
 }
 
-FlaggedRun run_with_flags(const RunFlags& flags, const runtime::Model& model, const std::vector<double>& p,
-                          const runtime::InitialState& initial, const std::vector<double>& times,
-                          const runtime::IntegratorOptions& io, const runtime::InputFunction& inputs,
-                          const std::vector<runtime::Event>& events) {
-  app::RunRequest request;  // what app::integrate reads of it
-  request.variational = variational_integrator(flags);
-  request.step = flags.step;
-  request.max_steps = flags.max_steps;
-  return app::integrate(request, model, p, initial, times, io, events, inputs);
+void check_run_features(const RunFlags& flags, const Scene& scene, bool sensitivities) {
+  app::RunFeatures features;
+  features.controller = scene.controller.present;
+  features.controller_name = "the scene's [controller]";
+  features.controller_where = scene.controller.where.str();
+  for (const SceneControllerLaw& law : scene.controller.inputs) features.controlled_inputs.push_back(law.name);
+  for (const std::string& assignment : flags.inputs)
+    features.replaced_inputs.push_back(assignment.substr(0, assignment.find('=')));
+  features.sensitivities = sensitivities;
+  features.variational = variational_integrator(flags);
+  features.outputs = flags.outputs.has_value();
+  features.output_times = !flags.output_times.empty();
+  app::check_run_features(scene, features, field_names(flags));
+}
+
+std::vector<double> run_times(const RunFlags& flags, const Scene& scene) {
+  if (scene.controller.present) return app::scene_controller_samples(run_request(flags, scene), scene, field_names(flags));
+  return run_output_times(flags, scene);
+}
+
+app::RunPlan run_plan(const RunFlags& flags, const Scene& scene, const Scene& scene_set, ModelKind kind,
+                      const jit::BuildOptions& build_options, const runtime::Model& model, const std::vector<double>& p,
+                      const std::vector<double>& times, runtime::IntegratorOptions io,
+                      const runtime::InputFunction& inputs, std::shared_ptr<app::ControllerLaws> controller,
+                      std::optional<jit::LoadedModel>& sliding) {
+  app::RunPlan plan;
+  plan.scene = &scene_set;
+  plan.model = &model;
+  plan.p = p;
+  plan.initial = run_initial_state(flags, scene_set, model);
+  plan.times = times;
+  plan.options = std::move(io);
+  plan.events = run_events(flags, scene);
+  plan.inputs = inputs;
+  plan.request = run_request(flags, scene);
+  if (controller)
+    plan.control = app::RunControl{app::sample_law(controller), controller->held(), times, scene.controller.period,
+                                   controller};
+  if (!plan.request.variational)
+    if (const SceneContact* slide = app::sliding_contact(scene_set)) {
+      sliding.emplace(app::build_sliding_model(scene_set, *slide, kind, build_options));
+      plan.sliding_model = &sliding->model();
+    }
+  return plan;
 }
 
 std::vector<SceneEvent> run_events(const RunFlags& flags, const Scene& scene) {

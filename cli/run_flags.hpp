@@ -5,11 +5,12 @@
 
 #include <CLI/CLI.hpp>
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "nhc/app/integrate.hpp"
+#include "nhc/app/run_engine.hpp"
 #include "nhc/app/run_request.hpp"
 #include "nhc/jit/build.hpp"
 #include "nhc/runtime/runtime.hpp"
@@ -62,13 +63,22 @@ inline bool variational_integrator(const RunFlags& flags) { return flags.integra
 /// The jit backend --backend names.
 jit::Backend run_backend(const RunFlags& flags);
 
-/// A run as the flags ask for it (app::integrate): IDA, or the variational integrator
-/// (docs/variational.md), whose largest discrete-constraint residual comes with it.
-using FlaggedRun = app::IntegratedRun;
-FlaggedRun run_with_flags(const RunFlags& flags, const runtime::Model& model, const std::vector<double>& p,
-                          const runtime::InitialState& initial, const std::vector<double>& times,
-                          const runtime::IntegratorOptions& io, const runtime::InputFunction& inputs,
-                          const std::vector<runtime::Event>& events = {});
+/// The engine's refusals (app::check_run_features) for the flags on `scene` (after load_run_scene:
+/// `flags.inputs` holds the replaced signals), with `sensitivities` asked for: before anything is built.
+void check_run_features(const RunFlags& flags, const Scene& scene, bool sensitivities);
+
+/// The output times: the scene [controller]'s samples when it has one, else run_output_times.
+std::vector<double> run_times(const RunFlags& flags, const Scene& scene);
+
+/// The run the flags ask for, as the engine's plan (app/run_engine.hpp), on `model` with the
+/// parameter values `p` of `scene_set` (the scene after --set): the output times (run_times), the
+/// events, the inputs `inputs`, the scene's controller `controller` (null: none), and the sliding
+/// model of a contact that slides, built into `sliding` as `kind` with `build_options`.
+app::RunPlan run_plan(const RunFlags& flags, const Scene& scene, const Scene& scene_set, ModelKind kind,
+                      const jit::BuildOptions& build_options, const runtime::Model& model, const std::vector<double>& p,
+                      const std::vector<double>& times, runtime::IntegratorOptions io,
+                      const runtime::InputFunction& inputs, std::shared_ptr<app::ControllerLaws> controller,
+                      std::optional<jit::LoadedModel>& sliding);
 
 /// The run's events: the scene's [events] and --stop-when (app::run_events).
 std::vector<SceneEvent> run_events(const RunFlags& flags, const Scene& scene);

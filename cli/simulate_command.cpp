@@ -18,7 +18,6 @@
 #include "commands.hpp"
 #include "flag_rules.hpp"
 #include "output_selection.hpp"
-#include "nhc/app/law_input_values.hpp"
 #include "nhc/app/scene_outputs.hpp"
 #include "input_signals.hpp"
 #include "parameter_overrides.hpp"
@@ -26,8 +25,7 @@
 #include "model_requirements.hpp"
 #include "nhc/app/preparation.hpp"
 #include "nhc/app/scene_events.hpp"
-#include "nhc/app/sampled_run.hpp"
-#include "nhc/app/switched_run.hpp"
+#include "nhc/app/run_engine.hpp"
 #include "nhc/derive/models.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/io/atomic_file.hpp"
@@ -85,39 +83,19 @@ int run_simulate(SimulateOptions& options) {
   const Scene scene = load_run_scene(options.run);
   const ModelKind kind = model_or_default(scene, options.run.model);
   require_model_inputs(scene, kind);
-  // Sensitivities follow the inputs' default signals, whose dependence on the parameters the
-  // generated dF/dp includes; an --input replacing one has none (docs/runtime.md, "Sensitivities").
-  if (!options.sensitivity.names.empty() && !options.run.inputs.empty())
-    throw InputError({"--input", 0, 0}, "--sensitivity follows the scene's default input signals: it does not go with "
-                                        "--input (the derivative of a replaced input by the parameters is not known)");
   check_run_flags(options.run, scene, kind);  // before anything is compiled or written
-  // The scene's [controller]: the run goes from sample to sample (app/sampled_run.hpp).
+  // The scene's [controller]: the run goes from sample to sample (app/run_engine.hpp).
   const bool sampled = scene.controller.present;
-  if (sampled) {
-    if (!options.sensitivity.names.empty())
-      throw InputError({"--sensitivity", 0, 0}, "--sensitivity: the scene's [controller] (" +
-                                                    scene.controller.where.str() + ") is not differentiated");
-    for (const std::string& assignment : options.run.inputs) {
-      const std::string name = assignment.substr(0, assignment.find('='));
-      for (const SceneControllerLaw& law : scene.controller.inputs)
-        if (law.name == name)
-          throw InputError({"--input", 0, 0}, "--input " + name + ": the scene's [controller] sets it (" +
-                                                  law.where.str() + ")");
-    }
-    if (app::sliding_contact(scene))
-      throw InputError(scene.controller.where, "a [controller] and a contact that slides (on_slip = \"slide\") do not "
-                                               "go together yet: the sampled run integrates one model");
-  }
   const bool variational = variational_integrator(options.run);
-  if (variational && !options.sensitivity.names.empty())
-    throw InputError({options.run.scene_path, 0, 0},
-                     "--sensitivity integrates with IDAS; it does not go with --integrator variational");
+  check_run_features(options.run, scene, !options.sensitivity.names.empty());  // the engine's refusals
   const bool csv_to_stdout = options.output == "-";
   const std::vector<SceneEvent> scene_events = run_events(options.run, scene);
   // The event table beside the CSV (docs/scenes.md, [events]).
-  const bool write_event_table = (!scene_events.empty() || app::sliding_contact(scene)) && !options.output.empty() &&
-                                 !csv_to_stdout;
-  const std::string events_path = write_event_table ? app::events_csv_path(options.output) : std::string();
+  std::string side_note;  // -o a device or FIFO: no file beside it (the output policy, nhc/io/output_path.hpp)
+  const std::string events_path = !scene_events.empty() || app::sliding_contact(scene)
+                                      ? app::side_file_path(options.output, app::events_csv_path, side_note)
+                                      : std::string();
+  const bool write_event_table = !events_path.empty();
   // Every file the run reads: the scene and the --input series (nhc/io/output_path.hpp).
   std::vector<std::string> inputs = input_files(options.run.inputs);
   inputs.insert(inputs.begin(), options.run.scene_path);
@@ -131,9 +109,7 @@ int run_simulate(SimulateOptions& options) {
   Scene scene_set = scene;  // the overridden values for the analysis; the model takes them at run time
   apply_parameter_overrides(scene_set, overrides);
   const double t0 = scene.initial.t0;
-  const std::vector<double> times =
-      sampled ? app::scene_controller_samples(run_request(options.run, scene), scene, app::command_line_names())
-              : run_output_times(options.run, scene);
+  const std::vector<double> times = run_times(options.run, scene);
   const double t_end = times.back();
   const auto inputs_start = Clock::now();
   const InputSignals input_signals = parse_input_signals(scene_set, options.run.inputs, t0, t_end);
@@ -188,47 +164,24 @@ int run_simulate(SimulateOptions& options) {
                               : parse_columns(options.columns, csv_columns(model, p, outputs, extra));
   const runtime::InitialState initial = run_initial_state(options.run, scene_set, model);
   if (build_options.sensitivities) check_sensitivities_given(model, initial, options.sensitivity.names);
-  // Events are located by IDA in the plain run; the sensitivities' run and the variational
-  // integrator locate none (--stop-when is refused with the latter, app::run_events).
-  const std::vector<runtime::Event> events = app::runtime_events(scene_events, scene_set, model, p);
-  if (!events.empty() && (variational || build_options.sensitivities))
-    std::cerr << "note: the scene's [events] are located by IDA in a plain run only: "
-              << (variational ? "the variational integrator" : "the run with sensitivities") << " ignores them\n";
-  // A contact with on_slip = "slide": the run switches between the rolling and the sliding model
-  // (app/switched_run.hpp); in the plain IDA run only, like the events.
-  const SceneContact* slide = variational || build_options.sensitivities ? nullptr : app::sliding_contact(scene_set);
-  if (!slide && app::sliding_contact(scene_set))
-    std::cerr << "note: contact '" << app::sliding_contact(scene_set)->name << "' slides (on_slip = \"slide\") in a plain IDA run only: "
-              << (variational ? "the variational integrator" : "the run with sensitivities") << " integrates the rolling model\n";
-  FlaggedRun flagged;
-  std::vector<std::string> switch_notes;
-  std::vector<app::SlidingSpan> sliding_spans;
-  if (sampled) {
-    io.progress = nullptr;  // one integration per sample: a bar would restart at every one
-    app::SampledRun s = app::simulate_sampled(model, p, initial, times, io, app::sample_law(controller),
-                                              controller->held(), input_function(input_signals, model, p));
-    flagged.run = std::move(s.run);
-    controller_columns.rows = controller->state_history();
-    controller_columns.rows.resize(flagged.run.samples.size());
-  } else if (slide) {
-    const jit::LoadedModel sliding = app::build_sliding_model(scene_set, *slide, kind, build_options);
-    app::SwitchedRun switched = app::simulate_switched(scene_set, *slide, model, sliding.model(), p, initial, times, io,
-                                                       scene_events, input_function(input_signals, model, p));
-    flagged.run = std::move(switched.run);
-    switch_notes = std::move(switched.notes);
-    sliding_spans = switched.sliding;
+  // The run: app::simulate, the one engine of every front end (app/run_engine.hpp).
+  std::optional<jit::LoadedModel> sliding;
+  const app::RunPlan plan = run_plan(options.run, scene, scene_set, kind, build_options, model, p, times, io,
+                                     input_function(input_signals, model, p), controller, sliding);
+  app::RunOutcome outcome = app::simulate(plan);
+  if (sampled) controller_columns.rows = outcome.controller_rows, controller_columns.rows.resize(outcome.run.samples.size());
+  if (outcome.slide && !outcome.sliding.empty()) {
     std::vector<std::pair<double, double>> spans;
-    for (const app::SlidingSpan& s : switched.sliding) spans.emplace_back(s.from, s.to);
-    outputs.contacts().set_sliding(slide->name, spans, !switched.sliding.empty() && switched.sliding[0].from_included);
-  } else {
-    flagged = run_with_flags(options.run, model, p, initial, times, io, input_function(input_signals, model, p), events);
+    for (const app::SlidingSpan& s : outcome.sliding) spans.emplace_back(s.from, s.to);
+    outputs.contacts().set_sliding(outcome.slide->name, spans, outcome.sliding[0].from_included);
   }
-  app::record_law_inputs(scene_set, model, p, flagged.run.samples);  // the laws' input:NAME columns
-  const runtime::RunResult& run = flagged.run;
+  const runtime::RunResult& run = outcome.run;
   std::optional<runtime::SensitivityRun> sensitivities;  // --sensitivity: the CSV comes from this run
-  if (build_options.sensitivities)
-    sensitivities = run_sensitivities(model, p, initial, times, io, options.sensitivity);
-  if (sensitivities) app::record_law_inputs(scene_set, model, p, sensitivities->samples);
+  if (build_options.sensitivities) {
+    runtime::SensitivityOptions so;
+    so.error_control = options.sensitivity.error_control == "on";
+    sensitivities = app::simulate_sensitivities(plan, parse_sensitivities(model, options.sensitivity.names), so);
+  }
   auto write_rows = [&](std::ostream& out) {
     if (sensitivities)
       runtime::write_sensitivity_csv(out, model, p, parse_sensitivities(model, options.sensitivity.names),
@@ -253,16 +206,8 @@ int run_simulate(SimulateOptions& options) {
   // Summary.
   const runtime::Statistics& st = run.statistics;
   // A contact that slid: the rolling model's hidden constraints and invariants hold while it
-  // rolls; the drift is measured over those samples.
-  std::vector<runtime::Sample> rolling_samples;
-  if (!sliding_spans.empty()) {
-    rolling_samples = app::rolling_samples(run.samples, sliding_spans);
-    switch_notes.push_back("the drift above is measured over the samples where contact " + slide->name +
-                           " rolls (" + std::to_string(rolling_samples.size()) + " of " +
-                           std::to_string(run.samples.size()) + ")");
-  }
-  const runtime::DriftReport drift =
-      runtime::measure_drift(model, p, sliding_spans.empty() ? run.samples : rolling_samples);
+  // rolls; the drift is measured over those samples (app::RunOutcome::drift_samples).
+  const runtime::DriftReport drift = runtime::measure_drift(model, p, outcome.drift_samples);
   const bool started = !run.samples.empty();
   info << "nhc simulate: " << scene.name << ", model " << to_string(kind);
   if (started)
@@ -295,17 +240,18 @@ int run_simulate(SimulateOptions& options) {
   if (sensitivities) info << describe_sensitivity_cost(*sensitivities, options.sensitivity, st);
   // Errors and drifts of a run without a sample would read as zeros: there are none to report.
   if (started) write_drift_summary(info, scene, model, kind, drift);
-  if (started && flagged.max_discrete_constraint)
-    info << "  max discrete-constraint residual " << format(*flagged.max_discrete_constraint)
+  if (started && outcome.max_discrete_constraint)
+    info << "  max discrete-constraint residual " << format(*outcome.max_discrete_constraint)
          << " (the constraints the steps solve; the hidden constraints above are evaluated at the\n"
             "  node velocities (q_{k+1} - q_{k-1})/2h and their interpolants, O(h^2): docs/variational.md)\n";
 
   for (const std::string& line : outputs.contacts().need_lines(run.samples)) info << "  " << line << "\n";
-  for (const std::string& line : switch_notes) info << "  " << line << "\n";
+  for (const std::string& line : outcome.notes) info << "  " << line << "\n";
   for (const runtime::EventHit& hit : run.events) {  // a contact's slip in words (contact_forces.hpp)
     const std::optional<std::string> slip = outputs.contacts().slip_line(hit);
     info << "  " << (slip ? *slip : app::event_line(hit)) << "\n";
   }
+  if (!side_note.empty()) info << "  " << side_note << "\n";
   if (write_event_table && started) {
     write_file_atomically(events_path, [&](std::ostream& out) { app::write_events_csv(out, run.events); });
     info << "  wrote " << events_path << " (" << run.events.size() << " event" << (run.events.size() == 1 ? "" : "s")

@@ -1,6 +1,6 @@
 # Type stubs of the compiled module nhc._nhc (python/src/*.cpp, pybind11): the private layer under
 # nhc.Scene and nhc.Model, so that type checkers and editors see through the package.
-from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -58,12 +58,9 @@ class _Model:
                  inputs: Optional[Callable[[float, npt.NDArray[np.float64]], Sequence[float]]] = ...,
                  max_steps: int = ..., sensitivity: Optional[List[str]] = ..., integrator: str = ...,
                  step: Optional[float] = ..., stop_when: Optional[str] = ...,
-                 initial: Optional[List[Tuple[str, float]]] = ..., t0: Optional[float] = ...) -> Dict[str, Any]: ...
-    def simulate_sampled(self, t_end: Optional[float] = ..., rtol: Optional[float] = ..., atol: Optional[float] = ...,
-                         max_steps: int = ..., initial: Optional[List[Tuple[str, float]]] = ...,
-                         t0: Optional[float] = ...,
-                         controller: Optional[Callable[[float, npt.NDArray[np.float64], Any], Tuple[Sequence[float], Any]]] = ...,
-                         period: Optional[float] = ..., controller_state: Any = ...) -> Dict[str, Any]: ...
+                 initial: Optional[List[Tuple[str, float]]] = ..., t0: Optional[float] = ...,
+                 controller: Union[Callable[[float, npt.NDArray[np.float64], Any], Tuple[Sequence[float], Any]], bool, None] = ...,
+                 period: Optional[float] = ..., controller_state: Any = ...) -> Dict[str, Any]: ...
     @property
     def has_controller(self) -> bool: ...
     @property

@@ -207,9 +207,11 @@ class Model:
             are the samples; the run ends at the last one at or before `t_end` (without it, the scene's
             ``[simulate]`` t_end, t0 + 1 without one, as a plain run). Without a function, a
             scene with ``[controller]`` runs that (its states are the columns
-            ``"controller:NAME"``); ``controller=False`` runs such a scene without it. Not with
-            `inputs`, `outputs`, `output_times`, `sensitivity`, `stop_when` or the variational
-            integrator. The one loop of ``nhc simulate``'s (docs/scenes.md, "Sampled controllers").
+            ``"controller:NAME"``); ``controller=False`` runs such a scene without it. The scene's
+            ``[events]``, `stop_when` and its contacts (stop and slide) are located between the
+            samples; not with `outputs`, `output_times`, `sensitivity` or the variational
+            integrator, nor `inputs` with a function controller (it sets every input). The one
+            engine of ``nhc simulate``'s (docs/combinations.md).
         :param period: the controller's sample period h (with a controller function).
         :param controller_state: the controller's state at t0 (passed to its first call; each call
             returns the next).
@@ -220,26 +222,8 @@ class Model:
         Ctrl-C (KeyboardInterrupt) stops a long run."""
         if controller is None and self._model.has_controller:
             controller = True  # the scene's [controller]
-        if controller is not False and (controller is not None or period is not None):
-            if (inputs is not None or outputs is not None or output_times is not None or sensitivity is not None
-                    or stop_when is not None or integrator != "ida"):
-                raise SceneError("a sampled controller runs IDA from sample to sample: it does not take inputs, "
-                                 "outputs, output_times, sensitivity, stop_when or another integrator"
-                                 + (" (controller=False runs the scene without its [controller])"
-                                    if controller is True else ""))
-            if controller is None:
-                raise SceneError("period= goes with controller= (a function f(t, y, state) -> (inputs, new_state))")
-            f = controller if callable(controller) else None
-            result = self._model.simulate_sampled(
-                None if t_end is None else float(t_end), None if rtol is None else float(rtol),
-                None if atol is None else float(atol), _count("max_steps", max_steps),
-                None if initial is None else [(str(k), float(v)) for k, v in initial.items()],
-                None if t0 is None else float(t0), f, None if period is None else float(period), controller_state)
-            if "failure" in result:
-                error = MathError(result["failure"], t=result["failure_t"])
-                error.run = Run(result)
-                raise error
-            return Run(result)
+        if controller is False:
+            controller = None  # the scene without its [controller]
         times = None if output_times is None else [float(t) for t in _np.asarray(output_times).ravel()]
         names = None if sensitivity is None else [sensitivity] if isinstance(sensitivity, str) else list(sensitivity)
         def number(value: Optional[float]) -> Optional[float]:
@@ -250,7 +234,7 @@ class Model:
                                       _count("max_steps", max_steps), names, str(integrator), number(step),
                                       None if stop_when is None else str(stop_when),
                                       None if initial is None else [(str(k), float(v)) for k, v in initial.items()],
-                                      number(t0))
+                                      number(t0), controller, number(period), controller_state)
         if "failure" in result:
             error = MathError(result["failure"], t=result["failure_t"])
             error.run = Run(result)  # the motion up to the failure

@@ -17,16 +17,13 @@
 #include "model_argument.hpp"
 #include "nhc/app/parameter_values.hpp"
 #include "nhc/app/initial_values.hpp"
-#include "nhc/app/integrate.hpp"
 #include "nhc/app/pipeline.hpp"
 #include "nhc/app/preparation.hpp"
 #include "nhc/app/parameter_overrides.hpp"
 #include "nhc/app/run_request.hpp"
 #include "nhc/app/scene_events.hpp"
-#include "nhc/app/sampled_run.hpp"
-#include "nhc/app/law_input_values.hpp"
+#include "nhc/app/run_engine.hpp"
 #include "nhc/app/scene_outputs.hpp"
-#include "nhc/app/switched_run.hpp"
 #include "nhc/analysis/structural_analysis.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/jit.hpp"
@@ -203,7 +200,7 @@ struct InterruptCheck {
 /// `extra` entries (the sensitivities' counters) are added to it.
 py::cpp_function summary_of(const BuiltModel& built, const runtime::Model& model, std::vector<double> p,
                             const runtime::Statistics& st, std::vector<runtime::Sample> samples,
-                            std::map<std::string, long> extra = {}) {
+                            std::map<std::string, long> extra = {}, bool reference_applies = true) {
   struct Run {
     std::vector<double> p;
     runtime::Statistics statistics;
@@ -215,7 +212,7 @@ py::cpp_function summary_of(const BuiltModel& built, const runtime::Model& model
   // the function lives; the timings are the plain build's.
   const jit::BuildTimings timings = built.loaded->timings();
   return py::cpp_function([keep = built.loaded, keep_sensitivities = built.with_sensitivities,
-                           keep_variational = built.with_variational_step, timings, &model, run]() {
+                           keep_variational = built.with_variational_step, timings, &model, run, reference_applies]() {
     const runtime::Statistics& st = run->statistics;
     py::dict summary;
     summary["steps"] = st.steps;
@@ -231,7 +228,13 @@ py::cpp_function summary_of(const BuiltModel& built, const runtime::Model& model
     for (const auto& [name, value] : run->extra) summary[py::str(name)] = value;
     const runtime::DriftReport drift = runtime::measure_drift(model, run->p, run->samples);
     summary["hidden_drift"] = drift.max_hidden;
-    summary["reference_error"] = drift.max_error;
+    if (reference_applies || model.n_reference() == 0) {
+      summary["reference_error"] = drift.max_error;
+    } else {  // the closed forms are of the scene's own start (docs/combinations.md)
+      summary["reference_error"] = py::none();
+      summary["reference_note"] = "no reference error: the closed forms of [reference] start from the scene's own "
+                                  "[initial], and initial= or t0= moved the start";
+    }
     py::dict invariant_drift;
     for (int k = 0; k < model.n_invariants(); ++k)
       invariant_drift[py::str(model.table().invariant_names[k])] = drift.invariant_drift[static_cast<std::size_t>(k)];
@@ -289,31 +292,31 @@ std::string join_numbers(const std::vector<double>& values) {
   return out;
 }
 
-/// simulate(sensitivity=[names]): the run with IDAS's forward sensitivities; the columns are the
-/// plain ones followed by d(<state>)/d(<name>) (runtime::sensitivity_csv_header).
-py::dict simulate_sensitivities(const BuiltModel& built, const Scene& scene, const std::vector<std::string>& names,
-                                const std::vector<double>& times, runtime::IntegratorOptions options,
-                                InterruptCheck interrupt) {
+/// simulate(sensitivity=[names]): the run with IDAS's forward sensitivities
+/// (app::simulate_sensitivities); the columns are the plain ones followed by
+/// d(<state>)/d(<name>) (runtime::sensitivity_csv_header).
+py::dict simulate_sensitivities(const BuiltModel& built, app::RunPlan plan, const std::vector<std::string>& names,
+                                InterruptCheck interrupt, bool reference_applies) {
+  const Scene& scene = *plan.scene;
   const runtime::Model& plain = built.model();  // the inputs follow their default signals
   std::vector<runtime::SensitivityParameter> thetas;
-  const runtime::InitialState initial = app::initial_state_of(scene, plain);
   for (const std::string& name : names)  // as nhc simulate --sensitivity
     app::refuse_unread_parameter(scene, plain, name, "sensitivity", "its sensitivities are all zero");
   try {
     thetas = runtime::sensitivity_parameters(plain, names);
     if (thetas.empty()) throw std::invalid_argument("no quantity to differentiate by");
-    runtime::require_given(thetas, initial);
+    runtime::require_given(thetas, plan.initial);
   } catch (const std::invalid_argument& e) {
     throw InputError({"sensitivity", 0, 0}, e.what());
   }
-  options.stop_requested = interrupt;
+  plan.options.stop_requested = interrupt;
   const std::vector<double>& p = built.parameters;
   runtime::SensitivityRun run;
-  const runtime::Model* model = nullptr;
-  model = &built.model_for(thetas);  // a build: symbolic work, with the GIL
+  const runtime::Model* model = &built.model_for(thetas);  // a build: symbolic work, with the GIL
+  plan.model = model;
   try {
     py::gil_scoped_release unlocked;
-    run = runtime::simulate_sensitivities(*model, p, initial, thetas, times, options);
+    run = app::simulate_sensitivities(plan, thetas, {});
   } catch (...) {  // stopped before the first sample (the initialization): still KeyboardInterrupt
     if (*interrupt.raised) throw std::move(**interrupt.raised);
     throw;
@@ -325,123 +328,47 @@ py::dict simulate_sensitivities(const BuiltModel& built, const Scene& scene, con
   columns.insert(columns.end(), sensitivity_columns.begin(), sensitivity_columns.end());
   std::vector<runtime::Sample> states;
   for (const runtime::SensitivitySample& s : run.samples) states.push_back(s.state());
-  app::record_law_inputs(scene, *model, p, states);  // what the [inputs] laws applied
   py::array_t<double> data = data_of(*model, p, states, columns.size(), [&](std::size_t r, std::vector<double>& v) {
     runtime::sensitivity_values(*model, run.samples[r], v);
   });
   return result_of(py::cast(columns), std::move(data),
                    summary_of(built, *model, p, run.statistics.state, std::move(states),
-                              {{"sensitivity_residual_evaluations", run.statistics.sensitivity_residual_evaluations}}),
+                              {{"sensitivity_residual_evaluations", run.statistics.sensitivity_residual_evaluations}},
+                              reference_applies),
                    run.failure);
 }
 
-/// simulate(controller=f, period=h) and the scene's [controller]: app::simulate_sampled, the one
-/// loop of both (app/sampled_run.hpp). `controller` none: the scene's [controller]; else
-/// f(t, y, state) -> (inputs, new_state), called with the GIL at each sample. An exception in f
-/// ends the run and is raised afterwards.
-py::dict simulate_sampled(const BuiltModel& built, const std::optional<double>& t_end, const std::optional<double>& rtol,
-                          const std::optional<double>& atol, long long max_steps,
-                          const std::optional<std::vector<std::pair<std::string, double>>>& initial_values,
-                          const std::optional<double>& t0_value, const std::optional<py::function>& controller,
-                          const std::optional<double>& period, py::object controller_state) {
-  Scene scene = built.scene;
-  std::vector<app::InitialValue> given;
-  if (t0_value) given.push_back({"t0", *t0_value, "t0=" + runtime::number_text(*t0_value, 17)});
-  if (initial_values)
-    for (const auto& [name, value] : *initial_values)
-      given.push_back({name, value, "initial['" + name + "'] = " + runtime::number_text(value, 17)});
-  app::apply_initial_values(scene, given, initial_values ? "initial" : "t0");
-  app::RunRequest request;
-  request.t_end = t_end;
-  request.rtol = rtol;
-  request.atol = atol;
-  request.max_steps = max_steps;
-  app::check_run_request(request, scene, built.kind, app::python_names());
-  const runtime::Model& model = built.model();
-  const std::vector<double>& p = built.parameters;
-  std::vector<double> samples;
-  std::shared_ptr<app::ControllerLaws> laws;
-  app::SampleLaw law;
-  std::vector<bool> held;
-  auto failure = std::make_shared<std::optional<py::error_already_set>>();
-  auto state = std::make_shared<py::object>(std::move(controller_state));
-  if (controller) {
-    if (!period) throw InputError({"period", 0, 0}, "controller= needs period= (the sample period h)");
-    samples = app::sample_times(scene.initial.t0, t_end.value_or(scene.simulate.t_end), *period, {"period", 0, 0},
-                                "period");
-    const py::function f = *controller;
-    const int n_states = model.n_states(), n_inputs = model.n_inputs();
-    law = [f, state, failure, n_states, n_inputs](const runtime::Sample& reached) -> std::vector<double> {
-      py::gil_scoped_acquire locked;
-      try {
-        const py::array_t<double> y(n_states, reached.y.data());
-        const py::object returned = f(reached.t, y, *state);
-        const py::tuple pair(returned);  // any pair: (u, state) or [u, state]
-        if (pair.size() != 2) throw py::type_error("the controller " + describe(f) + " must return (inputs, new_state)");
-        const py::object first = pair[0];
-        const py::array_t<double, py::array::c_style | py::array::forcecast> values(first);
-        if (values.size() != n_inputs)
-          throw py::type_error("the controller " + describe(f) + " returned " + std::to_string(values.size()) +
-                               " inputs, the model has " + std::to_string(n_inputs));
-        *state = py::object(pair[1]);
-        return std::vector<double>(values.data(), values.data() + n_inputs);
-      } catch (py::error_already_set& e) {
-        failure->emplace(std::move(e));
-      } catch (const py::builtin_exception& e) {
-        e.set_error();
-        failure->emplace();
-      }
-      throw runtime::SolverError(runtime::FailureKind::stopped, reached.t, "the controller raised an exception");
-    };
-  } else {
-    if (!scene.controller.present)
-      throw InputError({"controller", 0, 0}, "the scene has no [controller]: give controller= and period=");
-    if (period) throw InputError({"period", 0, 0}, "period= goes with controller=; the scene's [controller] has its own");
-    samples = app::scene_controller_samples(request, scene, app::python_names());
-    laws = symbolic_work([&] { return std::make_shared<app::ControllerLaws>(scene, model, p); });
-    law = app::sample_law(laws);
-    held = laws->held();
-  }
-  runtime::IntegratorOptions options = app::run_integrator_options(request, scene);
-  const InterruptCheck interrupt;
-  options.stop_requested = interrupt;
-  app::SampledRun sampled;
-  try {
-    py::gil_scoped_release unlocked;
-    const runtime::InitialState initial = runtime::initial_state_from(model, scene.initial.t0, scene.initial.values);
-    sampled = app::simulate_sampled(model, p, initial, samples, options, law, held);
-  } catch (...) {
-    if (*interrupt.raised) throw std::move(**interrupt.raised);
-    throw;
-  }
-  if (*failure) throw std::move(**failure);
-  if (*interrupt.raised) throw std::move(**interrupt.raised);
-  runtime::RunResult& run = sampled.run;
-  if (run.failure && run.samples.empty()) throw *run.failure;
-  app::record_law_inputs(scene, model, p, run.samples);  // what the [inputs] laws applied
-  // The model's columns, the scene's [outputs] and [contacts], then the controller's states.
-  py::list names(built.columns());
-  std::optional<app::SceneOutputs> scene_outputs;
-  if (!scene.outputs.empty() || !scene.contacts.empty()) scene_outputs.emplace(scene, model, p);
-  if (scene_outputs)
-    for (const std::string& name : scene_outputs->names()) names.append(name);
-  if (laws)
-    for (const std::string& name : laws->state_columns()) names.append(name);
-  std::function<void(std::size_t, std::vector<double>&)> extra_values = [&](std::size_t r, std::vector<double>& v) {
-    v.clear();
-    if (scene_outputs) v = scene_outputs->evaluate(run.samples[r]);
-    if (laws) v.insert(v.end(), laws->state_history().at(r).begin(), laws->state_history().at(r).end());
+/// A Python controller f(t, y, state) -> (inputs, new_state) as the engine's sample law, called
+/// with the GIL at each sample. An exception in f ends the run (kept in `failure`, raised after it).
+app::SampleLaw python_controller(const py::function& f, std::shared_ptr<py::object> state, int n_states, int n_inputs,
+                                 std::shared_ptr<std::optional<py::error_already_set>> failure) {
+  return [f, state, failure, n_states, n_inputs](const runtime::Sample& reached) -> std::vector<double> {
+    py::gil_scoped_acquire locked;
+    try {
+      const py::array_t<double> y(n_states, reached.y.data());
+      const py::object returned = f(reached.t, y, *state);
+      const py::tuple pair(returned);  // any pair: (u, state) or [u, state]
+      if (pair.size() != 2) throw py::type_error("the controller " + describe(f) + " must return (inputs, new_state)");
+      const py::object first = pair[0];
+      const py::array_t<double, py::array::c_style | py::array::forcecast> values(first);
+      if (values.size() != n_inputs)
+        throw py::type_error("the controller " + describe(f) + " returned " + std::to_string(values.size()) +
+                             " inputs, the model has " + std::to_string(n_inputs));
+      *state = py::object(pair[1]);
+      return std::vector<double>(values.data(), values.data() + n_inputs);
+    } catch (py::error_already_set& e) {
+      failure->emplace(std::move(e));
+    } catch (const py::builtin_exception& e) {
+      e.set_error();
+      failure->emplace();
+    }
+    throw runtime::SolverError(runtime::FailureKind::stopped, reached.t, "the controller raised an exception");
   };
-  py::array_t<double> data = data_of(model, p, run.samples, names.size(), extra_values);
-  py::dict result = result_of(py::tuple(names), std::move(data),
-                              summary_of(built, model, p, run.statistics, run.samples,
-                                         {{"samples", static_cast<long>(run.samples.size())},
-                                          {"controller_calls", sampled.controller_calls}}),
-                              run.failure);
-  result["events"] = py::list();
-  return result;
 }
 
+/// Model.simulate: the arguments translated into the engine's plan (app/run_engine.hpp), the one
+/// run of nhc simulate's too. `controller`: None (none), True (the scene's [controller]) or
+/// f(t, y, state) -> (inputs, new_state) with `period`.
 py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, const std::optional<double>& rtol,
                   const std::optional<double>& atol, const std::optional<long long>& outputs,
                   const std::optional<std::vector<double>>& output_times, const std::optional<py::function>& inputs,
@@ -449,7 +376,8 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
                   const std::string& integrator, const std::optional<double>& step,
                   const std::optional<std::string>& stop_when,
                   const std::optional<std::vector<std::pair<std::string, double>>>& initial_values,
-                  const std::optional<double>& t0_value) {
+                  const std::optional<double>& t0_value, const py::object& controller,
+                  const std::optional<double>& period, py::object controller_state) {
   const bool variational = integrator == "variational";
   // initial= and t0= are [initial] values written from outside, the command line's --initial rule.
   Scene scene = built.scene;
@@ -459,10 +387,21 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
     for (const auto& [name, value] : *initial_values)
       given.push_back({name, value, name + " = " + runtime::number_text(value, 17)});
   app::apply_initial_values(scene, given, "initial");
+  // The closed forms of [reference] are of the scene's own start (docs/combinations.md).
+  const bool reference_applies = !t0_value && (!initial_values || initial_values->empty());
   if (!variational && integrator != "ida")
     throw InputError({"integrator", 0, 0}, "integrator '" + integrator + "': ida or variational");
-  if (variational && sensitivity)
-    throw InputError({"sensitivity", 0, 0}, "forward sensitivities integrate with IDAS, not the variational integrator");
+  const bool scene_controller = !controller.is_none() && py::isinstance<py::bool_>(controller) && controller.cast<bool>();
+  const bool function_controller = !controller.is_none() && !py::isinstance<py::bool_>(controller);
+  if (function_controller && !PyCallable_Check(controller.ptr()))
+    throw InputError({"controller", 0, 0}, "controller= must be a function f(t, y, state) -> (inputs, new_state)");
+  if (period && !function_controller)
+    throw InputError({"period", 0, 0}, scene_controller
+                                           ? "period= goes with controller=; the scene's [controller] has its own"
+                                           : "period= goes with controller= (a function f(t, y, state) -> (inputs, new_state))");
+  if (function_controller && !period) throw InputError({"period", 0, 0}, "controller= needs period= (the sample period h)");
+  if (scene_controller && !scene.controller.present)
+    throw InputError({"controller", 0, 0}, "the scene has no [controller]: give controller= and period=");
   // The command line's rules (nhc/app/run_request.hpp), in the arguments' names; what is not
   // given is the scene's [simulate].
   app::RunRequest request;
@@ -478,95 +417,119 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   request.variational = variational;
   request.step = step;
   request.stop_when = stop_when;
+  app::RunFeatures features;  // what the engine refuses to combine
+  features.controller = scene_controller || function_controller;
+  features.controller_name = scene_controller ? "the scene's [controller]" : "the controller";
+  features.controller_where = scene_controller ? scene.controller.where.str() : "controller=";
+  if (scene_controller)
+    for (const SceneControllerLaw& law : scene.controller.inputs) features.controlled_inputs.push_back(law.name);
+  features.controls_all_inputs = function_controller;
+  features.inputs_function = inputs.has_value();
+  features.sensitivities = sensitivity.has_value();
+  features.variational = variational;
+  features.outputs = outputs.has_value();
+  features.output_times = output_times.has_value();
+  app::check_run_features(scene, features, app::python_names());
   app::check_run_request(request, scene, built.kind, app::python_names());
-  const std::vector<SceneEvent> scene_events = app::run_events(request, scene, app::python_names());
   const runtime::Model& model = built.model();
-  const std::vector<double> times = app::run_output_times(request, scene, app::python_names());
-  runtime::IntegratorOptions options = app::run_integrator_options(request, scene);
-  const InterruptCheck interrupt;
-  if (sensitivity) {
-    if (inputs)
-      throw InputError({"inputs", 0, 0}, "forward sensitivities follow the scene's default input signals: they do not "
-                                         "take an inputs function (its derivative by the parameters is not known)");
-    return simulate_sensitivities(built, scene, *sensitivity, times, options, interrupt);
-  }
-  options.stop_requested = interrupt;
   const std::vector<double>& p = built.parameters;
-  runtime::InputFunction input_function;
+  std::vector<double> times;
+  if (scene_controller)
+    times = app::scene_controller_samples(request, scene, app::python_names());
+  else if (function_controller)
+    times = app::sample_times(scene.initial.t0, app::run_t_end(scene, t_end, "t_end"), *period, {"period", 0, 0}, "period");
+  else
+    times = app::run_output_times(request, scene, app::python_names());
+  const InterruptCheck interrupt;
+  app::RunPlan plan;
+  plan.scene = &scene;
+  plan.model = &model;
+  plan.p = p;
+  plan.times = times;
+  plan.options = app::run_integrator_options(request, scene);
+  plan.events = app::run_events(request, scene, app::python_names());
+  plan.request = request;
+  plan.initial = app::initial_state_of(scene, model);
+  if (sensitivity) {
+    if (model.n_inputs() == 0 && inputs) throw InputError({"inputs", 0, 0}, "the scene has no [inputs]");
+    return simulate_sensitivities(built, std::move(plan), *sensitivity, interrupt, reference_applies);
+  }
+  plan.options.stop_requested = interrupt;
   std::shared_ptr<std::optional<py::error_already_set>> input_failure;
   if (inputs) {
     if (model.n_inputs() == 0) throw InputError({"inputs", 0, 0}, "the scene has no [inputs]");
     PythonInputs python_inputs{*inputs, model.n_states(), model.n_inputs()};
     input_failure = python_inputs.failure;
-    input_function = python_inputs;
+    plan.inputs = python_inputs;
   }
-  // Events are located by IDA in the plain run (app::run_events refuses stop_when otherwise).
-  const std::vector<runtime::Event> events =
-      variational ? std::vector<runtime::Event>{} : app::runtime_events(scene_events, scene, model, p);
-  runtime::RunResult run;
-  const runtime::Model* run_model = &model;
+  // The controller: the scene's laws, or the Python function.
+  std::shared_ptr<app::ControllerLaws> laws;
+  auto controller_failure = std::make_shared<std::optional<py::error_already_set>>();
+  if (scene_controller) {
+    laws = symbolic_work([&] { return std::make_shared<app::ControllerLaws>(scene, model, p); });
+    plan.control = app::RunControl{app::sample_law(laws), laws->held(), times, scene.controller.period, laws};
+  } else if (function_controller) {
+    plan.control = app::RunControl{python_controller(controller, std::make_shared<py::object>(std::move(controller_state)),
+                                                     model.n_states(), model.n_inputs(), controller_failure),
+                                   {}, times, *period, nullptr};
+  }
   std::map<std::string, long> extra;
-  std::optional<double> max_discrete_constraint;
-  if (variational) run_model = &built.variational_model();  // a build: symbolic work, with the GIL
-  // A contact with on_slip = "slide": the run switches between the rolling and the sliding model
-  // (app/switched_run.hpp), as nhc simulate's.
-  const SceneContact* slide = variational ? nullptr : app::sliding_contact(built.scene);
+  if (variational) plan.model = &built.variational_model();  // a build: symbolic work, with the GIL
+  const runtime::Model& run_model = *plan.model;
+  // A contact with on_slip = "slide": its sliding model, built here (with the GIL).
   std::shared_ptr<jit::LoadedModel> sliding;
-  if (slide)
-    sliding = std::make_shared<jit::LoadedModel>(
-        symbolic_work([&] { return app::build_sliding_model(built.scene, *slide, built.kind, {}); }));
-  std::vector<app::SlidingSpan> sliding_spans;
+  if (!variational)
+    if (const SceneContact* slide = app::sliding_contact(built.scene)) {
+      sliding = std::make_shared<jit::LoadedModel>(
+          symbolic_work([&] { return app::build_sliding_model(built.scene, *slide, built.kind, {}); }));
+      plan.sliding_model = &sliding->model();
+    }
+  app::RunOutcome outcome;
   try {
     py::gil_scoped_release unlocked;
-    const runtime::InitialState initial = app::initial_state_of(scene, model);
-    if (slide) {
-      app::SwitchedRun switched = app::simulate_switched(built.scene, *slide, model, sliding->model(), p, initial, times,
-                                                         options, scene_events, input_function);
-      run = std::move(switched.run);
-      sliding_spans = std::move(switched.sliding);
-    } else {  // IDA or the variational integrator, as nhc simulate's --integrator
-      app::IntegratedRun integrated =
-          app::integrate(request, *run_model, p, initial, times, options, events, input_function);
-      run = std::move(integrated.run);
-      max_discrete_constraint = integrated.max_discrete_constraint;
-      if (variational) extra["newton_iterations"] = run.statistics.nonlinear_iterations;
-    }
+    outcome = app::simulate(plan);
   } catch (...) {
     if (*interrupt.raised) throw std::move(**interrupt.raised);
     throw;
   }
+  if (*controller_failure) throw std::move(**controller_failure);
   if (input_failure && *input_failure) throw std::move(**input_failure);
   if (*interrupt.raised) throw std::move(**interrupt.raised);
+  runtime::RunResult& run = outcome.run;
   if (run.failure && run.samples.empty()) throw *run.failure;
-  app::record_law_inputs(scene, *run_model, p, run.samples);  // what the [inputs] laws applied
-  // The scene's [outputs] and [contacts] after the model's columns, as nhc simulate's CSV has them (an output
-  // the model does not compute is left out; a required one is a SceneError).
-  py::object columns = built.columns();
+  if (variational) extra["newton_iterations"] = run.statistics.nonlinear_iterations;
+  if (plan.control) {
+    extra["samples"] = static_cast<long>(run.samples.size());
+    extra["controller_calls"] = outcome.controller_calls;
+  }
+  // The scene's [outputs] and [contacts] after the model's columns, as nhc simulate's CSV has them
+  // (an output the model does not compute is left out; a required one is a SceneError), then the
+  // controller's states.
   std::optional<app::SceneOutputs> scene_outputs;
-  if (!scene.outputs.empty() || !scene.contacts.empty()) scene_outputs.emplace(scene, *run_model, p);
-  if (slide && scene_outputs) {
+  if (!scene.outputs.empty() || !scene.contacts.empty()) scene_outputs.emplace(scene, run_model, p);
+  if (outcome.slide && scene_outputs && !outcome.sliding.empty()) {
     std::vector<std::pair<double, double>> spans;
-    for (const app::SlidingSpan& s : sliding_spans) spans.emplace_back(s.from, s.to);
-    scene_outputs->contacts().set_sliding(slide->name, spans, !sliding_spans.empty() && sliding_spans[0].from_included);
+    for (const app::SlidingSpan& s : outcome.sliding) spans.emplace_back(s.from, s.to);
+    scene_outputs->contacts().set_sliding(outcome.slide->name, spans, outcome.sliding[0].from_included);
   }
-  std::size_t n_columns = built.columns().size();
-  std::function<void(std::size_t, std::vector<double>&)> output_values;
-  if (scene_outputs && !scene_outputs->empty()) {
-    py::list names(built.columns());
+  py::list names(built.columns());
+  if (scene_outputs)
     for (const std::string& name : scene_outputs->names()) names.append(name);
-    columns = py::tuple(names);
-    n_columns += scene_outputs->names().size();
-    output_values = [&](std::size_t r, std::vector<double>& v) { v = scene_outputs->evaluate(run.samples[r]); };
-  }
-  py::array_t<double> data = data_of(*run_model, p, run.samples, n_columns, output_values);
-  py::dict result = result_of(columns, std::move(data),
+  if (laws)
+    for (const std::string& name : laws->state_columns()) names.append(name);
+  std::function<void(std::size_t, std::vector<double>&)> extra_values = [&](std::size_t r, std::vector<double>& v) {
+    v.clear();
+    if (scene_outputs) v = scene_outputs->evaluate(run.samples[r]);
+    if (laws && r < outcome.controller_rows.size())
+      v.insert(v.end(), outcome.controller_rows[r].begin(), outcome.controller_rows[r].end());
+  };
+  py::array_t<double> data = data_of(run_model, p, run.samples, names.size(), extra_values);
+  py::dict result = result_of(py::tuple(names), std::move(data),
                               // a contact that slid: the drift over the samples where it rolls, as nhc simulate's
-                              summary_of(built, *run_model, p, run.statistics,
-                                         sliding_spans.empty() ? std::move(run.samples)
-                                                               : app::rolling_samples(run.samples, sliding_spans),
-                                         extra),
+                              summary_of(built, run_model, p, run.statistics, std::move(outcome.drift_samples), extra,
+                                         reference_applies),
                               run.failure);
-  if (max_discrete_constraint) result["max_discrete_constraint"] = *max_discrete_constraint;
+  if (outcome.max_discrete_constraint) result["max_discrete_constraint"] = *outcome.max_discrete_constraint;
   py::list hits;  // run.events: name, t, the state at the crossing by state name
   for (const runtime::EventHit& hit : run.events) {
     py::dict event, state;
@@ -827,11 +790,8 @@ void register_model(py::module_& m) {
            py::arg("atol") = std::nullopt, py::arg("outputs") = std::nullopt,
            py::arg("output_times") = std::nullopt, py::arg("inputs") = std::nullopt, py::arg("max_steps") = 1000000,
            py::arg("sensitivity") = std::nullopt, py::arg("integrator") = "ida", py::arg("step") = std::nullopt,
-           py::arg("stop_when") = std::nullopt, py::arg("initial") = std::nullopt, py::arg("t0") = std::nullopt)
-      .def("simulate_sampled", &simulate_sampled, py::arg("t_end") = std::nullopt, py::arg("rtol") = std::nullopt,
-           py::arg("atol") = std::nullopt, py::arg("max_steps") = 1000000, py::arg("initial") = std::nullopt,
-           py::arg("t0") = std::nullopt, py::arg("controller") = std::nullopt, py::arg("period") = std::nullopt,
-           py::arg("controller_state") = py::none())
+           py::arg("stop_when") = std::nullopt, py::arg("initial") = std::nullopt, py::arg("t0") = std::nullopt,
+           py::arg("controller") = py::none(), py::arg("period") = std::nullopt, py::arg("controller_state") = py::none())
       .def_property_readonly("has_controller", [](const BuiltModel& b) { return b.scene.controller.present; })
       .def_property_readonly("inputs",
                              [](const BuiltModel& b) {

@@ -667,10 +667,15 @@ def test_scene_controller_refusals(source, tmp_path):
                          (["--t-end", "0.005"], "is shorter than one period")):
         done = subprocess.run([nhc_command(), "simulate", str(path), *flags], capture_output=True, text=True)
         assert done.returncode == 2 and words in done.stderr and done.stdout == "", (flags, done.stderr)
-    done = subprocess.run([nhc_command(), "animate", str(path), "-o", str(tmp_path / "a.html")],
+    # nhc animate runs the scene's [controller] through the same engine (app/run_engine.hpp): its
+    # rows are the samples, and the same refusals hold.
+    done = subprocess.run([nhc_command(), "animate", str(path), "--t-end", "0.1", "-o", str(tmp_path / "a")],
                           capture_output=True, text=True)
-    assert done.returncode == 2 and "does not run the scene's [controller]" in done.stderr, done.stderr
-    assert not (tmp_path / "a.html").exists()
+    assert done.returncode == 0 and ", 11 samples," in done.stdout, done.stdout + done.stderr
+    done = subprocess.run([nhc_command(), "animate", str(path), "--outputs", "10", "-o", str(tmp_path / "b")],
+                          capture_output=True, text=True)
+    assert done.returncode == 2 and "--outputs: the scene's [controller] runs from sample to sample" in done.stderr
+    assert not (tmp_path / "b").exists()
     # An acceleration is not a state: located at the expression when the model is known.
     bad = tmp_path / "accelerating.toml"
     bad.write_text(text.replace('update = { z = "z + period*x" }', 'update = { z = "z + period*th\'\'" }'))

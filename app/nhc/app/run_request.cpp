@@ -43,13 +43,15 @@ void check_count(const std::string& field, long long value, long long low, long 
 const FieldNames& command_line_names() {
   static const FieldNames names{"--t-end", "--rtol",    "--atol",    "--outputs",
                                 "--output-times", "--max-steps", "--step", "--project",
-                                "--integrator variational", "--step H", "", "--stop-when"};
+                                "--integrator variational", "--step H", "", "--stop-when",
+                                "--sensitivity", "--input"};
   return names;
 }
 
 const FieldNames& python_names() {
   static const FieldNames names{"t_end",  "rtol",  "atol",    "outputs", "output_times", "max_steps",
-                                "step",   "project", "integrator='variational'", "step=H", "", "stop_when"};
+                                "step",   "project", "integrator='variational'", "step=H", "", "stop_when",
+                                "sensitivity", "inputs"};
   return names;
 }
 

@@ -28,6 +28,8 @@ struct FieldNames {
   std::string step_value;   ///< a step written out ("--step H")
   std::string at;           ///< where the checks against the scene are located (the scene file); else the field
   std::string stop_when;    ///< the event that ends the run ("--stop-when")
+  std::string sensitivity;  ///< the forward sensitivities ("--sensitivity")
+  std::string inputs;       ///< inputs replaced from outside ("--input")
 };
 const FieldNames& command_line_names();
 const FieldNames& python_names();

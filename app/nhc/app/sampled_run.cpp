@@ -39,7 +39,6 @@ std::vector<double> scene_controller_samples(const RunRequest& request, const Sc
                           controller.where.str() + ")";
   if (request.outputs) throw InputError({names.outputs, 0, 0}, names.outputs + why);
   if (request.output_times) throw InputError({names.output_times, 0, 0}, names.output_times + why);
-  if (request.stop_when) throw InputError({names.stop_when, 0, 0}, names.stop_when + why);
   if (request.variational) throw InputError({names.variational, 0, 0}, names.variational + why);
   const double t0 = scene.initial.t0;
   return sample_times(t0, request.t_end.value_or(scene.simulate.t_end), controller.period, controller.period_where,
@@ -50,63 +49,6 @@ void refuse_scene_controller(const Scene& scene, const std::string& command) {
   if (!scene.controller.present) return;
   throw InputError(scene.controller.where, command + " does not run the scene's [controller] (a sampled controller): "
                                            "nhc simulate and Python's Model.simulate do; without the table it runs open loop");
-}
-
-SampledRun simulate_sampled(const runtime::Model& model, const std::vector<double>& p,
-                            const runtime::InitialState& initial, const std::vector<double>& samples,
-                            const runtime::IntegratorOptions& options, const SampleLaw& law,
-                            const std::vector<bool>& held, const runtime::InputFunction& others) {
-  SampledRun out;
-  runtime::Integrator integrator(model, p, options);
-  const int n_inputs = model.n_inputs();
-  const bool all_held = held.empty() || std::all_of(held.begin(), held.end(), [](bool h) { return h; });
-  // The inputs the controller does not set, between the samples and at the initial point.
-  auto defaults = std::make_shared<runtime::InputValues>(model, p);
-  runtime::InputFunction free_inputs = others;
-  if (!free_inputs)
-    free_inputs = [defaults, n_parameters = model.n_parameters(), n_inputs](double t, const double* y, double* u) {
-      const double* values = defaults->at(t, y);
-      std::copy(values + n_parameters, values + n_parameters + n_inputs, u);
-    };
-  if (others) integrator.set_inputs(others);
-  try {
-    runtime::Sample reached = integrator.initialize(initial, samples.size() > 1 ? samples[1] : initial.t0 + 1.0);
-    out.run.initial = reached;
-    for (std::size_t k = 0; k < samples.size(); ++k) {
-      if (k > 0) integrator.integrate({samples[k]}, [&](const runtime::Sample& s) { reached = s; });
-      reached.t = samples[k];  // IDA stops there exactly (its stop time)
-      std::vector<double> u = law(reached);
-      ++out.controller_calls;
-      if (static_cast<int>(u.size()) != n_inputs)
-        throw std::invalid_argument("the controller returned " + std::to_string(u.size()) + " inputs; the model has " +
-                                    std::to_string(n_inputs));
-      for (int i = 0; i < n_inputs; ++i)
-        if ((all_held || held[static_cast<std::size_t>(i)]) && !std::isfinite(u[static_cast<std::size_t>(i)]))
-          throw runtime::SolverError(runtime::FailureKind::nonfinite_residual, samples[k],
-                                     "the controller's input " + model.input_name(i) + " is " +
-                                         runtime::shortest_text(u[static_cast<std::size_t>(i)]) + " at t = " +
-                                         runtime::shortest_text(samples[k]) + " (sample " + std::to_string(k) + ")");
-      // Zero-order hold from t_k on; the restart keeps the states and recomputes y' and the
-      // algebraic states for the new inputs (Integrator::hold_inputs).
-      if (all_held) {
-        integrator.hold_inputs(std::move(u));
-      } else {
-        integrator.set_inputs([u, held, free_inputs](double t, const double* y, double* values) {
-          free_inputs(t, y, values);
-          for (std::size_t i = 0; i < held.size(); ++i)
-            if (held[i]) values[i] = u[i];
-        });
-      }
-      runtime::Sample row = integrator.point();
-      row.t = samples[k];
-      out.run.samples.push_back(std::move(row));
-    }
-  } catch (const runtime::SolverError& e) {
-    out.run.failure = e;
-  }
-  out.run.statistics = integrator.statistics();
-  out.run.events = integrator.events();
-  return out;
 }
 
 ControllerLaws::ControllerLaws(const Scene& scene, const runtime::Model& model, const std::vector<double>& p)
@@ -151,7 +93,7 @@ ControllerLaws::ControllerLaws(const Scene& scene, const runtime::Model& model, 
 std::vector<double> ControllerLaws::operator()(const runtime::Sample& reached) {
   history_.push_back(z_);
   const std::vector<double> values = expressions_.evaluate(reached, z_);
-  std::vector<double> u = reached.u;  // the inputs it does not set are not held (simulate_sampled's `held`)
+  std::vector<double> u = reached.u;  // the inputs it does not set are not held (RunControl::held)
   const std::size_t n_laws = input_slots_.size();
   for (std::size_t k = 0; k < n_laws; ++k) u.at(static_cast<std::size_t>(input_slots_[k])) = values[k];
   for (std::size_t k = 0; k < z_.size(); ++k) z_[k] = values[n_laws + k];

@@ -1,11 +1,11 @@
 #pragma once
 /// \file sampled_run.hpp
-/// \brief A run under a sampled (discrete-time) controller (docs/scenes.md, "Sampled
-/// controllers"): the one loop behind the scene's [controller] (`nhc simulate`, Python's
-/// Model.simulate) and Python's simulate(controller=f, period=h). At each sample t_k = t0 + k h
-/// (computed so, not accumulated) the controller reads the state the run reached, returns the
-/// inputs it holds until the next sample (zero-order hold), and the integrator restarts exactly
-/// there: the states stay, y' and the algebraic states are recomputed for the new inputs.
+/// \brief A sampled (discrete-time) controller (docs/scenes.md, "Sampled controllers"): its
+/// sample times and the scene's [controller] laws. The run engine (run_engine.hpp) runs it: at
+/// each sample t_k = t0 + k h (computed so, not accumulated) the controller reads the state the
+/// run reached, returns the inputs it holds until the next sample (zero-order hold), and the
+/// integrator restarts exactly there: the states stay, y' and the algebraic states are
+/// recomputed for the new inputs.
 
 #include <functional>
 #include <memory>
@@ -31,32 +31,14 @@ using SampleLaw = std::function<std::vector<double>(const runtime::Sample& reach
 std::vector<double> sample_times(double t0, double t_end, double period, const SourceLocation& where,
                                  const std::string& what);
 
-/// A run under the scene's [controller]: its rows are the samples, so `outputs`, `output_times`,
-/// `stop_when` and the variational integrator are refused (InputError at the field, in `names`'
+/// A run under the scene's [controller]: its rows are the samples (and the point of an event
+/// that ends the run), so `outputs`, `output_times` and the variational integrator are refused (InputError at the field, in `names`'
 /// words); the sample times from t0 to the request's t_end, else [simulate]'s.
 std::vector<double> scene_controller_samples(const RunRequest& request, const Scene& scene, const FieldNames& names);
 
 /// Commands that do not run a sampled controller (animate, report, compare, ensemble) refuse a
 /// scene with one rather than run it open loop: InputError at the [controller] table.
 void refuse_scene_controller(const Scene& scene, const std::string& command);
-
-struct SampledRun {
-  /// One sample per t_k: the state reached there, with y', the algebraic states and Sample::u
-  /// those of the inputs held from t_k on (at the last sample, those the controller would hold
-  /// next: it is called there too, so that every row is the same kind of row).
-  runtime::RunResult run;
-  long controller_calls = 0;
-};
-
-/// Integrates from `initial` through `samples` (sample_times) under `law`. `held`: the inputs
-/// the controller holds (empty: all); the others follow `others` (empty: their default
-/// signals) between the samples, and its values for them are ignored. A failure (of the
-/// integrator, or held inputs that are not finite numbers) ends the run with the samples up to
-/// there; an exception from `law` itself passes through.
-SampledRun simulate_sampled(const runtime::Model& model, const std::vector<double>& p,
-                            const runtime::InitialState& initial, const std::vector<double>& samples,
-                            const runtime::IntegratorOptions& options, const SampleLaw& law,
-                            const std::vector<bool>& held = {}, const runtime::InputFunction& others = {});
 
 /// The scene's [controller] on a model: its input laws and updates evaluated at the samples.
 /// Inputs it does not set follow their default signals.
@@ -66,12 +48,14 @@ class ControllerLaws {
   /// acceleration, x'' of a second-order system), or an input the model does not read.
   ControllerLaws(const Scene& scene, const runtime::Model& model, const std::vector<double>& p);
 
-  /// Which of the model's inputs the controller sets (simulate_sampled's `held`).
+  /// Which of the model's inputs the controller sets (RunControl::held, run_engine.hpp).
   const std::vector<bool>& held() const noexcept { return held_; }
   /// The column names of the discrete states ("controller:z"), in the scene's order.
   const std::vector<std::string>& state_columns() const noexcept { return columns_; }
   /// The discrete states' values at each sample the law was called at (z_k), in call order.
   const std::vector<std::vector<double>>& state_history() const noexcept { return history_; }
+  /// The discrete states now (after the last call's update: those the next call reads).
+  const std::vector<double>& state() const noexcept { return z_; }
 
   /// u_k from (t_k, y(t_k), z_k), then z_{k+1} = update(t_k, y(t_k), z_k).
   std::vector<double> operator()(const runtime::Sample& reached);
