@@ -49,8 +49,11 @@ std::string format(double v, int precision = 3) { return format_number(v, precis
 /// The run's drift lines: the reference error, the hidden (or, for suslov, monitored) constraints
 /// and the invariants over the samples.
 void write_drift_summary(std::ostream& info, const Scene& scene, const runtime::Model& model, ModelKind kind,
-                         const runtime::DriftReport& drift) {
-  if (model.n_reference() > 0) info << "  max reference error " << format(drift.max_error) << "\n";
+                         const runtime::DriftReport& drift, bool reference_applies) {
+  if (model.n_reference() > 0 && reference_applies) info << "  max reference error " << format(drift.max_error) << "\n";
+  if (model.n_reference() > 0 && !reference_applies)  // docs/combinations.md
+    info << "  no reference error: the closed forms of [reference] start from the scene's own [initial], and "
+            "--initial moved the start\n";
   if (kind == ModelKind::suslov) {
     // Suslov's model monitors its constraints instead of enforcing them (models.md): their
     // values are the CSV's constraint:f<i> columns, zero at t0 (the start point of nhc analyze).
@@ -239,7 +242,7 @@ int run_simulate(SimulateOptions& options) {
   info << "\n";
   if (sensitivities) info << describe_sensitivity_cost(*sensitivities, options.sensitivity, st);
   // Errors and drifts of a run without a sample would read as zeros: there are none to report.
-  if (started) write_drift_summary(info, scene, model, kind, drift);
+  if (started) write_drift_summary(info, scene, model, kind, drift, options.run.initial.empty());
   if (started && outcome.max_discrete_constraint)
     info << "  max discrete-constraint residual " << format(*outcome.max_discrete_constraint)
          << " (the constraints the steps solve; the hidden constraints above are evaluated at the\n"

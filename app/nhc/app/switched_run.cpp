@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "nhc/app/contact_forces.hpp"
+#include "nhc/app/parameter_values.hpp"
 #include "nhc/app/sample_expressions.hpp"
 #include "nhc/app/scene_events.hpp"
 #include "nhc/errors.hpp"
@@ -109,13 +110,12 @@ jit::LoadedModel build_sliding_model(const Scene& scene, const SceneContact& con
 ContactSwitch::ContactSwitch(const Scene& scene, const SceneContact& contact, const runtime::Model& rolling,
                              const runtime::Model& sliding, const std::vector<double>& p)
     : scene_(&scene), contact_(&contact), rolling_(&rolling), sliding_(&sliding) {
-  ps_.resize(static_cast<std::size_t>(sliding.n_parameters()));
-  const std::vector<double> sliding_defaults = sliding.default_parameters();
-  for (int j = 0; j < sliding.n_parameters(); ++j) {
-    const int i = rolling.parameter_index(sliding.table().parameter_names[j]);
-    ps_[static_cast<std::size_t>(j)] =
-        i >= 0 ? p.at(static_cast<std::size_t>(i)) : sliding_defaults[static_cast<std::size_t>(j)];
-  }
+  // The rolling model's values by name; a parameter only the Coulomb force reads (g of a normal
+  // force m*g: the rolling equations do not use it) takes the run's scene's value, --set included.
+  ps_ = model_parameters(sliding, scene);
+  for (int j = 0; j < sliding.n_parameters(); ++j)
+    if (const int i = rolling.parameter_index(sliding.table().parameter_names[j]); i >= 0)
+      ps_[static_cast<std::size_t>(j)] = p.at(static_cast<std::size_t>(i));
   // Where the rolling model's states are found in the sliding model's (by name; the multipliers
   // of the remaining constraints renumbered), or which friction component they are.
   std::map<std::string, int> sliding_states;
