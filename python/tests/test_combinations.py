@@ -363,9 +363,9 @@ wheel = { shape = "sphere", radius = "r", center = "[x, 0, r]" }
 
 
 def test_animate_goes_through_the_engine(tmp_path):
-    """nhc animate: the initial-point check (given values that miss the rolling constraint are
-    refused in the analysis' words, exit 2, no page) and on_slip = "slide" (the launched cylinder
-    slides, then rolls: the stick at v0/(3 mu g), docs/contacts.md eq. (6))."""
+    """nhc animate: on_slip = "slide" (the launched cylinder slides, then rolls: the stick at
+    v0/(3 mu g), docs/contacts.md eq. (6)), and with "stop" the same words and exit code as nhc
+    simulate for given values that miss the rolling constraint (no page)."""
     text = scene_text({"contact slide"}).replace('T = "k*t"', 'T = "0"').replace("x = [0.0, 0.0]", "x = [0.0, 3.0]")
     path = tmp_path / "launched.toml"
     path.write_text(text + VISUAL_CYLINDER)
@@ -384,5 +384,8 @@ def test_animate_goes_through_the_engine(tmp_path):
     stopped.write_text(text.replace('on_slip = "slide"', 'on_slip = "stop"') + VISUAL_CYLINDER)
     done = subprocess.run([nhc_command(), "animate", str(stopped), "-o", str(tmp_path / "refused")],
                           capture_output=True, text=True)
-    assert done.returncode == 2 and "x' - r*th'" in done.stderr, done.stderr
+    simulated = subprocess.run([nhc_command(), "simulate", str(stopped)], capture_output=True, text=True)
+    assert done.returncode == simulated.returncode == 3, done.stderr
+    assert "violate hidden constraint f1 at t0 = 0" in done.stderr
+    assert done.stderr.splitlines()[0] == simulated.stderr.splitlines()[0]
     assert not (tmp_path / "refused").exists()
