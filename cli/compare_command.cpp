@@ -9,7 +9,7 @@
 #include <cmath>
 
 #include "nhc/app/run_request.hpp"
-#include "nhc/app/law_input_values.hpp"
+#include "nhc/app/run_engine.hpp"
 #include "nhc/app/sampled_run.hpp"
 #include "nhc/primed_name.hpp"
 #include <iostream>
@@ -143,8 +143,21 @@ ComparedModel run_model(const Scene& scene, ModelKind kind, const CompareSetting
   io.rtol = settings.rtol;
   io.atol = settings.atol;
   const std::vector<double> p = model.default_parameters();
-  runtime::RunResult run = runtime::simulate(model, p, initial_state_of(scene, model), settings.times, io);
-  app::record_law_inputs(scene, model, p, run.samples);  // what the [inputs] laws applied
+  // The run engine's (app/run_engine.hpp) with the motions compared whole: no event ends one; a
+  // contact that slides switches to its sliding model, as in nhc simulate.
+  app::RunPlan plan;
+  plan.scene = &scene;
+  plan.model = &model;
+  plan.p = p;
+  plan.initial = initial_state_of(scene, model);
+  plan.times = settings.times;
+  plan.options = io;
+  std::optional<jit::LoadedModel> sliding;
+  if (const SceneContact* slide = app::sliding_contact(scene)) {
+    sliding.emplace(app::build_sliding_model(scene, *slide, kind, {}));
+    plan.sliding_model = &sliding->model();
+  }
+  runtime::RunResult run = app::simulate(plan).run;
   result.steps = run.statistics.steps;
   result.integrate_seconds = run.statistics.initialization_seconds + run.statistics.integration_seconds;
   if (run.samples.size() < 2) {
