@@ -37,15 +37,6 @@ void check_sensitivities_given(const runtime::Model& model, const runtime::Initi
   }
 }
 
-runtime::SensitivityRun run_sensitivities(const runtime::Model& model, const std::vector<double>& p,
-                                          const runtime::InitialState& initial, const std::vector<double>& times,
-                                          const runtime::IntegratorOptions& options, const SensitivityRequest& request) {
-  runtime::SensitivityOptions so;
-  so.error_control = request.error_control == "on";
-  return runtime::simulate_sensitivities(model, p, initial, parse_sensitivities(model, request.names), times,
-                                         options, so);
-}
-
 std::string describe_sensitivity_cost(const runtime::SensitivityRun& run, const SensitivityRequest& request,
                                       const runtime::Statistics& plain) {
   const runtime::Statistics& st = run.statistics.state;

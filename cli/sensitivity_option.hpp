@@ -29,11 +29,6 @@ std::vector<runtime::SensitivityParameter> parse_sensitivities(const runtime::Mo
 void check_sensitivities_given(const runtime::Model& model, const runtime::InitialState& initial,
                                const std::vector<std::string>& names);
 
-/// Runs the sensitivities on the plain run's output times.
-runtime::SensitivityRun run_sensitivities(const runtime::Model& model, const std::vector<double>& p,
-                                          const runtime::InitialState& initial, const std::vector<double>& times,
-                                          const runtime::IntegratorOptions& options, const SensitivityRequest& request);
-
 /// One summary line: the sensitivities' cost against the plain run's statistics.
 std::string describe_sensitivity_cost(const runtime::SensitivityRun& run, const SensitivityRequest& request,
                                       const runtime::Statistics& plain);
