@@ -1,8 +1,8 @@
 #pragma once
 /// \file integrate.hpp
-/// \brief A run as its request asks for it, the one home of the choice both front ends make
-/// (nhc simulate and nhc animate's --integrator, Python's simulate(integrator=...)): IDA, or the
-/// variational integrator (docs/variational.md) with the request's step.
+/// \brief A run as its request asks for it: IDA, or the variational integrator
+/// (docs/variational.md) with the request's step; the run engine's (run_engine.hpp) choice for
+/// the --integrator of every front end.
 
 #include <optional>
 #include <vector>

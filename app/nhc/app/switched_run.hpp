@@ -2,8 +2,8 @@
 /// \file switched_run.hpp
 /// \brief A contact with on_slip = "slide" (docs/contacts.md, "Sliding"): the sliding model (the
 /// scene without the contact's rolling constraints, with Coulomb friction -mu F_n f/|f| on its
-/// slip velocity f), and the run that switches between the rolling and the sliding model at the
-/// contact's slip and stick, the state carried over at each switch.
+/// slip velocity f), and the two models side by side (ContactSwitch): the state carried over at
+/// the contact's slip and stick, where the run engine (run_engine.hpp) switches between them.
 
 #include <memory>
 #include <optional>
