@@ -307,7 +307,10 @@ class Parser {
       // every model). Only a positive number is a meaningful exponent of 0.
       if (base.is_zero() && !(GiNaC::is_a<GiNaC::numeric>(exponent) && GiNaC::ex_to<GiNaC::numeric>(exponent).is_positive()))
         fail(at, "0 to a power that is not a positive number is undefined (0^y); write 0 or 1");
-      ex result = guarded(at, [&] { return GiNaC::pow(base, exponent); });
+      // e^y is exp(y): GiNaC keeps exp(1)^y as a power of a number, which neither prints nor
+      // differentiates as the exponential it is.
+      const bool of_e = base.is_equal(GiNaC::exp(ex(1)));
+      ex result = guarded(at, [&] { return of_e ? GiNaC::exp(exponent) : GiNaC::pow(base, exponent); });
       if (rules_.input_limits && !GiNaC::is_a<GiNaC::numeric>(exponent) &&
           exponent_tower(result) > kMaxExponentTower)
         fail(at, "powers with non-numeric exponents nested more than " +
@@ -651,6 +654,12 @@ class Parser {
     }
     if (rules_.definition)
       if (std::optional<Value> value = rules_.definition(name)) return defined(name, *value, primes, start);
+    // The constants π and e, where the scene gives the name no meaning of its own (a parameter,
+    // coordinate, input or definition named e keeps its meaning: docs/scenes.md).
+    if (name == "pi" || name == "e") {
+      if (primes > 0) fail(start, "'" + name + "' is a constant and cannot carry primes");
+      return Value::scalar(name == "pi" ? ex(GiNaC::Pi) : GiNaC::exp(ex(1)));
+    }
     const std::string hint = base.size() <= 64 ? hint_for(base) : "";
     fail(start, "unknown name '" + shown(base) + "'" + (hint.empty() ? "" : " (" + hint + ")"));
   }
