@@ -552,7 +552,7 @@ class Parser {
     } while (accept(','));
     if (!accept(')')) fail(pos_, "expected ')' after the arguments of " + name);
     const bool binary = name == "atan2" || name == "dot" || name == "cross";
-    const std::size_t expected = binary ? 2 : 1;
+    const std::size_t expected = name == "quat" ? 4 : binary ? 2 : 1;
     if (args.size() != expected)
       fail(start, name + " takes " + std::to_string(expected) + " argument" +
                       (expected == 1 ? "" : "s") + ", got " + std::to_string(args.size()));
@@ -568,7 +568,7 @@ class Parser {
     // rotx(a) and omega(R) differentiate their arguments: GiNaC may throw there too (the
     // derivative of 0^y holds log(0)).
     try {
-      return vector_function(name, args, start, arg_positions[0]);
+      return vector_function(name, args, start, arg_positions);
     } catch (const GiNaC::pole_error&) {
       fail(start, "division by zero in " + name + "'s angular velocity");
     } catch (const std::overflow_error&) {
@@ -583,9 +583,15 @@ class Parser {
     return v.entries[0];
   }
 
-  /// dot cross norm transpose rotx roty rotz omega omega_body (value.hpp).
+  /// dot cross norm transpose rotx roty rotz quat omega omega_body (value.hpp).
   Value vector_function(const std::string& name, const std::vector<Value>& args,
-                        std::size_t start, std::size_t first_argument) {
+                        std::size_t start, const std::vector<std::size_t>& arg_positions) {
+    const std::size_t first_argument = arg_positions[0];
+    if (name == "quat") {
+      std::vector<ex> q;
+      for (std::size_t k = 0; k < 4; ++k) q.push_back(scalar_argument(name, args[k], arg_positions[k]));
+      return rotation_of_quaternion(q, jet_);
+    }
     if (name == "rotx" || name == "roty" || name == "rotz") {
       const ex& angle = scalar_argument(name, args[0], first_argument);
       const Value r = name == "rotx"   ? rotation_x(angle, jet_)
@@ -720,7 +726,7 @@ const std::vector<std::string>& function_names() {
       "sin",  "cos",  "tan",  "exp",  "log",  "sqrt",  "abs",      "sinh", "cosh",  "tanh",
       "asin", "acos", "atan", "asinh", "acosh", "atanh", "atan2", "dot", "cross", "norm",
       "transpose", "rotx", "roty",
-      "rotz", "omega", "omega_body"};
+      "rotz", "quat", "omega", "omega_body"};
   return names;
 }
 
