@@ -8,7 +8,7 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 dir=$1
 mkdir -p "$dir"
-ls "$root"/tests/fuzz/corpus/scene/*.toml "$root"/tests/bad/*.toml "$root"/examples/*.toml
+ls "$root"/tests/fuzz/corpus/scene/* "$root"/tests/bad/*.toml "$root"/examples/*.toml
 for f in "$root"/tests/fuzz/corpus/expression/*; do
   # A TOML literal string holds any text but its own delimiter and control characters.
   if grep -q "'''" "$f" || LC_ALL=C grep -q '[[:cntrl:]]' <(tr -d '\n' <"$f"); then continue; fi

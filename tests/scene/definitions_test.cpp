@@ -110,6 +110,60 @@ nhc::Scene scene_with(const std::string& extra, const std::string& lagrangian = 
 
 }  // namespace
 
+TEST_CASE("quat(q0, q1, q2, q3) is the rotation of a unit quaternion with its angular velocities",
+          "[scene][definitions][quat]") {
+  const JetSpace jet = make_jet();
+  // A unit quaternion for every x, y, z (Hopf-like angles over the whole 3-sphere), so that the
+  // closed forms, which hold where |q| = 1, can be compared with R' R^T entry by entry.
+  const std::string unit = "cos(x), sin(x)*cos(y), sin(x)*sin(y)*cos(z), sin(x)*sin(y)*sin(z)";
+  const nhc::Value r = parse_value("quat(" + unit + ")", jet);
+  REQUIRE(r.is_square3());
+  // R R^T = I and det R = 1.
+  for (unsigned i = 0; i < 3; ++i)
+    for (unsigned j = 0; j < 3; ++j) {
+      ex rrt = 0;
+      for (unsigned k = 0; k < 3; ++k) rrt += r.at(i, k) * r.at(j, k);
+      CHECK(same_numerically(rrt, i == j ? 1 : 0, jet));
+    }
+  const ex det = r.at(0, 0) * (r.at(1, 1) * r.at(2, 2) - r.at(1, 2) * r.at(2, 1)) -
+                 r.at(0, 1) * (r.at(1, 0) * r.at(2, 2) - r.at(1, 2) * r.at(2, 0)) +
+                 r.at(0, 2) * (r.at(1, 0) * r.at(2, 1) - r.at(1, 1) * r.at(2, 0));
+  CHECK(same_numerically(det, 1, jet));
+  // omega and omega_body against the skew parts of R' R^T and R^T R', differentiated here.
+  const nhc::Value dr = nhc::total_derivative(r, jet, 1);
+  const auto product = [](const nhc::Value& a, bool a_transposed, const nhc::Value& b, bool b_transposed,
+                          unsigned i, unsigned j) {
+    ex sum = 0;
+    for (unsigned k = 0; k < 3; ++k)
+      sum += (a_transposed ? a.at(k, i) : a.at(i, k)) * (b_transposed ? b.at(j, k) : b.at(k, j));
+    return sum;
+  };
+  const ex w[3] = {product(dr, false, r, true, 2, 1), product(dr, false, r, true, 0, 2),
+                   product(dr, false, r, true, 1, 0)};
+  const ex body[3] = {product(r, true, dr, false, 2, 1), product(r, true, dr, false, 0, 2),
+                      product(r, true, dr, false, 1, 0)};
+  for (int k = 0; k < 3; ++k) {
+    const std::string index = "[" + std::to_string(k + 1) + "]";
+    CHECK(same_numerically(parse_expression("omega(quat(" + unit + "))" + index, jet), w[k], jet));
+    CHECK(same_numerically(parse_expression("omega_body(quat(" + unit + "))" + index, jet), body[k], jet));
+    // Composed with an elementary rotation, by the rules of products (value.hpp).
+    CHECK(same_numerically(parse_expression("omega(rotz(y)*quat(" + unit + "))" + index, jet),
+                           parse_expression("omega(rotz(y))" + index, jet) +
+                               parse_expression("(rotz(y)*omega(quat(" + unit + ")))" + index, jet), jet));
+  }
+  // A half-angle quaternion about an axis is that axis' rotation.
+  for (unsigned i = 0; i < 3; ++i)
+    for (unsigned j = 0; j < 3; ++j) {
+      const std::string entry = "[" + std::to_string(i + 1) + ", " + std::to_string(j + 1) + "]";
+      CHECK(same_numerically(parse_expression("quat(cos(x/2), sin(x/2), 0, 0)" + entry, jet),
+                             parse_expression("rotx(x)" + entry, jet), jet));
+      CHECK(same_numerically(parse_expression("quat(cos(y/2), 0, 0, sin(y/2))" + entry, jet),
+                             parse_expression("rotz(y)" + entry, jet), jet));
+    }
+  CHECK_THROWS_AS(parse_expression("quat(x, y, z)[1, 1]", jet), nhc::ExpressionSyntaxError);
+  CHECK_THROWS_AS(parse_expression("quat(x, y, z, [x, y])[1, 1]", jet), nhc::ExpressionSyntaxError);
+}
+
 TEST_CASE("definitions: any order, derivatives by D, unused ones reported", "[scene][definitions]") {
   const nhc::Scene s = scene_with(
       "[parameters]\nm = 2.0\n[definitions]\nT = \"m/2*dot(v, v)\"\nv = \"c'\"\n"

@@ -139,6 +139,39 @@ TEST_CASE("constants that GiNaC produces read back", "[scene][parser]") {
   CHECK(error_offset("m + log(-1)", jet) == 4);
 }
 
+TEST_CASE("pi and e are constants unless the scene names something so", "[scene][parser]") {
+  const JetSpace jet = make_jet();
+  const ex t = jet.time(), x = jet.q(0, 0);
+  // Checked against the numbers they stand for, not against the parser's own reading of them.
+  CHECK(GiNaC::ex_to<GiNaC::numeric>(parse_expression("pi", jet).evalf()).to_double() ==
+        Approx(std::acos(-1.0)).epsilon(1e-15));
+  CHECK(GiNaC::ex_to<GiNaC::numeric>(parse_expression("e", jet).evalf()).to_double() ==
+        Approx(std::exp(1.0)).epsilon(1e-15));
+  CHECK(same(parse_expression("sin(2*pi*t)", jet), GiNaC::sin(2 * GiNaC::Pi * t)));
+  CHECK(same(parse_expression("e^(-x) - exp(-x)", jet), 0));
+  CHECK(same(parse_expression("log(e)", jet), 1));
+  CHECK(same(parse_expression("Pi - pi", jet), 0));
+  CHECK(error_message("pi'", jet).find("'pi' is a constant") != std::string::npos);
+  CHECK(error_message("e''", jet).find("'e' is a constant") != std::string::npos);
+  CHECK(error_offset("1 + x*pi'", jet) == 6);
+  // Allowed where only parameters are (a [reference] without coordinates, a parameter's value).
+  ExpressionRules constants_only;
+  constants_only.allow_coordinates = false;
+  constants_only.allow_time = false;
+  CHECK(same(parse_expression("m*pi/e", jet, constants_only),
+             jet.parameter(*jet.parameter_index("m")) * GiNaC::Pi / GiNaC::exp(ex(1))));
+  // A scene's own name e or pi keeps its meaning: a coordinate, a parameter, a definition.
+  const JetSpace named({"e", "y"}, 0, {"pi"});
+  CHECK(same(parse_expression("e' + pi", named),
+             named.q(0, 1) + named.parameter(*named.parameter_index("pi"))));
+  ExpressionRules with_definition;
+  with_definition.definition = [&](const std::string& name) -> std::optional<nhc::Value> {
+    if (name == "e") return nhc::Value::scalar(jet.q(1, 0) * 2);
+    return std::nullopt;
+  };
+  CHECK(same(parse_expression("e", jet, with_definition), 2 * jet.q(1, 0)));
+}
+
 TEST_CASE("errors carry the offset of the offending text", "[scene][parser]") {
   const JetSpace jet = make_jet();
   CHECK(error_offset("", jet) == 0);

@@ -307,7 +307,10 @@ class Parser {
       // every model). Only a positive number is a meaningful exponent of 0.
       if (base.is_zero() && !(GiNaC::is_a<GiNaC::numeric>(exponent) && GiNaC::ex_to<GiNaC::numeric>(exponent).is_positive()))
         fail(at, "0 to a power that is not a positive number is undefined (0^y); write 0 or 1");
-      ex result = guarded(at, [&] { return GiNaC::pow(base, exponent); });
+      // e^y is exp(y): GiNaC keeps exp(1)^y as a power of a number, which neither prints nor
+      // differentiates as the exponential it is.
+      const bool of_e = base.is_equal(GiNaC::exp(ex(1)));
+      ex result = guarded(at, [&] { return of_e ? GiNaC::exp(exponent) : GiNaC::pow(base, exponent); });
       if (rules_.input_limits && !GiNaC::is_a<GiNaC::numeric>(exponent) &&
           exponent_tower(result) > kMaxExponentTower)
         fail(at, "powers with non-numeric exponents nested more than " +
@@ -549,7 +552,7 @@ class Parser {
     } while (accept(','));
     if (!accept(')')) fail(pos_, "expected ')' after the arguments of " + name);
     const bool binary = name == "atan2" || name == "dot" || name == "cross";
-    const std::size_t expected = binary ? 2 : 1;
+    const std::size_t expected = name == "quat" ? 4 : binary ? 2 : 1;
     if (args.size() != expected)
       fail(start, name + " takes " + std::to_string(expected) + " argument" +
                       (expected == 1 ? "" : "s") + ", got " + std::to_string(args.size()));
@@ -565,7 +568,7 @@ class Parser {
     // rotx(a) and omega(R) differentiate their arguments: GiNaC may throw there too (the
     // derivative of 0^y holds log(0)).
     try {
-      return vector_function(name, args, start, arg_positions[0]);
+      return vector_function(name, args, start, arg_positions);
     } catch (const GiNaC::pole_error&) {
       fail(start, "division by zero in " + name + "'s angular velocity");
     } catch (const std::overflow_error&) {
@@ -580,9 +583,15 @@ class Parser {
     return v.entries[0];
   }
 
-  /// dot cross norm transpose rotx roty rotz omega omega_body (value.hpp).
+  /// dot cross norm transpose rotx roty rotz quat omega omega_body (value.hpp).
   Value vector_function(const std::string& name, const std::vector<Value>& args,
-                        std::size_t start, std::size_t first_argument) {
+                        std::size_t start, const std::vector<std::size_t>& arg_positions) {
+    const std::size_t first_argument = arg_positions[0];
+    if (name == "quat") {
+      std::vector<ex> q;
+      for (std::size_t k = 0; k < 4; ++k) q.push_back(scalar_argument(name, args[k], arg_positions[k]));
+      return rotation_of_quaternion(q, jet_);
+    }
     if (name == "rotx" || name == "roty" || name == "rotz") {
       const ex& angle = scalar_argument(name, args[0], first_argument);
       const Value r = name == "rotx"   ? rotation_x(angle, jet_)
@@ -651,6 +660,12 @@ class Parser {
     }
     if (rules_.definition)
       if (std::optional<Value> value = rules_.definition(name)) return defined(name, *value, primes, start);
+    // The constants π and e, where the scene gives the name no meaning of its own (a parameter,
+    // coordinate, input or definition named e keeps its meaning: docs/scenes.md).
+    if (name == "pi" || name == "e") {
+      if (primes > 0) fail(start, "'" + name + "' is a constant and cannot carry primes");
+      return Value::scalar(name == "pi" ? ex(GiNaC::Pi) : GiNaC::exp(ex(1)));
+    }
     const std::string hint = base.size() <= 64 ? hint_for(base) : "";
     fail(start, "unknown name '" + shown(base) + "'" + (hint.empty() ? "" : " (" + hint + ")"));
   }
@@ -711,7 +726,7 @@ const std::vector<std::string>& function_names() {
       "sin",  "cos",  "tan",  "exp",  "log",  "sqrt",  "abs",      "sinh", "cosh",  "tanh",
       "asin", "acos", "atan", "asinh", "acosh", "atanh", "atan2", "dot", "cross", "norm",
       "transpose", "rotx", "roty",
-      "rotz", "omega", "omega_body"};
+      "rotz", "quat", "omega", "omega_body"};
   return names;
 }
 

@@ -18,8 +18,9 @@
 /// Names: `t`, parameters, coordinates with primes (`x''`) or in printed jet form (`x_d2`),
 /// and, where allowed, multipliers `lambda1`… (also with primes or `_d<k>`).
 /// Scalar functions: sin cos tan exp log sqrt abs sinh cosh tanh asin acos atan atan2.
-/// The constant `Pi` is accepted because GiNaC prints π that way (acos(-1) evaluates to it);
-/// a complex constant (sqrt(-4)) is an error.
+/// Constants: `pi` and `e` (`e^y` is exp(y)), unless the scene names a coordinate, parameter,
+/// input or definition so (its own name hides the constant); `Pi` too, because GiNaC prints π
+/// that way (acos(-1) evaluates to it). A complex constant (sqrt(-4)) is an error.
 
 #include <ginac/ginac.h>
 

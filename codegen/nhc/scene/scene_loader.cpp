@@ -165,10 +165,16 @@ class SceneReader {
                        fmt::format("TOML syntax: control character U+{:04X} (TOML allows only tab and line ends; "
                                    "write it as an escape such as \\u{:04X} inside a string)",
                                    static_cast<unsigned char>(c->text[0]), static_cast<unsigned char>(c->text[0])));
-    if (const std::optional<TextCharacter> c = non_ascii_outside_strings(text_))
-      throw InputError({path_, c->line, c->column},
-                       "TOML syntax: '" + printable(c->text) + "' outside a string or comment (names, numbers and "
+    if (const std::optional<MisplacedCharacter> m = misplaced_non_ascii(text_)) {
+      const TextCharacter& c = m->character;
+      if (m->after_backslash)
+        throw InputError({path_, c.line, c.column},
+                         "TOML syntax: '" + printable(c.text) + "' after a backslash in a multi-line string (the "
+                         "TOML reader cannot take it there; write it as a \\u escape or start the line with ASCII)");
+      throw InputError({path_, c.line, c.column},
+                       "TOML syntax: '" + printable(c.text) + "' outside a string or comment (names, numbers and "
                        "punctuation are ASCII; write it inside quotes or after #)");
+    }
     toml::table root;
     try {
       root = toml::parse(text_, path_);

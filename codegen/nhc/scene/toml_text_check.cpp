@@ -1,5 +1,7 @@
 #include "nhc/scene/toml_text_check.hpp"
 
+#include <vector>
+
 namespace nhc {
 
 namespace {
@@ -25,27 +27,69 @@ std::size_t closing_run(std::string_view text, std::size_t at, char quote) {
 
 }  // namespace
 
-std::optional<TextCharacter> non_ascii_outside_strings(std::string_view toml) {
+std::optional<MisplacedCharacter> misplaced_non_ascii(std::string_view toml) {
   enum class In { text, comment, basic, literal, multiline_basic, multiline_literal } in = In::text;
+  // After a backslash in a multi-line basic string: the escaped character comes next, or (a
+  // line-ending backslash) spaces, tabs and line ends that toml++ skips asking of each whether
+  // it is whitespace, up to the first other character, which it asks too.
+  enum class Escape { none, next, skipping } escape = Escape::none;
+  std::vector<char> nesting;    // the open arrays '[' and inline tables '{' of values, innermost last
+  bool header = false;          // inside a table header, [a.b] or [[a.b]]
+  std::size_t header_open = 0;  // where its first '[' is ([[ is one header)
+  bool key_side = true;         // in a key (a line's start, a header, an inline table before '=')
+  bool may_start = true;        // a key segment (key_side) or a value (else) may begin here
   int line = 1, column = 0;
   for (std::size_t i = 0; i < toml.size(); ++i) {
     const char c = toml[i];
-    const bool continuation = (static_cast<unsigned char>(c) & 0xC0) == 0x80;
+    const auto u = static_cast<unsigned char>(c);
     if (c == '\n') {
       ++line;
       column = 0;
       if (in == In::comment || in == In::basic || in == In::literal) in = In::text;  // unterminated: toml++ says so
+      if (escape == Escape::next) escape = Escape::skipping;
+      if (in == In::text && nesting.empty()) header = false, key_side = true, may_start = true;
       continue;
     }
-    if (!continuation) ++column;
+    if ((u & 0xC0) != 0x80) ++column;
+    const auto here = [&](bool after_backslash) {
+      return MisplacedCharacter{TextCharacter{line, column, character_at(toml, i)}, after_backslash};
+    };
     switch (in) {
       case In::text:
-        if (static_cast<unsigned char>(c) >= 0x80) return TextCharacter{line, column, character_at(toml, i)};
-        if (c == '#') in = In::comment;
-        else if (starts_with(toml, i, "\"\"\"")) in = In::multiline_basic, i += 2, column += 2;
-        else if (starts_with(toml, i, "'''")) in = In::multiline_literal, i += 2, column += 2;
-        else if (c == '"') in = In::basic;
-        else if (c == '\'') in = In::literal;
+        if (u >= 0x80) return here(false);
+        if (c == ' ' || c == '\t' || c == '\r') break;
+        if (c == '#') {
+          in = In::comment;
+        } else if (c == '"' || c == '\'') {
+          if (may_start) {
+            const bool triple = starts_with(toml, i, c == '"' ? "\"\"\"" : "'''");
+            in = c == '"' ? (triple ? In::multiline_basic : In::basic) : (triple ? In::multiline_literal : In::literal);
+            if (triple) i += 2, column += 2;
+          }
+          may_start = false;  // after the string, or a quote inside a bare token such as 0"…
+        } else if (c == '=' && key_side && !header) {
+          key_side = false, may_start = true;
+        } else if (c == '[' && !key_side && may_start) {
+          nesting.push_back('[');
+        } else if (c == '[' && key_side && may_start && nesting.empty() && !header) {
+          header = true, header_open = i;
+        } else if (c == '[' && header && i == header_open + 1) {
+          // [[: an array of tables
+        } else if (c == '{' && !key_side && may_start) {
+          nesting.push_back('{');
+          key_side = true;
+        } else if (c == ']' && header) {
+          header = false, may_start = false;  // a comment or the line's end follows
+        } else if ((c == ']' || c == '}') && !nesting.empty() && nesting.back() == (c == ']' ? '[' : '{')) {
+          nesting.pop_back();
+          key_side = false, may_start = false;
+        } else if (c == ',' && !nesting.empty()) {
+          key_side = nesting.back() == '{', may_start = true;
+        } else if (c == '.' && key_side) {
+          may_start = true;
+        } else {
+          may_start = false;  // a bare key or value, or misplaced punctuation: toml++ refuses that
+        }
         break;
       case In::comment: break;
       case In::basic:
@@ -58,8 +102,18 @@ std::optional<TextCharacter> non_ascii_outside_strings(std::string_view toml) {
       case In::multiline_basic:
       case In::multiline_literal: {
         const bool basic = in == In::multiline_basic;
-        if (basic && c == '\\' && i + 1 < toml.size() && toml[i + 1] != '\n') {
-          ++i, ++column;  // an escaped character
+        if (basic && escape != Escape::none) {
+          if (u >= 0x80) return here(true);
+          if (c == ' ' || c == '\t' || c == '\r') {
+            escape = Escape::skipping;
+            break;
+          }
+          const bool escaped = escape == Escape::next;
+          escape = Escape::none;
+          if (escaped) break;  // \", \\, \n …: not a delimiter
+        }
+        if (basic && c == '\\') {
+          escape = Escape::next;
         } else if (const std::size_t quotes = closing_run(toml, i, basic ? '"' : '\''); quotes > 0) {
           i += quotes - 1;
           column += static_cast<int>(quotes) - 1;

@@ -208,6 +208,34 @@ Value rotation_x(const ex& angle, const JetSpace& jet) { return elementary_rotat
 Value rotation_y(const ex& angle, const JetSpace& jet) { return elementary_rotation(1, angle, jet); }
 Value rotation_z(const ex& angle, const JetSpace& jet) { return elementary_rotation(2, angle, jet); }
 
+Value rotation_of_quaternion(const std::vector<ex>& q, const JetSpace& jet) {
+  if (q.size() != 4) throw ValueError("quat takes the 4 components of a quaternion, scalar first");
+  const ex& s = q[0];
+  const std::vector<ex> v = {q[1], q[2], q[3]};
+  const ex diagonal = s * s - (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  std::vector<ex> m(9);
+  for (unsigned i = 0; i < 3; ++i)
+    for (unsigned j = 0; j < 3; ++j) m[i * 3 + j] = (i == j ? diagonal : ex(0)) + 2 * v[i] * v[j];
+  // 2 q0 [v]×: [v]× = [[0, -v3, v2], [v3, 0, -v1], [-v2, v1, 0]]
+  m[1] -= 2 * s * v[2], m[2] += 2 * s * v[1];
+  m[3] += 2 * s * v[2], m[5] -= 2 * s * v[0];
+  m[6] -= 2 * s * v[1], m[7] += 2 * s * v[0];
+  Value r = with_shape(3, 3, std::move(m));
+  const ex ds = jet.total_derivative(s);
+  std::vector<ex> dv(3);
+  for (unsigned k = 0; k < 3; ++k) dv[k] = jet.total_derivative(v[k]);
+  const Value turn = cross(Value::vector(v), Value::vector(dv));  // v × v'
+  std::vector<ex> w(3), body(3);
+  for (unsigned k = 0; k < 3; ++k) {
+    const ex common = s * dv[k] - ds * v[k];
+    w[k] = 2 * (common + turn.entries[k]);
+    body[k] = 2 * (common - turn.entries[k]);
+  }
+  r.angular_velocity = std::move(w);
+  r.body_angular_velocity = std::move(body);
+  return r;
+}
+
 Value spatial_angular_velocity(const Value& r, const JetSpace& jet, const RotationCheck& check) {
   if (r.angular_velocity) return Value::vector(*r.angular_velocity);
   require_rotation(r, check, "omega");

@@ -71,6 +71,13 @@ Value rotation_x(const GiNaC::ex& angle, const JetSpace& jet);
 Value rotation_y(const GiNaC::ex& angle, const JetSpace& jet);
 Value rotation_z(const GiNaC::ex& angle, const JetSpace& jet);
 
+/// The rotation of the unit quaternion q = (q0, q1, q2, q3), scalar first (Shuster 1993, eq. 161):
+///   R = (q0² − v·v) I + 2 v vᵀ + 2 q0 [v]×,   v = (q1, q2, q3),
+/// with ω = 2 (q0 v' − q0' v + v × v') and Ω = 2 (q0 v' − q0' v − v × v') (from q' = ½ (0, ω) ⊗ q
+/// = ½ q ⊗ (0, Ω)). Both hold where |q| = 1, which the scene keeps as a holonomic constraint
+/// (docs/quaternions.md); R, ω and Ω are polynomials in q and q', singular nowhere.
+Value rotation_of_quaternion(const std::vector<GiNaC::ex>& q, const JetSpace& jet);
+
 /// How omega() decides that its argument is a rotation when ω is not known in closed form:
 /// symbolically (R Rᵀ − I expands to zero), else numerically at `point` (parameters and initial
 /// values; symbols it does not cover take fixed values in [0.25, 1.25)).
