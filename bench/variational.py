@@ -40,7 +40,7 @@ def simulate(nhc, scene, flags, t_end, outputs, run_flags):
     if done.returncode != 0:
         sys.exit("bench/variational.py: " + " ".join(command) + " failed:\n" + done.stderr)
     text = done.stdout
-    drift = re.search(r"invariant energy: max drift (\S+)", text)
+    drift = re.search(r"invariant energy: max change (\S+)", text)
     seconds = re.search(r"integrate (\S+) s", text)
     steps = re.search(r"steps (\d+)", text)
     return {"energy": float(drift.group(1)), "seconds": float(seconds.group(1)), "steps": int(steps.group(1))}

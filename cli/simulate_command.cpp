@@ -68,8 +68,11 @@ void write_drift_summary(std::ostream& info, const Scene& scene, const runtime::
   } else if (model.n_hidden() > 0) {
     info << "  max hidden-constraint drift " << format(drift.max_hidden) << "\n";
   }
+  // "change", not "drift": an invariant is a quantity the run watches, and whether the scene's
+  // physics conserves it (a driven turntable pumps energy into a ball) is not the summary's to
+  // say; where it is conserved, its change is the integration's drift (docs/scenes.md).
   for (int k = 0; k < model.n_invariants(); ++k)
-    info << "  invariant " << model.table().invariant_names[k] << ": max drift "
+    info << "  invariant " << model.table().invariant_names[k] << ": max change "
               << format(drift.invariant_drift[k])
               << (drift.invariant_absolute[k]
                       ? " (absolute: the invariant stays below " + format(runtime::kInvariantScaleFloor) + ")"

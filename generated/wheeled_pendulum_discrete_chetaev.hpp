@@ -20,8 +20,8 @@
 //   default_inputs                     0       0
 //   velocities                        15      13
 //   mass_matrix                      243      45
-//   forcing                         1563     175
-//   total                           5105     974
+//   forcing                         1561     217
+//   total                           5103    1016
 
 #pragma once
 
@@ -403,25 +403,25 @@ inline void hidden_constraints_jacobian(double /*t*/, const double* y, const dou
 
 /// The scene's invariants I(t, y, y'), in invariant_names order.
 inline void invariants(double /*t*/, const double* y, const double* /*yp*/, const double* p, double* out) noexcept {
-  const double w0 = 0.5 * p[7];
-  const double w1 = y[5] * y[5];
-  const double w2 = p[8] * p[8];
-  const double w3 = w0 * (y[3] * y[3]) + (w0 * w1 * (p[3] * p[3]) + y[1] * y[1] * w0 + p[7] * 0.125 * w2 * w1);
-  const double w4 = p[7] * (0.25 * w2);
-  const double w5 = std::cos(y[4]);
-  const double w6 = w5 * y[5];
-  const double w7 = p[7] * p[3];
-  const double w8 = std::sin(y[4]);
-  const double w9 = y[5] * w8;
-  const double w10 = y[1] * w6 * w7 + y[3] * w7 * w9;
-  const double w11 = std::cos(y[6]);
+  const double w0 = std::cos(y[6]);
+  const double w1 = p[8] * p[8];
+  const double w2 = p[7] * (0.25 * w1);
+  const double w3 = std::cos(y[4]);
+  const double w4 = w3 * y[5];
+  const double w5 = p[7] * p[3];
+  const double w6 = std::sin(y[4]);
+  const double w7 = y[5] * w6;
+  const double w8 = y[1] * w4 * w5 + y[3] * w5 * w7;
+  const double w9 = 0.5 * p[7];
+  const double w10 = y[5] * y[5];
+  const double w11 = w9 * w10 * (p[3] * p[3]) + y[1] * y[1] * w9 + p[7] * w1 * w10 * 0.125 + w9 * (y[3] * y[3]);
   const double w12 = std::sin(y[6]);
   const double w13 = w12 * w12;
   const double w14 = y[7] * y[7];
   const double w15 = w12 * p[5];
-  const double w16 = w9 * w15 - p[5] * (w11 * w5) * y[7] - y[1];
-  const double w17 = y[3] + (w6 * w15 + p[5] * (w11 * w8) * y[7]);
-  out[0] = w3 + w4 * (y[11] * y[11]) + w10 + 0.5 * ((w11 * w11 * p[2] + p[0] * w13) * w1 + w14 * p[1] + p[6] * (p[5] * p[5] * w14 * w13 + w16 * w16 + w17 * w17)) - (w10 - w3 - y[9] * y[9] * w4) + p[4] * p[6] * (p[8] + p[5] * w11);  // energy
+  const double w16 = w7 * w15 - p[5] * (w0 * w3) * y[7] - y[1];
+  const double w17 = y[3] + (w4 * w15 + p[5] * (w0 * w6) * y[7]);
+  out[0] = p[4] * p[6] * (p[8] + p[5] * w0) + (w2 * (y[11] * y[11]) + w8 + w11 + 0.5 * ((w0 * w0 * p[2] + p[0] * w13) * w10 + w14 * p[1] + p[6] * (p[5] * p[5] * w14 * w13 + w16 * w16 + w17 * w17)) - (w8 - y[9] * y[9] * w2 - w11));  // energy
 }
 
 /// The inputs' default signals u(t), in input_names order (what p[n_parameters + k] holds
@@ -458,8 +458,8 @@ inline void mass_matrix(double /*t*/, const double* q, const double* /*u*/, cons
   const double w10 = p[3] * p[3];
   const double w11 = w8 / w10;
   const double w12 = w11 * w5;
-  const double w13 = w0 * p[6] * w12 + w11 * p[2] + p[0] * w12 - w12 * p[2] + p[8] * p[8] * p[8] * p[8] * (p[7] * 0.125) / w10;
-  const double w14 = w9 + 1.5 * p[7] * w7 + w13;
+  const double w13 = w0 * p[6] * w12 + w11 * p[2] + p[0] * w12 - w12 * p[2] + p[7] * (p[8] * p[8] * p[8] * p[8]) * (0.125 / w10);
+  const double w14 = w9 + w13 + 1.5 * (p[7] * w7);
   const double w15 = w9 - w13;
   M[0] = p[6] * (w0 * (w1 * w1 * (w2 * w2 + w3 * w3) + w5)) + p[1];  // (0, 0)
   M[1] = w6;  // (1, 0)
@@ -484,51 +484,66 @@ inline void forcing(double /*t*/, const double* q, const double* u, const double
   const double w7 = w0 * w1 * w6;
   const double w8 = std::sin(q[2]);
   const double w9 = std::cos(q[2]);
-  const double w10 = w9 * w2 + w9 * w3;
-  const double w11 = w8 * w10;
-  const double w12 = std::sin(q[3]);
-  const double w13 = w0 * w12;
-  const double w14 = p[3] * p[3];
-  const double w15 = w4 * w4 / w14;
-  const double w16 = w13 * 0.25 * w15;
-  const double w17 = p[6] * 0.25;
-  const double w18 = w8 * p[5];
-  const double w19 = w12 * w18;
-  const double w20 = w9 * p[5];
-  const double w21 = w0 * w20;
-  const double w22 = u[0] * 2.0;
-  const double w23 = w19 * w5 + w21 * w22;
-  const double w24 = w10 + w23;
-  const double w25 = w0 * w18;
-  const double w26 = w12 * w20;
-  const double w27 = w5 * w25 - w26 * w22;
-  const double w28 = u[0] * u[0];
-  const double w29 = p[5] * p[5] * 4.0;
-  const double w30 = w5 * w26 - w25 * w22;
-  const double w31 = w8 * w3 + w8 * w2;
-  const double w32 = w30 - w31;
-  const double w33 = w5 * w21 + w19 * w22;
-  const double w34 = w1 * w12;
-  const double w35 = w24 * w26 - w32 * w19;
-  const double w36 = 0.5 * u[0];
-  const double w37 = p[6] * w6;
-  const double w38 = w32 * w21 + w24 * w25;
-  const double w39 = w9 * w31;
-  const double w40 = 0.5 * p[8];
-  const double w41 = w40 / p[3];
-  const double w42 = p[8] * 0.125;
-  const double w43 = w42 * w4 / w14;
-  const double w44 = w13 * w5 * 2.0;
-  const double w45 = w39 - w11;
-  const double w46 = w41 * (w45 * p[3] * p[7] * w6);
-  const double w47 = w41 * (w17 * (w32 * w23 - w24 * w30)) - (w8 * w34 * w43 * w31 + (w9 * w43 * w10 * w34 - (w41 * (w37 * (w35 + p[5] * (w12 * (w8 * w30 - w9 * w23))) - (p[6] * (w38 + p[5] * ((w9 * w33 + w8 * w27) * w12)) + p[0] * w44 - w44 * p[2]) * w36) - w46)));
-  const double w48 = w41 * (p[7] * (w45 * w4) * 0.25);
-  const double w49 = w42 * (p[6] * w5);
-  const double w50 = p[8] * p[7] * w6;
-  const double w51 = w48 - (w49 * w11 - (w46 + w50 * w39 - (w50 * w11 - w48 + w28 * w40 * w34) - (w15 * w42 * w34 - w49 * w39)));
-  f[0] = w7 * w11 + (p[0] * w16 + w17 * (w24 * w27 + w28 * w13 * w29 + w32 * w33) - w16 * p[2]) + p[4] * w34 + (p[6] * (w35 + w0 * (p[5] * (w8 * w33 - w9 * w27) - u[0] * w12 * w29)) * w36 - w37 * (w38 + w0 * (p[5] * (-w9 * w30 - w8 * w23)))) - w7 * w39 - (p[10] + p[9]);  // th'
-  f[1] = w47 + p[9] - w51;  // phL'
-  f[2] = p[10] - w47 - w51;  // phR'
+  const double w10 = w9 * p[8];
+  const double w11 = w10 * u[2] + w10 * u[1];
+  const double w12 = w8 * w11;
+  const double w13 = 0.5 * u[0];
+  const double w14 = std::sin(q[3]);
+  const double w15 = w8 * p[5];
+  const double w16 = w14 * w15;
+  const double w17 = w9 * p[5];
+  const double w18 = w0 * w17;
+  const double w19 = u[0] * 2.0;
+  const double w20 = w16 * w5 + w18 * w19;
+  const double w21 = w11 + w20;
+  const double w22 = w14 * w17;
+  const double w23 = w0 * w15;
+  const double w24 = w5 * w22 - w23 * w19;
+  const double w25 = w8 * w3 + w8 * w2;
+  const double w26 = w24 - w25;
+  const double w27 = w21 * w22 - w26 * w16;
+  const double w28 = w5 * w18 + w16 * w19;
+  const double w29 = w5 * w23 - w22 * w19;
+  const double w30 = p[5] * p[5] * 4.0;
+  const double w31 = p[6] * w6;
+  const double w32 = w26 * w18 + w21 * w23;
+  const double w33 = p[6] * 0.25;
+  const double w34 = u[0] * u[0];
+  const double w35 = w0 * w14;
+  const double w36 = w4 * w4;
+  const double w37 = p[3] * p[3];
+  const double w38 = w35 * 0.25 * w36 / w37;
+  const double w39 = w1 * w14;
+  const double w40 = w9 * w25;
+  const double w41 = w12 * p[8];
+  const double w42 = 0.125 * (p[6] * w5);
+  const double w43 = p[8] / p[3];
+  const double w44 = 0.5 * w43;
+  const double w45 = (w26 * w20 - w21 * w24) * w33;
+  const double w46 = w40 - w12;
+  const double w47 = w46 * p[3] * p[7] * w6;
+  const double w48 = w44 * w47;
+  const double w49 = w35 * w5 * 2.0;
+  const double w50 = w31 * (w27 + p[5] * (w14 * (w8 * w24 - w9 * w20))) - w13 * (p[0] * w49 + p[6] * (w32 + p[5] * ((w9 * w28 + w8 * w29) * w14)) - w49 * p[2]);
+  const double w51 = p[7] * w6;
+  const double w52 = 0.125 / w37;
+  const double w53 = w36 * w39;
+  const double w54 = p[7] * (w46 * w4) * 0.25;
+  const double w55 = w54 * w44;
+  const double w56 = w10 * w25;
+  const double w57 = w8 * w39 * p[8] * w25;
+  const double w58 = w52 * w4;
+  const double w59 = w10 * w11 * w39;
+  const double w60 = w8 * w8;
+  const double w61 = w9 * w9;
+  const double w62 = (w12 - w40) * w4;
+  const double w63 = 4.0 * p[8];
+  const double w64 = w63 * w47;
+  const double w65 = w43 * w53;
+  const double w66 = w54 * w63;
+  f[0] = w7 * w12 + (p[6] * w13 * (w27 + w0 * (p[5] * (w8 * w28 - w9 * w29) - u[0] * w14 * w30)) - w31 * (w0 * (p[5] * (-w9 * w24 - w8 * w20)) + w32)) + (w33 * (w21 * w29 + w34 * w35 * w30 + w26 * w28) + p[0] * w38 - w38 * p[2]) + p[4] * w39 - w7 * w40 - (p[10] + p[9]);  // th'
+  f[1] = w41 * w42 + w44 * w45 + w48 + w34 * (0.5 * p[8]) * w39 + w44 * w50 + p[9] + w41 * w51 + p[8] * w52 * w53 + w55 - w48 - w56 * w51 - w57 * w58 - w56 * w42 - w59 * w58 - w55;  // phL'
+  f[2] = (w57 * w5 + p[10] * 8.0 * p[3] + p[8] * (4.0 * (-w45 - w50) + (w34 * (4.0 * ((w60 + w61) * p[3] * w14 * p[5])) + w62) * p[6] + 2.0 * w62 * p[7]) + w64 + w61 * w65 + w59 * w5 + w60 * w65 + w66 - w64 - w66) * 0.125 / p[3];  // phR'
 }
 
 /// Everything above as the C table of docs/generated-code.md, filled by field name.

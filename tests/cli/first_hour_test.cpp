@@ -292,9 +292,9 @@ TEST_CASE("invariant drift is relative to the invariant's size along the run, ab
   std::ofstream(scene) << text;
   const Run r = nhc_run("simulate '" + scene + "'", dir);
   REQUIRE(r.exit_code == 0);
-  CHECK_THAT(r.out, Contains("invariant speed_squared: max drift") && Contains("to its largest size 9)"));
-  CHECK_THAT(r.out, Contains("invariant power: max drift") && Contains("(absolute: the invariant stays below 1e-08)"));
-  CHECK_THAT(r.out, Contains("invariant position: max drift 1 (relative 1 to its largest size 1)\n"));
+  CHECK_THAT(r.out, Contains("invariant speed_squared: max change") && Contains("to its largest size 9)"));
+  CHECK_THAT(r.out, Contains("invariant power: max change") && Contains("(absolute: the invariant stays below 1e-08)"));
+  CHECK_THAT(r.out, Contains("invariant position: max change 1 (relative 1 to its largest size 1)\n"));
 }
 
 TEST_CASE("the suslov run starts where analyze does and shows its monitored constraint, zero at t0",

@@ -9,6 +9,8 @@
 #include "nhc/errors.hpp"
 #include "nhc/app/parameter_overrides.hpp"
 #include "nhc/app/pipeline.hpp"
+#include "nhc/runtime/number_text.hpp"
+#include "nhc/runtime/trajectory.hpp"
 
 namespace nhc::app {
 
@@ -88,12 +90,10 @@ void write_selected_csv(std::ostream& out, const runtime::Model& model, const st
     runtime::write_csv(out, model, p, samples);
     return;
   }
-  std::ostringstream full;
-  runtime::write_csv(full, model, p, samples);
-  std::istringstream in(full.str());
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::string> header = split(line, ',');
+  // The model's columns as numbers (runtime::CsvRows, what write_csv prints), the outputs' and
+  // the extra columns appended as numbers, every field printed once by shortest_text: no column
+  // goes through text and back, none is printed at another precision.
+  std::vector<std::string> header = runtime::csv_header(model);
   header.insert(header.end(), outputs.names().begin(), outputs.names().end());
   if (extra) header.insert(header.end(), extra->names.begin(), extra->names.end());
   std::vector<std::size_t> keep;
@@ -103,28 +103,23 @@ void write_selected_csv(std::ostream& out, const runtime::Model& model, const st
     keep.push_back(0);
   for (const std::string& c : columns)
     if (c != "t") keep.push_back(static_cast<std::size_t>(std::find(header.begin(), header.end(), c) - header.begin()));
-  auto emit = [&](const std::vector<std::string>& fields) {
-    for (std::size_t k = 0; k < keep.size(); ++k) out << (k ? "," : "") << fields.at(keep[k]);
-    out << "\n";
-  };
-  emit(header);
-  std::ostringstream number;
-  number.precision(17);  // as runtime::write_csv
-  for (std::size_t row = 0; std::getline(in, line); ++row) {
-    std::vector<std::string> fields = split(line, ',');
-    if (!outputs.empty())
-      for (double v : outputs.evaluate(samples.at(row))) {
-        number.str("");
-        number << v;
-        fields.push_back(number.str());
-      }
-    if (extra)
-      for (double v : extra->rows.at(row)) {
-        number.str("");
-        number << v;
-        fields.push_back(number.str());
-      }
-    emit(fields);
+  for (std::size_t k = 0; k < keep.size(); ++k) out << (k ? "," : "") << header.at(keep[k]);
+  out << "\n";
+  const runtime::CsvRows rows(model, p);
+  std::vector<double> values;
+  std::string line;
+  for (std::size_t row = 0; row < samples.size(); ++row) {
+    rows.row(samples[row], values);
+    if (!outputs.empty()) {
+      const std::vector<double> more = outputs.evaluate(samples[row]);
+      values.insert(values.end(), more.begin(), more.end());
+    }
+    if (extra) values.insert(values.end(), extra->rows.at(row).begin(), extra->rows.at(row).end());
+    line.clear();
+    for (std::size_t k : keep) runtime::append_shortest(line, ',', values.at(k));
+    line.erase(0, 1);  // the first column has no comma
+    line += '\n';
+    out << line;
   }
 }
 

@@ -1,4 +1,5 @@
 #include "nhc/derive/reduced_form.hpp"
+#include "nhc/expr/stable_symbol.hpp"
 
 #include <Eigen/Dense>
 
@@ -52,7 +53,8 @@ int rank_of_columns(const Eigen::MatrixXd& a, const std::vector<int>& columns) {
 GiNaC::matrix solve(const GiNaC::matrix& m, const GiNaC::matrix& rhs) {
   GiNaC::matrix vars(m.cols(), rhs.cols());
   for (unsigned r = 0; r < vars.rows(); ++r)
-    for (unsigned c = 0; c < vars.cols(); ++c) vars(r, c) = GiNaC::symbol();
+    for (unsigned c = 0; c < vars.cols(); ++c)
+      vars(r, c) = stable_symbol("solve_" + std::to_string(r) + "_" + std::to_string(c));  // see stable_symbol.hpp
   GiNaC::matrix x = m.solve(vars, rhs, GiNaC::solve_algo::gauss);
   for (unsigned r = 0; r < x.rows(); ++r)
     for (unsigned c = 0; c < x.cols(); ++c) x(r, c) = work_budget::normal(x(r, c));

@@ -4,6 +4,7 @@
 /// Implementations: text_emitter.cpp, latex_emitter.cpp, json_emitter.cpp.
 
 #include <ostream>
+#include <string>
 #include <vector>
 
 #include "nhc/derive/models.hpp"
@@ -29,6 +30,9 @@ void write_derivation_latex(std::ostream& out, const Scene& scene,
 /// MathJax: Jupyter's _repr_latex_ and `nhc derive --format latex-math`.
 void write_derivation_latex_math(std::ostream& out, const Scene& scene,
                                  const std::vector<DerivedModel>& models);
+/// `lhs &= e` as the documents print an equation: an align* environment whose rows break a long
+/// expression between its terms and factors (continued rows start `&\quad`).
+void write_latex_equation(std::ostream& out, const std::string& lhs, const GiNaC::ex& e);
 /// {"scene", "parameters", "symbols", "definitions", "models"} as documented in README.md;
 /// "definitions" lists the intermediates in dependency order, so that a reader substitutes them
 /// from the last to the first.

@@ -32,27 +32,30 @@ constexpr int kRowsPerEnvironment = 40;
 /// notebook's reader cannot be asked to raise): the math-only form closes its environments sooner.
 constexpr int kRowsPerMathJaxEnvironment = 12;
 
-/// A term too long for one row as pieces that rows may be broken between: sums, products,
-/// powers and function calls are opened up (with plain parentheses, which TeX lets a row break
-/// leave unbalanced, unlike \\left( \\right)); subexpressions short enough stay one piece.
-void append_pieces(const GiNaC::ex& e, std::vector<std::string>& out) {
-  const std::string whole = to_latex(e);
+/// e, standing at `position`, as pieces that rows may be broken between: a term too long for
+/// one row has its sums, products, powers and function calls opened up (with plain parentheses,
+/// which TeX lets a row break leave unbalanced, unlike \\left( \\right)); subexpressions short
+/// enough stay one piece. Brackets follow the printer's one rule (needs_brackets): a piece is
+/// bracketed exactly where to_latex would bracket it.
+void append_pieces(const GiNaC::ex& e, Position position, std::vector<std::string>& out) {
+  const std::string whole = to_latex(e, position);
   if (whole.size() <= kRowCharacters / 2) {
     out.push_back(whole);
     return;
   }
+  const bool brackets = needs_brackets(e, position);
   if (GiNaC::is_a<GiNaC::add>(e)) {
-    out.emplace_back("(");
+    if (brackets) out.emplace_back("(");
     bool first = true;
     for (const GiNaC::ex& term : e) {
       std::vector<std::string> pieces;
-      append_pieces(term, pieces);
+      append_pieces(term, Position::term, pieces);
       if (!first && !pieces.empty() && (pieces.front().empty() || pieces.front()[0] != '-'))
         pieces.front() = "+" + pieces.front();
       out.insert(out.end(), pieces.begin(), pieces.end());
       first = false;
     }
-    out.emplace_back(")");
+    if (brackets) out.emplace_back(")");
   } else if (GiNaC::is_a<GiNaC::mul>(e)) {
     GiNaC::numeric coefficient = 1;
     std::vector<GiNaC::ex> factors;
@@ -60,18 +63,22 @@ void append_pieces(const GiNaC::ex& e, std::vector<std::string>& out) {
       if (GiNaC::is_a<GiNaC::numeric>(f)) coefficient *= GiNaC::ex_to<GiNaC::numeric>(f);
       else factors.push_back(f);
     }
+    if (brackets) out.emplace_back("(");
     if (coefficient.is_negative()) out.emplace_back("-"), coefficient = -coefficient;
-    if (coefficient != 1) out.push_back(to_latex(coefficient));
-    for (const GiNaC::ex& f : factors) append_pieces(f, out);
+    if (coefficient != 1) out.push_back(to_latex(coefficient, Position::factor));
+    for (const GiNaC::ex& f : factors) append_pieces(f, Position::factor, out);
+    if (brackets) out.emplace_back(")");
   } else if (GiNaC::is_a<GiNaC::power>(e)) {
+    if (brackets) out.emplace_back("(");
     out.emplace_back("(");
-    append_pieces(e.op(0), out);
+    append_pieces(e.op(0), Position::term, out);
     out.push_back(")^{" + to_latex(e.op(1)) + "}");
+    if (brackets) out.emplace_back(")");
   } else if (GiNaC::is_a<GiNaC::function>(e)) {
     out.push_back("\\operatorname{" + GiNaC::ex_to<GiNaC::function>(e).get_name() + "}(");
     for (std::size_t k = 0; k < e.nops(); ++k) {
       if (k > 0) out.emplace_back(",");
-      append_pieces(e.op(k), out);
+      append_pieces(e.op(k), Position::term, out);
     }
     out.emplace_back(")");
   } else {
@@ -116,7 +123,7 @@ class AlignWriter {
     const GiNaC::ex terms = GiNaC::is_a<GiNaC::add>(e) ? e : GiNaC::ex(GiNaC::lst{e});
     for (const GiNaC::ex& term : terms) {
       std::vector<std::string> pieces;
-      append_pieces(term, pieces);
+      append_pieces(term, Position::term, pieces);
       if (!first_term && !pieces.empty() && (pieces.front().empty() || pieces.front()[0] != '-'))
         pieces.front() = "+" + pieces.front();
       for (const std::string& piece : pieces) {
@@ -267,6 +274,10 @@ void write_derivation_latex(std::ostream& out, const Scene& scene, const std::ve
          "\\begin{document}\n";
   write_latex(out, scene, models, LatexForm{true});
   out << "\\end{document}\n";
+}
+
+void write_latex_equation(std::ostream& out, const std::string& lhs, const GiNaC::ex& e) {
+  AlignWriter(out).equation(lhs, e, "");
 }
 
 void write_derivation_latex_math(std::ostream& out, const Scene& scene, const std::vector<DerivedModel>& models) {

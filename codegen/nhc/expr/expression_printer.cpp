@@ -20,6 +20,17 @@ std::string ginac_text(const ex& e) {
   return out.str();
 }
 
+/// A product whose numeric coefficient (GiNaC keeps it last) is negative, or a negative number:
+/// printed with a leading minus sign.
+bool starts_negative(const ex& e) {
+  if (GiNaC::is_a<GiNaC::numeric>(e)) return GiNaC::ex_to<GiNaC::numeric>(e).is_negative();
+  if (GiNaC::is_a<GiNaC::mul>(e)) {
+    const ex c = e.op(e.nops() - 1);
+    return GiNaC::is_a<GiNaC::numeric>(c) && GiNaC::ex_to<GiNaC::numeric>(c).is_negative();
+  }
+  return false;
+}
+
 /// −s for a sum s, term by term: the same terms with the opposite sign, nothing multiplied out
 /// (a printer never expands: work_budget.hpp).
 ex negated_sum(const ex& s) {
@@ -41,18 +52,12 @@ using TextMemo = std::unordered_map<ex, std::string>;  // std::hash<ex>: GiNaC's
 // sorted by their printed text, so that equal expressions print identically in every run.
 class CanonicalText {
  public:
-  /// Precedence of the context: 0 sum, 1 product factor, 2 power base.
-  std::string print(const ex& e, int context = 0) const {
+  std::string print(const ex& e, Position position = Position::term) const {
     check_for_stop();  // a printed equation may be megabytes long (issue 44)
-    if (GiNaC::is_a<GiNaC::add>(e)) return wrap(remembered(e), context > 0);
-    if (GiNaC::is_a<GiNaC::mul>(e))
-      return wrap(remembered(e), context > 1 || (starts_negative(e) && context > 0));
-    if (GiNaC::is_a<GiNaC::power>(e)) return wrap(remembered(e), context > 1);
-    if (GiNaC::is_a<GiNaC::numeric>(e)) {
-      const GiNaC::numeric& n = GiNaC::ex_to<GiNaC::numeric>(e);
-      const bool needs = (n.is_negative() && context > 0) || (!n.is_integer() && context > 1);
-      return wrap(ginac_text(e), needs);
-    }
+    const bool brackets = needs_brackets(e, position);
+    if (GiNaC::is_a<GiNaC::add>(e) || GiNaC::is_a<GiNaC::mul>(e) || GiNaC::is_a<GiNaC::power>(e))
+      return wrap(remembered(e), brackets);
+    if (GiNaC::is_a<GiNaC::numeric>(e)) return wrap(ginac_text(e), brackets);
     if (GiNaC::is_a<GiNaC::function>(e) && !GiNaC::is_a<GiNaC::fderivative>(e)) {
       std::string out = GiNaC::ex_to<GiNaC::function>(e).get_name() + "(";
       for (std::size_t i = 0; i < e.nops(); ++i) out += (i ? "," : "") + print(e.op(i));
@@ -75,15 +80,6 @@ class CanonicalText {
   static std::string wrap(const std::string& s, bool parenthesize) {
     return parenthesize ? "(" + s + ")" : s;
   }
-  static bool starts_negative(const ex& e) {
-    if (GiNaC::is_a<GiNaC::numeric>(e)) return GiNaC::ex_to<GiNaC::numeric>(e).is_negative();
-    if (GiNaC::is_a<GiNaC::mul>(e)) {
-      const ex c = e.op(e.nops() - 1);  // GiNaC keeps the numeric coefficient last
-      return GiNaC::is_a<GiNaC::numeric>(c) && GiNaC::ex_to<GiNaC::numeric>(c).is_negative();
-    }
-    return false;
-  }
-
  public:
   /// True when the first term of the sum, in canonical order, is negative. normal() picks the
   /// sign of a sum factor by GiNaC's term order, which varies between runs; printers flip such
@@ -100,7 +96,7 @@ class CanonicalText {
  private:
   /// (is_negative, text of the magnitude) of one term of a sum.
   std::pair<bool, std::string> signed_term(const ex& term) const {
-    const std::string text = print(term, 0);
+    const std::string text = print(term, Position::term);
     if (!text.empty() && text[0] == '-') return {true, text.substr(1)};
     return {false, text};
   }
@@ -136,11 +132,12 @@ class CanonicalText {
         f = negated_sum(f);
         coefficient = -coefficient;
       }
-      factors.push_back(print(f, 1));
+      factors.push_back(print(f, Position::factor));
     }
     std::sort(factors.begin(), factors.end());
     std::string out;
     if (coefficient.is_equal(-1)) out = "-";
+    else if (!coefficient.is_real()) out = "(" + ginac_text(coefficient) + ")*";
     else if (!coefficient.is_equal(1)) {
       out = ginac_text(coefficient.is_negative() ? ex(-coefficient) : ex(coefficient));
       if (coefficient.is_negative()) out = "-" + out;
@@ -153,7 +150,7 @@ class CanonicalText {
   std::string power(const ex& e) const {
     const ex base = e.op(0), exponent = e.op(1);
     if (exponent.is_equal(GiNaC::numeric(1, 2))) return "sqrt(" + print(base) + ")";
-    std::string out = print(base, 2) + "^";
+    std::string out = print(base, Position::base) + "^";
     if (GiNaC::is_a<GiNaC::numeric>(exponent) && GiNaC::ex_to<GiNaC::numeric>(exponent).is_nonneg_integer())
       return out + ginac_text(exponent);
     return out + "(" + print(exponent) + ")";
@@ -165,15 +162,12 @@ class CanonicalText {
 /// their TeX names (\dot{x}, \lambda_{1}).
 class CanonicalLatex {
  public:
-  std::string print(const ex& e, int context = 0) const {
+  std::string print(const ex& e, Position position = Position::term) const {
     check_for_stop();
-    if (GiNaC::is_a<GiNaC::add>(e)) return wrap(remembered(e), context > 0);
-    if (GiNaC::is_a<GiNaC::mul>(e) || is_reciprocal(e)) return wrap(remembered(e), context > 1);
-    if (GiNaC::is_a<GiNaC::power>(e)) return remembered(e);
-    if (GiNaC::is_a<GiNaC::numeric>(e)) {
-      const GiNaC::numeric& n = GiNaC::ex_to<GiNaC::numeric>(e);
-      return wrap(number(n), (n.is_negative() && context > 0) || (!n.is_integer() && context > 1));
-    }
+    const bool brackets = needs_brackets(e, position);
+    if (GiNaC::is_a<GiNaC::add>(e) || GiNaC::is_a<GiNaC::mul>(e) || GiNaC::is_a<GiNaC::power>(e))
+      return wrap(remembered(e), brackets);
+    if (GiNaC::is_a<GiNaC::numeric>(e)) return wrap(number(GiNaC::ex_to<GiNaC::numeric>(e)), brackets);
     if (GiNaC::is_a<GiNaC::function>(e) && !GiNaC::is_a<GiNaC::fderivative>(e)) return call(e);
     std::ostringstream out;
     out << GiNaC::latex << e;  // symbols (their TeX names) and constants
@@ -202,6 +196,13 @@ class CanonicalLatex {
            GiNaC::ex_to<GiNaC::numeric>(e.op(1)).is_negative();
   }
   static std::string number(const GiNaC::numeric& n) {
+    if (!n.is_real()) {  // a + b i, always bracketed
+      const GiNaC::numeric im = n.imag();
+      std::string out = n.real().is_zero() ? "" : number(n.real()) + (im.is_negative() ? "-" : "+");
+      if (im.is_negative() && n.real().is_zero()) out = "-";
+      const GiNaC::numeric magnitude = GiNaC::abs(im);
+      return "\\left(" + out + (magnitude.is_equal(1) ? "" : number(magnitude) + "\\,") + "\\mathrm{i}\\right)";
+    }
     if (n.is_integer()) return ginac_text(n);
     const std::string sign = n.is_negative() ? "-" : "";
     const GiNaC::numeric a = GiNaC::abs(n);
@@ -217,7 +218,7 @@ class CanonicalLatex {
               [](const auto& a, const auto& b) { return a.first < b.first; });
     std::string out;
     for (std::size_t i = 0; i < terms.size(); ++i) {
-      std::string t = print(terms[i].second, 0);
+      std::string t = print(terms[i].second, Position::term);
       if (i > 0 && t.rfind("-", 0) != 0) out += "+";
       out += t;
     }
@@ -237,9 +238,9 @@ class CanonicalLatex {
         coefficient *= GiNaC::ex_to<GiNaC::numeric>(f);
       } else if (is_reciprocal(f)) {
         const ex inverse = GiNaC::pow(f.op(0), -f.op(1));
-        lower.emplace_back(text_.print(inverse), print(inverse, 1));
+        lower.emplace_back(text_.print(inverse), print(inverse, Position::factor));
       } else {
-        upper.emplace_back(text_.print(f), print(f, 1));
+        upper.emplace_back(text_.print(f), print(f, Position::factor));
       }
     };
     if (GiNaC::is_a<GiNaC::mul>(e)) {
@@ -249,11 +250,13 @@ class CanonicalLatex {
     }
     std::sort(upper.begin(), upper.end());
     std::sort(lower.begin(), lower.end());
-    const std::string sign = coefficient.is_negative() ? "-" : "";
-    const GiNaC::numeric a = GiNaC::abs(coefficient);
+    const bool real = coefficient.is_real();  // a complex coefficient stands whole, bracketed
+    const std::string sign = real && coefficient.is_negative() ? "-" : "";
+    const GiNaC::numeric a = real ? GiNaC::abs(coefficient) : GiNaC::numeric(1);
     std::string top = a.is_rational() && !a.numer().is_equal(1) ? ginac_text(a.numer()) : "";
     std::string bottom = a.is_rational() && !a.denom().is_equal(1) ? ginac_text(a.denom()) : "";
     if (!a.is_rational()) top = ginac_text(a);
+    if (!real) top = number(coefficient);
     top = juxtaposed(top, upper);
     bottom = juxtaposed(bottom, lower);
     if (top.empty()) top = "1";
@@ -281,7 +284,7 @@ class CanonicalLatex {
                                     ? ginac_text(exponent)
                                     : print(exponent);
     // A jet symbol such as \dot{x} takes its exponent directly; other bases are braced.
-    return "{" + print(base, 2) + "}^{" + exponent_text + "}";
+    return "{" + print(base, Position::base) + "}^{" + exponent_text + "}";
   }
 
   std::string call(const ex& e) const {
@@ -303,8 +306,22 @@ class CanonicalLatex {
 
 }  // namespace
 
+bool needs_brackets(const GiNaC::ex& e, Position position) {
+  if (position == Position::term) return false;
+  if (GiNaC::is_a<GiNaC::add>(e)) return true;
+  if (GiNaC::is_a<GiNaC::mul>(e) || GiNaC::is_a<GiNaC::power>(e))
+    return position == Position::base || starts_negative(e);
+  if (GiNaC::is_a<GiNaC::numeric>(e)) {
+    const GiNaC::numeric& n = GiNaC::ex_to<GiNaC::numeric>(e);
+    return !n.is_real() || n.is_negative() || (position == Position::base && !n.is_integer());
+  }
+  return false;  // symbols, function calls: self-delimiting
+}
+
 std::string to_text(const GiNaC::ex& e) { return CanonicalText().print(e); }
 
 std::string to_latex(const GiNaC::ex& e) { return CanonicalLatex().print(e); }
+
+std::string to_latex(const GiNaC::ex& e, Position position) { return CanonicalLatex().print(e, position); }
 
 }  // namespace nhc

@@ -146,7 +146,7 @@ Intermediate::Intermediate(const std::string& name, const std::string& latex, co
 }
 
 unsigned Intermediate::calchash() const {
-  hashvalue = stable_symbol_hash(serial);
+  hashvalue = stable_symbol_hash(get_name());
   setflag(GiNaC::status_flags::hash_calculated);
   return hashvalue;
 }

@@ -17,16 +17,17 @@ class StableSymbol : public GiNaC::realsymbol {
 
  private:
   void stabilize() {
-    hashvalue = stable_symbol_hash(serial);
+    hashvalue = stable_symbol_hash(get_name());
     setflag(GiNaC::status_flags::hash_calculated);
   }
 };
 
 }  // namespace
 
-unsigned stable_symbol_hash(unsigned serial) {
-  constexpr std::uint64_t kSeed = 0x6e68632d73796d62;  // "nhc-symb"
-  return static_cast<unsigned>(mix_keys(kSeed, serial));
+unsigned stable_symbol_hash(const std::string& name) {
+  std::uint64_t hash = 0x6e68632d73796d62;  // "nhc-symb"
+  for (const unsigned char c : name) hash = mix_keys(hash, c);
+  return static_cast<unsigned>(mix_keys(hash, name.size()));
 }
 
 GiNaC::realsymbol stable_symbol(const std::string& name, const std::string& latex) {

@@ -9,7 +9,13 @@
 /// how fractions combine and the operation count of the generated code (the Whipple bicycle's
 /// residual had 2,077, 2,094 and 2,128 operations after CSE in three builds of one generator).
 /// Address randomization off (fixed_address_layout.hpp) made one binary repeat itself, not two
-/// builds agree. A symbol made here carries a hash from its serial number alone; copies keep it.
+/// builds agree. A symbol made here carries a hash from its name alone; copies keep it.
+///
+/// From its name, not its serial number: serial numbers count every symbol the process made
+/// before, so a hash from them ordered the same scene's terms differently when it was derived
+/// after other scenes (the printed equations and the generated code followed). Symbols of one
+/// scene have distinct names; two with one name (or a rare equal hash) are ordered by GiNaC by
+/// serial, that is by their order of creation within the scene, which the scene alone decides.
 
 #include <ginac/ginac.h>
 
@@ -17,8 +23,9 @@
 
 namespace nhc {
 
-/// The hash every nhc symbol with serial number `serial` gets (stable across builds).
-unsigned stable_symbol_hash(unsigned serial);
+/// The hash every nhc symbol named `name` gets (stable across builds and processes, whatever
+/// was derived before).
+unsigned stable_symbol_hash(const std::string& name);
 
 /// A real symbol printed as `name` (LaTeX `latex`; GiNaC's default form of `name` when empty)
 /// with a stable hash.
