@@ -21,6 +21,7 @@
 
 #include "nhc/derive/models.hpp"
 #include "nhc/jit.hpp"
+#include "nhc/jit/cache_size.hpp"
 #include "nhc/jit/scene_cache.hpp"
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/scene/scene_builder.hpp"
@@ -619,4 +620,23 @@ TEST_CASE("a damaged or foreign cached program is rejected with a warning and re
   CHECK(builder.derivations(scene, interpreted(builder.options())) == 0);
   CHECK(residual_at(builder.last->model()) == good_residual);
   CHECK(builder.warnings.size() == 1);
+}
+
+TEST_CASE("the cache keeps under NHC_CACHE_MAX_SIZE, the longest unused entries removed first", "[jit][scene-cache]") {
+  const fs::path directory = fresh_cache("scene_cache_size");
+  const nhc::jit::SceneCache cache(directory);
+  nhc::jit::SceneCacheRecord record;
+  record.set("text", std::string(10000, 'x'));
+  ::setenv("NHC_CACHE_MAX_SIZE", "35K", 1);
+  const std::vector<std::string> keys{std::string(64, 'a'), std::string(64, 'b'), std::string(64, 'c'),
+                                      std::string(64, 'd')};
+  for (std::size_t k = 0; k < 3; ++k) cache.store(keys[k], record);
+  REQUIRE(cache.load(keys[0]));  // used: now the latest used but the next one stored
+  cache.store(keys[3], record);  // four entries of 10 kB: over 35 kB, one removed (90 % of it)
+  ::unsetenv("NHC_CACHE_MAX_SIZE");
+  CHECK(fs::exists(cache.entry_path(keys[3])));  // just stored
+  CHECK(fs::exists(cache.entry_path(keys[0])));  // used last
+  CHECK_FALSE(fs::exists(cache.entry_path(keys[1])));  // the longest unused
+  CHECK(fs::exists(cache.entry_path(keys[2])));  // three entries fit in 90 % of 35 kB
+  CHECK(nhc::jit::cache_size_limit() == (std::uintmax_t{2} << 30));
 }
