@@ -163,7 +163,7 @@ class Scene:
         :raises nhc.MathError: the given initial values miss a hidden constraint."""
         return Analysis(self._scene.analyze(model or self._scene.default_model))
 
-    def build(self, model: Optional[str] = None) -> Model:
+    def build(self, model: Optional[str] = None, backend: str = "compiled") -> Model:
         """The model derived, compiled (both caches) and loaded: an :class:`nhc.Model` to simulate.
 
         The code is generated from the scene as written and the ``set=`` values are passed at run
@@ -171,10 +171,14 @@ class Scene:
         compiled model: a parameter study compiles once.
 
         :param model: the model's name (default: the scene's ``[simulate]`` model, as on the command line).
+        :param backend: ``"compiled"``, ``"interpreted"`` (no compiler; a scene interpreted before,
+            in this process or another, takes its program from the scene cache without deriving)
+            or ``"auto"`` (compiled when compiled before, else interpreted), as ``nhc simulate
+            --backend``; docs/interpreter.md.
         :raises nhc.MathError: the given initial values miss a hidden constraint (checked before
             anything is compiled, in ``nhc simulate``'s words).
         :raises nhc.HostError: the compiler or the cache failed."""
-        return Model(_nhc._build(self._scene, model or self._scene.default_model, self._written))
+        return Model(_nhc._build(self._scene, model or self._scene.default_model, self._written, backend))
 
     def linearize(self, model: Optional[str] = None, at: Optional[Mapping[str, float]] = None,
                   keep: Sequence[str] = (), states: Sequence[str] = (), turn: str = "") -> Linearization:

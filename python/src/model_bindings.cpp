@@ -120,12 +120,19 @@ struct BuiltModel {
 /// none: `scene` itself. The path of nhc simulate (app::prepare_and_build): given initial values that
 /// miss a hidden constraint are refused in its words before anything is compiled, and the model
 /// is derived and analysed once.
-BuiltModel build(const Scene& scene, const std::string& model, const std::optional<Scene>& header_scene) {
+/// `backend`: "compiled", "interpreted" or "auto" (docs/interpreter.md; interpreted, the program
+/// comes from the scene cache when the scene was interpreted before).
+BuiltModel build(const Scene& scene, const std::string& model, const std::optional<Scene>& header_scene,
+                 const std::string& backend) {
   const ModelKind kind = model_named(model);
   const Scene& written = header_scene ? *header_scene : scene;
+  jit::BuildOptions options;
+  const std::optional<jit::Backend> chosen = jit::parse_backend(backend);
+  if (!chosen) throw py::value_error("backend must be \"compiled\", \"interpreted\" or \"auto\", not \"" + backend + "\"");
+  options.backend = *chosen;
   auto loaded = std::make_shared<jit::LoadedModel>(symbolic_work([&] {
     app::Preparation preparation(scene, kind);
-    return std::move(app::prepare_and_build(preparation, written, false, {}).built);
+    return std::move(app::prepare_and_build(preparation, written, false, options).built);
   }));
   std::vector<double> p = app::model_parameters(loaded->model(), scene);
   return BuiltModel{scene, written, kind, std::move(loaded), std::move(p)};  // with the GIL: it holds Python objects
@@ -838,7 +845,8 @@ void register_model(py::module_& m) {
              const std::optional<std::vector<double>>& inputs) { return reduced_function(b, which, t, q, u, inputs); },
           py::arg("which"), py::arg("t"), py::arg("q"), py::arg("u"), py::arg("inputs") = std::nullopt);
 
-  m.def("_build", &build, py::arg("scene"), py::arg("model"), py::arg("header_scene") = std::nullopt);
+  m.def("_build", &build, py::arg("scene"), py::arg("model"), py::arg("header_scene") = std::nullopt,
+        py::arg("backend") = "compiled");
   m.def(
       "_sweep",
       [](const Scene& scene, const std::string& model, const std::string& name, double first, double last, int count,

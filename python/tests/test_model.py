@@ -278,3 +278,36 @@ def test_variational_integrator_refusals():
         model.simulate(t_end=1, step=0.1)
     with pytest.raises(nhc.SceneError, match="more than max_steps"):
         model.simulate(t_end=1, integrator="variational", step=1e-9)
+
+
+def test_a_new_process_builds_an_interpreted_scene_from_the_cache(tmp_path):
+    # Scene.build(backend="interpreted") in a new process takes the program the first process
+    # stored (docs/interpreter.md, "The second run"): nothing derived or generated (derive_seconds
+    # 0), the same numbers to the bit, and the compiled model's numbers too.
+    import os
+    import subprocess
+    import sys
+
+    script = (
+        "import sys, nhc\n"
+        "scene = nhc.Scene.from_toml(sys.argv[1])\n"
+        "run = scene.build('chetaev', backend=sys.argv[2]).simulate(t_end=2.0, outputs=50)\n"
+        "print(run.summary['derive_seconds'])\n"
+        "print([x.hex() for x in run['x']])\n"
+    )
+    env = dict(os.environ, NHC_CACHE_DIR=str(tmp_path / "cache"))
+
+    def build_in_a_new_process(backend):
+        out = subprocess.run([sys.executable, "-c", script, OSCILLATOR, backend], env=env, check=True,
+                             capture_output=True, text=True).stdout.splitlines()
+        return float(out[0]), out[1]
+
+    cold_derive, cold_x = build_in_a_new_process("interpreted")
+    warm_derive, warm_x = build_in_a_new_process("interpreted")
+    assert cold_derive > 0
+    assert warm_derive == 0
+    assert warm_x == cold_x
+    assert build_in_a_new_process("auto") == (0.0, cold_x)
+    assert build_in_a_new_process("compiled")[1] == cold_x
+    with pytest.raises(ValueError, match="backend must be"):
+        nhc.Scene.from_toml(OSCILLATOR).build("chetaev", backend="fast")

@@ -21,6 +21,7 @@
 
 #include "nhc/derive/models.hpp"
 #include "nhc/jit.hpp"
+#include "nhc/jit/cache_size.hpp"
 #include "nhc/jit/scene_cache.hpp"
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/scene/scene_builder.hpp"
@@ -481,4 +482,161 @@ TEST_CASE("the system's key follows every change of the system and no change of 
       CHECK(nhc::jit::system_fingerprint(changed));
     }
   }
+}
+
+namespace {
+
+nhc::jit::BuildOptions interpreted(nhc::jit::BuildOptions o) {
+  o.backend = nhc::jit::Backend::interpreted;
+  return o;
+}
+
+fs::path program_entry(const Builder& builder, const nhc::Scene& scene) {
+  const auto key = nhc::jit::scene_cache_key(
+      scene, "interpreted program",
+      "model chetaev, jacobian default, sensitivities no, split from " +
+          std::to_string(nhc::HeaderOptions{}.split_from_bytes) + " bytes",
+      nhc::jit::scene_cache_version(), nhc::jit::FingerprintScope::equations);
+  REQUIRE(key);
+  return builder.cache / "scenes" / (*key + ".entry");
+}
+
+/// The residual's bits at a point of no particular meaning: equal programs give equal bits.
+std::vector<double> residual_at(const nhc::runtime::Model& model) {
+  const nhc_model_table& t = model.table();
+  std::vector<double> y(static_cast<std::size_t>(t.n_states)), yp(y.size()), r(y.size());
+  for (std::size_t k = 0; k < y.size(); ++k) y[k] = 0.3 + 0.1 * static_cast<double>(k), yp[k] = 0.7 - 0.05 * static_cast<double>(k);
+  const std::vector<double> p = model.default_parameters();
+  t.residual(0.2, y.data(), yp.data(), p.data(), r.data());
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("a scene interpreted before builds from its cached program without deriving", "[jit][scene-cache]") {
+  Builder builder{fresh_cache("scene_cache_program")};
+  const std::string text = appell_hamel_text();
+  REQUIRE(builder.derivations(scene_of(text), interpreted(builder.options())) == 1);
+  REQUIRE(builder.last->timings().interpreted);
+  REQUIRE_FALSE(builder.last->timings().scene_cached);
+  const std::vector<double> cold_residual = residual_at(builder.last->model());
+  const double cold_error = z_dot_error(builder.last->model(), 0.5);
+  const std::string cold_header = builder.last->header().text;
+  REQUIRE(fs::is_regular_file(program_entry(builder, scene_of(text))));
+
+  // A new Scene read from the same text, interpreted or automatic (never compiled before): no
+  // derivation, no lowering, the same bits.
+  for (nhc::jit::Backend backend : {nhc::jit::Backend::interpreted, nhc::jit::Backend::automatic}) {
+    nhc::jit::BuildOptions o = builder.options();
+    o.backend = backend;
+    CHECK_FALSE(nhc::jit::build_derives(scene_of(text), nhc::ModelKind::chetaev, o));
+    REQUIRE(builder.derivations(scene_of(text), o) == 0);
+    CHECK(builder.last->timings().scene_cached);
+    CHECK(builder.last->timings().interpreted);
+    CHECK(builder.last->header().text == cold_header);  // what a compile behind the run compiles
+    CHECK(residual_at(builder.last->model()) == cold_residual);
+    CHECK(z_dot_error(builder.last->model(), 0.5) == cold_error);
+  }
+  // Compiled, the same header gives the same bits too; a compiled build never takes the program.
+  nhc::jit::BuildOptions compiled = builder.options();
+  compiled.backend = nhc::jit::Backend::compiled;
+  CHECK(nhc::jit::build_derives(scene_of(text), nhc::ModelKind::chetaev, compiled));
+  REQUIRE(builder.derivations(scene_of(text), compiled) == 1);
+  CHECK(residual_at(builder.last->model()) == cold_residual);
+  // Another parameter value is another program.
+  CHECK(nhc::jit::build_derives(scene_of(appell_hamel_text("0.25")), nhc::ModelKind::chetaev,
+                                interpreted(builder.options())));
+  CHECK(builder.warnings.empty());
+}
+
+TEST_CASE("a damaged or foreign cached program is rejected with a warning and rebuilt", "[jit][scene-cache]") {
+  Builder builder{fresh_cache("scene_cache_program_damage")};
+  const nhc::Scene scene = scene_of(appell_hamel_text());
+  REQUIRE(builder.derivations(scene, interpreted(builder.options())) == 1);
+  const std::vector<double> good_residual = residual_at(builder.last->model());
+  const fs::path entry = program_entry(builder, scene);
+  REQUIRE(fs::is_regular_file(entry));
+  const std::string good = read_file(entry);
+  const auto key = entry.stem().string();
+  const nhc::jit::SceneCache cache(builder.cache);
+  const std::optional<nhc::jit::SceneCacheRecord> record = cache.load(key);
+  REQUIRE(record);
+  REQUIRE(record->get("program"));
+
+  std::string expected;
+  SECTION("one byte of the program changed") {
+    std::string bad = good;
+    bad[bad.size() - 40] ^= 0x10;
+    write_file(entry, bad);
+    expected = "does not match its SHA-256 digest";
+  }
+  SECTION("truncated") {
+    write_file(entry, good.substr(0, good.size() - 7));
+    expected = "truncated or damaged";
+  }
+  // Entries that pass the file's checks (this user's, private, digest and key right) but whose
+  // program is not this scene's, or not a program: written by another nhc, or by hand.
+  SECTION("a program cut short, with its digest") {
+    nhc::jit::SceneCacheRecord bad = *record;
+    const std::string program = *record->get("program");
+    bad.set("program", program.substr(0, program.size() / 2));
+    cache.store(key, bad);
+    expected = "not one nhc can run";
+  }
+  SECTION("the program's last words overwritten, with its digest") {
+    nhc::jit::SceneCacheRecord bad = *record;
+    std::string program = *record->get("program");
+    // Register numbers and counts far beyond the program's.
+    for (std::size_t at = program.size() - 64; at < program.size() - 4; at += 4) program[at + 3] = '\x7f';
+    bad.set("program", program);
+    cache.store(key, bad);
+    expected = "not one nhc can run";
+  }
+  SECTION("another scene's program, with its digest") {
+    Builder other{fresh_cache("scene_cache_program_other")};
+    std::string text = appell_hamel_text();
+    text.replace(text.find("appell_hamel"), 12, "other_scene");
+    REQUIRE(other.derivations(scene_of(text), interpreted(other.options())) == 1);
+    const fs::path other_entry = program_entry(other, scene_of(text));
+    const std::optional<nhc::jit::SceneCacheRecord> foreign =
+        nhc::jit::SceneCache(other.cache).load(other_entry.stem().string());
+    REQUIRE(foreign);
+    cache.store(key, *foreign);
+    expected = "not one nhc can run";
+  }
+  SECTION("writable by others") {
+    fs::permissions(entry, fs::perms::others_write, fs::perm_options::add);
+    expected = "writable by others";
+  }
+  CHECK(builder.derivations(scene, interpreted(builder.options())) == 1);
+  REQUIRE(builder.warnings.size() == 1);
+  CHECK(builder.warnings[0].find("scene cache entry " + entry.string() + " rejected: ") == 0);
+  CHECK(builder.warnings[0].find(expected) != std::string::npos);
+  CHECK(residual_at(builder.last->model()) == good_residual);
+  // Rebuilt and used by the next build. (Not byte for byte the first entry: a derivation again in
+  // the same process numbers the instructions, and so the registers, otherwise; the arithmetic
+  // and its order are the same, and so are the residual's bits.)
+  CHECK(fs::is_regular_file(entry));
+  CHECK(builder.derivations(scene, interpreted(builder.options())) == 0);
+  CHECK(residual_at(builder.last->model()) == good_residual);
+  CHECK(builder.warnings.size() == 1);
+}
+
+TEST_CASE("the cache keeps under NHC_CACHE_MAX_SIZE, the longest unused entries removed first", "[jit][scene-cache]") {
+  const fs::path directory = fresh_cache("scene_cache_size");
+  const nhc::jit::SceneCache cache(directory);
+  nhc::jit::SceneCacheRecord record;
+  record.set("text", std::string(10000, 'x'));
+  ::setenv("NHC_CACHE_MAX_SIZE", "35K", 1);
+  const std::vector<std::string> keys{std::string(64, 'a'), std::string(64, 'b'), std::string(64, 'c'),
+                                      std::string(64, 'd')};
+  for (std::size_t k = 0; k < 3; ++k) cache.store(keys[k], record);
+  REQUIRE(cache.load(keys[0]));  // used: now the latest used but the next one stored
+  cache.store(keys[3], record);  // four entries of 10 kB: over 35 kB, one removed (90 % of it)
+  ::unsetenv("NHC_CACHE_MAX_SIZE");
+  CHECK(fs::exists(cache.entry_path(keys[3])));  // just stored
+  CHECK(fs::exists(cache.entry_path(keys[0])));  // used last
+  CHECK_FALSE(fs::exists(cache.entry_path(keys[1])));  // the longest unused
+  CHECK(fs::exists(cache.entry_path(keys[2])));  // three entries fit in 90 % of 35 kB
+  CHECK(nhc::jit::cache_size_limit() == (std::uintmax_t{2} << 30));
 }

@@ -22,10 +22,15 @@ const StructuralAnalysis* Preparation::structure() const noexcept {
 }
 
 jit::LoadedModel Preparation::build(const Scene& scene, const jit::BuildOptions& options) const {
+  return build(scene, options, jit::look_up_build(scene, kind_, options));
+}
+
+jit::LoadedModel Preparation::build(const Scene& scene, const jit::BuildOptions& options,
+                                    const jit::BuildLookup& lookup) const {
   const StructuralAnalysis* analysed = structure();
-  if (!analysed) return jit::build(scene, kind_, options);
+  if (!analysed) return jit::build(scene, kind_, options, nullptr, lookup);
   const jit::DerivedAndAnalysed given{*derived_, *analysed};
-  return jit::build(scene, kind_, options, &given);
+  return jit::build(scene, kind_, options, &given, lookup);
 }
 
 InitialPointCheck check_initial_point(Preparation& preparation, bool repair) {
@@ -68,13 +73,18 @@ PreparedModel prepare_and_build(Preparation& preparation, const Scene& written, 
   // derives after the same analysis as on a cold cache: the analysis makes symbols, and GiNaC
   // orders terms by symbol hash, which follows creation order (the model would otherwise depend on
   // what the cache holds).
-  if (check.cached && jit::build_derives(written, preparation.kind(), options)) {
+  // The cache is looked up once: the entry that decides here is the one the build takes (an
+  // entry rejected between the two would leave a build that derives without the analysis).
+  const jit::BuildLookup lookup = jit::look_up_build(written, preparation.kind(), options);
+  if (check.cached && lookup.derives()) {
     InitializationOptions init;
     init.repair = repair;
     preparation.analysis(init);
   }
-  const double check_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  jit::LoadedModel built = preparation.build(written, options);
+  // The lookup's time is the build's (BuildTimings::scene_cache), not the check's.
+  const double check_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() - lookup.seconds;
+  jit::LoadedModel built = preparation.build(written, options, lookup);
   remember_check(check, built);
   return PreparedModel{std::move(check), check_seconds, std::move(built)};
 }

@@ -33,6 +33,8 @@ class Preparation {
   /// Builds the model of `scene` (the scene as written: its values are the model's defaults),
   /// from the analysis when one was made.
   jit::LoadedModel build(const Scene& scene, const jit::BuildOptions& options) const;
+  /// The same with the scene cache looked up already (jit::look_up_build() of `scene`, `options`).
+  jit::LoadedModel build(const Scene& scene, const jit::BuildOptions& options, const jit::BuildLookup& lookup) const;
 
  private:
   Scene scene_;

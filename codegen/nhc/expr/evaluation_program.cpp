@@ -2,6 +2,7 @@
 
 #include <climits>
 #include <cmath>
+#include <cstring>
 #include <map>
 #include <unordered_map>
 
@@ -9,21 +10,36 @@
 
 namespace nhc {
 
+namespace {
+
+struct UnaryEntry {
+  const char* name;
+  double (*function)(double);
+};
+struct BinaryEntry {
+  const char* name;
+  double (*function)(double, double);
+};
+// The C library functions a `call` instruction may name, with their printed names.
+const UnaryEntry kUnary[] = {
+    {"std::sin", std::sin},     {"std::cos", std::cos},     {"std::tan", std::tan},   {"std::exp", std::exp},
+    {"std::log", std::log},     {"std::sinh", std::sinh},   {"std::cosh", std::cosh}, {"std::tanh", std::tanh},
+    {"std::asin", std::asin},   {"std::acos", std::acos},   {"std::atan", std::atan}, {"std::asinh", std::asinh},
+    {"std::acosh", std::acosh}, {"std::atanh", std::atanh}, {"std::fabs", std::fabs}, {"std::sqrt", std::sqrt}};
+const BinaryEntry kBinary[] = {{"std::pow", std::pow}, {"std::atan2", std::atan2}};
+
+}  // namespace
+
 double (*unary_function(const std::string& name))(double) {
-  static const std::map<std::string, double (*)(double)> functions = {
-      {"std::sin", std::sin},     {"std::cos", std::cos},     {"std::tan", std::tan},   {"std::exp", std::exp},
-      {"std::log", std::log},     {"std::sinh", std::sinh},   {"std::cosh", std::cosh}, {"std::tanh", std::tanh},
-      {"std::asin", std::asin},   {"std::acos", std::acos},   {"std::atan", std::atan}, {"std::asinh", std::asinh},
-      {"std::acosh", std::acosh}, {"std::atanh", std::atanh}, {"std::fabs", std::fabs}, {"std::sqrt", std::sqrt}};
-  const auto f = functions.find(name);
-  return f == functions.end() ? nullptr : f->second;
+  for (const UnaryEntry& e : kUnary)
+    if (name == e.name) return e.function;
+  return nullptr;
 }
 
 double (*binary_function(const std::string& name))(double, double) {
-  static const std::map<std::string, double (*)(double, double)> functions = {{"std::pow", std::pow},
-                                                                             {"std::atan2", std::atan2}};
-  const auto f = functions.find(name);
-  return f == functions.end() ? nullptr : f->second;
+  for (const BinaryEntry& e : kBinary)
+    if (name == e.name) return e.function;
+  return nullptr;
 }
 
 EvaluationProgram::EvaluationProgram(const ExpressionDag& dag, const std::vector<Output>& outputs,
@@ -280,6 +296,184 @@ void EvaluationProgram::allocate_registers(const std::vector<int>& pinned, const
     });
   }
   register_count_ = count;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The program as bytes: little-endian 32-bit words, doubles by their 64 bits, functions by name.
+
+namespace {
+
+void put_word(std::string& out, std::uint32_t v) {
+  for (int k = 0; k < 4; ++k) out.push_back(static_cast<char>((v >> (8 * k)) & 0xffu));
+}
+void put_int(std::string& out, int v) { put_word(out, static_cast<std::uint32_t>(v)); }
+void put_name(std::string& out, const char* name) {
+  put_word(out, static_cast<std::uint32_t>(std::strlen(name)));
+  out += name;
+}
+
+/// Reads what put_* wrote; false once the bytes run out.
+struct ByteReader {
+  std::string_view bytes;
+  std::size_t pos = 0;
+  bool word(std::uint32_t& v) {
+    if (bytes.size() - pos < 4) return false;
+    v = 0;
+    for (int k = 0; k < 4; ++k) v |= static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[pos + k])) << (8 * k);
+    pos += 4;
+    return true;
+  }
+  bool integer(int& v) {
+    std::uint32_t w = 0;
+    if (!word(w)) return false;
+    v = static_cast<int>(w);
+    return true;
+  }
+  /// A count of items of at least `item_bytes` each that the remaining bytes can hold.
+  bool count(std::size_t& n, std::size_t item_bytes) {
+    std::uint32_t w = 0;
+    if (!word(w) || w > (bytes.size() - pos) / item_bytes) return false;
+    n = w;
+    return true;
+  }
+  bool name(std::string& text) {
+    std::size_t n = 0;
+    if (!count(n, 1)) return false;
+    text.assign(bytes.substr(pos, n));
+    pos += n;
+    return true;
+  }
+};
+
+template <typename Entry, typename F>
+const char* name_of(const Entry& table, F function) {
+  for (const auto& e : table)
+    if (e.function == function) return e.name;
+  return nullptr;
+}
+
+}  // namespace
+
+std::string EvaluationProgram::to_bytes() const {
+  std::string out;
+  put_int(out, register_count_);
+  put_word(out, static_cast<std::uint32_t>(operations_.size()));
+  for (const Operation& op : operations_) {
+    put_int(out, static_cast<int>(op.code));
+    put_int(out, op.target);
+    put_int(out, op.a);
+    put_int(out, op.b);
+    put_int(out, op.c);
+  }
+  put_word(out, static_cast<std::uint32_t>(operands_.size()));
+  for (std::size_t k = 0; k < operands_.size(); ++k) {
+    put_int(out, operands_[k]);
+    put_int(out, negated_[k]);
+  }
+  put_word(out, static_cast<std::uint32_t>(unary_.size()));
+  for (auto f : unary_) put_name(out, name_of(kUnary, f));
+  put_word(out, static_cast<std::uint32_t>(binary_.size()));
+  for (auto f : binary_) put_name(out, name_of(kBinary, f));
+  put_word(out, static_cast<std::uint32_t>(constants_.size()));
+  for (const auto& [at, value] : constants_) {
+    std::uint64_t bits = 0;
+    std::memcpy(&bits, &value, sizeof bits);
+    put_int(out, at);
+    put_word(out, static_cast<std::uint32_t>(bits));
+    put_word(out, static_cast<std::uint32_t>(bits >> 32));
+  }
+  return out;
+}
+
+std::optional<EvaluationProgram> EvaluationProgram::from_bytes(std::string_view bytes, int arguments, int outputs) {
+  EvaluationProgram p;
+  ByteReader in{bytes};
+  std::size_t n = 0;
+  if (!in.integer(p.register_count_) || p.register_count_ < 0 || !in.count(n, 20)) return std::nullopt;
+  p.operations_.resize(n);
+  for (Operation& op : p.operations_) {
+    int code = 0;
+    if (!in.integer(code) || code < 0 || code > static_cast<int>(Code::halt) || !in.integer(op.target) ||
+        !in.integer(op.a) || !in.integer(op.b) || !in.integer(op.c))
+      return std::nullopt;
+    op.code = static_cast<Code>(code);
+  }
+  if (!in.count(n, 8)) return std::nullopt;
+  p.operands_.resize(n);
+  p.negated_.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    int negated = 0;
+    if (!in.integer(p.operands_[k]) || !in.integer(negated) || negated < 0 || negated > 1) return std::nullopt;
+    p.negated_[k] = static_cast<char>(negated);
+  }
+  std::string name;
+  if (!in.count(n, 4)) return std::nullopt;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (!in.name(name) || !unary_function(name)) return std::nullopt;
+    p.unary_.push_back(unary_function(name));
+  }
+  if (!in.count(n, 4)) return std::nullopt;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (!in.name(name) || !binary_function(name)) return std::nullopt;
+    p.binary_.push_back(binary_function(name));
+  }
+  if (!in.count(n, 12)) return std::nullopt;
+  for (std::size_t k = 0; k < n; ++k) {
+    int at = 0;
+    std::uint32_t low = 0, high = 0;
+    if (!in.integer(at) || !in.word(low) || !in.word(high)) return std::nullopt;
+    const std::uint64_t bits = (static_cast<std::uint64_t>(high) << 32) | low;
+    double value = 0;
+    std::memcpy(&value, &bits, sizeof value);
+    p.constants_.emplace_back(at, value);
+  }
+  if (in.pos != bytes.size()) return std::nullopt;
+
+  // Every index the program follows, within what it has and what run() is given.
+  const int registers = p.register_count_;
+  auto reg = [registers](int v) { return v >= 0 && v < registers; };
+  for (const auto& [at, value] : p.constants_)
+    if (!reg(at)) return std::nullopt;
+  for (int v : p.operands_)
+    if (!reg(v)) return std::nullopt;
+  if (!p.operations_.empty() && p.operations_.back().code != Code::halt) return std::nullopt;
+  for (std::size_t i = 0; i < p.operations_.size(); ++i) {
+    const Operation& op = p.operations_[i];
+    bool sound = true;
+    switch (op.code) {
+      case Code::load: sound = reg(op.target) && op.a >= 0 && op.a < arguments && op.b >= 0; break;
+      case Code::sum:
+      case Code::product:
+        sound = reg(op.target) && op.a >= 0 && op.b >= 1 &&
+                static_cast<std::size_t>(op.a) + static_cast<std::size_t>(op.b) <= p.operands_.size();
+        break;
+      case Code::add:
+      case Code::subtract:
+      case Code::negated_add:
+      case Code::negated_subtract:
+      case Code::multiply:
+      case Code::quotient: sound = reg(op.target) && reg(op.a) && reg(op.b); break;
+      case Code::multiply3: sound = reg(op.target) && reg(op.a) && reg(op.b) && reg(op.c); break;
+      case Code::negate:
+      case Code::square_root:
+      case Code::square:
+      case Code::sign:
+      case Code::step: sound = reg(op.target) && reg(op.a); break;
+      case Code::power: sound = reg(op.target) && reg(op.a) && op.b >= 1; break;
+      case Code::call1:
+        sound = reg(op.target) && reg(op.a) && op.b >= 0 && static_cast<std::size_t>(op.b) < p.unary_.size();
+        break;
+      case Code::call2:
+        sound = reg(op.target) && reg(op.a) && reg(op.c) && op.b >= 0 &&
+                static_cast<std::size_t>(op.b) < p.binary_.size();
+        break;
+      case Code::sincos: sound = reg(op.target) && reg(op.a) && reg(op.b); break;
+      case Code::store: sound = op.target >= 0 && op.target < outputs && reg(op.a) && op.b >= 0; break;
+      case Code::halt: sound = i + 1 == p.operations_.size(); break;
+    }
+    if (!sound) return std::nullopt;
+  }
+  return p;
 }
 
 // The dispatch: GCC's and Clang's labels as values (one indirect jump per operation, each

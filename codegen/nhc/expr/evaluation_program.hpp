@@ -8,7 +8,9 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -40,6 +42,14 @@ class EvaluationProgram {
   /// address), outputs[slot][index] receives the results. `registers` is the caller's scratch,
   /// kept between calls (one per thread): sized, and the constants written, on first use.
   void run(const double* const* arguments, double* const* outputs, std::vector<double>& registers) const;
+
+  /// The lowered program as bytes (the interpreted model's entry in the scene cache,
+  /// nhc/jit/interpreted_model.hpp): the same program whatever reads it back, with no DAG to lower.
+  std::string to_bytes() const;
+  /// The program `bytes` holds (to_bytes()); nullopt when they are not one whose operations read
+  /// and write registers it has, operands and functions it has, arguments below `arguments` and
+  /// outputs below `outputs` (what run() may be given): malformed bytes are refused, not run.
+  static std::optional<EvaluationProgram> from_bytes(std::string_view bytes, int arguments, int outputs);
 
   int register_count() const noexcept { return register_count_; }
   std::size_t operation_count() const noexcept { return operations_.empty() ? 0 : operations_.size() - 1; }

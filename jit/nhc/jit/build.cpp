@@ -143,45 +143,94 @@ void remember_compiled_header(const Scene& scene, ModelKind kind, const BuildOpt
 
 namespace {
 
-/// The scene cache's key of the header build() may take from there; none when it derives anyway.
-std::optional<std::string> header_key(const Scene& scene, ModelKind kind, const BuildOptions& options) {
-  // Interpreted, the model needs the prepared instruction list: the header alone is not enough.
-  if (options.backend == Backend::interpreted || !options.scene_cache || !scene_cache_enabled()) return std::nullopt;
-  return scene_cache_key(scene, kHeaderProduct, header_options_text(scene, kind, options), scene_cache_version(),
+constexpr const char* kProgramProduct = "interpreted program";
+
+/// The scene cache's key of `product` build() may take from there; none when the cache is off.
+std::optional<std::string> product_key(const Scene& scene, ModelKind kind, const BuildOptions& options,
+                                       const char* product) {
+  if (!options.scene_cache || !scene_cache_enabled()) return std::nullopt;
+  return scene_cache_key(scene, product, header_options_text(scene, kind, options), scene_cache_version(),
                          FingerprintScope::equations);
 }
 
-std::optional<CachedHeader> lookup_header(const std::optional<std::string>& key, const BuildOptions& options) {
-  if (!key) return std::nullopt;
-  const std::optional<SceneCacheRecord> record =
-      SceneCache(options.compile.cache_directory, options.compile.warn).load(*key);
-  if (!record) return std::nullopt;
-  return cached_header(*record);
+/// The key of the compiled model's header: none interpreted, whose model needs the program.
+std::optional<std::string> header_key(const Scene& scene, ModelKind kind, const BuildOptions& options) {
+  if (options.backend == Backend::interpreted) return std::nullopt;
+  return product_key(scene, kind, options, kHeaderProduct);
+}
+
+/// The key of the interpreted model's program: none for a compiled build.
+std::optional<std::string> program_key(const Scene& scene, ModelKind kind, const BuildOptions& options) {
+  if (options.backend == Backend::compiled) return std::nullopt;
+  return product_key(scene, kind, options, kProgramProduct);
 }
 
 }  // namespace
 
+class SceneCacheHit {
+ public:
+  CachedHeader header;
+  /// Interpreted: the program read back (checked); null: the header is compiled's.
+  std::shared_ptr<const InterpretedProgram> program;
+};
+
+BuildLookup look_up_build(const Scene& scene, ModelKind kind, const BuildOptions& options) {
+  const auto start = Clock::now();
+  BuildLookup lookup;
+  const SceneCache cache(options.compile.cache_directory, options.compile.warn);
+  if (const std::optional<std::string> key = header_key(scene, kind, options))
+    if (const std::optional<SceneCacheRecord> record = cache.load(*key))
+      if (std::optional<CachedHeader> header = cached_header(*record))
+        lookup.hit = std::make_shared<SceneCacheHit>(SceneCacheHit{std::move(*header), nullptr});
+  if (!lookup.hit)
+    if (const std::optional<std::string> key = program_key(scene, kind, options))
+      if (const std::optional<SceneCacheRecord> record = cache.load(*key)) {
+        std::optional<CachedHeader> header = cached_header(*record);
+        const std::optional<std::string> bytes = record->get("program");
+        std::shared_ptr<const InterpretedProgram> program =
+            header && bytes ? interpreted_program_from_bytes(*bytes, scene.name, to_string(kind)) : nullptr;
+        if (program)
+          lookup.hit = std::make_shared<SceneCacheHit>(SceneCacheHit{std::move(*header), std::move(program)});
+        else
+          cache.discard(*key, "its interpreted program is not one nhc can run (damaged or foreign)");
+      }
+  lookup.seconds = seconds_since(start);
+  return lookup;
+}
+
 bool build_derives(const Scene& scene, ModelKind kind, const BuildOptions& options) {
-  return !lookup_header(header_key(scene, kind, options), options);
+  return look_up_build(scene, kind, options).derives();
 }
 
 LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& options,
                   const DerivedAndAnalysed* given) {
+  return build(scene, kind, options, given, look_up_build(scene, kind, options));
+}
+
+LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& options, const DerivedAndAnalysed* given,
+                  const BuildLookup& lookup) {
   // The scene cache first: an unchanged scene skips derive, reduce and generate.
-  auto start = Clock::now();
-  const std::optional<std::string> key = header_key(scene, kind, options);
-  if (std::optional<CachedHeader> cached = lookup_header(key, options)) {
-    const double lookup_seconds = seconds_since(start);
-    LoadedModel loaded = load_header(cached->header, kind, cached->jacobian, options.compile);
+  const double lookup_seconds = lookup.seconds;
+  if (const SceneCacheHit* hit = lookup.hit.get()) {
+    if (hit->program) {  // interpreted before: nothing is lowered either
+      const auto start = Clock::now();
+      runtime::Model model = interpret(hit->program);
+      BuildTimings timings;
+      timings.scene_cache = lookup_seconds;
+      timings.scene_cached = true;
+      timings.interpreted = true;
+      timings.load = seconds_since(start);
+      return LoadedModel(kind, hit->header.jacobian, hit->header.header, CompiledLibrary{}, std::move(model), timings);
+    }
+    LoadedModel loaded = load_header(hit->header.header, kind, hit->header.jacobian, options.compile);
     BuildTimings timings = loaded.timings();
     timings.scene_cache = lookup_seconds;
     timings.scene_cached = true;
-    return LoadedModel(kind, cached->jacobian, std::move(cached->header), loaded.library(),
+    return LoadedModel(kind, hit->header.jacobian, hit->header.header, loaded.library(),
                        runtime::Model(loaded.model()), timings);
   }
-  const double lookup_seconds = seconds_since(start);
 
-  start = Clock::now();
+  auto start = Clock::now();
   // Derived once: from the preparation (with its analysis) when given, else here.
   std::optional<DerivedModel> derived_here;
   if (!given) derived_here = derive_model(scene, kind);
@@ -217,12 +266,20 @@ LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& option
 
   if (may_interpret && interpretable(prepared)) {
     start = Clock::now();
-    runtime::Model model = interpret(scene, system, prepared);
+    const std::shared_ptr<const InterpretedProgram> program = interpreted_program(scene, system, prepared);
+    runtime::Model model = interpret(program);
     BuildTimings timings;
     timings.derive = derive_seconds;
     timings.generate = generate_seconds;
-    timings.scene_cache = lookup_seconds;
     timings.load = seconds_since(start);
+    // Stored once the model is made, so that the next run neither derives nor lowers.
+    start = Clock::now();
+    if (const std::optional<std::string> key = program_key(scene, kind, options)) {
+      SceneCacheRecord record = header_record(header, header_options.jacobian);
+      record.set("program", to_bytes(*program));
+      SceneCache(options.compile.cache_directory, options.compile.warn).store(*key, record);
+    }
+    timings.scene_cache = lookup_seconds + seconds_since(start);
     timings.interpreted = true;
     return LoadedModel(kind, header_options.jacobian, std::move(header), CompiledLibrary{}, std::move(model), timings);
   }
@@ -234,7 +291,7 @@ LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& option
   // Stored once the header compiled and loaded, beside the library (the compile cache's checked
   // directory): a refused or interrupted build leaves no entry.
   start = Clock::now();
-  if (key)
+  if (const std::optional<std::string> key = header_key(scene, kind, options))
     SceneCache(loaded.library().path.parent_path(), options.compile.warn)
         .store(*key, header_record(header, header_options.jacobian));
   const double store_seconds = seconds_since(start);

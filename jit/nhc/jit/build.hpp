@@ -2,6 +2,7 @@
 /// \file build.hpp
 /// \brief nhc::jit::build: a scene's model derived, reduced, generated, compiled and loaded.
 
+#include <memory>
 #include <optional>
 
 #include "nhc/analysis/structural_analysis.hpp"
@@ -45,8 +46,9 @@ struct BuildOptions {
   /// where the model has one. Asked for, not by default: forming it costs more than the rest of
   /// the header on large systems (docs/generated-code.md, "Reduced-form additions").
   bool reduced_form = false;
-  /// Reuse the header generated for the same scene text, model and options by an earlier build
-  /// (scene_cache.hpp): derivation, reduction and generation are skipped. `NHC_SCENE_CACHE=off`
+  /// Reuse the header generated (or, interpreted, the program lowered) for the same scene text,
+  /// model and options by an earlier build (scene_cache.hpp): derivation, reduction and generation
+  /// are skipped. `NHC_SCENE_CACHE=off`
   /// turns it off too. A scene without source text (SceneSystem::source_text()) is never cached.
   bool scene_cache = true;
   /// The compile cache's directory is also the scene cache's.
@@ -100,6 +102,24 @@ struct DerivedAndAnalysed {
   const StructuralAnalysis& structure;
 };
 
+/// What build() takes from the scene cache instead of deriving: the header of a model compiled
+/// before, or the program of a model interpreted before (docs/interpreter.md).
+class SceneCacheHit;
+
+/// build()'s products looked up in the scene cache, once: a caller that decides on whether the
+/// build derives (app::prepare_and_build) and the build itself see the same entry, checked once.
+struct BuildLookup {
+  std::shared_ptr<const SceneCacheHit> hit;  ///< null: the build derives
+  double seconds = 0;                        ///< the lookup's wall time
+  bool derives() const noexcept { return !hit; }
+};
+
+/// Looks up what build(scene, kind, options) may take from the scene cache: the compiled
+/// model's header (Backend::compiled; Backend::automatic first), the interpreted model's
+/// program (Backend::interpreted; Backend::automatic when the model was not compiled before).
+/// An entry that fails a check is removed with a warning and is not a hit.
+BuildLookup look_up_build(const Scene& scene, ModelKind kind, const BuildOptions& options = {});
+
 /// Derives `kind` for the scene (MathError when it does not apply), reduces it to index 1,
 /// generates the header, compiles it (cached) and loads it. An unchanged scene built before with
 /// the same model and options takes its header from the scene cache instead (scene_cache.hpp).
@@ -107,9 +127,12 @@ struct DerivedAndAnalysed {
 /// structure (the multiplier-free form from its derivation): neither derived nor analysed again.
 LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& options = {},
                   const DerivedAndAnalysed* given = nullptr);
+/// The same with the scene cache looked up already (look_up_build() of the same arguments).
+LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& options, const DerivedAndAnalysed* given,
+                  const BuildLookup& lookup);
 
-/// Whether build() with these arguments derives the model: false when it takes the header from
-/// the scene cache. A caller that analyses before a build that derives (app::Preparation) makes
+/// Whether build() with these arguments derives the model: false when it takes the header or the
+/// interpreted program from the scene cache (look_up_build()). A caller that analyses before a build that derives (app::Preparation) makes
 /// the same symbols in the same order on every path, so the generated model does not depend on
 /// what its caches hold (GiNaC orders terms by symbol hash, which follows creation order).
 bool build_derives(const Scene& scene, ModelKind kind, const BuildOptions& options = {});

@@ -1,15 +1,19 @@
 // The private, verified compile cache (cache.hpp).
 #include "nhc/io/temporary_files.hpp"
 #include "nhc/jit/cache.hpp"
+#include "nhc/jit/cache_size.hpp"
 
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 #include "nhc/errors.hpp"
 #include "nhc/jit/sha256.hpp"
@@ -119,6 +123,64 @@ std::string entry_problem(const fs::path& library) {
 void discard_entry(const fs::path& library) noexcept {
   ::unlink(library.c_str());
   ::unlink(digest_path(library).c_str());
+}
+
+std::uintmax_t cache_size_limit() {
+  constexpr std::uintmax_t kDefault = std::uintmax_t{2} << 30;
+  const char* setting = std::getenv("NHC_CACHE_MAX_SIZE");
+  if (!setting || !*setting) return kDefault;
+  char* end = nullptr;
+  errno = 0;
+  const unsigned long long value = std::strtoull(setting, &end, 10);
+  if (errno != 0 || end == setting) return kDefault;
+  const std::string suffix = end;
+  const int shift = suffix.empty() ? 0 : suffix == "K" ? 10 : suffix == "M" ? 20 : suffix == "G" ? 30 : -1;
+  if (shift < 0 || value > (~std::uintmax_t{0} >> shift)) return kDefault;
+  return static_cast<std::uintmax_t>(value) << shift;
+}
+
+void mark_used(const fs::path& entry) noexcept { ::utimensat(AT_FDCWD, entry.c_str(), nullptr, AT_SYMLINK_NOFOLLOW); }
+
+void evict_over_limit(const fs::path& directory, const fs::path& keep) noexcept {
+  const std::uintmax_t limit = cache_size_limit();
+  if (limit == 0) return;
+  struct Entry {
+    fs::path path;
+    std::uintmax_t bytes;
+    fs::file_time_type used;
+    bool library;
+  };
+  std::vector<Entry> entries;
+  std::uintmax_t total = 0;
+  std::error_code ec;
+  auto collect = [&](const fs::path& dir, const std::string& extension, bool library) {
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+      const fs::path& path = it->path();
+      if (path.extension() != extension || !it->is_regular_file(ec)) continue;
+      std::uintmax_t bytes = it->file_size(ec);
+      if (library) bytes += fs::file_size(digest_path(path), ec), ec.clear();
+      const fs::file_time_type used = it->last_write_time(ec);
+      if (ec) {
+        ec.clear();
+        continue;
+      }
+      total += bytes;
+      entries.push_back({path, bytes, used, library});
+    }
+    ec.clear();
+  };
+  collect(directory, ".so", true);
+  collect(directory / "scenes", ".entry", false);
+  if (total <= limit) return;
+  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) { return a.used < b.used; });
+  const std::uintmax_t target = limit / 10 * 9;
+  for (const Entry& e : entries) {
+    if (total <= target) break;
+    if (e.path == keep) continue;
+    if (e.library) discard_entry(e.path);
+    else ::unlink(e.path.c_str());
+    total -= e.bytes;
+  }
 }
 
 }  // namespace nhc::jit

@@ -26,6 +26,7 @@
 #include "nhc/emit/model_table_text.hpp"
 #include "nhc/io/shell.hpp"
 #include "nhc/io/temporary_files.hpp"
+#include "nhc/jit/cache_size.hpp"
 #include "nhc/jit/sha256.hpp"
 #include "nhc/jit/subprocess.hpp"
 #include "nhc/long_work.hpp"
@@ -368,7 +369,10 @@ CompiledLibrary compile_header(const std::string& header_text, const std::string
   std::error_code ec;
   if (fs::exists(fs::symlink_status(library, ec))) {
     const std::string problem = entry_problem(library);
-    if (problem.empty()) return {library, true, elapsed(), parts, record};
+    if (problem.empty()) {
+      mark_used(library);
+      return {library, true, elapsed(), parts, record};
+    }
     warn("cache entry " + library.string() + " rejected: " + problem + "; rebuilding it");
     discard_entry(library);
   }
@@ -425,6 +429,7 @@ CompiledLibrary compile_header(const std::string& header_text, const std::string
   // the same bytes (-s), so either run's pair matches.
   move_into_place(digest_file.path(), digest_path(library));
   move_into_place(out, library);
+  evict_over_limit(dir, library);
   return {library, false, elapsed(), parts, record};
 }
 

@@ -4,6 +4,10 @@
 /// hidden constraints, invariants, inputs, …) evaluated by an EvaluationProgram of the same
 /// instruction list the header is printed from, behind the same C table (docs/interpreter.md).
 
+#include <memory>
+#include <string>
+#include <string_view>
+
 #include "nhc/analysis/index1_system.hpp"
 #include "nhc/emit/model_preparation.hpp"
 #include "nhc/runtime/model.hpp"
@@ -19,9 +23,27 @@ inline constexpr int kInterpretedModelSlots = 32;
 /// with another function must be compiled.
 bool interpretable(const PreparedModel& model);
 
-/// `model` (prepared for `system` of `scene`) as a runtime model whose table calls the
-/// interpreter; the model keeps what it needs. Throws EnvironmentError when
-/// kInterpretedModelSlots interpreted models exist already, MathError when not interpretable().
+/// What an interpreted model runs: its table's data (sizes, state layout, names, the Jacobian's
+/// structure) and one lowered EvaluationProgram per function. Made from a prepared model, or read
+/// back from bytes (the scene cache keeps them, so that a second run neither derives nor lowers).
+class InterpretedProgram;
+
+/// Lowers every function of `model` (prepared for `system` of `scene`). MathError when not
+/// interpretable().
+std::shared_ptr<const InterpretedProgram> interpreted_program(const Scene& scene, const Index1System& system,
+                                                              const PreparedModel& model);
+/// The program as bytes, read back by interpreted_program_from_bytes().
+std::string to_bytes(const InterpretedProgram& program);
+/// The program `bytes` hold; null when they are not one (malformed, truncated, another layout),
+/// or when it is not the model `model` of the scene `scene_name`: such bytes are never run.
+std::shared_ptr<const InterpretedProgram> interpreted_program_from_bytes(std::string_view bytes,
+                                                                         const std::string& scene_name,
+                                                                         const std::string& model);
+
+/// `program` as a runtime model whose table calls the interpreter; the model keeps the program.
+/// Throws EnvironmentError when kInterpretedModelSlots interpreted models exist already.
+runtime::Model interpret(std::shared_ptr<const InterpretedProgram> program);
+/// interpret(interpreted_program(scene, system, model)).
 runtime::Model interpret(const Scene& scene, const Index1System& system, const PreparedModel& model);
 
 /// Switches an interpreted model to `compiled` (the same header, compiled and loaded): the

@@ -17,6 +17,7 @@
 
 #include "nhc/errors.hpp"
 #include "nhc/io/temporary_files.hpp"
+#include "nhc/jit/cache_size.hpp"
 #include "nhc/jit/sha256.hpp"
 
 namespace nhc::jit {
@@ -270,10 +271,19 @@ std::optional<SceneCacheRecord> SceneCache::load(const std::string& key) const {
       record = SceneCacheRecord::parse(*payload);
       if (!record) problem = "its payload is not a record (damaged)";
     }
-  if (record) return record;
+  if (record) {
+    mark_used(path);
+    return record;
+  }
   warn_("scene cache entry " + path.string() + " rejected: " + problem + "; rebuilding it");
   ::unlink(path.c_str());
   return std::nullopt;
+}
+
+void SceneCache::discard(const std::string& key, const std::string& problem) const {
+  const fs::path path = entry_path(key);
+  warn_("scene cache entry " + path.string() + " rejected: " + problem + "; rebuilding it");
+  ::unlink(path.c_str());
 }
 
 void SceneCache::store(const std::string& key, const SceneCacheRecord& record) const {
@@ -296,9 +306,12 @@ void SceneCache::store(const std::string& key, const SceneCacheRecord& record) c
     }
   }
   ::chmod(temporary.path().c_str(), 0600);
-  if (std::rename(temporary.path().c_str(), path.c_str()) != 0)
+  if (std::rename(temporary.path().c_str(), path.c_str()) != 0) {
     warn_("cannot store the scene cache entry " + path.string() + ": " + std::strerror(errno) +
           " (the run goes on without it)");
+    return;
+  }
+  evict_over_limit(entries_.parent_path(), path);
 }
 
 }  // namespace nhc::jit

@@ -97,6 +97,10 @@ class SceneCache {
   /// an error: the run goes on without the entry.
   void store(const std::string& key, const SceneCacheRecord& record) const;
 
+  /// Removes the entry under `key`, which passed the file's checks but not its reader's
+  /// (`problem`: what is wrong with it), with the same warning as a damaged entry.
+  void discard(const std::string& key, const std::string& problem) const;
+
   /// The file of the entry under `key` (whether or not it exists); creates and checks the
   /// directories (private_cache_directory()).
   std::filesystem::path entry_path(const std::string& key) const;
