@@ -19,6 +19,7 @@
 #include "nhc/io/output_path.hpp"
 #include "nhc/optimize/hermite_simpson.hpp"
 #include "nhc/optimize/path_table.hpp"
+#include "nhc/optimize/refine.hpp"
 #include "nhc/optimize/settings.hpp"
 #include "nhc/optimize/solve.hpp"
 #include "nhc/scene/scene.hpp"
@@ -103,6 +104,8 @@ CommandRunner add_optimize_command(CLI::App& app) {
                   "exact (the default: second derivatives of the same functions) or limited-memory (IPOPT's quasi-Newton)");
   sub->add_option("--max-iterations", options->request.max_iterations, "IPOPT iterations (default 3000)");
   sub->add_option("--tolerance", options->request.tolerance, "IPOPT's tolerance on the scaled optimality error (default 1e-10)");
+  sub->add_option("--path-tolerance", options->request.path_tolerance,
+                  "largest path error accepted, relative to the states' scale (default 1e-6); above it the mesh is refined");
 
   return [options]() {
     const app::OptimizeRequest& request = options->request;
@@ -114,9 +117,8 @@ CommandRunner add_optimize_command(CLI::App& app) {
       require_gnuplot("--plot");
       check_output_directory(options->plot, {options->scene_path, options->guess});
     }
-    optimize::HermiteSimpson problem(scene, settings, static_cast<int>(request.intervals.value_or(settings.intervals)));
-    const std::vector<double> guess =
-        options->guess.empty() ? problem.straight_line() : guess_from_file(scene, problem, options->guess);
+    const optimize::HermiteSimpson problem(scene, settings, static_cast<int>(request.intervals.value_or(settings.intervals)));
+    const std::vector<double> guess = options->guess.empty() ? std::vector<double>{} : guess_from_file(scene, problem, options->guess);
 
     std::cout << "nhc optimize: " << scene.name << ", "
               << (problem.inputs() ? "the " + to_string(problem.point_problem().model) + " model driven by its inputs"
@@ -137,36 +139,60 @@ CommandRunner add_optimize_command(CLI::App& app) {
       std::cerr << fmt::format("  iteration {:4d}: cost {:.10g}, violation {:.3g}\n", iteration, cost, violation);
       return true;
     };
-    const optimize::Solution solution = optimize::solve(problem, guess, solve_options);
+    optimize::RefineOptions refine_options;
+    refine_options.intervals = problem.intervals();
+    refine_options.path_tolerance = request.path_tolerance;
+    refine_options.report = [](const std::string& line) {
+      std::cout << "  " << line << "\n";
+      std::cout.flush();
+    };
+    const optimize::Outcome outcome = optimize::solve_refined(problem, guess, solve_options, refine_options);
+    const optimize::HermiteSimpson& last = *outcome.problem;
+    const optimize::Solution& solution = outcome.solution;
 
     using Status = optimize::Solution::Status;
+    const std::string path_error =
+        outcome.measured ? fmt::format("path error = {:.3g} ({}: {}; the local error is largest in interval {} of {}, [{:.6g}, {:.6g}])",
+                                       outcome.error.error, outcome.error.measure, outcome.error.where, outcome.error.interval + 1,
+                                       last.intervals(), outcome.error.t_low, outcome.error.t_high)
+                         : std::string();
     auto write = [&] {
       if (!options->output.empty()) {
-        write_file_atomically(options->output, [&](std::ostream& out) { write_path(out, problem, solution.z); });
-        std::cout << "  wrote " << options->output << " (" << problem.points() << " rows)\n";
+        write_file_atomically(options->output, [&](std::ostream& out) { write_path(out, last, solution.z); });
+        std::cout << "  wrote " << options->output << " (" << last.points() << " rows)\n";
       }
       if (!options->plot.empty()) {
         const std::string summary =
-            solution.status == Status::optimal
-                ? fmt::format("Cost {:.15g}, constraint violation {:.3g}, {} IPOPT iterations.", solution.cost,
-                              solution.violation, solution.iterations)
+            outcome.status == optimize::Outcome::Status::optimal
+                ? fmt::format("Cost {:.15g} (a local optimum), constraint violation {:.3g}, {}.", solution.cost, solution.violation,
+                              path_error)
                 : fmt::format("Not an optimum: {} ({} iterations); the last point, cost {:.10g}.", solution.words,
                               solution.iterations, solution.cost);
-        write_plots(options->plot, scene, problem, solution.z, {options->scene_path, options->guess}, summary);
+        write_plots(options->plot, scene, last, solution.z, {options->scene_path, options->guess}, summary);
         std::cout << "  wrote " << options->plot << "/plots.md\n";
       }
     };
-    if (solution.status == Status::optimal) {
+    if (outcome.status == optimize::Outcome::Status::optimal) {
       std::cout << fmt::format("  cost = {:.15g}\n", solution.cost);
-      if (settings.free_time()) std::cout << fmt::format("  t_end = {:.15g}\n", problem.final_time(solution.z.data()));
+      if (settings.free_time()) std::cout << fmt::format("  t_end = {:.15g}\n", last.final_time(solution.z.data()));
       std::cout << fmt::format("  constraint violation = {:.3g}\n", solution.violation);
+      std::cout << "  " << path_error << "\n";
+      std::cout << "  intervals = " << last.intervals() << (last.intervals() != problem.intervals() ? " (refined)" : "") << "\n";
       std::cout << "  iterations = " << solution.iterations << "\n";
+      if (solution.status == Status::acceptable)
+        std::cout << "  IPOPT stopped at its acceptable level (1e-6) twice; the path error above meets the tolerance\n";
+      std::cout << "  the optimum is local: IPOPT finds a point where no small change improves the cost; another start may "
+                   "find a lower one (--starts)\n";
       write();
       return kExitOk;
     }
+    if (outcome.status == optimize::Outcome::Status::path_error) {
+      std::cerr << "nhc: error: optimize: not an optimum of the continuous problem: " << outcome.words << "\n";
+      return kExitMathFailure;
+    }
     const std::string worst =
         solution.violation > 0 ? fmt::format("; the largest violation, {:.3g}, is in {}", solution.violation, solution.worst) : "";
-    if (solution.status == Status::iteration_limit || solution.status == Status::acceptable) {
+    if (solution.status == Status::iteration_limit) {
       write();
       std::cerr << "nhc: error: optimize: " << solution.words << " (" << solution.iterations << " iterations) at cost "
                 << fmt::format("{:.10g}", solution.cost) << worst

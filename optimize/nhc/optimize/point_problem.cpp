@@ -121,6 +121,7 @@ PointProblem dynamics_problem(const Scene& scene, const Settings& settings, Mode
   check_symbols(p, p.integrand, settings.objective_where, "the objective", why);
   p.final_cost = in_states(settings.final_cost);
   check_symbols(p, p.final_cost, settings.final_cost_where, "final_cost", why);
+  p.dynamics_rows = static_cast<int>(system.residuals.size());
   for (std::size_t r = 0; r < system.residuals.size(); ++r)
     p.path.push_back({system.residuals[r], fmt::format("the {} model's equation {} = 0", to_string(model), system.residual_names[r])});
   for (std::size_t r = 0; r < system.hidden_constraints.size(); ++r)
