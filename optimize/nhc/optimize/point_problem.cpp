@@ -95,7 +95,11 @@ PointProblem vakonomic_problem(const Scene& scene, const Settings& settings) {
 PointProblem dynamics_problem(const Scene& scene, const Settings& settings, ModelKind model) {
   const JetSpace& jet = *scene.jet;
   const DerivedModel derived = derive_model(scene, model);
-  if (!derived.applicable) throw MathError("the " + to_string(model) + " model is not applicable: " + derived.reason);
+  // The scene asks for a model it cannot have (the Suslov model without its `dependent` speeds, a
+  // model for other constraints): a fault of the scene's text, at the `model` entry.
+  if (!derived.applicable)
+    throw InputError(settings.model ? settings.model_where : settings.table_where,
+                     "the " + to_string(model) + " model is not applicable: " + derived.reason);
   const Index1System system = reduce_to_index1(scene, derived);
   PointProblem p;
   p.dynamics = true;
