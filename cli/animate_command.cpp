@@ -42,6 +42,8 @@ std::vector<runtime::Sample> samples_from_file(const runtime::Model& model, cons
   CsvTable table;
   try {
     table = read_csv_table(path);
+  } catch (const InputError&) {
+    throw;  // at its file, line and column
   } catch (const std::exception& e) {
     throw InputError({"--path", 0, 0}, path + ": " + e.what());
   }

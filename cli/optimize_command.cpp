@@ -16,6 +16,7 @@
 #include "nhc/app/optimize_request.hpp"
 #include "nhc/io/atomic_directory.hpp"
 #include "nhc/io/atomic_file.hpp"
+#include "nhc/io/csv_file.hpp"
 #include "nhc/io/output_path.hpp"
 #include "nhc/optimize/hermite_simpson.hpp"
 #include "nhc/optimize/path_table.hpp"
@@ -32,19 +33,18 @@ namespace {
 
 struct OptimizeOptions {
   std::string scene_path, output, guess, plot;
+  int starts = 1;
+  unsigned seed = 1;
   app::OptimizeRequest request;
 };
 
 /// The starting path from a CSV with a header (nhc simulate's or optimize's): t, each coordinate,
 /// the other states, rates and inputs where present (path_table.hpp).
 std::vector<double> guess_from_file(const Scene& scene, const optimize::HermiteSimpson& problem, const std::string& path) {
-  CsvTable table;
-  try {
-    table = read_csv_table(path);
-  } catch (const std::exception& e) {
-    throw InputError({"--guess", 0, 0}, path + ": " + e.what());
-  }
-  return optimize::guess_from_table(problem, table.header, table.rows, scene, "--guess", path);
+  // The data-file rules (docs/safety.md): a regular file within the size limit, finite numbers,
+  // every fault at its line and column.
+  const CsvFile file = read_csv_file(path, "a CSV file for --guess");
+  return optimize::guess_from_table(problem, file.header, file.numbers(), scene, "--guess", path);
 }
 
 void write_path(std::ostream& out, const optimize::HermiteSimpson& problem, const std::vector<double>& z) {
@@ -104,6 +104,11 @@ CommandRunner add_optimize_command(CLI::App& app) {
                   "exact (the default: second derivatives of the same functions) or limited-memory (IPOPT's quasi-Newton)");
   sub->add_option("--max-iterations", options->request.max_iterations, "IPOPT iterations (default 3000)");
   sub->add_option("--tolerance", options->request.tolerance, "IPOPT's tolerance on the scaled optimality error (default 1e-10)");
+  sub->add_option("--starts", options->starts,
+                  "solve from this many starts: the default (or --guess) and K - 1 seeded smooth perturbations of it; "
+                  "reports every cost found and keeps the lowest (the optimum is local)")
+      ->check(CLI::Range(1, 1000));
+  sub->add_option("--seed", options->seed, "seed of the perturbed starts (default 1)");
   sub->add_option("--path-tolerance", options->request.path_tolerance,
                   "largest path error accepted, relative to the states' scale (default 1e-6); above it the mesh is refined");
 
@@ -146,7 +151,29 @@ CommandRunner add_optimize_command(CLI::App& app) {
       std::cout << "  " << line << "\n";
       std::cout.flush();
     };
-    const optimize::Outcome outcome = optimize::solve_refined(problem, guess, solve_options, refine_options);
+    optimize::Outcome outcome = optimize::solve_refined(problem, guess, solve_options, refine_options);
+    if (options->starts > 1) {
+      // Local optima said aloud: each start's cost, the lowest kept.
+      std::vector<std::string> found{outcome.status == optimize::Outcome::Status::optimal
+                                         ? fmt::format("{:.10g}", outcome.solution.cost)
+                                         : std::string("none")};
+      const std::vector<double> base = guess.empty() ? problem.straight_line() : guess;
+      optimize::RefineOptions perturbed = refine_options;
+      perturbed.continuation_from_guess = guess.empty();
+      for (int k = 1; k < options->starts; ++k) {
+        std::cout << "  start " << k + 1 << " of " << options->starts << " (perturbed, seed " << options->seed + static_cast<unsigned>(k) - 1
+                  << "):\n";
+        optimize::Outcome other = optimize::solve_refined(
+            problem, optimize::perturbed_start(problem, base, options->seed + static_cast<unsigned>(k) - 1), solve_options, perturbed);
+        const bool good = other.status == optimize::Outcome::Status::optimal;
+        found.push_back(good ? fmt::format("{:.10g}", other.solution.cost) : std::string("none"));
+        if (good && (outcome.status != optimize::Outcome::Status::optimal || other.solution.cost < outcome.solution.cost))
+          outcome = std::move(other);
+      }
+      std::string list;
+      for (std::size_t k = 0; k < found.size(); ++k) list += (k ? ", " : "") + found[k];
+      std::cout << "  costs found from " << options->starts << " starts: " << list << " (\"none\": no optimum from that start); the lowest is kept\n";
+    }
     const optimize::HermiteSimpson& last = *outcome.problem;
     const optimize::Solution& solution = outcome.solution;
 

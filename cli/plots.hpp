@@ -22,8 +22,8 @@ struct CsvTable {
   int column(const std::string& name) const;
 };
 
-/// Reads a CSV file written by nhc ("nan", "inf" read as such). Throws std::runtime_error when
-/// the file cannot be read or a cell is not a number.
+/// Reads a CSV file written by nhc ("nan", "inf" read as such) with the data-file rules of
+/// read_csv_file (nhc/io/csv_file.hpp). Throws InputError at the file, line and column.
 CsvTable read_csv_table(const std::filesystem::path& path);
 
 /// What of a column is drawn.

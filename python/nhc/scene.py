@@ -241,15 +241,10 @@ class Scene:
         if isinstance(guess, Run):
             columns, rows, name = list(guess.columns), guess.to_numpy().tolist(), "the guess"
         elif guess is not None:
-            name = _os.fspath(guess)
-            try:
-                with open(name, encoding="utf-8") as f:
-                    columns = f.readline().strip().split(",")
-                    rows = _np.atleast_2d(_np.loadtxt(f, delimiter=",", ndmin=2)).tolist()
-            except (OSError, ValueError) as e:
-                raise SceneError(f"guess: {name}: {e}", file="guess") from None
+            name = _os.fspath(guess)  # read by nhc's one CSV reader, under the data-file rules
         result = _nhc._optimize(self._scene, None if intervals is None else int(intervals), int(max_iterations),
-                                float(tolerance), str(jacobian), str(hessian), float(path_tolerance), columns, rows, name)
+                                float(tolerance), str(jacobian), str(hessian), float(path_tolerance), columns, rows, name,
+                                name if columns is None and guess is not None else "")
         summary = result["summary"]
         run = Run({"columns": result["columns"], "data": result["data"], "summary": summary, "cost": summary["cost"]})
         if summary["status"] != "optimal":

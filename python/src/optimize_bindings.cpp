@@ -9,6 +9,7 @@
 
 #include "nhc/app/optimize_request.hpp"
 #include "nhc/errors.hpp"
+#include "nhc/io/csv_file.hpp"
 #include "nhc/optimize/hermite_simpson.hpp"
 #include "nhc/optimize/path_table.hpp"
 #include "nhc/optimize/refine.hpp"
@@ -36,7 +37,8 @@ const char* status_name(optimize::Solution::Status s) {
 py::dict optimize_scene(const Scene& scene, std::optional<long long> intervals, long long max_iterations,
                         double tolerance, const std::string& jacobian, const std::string& hessian, double path_tolerance,
                         const std::optional<std::vector<std::string>>& guess_columns,
-                        const std::optional<std::vector<std::vector<double>>>& guess_rows, const std::string& guess_name) {
+                        const std::optional<std::vector<std::vector<double>>>& guess_rows, const std::string& guess_name,
+                        const std::string& guess_file) {
   const app::OptimizeRequest request{intervals, max_iterations, tolerance, jacobian, hessian, path_tolerance};
   app::check_optimize_request(request, app::optimize_python_names());
   // Reading, deriving and reducing: symbolic work.
@@ -46,9 +48,15 @@ py::dict optimize_scene(const Scene& scene, std::optional<long long> intervals, 
     problem.emplace(scene, settings, static_cast<int>(request.intervals.value_or(settings.intervals)));
     return 0;
   });
-  const std::vector<double> guess =
-      guess_columns ? optimize::guess_from_table(*problem, *guess_columns, *guess_rows, scene, "guess", guess_name)
-                    : std::vector<double>{};
+  std::vector<double> guess;
+  if (!guess_file.empty()) {
+    // The command line's reader and rules (nhc/io/csv_file.hpp).
+    const CsvFile file = read_csv_file(guess_file, "a CSV file for guess");
+    guess = optimize::guess_from_table(*problem, file.header, file.numbers(), scene, "guess", guess_file);
+  } else if (guess_columns) {
+    if (!guess_rows) throw InputError({"guess", 0, 0}, "guess: columns without rows");
+    guess = optimize::guess_from_table(*problem, *guess_columns, *guess_rows, scene, "guess", guess_name);
+  }
   optimize::SolveOptions options;
   options.max_iterations = static_cast<int>(request.max_iterations);
   options.tolerance = request.tolerance;
@@ -118,7 +126,8 @@ py::dict optimize_scene(const Scene& scene, std::optional<long long> intervals, 
 
 void register_optimize(py::module_& m) {
   m.def("_optimize", &optimize_scene, py::arg("scene"), py::arg("intervals"), py::arg("max_iterations"), py::arg("tolerance"),
-        py::arg("jacobian"), py::arg("hessian"), py::arg("path_tolerance"), py::arg("guess_columns"), py::arg("guess_rows"), py::arg("guess_name"));
+        py::arg("jacobian"), py::arg("hessian"), py::arg("path_tolerance"), py::arg("guess_columns"), py::arg("guess_rows"), py::arg("guess_name"),
+        py::arg("guess_file") = std::string());
 }
 
 }  // namespace nhc::python

@@ -111,3 +111,53 @@ def test_other_threads_run_during_the_solve(source):
     # Held for the whole solve, the GIL would let the counter run only between Python calls: a
     # handful of ticks at most; released, it ticks throughout the solve (about a second).
     assert during > 50, during
+
+
+@pytest.fixture
+def heisenberg(source):
+    return nhc.Scene.load(source / "examples" / "heisenberg_optimal.toml")
+
+
+def good_csv(heisenberg, tmp_path):
+    first = heisenberg.optimize(intervals=10)
+    path = tmp_path / "good.csv"
+    path.write_text(",".join(first.columns) + "\n" + "\n".join(",".join(repr(float(v)) for v in row) for row in first.to_numpy()) + "\n")
+    return first, path
+
+
+def test_guess_files_under_the_data_file_rules(heisenberg, tmp_path):
+    # docs/safety.md, "Reading: limits": the command line's reader and messages.
+    import os
+    first, good = good_csv(heisenberg, tmp_path)
+    lines = good.read_text().splitlines()
+    fifo = tmp_path / "fifo.csv"
+    os.mkfifo(fifo)
+    big = tmp_path / "big.csv"
+    with open(big, "wb") as f:
+        f.truncate(65 << 20)
+    nan_t = tmp_path / "nan_t.csv"
+    nan_t.write_text(lines[0] + "\nnan," + lines[1].split(",", 1)[1] + "\n")
+    short = tmp_path / "short.csv"
+    short.write_text("\n".join(lines[:2] + [lines[2].rsplit(",", 1)[0]]) + "\n")
+    escape = tmp_path / "escape.csv"
+    escape.write_text(lines[0] + "\n" + lines[1] + "\n0.5,1\x1b[31m,0,0,0,0,0\n")
+    cases = [(fifo, "is a FIFO"), ("/dev/zero", "is a character device"), (big, "is 65 MB, more than the 64 MB"),
+             (nan_t, r"nan_t.csv:2:1: error: 'nan' is not a finite number"), (short, "short.csv:3:1: error: 6 cells, the header has 7"),
+             (escape, r"escape.csv:3:5: error: '1\\x1b\[31m' is not a finite number")]
+    for guess, words in cases:
+        with pytest.raises(nhc.SceneError, match=words):
+            heisenberg.optimize(intervals=10, guess=guess)
+    crlf = tmp_path / "crlf.csv"
+    crlf.write_bytes(good.read_bytes().replace(b"\n", b"\r\n"))
+    assert heisenberg.optimize(intervals=10, guess=crlf).cost == pytest.approx(first.cost, rel=1e-9)
+
+
+def test_a_run_guess_is_checked_against_its_header(heisenberg):
+    first = heisenberg.optimize(intervals=10)
+    narrow = nhc.Run({"columns": first.columns, "data": first.to_numpy()[:, :-2], "summary": {}})
+    with pytest.raises(nhc.SceneError, match="row 1 has 5 values, the header 7 names"):
+        heisenberg.optimize(intervals=10, guess=narrow)
+    data = first.to_numpy().copy()
+    data[0, 0] = float("nan")
+    with pytest.raises(nhc.SceneError, match=r"row 1, column 1 \('t'\) is nan, not a finite number"):
+        heisenberg.optimize(intervals=10, guess=nhc.Run({"columns": first.columns, "data": data, "summary": {}}))

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 
 namespace nhc::optimize {
 
@@ -43,13 +44,40 @@ bool converged(const Solution& s) {
 
 }  // namespace
 
+std::vector<double> perturbed_start(const HermiteSimpson& problem, const std::vector<double>& start, unsigned seed,
+                                    double amplitude) {
+  constexpr double kPi = 3.14159265358979323846;
+  std::mt19937 generator(seed);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  std::vector<double> z = start;
+  const double D = problem.final_time(z.data()) - problem.initial_time();
+  const PointProblem& p = problem.point_problem();
+  for (int i = 0; i < p.states; ++i) {
+    if (!p.collocated[static_cast<std::size_t>(i)]) continue;
+    double scale = 1;
+    for (int j = 0; j < problem.points(); ++j) scale = std::max(scale, std::abs(z[static_cast<std::size_t>(problem.q_index(j, i))]));
+    double a[3];
+    for (double& c : a) c = amplitude * scale * uniform(generator);
+    for (int j = 0; j < problem.points(); ++j) {
+      const double s = problem.fraction(j);
+      for (int m = 1; m <= 3; ++m) {
+        z[static_cast<std::size_t>(problem.q_index(j, i))] += a[m - 1] * std::sin(m * kPi * s);
+        z[static_cast<std::size_t>(problem.v_index(j, i))] += a[m - 1] * m * kPi / D * std::cos(m * kPi * s);
+      }
+    }
+  }
+  for (std::size_t k = 0; k < z.size(); ++k)
+    z[k] = std::clamp(z[k], problem.variable_low(static_cast<int>(k)), problem.variable_high(static_cast<int>(k)));
+  return z;
+}
+
 Outcome solve_refined(const HermiteSimpson& problem, const std::vector<double>& guess, const SolveOptions& solve_options,
                       const RefineOptions& options) {
   // Continuation: N, N/4, N/16, … down to the first below 4 times the coarsest, solved coarse to fine.
   std::vector<int> schedule{options.intervals};
   while (schedule.back() >= 4 * options.coarsest) schedule.push_back((schedule.back() + 3) / 4);
   std::reverse(schedule.begin(), schedule.end());
-  if (!guess.empty()) schedule = {options.intervals};  // a guess is the continuation's start itself
+  if (!guess.empty() && !options.continuation_from_guess) schedule = {options.intervals};  // a guess is the continuation's start itself
 
   Outcome out;
   auto current = std::make_shared<HermiteSimpson>(problem);

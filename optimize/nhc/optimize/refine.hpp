@@ -22,6 +22,9 @@ struct RefineOptions {
   int coarsest = 10;             ///< continuation starts at the first of N, N/4, N/16, … below 4 times this
   int max_rounds = 6;            ///< refinement rounds after the asked-for mesh
   int max_intervals = 20000;
+  /// A guess starts at the asked-for mesh directly (it is the continuation's start), unless this
+  /// is set (a perturbed start: carried to the coarse meshes first).
+  bool continuation_from_guess = false;
   /// Called with each round's line ("round 2: 40 intervals, 12 iterations, cost …, path error …").
   std::function<void(const std::string&)> report;
 };
@@ -46,6 +49,13 @@ struct Outcome {
   std::vector<Round> rounds;
   std::string words;       ///< why not optimal, in words
 };
+
+/// `start` bent by a seeded smooth perturbation: each state of each point moved by
+/// sum_m a_m sin(m pi s) (m = 1, 2, 3; a_m uniform in +-amplitude max(1, the state's largest
+/// |value|); s the point's fraction of the horizon), its rate by the derivative; clamped into
+/// the bounds. The ends keep their values.
+std::vector<double> perturbed_start(const HermiteSimpson& problem, const std::vector<double>& start, unsigned seed,
+                                    double amplitude = 0.1);
 
 /// Solves `problem`'s NLP from `guess` (on `problem`'s own mesh; empty: the straight line) by
 /// continuation and refinement. `problem` carries the lowered functions; its mesh is replaced.
