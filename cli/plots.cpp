@@ -24,12 +24,12 @@ int CsvTable::column(const std::string& name) const {
   return it == header.end() ? -1 : static_cast<int>(it - header.begin());
 }
 
-CsvTable read_csv_table(const fs::path& path) {
+CsvTable read_csv_table(const fs::path& path, bool finite_only) {
   // The one CSV reader of data files (nhc/io/csv_file.hpp): its limits and messages.
   const CsvFile file = read_csv_file(path.string(), "a CSV file");
   CsvTable table;
   table.header = file.header;
-  table.rows = file.numbers(/*finite_only=*/false);
+  table.rows = file.numbers(finite_only);
   return table;
 }
 

@@ -24,7 +24,8 @@ struct CsvTable {
 
 /// Reads a CSV file written by nhc ("nan", "inf" read as such) with the data-file rules of
 /// read_csv_file (nhc/io/csv_file.hpp). Throws InputError at the file, line and column.
-CsvTable read_csv_table(const std::filesystem::path& path);
+/// `finite_only`: nan and ±inf refused too (a motion read back to draw: `nhc animate --path`).
+CsvTable read_csv_table(const std::filesystem::path& path, bool finite_only = false);
 
 /// What of a column is drawn.
 enum class Transform {

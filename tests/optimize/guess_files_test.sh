@@ -2,8 +2,9 @@
 # --guess under the data-file rules (docs/safety.md, "Reading: limits"): a FIFO, a character device,
 # a file over 64 MB, a NaN or infinite cell, a short row, control characters in a cell are exit 2
 # in one line naming the file (and the line and column), nothing hangs or crashes; a CRLF file is read.
-# Usage: guess_files_test.sh NHC SCENE WORKDIR
-nhc=$1 scene=$2 d=$3
+# nhc animate --path reads through the same reader: the same refusals.
+# Usage: guess_files_test.sh NHC SCENE WORKDIR ANIMATED_SCENE
+nhc=$1 scene=$2 d=$3 animated=$4
 rm -rf "$d" && mkdir -p "$d" || exit 1
 fail() { echo "FAIL: $*"; exit 1; }
 refused() {  # refused GUESS PATTERN: exit 2, one line matching PATTERN
@@ -26,4 +27,11 @@ refused "$d/escape.csv" "escape.csv:3:5: error: '1\\\\x1b\[31m' is not a finite 
 sed 's/$/\r/' "$d/good.csv" > "$d/crlf.csv"
 out=$("$nhc" optimize "$scene" --intervals 10 --guess "$d/crlf.csv" 2>/dev/null) || fail "the CRLF guess: exit $?"
 echo "$out" | grep -q '^  cost = 3.14' || fail "the CRLF guess's cost"
+for bad in "$d/fifo.csv" /dev/zero "$d/big.csv" "$d/nan_t.csv" "$d/escape.csv"; do
+  out=$(timeout 60 "$nhc" animate "$animated" --path "$bad" -o "$d/page" 2>&1 >/dev/null); rc=$?
+  echo "animate --path $bad -> $rc: $out"
+  test $rc -eq 2 || fail "animate --path $bad: exit $rc"
+  test ! -e "$d/page" || fail "animate --path $bad wrote a page"
+  case $bad in *nan_t.csv) printf '%s\n' "$out" | grep -q "nan_t.csv:2:1: error: 'nan' is not a finite number" || fail "animate: the NaN";; esac
+done
 echo PASS
