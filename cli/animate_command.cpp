@@ -41,7 +41,9 @@ struct AnimateOptions {
 std::vector<runtime::Sample> samples_from_file(const runtime::Model& model, const std::string& path) {
   CsvTable table;
   try {
-    table = read_csv_table(path);
+    table = read_csv_table(path, /*finite_only=*/true);
+  } catch (const InputError&) {
+    throw;  // at its file, line and column
   } catch (const std::exception& e) {
     throw InputError({"--path", 0, 0}, path + ": " + e.what());
   }

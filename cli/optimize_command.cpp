@@ -16,9 +16,11 @@
 #include "nhc/app/optimize_request.hpp"
 #include "nhc/io/atomic_directory.hpp"
 #include "nhc/io/atomic_file.hpp"
+#include "nhc/io/csv_file.hpp"
 #include "nhc/io/output_path.hpp"
 #include "nhc/optimize/hermite_simpson.hpp"
 #include "nhc/optimize/path_table.hpp"
+#include "nhc/optimize/refine.hpp"
 #include "nhc/optimize/settings.hpp"
 #include "nhc/optimize/solve.hpp"
 #include "nhc/scene/scene.hpp"
@@ -31,19 +33,18 @@ namespace {
 
 struct OptimizeOptions {
   std::string scene_path, output, guess, plot;
+  int starts = 1;
+  unsigned seed = 1;
   app::OptimizeRequest request;
 };
 
 /// The starting path from a CSV with a header (nhc simulate's or optimize's): t, each coordinate,
 /// the other states, rates and inputs where present (path_table.hpp).
 std::vector<double> guess_from_file(const Scene& scene, const optimize::HermiteSimpson& problem, const std::string& path) {
-  CsvTable table;
-  try {
-    table = read_csv_table(path);
-  } catch (const std::exception& e) {
-    throw InputError({"--guess", 0, 0}, path + ": " + e.what());
-  }
-  return optimize::guess_from_table(problem, table.header, table.rows, scene, "--guess", path);
+  // The data-file rules (docs/safety.md): a regular file within the size limit, finite numbers,
+  // every fault at its line and column.
+  const CsvFile file = read_csv_file(path, "a CSV file for --guess");
+  return optimize::guess_from_table(problem, file.header, file.numbers(), scene, "--guess", path);
 }
 
 void write_path(std::ostream& out, const optimize::HermiteSimpson& problem, const std::vector<double>& z) {
@@ -103,6 +104,13 @@ CommandRunner add_optimize_command(CLI::App& app) {
                   "exact (the default: second derivatives of the same functions) or limited-memory (IPOPT's quasi-Newton)");
   sub->add_option("--max-iterations", options->request.max_iterations, "IPOPT iterations (default 3000)");
   sub->add_option("--tolerance", options->request.tolerance, "IPOPT's tolerance on the scaled optimality error (default 1e-10)");
+  sub->add_option("--starts", options->starts,
+                  "solve from this many starts: the default (or --guess) and K - 1 seeded smooth perturbations of it; "
+                  "reports every cost found and keeps the lowest (the optimum is local)")
+      ->check(CLI::Range(1, 1000));
+  sub->add_option("--seed", options->seed, "seed of the perturbed starts (default 1)");
+  sub->add_option("--path-tolerance", options->request.path_tolerance,
+                  "largest path error accepted, relative to the states' scale (default 1e-6); above it the mesh is refined");
 
   return [options]() {
     const app::OptimizeRequest& request = options->request;
@@ -114,9 +122,8 @@ CommandRunner add_optimize_command(CLI::App& app) {
       require_gnuplot("--plot");
       check_output_directory(options->plot, {options->scene_path, options->guess});
     }
-    optimize::HermiteSimpson problem(scene, settings, static_cast<int>(request.intervals.value_or(settings.intervals)));
-    const std::vector<double> guess =
-        options->guess.empty() ? problem.straight_line() : guess_from_file(scene, problem, options->guess);
+    const optimize::HermiteSimpson problem(scene, settings, static_cast<int>(request.intervals.value_or(settings.intervals)));
+    const std::vector<double> guess = options->guess.empty() ? std::vector<double>{} : guess_from_file(scene, problem, options->guess);
 
     std::cout << "nhc optimize: " << scene.name << ", "
               << (problem.inputs() ? "the " + to_string(problem.point_problem().model) + " model driven by its inputs"
@@ -137,36 +144,82 @@ CommandRunner add_optimize_command(CLI::App& app) {
       std::cerr << fmt::format("  iteration {:4d}: cost {:.10g}, violation {:.3g}\n", iteration, cost, violation);
       return true;
     };
-    const optimize::Solution solution = optimize::solve(problem, guess, solve_options);
+    optimize::RefineOptions refine_options;
+    refine_options.intervals = problem.intervals();
+    refine_options.path_tolerance = request.path_tolerance;
+    refine_options.report = [](const std::string& line) {
+      std::cout << "  " << line << "\n";
+      std::cout.flush();
+    };
+    optimize::Outcome outcome = optimize::solve_refined(problem, guess, solve_options, refine_options);
+    if (options->starts > 1) {
+      // Local optima said aloud: each start's cost, the lowest kept.
+      std::vector<std::string> found{outcome.status == optimize::Outcome::Status::optimal
+                                         ? fmt::format("{:.10g}", outcome.solution.cost)
+                                         : std::string("none")};
+      const std::vector<double> base = guess.empty() ? problem.straight_line() : guess;
+      optimize::RefineOptions perturbed = refine_options;
+      perturbed.continuation_from_guess = guess.empty();
+      for (int k = 1; k < options->starts; ++k) {
+        std::cout << "  start " << k + 1 << " of " << options->starts << " (perturbed, seed " << options->seed + static_cast<unsigned>(k) - 1
+                  << "):\n";
+        optimize::Outcome other = optimize::solve_refined(
+            problem, optimize::perturbed_start(problem, base, options->seed + static_cast<unsigned>(k) - 1), solve_options, perturbed);
+        const bool good = other.status == optimize::Outcome::Status::optimal;
+        found.push_back(good ? fmt::format("{:.10g}", other.solution.cost) : std::string("none"));
+        if (good && (outcome.status != optimize::Outcome::Status::optimal || other.solution.cost < outcome.solution.cost))
+          outcome = std::move(other);
+      }
+      std::string list;
+      for (std::size_t k = 0; k < found.size(); ++k) list += (k ? ", " : "") + found[k];
+      std::cout << "  costs found from " << options->starts << " starts: " << list << " (\"none\": no optimum from that start); the lowest is kept\n";
+    }
+    const optimize::HermiteSimpson& last = *outcome.problem;
+    const optimize::Solution& solution = outcome.solution;
 
     using Status = optimize::Solution::Status;
+    const std::string path_error =
+        outcome.measured ? fmt::format("path error = {:.3g} ({}: {}; the local error is largest in interval {} of {}, [{:.6g}, {:.6g}])",
+                                       outcome.error.error, outcome.error.measure, outcome.error.where, outcome.error.interval + 1,
+                                       last.intervals(), outcome.error.t_low, outcome.error.t_high)
+                         : std::string();
     auto write = [&] {
       if (!options->output.empty()) {
-        write_file_atomically(options->output, [&](std::ostream& out) { write_path(out, problem, solution.z); });
-        std::cout << "  wrote " << options->output << " (" << problem.points() << " rows)\n";
+        write_file_atomically(options->output, [&](std::ostream& out) { write_path(out, last, solution.z); });
+        std::cout << "  wrote " << options->output << " (" << last.points() << " rows)\n";
       }
       if (!options->plot.empty()) {
         const std::string summary =
-            solution.status == Status::optimal
-                ? fmt::format("Cost {:.15g}, constraint violation {:.3g}, {} IPOPT iterations.", solution.cost,
-                              solution.violation, solution.iterations)
+            outcome.status == optimize::Outcome::Status::optimal
+                ? fmt::format("Cost {:.15g} (a local optimum), constraint violation {:.3g}, {}.", solution.cost, solution.violation,
+                              path_error)
                 : fmt::format("Not an optimum: {} ({} iterations); the last point, cost {:.10g}.", solution.words,
                               solution.iterations, solution.cost);
-        write_plots(options->plot, scene, problem, solution.z, {options->scene_path, options->guess}, summary);
+        write_plots(options->plot, scene, last, solution.z, {options->scene_path, options->guess}, summary);
         std::cout << "  wrote " << options->plot << "/plots.md\n";
       }
     };
-    if (solution.status == Status::optimal) {
+    if (outcome.status == optimize::Outcome::Status::optimal) {
       std::cout << fmt::format("  cost = {:.15g}\n", solution.cost);
-      if (settings.free_time()) std::cout << fmt::format("  t_end = {:.15g}\n", problem.final_time(solution.z.data()));
+      if (settings.free_time()) std::cout << fmt::format("  t_end = {:.15g}\n", last.final_time(solution.z.data()));
       std::cout << fmt::format("  constraint violation = {:.3g}\n", solution.violation);
+      std::cout << "  " << path_error << "\n";
+      std::cout << "  intervals = " << last.intervals() << (last.intervals() != problem.intervals() ? " (refined)" : "") << "\n";
       std::cout << "  iterations = " << solution.iterations << "\n";
+      if (solution.status == Status::acceptable)
+        std::cout << "  IPOPT stopped at its acceptable level (1e-6) twice; the path error above meets the tolerance\n";
+      std::cout << "  the optimum is local: IPOPT finds a point where no small change improves the cost; another start may "
+                   "find a lower one (--starts)\n";
       write();
       return kExitOk;
     }
+    if (outcome.status == optimize::Outcome::Status::path_error) {
+      std::cerr << "nhc: error: optimize: not an optimum of the continuous problem: " << outcome.words << "\n";
+      return kExitMathFailure;
+    }
     const std::string worst =
         solution.violation > 0 ? fmt::format("; the largest violation, {:.3g}, is in {}", solution.violation, solution.worst) : "";
-    if (solution.status == Status::iteration_limit || solution.status == Status::acceptable) {
+    if (solution.status == Status::iteration_limit) {
       write();
       std::cerr << "nhc: error: optimize: " << solution.words << " (" << solution.iterations << " iterations) at cost "
                 << fmt::format("{:.10g}", solution.cost) << worst

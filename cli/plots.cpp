@@ -1,6 +1,8 @@
 // Line plots of CSV columns with gnuplot (plots.hpp).
 #include "plots.hpp"
 
+#include "nhc/io/csv_file.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -22,40 +24,12 @@ int CsvTable::column(const std::string& name) const {
   return it == header.end() ? -1 : static_cast<int>(it - header.begin());
 }
 
-namespace {
-
-std::vector<std::string> split_cells(const std::string& line) {
-  std::vector<std::string> cells;
-  std::string cell;
-  std::istringstream in(line);
-  while (std::getline(in, cell, ',')) cells.push_back(cell);
-  if (!line.empty() && line.back() == ',') cells.emplace_back();
-  return cells;
-}
-
-}  // namespace
-
-CsvTable read_csv_table(const fs::path& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot read " + path.string());
+CsvTable read_csv_table(const fs::path& path, bool finite_only) {
+  // The one CSV reader of data files (nhc/io/csv_file.hpp): its limits and messages.
+  const CsvFile file = read_csv_file(path.string(), "a CSV file");
   CsvTable table;
-  std::string line;
-  if (!std::getline(in, line)) throw std::runtime_error(path.string() + ": no header line");
-  table.header = split_cells(line);
-  for (int number = 2; std::getline(in, line); ++number) {
-    std::vector<double> row;
-    for (const std::string& cell : split_cells(line)) {
-      char* end = nullptr;
-      const double v = std::strtod(cell.c_str(), &end);
-      if (cell.empty() || *end != 0)
-        throw std::runtime_error(path.string() + ":" + std::to_string(number) + ": not a number: '" + cell + "'");
-      row.push_back(v);
-    }
-    if (row.size() != table.header.size())
-      throw std::runtime_error(path.string() + ":" + std::to_string(number) + ": " + std::to_string(row.size()) +
-                               " cells, the header has " + std::to_string(table.header.size()));
-    table.rows.push_back(std::move(row));
-  }
+  table.header = file.header;
+  table.rows = file.numbers(finite_only);
   return table;
 }
 

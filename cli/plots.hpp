@@ -22,9 +22,10 @@ struct CsvTable {
   int column(const std::string& name) const;
 };
 
-/// Reads a CSV file written by nhc ("nan", "inf" read as such). Throws std::runtime_error when
-/// the file cannot be read or a cell is not a number.
-CsvTable read_csv_table(const std::filesystem::path& path);
+/// Reads a CSV file written by nhc ("nan", "inf" read as such) with the data-file rules of
+/// read_csv_file (nhc/io/csv_file.hpp). Throws InputError at the file, line and column.
+/// `finite_only`: nan and ±inf refused too (a motion read back to draw: `nhc animate --path`).
+CsvTable read_csv_table(const std::filesystem::path& path, bool finite_only = false);
 
 /// What of a column is drawn.
 enum class Transform {

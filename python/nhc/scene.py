@@ -218,7 +218,7 @@ class Scene:
 
     def optimize(self, intervals: Optional[int] = None, guess: Optional[str | _os.PathLike[str] | Run] = None,
                  max_iterations: int = 3000, tolerance: float = 1e-10, jacobian: str = "exact",
-                 hessian: str = "exact") -> Run:
+                 hessian: str = "exact", path_tolerance: float = 1e-6) -> Run:
         """An optimal motion of the scene's [optimize] problem (as ``nhc optimize``): Hermite–Simpson
         collocation solved by IPOPT (docs/optimize.md). Without [inputs] the coordinates' paths are
         the unknowns (the vakonomic problem); with them, the model's equations hold and the inputs
@@ -231,6 +231,9 @@ class Scene:
         :param tolerance: IPOPT's tolerance on the scaled optimality error.
         :param jacobian: ``"exact"`` or ``"finite-differences"`` (IPOPT's own, on the same sparsity).
         :param hessian: ``"exact"`` or ``"limited-memory"`` (IPOPT's quasi-Newton).
+        :param path_tolerance: the largest path error accepted, relative to the states' scale
+            (docs/optimize.md, "Path error"); above it the mesh is refined, and if that cannot meet
+            it, MathError. ``summary["path_error"]`` is the measured one. The optimum is local.
         :returns: the path on the collocation points (t, the states and their rates, the inputs),
             with :attr:`Run.cost` and ``summary`` (cost, violation, iterations, t_end, status).
         :raises nhc.MathError: no optimum: infeasible (the message names the condition violated
@@ -242,21 +245,20 @@ class Scene:
         if isinstance(guess, Run):
             columns, rows, name = list(guess.columns), guess.to_numpy().tolist(), "the guess"
         elif guess is not None:
-            name = _os.fspath(guess)
-            try:
-                with open(name, encoding="utf-8") as f:
-                    columns = f.readline().strip().split(",")
-                    rows = _np.atleast_2d(_np.loadtxt(f, delimiter=",", ndmin=2)).tolist()
-            except (OSError, ValueError) as e:
-                raise SceneError(f"guess: {name}: {e}", file="guess") from None
+            name = _os.fspath(guess)  # read by nhc's one CSV reader, under the data-file rules
         result = _nhc._optimize(self._scene, None if intervals is None else int(intervals), int(max_iterations),
-                                float(tolerance), str(jacobian), str(hessian), columns, rows, name)
+                                float(tolerance), str(jacobian), str(hessian), float(path_tolerance), columns, rows, name,
+                                name if columns is None and guess is not None else "")
         summary = result["summary"]
         run = Run({"columns": result["columns"], "data": result["data"], "summary": summary, "cost": summary["cost"]})
         if summary["status"] != "optimal":
             worst = (f"; the largest violation, {summary['violation']:.3g}, is in {summary['worst_constraint']}"
                      if summary["violation"] > 0 else "")
             lead = "no path meets the conditions: " if summary["status"] == "infeasible" else ""
+            if summary["status"] == "path_error":
+                error = MathError(f"optimize: {summary['words']}")
+                error.run = run
+                raise error
             error = MathError(f"optimize: {lead}{summary['words']} ({summary['iterations']} iterations){worst}")
             error.run = run  # the last point IPOPT reached
             raise error

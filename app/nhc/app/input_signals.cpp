@@ -10,6 +10,7 @@
 
 #include "nhc/expr/numeric_program.hpp"
 #include "nhc/errors.hpp"
+#include "nhc/io/csv_file.hpp"
 #include "nhc/io/input_file.hpp"
 #include "nhc/io/printable.hpp"
 #include "nhc/scene/expression_parser.hpp"
@@ -35,71 +36,26 @@ struct Series {
   }
 };
 
-std::vector<std::string> split_commas(const std::string& line) {
-  std::vector<std::string> cells;
-  std::stringstream in(line);
-  std::string cell;
-  while (std::getline(in, cell, ',')) cells.push_back(cell);
-  if (!line.empty() && line.back() == ',') cells.emplace_back();
-  return cells;
-}
-
-std::string trimmed(std::string s) {
-  while (!s.empty() && (s.back() == '\r' || s.back() == ' ' || s.back() == '\t')) s.pop_back();
-  std::size_t start = 0;
-  while (start < s.size() && (s[start] == ' ' || s[start] == '\t')) ++start;
-  return s.substr(start);
-}
-
-/// Column (1-based) where cell `index` of `line` starts.
-int column_of(const std::string& line, std::size_t index) {
-  std::size_t at = 0;
-  for (std::size_t k = 0; k < index; ++k) at = line.find(',', at) + 1;
-  return static_cast<int>(at) + 1;
-}
-
 Series read_series(const std::string& path, const std::string& name, double t0, double t_end) {
-  check_input_file(path, "a CSV file for input '" + name + "'");
-  std::ifstream in(path);
-  if (!in) throw InputError(kFlag, "cannot read '" + path + "' for input '" + name + "'");
-  std::string header;
-  if (!std::getline(in, header)) throw InputError({path, 1, 1}, "empty file: a header row naming t and " + name + " is needed");
-  if (header.rfind("\xEF\xBB\xBF", 0) == 0) header.erase(0, 3);  // a UTF-8 byte order mark (spreadsheets write one)
-  const std::vector<std::string> names = split_commas(header);
-  std::size_t t_column = names.size(), u_column = names.size();
-  for (std::size_t c = 0; c < names.size(); ++c) {
-    const std::string n = trimmed(names[c]);
-    if (n != "t" && n != name) continue;
-    std::size_t& column = n == "t" ? t_column : u_column;
-    if (column != names.size())
-      throw InputError({path, 1, column_of(header, c)},
-                       "duplicate column '" + n + "' (also column " + std::to_string(column + 1) + ")");
-    column = c;
+  // The one CSV reader of data files (nhc/io/csv_file.hpp): regular file, size limit, CRLF, a
+  // byte order mark, escaped messages at the cell's line and column.
+  const CsvFile file = read_csv_file(path, "a CSV file for input '" + name + "'");
+  const int t_column = file.column("t"), u_column = file.column(name);
+  if (t_column < 0) throw InputError({path, 1, 1}, "no column 't' in the header row");
+  if (u_column < 0) {
+    std::string header;
+    for (std::size_t c = 0; c < file.header.size(); ++c) header += (c ? "," : "") + file.header[c];
+    throw InputError({path, 1, 1}, "no column '" + name + "' in the header row (" + printable(header) + ")");
   }
-  if (t_column == names.size()) throw InputError({path, 1, 1}, "no column 't' in the header row");
-  if (u_column == names.size()) throw InputError({path, 1, 1}, "no column '" + name + "' in the header row (" + printable(header) + ")");
   Series s;
-  std::string line;
-  for (int row = 2; std::getline(in, line); ++row) {
-    if (trimmed(line).empty()) continue;
-    const std::vector<std::string> cells = split_commas(line);
-    double pair[2];
-    const std::size_t columns[2] = {t_column, u_column};
-    for (int k = 0; k < 2; ++k) {
-      const std::size_t c = columns[k];
-      const SourceLocation where{path, row, c < cells.size() ? column_of(line, c) : static_cast<int>(line.size()) + 1};
-      if (c >= cells.size()) throw InputError(where, "missing value of column '" + printable(trimmed(names[c])) + "'");
-      const std::string text = trimmed(cells[c]);
-      // from_chars reads no leading '+'; "+1" is a number all the same.
-      const char* begin = text.data() + (text.size() > 1 && text[0] == '+' && text[1] != '-' && text[1] != '+');
-      const auto [end, error] = std::from_chars(begin, text.data() + text.size(), pair[k]);
-      if (error != std::errc() || end != text.data() + text.size() || !std::isfinite(pair[k]))
-        throw InputError(where, "'" + printable(text) + "' is not a finite number");
-    }
+  for (std::size_t r = 0; r < file.rows.size(); ++r) {
+    const double pair[2] = {file.number(r, static_cast<std::size_t>(t_column)), file.number(r, static_cast<std::size_t>(u_column))};
+    const int row = file.rows[r].line;
+    const std::string& line = file.rows[r].text;
     if (!s.t.empty() && !(pair[0] > s.t.back())) {
       std::ostringstream message;
       message << "times must increase: t = " << pair[0] << " follows t = " << s.t.back();
-      throw InputError({path, row, column_of(line, t_column)}, message.str());
+      throw InputError({path, row, csv_cell_column(line, static_cast<std::size_t>(t_column))}, message.str());
     }
     s.t.push_back(pair[0]);
     s.value.push_back(pair[1]);

@@ -21,12 +21,12 @@ void check_choice(const std::string& field, const std::string& value, const std:
 }  // namespace
 
 const OptimizeFieldNames& optimize_command_line_names() {
-  static const OptimizeFieldNames names{"--intervals", "--max-iterations", "--tolerance", "--jacobian", "--hessian"};
+  static const OptimizeFieldNames names{"--intervals", "--max-iterations", "--tolerance", "--jacobian", "--hessian", "--path-tolerance"};
   return names;
 }
 
 const OptimizeFieldNames& optimize_python_names() {
-  static const OptimizeFieldNames names{"intervals", "max_iterations", "tolerance", "jacobian", "hessian"};
+  static const OptimizeFieldNames names{"intervals", "max_iterations", "tolerance", "jacobian", "hessian", "path_tolerance"};
   return names;
 }
 
@@ -35,6 +35,8 @@ void check_optimize_request(const OptimizeRequest& r, const OptimizeFieldNames& 
   check_count(names.max_iterations, r.max_iterations, 1, kMaxIterations);
   if (const std::string why = positive_problem(r.tolerance); !why.empty())
     refuse(names.tolerance, names.tolerance + ": " + std::to_string(r.tolerance) + " " + why);
+  if (const std::string why = positive_problem(r.path_tolerance); !why.empty())
+    refuse(names.path_tolerance, names.path_tolerance + ": " + std::to_string(r.path_tolerance) + " " + why);
   check_choice(names.jacobian, r.jacobian, "exact", "finite-differences");
   check_choice(names.hessian, r.hessian, "exact", "limited-memory");
 }

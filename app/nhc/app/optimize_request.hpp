@@ -14,7 +14,7 @@ inline constexpr long long kMaxIterations = 1000000;
 
 /// How a front end names the fields in its messages.
 struct OptimizeFieldNames {
-  std::string intervals, max_iterations, tolerance, jacobian, hessian;
+  std::string intervals, max_iterations, tolerance, jacobian, hessian, path_tolerance;
 };
 const OptimizeFieldNames& optimize_command_line_names();
 const OptimizeFieldNames& optimize_python_names();
@@ -25,6 +25,7 @@ struct OptimizeRequest {
   double tolerance = 1e-10;            ///< IPOPT's tol
   std::string jacobian = "exact";      ///< exact | finite-differences
   std::string hessian = "exact";       ///< exact | limited-memory
+  double path_tolerance = 1e-6;        ///< the largest path error accepted (docs/optimize.md, "Path error")
 };
 
 /// Every rule of the request: InputError at the field (in `names`) otherwise.

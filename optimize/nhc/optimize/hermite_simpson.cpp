@@ -19,11 +19,12 @@ constexpr double kBend = 1e-2;
 constexpr double kInitialTolerance = 1e-9;
 constexpr int kIntegrand = 0, kFinalCost = 1, kFirstPathRow = 2;
 
-/// Simpson's weight of point j within its interval, in units of the interval's length h:
-/// 1/6 at each end of every interval (a node inside the mesh ends two), 4/6 at a midpoint.
-double simpson_weight(int point, int points) {
-  if (point % 2 == 1) return 4.0 / 6.0;
-  return point == 0 || point == points - 1 ? 1.0 / 6.0 : 2.0 / 6.0;
+/// N equal intervals: the node fractions k/N.
+std::vector<double> equal_mesh(int intervals) {
+  std::vector<double> mesh(static_cast<std::size_t>(intervals) + 1);
+  for (int k = 0; k <= intervals; ++k) mesh[static_cast<std::size_t>(k)] = static_cast<double>(k) / intervals;
+  mesh.back() = 1.0;
+  return mesh;
 }
 
 }  // namespace
@@ -32,15 +33,52 @@ HermiteSimpson::HermiteSimpson(const Scene& scene, const Settings& settings, int
     : HermiteSimpson(scene, settings, optimize::point_problem(scene, settings), intervals) {}
 
 HermiteSimpson::HermiteSimpson(const Scene& scene, const Settings& settings, PointProblem problem, int intervals)
+    : HermiteSimpson(scene, settings, std::move(problem), equal_mesh(intervals)) {}
+
+HermiteSimpson::HermiteSimpson(const Scene& scene, const Settings& settings, PointProblem problem, std::vector<double> mesh)
     : problem_(std::move(problem)),
       n_(problem_.states),
       stride_(problem_.slots()),
-      n_intervals_(intervals),
+      n_intervals_(static_cast<int>(mesh.size()) - 1),
       t0_(scene.initial.t0),
       t_end_low_(settings.t_end_low),
       t_end_high_(settings.t_end_high),
       free_time_(settings.free_time()),
-      functions_(problem_) {
+      functions_(std::make_shared<PathFunctions>(problem_)),
+      initial_where_(problem_.initial.empty() ? settings.table_where : problem_.initial.front().where) {
+  set_up(mesh);
+}
+
+HermiteSimpson::HermiteSimpson(const HermiteSimpson& other, std::vector<double> mesh, Shared)
+    : problem_(other.problem_),
+      n_(other.n_),
+      stride_(other.stride_),
+      n_intervals_(static_cast<int>(mesh.size()) - 1),
+      t0_(other.t0_),
+      t_end_low_(other.t_end_low_),
+      t_end_high_(other.t_end_high_),
+      free_time_(other.free_time_),
+      functions_(other.functions_),
+      initial_where_(other.initial_where_) {
+  set_up(mesh);
+}
+
+HermiteSimpson HermiteSimpson::remeshed(std::vector<double> mesh) const { return HermiteSimpson(*this, std::move(mesh), Shared{}); }
+
+void HermiteSimpson::set_up(const std::vector<double>& mesh) {
+  // Point fractions and Simpson's weights h_k/6 at each end of interval k (a node inside the
+  // mesh ends two), 4 h_k/6 at its midpoint, in units of T - t0.
+  s_.assign(static_cast<std::size_t>(points()), 0.0);
+  weight_.assign(static_cast<std::size_t>(points()), 0.0);
+  for (int k = 0; k < n_intervals_; ++k) {
+    const double a = mesh[static_cast<std::size_t>(k)], b = mesh[static_cast<std::size_t>(k) + 1], d = b - a;
+    s_[static_cast<std::size_t>(2 * k)] = a;
+    s_[static_cast<std::size_t>(2 * k + 1)] = 0.5 * (a + b);
+    s_[static_cast<std::size_t>(2 * k + 2)] = b;
+    weight_[static_cast<std::size_t>(2 * k)] += d / 6;
+    weight_[static_cast<std::size_t>(2 * k + 1)] += 4 * d / 6;
+    weight_[static_cast<std::size_t>(2 * k + 2)] += d / 6;
+  }
   for (int i = 0; i < n_; ++i)
     if (problem_.collocated[static_cast<std::size_t>(i)]) collocated_.push_back(i);
   low_.assign(static_cast<std::size_t>(variables()), -kInfinity);
@@ -72,7 +110,7 @@ HermiteSimpson::HermiteSimpson(const Scene& scene, const Settings& settings, Poi
     low_.back() = t_end_low_;
     high_.back() = t_end_high_;
   }
-  drop_fixed_initial_rows(settings);
+  drop_fixed_initial_rows();
   build_hessian_structure();
 }
 
@@ -87,7 +125,7 @@ void HermiteSimpson::build_hessian_structure() {
       hessian_entries_.emplace_back(r, c);
   };
   auto add_pairs = [&](int f, int point) {
-    for (const VariablePair& p : functions_.pairs(f))
+    for (const VariablePair& p : functions_->pairs(f))
       if (p.first >= 0 && p.second >= 0) add(point * stride_ + p.first, point * stride_ + p.second);
   };
   const int first_initial = kFirstPathRow + path_rows();
@@ -115,13 +153,13 @@ void HermiteSimpson::hessian_structure(int* rows, int* columns) const {
 
 void HermiteSimpson::hessian_values(const double* z, double sigma, const double* lambda, double* values) {
   std::fill(values, values + hessian_nonzeros(), 0.0);
-  const double h = (final_time(z) - t0_) / n_intervals_, dh = 1.0 / n_intervals_;
+  const double D = final_time(z) - t0_;
   const int T = variables() - 1;
   // d(t_j)/dT = s_j = j/(2N); for the function f with factor c at point j: c f_ab at (a, b) and,
   // with a free T, c f_ta s_j at (T, a) and c f_tt s_j^2 at (T, T).
   auto add_function = [&](int f, int j, double c, double s_j) {
-    const ValueGradient& v = functions_.value(f);
-    const std::vector<VariablePair>& pairs = functions_.pairs(f);
+    const ValueGradient& v = functions_->value(f);
+    const std::vector<VariablePair>& pairs = functions_->pairs(f);
     for (std::size_t e = 0; e < pairs.size(); ++e) {
       const auto [a, b] = pairs[e];
       if (a >= 0 && b >= 0) values[hessian_entry(j * stride_ + a, j * stride_ + b)] += c * v.dd[e];
@@ -132,17 +170,17 @@ void HermiteSimpson::hessian_values(const double* z, double sigma, const double*
   const int first_initial = kFirstPathRow + path_rows();
   int row = collocation_rows();
   for (int j = 0; j < points(); ++j) {
-    const double t = time(j, z), s_j = j / (2.0 * n_intervals_), w = simpson_weight(j, points());
-    functions_.evaluate(t, z + q_index(j, 0));
-    functions_.evaluate_second(t, z + q_index(j, 0));
-    add_function(kIntegrand, j, sigma * w * h, s_j);
+    const double t = time(j, z), s_j = s_[static_cast<std::size_t>(j)], w = weight_[static_cast<std::size_t>(j)];
+    functions_->evaluate(t, z + q_index(j, 0));
+    functions_->evaluate_second(t, z + q_index(j, 0));
+    add_function(kIntegrand, j, sigma * w * D, s_j);
     if (free_time_) {
-      // f = h sum_j w_j l(t_j, p_j): d2f/dT dp_a = w_j (l_a/N + h l_ta s_j) (the second term
-      // above); d2f/dT2 = sum_j w_j (2 l_t s_j/N + h l_tt s_j^2).
-      const ValueGradient& l = functions_.value(kIntegrand);
-      const std::vector<int>& slots = functions_.slots(kIntegrand);
-      for (std::size_t e = 0; e < slots.size(); ++e) values[hessian_entry(T, j * stride_ + slots[e])] += sigma * w * l.d[e] * dh;
-      values[hessian_entry(T, T)] += sigma * w * 2 * l.dt * s_j * dh;
+      // f = (T - t0) sum_j w_j l(t_j, p_j): d2f/dT dp_a = w_j (l_a + (T - t0) l_ta s_j) (the
+      // second term above); d2f/dT2 = sum_j w_j (2 l_t s_j + (T - t0) l_tt s_j^2).
+      const ValueGradient& l = functions_->value(kIntegrand);
+      const std::vector<int>& slots = functions_->slots(kIntegrand);
+      for (std::size_t e = 0; e < slots.size(); ++e) values[hessian_entry(T, j * stride_ + slots[e])] += sigma * w * l.d[e];
+      values[hessian_entry(T, T)] += sigma * w * 2 * l.dt * s_j;
     }
     for (int r = 0; r < path_rows(); ++r) add_function(kFirstPathRow + r, j, lambda[row + j * path_rows() + r], s_j);
     if (j == 0) {
@@ -155,6 +193,7 @@ void HermiteSimpson::hessian_values(const double* z, double sigma, const double*
     int r = 0;
     for (int k = 0; k < n_intervals_; ++k) {
       const int a = 2 * k, m = a + 1, b = a + 2;
+      const double dh = s_[static_cast<std::size_t>(b)] - s_[static_cast<std::size_t>(a)];
       for (int i : collocated_) {
         values[hessian_entry(T, v_index(a, i))] += -dh / 8 * lambda[r];
         values[hessian_entry(T, v_index(b, i))] += dh / 8 * lambda[r];
@@ -170,14 +209,14 @@ void HermiteSimpson::hessian_values(const double* z, double sigma, const double*
   }
 }
 
-void HermiteSimpson::drop_fixed_initial_rows(const Settings& settings) {
+void HermiteSimpson::drop_fixed_initial_rows() {
   std::vector<double> point(static_cast<std::size_t>(stride_), 0.0);
   for (int s = 0; s < stride_; ++s)
     if (low_[static_cast<std::size_t>(s)] == high_[static_cast<std::size_t>(s)]) point[static_cast<std::size_t>(s)] = low_[static_cast<std::size_t>(s)];
-  functions_.evaluate(t0_, point.data());
+  functions_->evaluate(t0_, point.data());
   const int first = kFirstPathRow + path_rows();
   for (int r = 0; r < static_cast<int>(problem_.initial_rows.size()); ++r) {
-    const std::vector<int>& slots = functions_.slots(first + r);
+    const std::vector<int>& slots = functions_->slots(first + r);
     const bool fixed = std::all_of(slots.begin(), slots.end(), [&](int s) {
       return low_[static_cast<std::size_t>(s)] == high_[static_cast<std::size_t>(s)];
     });
@@ -185,9 +224,9 @@ void HermiteSimpson::drop_fixed_initial_rows(const Settings& settings) {
       kept_initial_rows_.push_back(r);
       continue;
     }
-    const double value = functions_.value(first + r).value;
+    const double value = functions_->value(first + r).value;
     if (!(std::abs(value) <= kInitialTolerance))
-      throw InputError(problem_.initial.empty() ? settings.table_where : problem_.initial.front().where,
+      throw InputError(initial_where_,
                        fmt::format("the values of [optimize.initial] violate {}: it is {:.6g} there", problem_.initial_rows[static_cast<std::size_t>(r)].name, value));
   }
 }
@@ -195,13 +234,13 @@ void HermiteSimpson::drop_fixed_initial_rows(const Settings& settings) {
 int HermiteSimpson::jacobian_nonzeros() const noexcept {
   const int t = free_time_ ? 1 : 0;
   int count = collocation_rows() * (5 + t);
-  for (int r = 0; r < path_rows(); ++r) count += points() * (static_cast<int>(functions_.slots(kFirstPathRow + r).size()) + t);
-  for (int r : kept_initial_rows_) count += static_cast<int>(functions_.slots(kFirstPathRow + path_rows() + r).size());
+  for (int r = 0; r < path_rows(); ++r) count += points() * (static_cast<int>(functions_->slots(kFirstPathRow + r).size()) + t);
+  for (int r : kept_initial_rows_) count += static_cast<int>(functions_->slots(kFirstPathRow + path_rows() + r).size());
   return count;
 }
 
 double HermiteSimpson::time(int point, const double* z) const noexcept {
-  return t0_ + (final_time(z) - t0_) * point / (2.0 * n_intervals_);
+  return t0_ + (final_time(z) - t0_) * s_[static_cast<std::size_t>(point)];
 }
 
 void HermiteSimpson::variable_bounds(double* low, double* high) const {
@@ -235,38 +274,37 @@ void HermiteSimpson::evaluate_points(const double* z, bool derivatives) {
   cached_derivatives_ = derivatives;
   at_.resize(static_cast<std::size_t>(points()));
   for (int j = 0; j < points(); ++j) {
-    if (derivatives) functions_.evaluate(time(j, z), z + q_index(j, 0));
-    else functions_.evaluate_values(time(j, z), z + q_index(j, 0));
+    if (derivatives) functions_->evaluate(time(j, z), z + q_index(j, 0));
+    else functions_->evaluate_values(time(j, z), z + q_index(j, 0));
     std::vector<ValueGradient>& here = at_[static_cast<std::size_t>(j)];
     here.clear();
-    for (int f = 0; f < functions_.functions(); ++f) here.push_back(functions_.value(f));
+    for (int f = 0; f < functions_->functions(); ++f) here.push_back(functions_->value(f));
   }
 }
 
 double HermiteSimpson::objective(const double* z) {
   evaluate_points(z, false);
-  const double h = (final_time(z) - t0_) / n_intervals_;
   double sum = 0;
-  for (int j = 0; j < points(); ++j) sum += simpson_weight(j, points()) * at_[static_cast<std::size_t>(j)][kIntegrand].value;
-  return h * sum + at_.back()[kFinalCost].value;
+  for (int j = 0; j < points(); ++j) sum += weight_[static_cast<std::size_t>(j)] * at_[static_cast<std::size_t>(j)][kIntegrand].value;
+  return (final_time(z) - t0_) * sum + at_.back()[kFinalCost].value;
 }
 
 void HermiteSimpson::objective_gradient(const double* z, double* gradient) {
   evaluate_points(z, true);
-  const double h = (final_time(z) - t0_) / n_intervals_;
+  const double D = final_time(z) - t0_;
   std::fill(gradient, gradient + variables(), 0.0);
   double d_final_time = 0;
-  const std::vector<int>& slots = functions_.slots(kIntegrand);
+  const std::vector<int>& slots = functions_->slots(kIntegrand);
   for (int j = 0; j < points(); ++j) {
     const ValueGradient& L = at_[static_cast<std::size_t>(j)][kIntegrand];
-    const double w = simpson_weight(j, points());
-    for (std::size_t e = 0; e < slots.size(); ++e) gradient[j * stride_ + slots[e]] += w * h * L.d[e];
-    // h = (T - t0)/N and t_j = t0 + (T - t0) j/(2N) both move with T.
-    d_final_time += w * (L.value / n_intervals_ + h * L.dt * j / (2.0 * n_intervals_));
+    const double w = weight_[static_cast<std::size_t>(j)];
+    for (std::size_t e = 0; e < slots.size(); ++e) gradient[j * stride_ + slots[e]] += w * D * L.d[e];
+    // The weights (T - t0) w_j and t_j = t0 + (T - t0) s_j both move with T.
+    d_final_time += w * (L.value + D * L.dt * s_[static_cast<std::size_t>(j)]);
   }
   const ValueGradient& phi = at_.back()[kFinalCost];
   const int last = points() - 1;
-  const std::vector<int>& phi_slots = functions_.slots(kFinalCost);
+  const std::vector<int>& phi_slots = functions_->slots(kFinalCost);
   for (std::size_t e = 0; e < phi_slots.size(); ++e) gradient[last * stride_ + phi_slots[e]] += phi.d[e];
   if (free_time_) gradient[variables() - 1] = d_final_time + phi.dt;
 }
@@ -276,10 +314,10 @@ void HermiteSimpson::objective_gradient(const double* z, double* gradient) {
 // (a = 2k, m = 2k + 1, b = 2k + 2); then the path rows at every point; then the kept initial rows.
 void HermiteSimpson::constraint_values(const double* z, double* g) {
   evaluate_points(z, false);
-  const double h = (final_time(z) - t0_) / n_intervals_;
   int row = 0;
   for (int k = 0; k < n_intervals_; ++k) {
     const int a = 2 * k, m = a + 1, b = a + 2;
+    const double h = interval_length(k, z);
     for (int i : collocated_)
       g[row++] = z[q_index(m, i)] - 0.5 * (z[q_index(a, i)] + z[q_index(b, i)]) - h / 8 * (z[v_index(a, i)] - z[v_index(b, i)]);
     for (int i : collocated_)
@@ -315,21 +353,21 @@ void HermiteSimpson::jacobian_structure(int* rows, int* columns) const {
   }
   for (int j = 0; j < points(); ++j)
     for (int r = 0; r < path_rows(); ++r, ++row) {
-      for (int s : functions_.slots(kFirstPathRow + r)) put(row, j * stride_ + s);
+      for (int s : functions_->slots(kFirstPathRow + r)) put(row, j * stride_ + s);
       if (free_time_) put(row, t_column);
     }
   for (int r : kept_initial_rows_) {
-    for (int s : functions_.slots(kFirstPathRow + path_rows() + r)) put(row, s);
+    for (int s : functions_->slots(kFirstPathRow + path_rows() + r)) put(row, s);
     ++row;
   }
 }
 
 void HermiteSimpson::jacobian_values(const double* z, double* values) {
   evaluate_points(z, true);
-  const double h = (final_time(z) - t0_) / n_intervals_, dh = 1.0 / n_intervals_;
   int e = 0;
   for (int k = 0; k < n_intervals_; ++k) {
     const int a = 2 * k, m = a + 1, b = a + 2;
+    const double h = interval_length(k, z), dh = s_[static_cast<std::size_t>(b)] - s_[static_cast<std::size_t>(a)];
     for (int i : collocated_) {
       values[e++] = 1, values[e++] = -0.5, values[e++] = -0.5;
       values[e++] = -h / 8, values[e++] = h / 8;
@@ -345,7 +383,7 @@ void HermiteSimpson::jacobian_values(const double* z, double* values) {
     for (int r = 0; r < path_rows(); ++r) {
       const ValueGradient& c = at_[static_cast<std::size_t>(j)][static_cast<std::size_t>(kFirstPathRow + r)];
       for (double d : c.d) values[e++] = d;
-      if (free_time_) values[e++] = c.dt * j / (2.0 * n_intervals_);
+      if (free_time_) values[e++] = c.dt * s_[static_cast<std::size_t>(j)];
     }
   for (int r : kept_initial_rows_)
     for (double d : at_.front()[static_cast<std::size_t>(kFirstPathRow + path_rows() + r)].d) values[e++] = d;
@@ -374,7 +412,7 @@ std::vector<double> HermiteSimpson::straight_line() const {
     // of the constraint violation where IPOPT stays (docs/optimize.md, "Start").
     const double frequency = (i + 1) * kPi;
     for (int j = 0; j < points(); ++j) {
-      const double s = j / static_cast<double>(last);
+      const double s = s_[static_cast<std::size_t>(j)];
       z[static_cast<std::size_t>(q_index(j, i))] = q0 + s * (q1 - q0) + kBend * std::sin(frequency * s);
       z[static_cast<std::size_t>(v_index(j, i))] = rate + kBend * frequency / (t_end - t0_) * std::cos(frequency * s);
     }
@@ -399,7 +437,6 @@ std::vector<double> HermiteSimpson::from_samples(const std::vector<std::vector<d
     const double s = r1[tc] > r0[tc] ? (t - r0[tc]) / (r1[tc] - r0[tc]) : 0.0;
     return r0[c] + s * (r1[c] - r0[c]);
   };
-  const double dt = (final_time(z.data()) - t0_) / (2.0 * n_intervals_);
   for (int j = 0; j < points(); ++j) {
     const double t = time(j, z.data());
     for (int i = 0; i < n_; ++i) {
@@ -415,10 +452,17 @@ std::vector<double> HermiteSimpson::from_samples(const std::vector<std::vector<d
       for (int j = 0; j < points(); ++j) {
         const int lo = std::max(j - 1, 0), hi = std::min(j + 1, points() - 1);
         z[static_cast<std::size_t>(v_index(j, i))] =
-            (z[static_cast<std::size_t>(q_index(hi, i))] - z[static_cast<std::size_t>(q_index(lo, i))]) / ((hi - lo) * dt);
+            (z[static_cast<std::size_t>(q_index(hi, i))] - z[static_cast<std::size_t>(q_index(lo, i))]) /
+            (time(hi, z.data()) - time(lo, z.data()));
       }
   for (std::size_t k = 0; k < z.size(); ++k) z[k] = std::clamp(z[k], low_[k], high_[k]);
   return z;
+}
+
+std::vector<double> HermiteSimpson::mesh() const {
+  std::vector<double> out;
+  for (int j = 0; j < points(); j += 2) out.push_back(s_[static_cast<std::size_t>(j)]);
+  return out;
 }
 
 std::string HermiteSimpson::constraint_name(int row, const double* z) const {

@@ -5,11 +5,13 @@
 /// program: variables, bounds, objective, constraints and their exact first derivatives.
 ///
 /// Points j = 0 … 2N: the N + 1 mesh nodes (even j) and the N interval midpoints (odd j), at
-/// t_j = t0 + (T - t0) j / (2N). Each point holds the PointProblem's slots: the states y, their
+/// t_j = t0 + (T - t0) s_j, s_j the point's fraction of the horizon (a mesh of N intervals given
+/// by its node fractions 0 = s_0 < s_2 < … < s_2N = 1; equal intervals by default). Each point holds the PointProblem's slots: the states y, their
 /// rates y' and the inputs u (without [inputs]: y = q, y' = q'); a free final time adds T as the
 /// last variable.
 
 #include <map>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -27,8 +29,29 @@ class HermiteSimpson {
   /// violate a hidden constraint).
   HermiteSimpson(const Scene& scene, const Settings& settings, int intervals);
   HermiteSimpson(const Scene& scene, const Settings& settings, PointProblem problem, int intervals);
+  /// On the mesh of node fractions `mesh` (increasing from 0 to 1; its size is intervals + 1).
+  HermiteSimpson(const Scene& scene, const Settings& settings, PointProblem problem, std::vector<double> mesh);
+
+  /// The same problem on another mesh, sharing this one's lowered functions (nothing is derived
+  /// or lowered again): the rounds of mesh refinement (refine.hpp).
+  HermiteSimpson remeshed(std::vector<double> mesh) const;
+
+  /// The node fractions of the mesh (size intervals() + 1).
+  std::vector<double> mesh() const;
+  /// Point j's fraction of the horizon.
+  double fraction(int point) const noexcept { return s_[static_cast<std::size_t>(point)]; }
+  /// The length of interval k at z.
+  double interval_length(int k, const double* z) const noexcept {
+    return (final_time(z) - t0_) * (s_[static_cast<std::size_t>(2 * k + 2)] - s_[static_cast<std::size_t>(2 * k)]);
+  }
+  double initial_time() const noexcept { return t0_; }
 
   const PointProblem& point_problem() const noexcept { return problem_; }
+  /// The point problem's functions, to evaluate between the points (path_error.hpp).
+  PathFunctions& functions() noexcept { return *functions_; }
+  /// The bounds of variable `index` of the problem.
+  double variable_low(int index) const noexcept { return low_[static_cast<std::size_t>(index)]; }
+  double variable_high(int index) const noexcept { return high_[static_cast<std::size_t>(index)]; }
   int intervals() const noexcept { return n_intervals_; }
   int points() const noexcept { return 2 * n_intervals_ + 1; }
   int states() const noexcept { return n_; }
@@ -79,7 +102,10 @@ class HermiteSimpson {
   int initial_rows() const noexcept { return static_cast<int>(kept_initial_rows_.size()); }
   /// The functions at every point of z, with their first derivatives when `derivatives`.
   void evaluate_points(const double* z, bool derivatives);
-  void drop_fixed_initial_rows(const Settings& settings);
+  struct Shared {};
+  HermiteSimpson(const HermiteSimpson& other, std::vector<double> mesh, Shared);
+  void set_up(const std::vector<double>& mesh);
+  void drop_fixed_initial_rows();
   void build_hessian_structure();
   int hessian_entry(int row, int column) const;
 
@@ -87,7 +113,8 @@ class HermiteSimpson {
   int n_, stride_, n_intervals_;
   double t0_, t_end_low_, t_end_high_;
   bool free_time_;
-  PathFunctions functions_;
+  std::shared_ptr<PathFunctions> functions_;
+  SourceLocation initial_where_;  ///< where a violated hidden constraint is reported
   std::vector<int> collocated_;       ///< the states with collocation rows
   std::vector<int> kept_initial_rows_;  ///< initial rows not already decided by fixed values
   std::vector<double> low_, high_;  ///< variable bounds
@@ -97,6 +124,8 @@ class HermiteSimpson {
   bool cached_derivatives_ = false;
   std::vector<std::pair<int, int>> hessian_entries_;  ///< (row, column), row >= column
   std::map<std::pair<int, int>, int> hessian_index_;
+  std::vector<double> s_;       ///< per point its fraction of the horizon
+  std::vector<double> weight_;  ///< per point its Simpson weight, in units of T - t0
 };
 
 }  // namespace nhc::optimize

@@ -1,6 +1,11 @@
 #include "nhc/optimize/path_table.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <cmath>
+
+#include "nhc/io/printable.hpp"
 
 namespace nhc::optimize {
 
@@ -56,14 +61,25 @@ std::vector<double> guess_from_table(const HermiteSimpson& problem, const std::v
     const auto it = std::find(header.begin(), header.end(), name);
     return it == header.end() ? -1 : static_cast<int>(it - header.begin());
   };
-  if (rows.empty()) throw InputError(at, file + " has no rows");
+  const std::string name = printable(file);
+  if (rows.empty()) throw InputError(at, name + " has no rows");
+  // Python hands rows of its own: each as wide as the header, every value finite (row r of the
+  // table is line r + 2 of a file, after the header).
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    if (rows[r].size() != header.size())
+      throw InputError(at, fmt::format("{}: row {} has {} values, the header {} names", name, r + 1, rows[r].size(), header.size()));
+    for (std::size_t c = 0; c < header.size(); ++c)
+      if (!std::isfinite(rows[r][c]))
+        throw InputError(at, fmt::format("{}: row {}, column {} ('{}') is {}, not a finite number", name, r + 1, c + 1,
+                                         printable(header[c]), rows[r][c]));
+  }
   const int t = column("t");
-  if (t < 0) throw InputError(at, file + " has no column t");
+  if (t < 0) throw InputError(at, name + " has no column t");
   for (std::size_t r = 1; r < rows.size(); ++r)
     if (!(rows[r][static_cast<std::size_t>(t)] >= rows[r - 1][static_cast<std::size_t>(t)]))
-      throw InputError(at, file + ": t does not increase at row " + std::to_string(r + 2));
+      throw InputError(at, fmt::format("{}: t does not increase at row {}", name, r + 1));
   for (const std::string& name : scene.jet->coordinates())
-    if (column(name) < 0) throw InputError(at, file + " has no column " + name);
+    if (column(name) < 0) throw InputError(at, printable(file) + " has no column " + name);
   const PointProblem& p = problem.point_problem();
   std::vector<int> q, v, u;
   for (int i = 0; i < p.states; ++i) {

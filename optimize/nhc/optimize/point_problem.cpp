@@ -95,7 +95,11 @@ PointProblem vakonomic_problem(const Scene& scene, const Settings& settings) {
 PointProblem dynamics_problem(const Scene& scene, const Settings& settings, ModelKind model) {
   const JetSpace& jet = *scene.jet;
   const DerivedModel derived = derive_model(scene, model);
-  if (!derived.applicable) throw MathError("the " + to_string(model) + " model is not applicable: " + derived.reason);
+  // The scene asks for a model it cannot have (the Suslov model without its `dependent` speeds, a
+  // model for other constraints): a fault of the scene's text, at the `model` entry.
+  if (!derived.applicable)
+    throw InputError(settings.model ? settings.model_where : settings.table_where,
+                     "the " + to_string(model) + " model is not applicable: " + derived.reason);
   const Index1System system = reduce_to_index1(scene, derived);
   PointProblem p;
   p.dynamics = true;
@@ -121,6 +125,7 @@ PointProblem dynamics_problem(const Scene& scene, const Settings& settings, Mode
   check_symbols(p, p.integrand, settings.objective_where, "the objective", why);
   p.final_cost = in_states(settings.final_cost);
   check_symbols(p, p.final_cost, settings.final_cost_where, "final_cost", why);
+  p.dynamics_rows = static_cast<int>(system.residuals.size());
   for (std::size_t r = 0; r < system.residuals.size(); ++r)
     p.path.push_back({system.residuals[r], fmt::format("the {} model's equation {} = 0", to_string(model), system.residual_names[r])});
   for (std::size_t r = 0; r < system.hidden_constraints.size(); ++r)

@@ -47,6 +47,9 @@ struct PointProblem {
   std::vector<double> parameter_values;
   GiNaC::ex integrand, final_cost;
   std::vector<PointRow> path;     ///< at every point
+  /// With [inputs]: the first `dynamics_rows` rows of `path` are the model's residual F (as many
+  /// as states); the others bound named quantities.
+  int dynamics_rows = 0;
   std::vector<PointRow> initial_rows;  ///< at the first point only
   std::vector<SlotBound> bounds;
   std::vector<SlotBound> initial, final;  ///< at the first and the last point (low = high: a value)

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "nhc/runtime/number_text.hpp"
+#include "nhc/scene/constant_expression.hpp"
 #include "nhc/scene/expression_parser.hpp"
 
 namespace nhc::optimize {
@@ -69,6 +70,7 @@ class Reader {
       const std::optional<ModelKind> kind = parse_model_kind(name);
       if (!kind) fail(*n, "unknown model '" + name + "' (known: " + model_name_list() + ")");
       s.model = kind;
+      s.model_where = at(n->source());
     }
     s.initial = boundary(*table, "initial");
     s.final = boundary(*table, "final");
@@ -119,6 +121,14 @@ class Reader {
     std::optional<double> v;
     if (node.is_integer()) v = static_cast<double>(*node.value<int64_t>());
     else if (node.is_floating_point()) v = *node.value<double>();
+    else if (node.is_string()) {
+      // A constant expression of the parameters, as [initial] and [simulate] take ("2*pi", "L/2").
+      try {
+        v = evaluate_constant_expression(*node.value<std::string>(), scene_.parameter_values_by_name());
+      } catch (const std::invalid_argument& e) {
+        fail(node, what + ": " + e.what());
+      }
+    }
     if (!v || std::isnan(*v) || (!infinite_ok && std::isinf(*v))) fail(node, what + " must be a finite number");
     return *v;
   }
