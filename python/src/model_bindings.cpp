@@ -449,7 +449,8 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
                   const std::string& integrator, const std::optional<double>& step,
                   const std::optional<std::string>& stop_when,
                   const std::optional<std::vector<std::pair<std::string, double>>>& initial_values,
-                  const std::optional<double>& t0_value) {
+                  const std::optional<double>& t0_value, const std::optional<double>& max_step,
+                  const std::optional<double>& initial_step) {
   const bool variational = integrator == "variational";
   // initial= and t0= are [initial] values written from outside, the command line's --initial rule.
   Scene scene = built.scene;
@@ -478,6 +479,7 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   request.variational = variational;
   request.step = step;
   request.stop_when = stop_when;
+  request.max_step = max_step, request.initial_step = initial_step;  // IDA's largest and first step
   app::check_run_request(request, scene, built.kind, app::python_names());
   const std::vector<SceneEvent> scene_events = app::run_events(request, scene, app::python_names());
   const runtime::Model& model = built.model();
@@ -827,7 +829,8 @@ void register_model(py::module_& m) {
            py::arg("atol") = std::nullopt, py::arg("outputs") = std::nullopt,
            py::arg("output_times") = std::nullopt, py::arg("inputs") = std::nullopt, py::arg("max_steps") = 1000000,
            py::arg("sensitivity") = std::nullopt, py::arg("integrator") = "ida", py::arg("step") = std::nullopt,
-           py::arg("stop_when") = std::nullopt, py::arg("initial") = std::nullopt, py::arg("t0") = std::nullopt)
+           py::arg("stop_when") = std::nullopt, py::arg("initial") = std::nullopt, py::arg("t0") = std::nullopt,
+           py::arg("max_step") = std::nullopt, py::arg("initial_step") = std::nullopt)
       .def("simulate_sampled", &simulate_sampled, py::arg("t_end") = std::nullopt, py::arg("rtol") = std::nullopt,
            py::arg("atol") = std::nullopt, py::arg("max_steps") = 1000000, py::arg("initial") = std::nullopt,
            py::arg("t0") = std::nullopt, py::arg("controller") = std::nullopt, py::arg("period") = std::nullopt,

@@ -139,8 +139,14 @@ SwitchedRun simulate_switched(const Scene& scene, const SceneContact& contact, c
   std::vector<double> ps(static_cast<std::size_t>(sliding.n_parameters()));
   const std::vector<double> sliding_defaults = sliding.default_parameters();
   for (int j = 0; j < sliding.n_parameters(); ++j) {
-    const int i = rolling.parameter_index(sliding.table().parameter_names[j]);
-    ps[static_cast<std::size_t>(j)] = i >= 0 ? p.at(static_cast<std::size_t>(i)) : sliding_defaults[static_cast<std::size_t>(j)];
+    // The rolling model's value, else the scene's (a parameter only the Coulomb force reads,
+    // a mu = "muT" or a normal force's): the sliding model's defaults are the text's.
+    const std::string name = sliding.table().parameter_names[j];
+    const int i = rolling.parameter_index(name);
+    const std::optional<int> k = scene.jet->parameter_index(name);
+    ps[static_cast<std::size_t>(j)] = i >= 0 ? p.at(static_cast<std::size_t>(i))
+                                      : k     ? scene.parameter_values.at(static_cast<std::size_t>(*k))
+                                              : sliding_defaults[static_cast<std::size_t>(j)];
   }
   const Layout layout = layout_of(contact, rolling, sliding);
   const std::size_t nk = contact.rolling.size();
