@@ -52,5 +52,6 @@ def test_two_crossings_one_millisecond_apart():
     scene = SINE + f'[events]\npeak = {{ when = "x - {math.cos(d)!r}", action = "record" }}\n'
     run = nhc.Scene.from_toml(scene).build("chetaev").simulate(outputs=3)
     assert [e.name for e in run.events] == ["peak", "peak"]
-    assert abs(run.events[0].t - (math.pi / 2 - d)) < 1e-4
-    assert abs(run.events[1].t - (math.pi / 2 + d)) < 1e-4
+    # one on each side of the top, where the closed form sin t is at the level to the solution's error
+    assert run.events[0].t < math.pi / 2 < run.events[1].t
+    assert all(abs(math.sin(e.t) - math.cos(d)) < 3e-7 for e in run.events)

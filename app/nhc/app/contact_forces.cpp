@@ -125,8 +125,8 @@ std::vector<std::string> ContactForces::need_lines(const std::vector<runtime::Sa
   std::vector<double> worst(kept_.size(), -1), at(kept_.size(), 0);
   for (const runtime::Sample& sample : samples) {
     const std::vector<double> columns = evaluate(sample);
-    for (std::size_t i = 0; i < kept_.size(); ++i)
-      if (columns[4 * i + 2] > worst[i]) {
+    for (std::size_t i = 0; i < kept_.size(); ++i)  // where F_n <= 0 the contact lifts off: no ratio
+      if (columns[4 * i] > 0 && columns[4 * i + 2] > worst[i]) {
         worst[i] = columns[4 * i + 2];
         at[i] = sample.t;
       }
