@@ -15,6 +15,7 @@
 
 #include <unistd.h>
 
+#include "nhc/app/parameter_values.hpp"
 #include "nhc/app/run_request.hpp"
 #include "nhc/app/sampled_run.hpp"
 #include "command_programs.hpp"
@@ -194,10 +195,23 @@ Prepared prepare(const EnsembleOptions& o, int ranks, int threads) {
   spec.rtol = o.rtol.value_or(scene.simulate.rtol);
   spec.atol = o.atol.value_or(scene.simulate.atol);
   spec.keep_trajectories = o.keep == "trajectories";
+  spec.initial_expressions = scene.initial.expressions;  // [initial] written through parameters
+  spec.scene_parameters = scene.parameter_values_by_name();
   for (const VariableSpec& v : design.variables) {
     const std::string flag = (o.vary.empty() ? "--sample " : "--vary ") + v.text;
-    refuse_unread_parameter(scene, model, v.name, flag, "varying it would change nothing");
-    spec.targets.push_back(resolve_target(model, v.name, flag));
+    // A parameter [initial] is written through moves each run's start (only that, when the
+    // equations do not read it).
+    const std::vector<double> slopes = app::initial_slopes(scene, model, v.name);
+    const bool moves_start = std::any_of(slopes.begin(), slopes.end(), [](double s) { return s != 0; });
+    Target target;
+    if (moves_start && model.parameter_index(v.name) < 0) {
+      target.parameter = -1;
+    } else {
+      refuse_unread_parameter(scene, model, v.name, flag, "varying it would change nothing");
+      target = resolve_target(model, v.name, flag);
+    }
+    if (moves_start) target.scene_parameter = v.name;
+    spec.targets.push_back(target);
   }
 
   EnsembleInfo& info = p.results.info;

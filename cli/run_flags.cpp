@@ -28,6 +28,13 @@ void add_run_flags(CLI::App* sub, RunFlags& flags) {
       ->check(flag_rules::absolute_tolerance());
   sub->add_option("--max-steps", flags.max_steps, "limit on the internal steps of the run (default 1000000)")
       ->check(flag_rules::count(1, 1000000000000LL));
+  sub->add_option("--max-step", flags.max_step,
+                  "IDA's largest step (default: none; the events are checked between the steps' ends too)")
+      ->check(flag_rules::positive());
+  sub->add_option("--initial-step", flags.initial_step,
+                  "IDA's first step (default: from the problem's scale: the first output time, the tolerances "
+                  "and the rates)")
+      ->check(flag_rules::positive());
   add_set_option(sub, flags.set);
   sub->add_option("--input", flags.inputs,
                   "NAME=EXPR or NAME=@FILE.csv: replace the default signal of the scene's input NAME by an "
@@ -144,6 +151,8 @@ app::RunRequest run_request(const RunFlags& flags, const Scene& scene) {
   r.step = flags.step;
   r.project = flags.project;
   r.stop_when = flags.stop_when;
+  r.max_step = flags.max_step;
+  r.initial_step = flags.initial_step;
   return r;
 }
 

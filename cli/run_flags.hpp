@@ -22,6 +22,7 @@ struct RunFlags {
   std::string scene_path;
   std::string model;
   std::optional<double> t_end, rtol, atol;
+  std::optional<double> max_step, initial_step;  ///< --max-step, --initial-step: IDA's largest and first step
   bool project = false, repair = false;
   long max_steps = 1000000;
   std::optional<int> outputs;

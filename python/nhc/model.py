@@ -169,7 +169,8 @@ class Model:
                  integrator: str = "ida", step: Optional[float] = None, stop_when: Optional[str] = None,
                  initial: Optional[Mapping[str, float]] = None, t0: Optional[float] = None,
                  controller: Union[Callable[[float, _npt.NDArray[_np.float64], Any], Tuple[Sequence[float], Any]], bool, None] = None,
-                 period: Optional[float] = None, controller_state: Any = None) -> Run:
+                 period: Optional[float] = None, controller_state: Any = None,
+                 max_step: Optional[float] = None, initial_step: Optional[float] = None) -> Run:
         """Integrates from the scene's [initial] (as ``nhc simulate``) and returns the :class:`Run`.
 
         Arguments not given take the scene's ``[simulate]`` values (else 1, 1e-8, 1e-10 and 200), as on
@@ -212,6 +213,10 @@ class Model:
             samples; not with `outputs`, `output_times`, `sensitivity` or the variational
             integrator, nor `inputs` with a function controller (it sets every input). The one
             engine of ``nhc simulate``'s (docs/combinations.md).
+        :param max_step: IDA's largest step (as ``--max-step``; default none).
+        :param initial_step: IDA's first step (as ``--initial-step``; default from the problem's
+            scale: the first output time, the tolerances, the
+            rates).
         :param period: the controller's sample period h (with a controller function).
         :param controller_state: the controller's state at t0 (passed to its first call; each call
             returns the next).
@@ -234,7 +239,8 @@ class Model:
                                       _count("max_steps", max_steps), names, str(integrator), number(step),
                                       None if stop_when is None else str(stop_when),
                                       None if initial is None else [(str(k), float(v)) for k, v in initial.items()],
-                                      number(t0), controller, number(period), controller_state)
+                                      number(t0), controller, number(period), controller_state,
+                                      number(max_step), number(initial_step))
         if "failure" in result:
             error = MathError(result["failure"], t=result["failure_t"])
             error.run = Run(result)  # the motion up to the failure

@@ -384,7 +384,8 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
                   const std::optional<std::string>& stop_when,
                   const std::optional<std::vector<std::pair<std::string, double>>>& initial_values,
                   const std::optional<double>& t0_value, const py::object& controller,
-                  const std::optional<double>& period, py::object controller_state) {
+                  const std::optional<double>& period, py::object controller_state,
+                  const std::optional<double>& max_step, const std::optional<double>& initial_step) {
   const bool variational = integrator == "variational";
   // initial= and t0= are [initial] values written from outside, the command line's --initial rule.
   Scene scene = built.scene;
@@ -424,6 +425,7 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   request.variational = variational;
   request.step = step;
   request.stop_when = stop_when;
+  request.max_step = max_step, request.initial_step = initial_step;  // IDA's largest and first step
   app::RunFeatures features;  // what the engine refuses to combine
   features.controller = scene_controller || function_controller;
   features.controller_name = scene_controller ? "the scene's [controller]" : "the controller";
@@ -798,7 +800,8 @@ void register_model(py::module_& m) {
            py::arg("output_times") = std::nullopt, py::arg("inputs") = std::nullopt, py::arg("max_steps") = 1000000,
            py::arg("sensitivity") = std::nullopt, py::arg("integrator") = "ida", py::arg("step") = std::nullopt,
            py::arg("stop_when") = std::nullopt, py::arg("initial") = std::nullopt, py::arg("t0") = std::nullopt,
-           py::arg("controller") = py::none(), py::arg("period") = std::nullopt, py::arg("controller_state") = py::none())
+           py::arg("controller") = py::none(), py::arg("period") = std::nullopt, py::arg("controller_state") = py::none(),
+           py::arg("max_step") = std::nullopt, py::arg("initial_step") = std::nullopt)
       .def_property_readonly("has_controller", [](const BuiltModel& b) { return b.scene.controller.present; })
       .def_property_readonly("inputs",
                              [](const BuiltModel& b) {

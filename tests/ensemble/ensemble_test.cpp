@@ -298,3 +298,23 @@ TEST_CASE("an interrupted ensemble leaves its last checkpoint and no temporary f
   const auto listing = run(std::string("ls -a '") + dir + "'", dir);
   CHECK(listing.out.find(".tmp") == std::string::npos);
 }
+
+TEST_CASE("an ensemble varies a parameter that only [initial] uses: x(0) = A, x(1) = A cos 1", "[ensemble]") {
+  // x'' = -x from x = A at rest: x = A cos t. The model's equations do not contain A; each run
+  // starts from [initial] evaluated at its own A (before, --vary A was refused: "varying it would
+  // change nothing").
+  const std::string dir = scratch_dir("ensemble_initial_parameter");
+  const std::string scene = dir + "/start.toml", file = dir + "/start.h5";
+  std::ofstream(scene) << "name = \"start\"\ncoordinates = [\"x\"]\nlagrangian = \"x'^2/2 - x^2/2\"\n"
+                          "[parameters]\nA = 0.7\n[initial]\nx = [\"A\", 0.0]\n"
+                          "[simulate]\nt_end = 1.0\nrtol = 1e-10\natol = 1e-12\n";
+  const auto r = run("NHC_CACHE_DIR='" + std::string(NHC_BINARY_DIR) + "/tests/scratch/ensemble-cache' " + nhc_command() +
+                         " ensemble '" + scene + "' --vary A=0.5:1.5:3 -o '" + file + "'",
+                     dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const std::vector<double> design = read_doubles(file, "/design/values"), final_state = read_doubles(file, "/runs/final_state");
+  REQUIRE(design.size() == 3);
+  const std::size_t n = final_state.size() / 3;  // x first among the states
+  for (std::size_t k = 0; k < 3; ++k) CHECK(std::abs(final_state[k * n] - design[k] * std::cos(1.0)) < 1e-8);
+}

@@ -25,10 +25,33 @@ SceneEvent slip_event(const Scene& scene, const SceneContact& contact) {
   return event;
 }
 
+namespace {
+
+/// The event NAME.liftoff of a contact: F_n falling through zero, or below zero at t0 (the contact
+/// would have to pull); it ends the run (docs/contacts.md, "Lift-off").
+SceneEvent liftoff_event(const SceneContact& contact) {
+  SceneEvent event;
+  event.name = contact.name + ".liftoff";
+  event.text = contact.normal_text;
+  event.where = contact.where;
+  event.expression = contact.normal;  // a contact pushes (F_n > 0); at F_n = 0 it lets go
+  event.direction = EventDirection::down;
+  event.action = EventAction::stop;
+  event.met_below_at_start = true;
+  return event;
+}
+
+}  // namespace
+
+// Each contact's lift-off, then its slip where on_slip is "stop", in file order: where both are
+// met at one instant (at t0 with F_n < 0, or where F_n reaches zero with no tangential force, when
+// mu F_n - |F_t| reaches zero with it) the integrator reports the first, the lift-off.
 std::vector<SceneEvent> slip_events(const Scene& scene) {
   std::vector<SceneEvent> events;
-  for (const SceneContact& contact : scene.contacts)
+  for (const SceneContact& contact : scene.contacts) {
+    events.push_back(liftoff_event(contact));
     if (contact.on_slip == SlipAction::stop) events.push_back(slip_event(scene, contact));
+  }
   return events;
 }
 
@@ -76,11 +99,21 @@ void ContactForces::set_sliding(const std::string& name, std::vector<std::pair<d
 
 std::optional<std::string> ContactForces::slip_line(const runtime::EventHit& hit) const {
   for (std::size_t i = 0; i < kept_.size(); ++i) {
-    if (hit.name != kept_[i].contact->name + ".slip") continue;
+    const std::string& name = kept_[i].contact->name;
+    if (hit.name != name + ".slip" && hit.name != name + ".liftoff") continue;
     runtime::Sample sample;
     sample.t = hit.t;
     sample.y = hit.y;
     sample.yp = hit.yp;
+    if (hit.name == name + ".liftoff") {
+      const double normal = evaluate(sample)[4 * i];
+      std::string line = "contact " + name + " lifts off at t = " + runtime::number_text(hit.t, 12);
+      // Met below zero at the start: the contact would have to pull from the first instant.
+      if (normal < 0)
+        line += " (its normal force \"" + kept_[i].contact->normal_text + "\" is " + runtime::number_text(normal, 6) +
+                " < 0 there: the contact would have to pull)";
+      return line;
+    }
     const double ratio = evaluate(sample)[4 * i + 2];
     return "contact " + kept_[i].contact->name + " slips at t = " + runtime::number_text(hit.t, 12) +
            " (needs mu >= " + runtime::number_text(ratio, 6) + ")";
@@ -92,8 +125,8 @@ std::vector<std::string> ContactForces::need_lines(const std::vector<runtime::Sa
   std::vector<double> worst(kept_.size(), -1), at(kept_.size(), 0);
   for (const runtime::Sample& sample : samples) {
     const std::vector<double> columns = evaluate(sample);
-    for (std::size_t i = 0; i < kept_.size(); ++i)
-      if (columns[4 * i + 2] > worst[i]) {
+    for (std::size_t i = 0; i < kept_.size(); ++i)  // where F_n <= 0 the contact lifts off: no ratio
+      if (columns[4 * i] > 0 && columns[4 * i + 2] > worst[i]) {
         worst[i] = columns[4 * i + 2];
         at[i] = sample.t;
       }

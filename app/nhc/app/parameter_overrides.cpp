@@ -1,5 +1,6 @@
 #include "nhc/app/parameter_overrides.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "nhc/app/parameter_values.hpp"
@@ -58,9 +59,16 @@ std::vector<double> parameters_with_overrides(const runtime::Model& model, const
 
 void refuse_unread_parameter(const Scene& scene, const runtime::Model& model, const std::string& name,
                              const std::string& flag, const std::string& consequence) {
-  if (scene.jet->parameter_index(name) && model.parameter_index(name) < 0)
+  if (!scene.jet->parameter_index(name) || model.parameter_index(name) >= 0) return;
+  // A parameter that [initial] is written through does change something: the start.
+  const std::vector<double> slopes = initial_slopes(scene, model, name);
+  if (std::any_of(slopes.begin(), slopes.end(), [](double s) { return s != 0; }))
     throw InputError({flag, 0, 0}, "the " + model.model_name() + " model's equations do not contain the parameter '" +
-                                       name + "': " + consequence);
+                                       name + "', only [initial] does, which " + flag +
+                                       " does not follow: vary the initial values it sets, or run with --set " + name +
+                                       "=… (Python: set=) for each value");
+  throw InputError({flag, 0, 0}, "the " + model.model_name() + " model's equations do not contain the parameter '" +
+                                     name + "': " + consequence);
 }
 
 }  // namespace nhc::app

@@ -21,6 +21,12 @@ namespace nhc::app {
 /// The names and values must have passed check_parameter_value() (run_request.hpp).
 void set_parameter_values(Scene& scene, const std::vector<std::pair<std::string, double>>& values);
 
+/// ∂y_i(0)/∂θ of the states `model` takes from `scene`'s [initial] for the parameter `name`:
+/// central differences of the [initial] values written through parameters, re-evaluated (with the
+/// parameters computed from it) at θ ± 1e-6 max(1, |θ|); the values are constant expressions, so
+/// the error is rounding, about 1e-10 of the slope. All zero when [initial] does not use it.
+std::vector<double> initial_slopes(const Scene& scene, const runtime::Model& model, const std::string& name);
+
 /// The model's parameters (runtime::Model::parameter_names order) at the scene's values, by name:
 /// a model compiled from the scene as written runs the scene with `--set` values exactly as one
 /// compiled from the changed scene would.

@@ -44,14 +44,16 @@ const FieldNames& command_line_names() {
   static const FieldNames names{"--t-end", "--rtol",    "--atol",    "--outputs",
                                 "--output-times", "--max-steps", "--step", "--project",
                                 "--integrator variational", "--step H", "", "--stop-when",
-                                "--sensitivity", "--input"};
+                                "--sensitivity", "--input",
+                                "--max-step", "--initial-step"};
   return names;
 }
 
 const FieldNames& python_names() {
   static const FieldNames names{"t_end",  "rtol",  "atol",    "outputs", "output_times", "max_steps",
                                 "step",   "project", "integrator='variational'", "step=H", "", "stop_when",
-                                "sensitivity", "inputs"};
+                                "sensitivity", "inputs",
+                                "max_step", "initial_step"};
   return names;
 }
 
@@ -96,6 +98,12 @@ void check_run_request(const RunRequest& r, const Scene& scene, ModelKind kind, 
   if (r.rtol) check_value(names.rtol, *r.rtol, relative_tolerance_problem);
   if (r.atol) check_value(names.atol, *r.atol, positive_problem);
   if (r.step) check_value(names.step, *r.step, positive_problem);
+  if (r.max_step) check_value(names.max_step, *r.max_step, positive_problem);
+  if (r.initial_step) check_value(names.initial_step, *r.initial_step, positive_problem);
+  if (r.variational && (r.max_step || r.initial_step))
+    refuse(r.max_step ? names.max_step : names.initial_step,
+           (r.max_step ? names.max_step : names.initial_step) + " sets IDA's steps; " + names.variational +
+               " takes the fixed step " + names.step_value);
   if (r.outputs) check_count(names.outputs, *r.outputs, 1, kMaxOutputs);
   check_count(names.max_steps, r.max_steps, 1, kMaxSteps);
   if (r.output_times) check_output_times(*r.output_times, scene.initial.t0, names.output_times, r.output_times_text);
@@ -125,7 +133,7 @@ void check_run_request(const RunRequest& r, const Scene& scene, ModelKind kind, 
 
 std::vector<SceneEvent> run_events(const RunRequest& r, const Scene& scene, const FieldNames& names) {
   std::vector<SceneEvent> events = scene.events;
-  const std::vector<SceneEvent> slips = slip_events(scene);  // [contacts] on_slip = "stop"
+  const std::vector<SceneEvent> slips = slip_events(scene);  // [contacts]: lift-off, and slip where on_slip = "stop"
   events.insert(events.end(), slips.begin(), slips.end());
   if (!r.stop_when) return events;
   if (r.variational)
@@ -165,6 +173,8 @@ runtime::IntegratorOptions run_integrator_options(const RunRequest& r, const Sce
   io.atol = r.atol.value_or(scene.simulate.atol);
   io.projection = r.project ? runtime::ProjectionMethod::in_place : runtime::ProjectionMethod::none;
   io.max_steps = static_cast<long>(r.max_steps);
+  io.max_step = r.max_step.value_or(0);          // 0: no limit
+  io.initial_step = r.initial_step.value_or(0);  // 0: from the problem's scale (runtime::IntegratorOptions)
   return io;
 }
 

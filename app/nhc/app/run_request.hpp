@@ -30,6 +30,7 @@ struct FieldNames {
   std::string stop_when;    ///< the event that ends the run ("--stop-when")
   std::string sensitivity;  ///< the forward sensitivities ("--sensitivity")
   std::string inputs;       ///< inputs replaced from outside ("--input")
+  std::string max_step, initial_step;  ///< IDA's largest and first step ("--max-step", "--initial-step")
 };
 const FieldNames& command_line_names();
 const FieldNames& python_names();
@@ -45,6 +46,9 @@ struct RunRequest {
   std::optional<double> step;                        ///< its fixed step
   bool project = false;                              ///< projection onto the hidden constraints
   std::optional<std::string> stop_when;              ///< an expression whose zero ends the run
+  /// IDA's largest and first step; empty: no limit, and the first step from the problem's scale
+  /// (runtime::IntegratorOptions::initial_step).
+  std::optional<double> max_step, initial_step;
 };
 
 /// Why a value breaks a rule ("is not a positive number"); empty when it does not.
@@ -74,13 +78,13 @@ std::vector<double> run_output_times(const RunRequest& request, const Scene& sce
 /// Equally spaced output times from t0 to t_end; InputError at `fields` where they collapse.
 std::vector<double> equally_spaced_output_times(double t0, double t_end, long long intervals, const std::string& fields);
 
-/// The events of the run: the scene's [events], the slips of its [contacts] (contact_forces.hpp),
+/// The events of the run: the scene's [events], the lift-offs and slips of its [contacts] (contact_forces.hpp),
 /// then the request's stop_when (scene_events.hpp).
 /// stop_when with the variational integrator is refused (IDA locates events; the fixed-step
 /// integrator does not). InputError at the field.
 std::vector<SceneEvent> run_events(const RunRequest& request, const Scene& scene, const FieldNames& names);
 
-/// IDA's options: the request's tolerances, else [simulate]'s; projection; max_steps.
+/// IDA's options: the request's tolerances, else [simulate]'s; its steps; projection; max_steps.
 runtime::IntegratorOptions run_integrator_options(const RunRequest& request, const Scene& scene);
 
 /// A parameter value for `name` (the command line's --set, Python's set=): a parameter of the

@@ -1,5 +1,6 @@
 #include "nhc/app/scene_events.hpp"
 
+#include <cmath>
 #include <filesystem>
 #include <memory>
 
@@ -50,11 +51,22 @@ std::vector<runtime::Event> runtime_events(const std::vector<SceneEvent>& events
     e.terminal = event.action == EventAction::stop;
     e.met_below_at_start = event.met_below_at_start;
     e.direction = event.direction == EventDirection::up ? 1 : event.direction == EventDirection::down ? -1 : 0;
-    e.function = [expression, sample, n](double t, const double* y, const double* yp) {
+    // A value that is not a finite number is no crossing: a SolverError naming the event, its
+    // expression and t, which the integrator takes as the event's failure there (it locates the
+    // first instant it fails by bisection, and reports the error met there; docs/events.md).
+    e.function = [expression, sample, n, name = event.name, text = event.text](double t, const double* y,
+                                                                              const double* yp) {
       sample->t = t;
       sample->y.assign(y, y + n);
       sample->yp.assign(yp, yp + n);
-      return expression->evaluate(*sample).front();  // NaN: the integrator counts it as crossed
+      const double v = expression->evaluate(*sample).front();
+      if (!std::isfinite(v))
+        throw runtime::SolverError(runtime::FailureKind::other, t,
+                                   "event " + name + " (\"" + text + "\") is " + (std::isnan(v) ? "NaN" : "infinite") +
+                                       " at t = " + runtime::number_text(t, 15) +
+                                       ": its crossings cannot be told there (an event must be a finite number "
+                                       "along the motion)");
+      return v;
     };
     out.push_back(std::move(e));
   }

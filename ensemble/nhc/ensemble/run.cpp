@@ -10,6 +10,7 @@
 
 #include "nhc/errors.hpp"
 #include "nhc/runtime/runtime.hpp"
+#include "nhc/scene/constant_expression.hpp"
 
 namespace nhc::ensemble {
 
@@ -93,6 +94,18 @@ std::vector<char> encode(const RunSpec& spec) {
     out.put(t.parameter);
     out.put(t.variable);
     out.put(t.order);
+    out.put(t.scene_parameter);
+  }
+  out.put<std::uint64_t>(spec.initial_expressions.size());
+  for (const auto& [name, texts] : spec.initial_expressions) {
+    out.put(name);
+    out.put<std::uint64_t>(texts.size());
+    for (const std::string& text : texts) out.put(text);
+  }
+  out.put<std::uint64_t>(spec.scene_parameters.size());
+  for (const auto& [name, value] : spec.scene_parameters) {
+    out.put(name);
+    out.put(value);
   }
   return std::move(out.bytes());
 }
@@ -120,7 +133,20 @@ RunSpec decode_spec(const std::vector<char>& bytes) {
     t.parameter = in.get<std::int32_t>();
     t.variable = in.get_string();
     t.order = in.get<std::int32_t>();
+    t.scene_parameter = in.get_string();
     spec.targets.push_back(t);
+  }
+  const auto n_expressions = in.get<std::uint64_t>();
+  for (std::uint64_t k = 0; k < n_expressions; ++k) {
+    std::string name = in.get_string();
+    const auto count = in.get<std::uint64_t>();
+    std::vector<std::string>& texts = spec.initial_expressions[name];
+    for (std::uint64_t j = 0; j < count; ++j) texts.push_back(in.get_string());
+  }
+  const auto n_parameters = in.get<std::uint64_t>();
+  for (std::uint64_t k = 0; k < n_parameters; ++k) {
+    std::string name = in.get_string();
+    spec.scene_parameters[name] = in.get<double>();
   }
   return spec;
 }
@@ -220,15 +246,35 @@ RunRecord run_one(const runtime::Model& model, const RunSpec& spec, std::int64_t
   if (spec.keep_trajectories) record.trajectory.assign(times.size() * static_cast<std::size_t>(model.n_states()), kNaN);
   std::vector<double> p = spec.parameters;
   std::map<std::string, std::vector<double>> initial = spec.initial;
+  // The parameters first, then the [initial] values written through the varied ones, then the
+  // initial values the design sets itself.
+  std::map<std::string, double> names = spec.scene_parameters;
+  bool start_moves = false;
   for (std::size_t k = 0; k < spec.targets.size(); ++k) {
     const Target& t = spec.targets[k];
-    if (t.kind == Target::Kind::parameter) {
-      p[static_cast<std::size_t>(t.parameter)] = values[k];
-    } else {
-      std::vector<double>& v = initial[t.variable];
-      if (v.size() <= static_cast<std::size_t>(t.order)) v.resize(static_cast<std::size_t>(t.order) + 1, 0.0);
-      v[static_cast<std::size_t>(t.order)] = values[k];
+    if (t.kind != Target::Kind::parameter) continue;
+    if (t.parameter >= 0) p[static_cast<std::size_t>(t.parameter)] = values[k];
+    if (!t.scene_parameter.empty()) names[t.scene_parameter] = values[k], start_moves = true;
+  }
+  if (start_moves) {
+    try {
+      for (const auto& [name, texts] : spec.initial_expressions) {
+        std::vector<double>& v = initial[name];
+        for (std::size_t j = 0; j < texts.size() && j < v.size(); ++j)
+          if (!texts[j].empty()) v[j] = evaluate_constant_expression(texts[j], names);
+      }
+    } catch (const std::exception& e) {
+      record.outcome = Outcome::failed;
+      record.message = std::string("[initial] at the run's parameters: ") + e.what();
+      return record;
     }
+  }
+  for (std::size_t k = 0; k < spec.targets.size(); ++k) {
+    const Target& t = spec.targets[k];
+    if (t.kind == Target::Kind::parameter) continue;
+    std::vector<double>& v = initial[t.variable];
+    if (v.size() <= static_cast<std::size_t>(t.order)) v.resize(static_cast<std::size_t>(t.order) + 1, 0.0);
+    v[static_cast<std::size_t>(t.order)] = values[k];
   }
   RunObserver observer{model, p, times, record, {}, 0, false};
   runtime::IntegratorOptions options;

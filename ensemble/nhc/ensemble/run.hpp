@@ -23,6 +23,10 @@ struct Target {
   std::int32_t parameter = -1;
   std::string variable;
   std::int32_t order = 0;
+  /// The scene parameter of that name when the scene's [initial] is written through it: each run
+  /// evaluates those values again with the run's value (`parameter` is -1 when the model's
+  /// equations do not read it, so that only the start moves). Empty otherwise.
+  std::string scene_parameter;
 };
 
 /// NAME as a parameter of the model or `q(0)`, `q'(0)`, `q''(0)`… of one of its unknowns with a
@@ -37,6 +41,10 @@ struct RunSpec {
   std::string shared_object;  ///< the compiled model every rank loads
   std::vector<double> parameters;
   std::map<std::string, std::vector<double>> initial;  ///< the scene's [initial]
+  /// [initial] values written through parameters (InitialData::expressions, "" for a number) and
+  /// every parameter's value by name: what a target's scene_parameter re-evaluates.
+  std::map<std::string, std::vector<std::string>> initial_expressions;
+  std::map<std::string, double> scene_parameters;
   double t0 = 0, t_end = 1;
   std::int32_t outputs = 100;  ///< output intervals: outputs + 1 sample times from t0 to t_end
   double rtol = 1e-8, atol = 1e-10;

@@ -16,6 +16,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
+#include <optional>
 #include <sstream>
 
 #include "nhc/runtime/constraint_solver.hpp"
@@ -61,6 +63,18 @@ constexpr int kStepSizeCollapse = -1000;
 /// Steps in a row with h < kTinyStep max(1, |t|) that count as a collapse.
 constexpr int kCollapseSteps = 20;
 constexpr double kTinyStep = 1e-12;
+
+/// Sub-intervals of each step on which the events are sampled (docs/events.md), doubled while
+/// the samples show more turns of an event than the coarser ones did, up to the largest count.
+constexpr int kEventSubintervals = 8;
+constexpr int kMaxEventSubintervals = 1024;
+
+/// A located zero of an event in the last step: at t, the value's sign changed from `from`.
+struct EventRoot {
+  double t = 0;
+  int event = 0;
+  int direction = 0;  ///< +1 from below, -1 from above
+};
 
 }  // namespace
 
@@ -117,6 +131,12 @@ struct Integrator::Impl {
   std::vector<Event> user_events;
   std::vector<EventHit> hits;
   bool start_events_checked = false;  // Event::met_below_at_start, once per run
+  std::vector<double> event_last;     // each user event's value at t, the last accepted point
+  bool event_values_stale = true;     // t moved without the events (start, restart)
+  long event_evaluations = 0;
+  std::optional<SolverError> event_error;  // the last error an event function threw
+  bool restart_pending = false;       // a terminal event stopped the run inside IDA's last step
+  std::vector<double> interp_y, interp_yp;  // the state on the interpolating polynomial
 
   sd::Context ctx;
   sd::Vector y, yp, id, work;
@@ -162,13 +182,20 @@ struct Integrator::Impl {
     st.root_evaluations += b.root_evaluations;
     return st;
   }
+  /// total() with the user events' evaluations (counted here, not by IDA).
+  Statistics total_with_events() const {
+    Statistics st = total();
+    st.root_evaluations += event_evaluations;
+    return st;
+  }
 
   Impl(Model m, std::vector<double> params, IntegratorOptions opts)
       : model(std::move(m)), inputs(model, params.empty() ? model.default_parameters() : std::move(params)),
         options(opts) {}
 
   int n() const { return model.n_states(); }
-  int n_roots() const { return static_cast<int>(user_events.size()) + model.n_singular(); }
+  /// IDA's root functions: the singular-set monitors (the user events are found by scan_events).
+  int n_roots() const { return model.n_singular(); }
 
   // ---- callbacks -------------------------------------------------------------------------
 
@@ -205,21 +232,232 @@ struct Integrator::Impl {
     return 1;
   }
 
-  static int root_cb(sunrealtype tt, N_Vector yy, N_Vector ypp, sunrealtype* gout, void* data) {
+  static int root_cb(sunrealtype tt, N_Vector yy, N_Vector, sunrealtype* gout, void* data) {
     auto* self = static_cast<Impl*>(data);
     const double* yv = N_VGetArrayPointer(yy);
-    const double* ypv = N_VGetArrayPointer(ypp);
-    const int ne = static_cast<int>(self->user_events.size());
-    for (int k = 0; k < ne; ++k) gout[k] = self->user_events[k].function(tt, yv, ypv);
     const int ns = self->model.n_singular();
-    if (ns > 0) {
-      self->model.table().singular_quantities(tt, yv, self->inputs.at(tt, yv), gout + ne);
-      for (int k = 0; k < ns; ++k)
-        gout[ne + k] = std::abs(gout[ne + k]) - self->options.singularity_threshold * self->singular_scale[k];
-    }
-    for (int k = 0; k < ne + ns; ++k)
+    self->model.table().singular_quantities(tt, yv, self->inputs.at(tt, yv), gout);
+    for (int k = 0; k < ns; ++k) {
+      gout[k] = std::abs(gout[k]) - self->options.singularity_threshold * self->singular_scale[k];
       if (!std::isfinite(gout[k])) gout[k] = -1.0;  // a monitor that is no longer finite has crossed
+    }
     return 0;
+  }
+
+  // ---- user events -----------------------------------------------------------------------
+
+  /// Event k's value at (tt, yy, yp), whatever it is; an event function that throws a SolverError
+  /// (a front end's own words for a value that is not finite) counts as NaN there, its error kept.
+  double raw_event_value(int k, double tt, const double* yy, const double* ypp) {
+    ++event_evaluations;
+    try {
+      return user_events[static_cast<std::size_t>(k)].function(tt, yy, ypp);
+    } catch (const SolverError& error) {
+      event_error = error;
+      return NAN;
+    }
+  }
+
+  /// Event k's value at (tt, yy, yp); a value that is not a finite number ends the run here.
+  double event_value(int k, double tt, const double* yy, const double* ypp) {
+    const double v = raw_event_value(k, tt, yy, ypp);
+    if (std::isfinite(v)) return v;
+    throw_nonfinite_event(k, tt, v);
+  }
+
+  /// The failure of event k, not finite at tt (the last evaluation, which was there): the event
+  /// function's own error when it threw one, else this one.
+  [[noreturn]] void throw_nonfinite_event(int k, double tt, double v) {
+    if (event_error && event_error->t() == tt) throw *event_error;
+    const Event& e = user_events[static_cast<std::size_t>(k)];
+    std::ostringstream os;
+    os << "event " << e.name << " is " << (std::isnan(v) ? "NaN" : "infinite") << " at t = " << number_text(tt, 15)
+       << ": its crossings cannot be told there (an event must be a finite number along the motion)";
+    throw SolverError(FailureKind::other, tt, os.str());
+  }
+
+  /// The state at tt on IDA's interpolating polynomial of the last step (interp_y, interp_yp).
+  void interpolate(double tt, N_Vector dky) {
+    check(IDAGetDky(ida, tt, 0, dky), "interpolating the state for the events");
+    interp_y.assign(N_VGetArrayPointer(dky), N_VGetArrayPointer(dky) + n());
+    check(IDAGetDky(ida, tt, 1, dky), "interpolating the state for the events");
+    interp_yp.assign(N_VGetArrayPointer(dky), N_VGetArrayPointer(dky) + n());
+  }
+
+  /// The events' values at the last accepted point (after the start or a restart).
+  void refresh_event_values() {
+    event_last.resize(user_events.size());
+    for (int k = 0; k < static_cast<int>(user_events.size()); ++k)
+      event_last[static_cast<std::size_t>(k)] = event_value(k, t, y_last.data(), yp_last.data());
+    event_values_stale = false;
+  }
+
+  /// The zeros of every user event in the step (a, b] just taken, in time order (docs/events.md):
+  /// the values at kEventSubintervals equal sub-intervals of the step on IDA's polynomial (more,
+  /// doubling, while the finer samples show more turns than the coarser), each sign change
+  /// between neighbours located by the Illinois method, and each turn of the samples towards zero
+  /// (an interior extremum, or one in the first or last sub-interval told by the slope at the
+  /// step's end) searched by golden sections for a point beyond zero: two crossings closer than
+  /// the samples are both found. event_last becomes the values at b.
+  std::vector<EventRoot> scan_events(double a, double b, N_Vector dky) {
+    std::vector<EventRoot> roots;
+    const int ne = static_cast<int>(user_events.size());
+    const double h = b - a;
+    if (ne == 0 || !(h > 0)) return roots;
+    // Roots are located to IDA's own root tolerance, 100 units of rounding of |t| + |h|.
+    const double tolerance = 100 * std::numeric_limits<double>::epsilon() * (std::abs(b) + h);
+    const auto raw = [&](int k, double tt) {
+      if (tt == b) return raw_event_value(k, tt, y.data(), yp.data());
+      interpolate(tt, dky);
+      return raw_event_value(k, tt, interp_y.data(), interp_yp.data());
+    };
+    // A value that is not finite: the error names the first instant it is not, located by
+    // bisection from the step's start (where it was).
+    const auto value = [&](int k, double tt) {
+      const double v = raw(k, tt);
+      if (std::isfinite(v)) return v;
+      double lo = a, hi = tt, bad = v;
+      for (int it = 0; it < 200 && hi - lo > tolerance; ++it) {
+        const double mid = lo + (hi - lo) / 2;
+        const double vm = raw(k, mid);
+        if (std::isfinite(vm)) {
+          lo = mid;
+        } else {
+          hi = mid;
+          bad = vm;
+        }
+      }
+      throw_nonfinite_event(k, hi, bad);
+    };
+    const auto sign = [](double v) { return v > 0 ? 1 : v < 0 ? -1 : 0; };
+    for (int k = 0; k < ne; ++k) {
+      const Event& e = user_events[static_cast<std::size_t>(k)];
+      std::vector<double> ts, gs;
+      for (int j = 0; j <= kEventSubintervals; ++j) {
+        const double tt = j == kEventSubintervals ? b : a + h * j / kEventSubintervals;
+        ts.push_back(tt);
+        gs.push_back(j == 0 ? event_last[static_cast<std::size_t>(k)] : value(k, tt));
+      }
+      const auto turns = [&] {
+        int count = 0, last = 0;
+        for (std::size_t j = 1; j < gs.size(); ++j) {
+          const int d = sign(gs[j] - gs[j - 1]);
+          if (d != 0 && last != 0 && d != last) ++count;
+          if (d != 0) last = d;
+        }
+        return count;
+      };
+      // An event that turns more than once within the step may turn more often than the samples
+      // show: halve the sub-intervals while that reveals more turns.
+      for (int count = turns(); count >= 2 && static_cast<int>(ts.size()) - 1 < kMaxEventSubintervals;) {
+        std::vector<double> t2{ts[0]}, g2{gs[0]};
+        for (std::size_t j = 1; j < ts.size(); ++j) {
+          const double mid = ts[j - 1] + (ts[j] - ts[j - 1]) / 2;
+          t2.push_back(mid);
+          g2.push_back(value(k, mid));
+          t2.push_back(ts[j]);
+          g2.push_back(gs[j]);
+        }
+        ts.swap(t2);
+        gs.swap(g2);
+        const int finer = turns();
+        if (finer <= count) break;
+        count = finer;
+      }
+      const std::size_t last = ts.size() - 1;
+      // Each bracket (l, r] holds a sign change: locate it (Illinois, on the polynomial).
+      const auto locate = [&](double l, double gl, double r, double gr) {
+        const int from = sign(gl);
+        if (from == 0 || sign(gr) == from) return;
+        const int direction = from < 0 ? 1 : -1;
+        if (e.direction != 0 && e.direction != direction) return;
+        int side = 0;
+        for (int it = 0; it < 200 && gr != 0 && r - l > tolerance; ++it) {
+          double m = r - gr * (r - l) / (gr - gl);
+          if (!(m > l && m < r)) m = l + (r - l) / 2;
+          const double gm = value(k, m);
+          if (sign(gm) == from) {
+            l = m, gl = gm;
+            if (side == -1) gr /= 2;
+            side = -1;
+          } else {
+            r = m, gr = gm;
+            if (side == 1) gl /= 2;
+            side = 1;
+          }
+        }
+        roots.push_back({r, k, direction});
+      };
+      // A turn towards zero inside [l, r]: the extremum of sigma*g by golden sections, and, where
+      // it lies beyond zero, the two crossings around it.
+      const auto search_turn = [&](double l, double gl, double r, double gr) {
+        const int sigma = sign(gl);
+        if (sigma == 0 || sign(gr) != sigma) return;
+        const double ratio = (std::sqrt(5.0) - 1) / 2;
+        double lo = l, hi = r;
+        double x1 = hi - ratio * (hi - lo), x2 = lo + ratio * (hi - lo);
+        double f1 = value(k, x1), f2 = value(k, x2);
+        for (int it = 0; it < 200 && hi - lo > tolerance; ++it) {
+          if (sign(f1) != sigma || sign(f2) != sigma) break;
+          if (sigma * f1 < sigma * f2) {
+            hi = x2, x2 = x1, f2 = f1;
+            x1 = hi - ratio * (hi - lo);
+            f1 = value(k, x1);
+          } else {
+            lo = x1, x1 = x2, f1 = f2;
+            x2 = lo + ratio * (hi - lo);
+            f2 = value(k, x2);
+          }
+        }
+        const bool first = sign(f1) != sigma, second = sign(f2) != sigma;
+        if (!first && !second) return;
+        const double x = first ? x1 : x2, fx = first ? f1 : f2;
+        locate(l, gl, x, fx);
+        locate(x, fx, r, gr);
+      };
+      for (std::size_t j = 1; j <= last; ++j) locate(ts[j - 1], gs[j - 1], ts[j], gs[j]);
+      for (std::size_t j = 1; j < last; ++j) {
+        const int s = sign(gs[j]);
+        if (s != 0 && s * (gs[j] - gs[j - 1]) < 0 && s * (gs[j + 1] - gs[j]) > 0)
+          search_turn(ts[j - 1], gs[j - 1], ts[j + 1], gs[j + 1]);
+      }
+      // Turns in the first and the last sub-interval: the slope at the step's ends says.
+      const double delta = 1e-3 * (ts[1] - ts[0]);
+      if (const int s = sign(gs[0]); s != 0 && s * (gs[1] - gs[0]) > 0 && delta > 0) {
+        const double slope = value(k, ts[0] + delta) - gs[0];
+        if (s * slope < 0) search_turn(ts[0], gs[0], ts[1], gs[1]);
+      }
+      if (const int s = sign(gs[last]); s != 0 && s * (gs[last] - gs[last - 1]) < 0 && delta > 0) {
+        const double slope = gs[last] - value(k, ts[last] - delta);
+        if (s * slope > 0) search_turn(ts[last - 1], gs[last - 1], ts[last], gs[last]);
+      }
+      event_last[static_cast<std::size_t>(k)] = gs[last];
+    }
+    std::sort(roots.begin(), roots.end(), [](const EventRoot& x, const EventRoot& y) { return x.t < y.t; });
+    // Terminal events met at one instant (to 1e-9 of t's scale; their zeros are located apart to
+    // the root tolerance): the first in the events' order is the one that ends the run, the
+    // others are not reported (a contact's lift-off, listed before its slip, where F_n reaches
+    // zero with no tangential force and mu F_n - |F_t| with it).
+    const double same = 1e6 * std::numeric_limits<double>::epsilon() * (std::abs(b) + h);
+    const auto terminal = [&](const EventRoot& r) { return user_events[static_cast<std::size_t>(r.event)].terminal; };
+    const auto first = std::find_if(roots.begin(), roots.end(), terminal);
+    if (first == roots.end()) return roots;
+    const double t_first = first->t;
+    const EventRoot* chosen = nullptr;
+    for (const EventRoot& r : roots)
+      if (terminal(r) && r.t <= t_first + same && (!chosen || r.event < chosen->event)) chosen = &r;
+    std::vector<EventRoot> kept;
+    for (const EventRoot& r : roots) {
+      if (r.t > t_first + same) break;
+      if (terminal(r) && &r != chosen) continue;
+      if (&r == chosen) continue;
+      kept.push_back(r);
+    }
+    EventRoot stop = *chosen;
+    stop.t = t_first;  // the run ends at the first of the simultaneous zeros
+    kept.push_back(stop);
+    std::stable_sort(kept.begin(), kept.end(), [](const EventRoot& x, const EventRoot& y) { return x.t < y.t; });
+    return kept;
   }
 
   static void error_handler_cb(int, const char*, const char*, char* message, void* data) {
@@ -445,14 +683,62 @@ struct Integrator::Impl {
     return std::sqrt(u.squaredNorm() / nn);
   }
 
-  void maybe_project(double tt) {
-    if (options.projection == ProjectionMethod::none || model.n_hidden() == 0) return;
+  // ---- the first step --------------------------------------------------------------------
+
+  bool choose_first_step = true;   // a (re)start whose first step is still to be chosen
+  bool first_step_pending = true;  // no step taken since the (re)start
+  int first_step_retries = 0;
+
+  /// The first step from the problem's own scale (IntegratorOptions::initial_step): 1e-3 of the
+  /// way to the first output time t_first, and no longer than the step over which the rates y'
+  /// move the differential states by half a tolerance unit in IDA's weighted norm (IDA's own
+  /// rule, which it applies to the distance to its tout: the end of the run, here).
+  void set_first_step(double t_first) {
+    choose_first_step = false;
+    first_step_pending = true;
+    first_step_retries = 0;
+    if (options.initial_step > 0) return;  // set by ida_session::configure
+    double h = 1e-3 * (t_first - t);
+    double sum = 0;
+    for (int i = 0; i < n(); ++i) {
+      if (!model.is_differential(i)) continue;
+      const double w = yp_last[i] / (options.rtol * std::abs(y_last[i]) + options.atol);
+      sum += w * w;
+    }
+    const double rate = std::sqrt(sum / n());
+    if (rate > 0.5 / h) h = 0.5 / rate;
+    if (h > 0 && std::isfinite(h)) check(IDASetInitStep(ida, h), "setting the first step");
+  }
+
+  /// A first step that IDA's error test or corrector refused as often as IDA allows (a start at
+  /// rest whose motion begins with a high derivative at tight tolerances): start again from the
+  /// same point with a step 1e-2 of the last one tried, at most four times. True when it did.
+  bool retry_first_step(int flag, double t_final) {
+    if (!first_step_pending || first_step_retries >= 4 || options.initial_step > 0) return false;
+    if (flag != IDA_ERR_FAIL && flag != IDA_CONV_FAIL) return false;
+    if (nonfinite.seen) return false;  // a NaN is not a matter of the step
+    double h = 0;
+    IDAGetCurrentStep(ida, &h);
+    if (!(std::abs(h) > 0)) return false;
+    ++first_step_retries;
+    std::copy(y_last.begin(), y_last.end(), y.data());
+    std::copy(yp_last.begin(), yp_last.end(), yp.data());
+    before_restarts = total();
+    check(IDAReInit(ida, t, y, yp), "restarting IDA with a shorter first step");
+    check(IDASetInitStep(ida, 1e-2 * std::abs(h)), "setting the first step");
+    check(IDASetStopTime(ida, t_final), "setting the stop time");
+    return true;
+  }
+
+  /// Projects y at tt when the hidden constraints need it; true when it did.
+  bool maybe_project(double tt) {
+    if (options.projection == ProjectionMethod::none || model.n_hidden() == 0) return false;
     // The suslov model's hidden constraints are its monitored constraints f^α: the initial point
     // is put on them, but its equations do not keep them, so the motion is not projected.
-    if (model.model_name() == "suslov") return;
+    if (model.model_name() == "suslov") return false;
     double* yy = y.data();
     const std::vector<double> scale = projection_scale(yy);
-    if (correction_norm(tt, yy, scale) <= options.projection_threshold) return;
+    if (correction_norm(tt, yy, scale) <= options.projection_threshold) return false;
     if (options.projection == ProjectionMethod::in_place && history) {
       // phi[0] holds y_n; shifting it moves the predictor of the next step by the same Δy while
       // the higher differences (and so y' and the error estimate) stay: the step continues from
@@ -462,7 +748,7 @@ struct Integrator::Impl {
       double* phi0 = N_VGetArrayPointer(history);
       for (int i = 0; i < n(); ++i) phi0[i] += yy[i] - before[i];
       ++projections;
-      return;
+      return true;
     }
     solve_hidden_constraints(model, inputs.at(tt, yy), tt, yy, scale, 1e-3 * options.atol);
     double h = 0;
@@ -473,6 +759,7 @@ struct Integrator::Impl {
           "recomputing y' and the algebraic states after the projection");
     check(IDAGetConsistentIC(ida, y, yp), "reading the projected point");
     ++projections;
+    return true;
   }
 
   /// IDACalcIC for the algebraic states and y' at t0, asking of itself what the tolerances allow.
@@ -531,6 +818,9 @@ struct Integrator::Impl {
           "recomputing y' and the algebraic states where the inputs change");
     check(IDAGetConsistentIC(ida, y, yp), "reading the point where the inputs change");
     remember(t_out, false);
+    restart_pending = false;
+    event_values_stale = true;  // y' and the multipliers follow the new inputs
+    choose_first_step = true;
   }
 
   void remember(double tt, bool new_step = true) {
@@ -642,10 +932,8 @@ Sample Integrator::initialize(const InitialState& state, double t_next) {
   }
   if (s.n_roots() > 0) {
     s.check(IDARootInit(s.ida, s.n_roots(), &Impl::root_cb), "initialising the event functions");
-    std::vector<int> direction(s.n_roots(), 0);
-    for (std::size_t k = 0; k < s.user_events.size(); ++k) direction[k] = s.user_events[k].direction;
-    for (int k = static_cast<int>(s.user_events.size()); k < s.n_roots(); ++k) direction[k] = -1;
-    s.check(IDASetRootDirection(s.ida, direction.data()), "setting the event directions");
+    std::vector<int> direction(s.n_roots(), -1);
+    s.check(IDASetRootDirection(s.ida, direction.data()), "setting the monitors' directions");
     s.check(IDASetNoInactiveRootWarn(s.ida), "configuring the event functions");
   }
   s.initialized = true;
@@ -701,23 +989,23 @@ void Integrator::integrate(const std::vector<double>& times, const std::function
     }
     ++next;
   }
+  if (s.restart_pending) s.restart_at_last_output();  // a terminal event stopped inside the last step
+  if (s.event_values_stale) s.refresh_event_values();
   if (!s.start_events_checked) {  // conditions that fail at the initial point (Event::met_below_at_start)
     s.start_events_checked = true;
-    bool stop = false;
-    for (const Event& e : s.user_events) {
-      if (!e.met_below_at_start) continue;
-      const double value = e.function(s.t, s.y_last.data(), s.yp_last.data());
-      if (!(value < 0)) continue;
+    for (std::size_t k = 0; k < s.user_events.size(); ++k) {
+      const Event& e = s.user_events[k];
+      if (!e.met_below_at_start || !(s.event_last[k] < 0)) continue;
       s.hits.push_back({e.name, s.t, s.y_last, s.yp_last});
-      stop = stop || e.terminal;
-    }
-    if (stop) {
-      emit_last_accepted();
-      return;
+      if (e.terminal) {  // the first terminal condition that fails ends the run (Event::met_below_at_start)
+        emit_last_accepted();
+        return;
+      }
     }
   }
   if (next == times.size()) return;
   s.check(IDASetStopTime(s.ida, t_final), "setting the stop time");
+  if (s.choose_first_step) s.set_first_step(times[next] > s.t ? times[next] : t_final);
 
   try {
     while (next < times.size()) {
@@ -726,8 +1014,60 @@ void Integrator::integrate(const std::vector<double>& times, const std::function
                           "the step limit (" + std::to_string(s.options.max_steps) + " steps) was reached at t = " +
                               number_text(s.t, 15) + " before t = " + number_text(t_final, 15));
       double tret = s.t;
+      const double t_before = s.t;
       const int flag = IDASolve(s.ida, t_final, &tret, s.y, s.yp, IDA_ONE_STEP);
+      if (flag < 0 && s.retry_first_step(flag, t_final)) continue;
       if (flag < 0) s.fail(flag, "the integration step");
+      s.first_step_pending = false;
+
+      // The user events' zeros in the step; the run ends at the first terminal one.
+      const std::vector<EventRoot> roots = s.scan_events(t_before, tret, dky);
+      double t_stop = INFINITY;
+      for (const EventRoot& r : roots)
+        if (s.user_events[static_cast<std::size_t>(r.event)].terminal) {
+          t_stop = r.t;
+          break;
+        }
+      if (t_stop < tret) {  // outputs up to the stop, then the stop itself, from the polynomial
+        while (next < times.size() && times[next] <= t_stop) {
+          s.interpolate(times[next], dky);
+          out.t = times[next];
+          out.y = s.interp_y;
+          out.yp = s.interp_yp;
+          deliver(out);
+          ++next;
+        }
+        for (const EventRoot& r : roots)
+          if (r.t <= t_stop) {
+            s.interpolate(r.t, dky);
+            s.hits.push_back({s.user_events[static_cast<std::size_t>(r.event)].name, r.t, s.interp_y, s.interp_yp});
+          }
+        s.interpolate(t_stop, dky);
+        if (!s.have_last_output || s.last_output_t < t_stop) {
+          out.t = t_stop;
+          out.y = s.interp_y;
+          out.yp = s.interp_yp;
+          deliver(out);
+        }
+        // IDA stands at tret: the next integrate() or input change restarts at the stop.
+        s.remember(tret);
+        s.t = t_stop;
+        s.y_last = s.interp_y;
+        s.yp_last = s.interp_yp;
+        s.restart_pending = true;
+        s.event_values_stale = true;
+        progress.update(t_stop);
+        return;
+      }
+      for (const EventRoot& r : roots) {  // non-terminal events, or a terminal one at the step's end
+        if (r.t == tret) {
+          s.hits.push_back({s.user_events[static_cast<std::size_t>(r.event)].name, r.t,
+                            std::vector<double>(s.y.data(), s.y.data() + n), std::vector<double>(s.yp.data(), s.yp.data() + n)});
+        } else {
+          s.interpolate(r.t, dky);
+          s.hits.push_back({s.user_events[static_cast<std::size_t>(r.event)].name, r.t, s.interp_y, s.interp_yp});
+        }
+      }
 
       // Outputs inside the step just taken, from IDA's interpolating polynomial.
       while (next < times.size() && times[next] <= tret) {
@@ -752,32 +1092,25 @@ void Integrator::integrate(const std::vector<double>& times, const std::function
       s.tiny_steps = std::abs(h_last) < kTinyStep * std::max(1.0, std::abs(tret)) ? s.tiny_steps + 1 : 0;
       if (s.tiny_steps >= kCollapseSteps) s.fail(kStepSizeCollapse, "the integration");
 
+      if (t_stop == tret) {  // a terminal event at the step's end
+        if (!s.have_last_output || s.last_output_t < tret) emit_current(tret);
+        return;
+      }
       if (flag == IDA_ROOT_RETURN) {
         std::vector<int> found(s.n_roots(), 0);
-        s.check(IDAGetRootInfo(s.ida, found.data()), "reading the events");
-        const int ne = static_cast<int>(s.user_events.size());
-        for (int k = ne; k < s.n_roots(); ++k)
+        s.check(IDAGetRootInfo(s.ida, found.data()), "reading the singular-set monitors");
+        for (int k = 0; k < s.n_roots(); ++k)
           if (found[k] != 0) {
             if (!s.have_last_output || s.last_output_t < tret) emit_current(tret);
-            s.throw_singular_gradient(tret, k - ne, "");
+            s.throw_singular_gradient(tret, k, "");
           }
-        bool stop = false;
-        for (int k = 0; k < ne; ++k)
-          if (found[k] != 0) {
-            s.hits.push_back({s.user_events[k].name, tret, std::vector<double>(s.y.data(), s.y.data() + n),
-                              std::vector<double>(s.yp.data(), s.yp.data() + n)});
-            stop = stop || s.user_events[k].terminal;
-          }
-        if (stop) {
-          if (!s.have_last_output || s.last_output_t < tret) emit_current(tret);
-          return;
-        }
       } else if (flag == IDA_TSTOP_RETURN) {
         if (next < times.size() && (!s.have_last_output || s.last_output_t < tret)) emit_current(tret);
         break;
       }
-      s.maybe_project(tret);
+      if (s.maybe_project(tret)) s.event_values_stale = true;
       if (s.options.projection != ProjectionMethod::none) s.remember(tret, false);
+      if (s.event_values_stale) s.refresh_event_values();
     }
   } catch (...) {
     progress.finish();
@@ -788,7 +1121,7 @@ void Integrator::integrate(const std::vector<double>& times, const std::function
 
 Statistics Integrator::statistics() const {
   const Impl& s = *impl_;
-  Statistics st = s.total();
+  Statistics st = s.total_with_events();
   st.projections = s.projections;
   st.initialization_seconds = s.init_seconds;
   st.integration_seconds = s.integrate_seconds;
