@@ -17,13 +17,13 @@
 
 #include "commands.hpp"
 #include "flag_rules.hpp"
-#include "output_selection.hpp"
+#include "nhc/app/output_selection.hpp"
 #include "nhc/app/law_input_values.hpp"
 #include "nhc/app/scene_outputs.hpp"
-#include "input_signals.hpp"
-#include "parameter_overrides.hpp"
+#include "nhc/app/input_signals.hpp"
+#include "nhc/app/parameter_overrides.hpp"
 #include "progress_bar.hpp"
-#include "model_requirements.hpp"
+#include "nhc/app/model_requirements.hpp"
 #include "nhc/app/preparation.hpp"
 #include "nhc/app/scene_events.hpp"
 #include "nhc/app/sampled_run.hpp"
@@ -37,7 +37,8 @@
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/scene/scene.hpp"
 #include "nhc/scene/tolerances.hpp"
-#include "pipeline.hpp"
+#include "nhc/clock.hpp"
+#include "nhc/runtime/number_text.hpp"
 #include "run_flags.hpp"
 #include "trajectory_plots.hpp"
 #include "sensitivity_option.hpp"
@@ -46,7 +47,7 @@ namespace nhc::cli {
 
 namespace {
 
-std::string format(double v, int precision = 3) { return format_number(v, precision); }
+std::string format(double v, int precision = 3) { return runtime::number_text(v, precision); }
 
 /// The run's drift lines: the reference error, the hidden (or, for suslov, monitored) constraints
 /// and the invariants over the samples.
@@ -84,7 +85,7 @@ int run_simulate(SimulateOptions& options) {
   const auto load_start = Clock::now();
   const Scene scene = load_run_scene(options.run);
   const ModelKind kind = model_or_default(scene, options.run.model);
-  require_model_inputs(scene, kind);
+  app::require_model_inputs(scene, kind);
   // Sensitivities follow the inputs' default signals, whose dependence on the parameters the
   // generated dF/dp includes; an --input replacing one has none (docs/runtime.md, "Sensitivities").
   if (!options.sensitivity.names.empty() && !options.run.inputs.empty())
@@ -119,7 +120,7 @@ int run_simulate(SimulateOptions& options) {
                                  !csv_to_stdout;
   const std::string events_path = write_event_table ? app::events_csv_path(options.output) : std::string();
   // Every file the run reads: the scene and the --input series (nhc/io/output_path.hpp).
-  std::vector<std::string> inputs = input_files(options.run.inputs);
+  std::vector<std::string> inputs = app::input_files(options.run.inputs);
   inputs.insert(inputs.begin(), options.run.scene_path);
   if (!options.output.empty() && !csv_to_stdout) check_output_file(options.output, inputs);
   if (write_event_table) check_output_file(events_path, inputs);
@@ -127,16 +128,16 @@ int run_simulate(SimulateOptions& options) {
   std::ostream& info = csv_to_stdout ? std::cerr : std::cout;
   PathPlane plane;
   if (!options.plot.empty()) require_gnuplot("--plot"), plane = path_plane(scene, options.plot_xy, "--plot-xy");
-  const std::vector<ParameterOverride> overrides = parse_parameter_overrides(scene, options.run.set);
+  const std::vector<app::ParameterOverride> overrides = app::parse_parameter_overrides(scene, options.run.set);
   Scene scene_set = scene;  // the overridden values for the analysis; the model takes them at run time
-  apply_parameter_overrides(scene_set, overrides);
+  app::apply_parameter_overrides(scene_set, overrides);
   const double t0 = scene.initial.t0;
   const std::vector<double> times =
       sampled ? app::scene_controller_samples(run_request(options.run, scene), scene, app::command_line_names())
               : run_output_times(options.run, scene);
   const double t_end = times.back();
   const auto inputs_start = Clock::now();
-  const InputSignals input_signals = parse_input_signals(scene_set, options.run.inputs, t0, t_end);
+  const app::InputSignals input_signals = app::parse_input_signals(scene_set, options.run.inputs, t0, t_end);
   const double input_seconds = seconds_since(inputs_start);  // reading --input files is not deriving
   // Derived and analysed once (app::prepare_and_build, as Python's Scene.build): the initial-point
   // check's analysis is what the build reduces.
@@ -154,7 +155,7 @@ int run_simulate(SimulateOptions& options) {
   const double load_seconds = before_check_seconds + prepared.check_seconds;
   const jit::LoadedModel& built = prepared.built;
   for (const std::string& name : options.sensitivity.names)
-    refuse_unread_parameter(scene, built.model(), name, "--sensitivity", "its sensitivities are all zero");
+    app::refuse_unread_parameter(scene, built.model(), name, "--sensitivity", "its sensitivities are all zero");
   if (build_options.sensitivities) parse_sensitivities(built.model(), options.sensitivity.names);
   const runtime::Model& model = built.model();
   const double derive_seconds =
@@ -172,20 +173,20 @@ int run_simulate(SimulateOptions& options) {
       behind.poll();
       if (bar) bar(at);
     };
-  const std::vector<double> p = parameters_with_overrides(model, overrides);
+  const std::vector<double> p = app::parameters_with_overrides(model, overrides);
   app::SceneOutputs outputs(scene_set, model, p);  // [outputs] and [contacts]: extra CSV columns
   for (const std::string& note : outputs.notes()) std::cerr << note << "\n";
   // The controller's laws against the model, before the run; its states are CSV columns.
   std::shared_ptr<app::ControllerLaws> controller;
-  ExtraColumns controller_columns;
+  app::ExtraColumns controller_columns;
   if (sampled) {
     controller = std::make_shared<app::ControllerLaws>(scene_set, model, p);
     controller_columns.names = controller->state_columns();
   }
-  const ExtraColumns* extra = sampled ? &controller_columns : nullptr;
+  const app::ExtraColumns* extra = sampled ? &controller_columns : nullptr;
   const std::vector<std::string> columns =
       options.columns.empty() ? std::vector<std::string>{}
-                              : parse_columns(options.columns, csv_columns(model, p, outputs, extra));
+                              : app::parse_columns(options.columns, app::csv_columns(model, p, outputs, extra));
   const runtime::InitialState initial = run_initial_state(options.run, scene_set, model);
   if (build_options.sensitivities) check_sensitivities_given(model, initial, options.sensitivity.names);
   // Events are located by IDA in the plain run; the sensitivities' run and the variational
@@ -206,14 +207,14 @@ int run_simulate(SimulateOptions& options) {
   if (sampled) {
     io.progress = nullptr;  // one integration per sample: a bar would restart at every one
     app::SampledRun s = app::simulate_sampled(model, p, initial, times, io, app::sample_law(controller),
-                                              controller->held(), input_function(input_signals, model, p));
+                                              controller->held(), app::input_function(input_signals, model, p));
     flagged.run = std::move(s.run);
     controller_columns.rows = controller->state_history();
     controller_columns.rows.resize(flagged.run.samples.size());
   } else if (slide) {
     const jit::LoadedModel sliding = app::build_sliding_model(scene_set, *slide, kind, build_options);
     app::SwitchedRun switched = app::simulate_switched(scene_set, *slide, model, sliding.model(), p, initial, times, io,
-                                                       scene_events, input_function(input_signals, model, p));
+                                                       scene_events, app::input_function(input_signals, model, p));
     flagged.run = std::move(switched.run);
     switch_notes = std::move(switched.notes);
     sliding_spans = switched.sliding;
@@ -221,7 +222,7 @@ int run_simulate(SimulateOptions& options) {
     for (const app::SlidingSpan& s : switched.sliding) spans.emplace_back(s.from, s.to);
     outputs.contacts().set_sliding(slide->name, spans, !switched.sliding.empty() && switched.sliding[0].from_included);
   } else {
-    flagged = run_with_flags(options.run, model, p, initial, times, io, input_function(input_signals, model, p), events);
+    flagged = run_with_flags(options.run, model, p, initial, times, io, app::input_function(input_signals, model, p), events);
   }
   app::record_law_inputs(scene_set, model, p, flagged.run.samples);  // the laws' input:NAME columns
   const runtime::RunResult& run = flagged.run;
@@ -234,7 +235,7 @@ int run_simulate(SimulateOptions& options) {
       runtime::write_sensitivity_csv(out, model, p, parse_sensitivities(model, options.sensitivity.names),
                                      sensitivities->samples);
     else
-      write_selected_csv(out, model, p, run.samples, columns, outputs, extra);
+      app::write_selected_csv(out, model, p, run.samples, columns, outputs, extra);
   };
   // No row, no file: a header-only CSV would look like a result.
   const std::size_t csv_rows = sensitivities ? sensitivities->samples.size() : run.samples.size();
@@ -290,7 +291,7 @@ int run_simulate(SimulateOptions& options) {
                                              (built.library().reused ? " (cached)" : ""))
        << ", integrate "
             << format(st.initialization_seconds + st.integration_seconds) << " s";
-  if (!input_files(options.run.inputs).empty()) info << ", read inputs " << format(input_seconds) << " s";
+  if (!app::input_files(options.run.inputs).empty()) info << ", read inputs " << format(input_seconds) << " s";
   info << "\n";
   if (sensitivities) info << describe_sensitivity_cost(*sensitivities, options.sensitivity, st);
   // Errors and drifts of a run without a sample would read as zeros: there are none to report.

@@ -1,6 +1,6 @@
-# `cmake --install`: the nhc command and the program it starts, the base, codegen, runtime, jit, linearize, connect (and, when HDF5
+# `cmake --install`: the nhc command and the program it starts, the base, codegen, runtime, tools, jit, linearize, connect (and, when HDF5
 # was found, ensemble) headers and libraries, the exported targets nhc::nhc, nhc::base, nhc::codegen,
-# nhc::runtime, nhc::jit, nhc::linearize, nhc::connect, nhc::ensemble, and a package config with version file
+# nhc::runtime, nhc::tools, nhc::jit, nhc::linearize, nhc::connect, nhc::ensemble, and a package config with version file
 # and nhc_add_model(), so that find_package(nhc) works (examples/app/).
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
@@ -11,12 +11,13 @@ set(NHC_INSTALL_CMAKEDIR "${CMAKE_INSTALL_LIBDIR}/cmake/nhc" CACHE STRING
 set_target_properties(nhc_base PROPERTIES EXPORT_NAME base)
 set_target_properties(nhc_codegen PROPERTIES EXPORT_NAME codegen)
 set_target_properties(nhc_runtime PROPERTIES EXPORT_NAME runtime)
+set_target_properties(nhc_tools PROPERTIES EXPORT_NAME tools)
 set_target_properties(nhc_jit PROPERTIES EXPORT_NAME jit)
 set_target_properties(nhc_linearize PROPERTIES EXPORT_NAME linearize)
 set_target_properties(nhc_connect PROPERTIES EXPORT_NAME connect)
-set(nhc_installed_libraries nhc_base nhc_codegen nhc_runtime nhc_jit nhc_linearize nhc_connect)
+set(nhc_installed_libraries nhc_base nhc_codegen nhc_runtime nhc_tools nhc_jit nhc_linearize nhc_connect)
 set(nhc_installed_header_trees ${PROJECT_SOURCE_DIR}/base/nhc ${PROJECT_SOURCE_DIR}/codegen/nhc ${PROJECT_SOURCE_DIR}/runtime/nhc
-    ${PROJECT_SOURCE_DIR}/jit/nhc ${PROJECT_SOURCE_DIR}/linearize/nhc ${PROJECT_SOURCE_DIR}/connect/nhc)
+    ${PROJECT_SOURCE_DIR}/tools/nhc ${PROJECT_SOURCE_DIR}/jit/nhc ${PROJECT_SOURCE_DIR}/linearize/nhc ${PROJECT_SOURCE_DIR}/connect/nhc)
 # nhcConfig.cmake looks for the ensemble's dependencies only when the ensemble was installed.
 set(NHC_PACKAGE_HAS_ENSEMBLE OFF)
 set(NHC_PACKAGE_ENSEMBLE_USES_MPI OFF)

@@ -8,7 +8,6 @@
 #include "nhc/app/run_request.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/app/parameter_overrides.hpp"
-#include "nhc/app/pipeline.hpp"
 
 namespace nhc::app {
 

@@ -43,7 +43,7 @@ class CanonicalText {
  public:
   /// Precedence of the context: 0 sum, 1 product factor, 2 power base.
   std::string print(const ex& e, int context = 0) const {
-    check_for_stop();  // a printed equation may be megabytes long (issue 44)
+    check_for_stop();  // a printed equation may be megabytes long: the work budget may stop it
     if (GiNaC::is_a<GiNaC::add>(e)) return wrap(remembered(e), context > 0);
     if (GiNaC::is_a<GiNaC::mul>(e))
       return wrap(remembered(e), context > 1 || (starts_negative(e) && context > 0));

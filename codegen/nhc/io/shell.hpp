@@ -2,7 +2,7 @@
 /// \file shell.hpp
 /// \brief Shell quoting (for a command line shown in a message, as the compiler's in
 /// jit/compiler.cpp) and a shell runner for tests. nhc runs its programs (compilers, gnuplot)
-/// without a shell, through jit/nhc/jit/subprocess.hpp.
+/// without a shell, through tools/nhc/tools/subprocess.hpp.
 
 #include <string>
 
