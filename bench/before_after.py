@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Two builds of nhc side by side on the real scenes (issue 44: the work budget must not slow
+"""Two builds of nhc side by side on the real scenes (goal: the work budget must not slow
 them): every example, the Whipple bicycle (also with --expand) and the knife chain of
 bench/knife_chain.py, under `nhc derive` and `nhc generate`, each run `--repeat` times alternating
 the two builds, best processor time (user + system of the child, getrusage) of each. Processor

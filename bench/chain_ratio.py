@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Generated against hand-written knife chain, per N (issue 50: integration <= 1.2x at every N).
+"""Generated against hand-written knife chain, per N (goal: integration <= 1.2x at every N).
 
 Runs `nhc_bench knife_chain_N.toml --handwritten bench/knife_chain_handwritten.hpp` ROUNDS times
 per N (the sizes interleaved round by round); each run alternates the two integrations (at least

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# Cold `nhc simulate` (issue 50): empty caches (a fresh NHC_CACHE_DIR, which holds the compile and
+# Cold `nhc simulate`: empty caches (a fresh NHC_CACHE_DIR, which holds the compile and
 # the scene cache), --backend auto, wall and processor time of the whole command (/usr/bin/time),
 # best of REPEAT; then the same scene --backend compiled, also from empty caches, and the largest
 # relative difference of the two CSVs (|a - b| over the column's largest |b|, the worst column but
-# the hidden constraints' drifts, which are zero to rounding; issue 50: <= 1e-12). The compiled run
+# the hidden constraints' drifts, which are zero to rounding; the goal: <= 1e-12). The compiled run
 # must be cold too: a run that finds the initial-point check in the scene cache skips the analysis,
 # and the header it derives then differs from a cold run's in the order of terms (the analysis
 # creates symbols, and GiNaC orders terms by the symbols' serial numbers): the same model to

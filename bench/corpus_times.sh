@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Hostile inputs against the clock (issue 26): `nhc derive` on every input of the corpus
+# Hostile inputs against the clock: `nhc derive` on every input of the corpus
 # (scripts/corpus_inputs.sh: tests/fuzz/corpus/, tests/bad/, the examples) in a Release build,
 # one after the other, wall time each. Prints the ten slowest with their exit codes and writes
 # the same table to bench/corpus-times.md (or OUT). Fails when an input ends with an exit code

@@ -97,7 +97,7 @@ def main(argv):
         "",
         "Overhead per run = (wall time of the run phase x workers - the runs' own times) / runs: scheduling "
         "(rank 0 hands out guided chunks, MPI_Send/MPI_Recv), collecting the records, checkpoints and the final "
-        "HDF5 write, and the tail where one worker finishes before the other. The target (issue 21) is below "
+        "HDF5 write, and the tail where one worker finishes before the other. The target is below "
         "5 % of a run's integration time. Not in the run phase: starting the processes (mpirun) and building "
         "the model (derivation and the compile cache's shared object), once per ensemble.",
         "",

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Scaling of nhc's symbolic front end (issue 17), cold: the scene cache off, a fresh cache dir.
+"""Scaling of nhc's symbolic front end, cold: the scene cache off, a fresh cache dir.
 
 For each N of a scene family (bench/knife_chain.py, bench/particle_chain.py or the rigid bodies of
 bench/rolling_balls.py) and one model:

@@ -1,4 +1,4 @@
-// The interpreted model against the compiled one (issue 50, docs/interpreter.md): per call of the
+// The interpreted model against the compiled one (docs/interpreter.md): per call of the
 // residual and the Jacobian, a whole run, and the cold start (derive + generate + interpret, or
 // + compile into an empty cache) — side by side in one process, one Markdown row per scene; and
 // per call against the header compiled at -O2 (the policy compiles long headers at -O0).

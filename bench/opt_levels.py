@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Compile time against run time at each optimization level (issue 50, bench/compile-time.md).
+"""Compile time against run time at each optimization level (bench/compile-time.md).
 
 For every scene and variant, `nhc_bench SCENE --opt LEVEL [--translation-units K]` (a fresh
 compile cache each time), the variants interleaved round by round so that a change of the

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""nhc optimize with generated derivatives against IPOPT's approximations (issue 49).
+"""nhc optimize with generated derivatives against IPOPT's approximations.
 
 Runs `nhc optimize` on the car parking and the wheeled pendulum (the issue's two problems with
 [inputs]) and on the Heisenberg loop (no inputs, closed-form cost pi), each in three set-ups:

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The second scalable scene family of the benchmarks (issue 17): a chain of N planar particles,
+"""The second scalable scene family of the benchmarks: a chain of N planar particles,
 each held at constant speed by a second-order constraint, neighbours coupled by springs.
 
 Particle i has coordinates (x_i, y_i) and unit mass; its acceleration stays perpendicular to its

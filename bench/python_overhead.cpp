@@ -1,4 +1,4 @@
-// The C++ side of the Python overhead benchmark (issue 29; bench/python_overhead.py): `runs`
+// The C++ side of the Python overhead benchmark (bench/python_overhead.py): `runs`
 // integrations of a scene's model from its [initial], in a loop, as Model.simulate of the Python
 // package runs them (runtime::simulate, the same options and output times), timed in-process.
 //

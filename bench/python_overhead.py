@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The Python package's overhead (issue 29): 1000 runs of Model.simulate on the knife edge from
+"""The Python package's overhead: 1000 runs of Model.simulate on the knife edge from
 Python against the same 1000 runs from C++ (bench/python_overhead.cpp: runtime::simulate with the
 same options and output times, in a loop). The two sides alternate in blocks, so that a change of
 the machine's load hits both alike; each side's loop is timed in its own process. Writes
@@ -21,7 +21,7 @@ import time
 import nhc
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
-GOAL = 1.2  # issue 29: the Python loop costs at most 1.2x the C++ loop
+GOAL = 1.2  # the goal: the Python loop costs at most 1.2x the C++ loop
 
 
 def python_block(model, runs, settings):
@@ -70,7 +70,7 @@ def main():
     commit = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"], capture_output=True,
                             text=True).stdout.strip() or "unknown"
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
-    text = f"""# The Python package's overhead (issue 29)
+    text = f"""# The Python package's overhead
 
 Measured by `bench/python_overhead.sh` (bench/python_overhead.py and bench/python_overhead.cpp) on
 {datetime.date.today().isoformat()}, commit {commit}, {platform.processor() or platform.machine()}, {os.cpu_count()} cores,

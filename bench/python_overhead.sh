@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The Python package's overhead benchmark (issue 29): configures build-bench with the benchmark
+# The Python package's overhead benchmark: configures build-bench with the benchmark
 # drivers, builds the Python module and nhc_python_overhead, and runs bench/python_overhead.py,
 # which writes bench/python-overhead.md. Arguments are passed on (--runs, --blocks, --out).
 set -euo pipefail

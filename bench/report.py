@@ -153,7 +153,7 @@ def main(argv):
              % (env.get("t_end", "?"), env.get("rtol", "?"), env.get("atol", "?")))
     L.append("")
 
-    # ---- issue 17 ----
+    # ---- the front end's scaling goals ----
     import report_issue17
     L.extend(report_issue17.goals(jdir, env, load, table, ratio, fmt_x))
 
@@ -220,7 +220,7 @@ def main(argv):
     targets.append(("integration cost per step ~ linear in N with KLU (log-log slope for N ≥ 8, "
                     "accepted in 0.7…1.3)", "%.2f" % slope if slope is not None else "–",
                     slope is not None and 0.7 <= slope <= 1.3))
-    L.append("## Targets of issue 9")
+    L.append("## Targets of the benchmark suite")
     L.append("")
     L.append(table(["target", "measured", "met"], [(t, m, "yes" if ok else "**no**") for t, m, ok in targets]))
     L.append("")

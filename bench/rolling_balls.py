@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The rigid-body family of the benchmarks (issue 27): N uniform balls rolling without slipping on
+"""The rigid-body family of the benchmarks: N uniform balls rolling without slipping on
 a horizontal plane, neighbours' centres joined by springs.
 
 Ball i (mass m, radius r, moment of inertia J about its centre) has coordinates (x_i, y_i) of its

@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# The benchmark suite (issues 9 and 17): nhc on the knife-edge chain (bench/knife_chain.py) and on
+# The benchmark suite: nhc on the knife-edge chain (bench/knife_chain.py) and on
 # the paper's two examples, side by side with SymPy (LagrangesMethod, cse, lambdify), SciPy
 # (solve_ivp Radau/BDF) and hand-written residuals and Jacobians; the front end's scaling to
 # N = 1024 (bench/frontend_scaling.py, cold: scene cache off), the scene-cache warm `nhc simulate`,
 # the second family (bench/particle_chain.py, second-order constraints; the vakonomic knife
-# chain) and issue 27's rigid bodies (bench/rolling_balls.py, N rolling balls written with
-# definitions; with the Whipple bicycle beside SymPy, bench/whipple_sympy.py). Writes bench/results.md (with issue 17's goal table, met / not met) and
+# chain) and the rigid bodies (bench/rolling_balls.py, N rolling balls written with
+# definitions; with the Whipple bicycle beside SymPy, bench/whipple_sympy.py). Writes bench/results.md (with the front end's goal table, met / not met) and
 # bench/results-time.svg; everything in them is measured in this run.
 #
 #   bench/run.sh            # the full run (hours while the front end is slow at N = 1024)
@@ -115,7 +115,7 @@ log "front end, knife chain (chetaev), N = $frontend_n; warm simulate at N = $wa
 "$python" bench/frontend_scaling.py "$nhc" "$json/frontend_knife_chain_chetaev.json" --family knife_chain \
   --model chetaev --timeout "$stage_timeout" --warm "$warm_n" --warm-timeout "$((2 * stage_timeout))" $frontend_n ||
   log "frontend_scaling.py failed (knife chain)"
-# --- issue 27's rigid bodies: N rolling balls, front end and cold simulate ---
+# --- rigid bodies: N rolling balls, front end and cold simulate ---
 log "front end, rolling balls (chetaev), N = $rigid_n"
 # shellcheck disable=SC2086
 "$python" bench/frontend_scaling.py "$nhc" "$json/frontend_rolling_balls_chetaev.json" --family rolling_balls \
@@ -161,7 +161,7 @@ for n in $peer_n appell_hamel; do
     { log "peers.py failed or timed out at $n"; rm -f "$json/peers_$n.json"; }
 done
 
-# --- the Whipple bicycle beside SymPy's Kane's method (issue 27; full runs only: SymPy takes seconds) ---
+# --- the Whipple bicycle beside SymPy's Kane's method (full runs only: SymPy takes seconds) ---
 if [ $quick = 0 ]; then
   log "Whipple bicycle"
   timeout "$peer_timeout" "$python" bench/whipple_sympy.py "$nhc" --markdown="$json/whipple.md" >"$json/whipple.log" 2>&1 ||
@@ -219,7 +219,7 @@ NHC_SCENE_CACHE=off NHC_CACHE_DIR="$json/absurd-cache" "$python" bench/absurd_sc
   --markdown "$json/absurd.md" > "$json/absurd.log" 2>&1 || absurd_status=$?
 {
   echo
-  echo "## Absurd scenes (issue 44): $absurd_count seeded Lagrangians under 200 characters, exit 0, 2 or 3 within 5 s"
+  echo "## Absurd scenes: $absurd_count seeded Lagrangians under 200 characters, exit 0, 2 or 3 within 5 s"
   echo
   cat "$json/absurd.md" 2>/dev/null || echo "(bench/absurd_scenes.py failed: see $json/absurd.log)"
   if [ "$absurd_status" != 0 ]; then
@@ -229,14 +229,14 @@ NHC_SCENE_CACHE=off NHC_CACHE_DIR="$json/absurd-cache" "$python" bench/absurd_sc
 } >> "$results/results.md"
 # Issue 50: the start-up of the command (perf stat; the libraries each program loads).
 if command -v perf > /dev/null; then
-  { echo; echo "## Start-up of the command (issue 50, bench/startup.sh)"; echo
+  { echo; echo "## Start-up of the command (bench/startup.sh)"; echo
     NHC_STARTUP_REPEAT=$([ $quick = 1 ] && echo 5 || echo 30) bench/startup.sh "$nhc" || echo "(bench/startup.sh failed)"
   } >> "$results/results.md"
 fi
 # Issue 50: cold `nhc simulate` (empty caches, --backend auto) of the bicycle, the rattleback and
 # the knife chain N = 512, and their results against --backend compiled (bench/cold_simulate.sh).
 "$python" bench/knife_chain.py "$out/scenes" 512 > /dev/null
-{ echo; echo "## Cold nhc simulate (issue 50, bench/cold_simulate.sh)"; echo
+{ echo; echo "## Cold nhc simulate (bench/cold_simulate.sh)"; echo
   bench/cold_simulate.sh "$nhc" examples/whipple/whipple_bicycle.toml examples/rattleback.toml \
     "$out/scenes/knife_chain_512.toml" || echo "(bench/cold_simulate.sh failed)"
 } >> "$results/results.md"
@@ -247,7 +247,7 @@ if [ "$quick" = 0 ]; then
   "$python" bench/optimize.py "$nhc" --out "$json/optimize.md" > "$json/optimize.log" 2>&1 || true
   {
     echo
-    echo "## nhc optimize (issue 49): generated derivatives against IPOPT's approximations"
+    echo "## nhc optimize: generated derivatives against IPOPT's approximations"
     echo
     tail -n +3 "$json/optimize.md" 2>/dev/null || echo "(bench/optimize.py failed: see $json/optimize.log)"
   } >> "$results/results.md"

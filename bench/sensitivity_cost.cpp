@@ -1,4 +1,4 @@
-// The cost of forward sensitivities (issue 20): a scene's plain run against the same run with
+// The cost of forward sensitivities: a scene's plain run against the same run with
 // one sensitivity per named parameter (initialization and integration; the model is built once,
 // with dF/dp).
 //

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Start-up cost of the nhc command (issue 50): processor and wall time of `nhc --version` and
+# Start-up cost of the nhc command: processor and wall time of `nhc --version` and
 # `nhc derive examples/particle.toml` (perf stat, repeated), and the shared libraries each program
 # loads. Given a second nhc (a build of another commit), both side by side in one table.
 # Usage: bench/startup.sh NHC [BEFORE_NHC]   (prints Markdown on stdout)

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Long runs of the variational integrator against IDA (issue 31): writes bench/variational.md and
+"""Long runs of the variational integrator against IDA: writes bench/variational.md and
 the pictures in docs/variational/.
 
 For each case (the rolling ball, a wobbling rolling disk, the frictionless Chaplygin sleigh) the

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """The Whipple bicycle benchmark (Meijaard et al., Proc. R. Soc. A 463 (2007), Table 2), nhc beside
-SymPy's Kane's method on the same bicycle, in one run (issue 27):
+SymPy's Kane's method on the same bicycle, in one run:
 
 - SymPy: the body of `sympy.physics.mechanics.tests.test_kane3.test_bicycle` up to
   `kanes_equations`, then `sympy.cse` of the mass matrix and forcing; operations counted by

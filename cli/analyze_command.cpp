@@ -9,9 +9,10 @@
 #include <iostream>
 
 #include "commands.hpp"
-#include "parameter_overrides.hpp"
+#include "nhc/app/parameter_overrides.hpp"
+#include "flag_rules.hpp"
 #include "write_initial.hpp"
-#include "model_requirements.hpp"
+#include "nhc/app/model_requirements.hpp"
 #include "nhc/analysis/model_analysis.hpp"
 #include "nhc/derive/models.hpp"
 #include "nhc/emit/analysis_emitters.hpp"
@@ -63,7 +64,7 @@ CommandRunner add_analyze_command(CLI::App& app) {
     if (!options->output.empty()) check_output_file(options->output, {options->scene_path});
     if (!options->write_initial.empty()) check_output_file(options->write_initial, {options->scene_path});
     Scene scene = load_scene(options->scene_path, options->read);
-    apply_parameter_overrides(scene, parse_parameter_overrides(scene, options->set));
+    app::apply_parameter_overrides(scene, app::parse_parameter_overrides(scene, options->set));
     InitializationOptions init;
     init.repair = options->repair;
     std::vector<ModelAnalysis> analyses;
@@ -72,7 +73,7 @@ CommandRunner add_analyze_command(CLI::App& app) {
     if (options->models.empty()) requested = {default_model(scene)};
     auto is_requested = [&](ModelKind k) { return std::find(requested.begin(), requested.end(), k) != requested.end(); };
     for (ModelKind kind : kinds)
-      if (is_requested(kind)) require_model_inputs(scene, kind);
+      if (is_requested(kind)) app::require_model_inputs(scene, kind);
     for (ModelKind kind : kinds) analyses.push_back(analyze_model(scene, derive_model(scene, kind), init));
     auto write = [&](std::ostream& out) {
       if (options->format == "json") write_analysis_json(out, scene, analyses);

@@ -12,14 +12,13 @@
 #include "nhc/app/run_engine.hpp"
 #include "animation_page.hpp"
 #include "commands.hpp"
-#include "input_signals.hpp"
-#include "model_requirements.hpp"
+#include "nhc/app/input_signals.hpp"
+#include "nhc/app/model_requirements.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/jit.hpp"
 #include "nhc/runtime/runtime.hpp"
-#include "parameter_overrides.hpp"
+#include "nhc/app/parameter_overrides.hpp"
 #include "progress_bar.hpp"
-#include "pipeline.hpp"
 #include "nhc/app/scene_events.hpp"
 #include "plots.hpp"
 #include "run_flags.hpp"
@@ -97,14 +96,14 @@ CommandRunner add_animate_command(CLI::App& app) {
                        "the scene has no [visual] table: nothing to draw (shapes: " + visual_shape_names() +
                            "; docs/animate.md)");
     const ModelKind kind = model_or_default(scene, flags.model);
-    require_model_inputs(scene, kind);
+    app::require_model_inputs(scene, kind);
     check_run_flags(flags, scene, kind);
     check_run_features(flags, scene, false);  // the engine's refusals, as nhc simulate's
-    const std::vector<ParameterOverride> overrides = parse_parameter_overrides(scene, flags.set);
+    const std::vector<app::ParameterOverride> overrides = app::parse_parameter_overrides(scene, flags.set);
     Scene scene_set = scene;  // the overridden values for the shapes; the model takes them at run time
-    apply_parameter_overrides(scene_set, overrides);
+    app::apply_parameter_overrides(scene_set, overrides);
     const std::vector<double> times = run_times(flags, scene);
-    const InputSignals input_signals = parse_input_signals(scene_set, flags.inputs, scene.initial.t0, times.back());
+    const app::InputSignals input_signals = app::parse_input_signals(scene_set, flags.inputs, scene.initial.t0, times.back());
 
     // The path of nhc simulate (app::prepare_and_build): given initial values that miss a hidden
     // constraint are refused in the analysis' words before anything is compiled.
@@ -120,7 +119,7 @@ CommandRunner add_animate_command(CLI::App& app) {
     const runtime::Model& model = built.model();
     runtime::IntegratorOptions io = run_integrator_options(flags, scene);
     io.progress = terminal_progress();
-    const std::vector<double> p = parameters_with_overrides(model, overrides);
+    const std::vector<double> p = app::parameters_with_overrides(model, overrides);
     runtime::RunResult run;
     if (!options->path.empty()) {
       run.samples = samples_from_file(model, options->path);
@@ -129,7 +128,7 @@ CommandRunner add_animate_command(CLI::App& app) {
       if (scene.controller.present) controller = std::make_shared<app::ControllerLaws>(scene_set, model, p);
       std::optional<jit::LoadedModel> sliding;
       const app::RunPlan plan = run_plan(flags, scene, scene_set, kind, build_options, model, p, times, io,
-                                         input_function(input_signals, model, p), controller, sliding);
+                                         app::input_function(input_signals, model, p), controller, sliding);
       run = app::simulate(plan).run;
     }
     if (run.samples.empty()) {
@@ -139,7 +138,7 @@ CommandRunner add_animate_command(CLI::App& app) {
     }
     AnimationContent content{scene.name, to_string(kind), {}, visual_tracks(scene_set, model, p, run.samples)};
     for (const runtime::Sample& s : run.samples) content.times.push_back(s.t);
-    std::vector<std::string> inputs = input_files(flags.inputs);
+    std::vector<std::string> inputs = app::input_files(flags.inputs);
     inputs.insert(inputs.begin(), flags.scene_path);
     if (!options->path.empty()) inputs.push_back(options->path);
     write_animation_page(options->output, content, inputs);

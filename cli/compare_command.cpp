@@ -26,7 +26,8 @@
 #include "nhc/jit.hpp"
 #include "nhc/scene/expression_parser.hpp"
 #include "nhc/runtime/runtime.hpp"
-#include "pipeline.hpp"
+#include "nhc/app/initial_values.hpp"
+#include "nhc/runtime/number_text.hpp"
 #include "plots.hpp"
 #include "run_flags.hpp"
 #include "trajectory_plots.hpp"
@@ -53,11 +54,11 @@ std::string command_line(const CompareOptions& o) {
     s += " --models ";
     for (std::size_t k = 0; k < o.models.size(); ++k) s += (k ? "," : "") + o.models[k];
   }
-  if (o.t_end) s += " --t-end " + format_number(*o.t_end, 15);
-  if (o.rtol) s += " --rtol " + format_number(*o.rtol, 15);
-  if (o.atol) s += " --atol " + format_number(*o.atol, 15);
+  if (o.t_end) s += " --t-end " + runtime::number_text(*o.t_end, 15);
+  if (o.rtol) s += " --rtol " + runtime::number_text(*o.rtol, 15);
+  if (o.atol) s += " --atol " + runtime::number_text(*o.atol, 15);
   if (o.outputs != 200) s += " --outputs " + std::to_string(o.outputs);
-  if (o.tolerance != 1e-6) s += " --tolerance " + format_number(o.tolerance, 15);
+  if (o.tolerance != 1e-6) s += " --tolerance " + runtime::number_text(o.tolerance, 15);
   for (const std::string& a : o.initial) s += " --initial " + a;
   if (!o.plot_xy.empty()) s += " --plot-xy " + o.plot_xy;
   return s;
@@ -88,7 +89,7 @@ std::string outcome_of(const runtime::RunResult& run) {
                         e.kind() == runtime::FailureKind::singular_iteration_matrix;
   // The message's own "at t = <17 digits>" is left out: t is given once, to 6 digits.
   const std::string reason = std::regex_replace(e.what(), std::regex(" at t = [-+0-9.eE]+"), "");
-  return std::string(singular ? "stopped at a singularity" : "stopped") + " at t = " + format_number(e.t(), 6) +
+  return std::string(singular ? "stopped at a singularity" : "stopped") + " at t = " + runtime::number_text(e.t(), 6) +
          ": " + reason;
 }
 
@@ -149,7 +150,7 @@ ComparedModel run_model(const Scene& scene, ModelKind kind, const CompareSetting
   plan.scene = &scene;
   plan.model = &model;
   plan.p = p;
-  plan.initial = initial_state_of(scene, model);
+  plan.initial = app::initial_state_of(scene, model);
   plan.times = settings.times;
   plan.options = io;
   std::optional<jit::LoadedModel> sliding;

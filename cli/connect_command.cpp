@@ -13,7 +13,7 @@
 #include <regex>
 
 #include "commands.hpp"
-#include "model_requirements.hpp"
+#include "nhc/app/model_requirements.hpp"
 #include "flag_rules.hpp"
 #include "nhc/app/run_request.hpp"
 #include "nhc/connect/shooting.hpp"
@@ -23,7 +23,8 @@
 #include "nhc/jit.hpp"
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/scene/scene.hpp"
-#include "pipeline.hpp"
+#include "nhc/app/initial_values.hpp"
+#include "nhc/runtime/number_text.hpp"
 #include "run_flags.hpp"
 
 namespace nhc::cli {
@@ -132,11 +133,11 @@ std::vector<int> parse_free(const runtime::Model& model, const runtime::InitialS
 void print_result(const connect::ShootingProblem& problem, const connect::ShootingResult& result) {
   const runtime::Model& model = problem.model;
   for (const connect::Iteration& it : result.history)
-    std::cout << "  iteration " << it.number << ": miss " << format_number(it.miss, 3)
-              << (it.number > 0 ? ", step " + format_number(it.step, 3) : std::string()) << ", Jacobian rank "
+    std::cout << "  iteration " << it.number << ": miss " << runtime::number_text(it.miss, 3)
+              << (it.number > 0 ? ", step " + runtime::number_text(it.step, 3) : std::string()) << ", Jacobian rank "
               << it.rank << "\n";
   std::cout << "  converged in " << result.history.back().number << " iteration"
-            << (result.history.back().number == 1 ? "" : "s") << ", final miss " << format_number(result.miss, 3)
+            << (result.history.back().number == 1 ? "" : "s") << ", final miss " << runtime::number_text(result.miss, 3)
             << "\n";
   if (result.minimum_norm)
     std::cout << "  more free values than conditions: minimum-norm Newton steps (the solution found is one of many)\n";
@@ -145,7 +146,7 @@ void print_result(const connect::ShootingProblem& problem, const connect::Shooti
   std::cout << "  values found:\n";
   for (size_t k = 0; k < problem.free_states.size(); ++k)
     std::cout << "    " << connect::free_value_name(model, problem.free_states[k]) << " = "
-              << format_number(result.values[k], 15) << "\n";
+              << runtime::number_text(result.values[k], 15) << "\n";
 }
 
 }  // namespace
@@ -185,13 +186,13 @@ CommandRunner add_connect_command(CLI::App& app) {
     apply_initial_flags(scene, options->initial);  // given values: not free by default
     if (!options->output.empty()) check_output_file(options->output, {options->scene_path});
     const ModelKind kind = model_or_default(scene, options->model);
-    require_model_inputs(scene, kind);  // exit 2 at the scene, as simulate
-    refuse_inputs(scene, "boundary-value problems", "nhc connect");
+    app::require_model_inputs(scene, kind);  // exit 2 at the scene, as simulate
+    app::refuse_inputs(scene, "boundary-value problems", "nhc connect");
     app::run_t_end(scene, options->t_end, "--t-end");  // required and checked finite by the flag
     const jit::LoadedModel built = jit::build(scene, kind);
     const runtime::Model& model = built.model();
 
-    connect::ShootingProblem problem{model, model.default_parameters(), initial_state_of(scene, model), {}, {}, 1, 1,
+    connect::ShootingProblem problem{model, model.default_parameters(), app::initial_state_of(scene, model), {}, {}, 1, 1,
                                      runtime::IntegratorOptions{}, 1e-9, 50, 200};
     problem.conditions = parse_targets(model, options->to);
     problem.free_states = options->free.empty()

@@ -7,8 +7,8 @@
 #include "commands.hpp"
 #include "flag_rules.hpp"
 #include "work_watchdog.hpp"
-#include "parameter_overrides.hpp"
-#include "model_requirements.hpp"
+#include "nhc/app/parameter_overrides.hpp"
+#include "nhc/app/model_requirements.hpp"
 #include "nhc/expr/work_stage.hpp"
 #include "nhc/derive/models.hpp"
 #include "nhc/derive/reduced_form.hpp"
@@ -92,10 +92,10 @@ CommandRunner add_derive_command(CLI::App& app) {
   return [options]() {
     if (!options->output.empty()) check_output_file(options->output, {options->scene_path});
     Scene scene = load_scene(options->scene_path, options->read);
-    apply_parameter_overrides(scene, parse_parameter_overrides(scene, options->set));
+    app::apply_parameter_overrides(scene, app::parse_parameter_overrides(scene, options->set));
     std::vector<DerivedModel> models;
     for (ModelKind kind : selected_models(scene, options->models)) {
-      if (!options->models.empty() || scene_lists_model(scene, kind)) require_model_inputs(scene, kind);
+      if (!options->models.empty() || app::scene_lists_model(scene, kind)) app::require_model_inputs(scene, kind);
       models.push_back(derive_model(scene, kind));
     }
     if (options->form == "reduced" || !options->speeds.empty()) {

@@ -21,13 +21,14 @@
 #include "command_programs.hpp"
 #include "commands.hpp"
 #include "failure_report.hpp"
-#include "model_requirements.hpp"
-#include "parameter_overrides.hpp"
+#include "nhc/app/model_requirements.hpp"
+#include "nhc/app/parameter_overrides.hpp"
 #include "flag_rules.hpp"
 #include "nhc/io/output_path.hpp"
-#include "nhc/jit/sha256.hpp"
+#include "nhc/tools/sha256.hpp"
 #include "nhc/errors.hpp"
-#include "pipeline.hpp"
+#include "nhc/clock.hpp"
+#include "nhc/runtime/number_text.hpp"
 #include "run_flags.hpp"
 
 #ifdef NHC_HAVE_ENSEMBLE
@@ -146,19 +147,19 @@ void check_design_fits(const EnsembleOptions& o, int n_states, int n_invariants,
     const char* units[] = {"bytes", "kB", "MB", "GB", "TB", "PB"};
     int u = 0;
     while (b >= 1000 && u < 5) b /= 1000, ++u;
-    return format_number(b, 3) + " " + units[u];
+    return runtime::number_text(b, 3) + " " + units[u];
   };
   std::error_code ec;
   const std::filesystem::path dir = std::filesystem::absolute(o.output).parent_path();
   const std::filesystem::space_info disk = std::filesystem::space(dir, ec);
   if (!ec && file_bytes > static_cast<double>(disk.available))
-    bad_flag(design_flags(o), format_number(runs, 4) + " runs would write about " + bytes_text(file_bytes) +
+    bad_flag(design_flags(o), runtime::number_text(runs, 4) + " runs would write about " + bytes_text(file_bytes) +
                                   " to " + o.output + ", and " + bytes_text(static_cast<double>(disk.available)) +
                                   " are free there; make the design smaller");
   const long pages = sysconf(_SC_PHYS_PAGES), page_size = sysconf(_SC_PAGE_SIZE);
   const double memory = pages > 0 && page_size > 0 ? static_cast<double>(pages) * static_cast<double>(page_size) : 0;
   if (memory > 0 && memory_bytes > 0.5 * memory)
-    bad_flag(design_flags(o), format_number(runs, 4) + " runs would hold about " + bytes_text(memory_bytes) +
+    bad_flag(design_flags(o), runtime::number_text(runs, 4) + " runs would hold about " + bytes_text(memory_bytes) +
                                   " of results in memory, and the machine has " + bytes_text(memory) +
                                   "; make the design smaller" +
                                   (keep_trajectories ? " or keep fewer outputs (--outputs)" : ""));
@@ -175,7 +176,7 @@ Prepared prepare(const EnsembleOptions& o, int ranks, int threads) {
   app::refuse_scene_controller(scene, "nhc ensemble");
   apply_initial_flags(scene, o.initial);
   const ModelKind kind = model_or_default(scene, o.model);
-  require_model_inputs(scene, kind);
+  app::require_model_inputs(scene, kind);
   const double t0 = scene.initial.t0, t_end = app::run_t_end(scene, o.t_end, "--t-end");
   flag_rules::output_times(t0, t_end, o.outputs, "--t-end/--outputs");  // they must not collapse
   check_output_file(o.output, {o.scene_path});
@@ -207,7 +208,7 @@ Prepared prepare(const EnsembleOptions& o, int ranks, int threads) {
     if (moves_start && model.parameter_index(v.name) < 0) {
       target.parameter = -1;
     } else {
-      refuse_unread_parameter(scene, model, v.name, flag, "varying it would change nothing");
+      app::refuse_unread_parameter(scene, model, v.name, flag, "varying it would change nothing");
       target = resolve_target(model, v.name, flag);
     }
     if (moves_start) target.scene_parameter = v.name;
@@ -221,7 +222,7 @@ Prepared prepare(const EnsembleOptions& o, int ranks, int threads) {
   // an ensemble computed from the same ones (the text alone when there are none, as before).
   std::string computed_from = scene.source_text();
   for (const std::string& a : o.initial) computed_from += "\n--initial " + a;
-  info.scene_digest = jit::sha256_hex(computed_from);
+  info.scene_digest = tools::sha256_hex(computed_from);
   info.model = to_string(kind);
   info.nhc_version = NHC_VERSION;
   info.rtol = spec.rtol;
@@ -289,8 +290,8 @@ class TimeEstimate {
     said_ = true;
     const double rest = elapsed * static_cast<double>(runs_ - done_) / static_cast<double>(done_);
     if (rest > 10.0)
-      std::cerr << "nhc ensemble: " << done_ << " of " << runs_ << " runs in " << format_number(elapsed)
-                << " s; at that pace about " << format_number(rest) << " s to go\n";
+      std::cerr << "nhc ensemble: " << done_ << " of " << runs_ << " runs in " << runtime::number_text(elapsed, 3)
+                << " s; at that pace about " << runtime::number_text(rest, 3) << " s to go\n";
   }
 
  private:
@@ -313,12 +314,12 @@ void print_summary(const EnsembleResults& r, const Prepared& p, long ran, double
   if (count[0] > 0) std::cout << ", " << count[0] << " not run";
   std::cout << "\n  ran " << ran << " (" << (i.design.runs - ran) << " finished before) on " << i.ranks << " rank"
             << (i.ranks == 1 ? "" : "s") << " x " << i.threads << " thread" << (i.threads == 1 ? "" : "s")
-            << "; build " << format_number(p.build_seconds) << " s, runs " << format_number(run_seconds) << " s";
+            << "; build " << runtime::number_text(p.build_seconds, 3) << " s, runs " << runtime::number_text(run_seconds, 3) << " s";
   if (ran > 0 && run_seconds > 0) {
     const double per_run = integration / ran, overhead = std::max(0.0, run_seconds * workers - integration) / ran;
-    std::cout << " (" << format_number(ran / run_seconds, 4) << " runs/s; per run: integration "
-              << format_number(per_run * 1e3, 4) << " ms, overhead " << format_number(overhead * 1e3, 3) << " ms = "
-              << format_number(100 * overhead / per_run, 3) << " %)";
+    std::cout << " (" << runtime::number_text(ran / run_seconds, 4) << " runs/s; per run: integration "
+              << runtime::number_text(per_run * 1e3, 4) << " ms, overhead " << runtime::number_text(overhead * 1e3, 3) << " ms = "
+              << runtime::number_text(100 * overhead / per_run, 3) << " %)";
   }
   if (i.ranks > 1) {  // how the dynamic scheduling spread the runs made now
     std::vector<long> per_rank(static_cast<std::size_t>(i.ranks), 0);

@@ -1,6 +1,6 @@
 #pragma once
 /// \file fixed_address_layout.hpp
-/// \brief The same header from every run of one scene (issue 27).
+/// \brief The same header from every run of one scene, whatever the process's address layout.
 ///
 /// GiNaC orders the terms of sums and products, and so decides how expansion, common
 /// denominators and sin² + cos² = 1 come out, by hash values seeded with the addresses of C++

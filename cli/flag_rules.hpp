@@ -52,3 +52,13 @@ std::string empty_value_message();
 std::vector<double> output_times(double t0, double t_end, long long intervals, const std::string& flags);
 
 }  // namespace nhc::cli::flag_rules
+
+namespace nhc::cli {
+
+/// Adds `--set NAME=VALUE` to a subcommand, collecting into `assignments`; the rules of the values
+/// it gives are app::parse_parameter_overrides (nhc/app/parameter_overrides.hpp).
+inline void add_set_option(CLI::App* sub, std::vector<std::string>& assignments) {
+  sub->add_option("--set", assignments, "NAME=VALUE: override a parameter of the scene (repeatable)");
+}
+
+}  // namespace nhc::cli

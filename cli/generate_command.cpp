@@ -9,8 +9,9 @@
 #include <iostream>
 
 #include "commands.hpp"
-#include "parameter_overrides.hpp"
-#include "model_requirements.hpp"
+#include "nhc/app/parameter_overrides.hpp"
+#include "flag_rules.hpp"
+#include "nhc/app/model_requirements.hpp"
 #include "nhc/analysis/index1_reduction.hpp"
 #include "nhc/derive/models.hpp"
 #include "nhc/derive/reduced_form.hpp"
@@ -74,9 +75,9 @@ CommandRunner add_generate_command(CLI::App& app) {
     }
     check_output_directory(options->directory, {options->scene_path});
     Scene scene = load_scene(options->scene_path, options->read);
-    apply_parameter_overrides(scene, parse_parameter_overrides(scene, options->set));
+    app::apply_parameter_overrides(scene, app::parse_parameter_overrides(scene, options->set));
     const ModelKind kind = model_or_default(scene, options->model);
-    require_model_inputs(scene, kind);
+    app::require_model_inputs(scene, kind);
     const DerivedModel derived = derive_model(scene, kind);
     if (!derived.applicable)
       throw MathError("the " + to_string(kind) + " model does not apply to " + scene.name + ": " +

@@ -19,7 +19,7 @@
 #include <sstream>
 
 #include "commands.hpp"
-#include "model_requirements.hpp"
+#include "nhc/app/model_requirements.hpp"
 #include "flag_rules.hpp"
 #include "nhc/analysis/structural_analysis.hpp"
 #include "nhc/emit/json_writer.hpp"
@@ -28,11 +28,10 @@
 #include "nhc/io/atomic_file.hpp"
 #include "nhc/io/output_path.hpp"
 #include "nhc/io/temporary_files.hpp"
-#include "nhc/jit/gnuplot.hpp"
+#include "nhc/tools/gnuplot.hpp"
 #include "nhc/linearize.hpp"
 #include "nhc/runtime/number_text.hpp"
 #include "nhc/scene/scene.hpp"
-#include "pipeline.hpp"
 
 namespace nhc::cli {
 
@@ -51,7 +50,7 @@ struct LinearizeFlags {
   std::string output;
 };
 
-std::string full(double v) { return format_number(v, 10); }
+std::string full(double v) { return runtime::number_text(v, 10); }
 
 void write_eigenvalues(JsonWriter& json, const std::vector<std::complex<double>>& eigenvalues) {
   json.begin_array();
@@ -158,7 +157,7 @@ void write_text(std::ostream& out, const Linearization& lin, const std::optional
   out << "nhc linearize: " << lin.scene << ", model " << to_string(lin.model) << "\n";
   out << "  operating point:";
   for (const auto& [name, value] : lin.point) out << " " << name << " = " << full(value) << ";";
-  out << "\n  defect " << format_number(lin.defect) << " (largest |d/dt state| relative to 1 + max |state|, at "
+  out << "\n  defect " << runtime::number_text(lin.defect, 3) << " (largest |d/dt state| relative to 1 + max |state|, at "
       << (lin.worst_state.empty() ? "-" : lin.worst_state) << ")\n";
   out << "  cyclic coordinates removed: " << (lin.cyclic.empty() ? "none" : join_names(lin.cyclic)) << "\n";
   if (!lin.kept.empty()) out << "  cyclic coordinates kept as states: " << join_names(lin.kept) << "\n";
@@ -208,7 +207,7 @@ void write_text(std::ostream& out, const Linearization& lin, const std::optional
   }
   if (sweep->thresholds.empty()) out << "  no change of verdict\n";
   for (const VerdictChange& t : sweep->thresholds)
-    out << "  threshold " << sweep->range.name << " = " << format_number(t.value, 12) << ": " << to_string(t.from)
+    out << "  threshold " << sweep->range.name << " = " << runtime::number_text(t.value, 12) << ": " << to_string(t.from)
         << " -> " << to_string(t.to) << "\n";
 }
 
@@ -234,16 +233,16 @@ void write_csv(const fs::path& path, const SweepResult& sweep) {
 std::string stability_script(const SweepResult& sweep, const std::string& scene, std::size_t count,
                              const std::string& terminal, const std::string& output) {
   std::ostringstream g;
-  g << terminal << "\nset output " << jit::gnuplot_string(output) << "\nset datafile separator ','\n"
-    << "set key off\nset grid\nset xlabel " << jit::gnuplot_string(sweep.range.name) << " noenhanced\n"
-    << "set multiplot layout 2,1 title " << jit::gnuplot_string("eigenvalues of " + scene + " against " + sweep.range.name)
+  g << terminal << "\nset output " << tools::gnuplot_string(output) << "\nset datafile separator ','\n"
+    << "set key off\nset grid\nset xlabel " << tools::gnuplot_string(sweep.range.name) << " noenhanced\n"
+    << "set multiplot layout 2,1 title " << tools::gnuplot_string("eigenvalues of " + scene + " against " + sweep.range.name)
     << " noenhanced\n";
   for (const VerdictChange& t : sweep.thresholds)
     g << "set arrow from " << runtime::shortest_text(t.value) << ", graph 0 to " << runtime::shortest_text(t.value) << ", graph 1 nohead dashtype 2\n";
   for (int part = 0; part < 2; ++part) {
-    g << "set ylabel " << jit::gnuplot_string(part == 0 ? "Re(lambda)" : "Im(lambda)") << "\nplot ";
+    g << "set ylabel " << tools::gnuplot_string(part == 0 ? "Re(lambda)" : "Im(lambda)") << "\nplot ";
     for (std::size_t k = 0; k < count; ++k)
-      g << (k ? ", " : "") << jit::gnuplot_string("stability.csv") << " every ::1 using 1:" << (2 + 2 * k + part)
+      g << (k ? ", " : "") << tools::gnuplot_string("stability.csv") << " every ::1 using 1:" << (2 + 2 * k + part)
         << " with points pointtype 7 pointsize 0.6 linecolor " << (k % 8 + 1);
     g << "\n";
   }
@@ -253,7 +252,7 @@ std::string stability_script(const SweepResult& sweep, const std::string& scene,
 
 /// Draws DIR/stability.svg and .png with gnuplot; returns a note when it cannot.
 std::optional<std::string> plot_stability(const fs::path& dir, const SweepResult& sweep, const std::string& scene) {
-  if (const auto missing = jit::gnuplot_missing()) return *missing + ": stability.svg/.png not drawn";
+  if (const auto missing = tools::gnuplot_missing()) return *missing + ": stability.svg/.png not drawn";
   std::size_t count = 0;
   for (const SweepPoint& p : sweep.points) count = std::max(count, p.linearization.eigenvalues.size());
   if (count == 0) return "no eigenvalues to draw";
@@ -268,7 +267,7 @@ std::optional<std::string> plot_stability(const fs::path& dir, const SweepResult
       << stability_script(sweep, scene, count, png, "stability.png");
   }
   std::string output;
-  const int status = jit::run_gnuplot(dir, {"stability.gp"}, output);
+  const int status = tools::run_gnuplot(dir, {"stability.gp"}, output);
   fs::remove(script);
   if (status != 0) return "gnuplot failed: " + output;
   return std::nullopt;
@@ -321,7 +320,7 @@ CommandRunner add_linearize_command(CLI::App& app) {
     const Scene scene = load_scene(flags->scene_path);
     if (!flags->output.empty()) check_output_directory(flags->output, {flags->scene_path});
     const ModelKind kind = model_or_default(scene, flags->model);
-    require_model_inputs(scene, kind);
+    app::require_model_inputs(scene, kind);
     std::vector<PointOverride> overrides;
     std::vector<std::string> names;
     for (const std::string& text : flags->at) {

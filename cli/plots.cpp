@@ -12,7 +12,7 @@
 
 #include "nhc/errors.hpp"
 #include "nhc/io/atomic_file.hpp"
-#include "nhc/jit/gnuplot.hpp"
+#include "nhc/tools/gnuplot.hpp"
 #include "nhc/runtime/number_text.hpp"
 
 namespace nhc::cli {
@@ -113,16 +113,16 @@ std::string plot_script(const fs::path& dir, const Plot& plot) {
   if (xs.empty() || ys.empty()) throw std::logic_error("plot " + plot.stem + ": no finite values");
 
   std::ostringstream g;
-  g << jit::gnuplot_comment(plot.title)
-    << jit::gnuplot_comment("drawn by nhc from the CSV files beside it; redraw with: gnuplot " + plot.stem + ".gp")
+  g << tools::gnuplot_comment(plot.title)
+    << tools::gnuplot_comment("drawn by nhc from the CSV files beside it; redraw with: gnuplot " + plot.stem + ".gp")
     << "reset\n"  // gnuplot runs the scripts one after another: no setting carries over
     << "set datafile separator ','\n"
     << "set terminal svg size " << kWidth << "," << kHeight
     << " dynamic enhanced font 'sans,13' background rgb 'white'\n"
-    << "set output " << jit::gnuplot_string(plot.stem + ".svg") << "\n"
-    << "set title " << jit::gnuplot_string(plot.title) << " noenhanced\n"
-    << "set xlabel " << jit::gnuplot_string(plot.xlabel) << " noenhanced\n"
-    << "set ylabel " << jit::gnuplot_string(plot.ylabel) << " noenhanced\n"
+    << "set output " << tools::gnuplot_string(plot.stem + ".svg") << "\n"
+    << "set title " << tools::gnuplot_string(plot.title) << " noenhanced\n"
+    << "set xlabel " << tools::gnuplot_string(plot.xlabel) << " noenhanced\n"
+    << "set ylabel " << tools::gnuplot_string(plot.ylabel) << " noenhanced\n"
     << "set grid\nset key outside right top\nset border lw 1.2\n";
   for (std::size_t k = 0; k < std::size(kColours); ++k)
     g << "set linetype " << k + 1 << " lc rgb '" << kColours[k] << "'\n";
@@ -142,9 +142,9 @@ std::string plot_script(const fs::path& dir, const Plot& plot) {
     // curves that coincide stay visible as stripes under each other.
     const double width = 1.5 + 1.5 * static_cast<double>(n - 1 - i);
     const std::size_t interval = std::max<std::size_t>(1, resolved[i].rows / 10);
-    g << (i ? ", \\\n     " : "") << jit::gnuplot_string(c.csv) << " skip 1 using " << using_clause(c, resolved[i])
+    g << (i ? ", \\\n     " : "") << tools::gnuplot_string(c.csv) << " skip 1 using " << using_clause(c, resolved[i])
       << " with linespoints lt " << i + 1 << " lw " << width << " pt " << kPointTypes[i % std::size(kPointTypes)] << " ps 1.3 pi " << interval
-      << " title " << jit::gnuplot_string(c.title) << " noenhanced";
+      << " title " << tools::gnuplot_string(c.title) << " noenhanced";
   }
   g << "\n"
     << "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
@@ -153,7 +153,7 @@ std::string plot_script(const fs::path& dir, const Plot& plot) {
     << "} else {\n"
     << "  set terminal png size " << kWidth << "," << kHeight << " enhanced background rgb 'white'\n"
     << "}\n"
-    << "set output " << jit::gnuplot_string(plot.stem + ".png") << "\n"
+    << "set output " << tools::gnuplot_string(plot.stem + ".png") << "\n"
     << "replot\nset output\n";
   return g.str();
 }
@@ -161,7 +161,7 @@ std::string plot_script(const fs::path& dir, const Plot& plot) {
 }  // namespace
 
 void require_gnuplot(const std::string& flag) {
-  if (const auto missing = jit::gnuplot_missing()) throw InputError({flag, 0, 0}, *missing + ", so no plots can be drawn");
+  if (const auto missing = tools::gnuplot_missing()) throw InputError({flag, 0, 0}, *missing + ", so no plots can be drawn");
 }
 
 void draw_plots(const fs::path& dir, const std::vector<Plot>& plots) {
@@ -173,7 +173,7 @@ void draw_plots(const fs::path& dir, const std::vector<Plot>& plots) {
     scripts.push_back(plot.stem + ".gp");
   }
   std::string messages;
-  const int status = jit::run_gnuplot(dir, scripts, messages);
+  const int status = tools::run_gnuplot(dir, scripts, messages);
   // gnuplot prints nothing on success: every line is a warning or an error.
   if (status != 0 || !messages.empty())
     throw std::runtime_error("gnuplot " + std::string(status != 0 ? "failed" : "warned") + " in " + dir.string() +

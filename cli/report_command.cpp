@@ -25,9 +25,9 @@
 #include "nhc/app/run_request.hpp"
 #include "nhc/app/sampled_run.hpp"
 #include "commands.hpp"
-#include "model_requirements.hpp"
+#include "nhc/app/model_requirements.hpp"
 #include "flag_rules.hpp"
-#include "parameter_overrides.hpp"
+#include "nhc/app/parameter_overrides.hpp"
 #include "nhc/derive/discrete_lagrange_dalembert.hpp"
 #include "nhc/derive/models.hpp"
 #include "nhc/emit/derivation_emitters.hpp"
@@ -38,7 +38,8 @@
 #include "nhc/jit/scene_cache.hpp"
 #include "nhc/scene/scene.hpp"
 #include "nhc/scene/tolerances.hpp"
-#include "pipeline.hpp"
+#include "nhc/clock.hpp"
+#include "nhc/runtime/number_text.hpp"
 #include "run_flags.hpp"
 #include "work_precision.hpp"
 
@@ -70,7 +71,7 @@ struct ReportOptions {
 /// The variational integrator's steps of a report: the output interval halved 5 times.
 constexpr int kVariationalStepHalvings = 5;
 
-std::string fmt(double v, int precision = 3) { return std::isnan(v) ? std::string("—") : format_number(v, precision); }
+std::string fmt(double v, int precision = 3) { return std::isnan(v) ? std::string("—") : runtime::number_text(v, precision); }
 
 std::vector<double> decades_or_throw(const std::string& flag, const std::string& spec) {
   try {
@@ -103,7 +104,7 @@ PreparedReport prepare(const ReportOptions& o) {
   // is measured against a reference run.
   if (!o.initial.empty()) r.scene.reference = {};
   r.kind = model_or_default(r.scene, o.model);
-  require_model_inputs(r.scene, r.kind);
+  app::require_model_inputs(r.scene, r.kind);
   WorkPrecisionSettings& s = r.settings;
   s.rtols = decades_or_throw("--tolerances", o.tolerances);
   for (double rtol : s.rtols)
@@ -147,11 +148,11 @@ PreparedReport prepare(const ReportOptions& o) {
                                            "--integrators ida,variational");
   }
   for (const std::string& a : o.set) {
-    const auto [name, value] = split_assignment("--set", a);
-    s.parameter_overrides.emplace_back(name, parse_number("--set", value, a));
+    const auto [name, value] = app::split_assignment("--set", a);
+    s.parameter_overrides.emplace_back(name, app::parse_number("--set", value, a));
   }
   if (!o.sweep.empty()) {
-    const auto [name, range] = split_assignment("--sweep", o.sweep);
+    const auto [name, range] = app::split_assignment("--sweep", o.sweep);
     s.sweep_parameter = name;
     s.sweep_values = decades_or_throw("--sweep", range);
     std::reverse(s.sweep_values.begin(), s.sweep_values.end());  // LO:HI → increasing

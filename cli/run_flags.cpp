@@ -10,10 +10,10 @@
 #include "nhc/app/input_laws.hpp"
 #include "nhc/derive/discrete_lagrange_dalembert.hpp"
 #include "nhc/errors.hpp"
-#include "output_selection.hpp"
+#include "nhc/app/output_selection.hpp"
 #include "flag_rules.hpp"
-#include "parameter_overrides.hpp"
-#include "pipeline.hpp"
+#include "nhc/app/parameter_overrides.hpp"
+#include "nhc/app/initial_values.hpp"
 
 namespace nhc::cli {
 
@@ -126,7 +126,7 @@ Scene load_run_scene(RunFlags& flags) {
   std::map<std::string, std::string> laws;
   std::vector<std::string> signals;
   for (const std::string& text : flags.inputs) {
-    const auto [name, value] = split_assignment("--input", text);
+    const auto [name, value] = app::split_assignment("--input", text);
     if (value.rfind('@', 0) != 0 && app::is_feedback_law(scene, name, value, "--input")) laws[name] = value;
     else signals.push_back(text);
   }
@@ -143,7 +143,7 @@ app::RunRequest run_request(const RunFlags& flags, const Scene& scene) {
   r.atol = flags.atol;
   if (flags.outputs) r.outputs = *flags.outputs;
   if (!flags.output_times.empty()) {
-    r.output_times = parse_output_times(flags.output_times, scene.initial.t0);
+    r.output_times = app::parse_output_times(flags.output_times, scene.initial.t0);
     r.output_times_text = flags.output_times;
   }
   r.max_steps = flags.max_steps;
@@ -219,7 +219,7 @@ runtime::IntegratorOptions run_integrator_options(const RunFlags& flags, const S
 }
 
 runtime::InitialState run_initial_state(const RunFlags& flags, const Scene& scene_set, const runtime::Model& model) {
-  runtime::InitialState initial = initial_state_of(scene_set, model);  // [initial] expressions follow --set
+  runtime::InitialState initial = app::initial_state_of(scene_set, model);  // [initial] expressions follow --set
   // --repair-initial: given values that miss a hidden constraint may move, all but those pinned by
   // [initial] fixed; consistent ones stay (runtime::solve_or_repair_initial_point).
   initial.repair = flags.repair;

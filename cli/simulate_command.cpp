@@ -17,12 +17,12 @@
 
 #include "commands.hpp"
 #include "flag_rules.hpp"
-#include "output_selection.hpp"
+#include "nhc/app/output_selection.hpp"
 #include "nhc/app/scene_outputs.hpp"
-#include "input_signals.hpp"
-#include "parameter_overrides.hpp"
+#include "nhc/app/input_signals.hpp"
+#include "nhc/app/parameter_overrides.hpp"
 #include "progress_bar.hpp"
-#include "model_requirements.hpp"
+#include "nhc/app/model_requirements.hpp"
 #include "nhc/app/preparation.hpp"
 #include "nhc/app/scene_events.hpp"
 #include "nhc/app/run_engine.hpp"
@@ -35,7 +35,8 @@
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/scene/scene.hpp"
 #include "nhc/scene/tolerances.hpp"
-#include "pipeline.hpp"
+#include "nhc/clock.hpp"
+#include "nhc/runtime/number_text.hpp"
 #include "run_flags.hpp"
 #include "trajectory_plots.hpp"
 #include "sensitivity_option.hpp"
@@ -44,7 +45,7 @@ namespace nhc::cli {
 
 namespace {
 
-std::string format(double v, int precision = 3) { return format_number(v, precision); }
+std::string format(double v, int precision = 3) { return runtime::number_text(v, precision); }
 
 /// The run's drift lines: the reference error, the hidden (or, for suslov, monitored) constraints
 /// and the invariants over the samples.
@@ -88,7 +89,7 @@ int run_simulate(SimulateOptions& options) {
   const auto load_start = Clock::now();
   const Scene scene = load_run_scene(options.run);
   const ModelKind kind = model_or_default(scene, options.run.model);
-  require_model_inputs(scene, kind);
+  app::require_model_inputs(scene, kind);
   check_run_flags(options.run, scene, kind);  // before anything is compiled or written
   // The scene's [controller]: the run goes from sample to sample (app/run_engine.hpp).
   const bool sampled = scene.controller.present;
@@ -103,7 +104,7 @@ int run_simulate(SimulateOptions& options) {
                                       : std::string();
   const bool write_event_table = !events_path.empty();
   // Every file the run reads: the scene and the --input series (nhc/io/output_path.hpp).
-  std::vector<std::string> inputs = input_files(options.run.inputs);
+  std::vector<std::string> inputs = app::input_files(options.run.inputs);
   inputs.insert(inputs.begin(), options.run.scene_path);
   if (!options.output.empty() && !csv_to_stdout) check_output_file(options.output, inputs);
   if (write_event_table) check_output_file(events_path, inputs);
@@ -111,14 +112,14 @@ int run_simulate(SimulateOptions& options) {
   std::ostream& info = csv_to_stdout ? std::cerr : std::cout;
   PathPlane plane;
   if (!options.plot.empty()) require_gnuplot("--plot"), plane = path_plane(scene, options.plot_xy, "--plot-xy");
-  const std::vector<ParameterOverride> overrides = parse_parameter_overrides(scene, options.run.set);
+  const std::vector<app::ParameterOverride> overrides = app::parse_parameter_overrides(scene, options.run.set);
   Scene scene_set = scene;  // the overridden values for the analysis; the model takes them at run time
-  apply_parameter_overrides(scene_set, overrides);
+  app::apply_parameter_overrides(scene_set, overrides);
   const double t0 = scene.initial.t0;
   const std::vector<double> times = run_times(options.run, scene);
   const double t_end = times.back();
   const auto inputs_start = Clock::now();
-  const InputSignals input_signals = parse_input_signals(scene_set, options.run.inputs, t0, t_end);
+  const app::InputSignals input_signals = app::parse_input_signals(scene_set, options.run.inputs, t0, t_end);
   const double input_seconds = seconds_since(inputs_start);  // reading --input files is not deriving
   // Derived and analysed once (app::prepare_and_build, as Python's Scene.build): the initial-point
   // check's analysis is what the build reduces.
@@ -136,7 +137,7 @@ int run_simulate(SimulateOptions& options) {
   const double load_seconds = before_check_seconds + prepared.check_seconds;
   const jit::LoadedModel& built = prepared.built;
   for (const std::string& name : options.sensitivity.names)
-    refuse_unread_parameter(scene, built.model(), name, "--sensitivity", "its sensitivities are all zero");
+    app::refuse_unread_parameter(scene, built.model(), name, "--sensitivity", "its sensitivities are all zero");
   if (build_options.sensitivities) parse_sensitivities(built.model(), options.sensitivity.names);
   const runtime::Model& model = built.model();
   const double derive_seconds =
@@ -154,20 +155,20 @@ int run_simulate(SimulateOptions& options) {
       behind.poll();
       if (bar) bar(at);
     };
-  const std::vector<double> p = parameters_with_overrides(model, overrides);
+  const std::vector<double> p = app::parameters_with_overrides(model, overrides);
   app::SceneOutputs outputs(scene_set, model, p);  // [outputs] and [contacts]: extra CSV columns
   for (const std::string& note : outputs.notes()) std::cerr << note << "\n";
   // The controller's laws against the model, before the run; its states are CSV columns.
   std::shared_ptr<app::ControllerLaws> controller;
-  ExtraColumns controller_columns;
+  app::ExtraColumns controller_columns;
   if (sampled) {
     controller = std::make_shared<app::ControllerLaws>(scene_set, model, p);
     controller_columns.names = controller->state_columns();
   }
-  const ExtraColumns* extra = sampled ? &controller_columns : nullptr;
+  const app::ExtraColumns* extra = sampled ? &controller_columns : nullptr;
   const std::vector<std::string> columns =
       options.columns.empty() ? std::vector<std::string>{}
-                              : parse_columns(options.columns, csv_columns(model, p, outputs, extra));
+                              : app::parse_columns(options.columns, app::csv_columns(model, p, outputs, extra));
   const runtime::InitialState initial = run_initial_state(options.run, scene_set, model);
   if (build_options.sensitivities) check_sensitivities_given(model, initial, options.sensitivity.names);
   // The run: app::simulate, the one engine of every front end (app/run_engine.hpp).
@@ -193,7 +194,7 @@ int run_simulate(SimulateOptions& options) {
       runtime::write_sensitivity_csv(out, model, p, parse_sensitivities(model, options.sensitivity.names),
                                      sensitivities->samples);
     else
-      write_selected_csv(out, model, p, run.samples, columns, outputs, extra);
+      app::write_selected_csv(out, model, p, run.samples, columns, outputs, extra);
   };
   // No row, no file: a header-only CSV would look like a result.
   const std::size_t csv_rows = sensitivities ? sensitivities->samples.size() : run.samples.size();
@@ -241,7 +242,7 @@ int run_simulate(SimulateOptions& options) {
                                              (built.library().reused ? " (cached)" : ""))
        << ", integrate "
             << format(st.initialization_seconds + st.integration_seconds) << " s";
-  if (!input_files(options.run.inputs).empty()) info << ", read inputs " << format(input_seconds) << " s";
+  if (!app::input_files(options.run.inputs).empty()) info << ", read inputs " << format(input_seconds) << " s";
   info << "\n";
   if (sensitivities) info << describe_sensitivity_cost(*sensitivities, options.sensitivity, st);
   // Errors and drifts of a run without a sample would read as zeros: there are none to report.

@@ -15,10 +15,9 @@
 #include "nhc/errors.hpp"
 #include "nhc/io/atomic_file.hpp"
 #include "nhc/io/temporary_files.hpp"
-#include "parameter_overrides.hpp"
-#include "pipeline.hpp"
+#include "nhc/app/parameter_overrides.hpp"
 #include "nhc/jit.hpp"
-#include "nhc/jit/gnuplot.hpp"
+#include "nhc/tools/gnuplot.hpp"
 #include "nhc/runtime/number_text.hpp"
 
 namespace nhc::cli {
@@ -48,7 +47,7 @@ std::vector<double> decades(const std::string& flag, const std::string& spec) {
   const double span = std::log10(hi) - std::log10(lo);
   if (span > 19 + 1e-9) throw std::invalid_argument(flag + " " + spec + ": more than 20 decades");
   const int n = static_cast<int>(std::floor(span + 1e-9));
-  for (int k = 0; k <= n; ++k) values.push_back(std::stod(format_number(hi / std::pow(10.0, k), 12)));
+  for (int k = 0; k <= n; ++k) values.push_back(std::stod(runtime::number_text(hi / std::pow(10.0, k), 12)));
   return values;
 }
 
@@ -86,7 +85,7 @@ WorkPrecision measure_work_precision(const Scene& scene, ModelKind kind, const W
     if (!scene.jet->parameter_index(name)) throw InputError({scene_file, 0, 0}, "the scene has no parameter '" + name + "'");
   };
   // A parameter the model does not read is not in its header: setting it changes nothing there
-  // (parameters_with_overrides), sweeping it would measure one motion again and again.
+  // (app::parameters_with_overrides), sweeping it would measure one motion again and again.
   WorkPrecisionSettings read = settings;
   read.parameter_overrides.clear();
   for (const auto& [name, value] : settings.parameter_overrides) {
@@ -95,7 +94,7 @@ WorkPrecision measure_work_precision(const Scene& scene, ModelKind kind, const W
   }
   if (!settings.sweep_parameter.empty()) {
     check_parameter(settings.sweep_parameter);
-    refuse_unread_parameter(scene, dense, settings.sweep_parameter, "--sweep", "sweeping it would change nothing");
+    app::refuse_unread_parameter(scene, dense, settings.sweep_parameter, "--sweep", "sweeping it would change nothing");
   }
 
   runtime::WorkPrecisionModels models;
@@ -144,7 +143,7 @@ struct Curve {
 void write_data(const fs::path& path, const std::vector<Curve>& curves) {
   write_file_atomically(path.string(), [&](std::ostream& out) {
     for (const Curve& c : curves) {
-      out << jit::gnuplot_comment(c.title);
+      out << tools::gnuplot_comment(c.title);
       for (const auto& [x, y] : c.points) out << runtime::number_text(x, 10) << ' ' << runtime::number_text(y, 10) << '\n';
       out << "\n\n";
     }
@@ -157,19 +156,19 @@ std::string plot_script(const std::string& stem, const std::string& title, const
                         const std::string& suffix) {
   std::ostringstream g;
   g << "set terminal svg size 900,560 dynamic enhanced font 'sans,12' background rgb 'white'\n"
-    << "set output " << jit::gnuplot_string(stem + ".svg" + suffix) << "\n"
-    << "set title " << jit::gnuplot_string(title) << " noenhanced\n"
-    << "set xlabel " << jit::gnuplot_string(xlabel) << "\nset ylabel " << jit::gnuplot_string(ylabel) << "\n"
+    << "set output " << tools::gnuplot_string(stem + ".svg" + suffix) << "\n"
+    << "set title " << tools::gnuplot_string(title) << " noenhanced\n"
+    << "set xlabel " << tools::gnuplot_string(xlabel) << "\nset ylabel " << tools::gnuplot_string(ylabel) << "\n"
     << "set logscale x\nset format x '10^{%L}'\n"
     << (log_y ? "set logscale y\nset format y '10^{%L}'\n" : "")
     << "set grid\nset key outside right top\nset mxtics 10\n";
   std::ostringstream plot;
   plot << "plot ";
   for (size_t i = 0; i < curves.size(); ++i)
-    plot << (i ? ", \\\n     " : "") << jit::gnuplot_string(stem + ".dat") << " index " << i
+    plot << (i ? ", \\\n     " : "") << tools::gnuplot_string(stem + ".dat") << " index " << i
          << " using 1:2 with "
          << (curves[i].markers ? "linespoints pointtype " + std::to_string(i % 13 + 1) : std::string("lines"))
-         << " title " << jit::gnuplot_string(curves[i].title)
+         << " title " << tools::gnuplot_string(curves[i].title)
          << " noenhanced";
   g << plot.str() << "\n"
     << "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
@@ -177,7 +176,7 @@ std::string plot_script(const std::string& stem, const std::string& title, const
     << "} else {\n"
     << "  set terminal png size 900,560 enhanced background rgb 'white'\n"
     << "}\n"
-    << "set output " << jit::gnuplot_string(stem + ".png" + suffix) << "\n"
+    << "set output " << tools::gnuplot_string(stem + ".png" + suffix) << "\n"
     << "replot\nset output\n";
   return g.str();
 }
@@ -185,7 +184,7 @@ std::string plot_script(const std::string& stem, const std::string& title, const
 }  // namespace
 
 std::vector<std::string> plot_work_precision(const std::string& directory, const WorkPrecision& wp) {
-  if (const auto missing = jit::gnuplot_missing()) throw std::runtime_error(*missing + ": no plots drawn");
+  if (const auto missing = tools::gnuplot_missing()) throw std::runtime_error(*missing + ": no plots drawn");
   const fs::path dir = directory;
   const std::string suffix = ".tmp" + std::to_string(getpid());
 
@@ -195,7 +194,7 @@ std::vector<std::string> plot_work_precision(const std::string& directory, const
   for (const Measurement& m : wp.measurements) {
     if (!std::isfinite(m.error)) continue;
     std::string title = m.configuration.label();
-    if (m.sweep_value) title += ", " + wp.settings.sweep_parameter + " = " + format_number(*m.sweep_value);
+    if (m.sweep_value) title += ", " + wp.settings.sweep_parameter + " = " + runtime::number_text(*m.sweep_value, 3);
     auto it = curve_of.find(title);
     if (it == curve_of.end()) {
       it = curve_of.emplace(title, curves.size()).first;
@@ -218,7 +217,7 @@ std::vector<std::string> plot_work_precision(const std::string& directory, const
     std::vector<Curve> steps;
     std::map<std::string, size_t> steps_of;
     for (const Measurement& m : wp.measurements) {
-      const std::string title = m.configuration.label() + ", rtol " + format_number(m.rtol);
+      const std::string title = m.configuration.label() + ", rtol " + runtime::number_text(m.rtol, 3);
       auto it = steps_of.find(title);
       if (it == steps_of.end()) {
         it = steps_of.emplace(title, steps.size()).first;
@@ -267,7 +266,7 @@ std::vector<std::string> plot_work_precision(const std::string& directory, const
       out << script;
     }
     std::string messages;
-    const int status = jit::run_gnuplot(dir, {tmp_script.filename().string()}, messages);
+    const int status = tools::run_gnuplot(dir, {tmp_script.filename().string()}, messages);
     std::error_code ec;
     fs::remove(tmp_script, ec);
     for (const char* ext : {".svg", ".png"}) {

@@ -1,6 +1,7 @@
-# `cmake --install`: the nhc command and the program it starts, the base, codegen, runtime, jit, linearize, connect (and, when HDF5
-# was found, ensemble) headers and libraries, the exported targets nhc::nhc, nhc::base, nhc::codegen,
-# nhc::runtime, nhc::jit, nhc::linearize, nhc::connect, nhc::ensemble, and a package config with version file
+# `cmake --install`: the nhc command and the program it starts, the public headers (docs/library.md) and
+# the libraries base, codegen, runtime, tools, jit, app, linearize, connect (and, when HDF5 was found,
+# ensemble), the exported targets nhc::nhc, nhc::base, nhc::codegen,
+# nhc::runtime, nhc::tools, nhc::jit, nhc::app, nhc::linearize, nhc::connect, nhc::ensemble, and a package config with version file
 # and nhc_add_model(), so that find_package(nhc) works (examples/app/).
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
@@ -11,19 +12,18 @@ set(NHC_INSTALL_CMAKEDIR "${CMAKE_INSTALL_LIBDIR}/cmake/nhc" CACHE STRING
 set_target_properties(nhc_base PROPERTIES EXPORT_NAME base)
 set_target_properties(nhc_codegen PROPERTIES EXPORT_NAME codegen)
 set_target_properties(nhc_runtime PROPERTIES EXPORT_NAME runtime)
+set_target_properties(nhc_tools PROPERTIES EXPORT_NAME tools)
 set_target_properties(nhc_jit PROPERTIES EXPORT_NAME jit)
 set_target_properties(nhc_linearize PROPERTIES EXPORT_NAME linearize)
 set_target_properties(nhc_connect PROPERTIES EXPORT_NAME connect)
-set(nhc_installed_libraries nhc_base nhc_codegen nhc_runtime nhc_jit nhc_linearize nhc_connect)
-set(nhc_installed_header_trees ${PROJECT_SOURCE_DIR}/base/nhc ${PROJECT_SOURCE_DIR}/codegen/nhc ${PROJECT_SOURCE_DIR}/runtime/nhc
-    ${PROJECT_SOURCE_DIR}/jit/nhc ${PROJECT_SOURCE_DIR}/linearize/nhc ${PROJECT_SOURCE_DIR}/connect/nhc)
+set_target_properties(nhc_app PROPERTIES EXPORT_NAME app)
+set(nhc_installed_libraries nhc_base nhc_codegen nhc_runtime nhc_tools nhc_jit nhc_app nhc_linearize nhc_connect)
 # nhcConfig.cmake looks for the ensemble's dependencies only when the ensemble was installed.
 set(NHC_PACKAGE_HAS_ENSEMBLE OFF)
 set(NHC_PACKAGE_ENSEMBLE_USES_MPI OFF)
 if(TARGET nhc_ensemble)
   set_target_properties(nhc_ensemble PROPERTIES EXPORT_NAME ensemble)
   list(APPEND nhc_installed_libraries nhc_ensemble)
-  list(APPEND nhc_installed_header_trees ${PROJECT_SOURCE_DIR}/ensemble/nhc)
   set(NHC_PACKAGE_HAS_ENSEMBLE ON)
   if(MPI_C_FOUND)
     set(NHC_PACKAGE_ENSEMBLE_USES_MPI ON)
@@ -42,10 +42,17 @@ install(TARGETS nhc ${nhc_installed_libraries}
   RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
-# The trees share the top directory nhc/ (nhc/scene, nhc/derive, …, nhc/runtime, nhc/jit.hpp, nhc/connect).
-install(DIRECTORY ${nhc_installed_header_trees}
-  DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
-  FILES_MATCHING PATTERN "*.hpp" PATTERN "*.h")
+# The public headers only (cmake/nhcPublicHeaders.cmake, docs/library.md): ROOM/nhc/X goes to
+# include/nhc/X, so that the rooms share the top directory nhc/.
+include(${PROJECT_SOURCE_DIR}/cmake/nhcPublicHeaders.cmake)
+nhc_public_headers(nhc_public_headers)
+foreach(header IN LISTS nhc_public_headers)
+  string(FIND "${header}" "/" room_end)  # ROOM/ (REGEX REPLACE "^…" would strip every directory)
+  math(EXPR room_end "${room_end} + 1")
+  string(SUBSTRING "${header}" ${room_end} -1 installed)
+  get_filename_component(installed_dir "${installed}" DIRECTORY)
+  install(FILES ${PROJECT_SOURCE_DIR}/${header} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/${installed_dir})
+endforeach()
 
 install(EXPORT nhcTargets NAMESPACE nhc:: DESTINATION ${NHC_INSTALL_CMAKEDIR})
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/nhcConfig.cmake.in

@@ -50,7 +50,7 @@ run_target() {
 replay_timeout=${NHC_FUZZ_TIMEOUT:-20}
 status=0
 
-# Then every corpus input through the symbolic stages (derive, print, reduce, generate; issue 44),
+# Then every corpus input through the symbolic stages (derive, print, reduce, generate, under the work budget),
 # in the Release build (under the sanitizers the work is 5-10 times slower, and so is its budget):
 # at most NHC_REPLAY_SECONDS (10) of processor time and 2 GB each, or the run fails naming the input
 # (tests/fuzz/replay_derive.sh). The parsers' fuzzers below never derive.

@@ -1,4 +1,4 @@
-// Stabilizing the Whipple bicycle below its weave speed with a steer torque (issue 28).
+// Stabilizing the Whipple bicycle below its weave speed with a steer torque, an input of the scene.
 //
 // At v = 3 m/s the benchmark bicycle (Meijaard et al. 2007; examples/whipple/whipple_bicycle.toml)
 // is unstable: its weave mode grows. This application
@@ -29,7 +29,7 @@
 #include <vector>
 
 #include "nhc/jit.hpp"
-#include "nhc/jit/gnuplot.hpp"
+#include "nhc/tools/gnuplot.hpp"
 #include "nhc/linearize.hpp"
 #include "nhc/runtime/number_text.hpp"
 #include "nhc/runtime/runtime.hpp"
@@ -116,7 +116,7 @@ void write_csv(const std::filesystem::path& path, const Motion& free, const Moti
 }
 
 void plot(const std::filesystem::path& dir) {
-  if (const auto missing = nhc::jit::gnuplot_missing()) {
+  if (const auto missing = nhc::tools::gnuplot_missing()) {
     std::cout << *missing << ": no picture (the CSV has the data)\n";
     return;
   }
@@ -139,7 +139,7 @@ do for [format in 'svg png'] {
   std::ofstream(dir / "steer_control.gp") << script;
   // nhc's gnuplot runner: the directory and the script's name are arguments, never a shell's text.
   std::string messages;
-  if (nhc::jit::run_gnuplot(dir, {"steer_control.gp"}, messages) != 0) std::cout << "gnuplot failed: no picture\n" << messages;
+  if (nhc::tools::run_gnuplot(dir, {"steer_control.gp"}, messages) != 0) std::cout << "gnuplot failed: no picture\n" << messages;
 }
 
 }  // namespace

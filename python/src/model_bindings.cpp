@@ -17,7 +17,7 @@
 #include "model_argument.hpp"
 #include "nhc/app/parameter_values.hpp"
 #include "nhc/app/initial_values.hpp"
-#include "nhc/app/pipeline.hpp"
+#include "nhc/app/initial_values.hpp"
 #include "nhc/app/preparation.hpp"
 #include "nhc/app/parameter_overrides.hpp"
 #include "nhc/app/run_request.hpp"
@@ -40,10 +40,10 @@ namespace nhc::python {
 
 namespace {
 
-/// The same model generated with more (dF/dp: jit::BuildOptions::sensitivities; the variational
-/// step: BuildOptions::variational), built on the first simulate() that needs it; shared by the
-/// copies of a BuiltModel.
-struct SensitivityBuild {
+/// A variant of a built model generated with more functions (dF/dp: jit::BuildOptions::sensitivities;
+/// the variational step: BuildOptions::variational; the multiplier-free form: reduced_form), built
+/// on the first call that needs it; shared by the copies of a BuiltModel.
+struct OnDemandModel {
   std::mutex building;
   std::shared_ptr<jit::LoadedModel> loaded;
 };
@@ -57,9 +57,9 @@ struct BuiltModel {
   ModelKind kind;
   std::shared_ptr<jit::LoadedModel> loaded;
   std::vector<double> parameters;  ///< the model's parameters at `scene`'s values
-  std::shared_ptr<SensitivityBuild> with_sensitivities = std::make_shared<SensitivityBuild>();
-  std::shared_ptr<SensitivityBuild> with_variational_step = std::make_shared<SensitivityBuild>();
-  std::shared_ptr<SensitivityBuild> with_reduced_form = std::make_shared<SensitivityBuild>();
+  std::shared_ptr<OnDemandModel> with_sensitivities = std::make_shared<OnDemandModel>();
+  std::shared_ptr<OnDemandModel> with_variational_step = std::make_shared<OnDemandModel>();
+  std::shared_ptr<OnDemandModel> with_reduced_form = std::make_shared<OnDemandModel>();
   /// The symbolic linearization of the model (input_jacobian, linearize_along without keep or
   /// states), made on first use; created, used and destroyed with the GIL held (GiNaC inside).
   std::shared_ptr<std::optional<Linearizer>> linearizer = std::make_shared<std::optional<Linearizer>>();
@@ -103,7 +103,7 @@ struct BuiltModel {
  private:
   /// The GIL serialises the builds (it is released only while one waits for the compiler, when
   /// another thread may come here: the mutex, taken without the GIL, keeps it to one build).
-  const runtime::Model& built_once(SensitivityBuild& slot, const jit::BuildOptions& options) const {
+  const runtime::Model& built_once(OnDemandModel& slot, const jit::BuildOptions& options) const {
     std::unique_lock<std::mutex> lock(slot.building, std::try_to_lock);
     if (!lock.owns_lock()) {
       py::gil_scoped_release unlocked;

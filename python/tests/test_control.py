@@ -1,4 +1,4 @@
-"""Linearization for control and parameter studies (issue 46), each against an independent path:
+"""Linearization for control and parameter studies, each against an independent path:
 a SymPy model of the two-wheeled pendulum written here, `nhc simulate --set`, the compile cache's
 contents."""
 import os
@@ -110,11 +110,8 @@ def test_keep_x_gives_six_states_whose_eigenvalues_match_sympy():
 
 
 def test_the_wheeled_pendulum_example_linearizes_as_the_sympy_model(source):
-    # examples/wheeled_pendulum.toml comes with the feedback-law work (issue 46, branch control):
-    # the same checks on it once it is there, upright at rest.
+    # The example scene against the SymPy model written here, upright at rest.
     path = source / "examples" / "wheeled_pendulum.toml"
-    if not path.exists():
-        pytest.skip("examples/wheeled_pendulum.toml is not in this tree yet")
     scene = nhc.Scene.load(path)
     A_ref, B_ref = sympy_linearization(scene.parameters)
     lin = scene.linearize(at={"th": 0.0, "th'": 0.0}, keep=["x"], states=STATES)

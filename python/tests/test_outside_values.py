@@ -1,4 +1,4 @@
-"""Values from outside the scene (issue 46): feedback laws written through [definitions] (in the
+"""Values from outside the scene: feedback laws written through [definitions] (in the
 scene and from --input), --initial on every command that runs the model, the default end of a run
 after a new t0, and Python's sampled controller taking [simulate] t_end. Each against an
 independent path: the law written out, closed forms of the oscillator x'' = -k x, the Appell-Hamel

@@ -46,7 +46,7 @@ def test_derive_json_evaluates_to_the_hand_derived_residual():
     want = -2.0 * 0.25 * -1.3 - 2.0 * 9.81 * 0.5 * math.sin(0.7)
     assert got == pytest.approx(want, rel=1e-12)
     assert "\\begin{align" in eqs._repr_latex_()
-    # Math only: MathJax shows \section and \texttt as raw text (issue 47).
+    # Math only: MathJax shows \section and \texttt as raw text, so the LaTeX for Jupyter holds no document commands.
     for raw in ("\\section", "\\subsection", "\\texttt", "\\documentclass"):
         assert raw not in eqs._repr_latex_()
     assert "R_{\\theta}" in eqs._repr_latex_() or "R_{\\mathrm{th}}" in eqs._repr_latex_()

@@ -1,4 +1,4 @@
-// Singular cases are reported in words, not crashed on (issue 3): the vakonomic particle at
+// Singular cases are reported in words, not crashed on: the vakonomic particle at
 // λ' = 1, the holder particle at λ = 0, vakonomic Appell–Hamel where m v = λ b/a, a suslov
 // model with identically singular ∂f/∂q'^dep, and a structurally singular system.
 #include <catch2/catch.hpp>

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""`nhc animate` in a real browser (issue 30): the page of one example is loaded in headless
+"""`nhc animate` in a real browser: the page of one example is loaded in headless
 Chromium at two times through its fragment (#t=…&marker=…&size=…), once for a screenshot and
 once for the page's state (its camera and errors, #nhc-state). Fails on an error in the page or on
 the console, a blank picture, two times giving the same picture, or a marker that is not where

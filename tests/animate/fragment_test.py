@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The animation page survives any fragment (issue 43): malformed percent-encoding (#t=50%,
+"""The animation page survives any fragment: malformed percent-encoding (#t=50%,
 #t=%E0%A4%A) and unknown keys are ignored, never thrown; a valid #t= still opens the page paused at
 that time. The page is a pendulum started at t0 = 1e6 (where 9-digit times were a staircase), loaded
 in headless Chromium (browser_test.py's way); it must write its state (#nhc-state) with no error.

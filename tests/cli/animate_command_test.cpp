@@ -1,4 +1,4 @@
-// `nhc animate` (issue 30; docs/animate.md) on a pendulum (tests/cli/scenes/visual_pendulum.toml):
+// `nhc animate` (docs/animate.md) on a pendulum (tests/cli/scenes/visual_pendulum.toml):
 // the page's samples of the bob against the bob computed from the CSV of `nhc simulate` (the same
 // run), its sizes and rotation; three.js beside the page; refusals (no [visual], an output that is
 // the scene) exit 2 and leave nothing; a run that fails part way keeps its page and exits 3.

@@ -352,7 +352,7 @@ TEST_CASE("JSON output: schema, symbols, and a symbolic round trip", "[cli][json
 TEST_CASE("definitions stay named: the JSON's \"definitions\" substituted give the --expand equations", "[cli][json][intermediates]") {
   // Two derivations of each example with definitions: by default through its definitions kept
   // as named quantities, listed after the equations; with --expand through every definition
-  // substituted first (issue 27). Substituting the listed definitions, last to first, into the
+  // substituted first. Substituting the listed definitions, last to first, into the
   // first gives functions equal to the second (compared at sample points: the two may differ
   // by sin² + cos² = 1).
   // The small examples' definitions are substituted where they are small (intermediate.hpp):
@@ -455,7 +455,7 @@ TEST_CASE("LaTeX output of the examples compiles with pdflatex, the Whipple bicy
     INFO(latex.out.substr(latex.out.size() > 3000 ? latex.out.size() - 3000 : 0));
     CHECK(latex.exit_code == 0);
     CHECK(file_exists(dir + "/" + name + ".pdf"));
-    // "Output written on NAME.pdf (N pages, …)": issue 27 wants the bicycle on a few pages (its
+    // "Output written on NAME.pdf (N pages, …)": the goal is the bicycle on a few pages (its
     // equations over its definitions, then the definitions) where expanded it took 299.
     std::smatch pages;
     REQUIRE(std::regex_search(latex.out, pages, std::regex(R"(\((\d+) pages?,)")));

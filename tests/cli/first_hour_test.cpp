@@ -76,7 +76,7 @@ TEST_CASE("a given value that misses a hidden constraint gets the same words in 
   CHECK_THAT(simulate.err, Contains("hidden constraint f1") && Contains("residual -1.699437495e-05") &&
                                Contains("atol + rtol") && Contains("x' = 1") && Contains("y' = 0.5") &&
                                Contains("z' = 0.559"));
-  // Checked before compiling: no summary, no file (issue 14, item 3).
+  // Checked before compiling: no summary, no file.
   CHECK(simulate.out.empty());
   CHECK_FALSE(file_exists(dir + "/out.csv"));
 }

@@ -1,4 +1,4 @@
-// `nhc simulate --input` (issue 28) on the driven oscillator x'' = -x + F from rest
+// `nhc simulate --input` on the driven oscillator x'' = -x + F from rest
 // (tests/cli/scenes/driven_oscillator.toml), against the closed form for F = sin(w t):
 // x = (w sin t - sin(w t)) / (w^2 - 1). An expression replaces the default F = 0; a CSV series of
 // the same signal is interpolated linearly (error O(h^2)); bad flags and files are exit 2 with

@@ -1,4 +1,4 @@
-// The one output policy (issue 43, items 2 and 3; nhc/io/output_path.hpp, docs/safety.md), in a
+// The one output policy (nhc/io/output_path.hpp, docs/safety.md), in a
 // temporary directory: a character device and a FIFO given as -o are written in place and stay
 // what they are (a FIFO without a reader is exit 2, not a hang); a symbolic link stays and its
 // target gets the CSV; an --input file is refused as -o by identity (by name, through a link,

@@ -1,4 +1,4 @@
-// Reading has limits (issue 43, item 9; nhc/io/input_file.hpp, docs/safety.md): a scene or an
+// Reading has limits (nhc/io/input_file.hpp, docs/safety.md): a scene or an
 // --input CSV that is not a regular file (/dev/zero, a directory, a FIFO) or is larger than 64 MB
 // is refused in one line naming it, exit 2, before it is read (each run is stopped after 60 s, so
 // that reading /dev/zero or waiting on a FIFO fails the test instead of hanging it). And the

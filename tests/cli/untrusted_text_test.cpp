@@ -1,4 +1,4 @@
-// Text read from files never becomes code (issue 43, item 1; docs/safety.md): an ensemble file
+// Text read from files never becomes code (docs/safety.md): an ensemble file
 // whose every string (scene, model and scene-file attributes, design variable names, state and
 // invariant names) and file and directory names holding backquotes, $(...), newlines, quotes,
 // a gnuplot macro and a trailing backslash go through every plot path — nhc plot,

@@ -1,4 +1,4 @@
-// `nhc simulate --integrator variational --step H` (issue 31; docs/variational.md) as a user meets
+// `nhc simulate --integrator variational --step H` (docs/variational.md) as a user meets
 // it: the inclined knife edge against its closed form ([reference]) with IDA's CSV columns; the
 // refusals of flags and scenes the integrator does not take (exit 2, nothing written); Newton's
 // failure at the Appell–Hamel singular point in words (exit 3, the motion up to there kept).

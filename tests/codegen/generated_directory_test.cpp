@@ -1,5 +1,5 @@
 // generated/ against a fresh `nhc generate` of every example (staleness), the headers compiled
-// warning-free by g++ and clang++ under the strict flags of issue 4, and the C table they declare
+// warning-free by g++ and clang++ under the strict flags, and the C table they declare
 // identical to the runtime's.
 #include <catch2/catch.hpp>
 #include <sys/wait.h>

@@ -1,7 +1,7 @@
 // Named intermediates (nhc/expr/intermediate.hpp): derivatives by the chain rule through them,
 // checked against independent paths — GiNaC's derivative of the fully substituted expression
 // where that is small, and central finite differences of the same quantity computed by a plain
-// C++ loop where it is not (issue 27's chain d_k = d_{k-1}^2 + x, whose expansion has degree 2^24).
+// C++ loop where it is not (the chain d_k = d_{k-1}^2 + x, whose expansion has degree 2^24).
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -67,7 +67,7 @@ TEST_CASE("partial derivatives through a short chain equal those of the substitu
   CHECK((nhc::expand_intermediates(L.diff(xd).diff(x)) - nhc::expand_intermediates(L).diff(xd).diff(x)).expand().is_zero());
 }
 
-TEST_CASE("issue 27's chain of 24 definitions differentiates without expanding", "[intermediate]") {
+TEST_CASE("a chain of 24 definitions differentiates without expanding", "[intermediate]") {
   const nhc::JetSpace jet = plane();
   const ex L = chain(jet, 24);
   const GiNaC::symbol& x = symbol_of(jet, 0, 0);

@@ -1,4 +1,4 @@
-// sin²u + cos²u = 1 where it shortens (issue 14, item 11): the rewritten expression equals the
+// sin²u + cos²u = 1 where it shortens: the rewritten expression equals the
 // original at random points (an independent numeric check) and is shorter.
 #include <catch2/catch.hpp>
 

@@ -1,4 +1,4 @@
-// The predictions of the work budget (codegen/nhc/expr/work_budget.hpp, issue 44) against GiNaC's
+// The predictions of the work budget (codegen/nhc/expr/work_budget.hpp) against GiNaC's
 // own expansion of small cases and the multinomial count C(n+k−1, k−1), and the refusals before
 // an expansion runs.
 #include <catch2/catch.hpp>

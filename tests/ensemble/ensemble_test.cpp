@@ -219,7 +219,7 @@ TEST_CASE("resuming runs only the runs a checkpoint lacks and gives the same fil
   const auto other = run(ensemble("--vary b=0.5:1:3 --resume -o '" + part + "'"), dir);
   CHECK(other.exit_code == 2);
   CHECK(other.err.find("--resume") != std::string::npos);
-  // Nor the same design over a scene edited under the same name (issue 33, item 1): what the
+  // Nor the same design over a scene edited under the same name: what the
   // runs were computed from is compared, by the SHA-256 of the scene's text.
   std::ifstream in(kStopScene);
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

@@ -1,5 +1,5 @@
 // Under `mpirun -np 2`: a worker rank's finished runs reach rank 0 one by one, not at the end of
-// its chunk (issue 33, item 11: a killed rank lost up to kMaxChunk runs the checkpoint could have
+// its chunk (before, a killed rank lost up to kMaxChunk runs the checkpoint could have
 // kept). Rank 1's third run waits until rank 0 has received the records of its first two; with
 // records sent per chunk they would only arrive after that run, so the wait would time out. Rank
 // 0's own worker thread waits for rank 1's first record before its first run, so rank 1 surely

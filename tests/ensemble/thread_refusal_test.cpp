@@ -1,4 +1,4 @@
-// The scheduler when the machine refuses threads (issue 33, item 12): with room for no worker's
+// The scheduler when the machine refuses threads: with room for no worker's
 // stack, the refusal reaches the caller as std::system_error (the command line's exit 4, "the
 // machine refused a resource") instead of aborting with threads joinable; with room for one of
 // two, that one does every run. The room is made exact by an address-space limit set just above

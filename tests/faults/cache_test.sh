@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The compile cache cannot be poisoned and never stays broken (issue 15, findings 1 and 2):
+# The compile cache cannot be poisoned and never stays broken:
 # a foreign or world-writable cache directory, a poisoned, foreign-owned, truncated, garbage or
 # wrong-model entry. A poisoned library must never be loaded (its constructor leaves a marker);
 # a damaged entry is a cache miss, rebuilt with a one-line warning.

@@ -1,6 +1,5 @@
 #!/usr/bin/env bash
-# The C++ compiler missing, failing or hanging, and the disk filling while it compiles (issue 15,
-# finding 5): exit 4 with the path and the system's reason, the compiler's output trimmed to its
+# The C++ compiler missing, failing or hanging, and the disk filling while it compiles: exit 4 with the path and the system's reason, the compiler's output trimmed to its
 # first errors (no "#pragma once in main file"), no compiler left running, nothing half-written
 # in the cache.
 # Usage: compiler_test.sh NHC SCENE WORK_DIR

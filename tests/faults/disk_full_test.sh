@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A full disk while writing outputs (issue 15, finding 4): `nhc report -o DIR` and
+# A full disk while writing outputs: `nhc report -o DIR` and
 # `nhc simulate -o FILE` exit 4 naming the path and "No space left on device" (as root, on a
 # nearly full 200 KiB tmpfs) or "File too large" (otherwise, under a file-size limit); no DIR,
 # no partial file, no temporary file is left, and an existing DIR is untouched.
@@ -51,7 +51,7 @@ run_limited derive "$scene" -o "$target/derivation.txt"
 [ "$rc" -eq 0 ] || [ "$rc" -eq 4 ] || fail "derive on a full disk: exit code $rc"
 [ "$rc" -eq 0 ] || [ ! -e "$target/derivation.txt" ] || fail "derive on a full disk: a partial file was left"
 
-# An ensemble resumed on a full disk (issue 33, item 4): exit 4 with the system's reason, the
+# An ensemble resumed on a full disk: exit 4 with the system's reason, the
 # file it resumes unchanged, no crash at exit (HDF5 crashed closing a file whose flush had failed).
 ensemble_flags=(--vary "q1'(0)=1:2:4")
 [ "$on_tmpfs" -eq 0 ] || rm -f "$target/filler"

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Failures that name their cause (issue 26): a damaged result file is bad input, an absurd
+# Failures that name their cause: a damaged result file is bad input, an absurd
 # ensemble design is refused before it runs, a compiler out of memory is the environment, a run
 # that never left t0 says so (and, at a singular point, why, in nhc analyze's words).
 # Usage: failures_in_words_test.sh NHC KNIFE_EDGE_SCENE HOLDER_SINGULAR_SCENE WORK_DIR
@@ -50,7 +50,7 @@ grep -q "max drift\|reference error" <<<"$out" && fail "singular at t0: drifts r
 # The same a second time (the scene cache must not hide the words).
 run -- simulate "$holder" -o "$work/h.csv"
 expect "singular at t0, again" 3 "the system Jacobian of the holder model is singular at t0 = 0"
-# Memory limits from too small to enough (issue 33 item 12): every run ends as bad input, the
+# Memory limits from too small to enough: every run ends as bad input, the
 # environment (out of memory, a thread refused) or success, never "internal error" nor an abort
 # (a refused thread used to abort the ensemble with others still joinable). Below 96 MB the
 # launcher refuses at once, in words (cli/launcher.cpp: between 38 and 41 MB the outcome used to

@@ -121,7 +121,7 @@ run NHC_CACHE_DIR="$work/cache_threads" -- ensemble "$particle" --vary "q1'(0)=1
 expect "ensemble --threads 100000" 0 "nhc ensemble: --threads 100000 capped at the "
 rm -f "$work/threads.h5"
 
-# Ensemble memory and disk estimated before anything runs: 4000 runs of 10^7 kept outputs (issue 33 item 7:
+# Ensemble memory and disk estimated before anything runs: 4000 runs of 10^7 kept outputs (before:
 # std::bad_alloc after the runs had started).
 run -- ensemble "$particle" --vary "q1'(0)=1:2:4000" --keep trajectories --outputs 10000000 -o "$work/out.h5"
 expect "ensemble --keep trajectories --outputs 10000000" 2 "4000 runs would "

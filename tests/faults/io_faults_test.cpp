@@ -1,4 +1,4 @@
-// The building blocks of issue 15 in-process: AtomicDirectory, the same-file check of outputs,
+// The building blocks of fault tolerance in-process: AtomicDirectory, the same-file check of outputs,
 // SHA-256 (FIPS 180-2 test vectors) and the compiler's time limit in run_process.
 #include <catch2/catch.hpp>
 #include <unistd.h>
@@ -14,8 +14,8 @@
 #include "nhc/io/atomic_directory.hpp"
 #include "nhc/io/atomic_file.hpp"
 #include "nhc/io/output_path.hpp"
-#include "nhc/jit/sha256.hpp"
-#include "nhc/jit/subprocess.hpp"
+#include "nhc/tools/sha256.hpp"
+#include "nhc/tools/subprocess.hpp"
 
 namespace fs = std::filesystem;
 
@@ -150,30 +150,30 @@ TEST_CASE("write_file_atomically: an unwritable place is an EnvironmentError nam
 }
 
 TEST_CASE("sha256: the FIPS 180-2 test vectors", "[faults]") {
-  CHECK(nhc::jit::sha256_hex("abc") == "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
-  CHECK(nhc::jit::sha256_hex("") == "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
-  CHECK(nhc::jit::sha256_hex("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq") ==
+  CHECK(nhc::tools::sha256_hex("abc") == "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  CHECK(nhc::tools::sha256_hex("") == "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  CHECK(nhc::tools::sha256_hex("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq") ==
         "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
   Scratch s("sha");
   write(s.dir / "f", "abc");
-  CHECK(nhc::jit::sha256_file_hex(s.dir / "f") == nhc::jit::sha256_hex("abc"));
-  CHECK_FALSE(nhc::jit::sha256_file_hex(s.dir / "missing"));
+  CHECK(nhc::tools::sha256_file_hex(s.dir / "f") == nhc::tools::sha256_hex("abc"));
+  CHECK_FALSE(nhc::tools::sha256_file_hex(s.dir / "missing"));
 }
 
 TEST_CASE("run_process: a time limit stops the whole process group, a missing program says why", "[faults]") {
   std::string output;
   const auto start = std::chrono::steady_clock::now();
-  const nhc::jit::ProcessResult r = nhc::jit::run_process({"sh", "-c", "sleep 30 & sleep 30"}, output, 0.3);
+  const nhc::tools::ProcessResult r = nhc::tools::run_process({"sh", "-c", "sleep 30 & sleep 30"}, output, 0.3);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   CHECK(r.started);
   CHECK(r.timed_out);
   CHECK_FALSE(r.ok());
   CHECK(seconds < 5);
-  const nhc::jit::ProcessResult quick = nhc::jit::run_process({"sh", "-c", "echo hi; exit 3"}, output, 10);
+  const nhc::tools::ProcessResult quick = nhc::tools::run_process({"sh", "-c", "echo hi; exit 3"}, output, 10);
   CHECK(quick.exit_status == 3);
   CHECK_FALSE(quick.timed_out);
   CHECK(output == "hi\n");
-  const nhc::jit::ProcessResult missing = nhc::jit::run_process({"/nonexistent/compiler"}, output, 10);
+  const nhc::tools::ProcessResult missing = nhc::tools::run_process({"/nonexistent/compiler"}, output, 10);
   CHECK_FALSE(missing.started);
   CHECK(missing.start_error == "No such file or directory");
 }

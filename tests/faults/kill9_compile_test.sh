@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# kill -9 of nhc while it compiles (issue 33 item 9): the compiler dies with it (the watchdog of
-# jit/subprocess.cpp kills its process group), and the temporaries the killed nhc left in the
+# kill -9 of nhc while it compiles: the compiler dies with it (the watchdog of
+# tools/subprocess.cpp kills its process group), and the temporaries the killed nhc left in the
 # cache are swept by the next run once their process is gone (io/temporary_files.hpp).
 # Usage: kill9_compile_test.sh NHC SCENE WORK_DIR
 nhc=$1 scene=$2 work=$3

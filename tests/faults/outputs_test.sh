@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Outputs never replace inputs (issue 15, finding 3): every command refuses, with exit 2 naming
+# Outputs never replace inputs: every command refuses, with exit 2 naming
 # both paths, an output that is the scene itself — by the same name, another spelling, a
 # symbolic link or a hard link — and the scene is left byte for byte as it was.
 # Usage: outputs_test.sh NHC SCENE WORK_DIR

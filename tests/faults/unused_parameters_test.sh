@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Parameters no equation reads do not reach the generated code (issue 33, item 10: 1.4 million
+# Parameters no equation reads do not reach the generated code (item 10: 1.4 million
 # unused parameters made a 68 MB shared object). A scene with 20000 of them: the header names only
 # the two the model reads and stays small; --set of one that only an output uses still reaches
 # the output; varying or sweeping one, or asking its sensitivities, is refused in words.

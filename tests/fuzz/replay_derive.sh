@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The fuzz stage's replay of the corpus through the symbolic stages (issue 44): every input of
+# The fuzz stage's replay of the corpus through the symbolic stages: every input of
 # scripts/corpus_inputs.sh (tests/fuzz/corpus/, tests/bad/, the examples) goes through
 # nhc_derive_replay (tests/fuzz/derive_replay.cpp: load, derive, print, reduce, generate, under the
 # work budget asked for cooperatively, without the command line's watchdog), each with a limit of

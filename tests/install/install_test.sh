@@ -42,6 +42,37 @@ done
 [ "$(prefix/bin/nhc --version)" = "nhc $version" ] || fail "nhc --version says '$(prefix/bin/nhc --version)', not 'nhc $version'"
 echo "installed $(find prefix -type f | wc -l) files in $(lap "$start") s; $(prefix/bin/nhc --version)"
 
+# 1b. The public API is what is installed: exactly the headers docs/library.md lists (without the
+#     ensemble's when nhc was built without HDF5), and all of them compile, in one translation
+#     unit, against the installed package alone.
+sed -n '/<!-- installed headers: begin -->/,/<!-- installed headers: end -->/p' "$src/docs/library.md" |
+  grep '^nhc/' | sort > documented_headers.txt
+[ -s documented_headers.txt ] || fail "docs/library.md lists no installed headers"
+if [ ! -e prefix/include/nhc/ensemble.hpp ]; then
+  grep -v '^nhc/ensemble' documented_headers.txt > documented.tmp && mv documented.tmp documented_headers.txt
+fi
+(cd prefix/include && find nhc -type f | sort) > installed_headers.txt
+if ! diff -u documented_headers.txt installed_headers.txt > headers.diff; then
+  cat headers.diff
+  fail "the installed headers (+) are not the documented public headers (-) of docs/library.md"
+fi
+mkdir -p headers
+sed 's/.*/#include "&"/' installed_headers.txt > headers/all_headers.cpp
+ensemble_target=""
+[ -e prefix/include/nhc/ensemble.hpp ] && ensemble_target=nhc::ensemble
+cat > headers/CMakeLists.txt <<EOF
+cmake_minimum_required(VERSION 3.20)
+project(nhc_public_headers LANGUAGES CXX)
+find_package(nhc REQUIRED)
+add_library(all_headers OBJECT all_headers.cpp)
+target_link_libraries(all_headers PRIVATE nhc::codegen nhc::runtime nhc::jit nhc::app nhc::linearize nhc::connect $ensemble_target)
+EOF
+"$cmake" -S headers -B headers/build -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_PREFIX_PATH="$work/prefix" \
+  -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF > headers.log 2>&1 &&
+  "$cmake" --build headers/build >> headers.log 2>&1 ||
+  { cat headers.log; fail "the installed headers do not compile against the installed package alone"; }
+echo "the $(wc -l < installed_headers.txt) installed headers are the documented ones and compile alone"
+
 # 2. Configure and build examples/app against the prefix alone; the scenes are copies, to edit.
 cp "$src/examples/appell_hamel.toml" "$src/examples/particle.toml" .
 t=$(now)

@@ -1,4 +1,4 @@
-// [inputs]: a scene's inputs through generated code and nhc::runtime (issue 28), against closed
+// [inputs]: a scene's inputs through generated code and nhc::runtime, against closed
 // forms of the driven oscillator x'' = -x + u (unit mass and stiffness, [forces] x = "u"):
 // - the default signal u = sin(2t) from rest: x = (2 sin t - sin 2t)/3;
 // - a feedback law u(t, y) = -2 x' (set_inputs): critical damping, x = (x0 + (v0 + x0) t) e^-t;

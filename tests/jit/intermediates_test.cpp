@@ -88,7 +88,7 @@ std::string definition_chain(int n) {
   return text + "[initial]\nx = [-0.3, -0.4]\ny = [-0.4]\n[simulate]\nt_end = 0.1\n";
 }
 
-TEST_CASE("issue 27's chain of 24 definitions derives and generates in proportion to its length", "[jit][intermediates]") {
+TEST_CASE("a chain of 24 definitions derives and generates in proportion to its length", "[jit][intermediates]") {
   // Substituted, d5 already expands past the term limit (d24 has degree 2^24); kept, each link
   // adds the same few operations to each function: the operations grow linearly with n.
   CHECK_THROWS_AS(nhc::parse_scene(definition_chain(24), "chain.toml", expanded()), nhc::InputError);
@@ -110,8 +110,8 @@ TEST_CASE("issue 27's chain of 24 definitions derives and generates in proportio
 }
 
 TEST_CASE("the Whipple bicycle with its definitions kept: a small header that conserves energy", "[jit][intermediates]") {
-  // Substituted, the bicycle's header had 639,587 operations and 4.5 MB (issue 27); kept, the
-  // targets of issue 27 for the whole header: at most 30,000 operations and 600 kB. The motion
+  // Substituted, the bicycle's header had 639,587 operations and 4.5 MB; kept, the
+  // targets for the whole header: at most 30,000 operations and 600 kB. The motion
   // is checked by its energy (T + V, [invariants]), conserved by rolling without slip; the
   // eigenvalues of its upright motion by Meijaard et al.'s Table 2 (tests/linearize).
   const std::string text = read_example("whipple/whipple_bicycle.toml");

@@ -14,6 +14,7 @@
 #include <set>
 #include <string>
 
+#include "command_runner.hpp"
 #include "nhc/io/shell.hpp"
 #include "nhc/jit.hpp"
 #include "nhc/runtime/runtime.hpp"
@@ -148,13 +149,13 @@ TEST_CASE("no shared object nhc::jit builds has an STB_GNU_UNIQUE symbol", "[jit
     ++libraries;
     INFO(entry.path());
     std::string symbols;
-    REQUIRE(nhc::run_command("readelf -Ws " + nhc::shell_quote(entry.path().string()), symbols) == 0);
+    REQUIRE(nhc::test::run_command("readelf -Ws " + nhc::shell_quote(entry.path().string()), symbols) == 0);
     CHECK(symbols.find("nhc_model_table_get") != std::string::npos);
     CHECK(symbols.find(" UNIQUE ") == std::string::npos);
     // Exported (dynamic, defined, default visibility): the table's entry point and nothing of
     // the model's namespace.
     std::string dynamic;
-    REQUIRE(nhc::run_command("readelf -W --dyn-syms " + nhc::shell_quote(entry.path().string()), dynamic) == 0);
+    REQUIRE(nhc::test::run_command("readelf -W --dyn-syms " + nhc::shell_quote(entry.path().string()), dynamic) == 0);
     CHECK(dynamic.find("nhc_gen") == std::string::npos);
     CHECK(dynamic.find("_ZN7nhc_gen") == std::string::npos);
   }

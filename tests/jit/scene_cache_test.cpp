@@ -156,7 +156,7 @@ TEST_CASE("any change of the equations' text, parameters, model, options or vers
     CHECK(builder.derivations(set) == 0);
   }
   SECTION("initial data and run settings, changed in code or in the text, find the same header") {
-    // The header takes them at run time (issue 27): keyed by what it is made from, it is found
+    // The header takes them at run time: keyed by what it is made from, it is found
     // again; the initial-point check, which depends on them, keeps a key of everything.
     nhc::Scene changed = scene;
     changed.initial.values["x"] = {0.0, 2.0};

@@ -1,4 +1,4 @@
-// The vakonomic cross-check (issue 49): with the Lagrangian as the objective and no inputs,
+// The vakonomic cross-check: with the Lagrangian as the objective and no inputs,
 // nhc optimize (collocation, IPOPT) and nhc connect (shooting on the vakonomic equations, IDA)
 // solve the same two-point problem by independent methods; their paths agree.
 #include <catch2/catch.hpp>

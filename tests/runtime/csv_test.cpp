@@ -1,4 +1,4 @@
-// The CSV file: header as in issue 5, one row per sample, written atomically.
+// The CSV file: header as in docs/runtime.md, one row per sample, written atomically.
 #include <catch2/catch.hpp>
 
 #include <unistd.h>

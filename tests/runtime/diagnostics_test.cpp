@@ -1,4 +1,4 @@
-// Failures end with a SolverError that says what failed and at which t (issue 5: never a crash,
+// Failures end with a SolverError that says what failed and at which t (goal: never a crash,
 // hang or silent NaN).
 #include <catch2/catch.hpp>
 

@@ -1,4 +1,4 @@
-// Numbers as constant expressions in scenes (issue 14, item 6): pi, e, parameters in [initial],
+// Numbers as constant expressions in scenes: pi, e, parameters in [initial],
 // tolerances and t_end as TOML strings; errors located at the value.
 #include <catch2/catch.hpp>
 

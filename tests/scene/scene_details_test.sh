@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Scene-language details of issue 32, each against an independent path:
+# Scene-language details, each against an independent path:
 #  1. [reference.MODEL]: the Heisenberg system's chetaev line and vakonomic arc (closed forms in
 #     tests/scene/scenes/heisenberg_two_models.toml) are each met by their own model's run, where
 #     one plain [reference] table leaves the vakonomic run far from it;

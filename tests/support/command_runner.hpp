@@ -19,5 +19,8 @@ std::string scratch_dir(const std::string& name);
 Run run(const std::string& command, const std::string& dir);
 /// The nhc executable under test, quoted for the shell.
 std::string nhc_command();
+/// Runs a shell command; returns its exit status (-1 when it could not run or was killed) and
+/// appends its stdout and stderr to `output`.
+int run_command(const std::string& command, std::string& output);
 
 }  // namespace nhc::test

@@ -1,4 +1,4 @@
-#include "initial_values.hpp"
+#include "nhc/app/initial_values.hpp"
 
 #include <cmath>
 #include <map>
@@ -65,6 +65,10 @@ void apply_initial_values(Scene& scene, const std::vector<InitialValue>& values,
         refuse(field, quoted(written) + primed_name(base, static_cast<int>(k)) +
                           " is not given (neither in the scene's [initial] nor here); the values of " + base +
                           " are a value and its derivatives in order, so give it too");
+}
+
+runtime::InitialState initial_state_of(const Scene& scene, const runtime::Model& model) {
+  return runtime::initial_state_from(model, scene.initial.t0, scene.initial.values);
 }
 
 }  // namespace nhc::app

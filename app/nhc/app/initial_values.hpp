@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "nhc/runtime/integrator.hpp"
+#include "nhc/runtime/model.hpp"
 #include "nhc/scene/scene.hpp"
 
 namespace nhc::app {
@@ -28,5 +30,9 @@ struct InitialValue {
 /// expression of the parameters replaces it (a later --set does not re-evaluate it). A new t0
 /// moves the default end of the run, t0 + 1, with it when [simulate] gives no t_end.
 void apply_initial_values(Scene& scene, const std::vector<InitialValue>& values, const std::string& field);
+
+/// The scene's [initial] as the runtime's InitialState: `x = [x0, x'0]` gives the states x and x';
+/// values beyond the states' orders are y' guesses.
+runtime::InitialState initial_state_of(const Scene& scene, const runtime::Model& model);
 
 }  // namespace nhc::app

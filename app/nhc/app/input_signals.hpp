@@ -1,6 +1,6 @@
 #pragma once
 /// \file input_signals.hpp
-/// \brief `nhc simulate --input NAME=EXPR` and `--input NAME=@FILE.csv` (repeatable; issue 28):
+/// \brief `nhc simulate --input NAME=EXPR` and `--input NAME=@FILE.csv` (repeatable):
 /// a signal that replaces the default of one of the scene's inputs for one run.
 ///
 /// EXPR is an expression of t and the scene's parameters (their values after --set), in the scene

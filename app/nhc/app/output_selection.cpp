@@ -8,7 +8,6 @@
 #include "nhc/app/run_request.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/app/parameter_overrides.hpp"
-#include "nhc/app/pipeline.hpp"
 #include "nhc/runtime/number_text.hpp"
 #include "nhc/runtime/trajectory.hpp"
 

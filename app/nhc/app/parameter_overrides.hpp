@@ -2,7 +2,7 @@
 /// \file parameter_overrides.hpp
 /// \brief `--set NAME=VALUE` (repeatable), one helper for derive, analyze, generate, simulate and
 /// report: a scene parameter replaced by a value from the command line (the flag itself:
-/// cli/parameter_overrides.hpp). Bad assignments and unknown names are bad input naming the
+/// add_set_option in cli/flag_rules.hpp). Bad assignments and unknown names are bad input naming the
 /// flag (exit 2).
 
 #include <string>

@@ -1,6 +1,6 @@
 #pragma once
 /// \file preparation.hpp
-/// \brief A run's preparation (issue 45): the scene's model derived and analysed once, the
+/// \brief A run's preparation, shared by both front ends: the scene's model derived and analysed once, the
 /// analysis handed on to the build (jit::build reduces from its structure), and the initial-point
 /// check the command line and Python make before anything is compiled.
 

@@ -1,7 +1,7 @@
 #pragma once
 /// \file initial_point.hpp
 /// \brief The one rule by which `nhc analyze` and `nhc simulate` accept initial values, and the
-/// one message when they do not (issue 14, item 1).
+/// one message when they do not, so that the two commands never disagree on a scene.
 ///
 /// Values the user did not give are solved from the hidden constraints g = 0 to
 ///   solve = 1e-13 · max(1, |y|)

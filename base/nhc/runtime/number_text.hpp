@@ -1,10 +1,10 @@
 #pragma once
 /// \file number_text.hpp
 /// \brief The one formatter of numbers in nhc's messages and text output: `significant` digits in
-/// the shortest of fixed and scientific notation (1e-08, 0.25, 631.04), as printf's %g, which is
-/// what the messages had written with std::ostream precision, so that they read as before; and
-/// the shortest text that reads back as the same double, for data that programs read back (CSV,
-/// gnuplot data, tables).
+/// the shortest of fixed and scientific notation (1e-08, 0.25, 631.04), as printf's %g and an
+/// std::ostream's default notation print them: a person reads a few digits, without trailing zeros;
+/// and the shortest text that reads back as the same double, for data that programs read back
+/// (CSV, gnuplot data, tables), which keeps every bit without the noise digits of a fixed 17.
 
 #include <fmt/format.h>
 

@@ -81,7 +81,7 @@ Index1System reduce_to_index1(const StructuralAnalysis& a) {
   // Hidden constraints D^r f_i, r < c_i (suslov: the monitored constraints on initial data),
   // with their Jacobians in y: the same list the analysis' consistent point satisfies.
   // Each row is differentiated only by the states that occur in g and stores only those, so the
-  // work grows with the size of the constraints, not with (constraints × states) (issue 17).
+  // work grows with the size of the constraints, not with (constraints × states).
   std::map<GiNaC::ex, std::size_t, GiNaC::ex_is_less> state_of_symbol;
   for (std::size_t k = 0; k < out.y.size(); ++k) state_of_symbol[out.y[k]] = k;
   for (const InitialValueConstraint& c : initial_value_constraints(a)) {

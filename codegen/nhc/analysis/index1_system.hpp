@@ -55,7 +55,7 @@ struct Index1System {
 
   /// ∂g/∂y of each hidden constraint, by rows: the pairs (k, ∂g_r/∂y_k) of the states that
   /// occur in g_r, by increasing k; the others are 0. Sparse because a chain of N bodies has N
-  /// hidden constraints in 7N states, each involving a few (issue 17).
+  /// hidden constraints in 7N states, each involving a few.
   std::vector<std::vector<std::pair<int, GiNaC::ex>>> hidden_constraint_jacobian;
   /// ∂g_r/∂y_k (0 when y_k does not occur in g_r).
   GiNaC::ex hidden_constraint_derivative(std::size_t r, int k) const {

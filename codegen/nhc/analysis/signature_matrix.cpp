@@ -42,7 +42,7 @@ SignatureMatrix signature_matrix(const DaeSystem& system) {
   const int n = system.size();
   SignatureMatrix sigma(n, static_cast<int>(system.unknowns.size()));
   // One pass over each equation's own jet coordinates: only the unknowns that occur in f_i are
-  // tried, so the work is linear in the total size of the equations, not in N^2 (issue 17).
+  // tried, so the work is linear in the total size of the equations, not in N^2.
   const std::map<std::pair<VariableKind, int>, int> column = unknown_columns(system);
   for (int i = 0; i < n; ++i) {
     const GiNaC::ex& f = system.equations[static_cast<std::size_t>(i)];

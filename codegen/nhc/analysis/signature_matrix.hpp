@@ -30,7 +30,7 @@ class SignatureMatrix {
 
   SignatureMatrix() = default;
   /// All entries −∞. Stored by rows, only the finite entries (sorted by column): a chain of N
-  /// bodies has O(N) of them, and nothing in the Σ-method needs the N² absent ones (issue 17).
+  /// bodies has O(N) of them, and nothing in the Σ-method needs the N² absent ones, so the work stays linear in N.
   SignatureMatrix(int rows, int cols) : cols_(cols), rows_(static_cast<std::size_t>(rows)) {}
 
   int rows() const { return static_cast<int>(rows_.size()); }

@@ -26,7 +26,7 @@ struct JacobianEntry {
 };
 
 /// The entries of J that are not identically zero, row by row: one derivative per finite σ_ij
-/// on d_j − c_i, so the work follows the number of entries of σ (issue 17). Requires a
+/// on d_j − c_i, so the work follows the number of entries of σ, not its N² size. Requires a
 /// nonsingular structure.
 std::vector<JacobianEntry> system_jacobian_entries(const StructuralAnalysis& analysis);
 

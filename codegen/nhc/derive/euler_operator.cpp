@@ -12,7 +12,7 @@ namespace nhc {
 VariationForm VariationForm::first_variation(const GiNaC::ex& F, const JetSpace& jet) {
   // Term by term: each term of a sum is differentiated only by the coordinates it contains, so
   // a Lagrangian of N bodies costs O(N) derivatives of small terms, not N derivatives of the
-  // whole sum (issue 17). The sum of the partial derivatives is ∂F/∂q_i^(k).
+  // whole sum. The sum of the partial derivatives is ∂F/∂q_i^(k).
   VariationForm form;
   const auto add_term = [&](const GiNaC::ex& term) {
     for (const auto& c : jet.jet_coordinates_in(term)) {

@@ -132,7 +132,7 @@ std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> scene_names(const JetSpace& 
 }  // namespace
 
 std::vector<std::string> scene_notation(const std::vector<GiNaC::ex>& expressions, const JetSpace& jet) {
-  // One table of names for all: building it is linear in the jet space (issue 17). A named
+  // One table of names for all: building it is linear in the jet space, not once per expression. A named
   // intermediate is printed by its name (its expression can be exponentially long written out).
   auto names = scene_names(jet, nullptr);
   for (const GiNaC::ex& d : intermediates_in_order(expressions)) names[d] = GiNaC::ex_to<Intermediate>(d).intermediate_name();

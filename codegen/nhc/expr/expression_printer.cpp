@@ -53,7 +53,7 @@ using TextMemo = std::unordered_map<ex, std::string>;  // std::hash<ex>: GiNaC's
 class CanonicalText {
  public:
   std::string print(const ex& e, Position position = Position::term) const {
-    check_for_stop();  // a printed equation may be megabytes long (issue 44)
+    check_for_stop();  // a printed equation may be megabytes long: the work budget may stop it
     const bool brackets = needs_brackets(e, position);
     if (GiNaC::is_a<GiNaC::add>(e) || GiNaC::is_a<GiNaC::mul>(e) || GiNaC::is_a<GiNaC::power>(e))
       return wrap(remembered(e), brackets);

@@ -1,6 +1,6 @@
 #pragma once
 /// \file intermediate.hpp
-/// \brief Named intermediate quantities (issue 27): a definition d := e that stays a symbol,
+/// \brief Named intermediate quantities (docs/intermediates.md): a definition d := e that stays a symbol,
 /// with its expression attached, instead of being substituted into everything that uses it.
 /// GiNaC's `diff` applies the chain rule through it, each ∂d/∂z and D d memoized in d; GiNaC's
 /// own tree functions (has, subs, expand, preorder iteration) see an independent symbol, so code

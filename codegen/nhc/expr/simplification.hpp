@@ -1,7 +1,7 @@
 #pragma once
 /// \file simplification.hpp
 /// \brief The simplification nhc applies to what it derives: expansion, a common denominator
-/// where it is shorter, and sin²u + cos²u = 1 where it shortens (issue 14, item 11: e.g.
+/// where it is shorter, and sin²u + cos²u = 1 where it shortens (e.g.
 /// −a cos²θ λ1 − a λ1 sin²θ → −a λ1). Applied to the derived equations, the hidden constraints
 /// and the Jacobians, and to the named intermediates small enough for it (intermediate.hpp);
 /// work_budget.hpp bounds the work.

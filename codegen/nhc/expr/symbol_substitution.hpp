@@ -6,7 +6,7 @@
 /// GiNaC's ex::subs(exmap, options) first scans every key of the map to learn whether some key
 /// is a product or a power (for the pattern matching of expairseq::subschildren). With a map of
 /// all 7N jet symbols of an N-body system that scan made each substitution O(N) however small
-/// the expression, and a pass over N equations O(N²) (issue 17). Telling GiNaC that no key is a
+/// the expression, and a pass over N equations O(N²). Telling GiNaC that no key is a
 /// product (subs_options::pattern_is_not_product) skips the scan; each symbol of the expression
 /// is then one map lookup.
 ///

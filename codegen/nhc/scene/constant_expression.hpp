@@ -1,6 +1,6 @@
 #pragma once
 /// \file constant_expression.hpp
-/// \brief Numbers written as constant expressions in a scene (issue 14, item 6): `alpha =
+/// \brief Numbers written as constant expressions in a scene: `alpha =
 /// "pi/8"`, `x = [0.0, "v*cos(pi/6)"]`. Numbers, `pi`, `e`, the given names (the scene's
 /// parameters, for [initial] and [simulate]), + − * / ^ (right-associative, above unary minus),
 /// parentheses and sin cos tan asin acos atan sinh cosh tanh exp log sqrt abs, in double precision.

@@ -49,7 +49,7 @@ Value DefinitionTable::named(const std::string& name, Value value) {
       if (value.cols > 1) suffix += std::to_string(j + 1);
       const std::string full = suffix.empty() ? name : name + "_" + suffix;
       // Printed as the coordinates are (jet_space.hpp): a multi-letter name upright, \mathrm{Tb},
-      // so that it does not read as a product of letters (issue 47).
+      // so that it does not read as a product of letters.
       const std::string latex = jet_symbol_latex(name, VariableKind::coordinate, 0);
       entry = Intermediate(full, suffix.empty() ? latex : latex + "_{" + suffix + "}", entry);
     }

@@ -16,7 +16,7 @@
 #include "nhc/io/output_path.hpp"
 #include "nhc/io/printable.hpp"
 #include "nhc/io/temporary_files.hpp"
-#include "nhc/jit/gnuplot.hpp"
+#include "nhc/tools/gnuplot.hpp"
 #include "nhc/runtime/number_text.hpp"
 
 namespace nhc::ensemble {
@@ -95,12 +95,12 @@ std::vector<std::string> plot_outcome(const EnsembleResults& results, const std:
   if (nv < 1 || nv > 2)
     throw InputError({flag + " " + outcome, 0, 0}, "maps need a design of one or two variables, this one has " +
                                        std::to_string(nv));
-  if (const auto missing = jit::gnuplot_missing()) throw EnvironmentError(*missing);
+  if (const auto missing = tools::gnuplot_missing()) throw EnvironmentError(*missing);
   for (const char* ext : {".dat", ".gp", ".svg", ".png"}) check_output_file(stem + ext, inputs);
 
   const bool heat_map = nv == 2 && d.kind == Design::Kind::grid;
   write_file_atomically(stem + ".dat", [&](std::ostream& out) {
-    out << jit::gnuplot_comment(joined(d.names()) + " " + outcome + " (" + results.info.scene + ", " + results.info.model + ")");
+    out << tools::gnuplot_comment(joined(d.names()) + " " + outcome + " (" + results.info.scene + ", " + results.info.model + ")");
     for (long run = 0; run < d.runs; ++run) {
       // A heat map's rows are separated by blank lines (gnuplot's grid format).
       if (heat_map && run > 0 && run % d.grid_shape[1] == 0) out << "\n";
@@ -113,31 +113,31 @@ std::vector<std::string> plot_outcome(const EnsembleResults& results, const std:
   const std::string dat = fs::path(stem + ".dat").filename().string();
   const std::string title = outcome + ": " + results.info.scene + " (" + results.info.model + ")";
   std::ostringstream plot;
-  plot << "set datafile missing 'nan'\nset title " << jit::gnuplot_string(title) << " noenhanced\n"
-       << "set xlabel " << jit::gnuplot_string(d.variables[0].name) << " noenhanced\n";
+  plot << "set datafile missing 'nan'\nset title " << tools::gnuplot_string(title) << " noenhanced\n"
+       << "set xlabel " << tools::gnuplot_string(d.variables[0].name) << " noenhanced\n";
   if (nv == 1) {
-    plot << "set ylabel " << jit::gnuplot_string(outcome) << " noenhanced\nset grid\nunset key\n"
-         << "plot " << jit::gnuplot_string(dat) << " using 1:2 with "
+    plot << "set ylabel " << tools::gnuplot_string(outcome) << " noenhanced\nset grid\nunset key\n"
+         << "plot " << tools::gnuplot_string(dat) << " using 1:2 with "
          << (d.kind == Design::Kind::grid ? "linespoints pointtype 7 pointsize 0.5" : "points pointtype 7 pointsize 0.5")
          << "\n";
   } else {
-    plot << "set ylabel " << jit::gnuplot_string(d.variables[1].name) << " noenhanced\n"
-         << "set cblabel " << jit::gnuplot_string(outcome) << " noenhanced\nset palette rgbformulae 33,13,10\nunset key\n";
+    plot << "set ylabel " << tools::gnuplot_string(d.variables[1].name) << " noenhanced\n"
+         << "set cblabel " << tools::gnuplot_string(outcome) << " noenhanced\nset palette rgbformulae 33,13,10\nunset key\n";
     if (heat_map)
-      plot << "set autoscale fix\nplot " << jit::gnuplot_string(dat) << " using 1:2:3 with image\n";
+      plot << "set autoscale fix\nplot " << tools::gnuplot_string(dat) << " using 1:2:3 with image\n";
     else
-      plot << "plot " << jit::gnuplot_string(dat) << " using 1:2:3 with points pointtype 7 pointsize 0.6 palette\n";
+      plot << "plot " << tools::gnuplot_string(dat) << " using 1:2:3 with points pointtype 7 pointsize 0.6 palette\n";
   }
   const std::string suffix = ".tmp" + std::to_string(::getpid());
   auto script = [&](const std::string& svg, const std::string& png) {
     std::ostringstream g;
     g << "set terminal svg size 900,640 dynamic enhanced font 'sans,12' background rgb 'white'\n"
-      << "set output " << jit::gnuplot_string(svg) << "\n"
+      << "set output " << tools::gnuplot_string(svg) << "\n"
       << plot.str()
       << "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
       << "  set terminal pngcairo size 900,640 enhanced font 'sans,10' background rgb 'white'\n"
       << "} else {\n  set terminal png size 900,640 enhanced background rgb 'white'\n}\n"
-      << "set output " << jit::gnuplot_string(png) << "\nreplot\nset output\n";
+      << "set output " << tools::gnuplot_string(png) << "\nreplot\nset output\n";
     return g.str();
   };
   const std::string name = fs::path(stem).filename().string();
@@ -149,7 +149,7 @@ std::vector<std::string> plot_outcome(const EnsembleResults& results, const std:
     out << script(name + ".svg" + suffix, name + ".png" + suffix);
   }
   std::string messages;
-  const int status = jit::run_gnuplot(dir, {fs::path(script_file.path()).filename().string()}, messages);
+  const int status = tools::run_gnuplot(dir, {fs::path(script_file.path()).filename().string()}, messages);
   if (status != 0) throw std::runtime_error("gnuplot failed on " + stem + ".gp: " + messages);
   std::vector<std::string> written;
   for (const char* ext : {".svg", ".png"}) {

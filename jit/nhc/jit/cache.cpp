@@ -16,11 +16,12 @@
 #include <vector>
 
 #include "nhc/errors.hpp"
-#include "nhc/jit/sha256.hpp"
+#include "nhc/tools/sha256.hpp"
 
 namespace nhc::jit {
 
 namespace fs = std::filesystem;
+using tools::sha256_file_hex;
 
 namespace {
 

@@ -27,8 +27,8 @@
 #include "nhc/io/shell.hpp"
 #include "nhc/io/temporary_files.hpp"
 #include "nhc/jit/cache_size.hpp"
-#include "nhc/jit/sha256.hpp"
-#include "nhc/jit/subprocess.hpp"
+#include "nhc/tools/sha256.hpp"
+#include "nhc/tools/subprocess.hpp"
 #include "nhc/long_work.hpp"
 
 #ifndef NHC_CXX_COMPILER
@@ -38,6 +38,10 @@
 namespace nhc::jit {
 
 namespace fs = std::filesystem;
+using tools::ProcessResult;
+using tools::run_process;
+using tools::sha256_file_hex;
+using tools::sha256_hex;
 
 namespace {
 

@@ -18,11 +18,12 @@
 #include "nhc/errors.hpp"
 #include "nhc/io/temporary_files.hpp"
 #include "nhc/jit/cache_size.hpp"
-#include "nhc/jit/sha256.hpp"
+#include "nhc/tools/sha256.hpp"
 
 namespace nhc::jit {
 
 namespace fs = std::filesystem;
+using tools::sha256_hex;
 
 namespace {
 

@@ -14,7 +14,7 @@
 /// test). With s the remaining states, δz_D = T δs and A = (M_D T)_s.
 ///
 /// Inputs u enter as E δz' + J δz + F_u δu = 0: [δz_D'; δz_A] gains −K⁻¹ F_u δu, so with
-/// N_D its differential rows, B = (N_D)_s and d(δs)/dt = A δs + B δu (issue 28). Outputs
+/// N_D its differential rows, B = (N_D)_s and d(δs)/dt = A δs + B δu. Outputs
 /// h(z, z', u) then read δh = C δs + D δu with δz_D = T δs, δz_A = M_A T δs + N_A δu and
 /// δz_D' = M_D T δs + N_D δu (linearizer.cpp).
 

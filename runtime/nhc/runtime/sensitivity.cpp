@@ -267,7 +267,7 @@ struct SensitivityIntegrator::Impl {
   /// fresh iteration matrix makes that rate ~0, and afterwards every first correction passes
   /// however stale the matrix (in y: IDAS resets ssS only when cj changes). With the error test
   /// off nothing else catches the error, and on the knife edge on an incline the sensitivities
-  /// grew to 1e9 by t = 2 (issue 20). Here the rate is measured in every solve, from the second
+  /// grew to 1e9 by t = 2. Here the rate is measured in every solve, from the second
   /// correction, as IDAS measures it for the state (idas_nls.c, idaNlsConvTest): accept when
   /// rate/(1-rate)·|δ_m| <= tol, or at once when |δ_0| <= 1e-4 tol.
   static int sensitivity_convergence_cb(SUNNonlinearSolver solver, N_Vector, N_Vector del, sunrealtype tol,

@@ -15,7 +15,6 @@ namespace nhc::runtime {
 
 namespace {
 
-std::string format_number(double v, int precision = 3) { return number_text(v, precision); }
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -69,7 +68,7 @@ std::string WorkPrecisionMeasurement::status() const {
 
 std::string ErrorSource::description() const {
   if (exact) return "the scene's [reference] (exact solution)";
-  return "a reference run at rtol " + format_number(rtol, 3) + ", atol " + format_number(atol, 3) +
+  return "a reference run at rtol " + number_text(rtol, 3) + ", atol " + number_text(atol, 3) +
          " (dense LU, no projection)";
 }
 
@@ -117,19 +116,19 @@ std::vector<InvariantHistory> long_runs(const WorkPrecisionModels& models, doubl
   auto start = std::chrono::steady_clock::now();
   const RunResult ida = simulate(model, p, initial, times, io);
   out.push_back(invariant_history(model, p, ida, k, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()));
-  out.back().integrator = "IDA, rtol " + format_number(io.rtol);
+  out.back().integrator = "IDA, rtol " + number_text(io.rtol, 3);
   if (models.variational && settings.long_run_step > 0) {
     const VariationalOptions vo = variational_options(settings.long_run_step, std::numeric_limits<long>::max(), io);
     start = std::chrono::steady_clock::now();
     const RunResult run = simulate_variational(model, p, initial, times, vo).run;
     out.push_back(invariant_history(model, p, run, k, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()));
-    out.back().integrator = "variational, step " + format_number(vo.step);
+    out.back().integrator = "variational, step " + number_text(vo.step, 3);
   }
   if (progress)
     for (const InvariantHistory& h : out)
-      progress("long run to t = " + format_number(settings.long_run_t_end) + ", " + h.integrator + ": " +
-               std::to_string(h.steps) + " steps, " + format_number(h.seconds) + " s, max |" + h.invariant +
-               " error| " + format_number(h.error.empty() ? NAN : *std::max_element(h.error.begin(), h.error.end())));
+      progress("long run to t = " + number_text(settings.long_run_t_end, 3) + ", " + h.integrator + ": " +
+               std::to_string(h.steps) + " steps, " + number_text(h.seconds, 3) + " s, max |" + h.invariant +
+               " error| " + number_text(h.error.empty() ? NAN : *std::max_element(h.error.begin(), h.error.end()), 3));
   return out;
 }
 
@@ -189,7 +188,7 @@ WorkPrecision measure_work_precision(const WorkPrecisionModels& models, double t
   for (const std::optional<double>& value : sweep) {
     std::vector<double> p = wp.parameters;
     if (value) p[sweep_index] = *value;
-    const std::string at = value ? ", " + settings.sweep_parameter + " = " + format_number(*value, 6) : "";
+    const std::string at = value ? ", " + settings.sweep_parameter + " = " + number_text(*value, 6) : "";
 
     // The reference run: rtol = reference_rtol, loosened by decades (to 1e-10) while it does not
     // reach t_end (very tight tolerances can exhaust the step limit on stiff problems).
@@ -203,7 +202,7 @@ WorkPrecision measure_work_precision(const WorkPrecisionModels& models, double t
         io.linear_solver = LinearSolverKind::dense;
         const RunResult ref = simulate(dense, p, initial_state_from(dense, t0, initial_values), times, io);
         if (progress)
-          progress("reference run" + at + ": rtol " + format_number(io.rtol) + ", " +
+          progress("reference run" + at + ": rtol " + number_text(io.rtol, 3) + ", " +
                    std::to_string(ref.statistics.steps) + " steps" +
                    (ref.failure ? std::string(", stopped: ") + ref.failure->what() : std::string()));
         if (reference.empty() || ref.samples.size() > reference.size()) {
@@ -267,9 +266,9 @@ WorkPrecision measure_work_precision(const WorkPrecisionModels& models, double t
         ++done;
         if (progress)
           progress("[" + std::to_string(done) + "/" + std::to_string(total) + "] " + config.label() + at +
-                   (config.variational ? ", step " : ", rtol ") + format_number(setting) + ": error " +
-                   format_number(m.error) + ", " + std::to_string(m.statistics.steps) + " steps, " +
-                   format_number(m.seconds) + " s" + (m.failure ? ", stopped: " + m.status() : std::string()));
+                   (config.variational ? ", step " : ", rtol ") + number_text(setting, 3) + ": error " +
+                   number_text(m.error, 3) + ", " + std::to_string(m.statistics.steps) + " steps, " +
+                   number_text(m.seconds, 3) + " s" + (m.failure ? ", stopped: " + m.status() : std::string()));
       }
     }
   }

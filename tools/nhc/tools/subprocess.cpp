@@ -1,4 +1,4 @@
-#include "nhc/jit/subprocess.hpp"
+#include "nhc/tools/subprocess.hpp"
 
 #include <fcntl.h>
 #include <poll.h>
@@ -18,7 +18,7 @@
 
 extern char** environ;
 
-namespace nhc::jit {
+namespace nhc::tools {
 
 namespace {
 
@@ -219,4 +219,4 @@ ProcessResult run_process(const std::vector<std::string>& argv, std::string& out
   return result;
 }
 
-}  // namespace nhc::jit
+}  // namespace nhc::tools

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace nhc::jit {
+namespace nhc::tools {
 
 /// A gnuplot string expression whose value is exactly `text`: single-quoted pieces (a quote
 /// doubled) joined by `.` with octal escapes for control characters, in parentheses, so that it
@@ -32,4 +32,4 @@ std::optional<std::string> gnuplot_missing();
 int run_gnuplot(const std::filesystem::path& directory, const std::vector<std::string>& scripts,
                 std::string& messages);
 
-}  // namespace nhc::jit
+}  // namespace nhc::tools

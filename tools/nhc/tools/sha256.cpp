@@ -1,4 +1,4 @@
-#include "nhc/jit/sha256.hpp"
+#include "nhc/tools/sha256.hpp"
 
 #include <openssl/evp.h>
 
@@ -8,7 +8,7 @@
 
 #include "nhc/errors.hpp"
 
-namespace nhc::jit {
+namespace nhc::tools {
 
 namespace {
 
@@ -62,4 +62,4 @@ std::optional<std::string> sha256_file_hex(const std::filesystem::path& path) {
   return h.hex();
 }
 
-}  // namespace nhc::jit
+}  // namespace nhc::tools

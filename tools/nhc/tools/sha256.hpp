@@ -7,7 +7,7 @@
 #include <optional>
 #include <string>
 
-namespace nhc::jit {
+namespace nhc::tools {
 
 /// The SHA-256 of `bytes`, 64 lowercase hexadecimal digits.
 std::string sha256_hex(const std::string& bytes);
@@ -15,4 +15,4 @@ std::string sha256_hex(const std::string& bytes);
 /// The SHA-256 of the file's bytes; nullopt when it cannot be read.
 std::optional<std::string> sha256_file_hex(const std::filesystem::path& path);
 
-}  // namespace nhc::jit
+}  // namespace nhc::tools

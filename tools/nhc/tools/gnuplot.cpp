@@ -1,9 +1,9 @@
 // Quoting for gnuplot and the one place gnuplot is run (gnuplot.hpp).
-#include "nhc/jit/gnuplot.hpp"
+#include "nhc/tools/gnuplot.hpp"
 
-#include "nhc/jit/subprocess.hpp"
+#include "nhc/tools/subprocess.hpp"
 
-namespace nhc::jit {
+namespace nhc::tools {
 
 namespace {
 
@@ -55,4 +55,4 @@ int run_gnuplot(const std::filesystem::path& directory, const std::vector<std::s
   return run_process(argv, messages);
 }
 
-}  // namespace nhc::jit
+}  // namespace nhc::tools

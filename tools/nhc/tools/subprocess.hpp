@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace nhc::jit {
+namespace nhc::tools {
 
 /// How a helper program ended.
 struct ProcessResult {
@@ -28,4 +28,4 @@ ProcessResult run_process(const std::vector<std::string>& argv, std::string& out
 /// was killed by a signal.
 int run_process(const std::vector<std::string>& argv, std::string& output);
 
-}  // namespace nhc::jit
+}  // namespace nhc::tools
