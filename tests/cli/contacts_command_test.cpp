@@ -15,9 +15,11 @@
 #include <vector>
 
 #include "command_runner.hpp"
+#include "csv_table.hpp"
 
 namespace {
 
+using nhc::test::csv_columns;
 using nhc::test::file_exists;
 using nhc::test::nhc_command;
 using nhc::test::read_file;
@@ -39,21 +41,6 @@ std::string incline(const std::string& dir, const std::string& contact) {
   return path;
 }
 
-/// The CSV's columns by name.
-std::map<std::string, std::vector<double>> columns(const std::string& csv) {
-  std::istringstream in(csv);
-  std::string line, cell;
-  std::getline(in, line);
-  std::vector<std::string> names;
-  for (std::istringstream header(line); std::getline(header, cell, ',');) names.push_back(cell);
-  std::map<std::string, std::vector<double>> out;
-  while (std::getline(in, line)) {
-    std::istringstream row(line);
-    for (std::size_t k = 0; k < names.size() && std::getline(row, cell, ','); ++k) out[names[k]].push_back(std::stod(cell));
-  }
-  return out;
-}
-
 }  // namespace
 
 TEST_CASE("nhc simulate: [contacts] forces and slip against closed forms", "[cli][contacts]") {
@@ -63,7 +50,7 @@ TEST_CASE("nhc simulate: [contacts] forces and slip against closed forms", "[cli
     const std::string scene = incline(dir, "[contacts.floor]\nnormal = \"lambda1\"\nrolling = [2]\nmu = 0.3\n");
     const Run r = run(nhc_command() + " simulate '" + scene + "' -o '" + dir + "/roll.csv'", dir);
     REQUIRE(r.exit_code == 0);
-    auto c = columns(read_file(dir + "/roll.csv"));
+    auto c = csv_columns(read_file(dir + "/roll.csv"));
     REQUIRE(c["t"].size() == 11);
     for (std::size_t i = 0; i < c["t"].size(); ++i) {
       CHECK(std::abs(c["floor.ratio"][i] - ratio) < 1e-10);
@@ -82,7 +69,7 @@ TEST_CASE("nhc simulate: [contacts] forces and slip against closed forms", "[cli
     REQUIRE(r.exit_code == 0);
     CHECK(r.out.find("  contact floor slips at t = 0 (needs mu >= 0.182101)\n") != std::string::npos);
     CHECK(read_file(dir + "/slip.events.csv") == "name,t\nfloor.slip,0\n");
-    CHECK(columns(read_file(dir + "/slip.csv"))["t"].size() == 1);
+    CHECK(csv_columns(read_file(dir + "/slip.csv"))["t"].size() == 1);
   }
   SECTION("a torque k t on a flat floor: the slip at t = 3 mu m g r/(2 k), by root finding") {
     const std::string path = dir + "/floor.toml";
@@ -100,7 +87,7 @@ TEST_CASE("nhc simulate: [contacts] forces and slip against closed forms", "[cli
     const std::string events = read_file(dir + "/torque.events.csv");
     REQUIRE(events.rfind("name,t\nfloor.slip,", 0) == 0);
     CHECK(std::abs(std::stod(events.substr(std::string("name,t\nfloor.slip,").size())) - t_slip) < 1e-8);
-    auto c = columns(read_file(dir + "/torque.csv"));
+    auto c = csv_columns(read_file(dir + "/torque.csv"));
     CHECK(c["t"].back() == Approx(t_slip).margin(1e-8));
     CHECK(std::abs(c["floor.ratio"].back() - 0.5) < 1e-7);
   }
@@ -119,7 +106,7 @@ TEST_CASE("nhc simulate: [contacts] forces and slip against closed forms", "[cli
     const std::string events = read_file(dir + "/launched.events.csv");
     REQUIRE(events.rfind("name,t\nfloor.stick,", 0) == 0);
     CHECK(std::abs(std::stod(events.substr(std::string("name,t\nfloor.stick,").size())) - t_roll) < 1e-8);
-    auto c = columns(read_file(dir + "/launched.csv"));
+    auto c = csv_columns(read_file(dir + "/launched.csv"));
     const std::size_t n = c["t"].size();
     REQUIRE(n == 402);  // the 401 output times and the last sliding point
     double work = 0;  // of friction, trapezoidal: its integrand mu m g |x' - r th'| is linear while sliding
@@ -158,7 +145,7 @@ TEST_CASE("nhc simulate: [contacts] forces and slip against closed forms", "[cli
     const std::string events = read_file(dir + "/spin.events.csv");
     REQUIRE(events.rfind("name,t\nfloor.slip,", 0) == 0);
     CHECK(std::abs(std::stod(events.substr(std::string("name,t\nfloor.slip,").size())) - ts) < 1e-8);
-    auto c = columns(read_file(dir + "/spin.csv"));
+    auto c = csv_columns(read_file(dir + "/spin.csv"));
     const double vs = k * ts * ts / (3 * kM * kR);  // x' = r th' at the slip
     for (std::size_t i = 0; i < c["t"].size(); ++i) {
       const double t = c["t"][i];

@@ -19,10 +19,12 @@
 #include <vector>
 
 #include "command_runner.hpp"
-
+#include "csv_table.hpp"
 
 namespace {
 
+using nhc::test::csv_columns;
+using nhc::test::event_rows;
 using nhc::test::nhc_command;
 using nhc::test::read_file;
 using nhc::test::run;
@@ -42,36 +44,6 @@ std::string digits(double v) {
 std::string write(const std::string& path, const std::string& text) {
   std::ofstream(path) << text;
   return path;
-}
-
-/// The rows of an event table after its header `name,t`.
-std::vector<std::pair<std::string, double>> event_rows(const std::string& csv) {
-  std::istringstream in(csv);
-  std::string line;
-  std::getline(in, line);
-  REQUIRE(line == "name,t");
-  std::vector<std::pair<std::string, double>> rows;
-  while (std::getline(in, line)) {
-    const auto comma = line.find(',');
-    REQUIRE(comma != std::string::npos);
-    rows.emplace_back(line.substr(0, comma), std::stod(line.substr(comma + 1)));
-  }
-  return rows;
-}
-
-/// The CSV's columns by name.
-std::map<std::string, std::vector<double>> columns(const std::string& csv) {
-  std::istringstream in(csv);
-  std::string line, cell;
-  std::getline(in, line);
-  std::vector<std::string> names;
-  for (std::istringstream header(line); std::getline(header, cell, ',');) names.push_back(cell);
-  std::map<std::string, std::vector<double>> out;
-  while (std::getline(in, line)) {
-    std::istringstream row(line);
-    for (std::size_t k = 0; k < names.size() && std::getline(row, cell, ','); ++k) out[names[k]].push_back(std::stod(cell));
-  }
-  return out;
 }
 
 /// The number after `key` in the text (the summary's "steps 123").
@@ -159,7 +131,7 @@ TEST_CASE("nhc simulate: the first step from the problem's scale; --max-step, --
   SECTION("t_end = 1e3: the closed form to 1e-5 relative") {
     const Run r = run(nhc_command() + " simulate '" + scene + "' --t-end 1e3 -o '" + dir + "/f.csv'", dir);
     REQUIRE(r.exit_code == 0);
-    const auto c = columns(read_file(dir + "/f.csv"));
+    const auto c = csv_columns(read_file(dir + "/f.csv"));
     double worst = 0, size = 0;
     for (std::size_t i = 0; i < c.at("t").size(); ++i) {
       const double t = c.at("t")[i], exact = A * t / w - A * std::sin(w * t) / (w * w);

@@ -10,9 +10,11 @@
 #include <string>
 
 #include "command_runner.hpp"
+#include "csv_table.hpp"
 
 namespace {
 
+using nhc::test::event_rows;
 using nhc::test::file_exists;
 using nhc::test::nhc_command;
 using nhc::test::read_file;
@@ -28,21 +30,6 @@ std::string write_scene(const std::string& dir, const std::string& events) {
                          "[initial]\nx = [1.0, 0.0]\n[simulate]\nt_end = 4.0\nrtol = 1e-10\natol = 1e-12\n"
                       << events;
   return path;
-}
-
-/// The t of each row of an event table after its header `name,t`, with the names.
-std::vector<std::pair<std::string, double>> event_rows(const std::string& csv) {
-  std::istringstream in(csv);
-  std::string line;
-  std::getline(in, line);
-  REQUIRE(line == "name,t");
-  std::vector<std::pair<std::string, double>> rows;
-  while (std::getline(in, line)) {
-    const auto comma = line.find(',');
-    REQUIRE(comma != std::string::npos);
-    rows.emplace_back(line.substr(0, comma), std::stod(line.substr(comma + 1)));
-  }
-  return rows;
 }
 
 /// The t of the CSV's last row.
