@@ -7,7 +7,9 @@
 # Which tests: the parsers, the derivation, the structural analysis, the code generator and the
 # runtime, each through its unit tests, plus the command line on the malformed-scene corpus and
 # `nhc simulate` end to end (the sanitized nhc compiles, loads and integrates a generated model),
-# and the Python module's threads (python:threads_asan, tests/CMakeLists.txt).
+# and the Python module's threads (python:threads_asan, tests/CMakeLists.txt), and guesses whose
+# rows do not fit their header or whose t is NaN, from the command line and from Python
+# (cli:optimize_guess_rows, python:guess_asan: a read past a row's end and a crash, once).
 # The code generator's tests run from nhc_tests_codegen_units (tests/codegen/CMakeLists.txt):
 # nhc_tests_codegen itself compiles some twenty generated headers into its binary, plain double
 # arithmetic that the Release suite checks, and would double this build's time. Left out as
@@ -36,5 +38,5 @@ if cmake --build "$build" --target help | grep -w _nhc >/dev/null; then targets+
 cmake --build "$build" -j "$jobs" --target "${targets[@]}"
 
 # ctest names: <executable>:<test case> (catch_discover_tests) and cli:simulate_* (add_test).
-selected='^(nhc_tests_(scene|derive|analysis|runtime|codegen_units):|nhc_tests_cli:(malformed|bad|a |JSON)|cli:(simulate_(appell_hamel|particle_chetaev_uniform|vakonomic_singular_branch)|concurrent_cache|interrupt_leaves_no_partial_file)$|python:threads_asan$)'
+selected='^(nhc_tests_(scene|derive|analysis|runtime|codegen_units):|nhc_tests_cli:(malformed|bad|a |JSON)|cli:(simulate_(appell_hamel|particle_chetaev_uniform|vakonomic_singular_branch)|concurrent_cache|interrupt_leaves_no_partial_file|optimize_guess_rows)$|python:(threads|guess)_asan$)'
 ctest --test-dir "$build" --output-on-failure -j "$jobs" -R "$selected" "$@"

@@ -152,6 +152,26 @@ def test_guess_files_under_the_data_file_rules(heisenberg, tmp_path):
     assert heisenberg.optimize(intervals=10, guess=crlf).cost == pytest.approx(first.cost, rel=1e-9)
 
 
+def test_guess_rows_wider_or_narrower_than_the_header_or_with_a_nan_t_are_refused(heisenberg, tmp_path):
+    # Refused before any solve, so scripts/sanitize.sh runs this under AddressSanitizer
+    # (python:guess_asan): a narrower row was read past its end, and a one-row guess whose t is
+    # NaN crashed the interpreter.
+    columns = ["t", "x", "x'", "y", "y'", "z", "z'"]
+    for width, words in [(5, "row 1 has 5 values, the header 7 names"), (9, "row 1 has 9 values, the header 7 names")]:
+        rows = np.zeros((3, width))
+        rows[:, 0] = [0.0, 0.5, 1.0]
+        with pytest.raises(nhc.SceneError, match=words):
+            heisenberg.optimize(intervals=10, guess=nhc.Run({"columns": columns, "data": rows, "summary": {}}))
+    one = np.zeros((1, 7))
+    one[0, 0] = float("nan")
+    with pytest.raises(nhc.SceneError, match=r"row 1, column 1 \('t'\) is nan, not a finite number"):
+        heisenberg.optimize(intervals=10, guess=nhc.Run({"columns": columns, "data": one, "summary": {}}))
+    nan_t = tmp_path / "nan_t.csv"
+    nan_t.write_text(",".join(columns) + "\nnan,0,0,0,0,0,0\n")
+    with pytest.raises(nhc.SceneError, match=r"nan_t.csv:2:1: error: 'nan' is not a finite number"):
+        heisenberg.optimize(intervals=10, guess=nan_t)
+
+
 def test_a_run_guess_is_checked_against_its_header(heisenberg):
     first = heisenberg.optimize(intervals=10)
     narrow = nhc.Run({"columns": first.columns, "data": first.to_numpy()[:, :-2], "summary": {}})

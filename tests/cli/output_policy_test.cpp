@@ -133,3 +133,50 @@ TEST_CASE("outputs: a device and a FIFO are written in place, a link's target is
           std::string::npos);
   }
 }
+
+// The check holds a stream output open from the start (nhc/io/output_path.hpp), so a FIFO nobody
+// reads is refused before the work: optimize prints nothing of its solve (its first line comes
+// after the check) and simulate derives nothing (its scene cache, empty at the start, stays empty).
+// Both under `timeout 60`: a hang fails the test instead of stopping the suite.
+TEST_CASE("outputs: a FIFO without a reader is refused before the command's work", "[cli][safety]") {
+  const Fixture f;
+  REQUIRE(::mkfifo(f.path("fifo").c_str(), 0666) == 0);
+  const std::string cache = f.path("cache");
+  const auto run = [&](const std::string& args) {
+    return nhc::test::run("cd " + shell_quote(f.dir) + " && NHC_CACHE_DIR=" + shell_quote(cache) + " timeout 60 " +
+                              nhc::test::nhc_command() + " " + args,
+                          f.dir);
+  };
+  SECTION("optimize: the snakeboard at 160 intervals (seconds of IPOPT) is never started") {
+    const Run r = run("optimize " + shell_quote(std::string(NHC_SOURCE_DIR) + "/examples/snakeboard_move.toml") +
+                      " --intervals 160 -o fifo");
+    INFO(r.out << r.err);
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find("fifo: error: the output fifo is a FIFO that nobody reads") != std::string::npos);
+    CHECK(r.out.empty());
+    CHECK(r.err.find("iteration") == std::string::npos);
+  }
+  SECTION("simulate: nothing is derived") {
+    const Run r = run("simulate " + shell_quote(std::string(NHC_SOURCE_DIR) + "/examples/tumbling_top_quaternion.toml") +
+                      " --t-end 2000 --outputs 100000 -o fifo");
+    INFO(r.out << r.err);
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find("fifo: error: the output fifo is a FIFO that nobody reads") != std::string::npos);
+    CHECK(r.out.empty());
+    CHECK(!fs::exists(cache + "/scenes"));
+  }
+  SECTION("optimize with a reader started first: the reader, held open through the solve, gets the whole CSV") {
+    const Run r = nhc::test::run("cd " + shell_quote(f.dir) + " && (timeout 60 cat fifo > read.csv &) && sleep 0.2 && NHC_CACHE_DIR=" +
+                                     shell_quote(cache) + " timeout 60 " + nhc::test::nhc_command() + " optimize " +
+                                     shell_quote(std::string(NHC_SOURCE_DIR) + "/examples/heisenberg_optimal.toml") +
+                                     " --intervals 10 -o fifo && wait",
+                                 f.dir);
+    INFO(r.out << r.err);
+    CHECK(r.exit_code == 0);
+    CHECK(type_of(f.path("fifo")) == S_IFIFO);
+    for (int k = 0; k < 100 && read_file(f.path("read.csv")).find("\n1,") == std::string::npos; ++k) ::usleep(50000);
+    const std::string csv = read_file(f.path("read.csv"));
+    CHECK(csv.rfind("t,x,x',y,y',z,z'\n", 0) == 0);
+    CHECK(csv.find("\n1,") != std::string::npos);  // the last row, at t_end = 1
+  }
+}

@@ -37,18 +37,13 @@ int sync_file(const std::string& path) {
 /// The temporary file beside `path`, written, synced and renamed over it.
 static void write_into_existing_directory(const std::string& path, const std::function<void(std::ostream&)>& write);
 
-/// A character device or a FIFO, written in place (output_path.hpp): never renamed over, and a
-/// FIFO nobody reads is refused at once instead of waited on.
+/// A character device or a FIFO, written in place (output_path.hpp): never renamed over, through
+/// the descriptor the output check holds (so the reader that was there then gets the bytes), or
+/// opened now; a FIFO nobody reads is refused at once instead of waited on.
 static void write_in_place(const std::string& path, const std::string& device,
                            const std::function<void(std::ostream&)>& write) {
-  const int fd = ::open(device.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
-  if (fd < 0) {
-    if (errno == ENXIO)
-      throw InputError({path, 0, 0}, "the output " + path + " is a FIFO that nobody reads; start its reader first");
-    throw EnvironmentError("cannot write " + path + ": " + std::strerror(errno));
-  }
-  const int flags = ::fcntl(fd, F_GETFL);
-  if (flags >= 0) ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
+  const int held = take_held_output(device);
+  const int fd = held >= 0 ? held : open_stream_output(path, device);
   std::ostringstream text;
   try {
     write(text);

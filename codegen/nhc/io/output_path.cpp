@@ -1,8 +1,15 @@
 #include "nhc/io/output_path.hpp"
 
+#include <fcntl.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
+#include <map>
+#include <mutex>
+#include <utility>
 
 #include "nhc/errors.hpp"
 
@@ -43,7 +50,58 @@ void refuse_file_as_directory(const std::string& output, const fs::path& path) {
   }
 }
 
+/// The stream outputs opened by check_output_file(), by device and inode (one file under any
+/// name), until the write takes them; a process writes few outputs, so they are never pruned.
+struct HeldOutputs {
+  std::mutex mutex;
+  std::map<std::pair<dev_t, ino_t>, int> descriptors;
+};
+
+HeldOutputs& held_outputs() {
+  static HeldOutputs held;
+  return held;
+}
+
+/// Opens `device` and holds it, unless a descriptor on the same file is held already.
+void hold_stream_output(const std::string& path, const std::string& device) {
+  struct stat s {};
+  HeldOutputs& held = held_outputs();
+  const std::lock_guard<std::mutex> lock(held.mutex);
+  if (::stat(device.c_str(), &s) == 0 && held.descriptors.count({s.st_dev, s.st_ino}) != 0) return;
+  const int fd = open_stream_output(path, device);
+  if (::fstat(fd, &s) != 0) {
+    ::close(fd);
+    throw EnvironmentError("cannot write " + path + ": " + std::strerror(errno));
+  }
+  held.descriptors[{s.st_dev, s.st_ino}] = fd;
+}
+
 }  // namespace
+
+int open_stream_output(const std::string& path, const std::string& device) {
+  // O_NONBLOCK: opening a FIFO for writing without a reader fails (ENXIO) instead of waiting.
+  const int fd = ::open(device.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+  if (fd < 0) {
+    if (errno == ENXIO)
+      throw InputError({path, 0, 0}, "the output " + path + " is a FIFO that nobody reads; start its reader first");
+    throw EnvironmentError("cannot write " + path + ": " + std::strerror(errno));
+  }
+  const int flags = ::fcntl(fd, F_GETFL);
+  if (flags >= 0) ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
+  return fd;
+}
+
+int take_held_output(const std::string& device) {
+  struct stat s {};
+  if (::stat(device.c_str(), &s) != 0) return -1;
+  HeldOutputs& held = held_outputs();
+  const std::lock_guard<std::mutex> lock(held.mutex);
+  const auto found = held.descriptors.find({s.st_dev, s.st_ino});
+  if (found == held.descriptors.end()) return -1;
+  const int fd = found->second;
+  held.descriptors.erase(found);
+  return fd;
+}
 
 OutputTarget output_target(const std::string& path) {
   fs::path p = path;
@@ -78,7 +136,8 @@ OutputTarget output_target(const std::string& path) {
 
 void check_output_file(const std::string& output, const std::vector<std::string>& inputs) {
   refuse_inputs(output, inputs);
-  output_target(output);
+  const OutputTarget target = output_target(output);
+  if (target.kind == OutputTarget::Kind::stream) hold_stream_output(output, target.path);
 }
 
 void check_output_directory(const std::string& output, const std::vector<std::string>& inputs) {

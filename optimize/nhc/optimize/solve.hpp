@@ -15,6 +15,9 @@ struct SolveOptions {
   int max_iterations = 3000;
   double tolerance = 1e-10;  ///< IPOPT's tol: the scaled KKT error at the optimum
   double violation_tolerance = 1e-9;  ///< IPOPT's constr_viol_tol: the largest |constraint| at the optimum
+  /// IPOPT's acceptable_iter: this many iterates in a row that meet the acceptable optimality
+  /// tolerance (1e-6) and the violation tolerance stop the solve (Solution::Status::acceptable).
+  int acceptable_iterations = 15;
   /// IPOPT differentiates the constraints itself by finite differences on the exact Jacobian's
   /// structure (jacobian_approximation = finite-difference-values) instead of taking the exact
   /// values: what the exact derivatives buy (bench/optimize.md).
