@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """`nhc animate` in a real browser: the page of one example is loaded in headless
-Chromium at two times through its fragment (#t=…&marker=…&size=…), once for a screenshot and
-once for the page's state (its camera and errors, #nhc-state). Fails on an error in the page or on
+Chromium at two times through its fragment (#t=…&marker=…&size=…), each load giving the page's
+state (its camera and errors, #nhc-state) and then a screenshot of the same page. One browser
+serves both loads (headless.py: a fresh tab each). Fails on an error in the page or on
 the console, a blank picture, two times giving the same picture, or a marker that is not where
 the CSV of `nhc simulate` (an independent run of the same scene) puts the shape's point after the
 page's camera projection. Exits 77 (skipped) where Chromium is missing.
@@ -22,6 +23,9 @@ import tempfile
 import numpy as np
 from PIL import Image
 
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+from headless import Browser  # noqa: E402
+
 WIDTH, HEIGHT = 800, 600
 SKIP = 77
 
@@ -34,15 +38,14 @@ def chromium():
     return None
 
 
-def browse(browser, url, profile, screenshot=None):
-    """One headless Chromium run: the DOM after load (dump), or a screenshot."""
-    command = [browser, "--headless", "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
-               "--hide-scrollbars", f"--window-size={WIDTH},{HEIGHT}", f"--user-data-dir={profile}",
-               "--enable-logging=stderr", "--v=0", "--no-first-run", "--disable-extensions"]
-    command += [f"--screenshot={screenshot}"] if screenshot else ["--dump-dom"]
-    out = subprocess.run(command + [url], capture_output=True, text=True, timeout=120)
-    console = [line for line in out.stderr.splitlines() if "CONSOLE" in line]
-    return out.stdout, console
+def open_browser(browser, profile):
+    """One headless Chromium for all the page loads of a test (WebGL in software: SwiftShader)."""
+    return Browser(browser, profile, WIDTH, HEIGHT, ["--use-angle=swiftshader", "--enable-unsafe-swiftshader"])
+
+
+def errors_in(console):
+    """The console lines that report an error (an uncaught exception, console.error, a failed load)."""
+    return [c for c in console if "Uncaught" in c or "rror" in c]
 
 
 def page_state(dom):
@@ -99,18 +102,20 @@ def main():
         rows = list(csv.DictReader(f))
     failures = []
     pictures = []
-    with tempfile.TemporaryDirectory() as profile:
+    with tempfile.TemporaryDirectory() as profile, open_browser(browser, profile) as session:
         for row_index in (int(r) for r in args.rows.split(",")):
             row = rows[row_index]
             t = float(row["t"])
             expected = [float(row[e]) if e in row else float(e) for e in args.expect.split(",")]
             url = (pathlib.Path(out / "page" / "index.html").resolve().as_uri() +
                    f"#t={t!r}&marker={args.marker}&size={WIDTH}x{HEIGHT}")
-            dom, console = browse(browser, url, profile)
-            state = page_state(dom)
+            page = session.load(url)
+            state = page_state(page.dom)
             shot = out / f"{name}-t{t:g}.png"
-            _, console_shot = browse(browser, url, profile, screenshot=shot)
-            errors = state["errors"] + [c for c in console + console_shot if "Uncaught" in c or "rror" in c]
+            page.screenshot(shot)
+            console = page.console
+            page.close()
+            errors = state["errors"] + errors_in(console)
             if errors:
                 failures.append(f"t = {t}: errors in the page: {errors}")
             if abs(state["t"] - t) > 1e-9 * max(1.0, abs(t)):

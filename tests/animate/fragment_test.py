@@ -16,7 +16,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
-from browser_test import SKIP, browse, chromium, page_state  # noqa: E402
+from browser_test import SKIP, chromium, open_browser, page_state  # noqa: E402
 
 T0 = 1e6
 
@@ -47,9 +47,11 @@ def main():
     # (fragment, the time the page must show: None for "playing, any time")
     cases = [("#t=50%", None), ("#t=%E0%A4%A", None), ("#%ZZ=1&t=%", None), ("#marker=%&size=800x600", None),
              ("#t=%E0%A4%A&probe", None), (f"#t={T0 + 1.23!r}", T0 + 1.23), (f"#t={T0 + 1.24!r}", T0 + 1.24)]
-    with tempfile.TemporaryDirectory() as profile:
+    with tempfile.TemporaryDirectory() as profile, open_browser(browser, profile) as session:
         for fragment, shown in cases:
-            dom, console = browse(browser, page + fragment, profile)
+            tab = session.load(page + fragment)
+            dom, console = tab.dom, tab.console
+            tab.close()
             try:
                 state = page_state(dom)
             except (AssertionError, ValueError) as e:  # no state, or not JSON: the page did not run
