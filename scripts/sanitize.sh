@@ -34,8 +34,20 @@ export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 
 CXX=${CXX_SANITIZE:-clang++} cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Debug \
   -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DNHC_FUZZ=ON -DNHC_SANITIZE=ON -DNHC_BUILD_TESTS=ON >/dev/null
-targets=(nhc nhc_tests_scene nhc_tests_derive nhc_tests_analysis nhc_tests_cli nhc_tests_runtime
+targets=(nhc nhc_tests_scene nhc_tests_derive nhc_tests_analysis nhc_tests_runtime
          nhc_tests_codegen_units nhc_test_appell_hamel_module nhc_scene_fuzzer nhc_expression_fuzzer)
+# nhc_tests_cli's selected cases run the nhc binary on the malformed-scene corpus and bad flags:
+# what must be sanitized is that binary. With a Release build beside this one (scripts/test.sh
+# builds it first; NHC_RELEASE_BUILD_DIR), its test binary runs against the sanitized nhc
+# (NHC_TEST_EXECUTABLE, tests/support/command_runner.cpp) instead of compiling its fourteen
+# sources under the sanitizers too; without one, it is built here.
+release=${NHC_RELEASE_BUILD_DIR:-build}
+cli_tests_from_release=0
+if [ -x "$release/tests/cli/nhc_tests_cli" ] && [ "$(realpath "$release")" != "$(realpath -m "$build")" ]; then
+  cli_tests_from_release=1
+else
+  targets+=(nhc_tests_cli)
+fi
 # The Python module, when it is configured (python/CMakeLists.txt skips it without pybind11):
 # python:threads_asan runs Python threads doing symbolic work at once through it.
 # grep reads the whole list (-q would stop at the first match, and under pipefail the listing's
@@ -44,9 +56,24 @@ if cmake --build "$build" --target help | grep -w _nhc >/dev/null; then targets+
 cmake --build "$build" -j "$jobs" --target "${targets[@]}"
 
 # ctest names: <executable>:<test case> (catch_discover_tests) and cli:simulate_* (add_test).
-selected='^(nhc_tests_(scene|derive|analysis|runtime|codegen_units):|nhc_tests_cli:(malformed|bad|a |JSON)|cli:(simulate_(appell_hamel|particle_chetaev_uniform|vakonomic_singular_branch)|concurrent_cache|interrupt_leaves_no_partial_file|optimize_guess_rows)$|python:(threads|guess)_asan$)'
-if ! ctest --test-dir "$build" --output-on-failure -j "$jobs" -R "$selected" "$@"; then
-  echo "sanitize: the failed tests once more, their reports symbolized:" >&2
-  LSAN_OPTIONS="$lsan_options" ctest --test-dir "$build" --output-on-failure --rerun-failed || true
-  exit 1
+cli_selected='nhc_tests_cli:(malformed|bad|a |JSON)'
+selected='^(nhc_tests_(scene|derive|analysis|runtime|codegen_units):|cli:(simulate_(appell_hamel|particle_chetaev_uniform|vakonomic_singular_branch)|concurrent_cache|interrupt_leaves_no_partial_file|optimize_guess_rows)$|python:(threads|guess)_asan$)'
+status=0
+# run_selected DIR REGEX [ENV...]: the selected tests of one build; a failure runs them once more
+# with their reports symbolized (LSAN_OPTIONS without symbolize=0).
+run_selected() {
+  local dir=$1 regex=$2; shift 2
+  if ! env "$@" ctest --test-dir "$dir" --output-on-failure -j "$jobs" -R "$regex" "${ctest_args[@]}"; then
+    echo "sanitize: the failed tests once more, their reports symbolized:" >&2
+    env "$@" LSAN_OPTIONS="$lsan_options" ctest --test-dir "$dir" --output-on-failure --rerun-failed || true
+    status=1
+  fi
+}
+ctest_args=("$@")
+if [ "$cli_tests_from_release" = 1 ]; then
+  run_selected "$build" "$selected"
+  run_selected "$release" "^$cli_selected" NHC_TEST_EXECUTABLE="$PWD/$build/cli/nhc"
+else
+  run_selected "$build" "^(${selected#^}|$cli_selected)"
 fi
+exit "$status"

@@ -17,7 +17,7 @@ bool file_exists(const std::string& path);
 std::string scratch_dir(const std::string& name);
 /// Runs `command` (arguments already quoted) with stdout and stderr captured in files of `dir`.
 Run run(const std::string& command, const std::string& dir);
-/// The nhc executable under test, quoted for the shell.
+/// The nhc executable under test, quoted for the shell (NHC_TEST_EXECUTABLE, when set, names another).
 std::string nhc_command();
 /// Runs a shell command; returns its exit status (-1 when it could not run or was killed) and
 /// appends its stdout and stderr to `output`.
