@@ -117,7 +117,12 @@ def test_a_value_the_place_does_not_allow_is_refused_there(cylinder, tmp_path):
     done = simulate(cylinder, "--set", "mu=0.2")
     assert done.returncode == 2
     assert "'mu' is not a parameter of the scene (parameters: " in done.stderr
-    assert f"it is the scene's mu of contact 'floor' ({cylinder}:{line}:{column})" in done.stderr, done.stderr
+    assert f"it is the scene's mu of contact 'floor' ({cylinder}:{line}:{column}), written \"muT\": set the " \
+           "parameters it uses" in done.stderr, done.stderr
+    plain = tmp_path / "plain.toml"
+    plain.write_text(CYLINDER.replace('mu = "muT"', "mu = 0.3"))
+    done = simulate(plain, "--set", "mu=0.2")
+    assert done.returncode == 2 and "to move it with --set, write it there through a parameter" in done.stderr
     done = subprocess.run([nhc_command(), "ensemble", str(cylinder), "--vary", "muT=0.1:0.2:3",
                            "-o", str(tmp_path / "e.h5")], capture_output=True, text=True)
     assert done.returncode == 2 and "mu of contact 'floor'" in done.stderr, done.stderr
@@ -172,7 +177,7 @@ def test_a_controller_period_written_through_a_parameter(tmp_path):
     run = read_csv(tmp_path / "clock.csv")
     ref = clock_by_hand(0.25, 2.0)
     assert len(run["t"]) == len(ref) and np.max(np.abs(run["t"] - ref[:, 0])) < 1e-12
-    assert np.max(np.abs(run["z"] - run["t"])) < 1e-12  # z + period with the period set
+    assert np.max(np.abs(run["controller:z"] - run["t"])) < 1e-12  # z + period with the period set
     assert np.max(np.abs(run["x"] - ref[:, 1])) < 1e-8
     py = nhc.Scene.load(path, set={"h": 0.25}).build().simulate()
     assert np.max(np.abs(py.t - ref[:, 0])) < 1e-12 and np.max(np.abs(py["x"] - ref[:, 1])) < 1e-8
@@ -199,7 +204,7 @@ initial_step = "h0"
 
 
 def steps_of(stdout):
-    return int(re.search(r"(\d+) steps", stdout).group(1))
+    return int(re.search(r"steps (\d+),", stdout).group(1))
 
 
 def test_simulate_numbers_written_through_parameters(tmp_path):

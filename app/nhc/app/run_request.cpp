@@ -204,8 +204,10 @@ void check_parameter_name(const Scene& scene, const std::string& name, const std
       const bool named = what.rfind(name + " ", 0) == 0 ||
                          (what.size() > name.size() && what.compare(what.size() - name.size() - 1, std::string::npos, " " + name) == 0);
       if (key.empty() && named && number.where.line > 0)
-        key = ": it is the scene's " + what + " (" + number.where.str() + "); to move it with " + field +
-              ", write it there through a parameter (" + name + " = \"NAME\", NAME in [parameters]) and set that";
+        key = ": it is the scene's " + what + " (" + number.where.str() + ")" +
+              (number.empty() ? "; to move it with " + field + ", write it there through a parameter (" + name +
+                                    " = \"NAME\", NAME in [parameters]) and set that"
+                              : ", written \"" + number.text + "\": set the parameters it uses");
     });
     refuse(field, written + ": '" + name + "' is not a parameter of the scene (" +
                       (known.empty() ? std::string("it has none") : "parameters: " + known) + ")" + key);
