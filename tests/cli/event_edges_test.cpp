@@ -232,7 +232,7 @@ TEST_CASE("nhc simulate --sensitivity: a parameter only [initial] uses moves the
                                   "name = \"start\"\ncoordinates = [\"x\"]\nlagrangian = \"x'^2/2 - x^2/2\"\n"
                                   "[parameters]\nA = 0.7\nB = 0.1\nTend = 3.0\n[initial]\nx = [\"A\", 0.0]\n"
                                   "[simulate]\nt_end = \"Tend\"\nrtol = 1e-10\natol = 1e-12\n");
-  Run r = run(nhc_command() + " simulate '" + scene + "' --sensitivity A -o s.csv", dir);
+  Run r = run(nhc_command() + " simulate '" + scene + "' --sensitivity A -o '" + dir + "/s.csv'", dir);
   REQUIRE(r.exit_code == 0);
   const auto csv = columns(read_file(dir + "/s.csv"));
   REQUIRE(csv.count("d(x)/d(A)") == 1);
