@@ -300,3 +300,16 @@ def test_an_event_threshold_written_through_a_parameter(tmp_path):
     assert [r["name"] for r in rows] == ["level"] and abs(float(rows[0]["t"]) - math.acos(0.5)) < 1e-8
     run = nhc.Scene.load(path, set={"c": 0.5}).build().simulate()
     assert [e.name for e in run.events] == ["level"] and abs(run.events[0].t - math.acos(0.5)) < 1e-8
+
+
+def test_a_start_time_written_through_a_parameter(tmp_path):
+    """[initial] t0 = "T0" without [simulate] t_end: --set T0=2 runs from 2 to 3 (a run lasts 1
+    from t0), x = cos(t - t0)."""
+    path = tmp_path / "late.toml"
+    path.write_text('name = "late"\ncoordinates = ["x"]\nlagrangian = "x\'^2/2 - x^2/2"\n[parameters]\nT0 = 0.5\n'
+                    '[initial]\nt0 = "T0"\nx = [1.0, 0.0]\n')
+    done = simulate(path, "--set", "T0=2", "-o", str(tmp_path / "late.csv"), "--rtol", "1e-10", "--atol", "1e-12")
+    assert done.returncode == 0, done.stderr
+    run = read_csv(tmp_path / "late.csv")
+    assert run["t"][0] == 2.0 and run["t"][-1] == 3.0
+    assert np.max(np.abs(run["x"] - np.cos(run["t"] - 2.0))) < 1e-7

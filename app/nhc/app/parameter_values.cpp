@@ -60,6 +60,9 @@ std::string positive(double v) { return v > 0 ? "" : "must be positive"; }
 void reevaluate_experiment_numbers(Scene& scene) {
   const std::map<std::string, double> names = scene.parameter_values_by_name();
   reevaluate(scene.initial.t0, scene.initial.t0_expression, "t0", names, any_number);
+  // Without [simulate] t_end a run lasts 1 from t0 (scene_loader.cpp): from this t0.
+  if (!scene.initial.t0_expression.empty() && scene.simulate.t_end_expression.where.line <= 0)
+    scene.simulate.t_end = scene.initial.t0 + 1.0;
   for (SceneContact& c : scene.contacts)
     reevaluate(c.mu, c.mu_expression, "mu", names, [](double v) { return v >= 0 ? "" : "must not be negative"; });
   if (scene.controller.present) {
