@@ -102,14 +102,14 @@ CommandRunner add_animate_command(CLI::App& app) {
     const std::vector<app::ParameterOverride> overrides = app::parse_parameter_overrides(scene, flags.set);
     Scene scene_set = scene;  // the overridden values for the shapes; the model takes them at run time
     app::apply_parameter_overrides(scene_set, overrides);
-    const std::vector<double> times = run_times(flags, scene);
-    const app::InputSignals input_signals = app::parse_input_signals(scene_set, flags.inputs, scene.initial.t0, times.back());
+    const std::vector<double> times = run_times(flags, scene_set);  // numbers written through parameters follow --set
+    const app::InputSignals input_signals = app::parse_input_signals(scene_set, flags.inputs, scene_set.initial.t0, times.back());
 
     // The path of nhc simulate (app::prepare_and_build): given initial values that miss a hidden
     // constraint are refused in the analysis' words before anything is compiled.
     Scene scene_checked = scene_set;
-    scene_checked.simulate.rtol = flags.rtol.value_or(scene.simulate.rtol);
-    scene_checked.simulate.atol = flags.atol.value_or(scene.simulate.atol);
+    scene_checked.simulate.rtol = flags.rtol.value_or(scene_set.simulate.rtol);
+    scene_checked.simulate.atol = flags.atol.value_or(scene_set.simulate.atol);
     app::Preparation preparation(std::move(scene_checked), kind);
     jit::BuildOptions build_options;
     build_options.variational = variational_integrator(flags);
@@ -117,7 +117,7 @@ CommandRunner add_animate_command(CLI::App& app) {
     const app::PreparedModel prepared = app::prepare_and_build(preparation, scene, flags.repair, build_options);
     const jit::LoadedModel& built = prepared.built;
     const runtime::Model& model = built.model();
-    runtime::IntegratorOptions io = run_integrator_options(flags, scene);
+    runtime::IntegratorOptions io = run_integrator_options(flags, scene_set);
     io.progress = terminal_progress();
     const std::vector<double> p = app::parameters_with_overrides(model, overrides);
     runtime::RunResult run;

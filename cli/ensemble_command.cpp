@@ -200,6 +200,11 @@ Prepared prepare(const EnsembleOptions& o, int ranks, int threads) {
   spec.scene_parameters = scene.parameter_values_by_name();
   for (const VariableSpec& v : design.variables) {
     const std::string flag = (o.vary.empty() ? "--sample " : "--vary ") + v.text;
+    // The runs share one t0, t_end and tolerances and locate no contact's slip or controller sample.
+    if (const std::vector<std::string> numbers = app::experiment_numbers_using(scene, v.name); !numbers.empty())
+      bad_flag(flag, "the scene's " + numbers.front() + " is written through '" + v.name +
+                         "', which the runs of nhc ensemble share and do not re-evaluate: run nhc simulate --set " +
+                         v.name + "=… for each value");
     // A parameter [initial] is written through moves each run's start (only that, when the
     // equations do not read it).
     const std::vector<double> slopes = app::initial_slopes(scene, model, v.name);

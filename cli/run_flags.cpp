@@ -192,11 +192,11 @@ app::RunPlan run_plan(const RunFlags& flags, const Scene& scene, const Scene& sc
   plan.initial = run_initial_state(flags, scene_set, model);
   plan.times = times;
   plan.options = std::move(io);
-  plan.events = run_events(flags, scene);
+  plan.events = run_events(flags, scene_set);  // a contact's mu follows --set
   plan.inputs = inputs;
-  plan.request = run_request(flags, scene);
+  plan.request = run_request(flags, scene_set);
   if (controller)
-    plan.control = app::RunControl{app::sample_law(controller), controller->held(), times, scene.controller.period,
+    plan.control = app::RunControl{app::sample_law(controller), controller->held(), times, scene_set.controller.period,
                                    controller};
   if (!plan.request.variational)
     if (const SceneContact* slide = app::sliding_contact(scene_set)) {

@@ -19,19 +19,10 @@ void add_sensitivity_options(CLI::App* sub, SensitivityRequest& request) {
       ->check(CLI::IsMember({"on", "off"}));
 }
 
-std::vector<runtime::SensitivityParameter> parse_sensitivities(const runtime::Model& model,
-                                                               const std::vector<std::string>& names) {
+void check_sensitivities_given(const std::vector<runtime::SensitivityParameter>& thetas,
+                               const runtime::InitialState& initial) {
   try {
-    return runtime::sensitivity_parameters(model, names);
-  } catch (const std::invalid_argument& e) {
-    throw InputError({"--sensitivity", 0, 0}, e.what());
-  }
-}
-
-void check_sensitivities_given(const runtime::Model& model, const runtime::InitialState& initial,
-                               const std::vector<std::string>& names) {
-  try {
-    runtime::require_given(parse_sensitivities(model, names), initial);
+    runtime::require_given(thetas, initial);
   } catch (const std::invalid_argument& e) {
     throw InputError({"--sensitivity", 0, 0}, e.what());
   }

@@ -20,14 +20,11 @@ struct SensitivityRequest {
 /// Registers --sensitivity and --sensitivity-error-control on `sub`.
 void add_sensitivity_options(CLI::App* sub, SensitivityRequest& request);
 
-/// The names for `model`; InputError naming --sensitivity for an unknown or algebraic name.
-std::vector<runtime::SensitivityParameter> parse_sensitivities(const runtime::Model& model,
-                                                               const std::vector<std::string>& names);
-
 /// InputError naming --sensitivity for an initial value the scene does not give (the hidden
-/// constraints fix it, so it cannot be varied on its own).
-void check_sensitivities_given(const runtime::Model& model, const runtime::InitialState& initial,
-                               const std::vector<std::string>& names);
+/// constraints fix it, so it cannot be varied on its own). The quantities themselves:
+/// app::sensitivity_parameters.
+void check_sensitivities_given(const std::vector<runtime::SensitivityParameter>& thetas,
+                               const runtime::InitialState& initial);
 
 /// One summary line: the sensitivities' cost against the plain run's statistics.
 std::string describe_sensitivity_cost(const runtime::SensitivityRun& run, const SensitivityRequest& request,

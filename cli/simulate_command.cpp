@@ -90,7 +90,10 @@ int run_simulate(SimulateOptions& options) {
   const Scene scene = load_run_scene(options.run);
   const ModelKind kind = model_or_default(scene, options.run.model);
   app::require_model_inputs(scene, kind);
-  check_run_flags(options.run, scene, kind);  // before anything is compiled or written
+  const std::vector<app::ParameterOverride> overrides = app::parse_parameter_overrides(scene, options.run.set);
+  Scene scene_set = scene;  // the overridden values for the analysis; the model takes them at run time
+  app::apply_parameter_overrides(scene_set, overrides);
+  check_run_flags(options.run, scene_set, kind);  // before anything is compiled or written
   // The scene's [controller]: the run goes from sample to sample (app/run_engine.hpp).
   const bool sampled = scene.controller.present;
   const bool variational = variational_integrator(options.run);
@@ -112,11 +115,10 @@ int run_simulate(SimulateOptions& options) {
   std::ostream& info = csv_to_stdout ? std::cerr : std::cout;
   PathPlane plane;
   if (!options.plot.empty()) require_gnuplot("--plot"), plane = path_plane(scene, options.plot_xy, "--plot-xy");
-  const std::vector<app::ParameterOverride> overrides = app::parse_parameter_overrides(scene, options.run.set);
-  Scene scene_set = scene;  // the overridden values for the analysis; the model takes them at run time
-  app::apply_parameter_overrides(scene_set, overrides);
-  const double t0 = scene.initial.t0;
-  const std::vector<double> times = run_times(options.run, scene);
+  // The run's numbers from scene_set: a contact's mu, the period, t0 and [simulate] written through
+  // parameters follow --set (app::set_parameter_values).
+  const double t0 = scene_set.initial.t0;
+  const std::vector<double> times = run_times(options.run, scene_set);
   const double t_end = times.back();
   const auto inputs_start = Clock::now();
   const app::InputSignals input_signals = app::parse_input_signals(scene_set, options.run.inputs, t0, t_end);
@@ -124,8 +126,8 @@ int run_simulate(SimulateOptions& options) {
   // Derived and analysed once (app::prepare_and_build, as Python's Scene.build): the initial-point
   // check's analysis is what the build reduces.
   Scene scene_checked = scene_set;
-  scene_checked.simulate.rtol = options.run.rtol.value_or(scene.simulate.rtol);
-  scene_checked.simulate.atol = options.run.atol.value_or(scene.simulate.atol);
+  scene_checked.simulate.rtol = options.run.rtol.value_or(scene_set.simulate.rtol);
+  scene_checked.simulate.atol = options.run.atol.value_or(scene_set.simulate.atol);
   app::Preparation preparation(std::move(scene_checked), kind);
   jit::BuildOptions build_options;
   build_options.sensitivities = !options.sensitivity.names.empty();
@@ -136,9 +138,11 @@ int run_simulate(SimulateOptions& options) {
   const app::InitialPointCheck& check = prepared.check;
   const double load_seconds = before_check_seconds + prepared.check_seconds;
   const jit::LoadedModel& built = prepared.built;
-  for (const std::string& name : options.sensitivity.names)
-    app::refuse_unread_parameter(scene, built.model(), name, "--sensitivity", "its sensitivities are all zero");
-  if (build_options.sensitivities) parse_sensitivities(built.model(), options.sensitivity.names);
+  // What --sensitivity differentiates by, a parameter only [initial] is written through among them.
+  const std::vector<runtime::SensitivityParameter> thetas =
+      build_options.sensitivities
+          ? app::sensitivity_parameters(scene_set, built.model(), options.sensitivity.names, "--sensitivity")
+          : std::vector<runtime::SensitivityParameter>{};
   const runtime::Model& model = built.model();
   const double derive_seconds =
       load_seconds + built.timings().derive + built.timings().generate + built.timings().scene_cache;
@@ -146,7 +150,7 @@ int run_simulate(SimulateOptions& options) {
   const double compile_seconds = built.timings().compile + built.timings().load;
 
   // Integrate.
-  runtime::IntegratorOptions io = run_integrator_options(options.run, scene);
+  runtime::IntegratorOptions io = run_integrator_options(options.run, scene_set);
   io.progress = terminal_progress();
   // --backend auto: a long interpreted run compiles its model behind it (compile_behind.hpp).
   jit::CompileBehind behind(scene, kind, build_options, built);
@@ -170,7 +174,7 @@ int run_simulate(SimulateOptions& options) {
       options.columns.empty() ? std::vector<std::string>{}
                               : app::parse_columns(options.columns, app::csv_columns(model, p, outputs, extra));
   const runtime::InitialState initial = run_initial_state(options.run, scene_set, model);
-  if (build_options.sensitivities) check_sensitivities_given(model, initial, options.sensitivity.names);
+  if (build_options.sensitivities) check_sensitivities_given(thetas, initial);
   // The run: app::simulate, the one engine of every front end (app/run_engine.hpp).
   std::optional<jit::LoadedModel> sliding;
   const app::RunPlan plan = run_plan(options.run, scene, scene_set, kind, build_options, model, p, times, io,
@@ -187,12 +191,11 @@ int run_simulate(SimulateOptions& options) {
   if (build_options.sensitivities) {
     runtime::SensitivityOptions so;
     so.error_control = options.sensitivity.error_control == "on";
-    sensitivities = app::simulate_sensitivities(plan, parse_sensitivities(model, options.sensitivity.names), so);
+    sensitivities = app::simulate_sensitivities(plan, thetas, so);
   }
   auto write_rows = [&](std::ostream& out) {
     if (sensitivities)
-      runtime::write_sensitivity_csv(out, model, p, parse_sensitivities(model, options.sensitivity.names),
-                                     sensitivities->samples);
+      runtime::write_sensitivity_csv(out, model, p, thetas, sensitivities->samples);
     else
       app::write_selected_csv(out, model, p, run.samples, columns, outputs, extra);
   };
@@ -265,7 +268,7 @@ int run_simulate(SimulateOptions& options) {
          << ")\n";
   }
   if (sampled)
-    info << "  sampled controller: period " << scene.controller.period << ", " << run.samples.size()
+    info << "  sampled controller: period " << scene_set.controller.period << ", " << run.samples.size()
          << " samples at t0 + k*period, inputs held between them\n";
   if (!outputs.empty()) {
     info << "  outputs (CSV columns, not checked for drift):";

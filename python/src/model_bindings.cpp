@@ -306,12 +306,9 @@ py::dict simulate_sensitivities(const BuiltModel& built, app::RunPlan plan, cons
                                 InterruptCheck interrupt, bool reference_applies) {
   const Scene& scene = *plan.scene;
   const runtime::Model& plain = built.model();  // the inputs follow their default signals
-  std::vector<runtime::SensitivityParameter> thetas;
-  for (const std::string& name : names)  // as nhc simulate --sensitivity
-    app::refuse_unread_parameter(scene, plain, name, "sensitivity", "its sensitivities are all zero");
+  // As nhc simulate --sensitivity: a parameter only [initial] is written through among them.
+  const std::vector<runtime::SensitivityParameter> thetas = app::sensitivity_parameters(scene, plain, names, "sensitivity");
   try {
-    thetas = runtime::sensitivity_parameters(plain, names);
-    if (thetas.empty()) throw std::invalid_argument("no quantity to differentiate by");
     runtime::require_given(thetas, plan.initial);
   } catch (const std::invalid_argument& e) {
     throw InputError({"sensitivity", 0, 0}, e.what());

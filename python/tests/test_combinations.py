@@ -21,6 +21,19 @@ integrate = pytest.importorskip("scipy.integrate")
 SOURCE = pathlib.Path(os.environ.get("NHC_SOURCE_DIR", pathlib.Path(__file__).resolve().parents[2]))
 TABLE = SOURCE / "docs" / "combinations.md"
 M, R, G, K, C, V, MU, T_END, H = 2.0, 0.3, 9.81, 1.0, 0.5, 2.0, 0.2, 2.5, 0.1
+# `--set` moves g (the normal force m*g), the friction coefficient muT (mu = "muT") and the
+# controller's period h (period = "h"): each a number the scene writes through a parameter.
+MU_SET, H_SET = 0.3, 0.125
+
+
+def settings(f):
+    """The --set (Python set=) values of a run with the features f."""
+    values = {"g": G / 2}
+    if "contact stop" in f or "contact slide" in f:
+        values["muT"] = MU_SET
+    if "controller" in f:
+        values["h"] = H_SET
+    return values
 
 
 def nhc_command() -> str:
@@ -51,20 +64,22 @@ def scene_text(f) -> str:
     lines = ['name = "combination"', 'coordinates = ["x", "th"]', "lagrangian = \"m/2*x'^2 + m*r^2/4*th'^2\"",
              "constraints = [\"x' - r*th'\"]", 'models = ["chetaev"]', "[parameters]",
              f"m = {M}", f"r = {R}", f"g = {G}", f"k = {K}", f"c = {C}", f"V = {V}",
+             *([f"muT = {MU}"] if "contact stop" in f or "contact slide" in f else []),
+             *([f"h = {H}"] if "controller" in f else []),
              "[inputs]", 'T = "k*t"', "D = \"-c*x'\"" if "feedback law" in f else 'D = "0"',
              "[forces]", 'x = "D"', 'th = "T"', "[initial]", "x = [0.0, 0.0]", "th = [0.0, 0.0]",
              "[simulate]", f"t_end = {T_END}", "outputs = 25", "rtol = 1e-10", "atol = 1e-12"]
     if "controller" in f:
-        lines += ["[controller]", f"period = {H}", 'inputs = { T = "k*t" }']
+        lines += ["[controller]", 'period = "h"', 'inputs = { T = "k*t" }']
     if "events" in f:
         lines += ["[events]", 'mark = { when = "x - 0.05", action = "record" }',
                   "fast = { when = \"x' - V\", direction = \"up\", action = \"stop\" }"]
     if "outputs" in f:
         lines += ["[outputs]", "ke = \"m/2*x'^2 + m*r^2/4*th'^2\""]
     if "contact slide" in f:
-        lines += ["[contacts.floor]", 'normal = "m*g"', "rolling = [1]", f"mu = {MU}", 'on_slip = "slide"']
+        lines += ["[contacts.floor]", 'normal = "m*g"', "rolling = [1]", 'mu = "muT"', 'on_slip = "slide"']
     if "contact stop" in f:  # with a sliding one: a second contact on the same constraint, mu 0.5
-        name, mu = ("rim", 0.5) if "contact slide" in f else ("floor", MU)
+        name, mu = ("rim", "0.5") if "contact slide" in f else ("floor", '"muT"')
         lines += [f"[contacts.{name}]", 'normal = "m*g"', "rolling = [1]", f"mu = {mu}", 'on_slip = "stop"']
     return "\n".join(lines) + "\n"
 
@@ -74,9 +89,10 @@ def reference(f, k=K):
     the events met, as (t, x, x', th, th') rows and (name, t) pairs."""
     g = G / 2 if "--set" in f else G
     inertia = M * R * R / 2
-    mu = MU if ("contact stop" in f or "contact slide" in f) else None
+    mu = (MU_SET if "--set" in f else MU) if ("contact stop" in f or "contact slide" in f) else None
     slide = "contact slide" in f
-    times = np.linspace(0, T_END, 26)
+    h = H_SET if "--set" in f else H
+    times = np.linspace(0, T_END, round(T_END / h) + 1 if "controller" in f else 26)
 
     def torque(t, t_held):
         if "controller" in f:
@@ -180,7 +196,8 @@ def run_cli(f, tmp_path):
     if "--initial" in f:
         args += ["--initial", "x'=0.3", "--initial", "th'=1"]
     if "--set" in f:
-        args += ["--set", f"g={G / 2}"]
+        for name, value in settings(f).items():
+            args += ["--set", f"{name}={value}"]
     if "--sensitivity" in f:
         args += ["--sensitivity", "k"]
     if "variational" in f:
@@ -204,7 +221,7 @@ def read_cli(tmp_path):
 def run_python(f, tmp_path):
     path = tmp_path / "combination.toml"
     path.write_text(scene_text(f))
-    scene = nhc.Scene.load(path, set={"g": G / 2} if "--set" in f else None)
+    scene = nhc.Scene.load(path, set=settings(f) if "--set" in f else None)
     kwargs = {}
     if "--input" in f:
         kwargs["inputs"] = lambda t, y: [0.5 + K * t, 0.0]

@@ -8,7 +8,7 @@
 //    --initial-step set IDA's steps;
 //  - a contact's normal force m g - k t reaching zero is its lift-off at t = m g/k, and a normal
 //    force below zero at t0 is a lift-off at t0, not a friction shortfall;
-//  - --sensitivity of a parameter only [initial] uses is refused in words that are true.
+//  - --sensitivity of a parameter only [initial] uses differentiates the start: dx/dA = cos t.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -196,18 +196,29 @@ TEST_CASE("nhc simulate: a contact lifts off where its normal force reaches zero
   }
 }
 
-TEST_CASE("nhc simulate --sensitivity: a parameter only [initial] uses is refused in true words", "[cli][sensitivity]") {
+TEST_CASE("nhc simulate --sensitivity: a parameter only [initial] uses moves the start", "[cli][sensitivity]") {
   const std::string dir = scratch_dir("event_edges_sensitivity");
-  // x(0) = A changes the motion (dx/dA = cos t for x'' = -x), so "its sensitivities are all zero"
-  // would be false: the refusal says what reads A.
+  // x'' = -x from x(0) = A, x'(0) = 0: x = A cos t, so dx/dA = cos t although no equation reads A
+  // (s(t0) = dx(0)/dA = 1, dF/dA = 0).
   const std::string scene = write(dir + "/start.toml",
                                   "name = \"start\"\ncoordinates = [\"x\"]\nlagrangian = \"x'^2/2 - x^2/2\"\n"
-                                  "[parameters]\nA = 0.7\nB = 0.1\n[initial]\nx = [\"A\", 0.0]\n");
-  Run r = run(nhc_command() + " simulate '" + scene + "' --sensitivity A", dir);
-  CHECK(r.exit_code == 2);
-  CHECK(r.err.find("'A', only [initial] does, which --sensitivity does not follow") != std::string::npos);
-  CHECK(r.err.find("all zero") == std::string::npos);
+                                  "[parameters]\nA = 0.7\nB = 0.1\nTend = 3.0\n[initial]\nx = [\"A\", 0.0]\n"
+                                  "[simulate]\nt_end = \"Tend\"\nrtol = 1e-10\natol = 1e-12\n");
+  Run r = run(nhc_command() + " simulate '" + scene + "' --sensitivity A -o '" + dir + "/s.csv'", dir);
+  REQUIRE(r.exit_code == 0);
+  const auto csv = columns(read_file(dir + "/s.csv"));
+  REQUIRE(csv.count("d(x)/d(A)") == 1);
+  double worst = 0;
+  for (std::size_t i = 0; i < csv.at("t").size(); ++i)
+    worst = std::max(worst, std::abs(csv.at("d(x)/d(A)")[i] - std::cos(csv.at("t")[i])));
+  CHECK(worst < 1e-7);
+  CHECK(csv.at("t").back() == 3.0);
   r = run(nhc_command() + " simulate '" + scene + "' --sensitivity B", dir);  // read by nothing
   CHECK(r.exit_code == 2);
   CHECK(r.err.find("its sensitivities are all zero") != std::string::npos);
+  // Read by [simulate] t_end only: the refusal names it.
+  r = run(nhc_command() + " simulate '" + scene + "' --sensitivity Tend", dir);
+  CHECK(r.exit_code == 2);
+  CHECK(r.err.find("only the scene's [simulate] t_end (" + scene + ":11:9) does, which --sensitivity does not follow") !=
+        std::string::npos);
 }

@@ -37,6 +37,7 @@ void apply_initial_values(Scene& scene, const std::vector<InitialValue>& values,
     if (!std::isfinite(v.value)) refuse(field, quoted(v.written) + runtime::number_text(v.value, 17) + " is not a finite number");
     if (v.name == "t0") {
       scene.initial.t0 = v.value;
+      scene.initial.t0_expression = {};  // a number now: --set no longer re-evaluates it
       // Without [simulate] t_end the run lasts 1 from t0 (scene_loader.cpp): from this t0.
       if (!scene.source_text().empty() && !scene_gives_t_end(scene.source_text())) scene.simulate.t_end = v.value + 1.0;
       continue;

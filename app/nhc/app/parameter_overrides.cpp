@@ -7,6 +7,7 @@
 #include "nhc/app/run_request.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/expr/jet_space.hpp"
+#include "nhc/runtime/sensitivity.hpp"
 
 namespace nhc::app {
 
@@ -60,15 +61,43 @@ std::vector<double> parameters_with_overrides(const runtime::Model& model, const
 void refuse_unread_parameter(const Scene& scene, const runtime::Model& model, const std::string& name,
                              const std::string& flag, const std::string& consequence) {
   if (!scene.jet->parameter_index(name) || model.parameter_index(name) >= 0) return;
-  // A parameter that [initial] is written through does change something: the start.
-  const std::vector<double> slopes = initial_slopes(scene, model, name);
-  if (std::any_of(slopes.begin(), slopes.end(), [](double s) { return s != 0; }))
+  // Nor does one a contact's mu, the controller's period or [simulate] is written through.
+  if (const std::vector<std::string> numbers = experiment_numbers_using(scene, name); !numbers.empty())
     throw InputError({flag, 0, 0}, "the " + model.model_name() + " model's equations do not contain the parameter '" +
-                                       name + "', only [initial] does, which " + flag +
-                                       " does not follow: vary the initial values it sets, or run with --set " + name +
-                                       "=… (Python: set=) for each value");
+                                       name + "', only the scene's " + numbers.front() + " does, which " + flag +
+                                       " does not follow: run with --set " + name + "=… (Python: set=) for each value");
   throw InputError({flag, 0, 0}, "the " + model.model_name() + " model's equations do not contain the parameter '" +
                                      name + "': " + consequence);
+}
+
+std::vector<runtime::SensitivityParameter> sensitivity_parameters(const Scene& scene, const runtime::Model& model,
+                                                                  const std::vector<std::string>& names,
+                                                                  const std::string& flag) {
+  std::vector<runtime::SensitivityParameter> thetas;
+  try {
+    if (names.empty()) throw std::invalid_argument("no quantity to differentiate by");
+    for (const std::string& name : names) {
+      if (std::count(names.begin(), names.end(), name) > 1) throw std::invalid_argument(name + " is named twice");
+      // ∂y(t0)/∂θ of the given values written through θ (x = ["A", 0.0]): where the start moves.
+      const std::vector<double> slopes = initial_slopes(scene, model, name);
+      const bool moves_start = std::any_of(slopes.begin(), slopes.end(), [](double s) { return s != 0; });
+      runtime::SensitivityParameter theta;
+      if (moves_start && model.parameter_index(name) < 0) {  // only the start: ∂F/∂θ = 0
+        theta.kind = runtime::SensitivityParameter::Kind::start;
+        theta.index = -1;
+        theta.name = name;
+        theta.value = scene.parameter_values.at(static_cast<std::size_t>(*scene.jet->parameter_index(name)));
+      } else {
+        refuse_unread_parameter(scene, model, name, flag, "its sensitivities are all zero");
+        theta = runtime::sensitivity_parameter(model, name);
+      }
+      if (moves_start) theta.initial_slope = slopes;
+      thetas.push_back(std::move(theta));
+    }
+  } catch (const std::invalid_argument& e) {
+    throw InputError({flag, 0, 0}, e.what());
+  }
+  return thetas;
 }
 
 }  // namespace nhc::app

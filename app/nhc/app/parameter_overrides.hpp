@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "nhc/runtime/model.hpp"
+#include "nhc/runtime/sensitivity.hpp"
 #include "nhc/scene/scene.hpp"
 
 namespace nhc::app {
@@ -40,8 +41,21 @@ std::vector<double> parameters_with_overrides(const runtime::Model& model, const
 
 /// InputError at `flag` when `name` is a parameter of the scene that `model` does not read:
 /// varying it, or differentiating with respect to it, would change nothing. `consequence`
-/// says so in the flag's terms ("varying it would change nothing").
+/// says so in the flag's terms ("varying it would change nothing"); where a contact's mu, the
+/// controller's period or [simulate] is written through it, the words name that place. A
+/// parameter the scene's [initial] is written through moves the start: the callers take it
+/// (initial_slopes()) before asking.
 void refuse_unread_parameter(const Scene& scene, const runtime::Model& model, const std::string& name,
                              const std::string& flag, const std::string& consequence);
+
+/// The quantities `--sensitivity NAMES` (Python: sensitivity=) differentiates by: a parameter of
+/// the model, an initial value x(0), x'(0), or a parameter only [initial] is written through
+/// (runtime::SensitivityParameter::Kind::start); a parameter's initial_slope is ∂y(t0)/∂θ of the
+/// given values written through it (initial_slopes()), so that s(t0) differentiates the start
+/// as well. InputError at `flag` in words otherwise (an unknown name, one named twice, a
+/// parameter nothing the run follows reads).
+std::vector<runtime::SensitivityParameter> sensitivity_parameters(const Scene& scene, const runtime::Model& model,
+                                                                  const std::vector<std::string>& names,
+                                                                  const std::string& flag);
 
 }  // namespace nhc::app

@@ -1,19 +1,132 @@
 #include "nhc/app/parameter_values.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <optional>
 
+#include "nhc/errors.hpp"
 #include "nhc/runtime/integrator.hpp"
+#include "nhc/runtime/number_text.hpp"
 #include "nhc/scene/constant_expression.hpp"
+#include "nhc/scene/tolerances.hpp"
 
 namespace nhc::app {
+
+namespace {
+
+/// The parameters' values as a list "a = 1, b = 2" of those `text` names (for a refusal's words).
+std::string values_named_in(const std::string& text, const std::map<std::string, double>& names) {
+  std::string list;
+  for (const auto& [name, value] : names) {
+    for (std::size_t at = text.find(name); at != std::string::npos; at = text.find(name, at + 1)) {
+      const auto word = [&](std::size_t i) {
+        return i < text.size() && (std::isalnum(static_cast<unsigned char>(text[i])) || text[i] == '_');
+      };
+      if ((at > 0 && word(at - 1)) || word(at + name.size())) continue;
+      list += (list.empty() ? "" : ", ") + name + " = " + runtime::shortest_text(value);
+      break;
+    }
+  }
+  return list;
+}
+
+/// `number` re-evaluated from its text when it has one; `problem` says why a value cannot stand
+/// at this place ("" when it can), refused there (exit 2) in the key's words.
+void reevaluate(double& number, const NumberExpression& source, const std::string& key,
+                const std::map<std::string, double>& names, const std::function<std::string(double)>& problem) {
+  if (source.empty()) return;
+  const std::string values = values_named_in(source.text, names);
+  const std::string with = values.empty() ? "" : " at " + values;
+  double v = 0;
+  try {
+    v = evaluate_constant_expression(source.text, names);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(source.where, key + " = \"" + source.text + "\"" + with + ": " + e.what());
+  }
+  if (const std::string why = problem(v); !why.empty())
+    throw InputError(source.where, key + " = \"" + source.text + "\" is " + runtime::shortest_text(v) + with + ": " +
+                                       key + " " + why);
+  number = v;
+}
+
+std::string any_number(double) { return ""; }
+std::string positive(double v) { return v > 0 ? "" : "must be positive"; }
+
+}  // namespace
+
+void reevaluate_experiment_numbers(Scene& scene) {
+  const std::map<std::string, double> names = scene.parameter_values_by_name();
+  reevaluate(scene.initial.t0, scene.initial.t0_expression, "t0", names, any_number);
+  // Without [simulate] t_end a run lasts 1 from t0 (scene_loader.cpp): from this t0.
+  if (!scene.initial.t0_expression.empty() && scene.simulate.t_end_expression.where.line <= 0)
+    scene.simulate.t_end = scene.initial.t0 + 1.0;
+  for (SceneContact& c : scene.contacts)
+    reevaluate(c.mu, c.mu_expression, "mu", names, [](double v) { return v >= 0 ? "" : "must not be negative"; });
+  if (scene.controller.present) {
+    reevaluate(scene.controller.period, scene.controller.period_expression, "period", names, [](double v) {
+      return v > 0 ? "" : "must be a positive number (the controller's sample period h)";
+    });
+    for (SceneControllerState& s : scene.controller.states)
+      reevaluate(s.initial, s.initial_expression, "controller state '" + s.name + "'", names, any_number);
+  }
+  SimulateSettings& run = scene.simulate;
+  // t_end after t0 is the run's check (run_t_end): a t_end from outside may stand in for it.
+  reevaluate(run.t_end, run.t_end_expression, "t_end", names, any_number);
+  reevaluate(run.rtol, run.rtol_expression, "rtol", names, [](double v) { return relative_tolerance_problem(v); });
+  reevaluate(run.atol, run.atol_expression, "atol", names, positive);
+  if (run.max_step) reevaluate(*run.max_step, run.max_step_expression, "max_step", names, positive);
+  if (run.initial_step) reevaluate(*run.initial_step, run.initial_step_expression, "initial_step", names, positive);
+}
+
+void for_each_experiment_number(const Scene& scene,
+                                const std::function<void(const std::string&, const NumberExpression&)>& f) {
+  f("[initial] t0", scene.initial.t0_expression);
+  for (const SceneContact& c : scene.contacts) f("mu of contact '" + c.name + "'", c.mu_expression);
+  if (scene.controller.present) {
+    f("[controller] period", scene.controller.period_expression);
+    for (const SceneControllerState& s : scene.controller.states)
+      f("[controller] state '" + s.name + "'", s.initial_expression);
+  }
+  const SimulateSettings& run = scene.simulate;
+  f("[simulate] t_end", run.t_end_expression);
+  f("[simulate] rtol", run.rtol_expression);
+  f("[simulate] atol", run.atol_expression);
+  f("[simulate] max_step", run.max_step_expression);
+  f("[simulate] initial_step", run.initial_step_expression);
+}
+
+std::vector<std::string> experiment_numbers_using(const Scene& scene, const std::string& name) {
+  std::vector<std::string> found;
+  const std::optional<int> k = scene.jet->parameter_index(name);
+  if (!k) return found;
+  Scene moved = scene;
+  double& value = moved.parameter_values.at(static_cast<std::size_t>(*k));
+  value += 1e-3 * std::max(1.0, std::abs(value));
+  const std::map<std::string, double> here = scene.parameter_values_by_name(), there = moved.parameter_values_by_name();
+  // Written through the parameter, directly or through parameters computed from it: its value moves.
+  for_each_experiment_number(scene, [&](const std::string& what, const NumberExpression& number) {
+    if (number.empty()) return;
+    const auto at = [&](const std::map<std::string, double>& names) -> std::optional<double> {
+      try {
+        return evaluate_constant_expression(number.text, names);
+      } catch (const std::invalid_argument&) {
+        return std::nullopt;
+      }
+    };
+    if (at(here) != at(there)) found.push_back(what + " (" + number.where.str() + ")");
+  });
+  return found;
+}
 
 void set_parameter_values(Scene& scene, const std::vector<std::pair<std::string, double>>& values) {
   for (const auto& [name, value] : values)
     scene.parameter_values.at(static_cast<std::size_t>(scene.jet->parameter_index(name).value())) = value;
-  if (!values.empty()) reevaluate_initial_expressions(scene);  // [initial] values written through parameters follow
+  if (values.empty()) return;
+  reevaluate_initial_expressions(scene);  // [initial] values written through parameters follow
+  reevaluate_experiment_numbers(scene);   // and mu, period, [simulate]'s numbers
 }
 
 std::vector<double> model_parameters(const runtime::Model& model, const Scene& scene) {

@@ -7,6 +7,7 @@
 /// run passes model_parameters() of the scene with the values set (docs/python.md, "Parameter
 /// studies").
 
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -17,9 +18,27 @@
 namespace nhc::app {
 
 /// Each (name, value) assigned to the scene's parameter of that name, in order (the last of a
-/// repeated name wins), then the [initial] values written through parameters re-evaluated.
+/// repeated name wins), then the [initial] values written through parameters re-evaluated, and
+/// the experiment's other numbers written through them (reevaluate_experiment_numbers()).
 /// The names and values must have passed check_parameter_value() (run_request.hpp).
 void set_parameter_values(Scene& scene, const std::vector<std::pair<std::string, double>>& values);
+
+/// The experiment's numbers written as expressions of the parameters (NumberExpression: [initial]
+/// t0, a contact's mu, [controller] period and states, [simulate] t_end, rtol, atol, max_step,
+/// initial_step) re-evaluated at the scene's parameter values. A value the place does not allow
+/// (mu < 0, a period, tolerance or step that is not positive, an expression that is
+/// not a finite number) is an InputError at the place in the scene file, naming the parameters'
+/// values (exit 2).
+void reevaluate_experiment_numbers(Scene& scene);
+
+/// Each of the experiment's numbers that may be written through the parameters, with its words
+/// ("mu of contact 'floor'", "[simulate] t_end"), in a fixed order.
+void for_each_experiment_number(const Scene& scene,
+                                const std::function<void(const std::string&, const NumberExpression&)>& f);
+
+/// The experiment's numbers whose value moves with the parameter `name` (written through it,
+/// or through a parameter computed from it), each as "WHAT (FILE:LINE:COLUMN)".
+std::vector<std::string> experiment_numbers_using(const Scene& scene, const std::string& name);
 
 /// ∂y_i(0)/∂θ of the states `model` takes from `scene`'s [initial] for the parameter `name`:
 /// central differences of the [initial] values written through parameters, re-evaluated (with the

@@ -5,6 +5,7 @@
 
 #include "nhc/derive/discrete_lagrange_dalembert.hpp"
 #include "nhc/app/contact_forces.hpp"
+#include "nhc/app/parameter_values.hpp"
 #include "nhc/app/scene_events.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/expr/jet_space.hpp"
@@ -87,6 +88,11 @@ double run_t_end(const Scene& scene, const std::optional<double>& t_end, const s
   const double t0 = scene.initial.t0;
   if (t_end && !(*t_end > t0)) refuse(at, field + " " + shortest_text(*t_end) + " must be after t0 = " + shortest_text(t0));
   // The scene's own t_end is after its own t0 (scene_loader.cpp); a t0 from outside may pass it.
+  const NumberExpression& written = scene.simulate.t_end_expression;
+  if (!t_end && !(scene.simulate.t_end > t0) && !written.empty())  // t_end = "Tend" at the parameters set
+    throw InputError(written.where, "t_end = \"" + written.text + "\" is " + shortest_text(scene.simulate.t_end) +
+                                        ", not after t0 = " + shortest_text(t0) + ": give " + field +
+                                        " or other parameter values");
   if (!t_end && !(scene.simulate.t_end > t0))
     refuse(at, "the scene's [simulate] t_end " + shortest_text(scene.simulate.t_end) + " is not after t0 = " +
                    shortest_text(t0) + ": give " + field);
@@ -173,8 +179,10 @@ runtime::IntegratorOptions run_integrator_options(const RunRequest& r, const Sce
   io.atol = r.atol.value_or(scene.simulate.atol);
   io.projection = r.project ? runtime::ProjectionMethod::in_place : runtime::ProjectionMethod::none;
   io.max_steps = static_cast<long>(r.max_steps);
-  io.max_step = r.max_step.value_or(0);          // 0: no limit
-  io.initial_step = r.initial_step.value_or(0);  // 0: from the problem's scale (runtime::IntegratorOptions)
+  // The flags, else [simulate]'s; 0: no limit, and the first step from the problem's scale
+  // (runtime::IntegratorOptions).
+  io.max_step = r.max_step.value_or(scene.simulate.max_step.value_or(0));
+  io.initial_step = r.initial_step.value_or(scene.simulate.initial_step.value_or(0));
   return io;
 }
 
@@ -189,8 +197,20 @@ void check_parameter_name(const Scene& scene, const std::string& name, const std
   if (!scene.jet->parameter_index(name)) {
     std::string known;
     for (const std::string& p : scene.jet->parameters()) known += (known.empty() ? "" : ", ") + p;
+    // A key of the scene's experiment (mu, period, t_end, …) is a number at its place, which a
+    // parameter written there moves.
+    std::string key;
+    for_each_experiment_number(scene, [&](const std::string& what, const NumberExpression& number) {
+      const bool named = what.rfind(name + " ", 0) == 0 ||
+                         (what.size() > name.size() && what.compare(what.size() - name.size() - 1, std::string::npos, " " + name) == 0);
+      if (key.empty() && named && number.where.line > 0)
+        key = ": it is the scene's " + what + " (" + number.where.str() + ")" +
+              (number.empty() ? "; to move it with " + field + ", write it there through a parameter (" + name +
+                                    " = \"NAME\", NAME in [parameters]) and set that"
+                              : ", written \"" + number.text + "\": set the parameters it uses");
+    });
     refuse(field, written + ": '" + name + "' is not a parameter of the scene (" +
-                      (known.empty() ? std::string("it has none") : "parameters: " + known) + ")");
+                      (known.empty() ? std::string("it has none") : "parameters: " + known) + ")" + key);
   }
 }
 

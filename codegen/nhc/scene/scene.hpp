@@ -18,9 +18,21 @@
 
 namespace nhc {
 
+/// A number of the experiment that the scene may write as a constant expression of its
+/// parameters (`mu = "muT"`, `period = "2*h"`, `t_end = "T"`): the text as written ("" for a
+/// number) and its place. The number beside it holds its value at the scene's parameter values;
+/// app::set_parameter_values() re-evaluates it whenever a run's parameters are set (--set, set=,
+/// an ensemble's or a study's values), and refuses a value the place does not allow there.
+struct NumberExpression {
+  std::string text;
+  SourceLocation where;
+  bool empty() const { return text.empty(); }
+};
+
 /// Initial data: t0 and, per coordinate or multiplier, [value, 1st derivative, …].
 struct InitialData {
   double t0 = 0.0;
+  NumberExpression t0_expression;
   std::map<std::string, std::vector<double>> values;
   /// The text of values written as expressions (`thr = [0.0, "v/rR"]`), per entry of `values`
   /// ("" for a number): reevaluate_initial_expressions() recomputes them from the parameters.
@@ -35,6 +47,11 @@ struct SimulateSettings {
   double rtol = 1e-8;
   double atol = 1e-10;
   std::optional<int> outputs;  ///< output intervals ([simulate] outputs), default 200
+  std::optional<double> max_step;      ///< IDA's largest step ([simulate] max_step)
+  std::optional<double> initial_step;  ///< IDA's first step ([simulate] initial_step)
+  /// The keys written as expressions of the parameters (NumberExpression).
+  NumberExpression t_end_expression, rtol_expression, atol_expression, max_step_expression,
+      initial_step_expression;
 };
 
 /// One entry of [invariants] or [outputs]: a named quantity of t, parameters, q, q', … and the
@@ -77,6 +94,7 @@ struct SceneContact {
   SourceLocation on_slip_where;
   std::vector<int> rolling;   ///< 0-based constraint indices: the slip velocity's components
   double mu = 0;
+  NumberExpression mu_expression;  ///< mu written through the parameters
   SlipAction on_slip = SlipAction::stop;
 };
 
@@ -114,6 +132,7 @@ struct SceneControllerState {
   double initial = 0;       ///< its value at t0
   GiNaC::symbol symbol;     ///< the name in the controller's expressions
   SourceLocation where;     ///< the entry of `states`
+  NumberExpression initial_expression;  ///< `initial` written through the parameters
 };
 /// An entry of `inputs` (target: the input's index in JetSpace::inputs()) or of `update`
 /// (target: the state's index in SceneController::states).
@@ -129,6 +148,7 @@ struct SceneController {
   double period = 0;
   SourceLocation where;         ///< the table
   SourceLocation period_where;  ///< its period
+  NumberExpression period_expression;  ///< the period written through the parameters
   std::vector<SceneControllerState> states;
   std::vector<SceneControllerLaw> inputs;  ///< in file order
   std::vector<SceneControllerLaw> update;  ///< one per state, in the states' order

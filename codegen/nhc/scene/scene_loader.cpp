@@ -441,6 +441,11 @@ class SceneReader {
     if (!std::isfinite(v)) fail(node, what + " must be finite");
     return v;
   }
+  /// The text and place of a number of the experiment, for its re-evaluation from the parameters
+  /// (NumberExpression; the text "" for a number as such).
+  NumberExpression number_expression(const toml::node& node) const {
+    return {node.is_string() ? *node.value<std::string>() : std::string(), at(node)};
+  }
   static std::string type_name(const toml::node& node) {
     switch (node.type()) {
       case toml::node_type::table: return "a table";
@@ -603,6 +608,7 @@ class SceneReader {
       }
       const toml::node& mu = require(*t, "mu", "contacts." + n);
       contact.mu = number_value(mu, "mu");
+      contact.mu_expression = number_expression(mu);
       if (contact.mu < 0) fail(mu, "mu must not be negative");
       if (const toml::node* s = t->get("on_slip")) {
         const std::string text = string_value(*s, "on_slip");
@@ -845,6 +851,7 @@ class SceneReader {
     const toml::node& period = require(table, "period", "controller");
     controller.period = number_value(period, "period");
     controller.period_where = at(period);
+    controller.period_expression = number_expression(period);
     if (!(controller.period > 0)) fail(period, "period must be a positive number (the controller's sample period h)");
     const JetSpace& jet = *scene.jet;
     std::map<std::string, int> state_index;
@@ -856,7 +863,8 @@ class SceneReader {
                                                   "' is named like a coordinate: a discrete state needs a name of its own");
         if (n == "period") throw InputError(at(key->source()), "'period' is the controller's sample period, not a state name");
         check_variable_name_at(at(key->source()), n, "controller state");
-        SceneControllerState state{n, number_value(*value, "controller state '" + n + "'"), GiNaC::symbol(n), at(key->source())};
+        SceneControllerState state{n, number_value(*value, "controller state '" + n + "'"), GiNaC::symbol(n),
+                                   at(key->source()), number_expression(*value)};
         state_index[n] = static_cast<int>(controller.states.size());
         controller.states.push_back(state);
       }
@@ -866,7 +874,9 @@ class SceneReader {
     law.allow_multipliers = false;
     law.allow_inputs = false;  // the controller sets inputs; it does not read them
     law.input_law = nullptr;
-    const GiNaC::ex h = GiNaC::numeric(controller.period);
+    // `period` in the laws is the period's expression of the parameters, so that it follows them.
+    const GiNaC::ex h = period.is_string() ? expression(period, "the controller's period", jet, rules)
+                                           : GiNaC::ex(GiNaC::numeric(controller.period));
     law.definition = [&controller, state_index, h, outer = rules.definition](const std::string& name) -> std::optional<Value> {
       if (const auto it = state_index.find(name); it != state_index.end())
         return Value::scalar(controller.states[static_cast<std::size_t>(it->second)].symbol);
@@ -963,6 +973,7 @@ class SceneReader {
       const std::string n(key.str());
       if (n == "t0") {
         scene.initial.t0 = number_value(value, "initial t0");
+        scene.initial.t0_expression = number_expression(value);
         continue;
       }
       if (n == "fixed") {
@@ -1013,7 +1024,7 @@ class SceneReader {
       return;
     }
     const toml::table& table = table_value(*node, "simulate");
-    check_keys(table, {"model", "t_end", "rtol", "atol", "outputs"});
+    check_keys(table, {"model", "t_end", "rtol", "atol", "outputs", "max_step", "initial_step"});
     scene.simulate.t_end = scene.initial.t0 + 1.0;
     if (const toml::node* m = table.get("model")) {
       const std::string n = string_value(*m, "simulate model");
@@ -1026,6 +1037,7 @@ class SceneReader {
     }
     if (const toml::node* te = table.get("t_end")) {
       scene.simulate.t_end = number_value(*te, "t_end");
+      scene.simulate.t_end_expression = number_expression(*te);
       if (!(scene.simulate.t_end > scene.initial.t0))
         fail(*te, "t_end must be after t0 = " + shortest(scene.initial.t0));
     }
@@ -1041,6 +1053,17 @@ class SceneReader {
         if (std::string(key) == "rtol" && !relative_tolerance_problem(v).empty())
           fail(*tol, "rtol = " + shortest(v) + " " + relative_tolerance_problem(v));
         (std::string(key) == "rtol" ? scene.simulate.rtol : scene.simulate.atol) = v;
+        (std::string(key) == "rtol" ? scene.simulate.rtol_expression : scene.simulate.atol_expression) =
+            number_expression(*tol);
+      }
+    }
+    for (const char* key : {"max_step", "initial_step"}) {
+      if (const toml::node* step = table.get(key)) {
+        const double v = number_value(*step, key);
+        if (!(v > 0)) fail(*step, std::string(key) + " must be positive (a step of IDA's, in the units of t)");
+        const bool largest = std::string(key) == "max_step";
+        (largest ? scene.simulate.max_step : scene.simulate.initial_step) = v;
+        (largest ? scene.simulate.max_step_expression : scene.simulate.initial_step_expression) = number_expression(*step);
       }
     }
   }

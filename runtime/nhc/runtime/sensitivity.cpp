@@ -377,6 +377,9 @@ struct SensitivityIntegrator::Impl {
                                       "so it cannot be varied on its own");
         s[th.index] = 1.0;
       }
+      // Given values written through θ (x(0) = A): they move with it, and stay given.
+      for (int i = 0; i < nn && i < static_cast<int>(th.initial_slope.size()); ++i)
+        if (fixed[static_cast<size_t>(i)]) s[i] += th.initial_slope[static_cast<size_t>(i)];
       if (m == 0 || free.empty()) continue;
       Eigen::VectorXd rhs = G * s;  // G_fixed s_fixed (s_free is still 0)
       if (th.kind == SensitivityParameter::Kind::parameter && Gp.size() > 0) rhs += Gp.col(th.index);
@@ -465,7 +468,8 @@ SensitivitySample SensitivityIntegrator::initialize(const InitialState& state, d
   for (int k = 0; k < s.ns(); ++k) {
     const SensitivityParameter& th = s.thetas[static_cast<size_t>(k)];
     const double value = th.kind == SensitivityParameter::Kind::parameter ? s.p[static_cast<size_t>(th.index)]
-                                                                         : s.y[th.index];
+                         : th.kind == SensitivityParameter::Kind::start   ? th.value
+                                                                          : s.y[th.index];
     if (value != 0 && std::isfinite(value)) pbar[static_cast<size_t>(k)] = std::abs(value);
   }
   s.check(IDASetSensParams(s.ida, nullptr, pbar.data(), nullptr), "setting the sensitivity scales");

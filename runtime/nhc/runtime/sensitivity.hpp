@@ -7,7 +7,7 @@
 /// s_k solves the sensitivity DAE  F_y s_k + F_y' s_k' + ∂F/∂θ_k = 0  (∂F/∂θ_k = dF/dp_k of the
 /// generated Sensitivity additions, 0 for an initial value). Its initial value differentiates the
 /// consistent initialization: the given differential states are fixed (s = e_i for θ = their own
-/// initial value), the other differential states solve the hidden constraints g(t0, y0, p) = 0, so
+/// initial value, plus ∂y_i(t0)/∂θ where the scene writes y_i(t0) through θ), the other differential states solve the hidden constraints g(t0, y0, p) = 0, so
 ///   G_free s_free = −(G_fixed s_fixed + ∂g/∂θ_k)  (minimum-norm solution, as the states themselves),
 /// and IDACalcIC then makes the algebraic components and s' consistent.
 
@@ -25,10 +25,16 @@ namespace nhc::runtime {
 
 /// One quantity the solution is differentiated by.
 struct SensitivityParameter {
-  enum class Kind { parameter, initial_value };
+  /// `start`: a parameter of the scene that the model's equations do not read but its given
+  /// initial values are written through (x(0) = A): only s(t0) = initial_slope is not zero.
+  enum class Kind { parameter, initial_value, start };
   Kind kind = Kind::parameter;
-  int index = 0;     ///< parameter index, or state index of the initial value
+  int index = 0;     ///< parameter index, or state index of the initial value (-1 for start)
   std::string name;  ///< "alpha", "x'(0)", "lambda1(0)"
+  /// ∂y_i(t0)/∂θ of the given states whose initial values are written through θ (per state,
+  /// empty for none): the start the sensitivities differentiate, besides e_i of an initial value.
+  std::vector<double> initial_slope;
+  double value = 0;  ///< θ's value for a start parameter (the scale of its sensitivities' tolerances)
 };
 
 /// `name` for `model`: a parameter name (`g`), or a state with `(0)` (`x(0)`, `x'(0)`,
