@@ -174,6 +174,7 @@ Prepared prepare(const EnsembleOptions& o, int ranks, int threads) {
   Design design = make_design(o);
   Scene scene = load_scene(o.scene_path);
   app::refuse_scene_controller(scene, "nhc ensemble");
+  app::refuse_scene_events_and_contacts(scene, "nhc ensemble");
   apply_initial_flags(scene, o.initial);
   const ModelKind kind = model_or_default(scene, o.model);
   app::require_model_inputs(scene, kind);

@@ -99,6 +99,7 @@ struct PreparedReport {
 PreparedReport prepare(const ReportOptions& o) {
   PreparedReport r{load_scene(o.scene_path), ModelKind::chetaev, {}};
   app::refuse_scene_controller(r.scene, "nhc report");
+  app::refuse_scene_events_and_contacts(r.scene, "nhc report");
   apply_initial_flags(r.scene, o.initial);
   // The scene's [reference] solves the motion from its own [initial]: from other values the error
   // is measured against a reference run.

@@ -40,6 +40,11 @@ std::vector<double> scene_controller_samples(const RunRequest& request, const Sc
 /// scene with one rather than run it open loop: InputError at the [controller] table.
 void refuse_scene_controller(const Scene& scene, const std::string& command);
 
+/// Commands whose runs integrate straight to t_end (report, ensemble) refuse a scene with
+/// [events] or [contacts] rather than run it without them (an event that ends the run, a
+/// contact's slip or lift-off): InputError at the first such entry.
+void refuse_scene_events_and_contacts(const Scene& scene, const std::string& command);
+
 /// The scene's [controller] on a model: its input laws and updates evaluated at the samples.
 /// Inputs it does not set follow their default signals.
 class ControllerLaws {
