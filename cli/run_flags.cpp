@@ -203,7 +203,7 @@ app::RunPlan run_plan(const RunFlags& flags, const Scene& scene, const Scene& sc
   plan.request = run_request(flags, scene);
   if (controller)
     plan.control = app::RunControl{app::sample_law(controller), controller->held(), times, scene.controller.period,
-                                   controller};
+                                   controller, {}};
   if (!plan.request.variational)
     if (const SceneContact* slide = app::sliding_contact(scene_set)) {
       sliding.emplace(app::build_sliding_model(scene_set, *slide, kind, build_options));
