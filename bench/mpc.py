@@ -11,6 +11,7 @@ import argparse
 import csv
 import datetime
 import os
+import resource
 import pathlib
 import statistics
 import subprocess
@@ -35,8 +36,11 @@ def main():
     with tempfile.TemporaryDirectory() as work:
         for name, period in SCENES:
             out = pathlib.Path(work) / (name + ".csv")
+            used = resource.getrusage(resource.RUSAGE_CHILDREN)
             done = subprocess.run([str(nhc), "simulate", str(HERE.parent / "examples" / (name + ".toml")), "-o", str(out)],
                                   capture_output=True, text=True, check=True)
+            now = resource.getrusage(resource.RUSAGE_CHILDREN)
+            cpu = (now.ru_utime - used.ru_utime) + (now.ru_stime - used.ru_stime)
             line = next(l.strip() for l in done.stdout.splitlines() if "model predictive control:" in l)
             with open(out, newline="") as f:
                 table = list(csv.DictReader(f))
@@ -44,18 +48,19 @@ def main():
             iterations = [int(float(r["mpc:iterations"])) for r in table]
             over = sum(1 for s in seconds if s > period)
             rows.append((name, period, len(seconds), statistics.median(seconds), max(seconds),
-                         statistics.median(iterations), max(iterations), over, line))
+                         statistics.median(iterations), max(iterations), over, cpu / len(seconds)))
     after = load()
     stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     lines = [f"## Model predictive control: time per solve against the period (bench/mpc.py, {stamp})", "",
              f"{os.cpu_count()} cores; load average {before} at the start, {after} at the end (wall-clock "
-             "times of single solves; other work on the machine inflates them).", "",
+             "times of single solves, mpc:seconds of the CSV; other work on the machine inflates them, the CPU "
+             "column does not count the waiting).", "",
              "| scene | period | solves | median solve | worst solve | median / period | solves over the period "
-             "| IPOPT iterations median, max |",
-             "|---|---|---|---|---|---|---|---|"]
-    for name, period, n, med, worst, it_med, it_max, over, _ in rows:
+             "| IPOPT iterations median, max | CPU per solve (the process's CPU time / solves: an upper bound) |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    for name, period, n, med, worst, it_med, it_max, over, cpu in rows:
         lines.append(f"| {name} | {period} s | {n} | {med * 1e3:.1f} ms | {worst * 1e3:.1f} ms | {med / period:.2f} "
-                     f"| {over} | {it_med:g}, {it_max} |")
+                     f"| {over} | {it_med:g}, {it_max} | {cpu * 1e3:.1f} ms |")
     lines.append("")
     text = "\n".join(lines) + "\n"
     print(text)

@@ -182,3 +182,10 @@ def test_the_table_names_tests_that_exist():
     assert len(names) >= 4
     for name in names:
         assert name in globals(), name
+
+
+def test_commands_that_do_not_run_it_refuse_it(tmp_path):
+    done = run(["animate", PENDULUM, "-o", tmp_path / "a.html"], expect=2)
+    assert "model predictive control (mpc), which nhc simulate and Python's Model.simulate run" in done.stderr
+    done = run(["report", PENDULUM, "-o", tmp_path / "r.md"], expect=2)
+    assert "does not run the scene's [controller]" in done.stderr
