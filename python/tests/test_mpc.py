@@ -192,15 +192,16 @@ def test_commands_that_do_not_run_it_refuse_it(tmp_path):
 
 
 def test_solves_that_do_not_converge_are_counted_and_hold_the_last_plan():
-    """Two IPOPT iterations per solve: no solve converges (the first needs 10 from the straight
-    line, and without a converged plan each starts there again); each is counted, and the inputs
-    held (the last iterate's first ones, clamped) stay within their bounds."""
-    run_ = nhc.Scene.load(str(PENDULUM)).build().simulate(
-        t_end=0.3, controller=nhc.Mpc(horizon=1.5, intervals=15, max_iterations=2))
-    m = SUMMARY.search(run_.summary["model_predictive_control"])
-    assert m and int(m.group(1)) == 7
-    not_converged = int(m.group(4))
-    assert not_converged == 7
-    assert np.all(run_["mpc:iterations"] <= 2)
-    for u in ("input:TL", "input:TR"):
-        assert np.all(np.abs(run_[u]) <= 1.0 + 1e-9)
+    """With 2 IPOPT iterations per solve none converges (the first needs 10 from the straight
+    line); with 6 the first does not, a later one, warm-started from the last iterate, does, and
+    the failures after it hold that plan's inputs. Each failure is counted; the inputs held stay
+    within their bounds."""
+    for limit, expected in ((2, lambda n: n == 7), (6, lambda n: 1 <= n < 7)):
+        run_ = nhc.Scene.load(str(PENDULUM)).build().simulate(
+            t_end=0.3, controller=nhc.Mpc(horizon=1.5, intervals=15, max_iterations=limit))
+        m = SUMMARY.search(run_.summary["model_predictive_control"])
+        assert m and int(m.group(1)) == 7
+        assert expected(int(m.group(4))), (limit, m.group(0))
+        assert np.all(run_["mpc:iterations"] <= limit)
+        for u in ("input:TL", "input:TR"):
+            assert np.all(np.abs(run_[u]) <= 1.0 + 1e-9)

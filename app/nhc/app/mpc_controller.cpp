@@ -99,13 +99,13 @@ std::string MpcController::summary() const {
 // The last plan moved to the horizon [t, t + H]: each variable of the new point j is the old
 // plan's at t_j by linear interpolation between its points (the last point's beyond its end),
 // clamped into the bounds.
-std::vector<double> MpcController::shifted_plan(double t) const {
+std::vector<double> MpcController::shifted_plan(const std::vector<double>& plan, double plan_t0, double t) const {
   optimize::HermiteSimpson& p = *problem_;
-  std::vector<double> z(plan_.size());
+  std::vector<double> z(plan.size());
   const int stride = p.points() > 1 ? p.q_index(1, 0) - p.q_index(0, 0) : 0;
   const double length = settings_.horizon;
   for (int j = 0; j < p.points(); ++j) {
-    const double old_s = std::clamp((t + length * p.fraction(j) - plan_t0_) / length, 0.0, 1.0);
+    const double old_s = std::clamp((t + length * p.fraction(j) - plan_t0) / length, 0.0, 1.0);
     int a = 0;
     while (a + 1 < p.points() - 1 && p.fraction(a + 1) <= old_s) ++a;
     const int b = std::min(a + 1, p.points() - 1);
@@ -113,7 +113,7 @@ std::vector<double> MpcController::shifted_plan(double t) const {
     const double w = span > 0 ? std::clamp((old_s - p.fraction(a)) / span, 0.0, 1.0) : 0.0;
     for (int k = 0; k < stride; ++k) {
       const auto to = static_cast<std::size_t>(j * stride + k);
-      z[to] = (1 - w) * plan_[static_cast<std::size_t>(a * stride + k)] + w * plan_[static_cast<std::size_t>(b * stride + k)];
+      z[to] = (1 - w) * plan[static_cast<std::size_t>(a * stride + k)] + w * plan[static_cast<std::size_t>(b * stride + k)];
     }
   }
   for (std::size_t k = 0; k < z.size(); ++k) z[k] = std::clamp(z[k], p.variable_low(static_cast<int>(k)), p.variable_high(static_cast<int>(k)));
@@ -142,10 +142,11 @@ std::vector<double> MpcController::operator()(const runtime::Sample& reached) {
   p.restart(reached.t, start);
   std::vector<double> guess;
   if (have_plan_ && settings_.warm_start) {
-    guess = shifted_plan(reached.t);
+    guess = shifted_plan(plan_, plan_t0_, reached.t);
+  } else if (!iterate_.empty() && settings_.warm_start) {
+    guess = shifted_plan(iterate_, iterate_t0_, reached.t);
   } else {
     guess = p.straight_line();
-    // From rest at the measured state: the straight line's start is it (fixed), its rates 0.
   }
   optimize::SolveOptions options;
   options.max_iterations = settings_.max_iterations;
@@ -168,11 +169,14 @@ std::vector<double> MpcController::operator()(const runtime::Sample& reached) {
   } else if (have_plan_) {
     first = plan_inputs(reached.t);  // the last good plan's input now
   } else {
-    // No plan yet: the last iterate's first input, within its bounds.
+    // No plan yet: the last iterate's first input, within its bounds; the next solve starts
+    // from that iterate (shifted) rather than from the straight line again.
     for (int k = 0; k < p.inputs(); ++k) {
       const int v = p.u_index(0, k);
       first.push_back(std::clamp(solution.z.at(static_cast<std::size_t>(v)), p.variable_low(v), p.variable_high(v)));
     }
+    iterate_ = solution.z;
+    iterate_t0_ = reached.t;
   }
   std::vector<double> u = reached.u;
   u.resize(static_cast<std::size_t>(model_->n_inputs()), 0.0);

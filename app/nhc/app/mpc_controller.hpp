@@ -57,7 +57,8 @@ class MpcController {
   std::vector<double> operator()(const runtime::Sample& reached);
 
  private:
-  std::vector<double> shifted_plan(double t) const;
+  /// `plan` (solved from plan_t0) moved to the horizon from t.
+  std::vector<double> shifted_plan(const std::vector<double>& plan, double plan_t0, double t) const;
   std::vector<double> plan_inputs(double t) const;
 
   const runtime::Model* model_;
@@ -69,6 +70,8 @@ class MpcController {
   std::vector<double> plan_;       ///< the last converged solve's variables
   double plan_t0_ = 0;
   bool have_plan_ = false;
+  std::vector<double> iterate_;    ///< before any converged solve: the last iterate (a warm start)
+  double iterate_t0_ = 0;
   std::vector<MpcSolve> solves_;
 };
 
