@@ -111,7 +111,14 @@ int run_command_line(int argc, char** argv, std::initializer_list<nhc::cli::Comm
 
 namespace nhc::cli {
 
+namespace {
+char** started_with = nullptr;
+}  // namespace
+
+char** program_arguments() { return started_with; }
+
 int run_program(int argc, char** argv, std::initializer_list<CommandAdder> adders, bool list_external) {
+  started_with = argv;
   // The same scene gives the same header in every run (fixed_address_layout.hpp).
   run_with_fixed_address_layout(argv);
   // Setting up the command line allocates too: out of memory there is exit 4 in words as well.

@@ -15,6 +15,10 @@ using CommandAdder = CommandRunner (*)(CLI::App&);
 /// commands of the other programs (kCommandPrograms). Returns the exit code.
 int run_program(int argc, char** argv, std::initializer_list<CommandAdder> adders, bool list_external = false);
 
+/// The arguments run_program was started with (its argv): for start_command_program from inside
+/// a command (nhc simulate of a scene with model predictive control starts nhc-optimize).
+char** program_arguments();
+
 /// Replaces this process by the program of `entry` (beside this one), with the same arguments;
 /// returns exit 4 in words when it cannot be started.
 int start_command_program(const CommandProgram& entry, char** argv);

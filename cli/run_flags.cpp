@@ -160,12 +160,18 @@ void check_run_flags(const RunFlags& flags, const Scene& scene, ModelKind kind) 
   app::check_run_request(run_request(flags, scene), scene, kind, field_names(flags));
 }
 
+MpcFactory mpc_factory = nullptr;
+
 void check_run_features(const RunFlags& flags, const Scene& scene, bool sensitivities) {
   app::RunFeatures features;
   features.controller = scene.controller.present;
-  features.controller_name = "the scene's [controller]";
-  features.controller_where = scene.controller.where.str();
+  features.controller_name = scene.controller.mpc.present ? "the scene's model predictive control" : "the scene's [controller]";
+  features.controller_where = scene.controller.mpc.present ? scene.controller.mpc.where.str() : scene.controller.where.str();
+  features.mpc = scene.controller.mpc.present;
   for (const SceneControllerLaw& law : scene.controller.inputs) features.controlled_inputs.push_back(law.name);
+  if (features.mpc)
+    for (const SceneInput& input : scene.inputs)
+      if (!input.feedback) features.controlled_inputs.push_back(input.name);
   for (const std::string& assignment : flags.inputs)
     features.replaced_inputs.push_back(assignment.substr(0, assignment.find('=')));
   features.sensitivities = sensitivities;
@@ -197,7 +203,7 @@ app::RunPlan run_plan(const RunFlags& flags, const Scene& scene, const Scene& sc
   plan.request = run_request(flags, scene_set);
   if (controller)
     plan.control = app::RunControl{app::sample_law(controller), controller->held(), times, scene_set.controller.period,
-                                   controller};
+                                   controller, {}};
   if (!plan.request.variational)
     if (const SceneContact* slide = app::sliding_contact(scene_set)) {
       sliding.emplace(app::build_sliding_model(scene_set, *slide, kind, build_options));

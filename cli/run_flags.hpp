@@ -68,6 +68,18 @@ jit::Backend run_backend(const RunFlags& flags);
 /// `flags.inputs` holds the replaced signals), with `sensitivities` asked for: before anything is built.
 void check_run_features(const RunFlags& flags, const Scene& scene, bool sensitivities);
 
+/// Model predictive control (the scene's `mpc` in [controller], app/mpc_controller.hpp) as the
+/// run engine takes it: the control of the run (its law, held inputs, samples, the columns
+/// mpc:cost …) and the summary line after the run. Only programs that link IPOPT make it
+/// (nhc-optimize sets mpc_factory); nhc-main starts nhc-optimize for a scene with mpc.
+struct MpcParts {
+  app::RunControl control;
+  std::vector<std::string> columns;
+  std::function<std::string()> summary;
+};
+using MpcFactory = MpcParts (*)(const Scene& scene_set, const runtime::Model& model, const std::vector<double>& samples);
+extern MpcFactory mpc_factory;
+
 /// The output times: the scene [controller]'s samples when it has one, else run_output_times.
 std::vector<double> run_times(const RunFlags& flags, const Scene& scene);
 

@@ -37,6 +37,7 @@
 #include "nhc/scene/tolerances.hpp"
 #include "nhc/clock.hpp"
 #include "nhc/runtime/number_text.hpp"
+#include "program_main.hpp"
 #include "run_flags.hpp"
 #include "trajectory_plots.hpp"
 #include "sensitivity_option.hpp"
@@ -98,6 +99,11 @@ int run_simulate(SimulateOptions& options) {
   const bool sampled = scene.controller.present;
   const bool variational = variational_integrator(options.run);
   check_run_features(options.run, scene, !options.sensitivity.names.empty());  // the engine's refusals
+  // Model predictive control solves with IPOPT, which only nhc-optimize loads (command_programs.hpp).
+  if (scene.controller.mpc.present && !mpc_factory) {
+    static const CommandProgram with_ipopt{"simulate", "nhc-optimize", ""};
+    return start_command_program(with_ipopt, program_arguments());
+  }
   const bool csv_to_stdout = options.output == "-";
   const std::vector<SceneEvent> scene_events = run_events(options.run, scene);
   // The event table beside the CSV (docs/scenes.md, [events]).
@@ -165,7 +171,11 @@ int run_simulate(SimulateOptions& options) {
   // The controller's laws against the model, before the run; its states are CSV columns.
   std::shared_ptr<app::ControllerLaws> controller;
   app::ExtraColumns controller_columns;
-  if (sampled) {
+  std::optional<MpcParts> mpc;
+  if (sampled && scene.controller.mpc.present) {
+    mpc = mpc_factory(scene_set, model, times);
+    controller_columns.names = mpc->columns;
+  } else if (sampled) {
     controller = std::make_shared<app::ControllerLaws>(scene_set, model, p);
     controller_columns.names = controller->state_columns();
   }
@@ -177,8 +187,9 @@ int run_simulate(SimulateOptions& options) {
   if (build_options.sensitivities) check_sensitivities_given(thetas, initial);
   // The run: app::simulate, the one engine of every front end (app/run_engine.hpp).
   std::optional<jit::LoadedModel> sliding;
-  const app::RunPlan plan = run_plan(options.run, scene, scene_set, kind, build_options, model, p, times, io,
-                                     input_function(input_signals, model, p), controller, sliding);
+  app::RunPlan plan = run_plan(options.run, scene, scene_set, kind, build_options, model, p, times, io,
+                               input_function(input_signals, model, p), controller, sliding);
+  if (mpc) plan.control = mpc->control;
   app::RunOutcome outcome = app::simulate(plan);
   if (sampled) controller_columns.rows = outcome.controller_rows, controller_columns.rows.resize(outcome.run.samples.size());
   if (outcome.slide && !outcome.sliding.empty()) {
@@ -270,6 +281,7 @@ int run_simulate(SimulateOptions& options) {
   if (sampled)
     info << "  sampled controller: period " << scene_set.controller.period << ", " << run.samples.size()
          << " samples at t0 + k*period, inputs held between them\n";
+  if (mpc) info << "  " << mpc->summary() << "\n";
   if (!outputs.empty()) {
     info << "  outputs (CSV columns, not checked for drift):";
     for (const std::string& name : outputs.names()) info << " " << name;

@@ -11,7 +11,7 @@
 """
 from . import _nhc
 from .errors import Error, HostError, MathError, SceneError
-from .model import Event, Linearization, LinearizationAlong, Model, Run, Sweep
+from .model import Event, Linearization, LinearizationAlong, Model, Mpc, Run, Sweep
 from .compare import compare
 from .scene import Analysis, Derivation, Scene
 from .sympy_form import SympyEquations
@@ -34,5 +34,5 @@ def work_limit() -> float:
     return _nhc._work_limit()
 
 
-__all__ = ["Scene", "Derivation", "Analysis", "Model", "Run", "Event", "Linearization", "LinearizationAlong", "Sweep",
+__all__ = ["Scene", "Derivation", "Analysis", "Model", "Mpc", "Run", "Event", "Linearization", "LinearizationAlong", "Sweep",
            "compare", "SympyEquations", "Error", "SceneError", "MathError", "HostError", "set_work_limit", "work_limit"]

@@ -10,6 +10,8 @@ import numpy.typing as _npt
 from . import _nhc
 from .errors import MathError, SceneError
 
+from ._nhc import Mpc as Mpc  # model predictive control's settings (docs/mpc.md), as `mpc = { … }` of [controller]
+
 
 def _count(name: str, value: Any) -> int:
     """A whole number for a count argument: 2.5 or "ten" is a SceneError naming it, as --outputs 2.5 is."""
@@ -56,6 +58,7 @@ class Run:
         self._data = _np.asarray(result["data"])
         self._index = {name: k for k, name in enumerate(self.columns)}
         self._summary = result["summary"]  # built on first use
+        self._mpc = result.get("mpc")  # model predictive control's line, as nhc simulate prints it
         self._max_discrete_constraint = result.get("max_discrete_constraint")  # the variational integrator's
         self.events = [Event(str(e["name"]), float(e["t"]), dict(e["state"])) for e in result.get("events", [])]
         self.cost = result.get("cost")
@@ -68,6 +71,8 @@ class Run:
             self._summary = self._summary()
             if self._max_discrete_constraint is not None:
                 self._summary["max_discrete_constraint"] = self._max_discrete_constraint
+            if self._mpc is not None:
+                self._summary["model_predictive_control"] = self._mpc
         return _cast(Dict[str, Any], self._summary)
 
     @property
@@ -168,7 +173,7 @@ class Model:
                  max_steps: int = 1000000, sensitivity: Union[str, Sequence[str], None] = None,
                  integrator: str = "ida", step: Optional[float] = None, stop_when: Optional[str] = None,
                  initial: Optional[Mapping[str, float]] = None, t0: Optional[float] = None,
-                 controller: Union[Callable[[float, _npt.NDArray[_np.float64], Any], Tuple[Sequence[float], Any]], bool, None] = None,
+                 controller: Union[Callable[[float, _npt.NDArray[_np.float64], Any], Tuple[Sequence[float], Any]], bool, Mpc, None] = None,
                  period: Optional[float] = None, controller_state: Any = None,
                  max_step: Optional[float] = None, initial_step: Optional[float] = None) -> Run:
         """Integrates from the scene's [initial] (as ``nhc simulate``) and returns the :class:`Run`.
@@ -217,7 +222,12 @@ class Model:
         :param initial_step: IDA's first step (as ``--initial-step``; default from the problem's
             scale: the first output time, the tolerances, the
             rates).
-        :param period: the controller's sample period h (with a controller function).
+            ``controller=nhc.Mpc(horizon=1.5, intervals=15)`` runs model predictive control of the
+            scene's ``[optimize]`` problem (docs/mpc.md) at the scene's ``[controller]`` period or
+            `period`; a scene whose ``[controller]`` has ``mpc`` runs that by default (columns
+            ``"mpc:cost"``, ``"mpc:iterations"``, ``"mpc:seconds"``; the summary's
+            ``"model_predictive_control"`` line).
+        :param period: the controller's sample period h (with a controller function or nhc.Mpc).
         :param controller_state: the controller's state at t0 (passed to its first call; each call
             returns the next).
         :returns: the run's columns as arrays.

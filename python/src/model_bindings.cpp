@@ -22,6 +22,7 @@
 #include "nhc/app/parameter_overrides.hpp"
 #include "nhc/app/run_request.hpp"
 #include "nhc/app/scene_events.hpp"
+#include "nhc/app/mpc_controller.hpp"
 #include "nhc/app/run_engine.hpp"
 #include "nhc/app/scene_outputs.hpp"
 #include "nhc/analysis/structural_analysis.hpp"
@@ -397,16 +398,33 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   if (!variational && integrator != "ida")
     throw InputError({"integrator", 0, 0}, "integrator '" + integrator + "': ida or variational");
   const bool scene_controller = !controller.is_none() && py::isinstance<py::bool_>(controller) && controller.cast<bool>();
-  const bool function_controller = !controller.is_none() && !py::isinstance<py::bool_>(controller);
+  // controller=nhc.Mpc(...): model predictive control of the scene's [optimize] problem (docs/mpc.md).
+  const bool mpc_given = !controller.is_none() && py::isinstance<SceneMpc>(controller);
+  const bool function_controller = !controller.is_none() && !py::isinstance<py::bool_>(controller) && !mpc_given;
   if (function_controller && !PyCallable_Check(controller.ptr()))
-    throw InputError({"controller", 0, 0}, "controller= must be a function f(t, y, state) -> (inputs, new_state)");
-  if (period && !function_controller)
+    throw InputError({"controller", 0, 0}, "controller= must be a function f(t, y, state) -> (inputs, new_state) or nhc.Mpc(...)");
+  if (period && !function_controller && !mpc_given)
     throw InputError({"period", 0, 0}, scene_controller
                                            ? "period= goes with controller=; the scene's [controller] has its own"
                                            : "period= goes with controller= (a function f(t, y, state) -> (inputs, new_state))");
   if (function_controller && !period) throw InputError({"period", 0, 0}, "controller= needs period= (the sample period h)");
+  if (mpc_given && !period && !scene.controller.present)
+    throw InputError({"period", 0, 0}, "controller=nhc.Mpc(...) needs period= (the sample period h): the scene has no [controller]");
   if (scene_controller && !scene.controller.present)
     throw InputError({"controller", 0, 0}, "the scene has no [controller]: give controller= and period=");
+  std::optional<SceneMpc> mpc;
+  if (mpc_given) {
+    mpc = controller.cast<SceneMpc>();
+    mpc->present = true;
+    mpc->where = {"controller", 0, 0};
+    const double h = period.value_or(scene.controller.period);
+    if (!(mpc->horizon >= h))
+      throw InputError({"controller", 0, 0}, "controller=nhc.Mpc(horizon=" + runtime::shortest_text(mpc->horizon) +
+                                                  "): the horizon is shorter than the period " + runtime::shortest_text(h) +
+                                                  ": each plan must reach the next sample");
+  } else if (scene_controller && scene.controller.mpc.present) {
+    mpc = scene.controller.mpc;
+  }
   // The command line's rules (nhc/app/run_request.hpp), in the arguments' names; what is not
   // given is the scene's [simulate].
   app::RunRequest request;
@@ -424,11 +442,16 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   request.stop_when = stop_when;
   request.max_step = max_step, request.initial_step = initial_step;  // IDA's largest and first step
   app::RunFeatures features;  // what the engine refuses to combine
-  features.controller = scene_controller || function_controller;
-  features.controller_name = scene_controller ? "the scene's [controller]" : "the controller";
-  features.controller_where = scene_controller ? scene.controller.where.str() : "controller=";
-  if (scene_controller)
+  features.controller = scene_controller || function_controller || mpc_given;
+  features.controller_name = mpc ? (mpc_given ? "model predictive control" : "the scene's model predictive control")
+                                 : scene_controller ? "the scene's [controller]" : "the controller";
+  features.controller_where = mpc ? mpc->where.str() : scene_controller ? scene.controller.where.str() : "controller=";
+  features.mpc = mpc.has_value();
+  if (scene_controller && !mpc_given)
     for (const SceneControllerLaw& law : scene.controller.inputs) features.controlled_inputs.push_back(law.name);
+  if (mpc)
+    for (const SceneInput& input : scene.inputs)
+      if (!input.feedback) features.controlled_inputs.push_back(input.name);
   features.controls_all_inputs = function_controller;
   features.inputs_function = inputs.has_value();
   features.sensitivities = sensitivity.has_value();
@@ -440,9 +463,9 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   const runtime::Model& model = built.model();
   const std::vector<double>& p = built.parameters;
   std::vector<double> times;
-  if (scene_controller)
+  if (scene_controller || (mpc_given && !period))
     times = app::scene_controller_samples(request, scene, app::python_names());
-  else if (function_controller)
+  else if (function_controller || mpc_given)
     times = app::sample_times(scene.initial.t0, app::run_t_end(scene, t_end, "t_end"), *period, {"period", 0, 0}, "period");
   else
     times = app::run_output_times(request, scene, app::python_names());
@@ -471,7 +494,14 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   // The controller: the scene's laws, or the Python function.
   std::shared_ptr<app::ControllerLaws> laws;
   auto controller_failure = std::make_shared<std::optional<py::error_already_set>>();
-  if (scene_controller) {
+  std::shared_ptr<app::MpcController> mpc_controller;
+  if (mpc) {
+    // The NLP is derived and lowered here, once (symbolic work, with the GIL); the solves run in the loop.
+    mpc_controller = symbolic_work([&] { return std::make_shared<app::MpcController>(scene, model, *mpc); });
+    plan.control = app::RunControl{app::sample_law(mpc_controller), mpc_controller->held(), times,
+                                   period.value_or(scene.controller.period), nullptr,
+                                   [mpc_controller](bool at_sample) { return mpc_controller->column_values(at_sample); }};
+  } else if (scene_controller) {
     laws = symbolic_work([&] { return std::make_shared<app::ControllerLaws>(scene, model, p); });
     plan.control = app::RunControl{app::sample_law(laws), laws->held(), times, scene.controller.period, laws};
   } else if (function_controller) {
@@ -523,10 +553,18 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
     for (const std::string& name : scene_outputs->names()) names.append(name);
   if (laws)
     for (const std::string& name : laws->state_columns()) names.append(name);
+  if (mpc_controller)
+    for (const std::string& name : app::MpcController::columns()) names.append(name);
+  if (mpc_controller) {
+    extra["mpc_solves"] = static_cast<long>(mpc_controller->solves().size());
+    long failed = 0;
+    for (const app::MpcSolve& solve : mpc_controller->solves()) failed += solve.converged ? 0 : 1;
+    extra["mpc_not_converged"] = failed;
+  }
   std::function<void(std::size_t, std::vector<double>&)> extra_values = [&](std::size_t r, std::vector<double>& v) {
     v.clear();
     if (scene_outputs) v = scene_outputs->evaluate(run.samples[r]);
-    if (laws && r < outcome.controller_rows.size())
+    if ((laws || mpc_controller) && r < outcome.controller_rows.size())
       v.insert(v.end(), outcome.controller_rows[r].begin(), outcome.controller_rows[r].end());
   };
   py::array_t<double> data = data_of(run_model, p, run.samples, names.size(), extra_values);
@@ -536,6 +574,7 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
                                          reference_applies),
                               run.failure);
   if (outcome.max_discrete_constraint) result["max_discrete_constraint"] = *outcome.max_discrete_constraint;
+  if (mpc_controller) result["mpc"] = mpc_controller->summary();  // nhc simulate's line
   py::list hits;  // run.events: name, t, the state at the crossing by state name
   for (const runtime::EventHit& hit : run.events) {
     py::dict event, state;
@@ -776,6 +815,41 @@ std::vector<PointOverride> overrides_of(const std::map<std::string, double>& at)
 }  // namespace
 
 void register_model(py::module_& m) {
+  // nhc.Mpc: the settings of model predictive control, as `mpc = { … }` in [controller] (docs/mpc.md).
+  py::class_<SceneMpc>(m, "Mpc",
+                      "Model predictive control's settings, as ``mpc = { horizon = ..., intervals = ... }`` of a scene's\n"
+                      "[controller] (docs/mpc.md): ``Model.simulate(controller=nhc.Mpc(horizon=1.5, intervals=15))``\n"
+                      "solves the scene's [optimize] problem over the receding horizon at every sample.")
+      .def(py::init([](double horizon, long long intervals, long long max_iterations, double tolerance, bool warm_start) {
+             if (!(std::isfinite(horizon) && horizon > 0))
+               throw InputError({"horizon", 0, 0}, "horizon must be a positive number (the prediction horizon in time)");
+             if (intervals < 1 || intervals > 10000)
+               throw InputError({"intervals", 0, 0}, "intervals must be a whole number from 1 to 10000 (the horizon's mesh)");
+             if (max_iterations < 1 || max_iterations > 1000000)
+               throw InputError({"max_iterations", 0, 0}, "max_iterations must be a whole number from 1 to 1000000");
+             if (!(std::isfinite(tolerance) && tolerance > 0 && tolerance < 1))
+               throw InputError({"tolerance", 0, 0}, "tolerance must be a number between 0 and 1 (IPOPT's tol of each solve)");
+             SceneMpc mpc;
+             mpc.present = true;
+             mpc.horizon = horizon;
+             mpc.intervals = static_cast<int>(intervals);
+             mpc.max_iterations = static_cast<int>(max_iterations);
+             mpc.tolerance = tolerance;
+             mpc.warm_start = warm_start;
+             return mpc;
+           }),
+           py::arg("horizon"), py::arg("intervals"), py::arg("max_iterations") = 100, py::arg("tolerance") = 1e-8,
+           py::arg("warm_start") = true)
+      .def_readonly("horizon", &SceneMpc::horizon, "The prediction horizon H in time.")
+      .def_readonly("intervals", &SceneMpc::intervals, "The equal intervals of the horizon's mesh.")
+      .def_readonly("max_iterations", &SceneMpc::max_iterations, "IPOPT's iteration limit per solve.")
+      .def_readonly("tolerance", &SceneMpc::tolerance, "IPOPT's tol per solve.")
+      .def_readonly("warm_start", &SceneMpc::warm_start, "Each solve starts from the last plan shifted by one period.")
+      .def("__repr__", [](const SceneMpc& mpc) {
+        return "Mpc(horizon=" + runtime::shortest_text(mpc.horizon) + ", intervals=" + std::to_string(mpc.intervals) +
+               ", max_iterations=" + std::to_string(mpc.max_iterations) + ", tolerance=" +
+               runtime::shortest_text(mpc.tolerance) + ", warm_start=" + (mpc.warm_start ? "True" : "False") + ")";
+      });
   py::class_<BuiltModel>(m, "_Model")
       .def_property_readonly("state_names",
                              [](const BuiltModel& b) {

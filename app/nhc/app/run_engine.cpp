@@ -59,6 +59,11 @@ void check_run_features(const Scene& scene, const RunFeatures& f, const FieldNam
       if (f.controls_all_inputs ||
           std::find(f.controlled_inputs.begin(), f.controlled_inputs.end(), name) != f.controlled_inputs.end())
         refuse(names.inputs, names.inputs + " " + name + ": " + f.controller_name + " sets it (" + f.controller_where + ")");
+    if (f.mpc && !scene.contacts.empty())
+      throw InputError(scene.contacts[0].where,
+             "contact '" + scene.contacts[0].name + "': " + controller +
+                 " plans with the equations of [optimize], which hold no contact force, so its plans cannot keep the "
+                 "contact from slipping; a controller of laws or a function controller runs with contacts");
     if (f.inputs_function && f.controls_all_inputs)
       refuse(names.inputs, names.inputs + ": " + f.controller_name + " sets every input (" + f.controller_where + ")");
   }
@@ -210,10 +215,11 @@ RunOutcome simulate(const RunPlan& plan) {
   }
 
   const std::vector<double>& times = control ? control->samples : plan.times;
-  const auto push_row = [&](runtime::Sample row, const std::vector<double>* z) {
+  const auto push_row = [&](runtime::Sample row, const std::vector<double>* z, bool at_sample) {
     if (!out.run.samples.empty() && !(row.t > out.run.samples.back().t)) return;
     out.run.samples.push_back(std::move(row));
     if (control && control->scene_laws) out.controller_rows.push_back(z ? *z : control->scene_laws->state());
+    else if (control && control->columns) out.controller_rows.push_back(control->columns(at_sample));
   };
   std::size_t next_sample = 0;  // under a controller: the sample to reach next
   double t = plan.initial.t0;
@@ -283,7 +289,7 @@ RunOutcome simulate(const RunPlan& plan) {
       runtime::Sample after = integrator.point();
       after.t = tk;
       if (k > 0) crossed_at_sample(reached_here, after);
-      push_row(to_run(after), control->scene_laws ? &control->scene_laws->state_history().back() : nullptr);
+      push_row(to_run(after), control->scene_laws ? &control->scene_laws->state_history().back() : nullptr, true);
     };
 
     try {
@@ -309,7 +315,7 @@ RunOutcome simulate(const RunPlan& plan) {
           take_hits();
           if (stopped || switch_hit) {
             // The point the event ended the run at is its last row; a switch goes on to the sample.
-            if (stopped && reached) push_row(to_run(*reached), nullptr);
+            if (stopped && reached) push_row(to_run(*reached), nullptr, false);
             break;
           }
           runtime::Sample at = *reached;
@@ -322,7 +328,7 @@ RunOutcome simulate(const RunPlan& plan) {
         for (double x : times)
           if (first ? x >= t : x > t) phase_times.push_back(x);
         if (!phase_times.empty())
-          integrator.integrate(phase_times, [&](const runtime::Sample& s) { push_row(to_run(s), nullptr); });
+          integrator.integrate(phase_times, [&](const runtime::Sample& s) { push_row(to_run(s), nullptr, false); });
         take_hits();
       }
     } catch (const runtime::SolverError& e) {

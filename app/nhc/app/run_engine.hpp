@@ -27,6 +27,7 @@ struct RunFeatures {
   std::string controller_where;        ///< where it is (the table's FILE:L:C, "controller=")
   std::vector<std::string> controlled_inputs;  ///< the inputs the controller sets (empty with held-all)
   bool controls_all_inputs = false;    ///< a front end's controller returns every input
+  bool mpc = false;                    ///< the controller is model predictive control (mpc_controller.hpp)
   std::vector<std::string> replaced_inputs;    ///< inputs an --input / inputs= replaces
   bool inputs_function = false;        ///< a front end's u(t, y) for every input (Python's inputs=)
   bool sensitivities = false;
@@ -38,7 +39,8 @@ struct RunFeatures {
 /// with --sensitivity or with an --input of an input it sets; the variational integrator with
 /// events or contacts (it takes fixed steps and locates no roots); sensitivities with an event that
 /// ends the run or a contact's slip (IDAS runs through to t_end, the derivative of a switching
-/// time is not computed). `scene` is the run's scene (its [events], [contacts]).
+/// time is not computed); model predictive control with a contact (its plans know no contact
+/// force). `scene` is the run's scene (its [events], [contacts]).
 void check_run_features(const Scene& scene, const RunFeatures& features, const FieldNames& names);
 
 /// A sampled controller of a run.
@@ -49,6 +51,9 @@ struct RunControl {
   double period = 0;
   /// The scene's [controller] (its state columns), null for a front end's function.
   std::shared_ptr<ControllerLaws> scene_laws;
+  /// Without scene_laws: the controller's own columns of each row (model predictive control's
+  /// mpc:cost …), the values of the sample just taken (`at_sample`) or of a row that is none.
+  std::function<std::vector<double>(bool at_sample)> columns;
 };
 
 /// A run, as a front end has translated its arguments.
@@ -80,7 +85,8 @@ struct RunOutcome {
   std::vector<runtime::Sample> drift_samples;
   std::vector<std::string> notes;                 ///< summary lines (switches back to rolling, the drift's rows)
   long controller_calls = 0;
-  /// Per row, the scene [controller]'s discrete states (its state_columns), when it ran.
+  /// Per row, the scene [controller]'s discrete states (its state_columns), or the values of
+  /// RunControl::columns, when it ran.
   std::vector<std::vector<double>> controller_rows;
 };
 

@@ -70,6 +70,10 @@ ControllerLaws::ControllerLaws(const Scene& scene, const runtime::Model& model, 
         return symbols;
       }()) {
   const SceneController& controller = scene.controller;
+  // Model predictive control is no law to evaluate: only the runs that build its solver run it.
+  if (controller.mpc.present)
+    throw InputError(controller.mpc.where, "the scene's [controller] is model predictive control (mpc), which nhc simulate "
+                                           "and Python's Model.simulate run; this command does not (it would run open loop)");
   const JetSpace& jet = *scene.jet;
   held_.assign(static_cast<std::size_t>(model.n_inputs()), false);
   auto add = [&](const nhc::SceneControllerLaw& law, const std::string& what) {

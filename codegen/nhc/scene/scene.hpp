@@ -143,6 +143,18 @@ struct SceneControllerLaw {
   std::string text;      ///< as written
   SourceLocation where;  ///< the expression's place in the scene file
 };
+/// `mpc = { horizon = H, intervals = N, … }` of [controller]: model predictive control
+/// (docs/mpc.md). At each sample the scene's [optimize] problem over [t_k, t_k + horizon] on N
+/// equal intervals, from the state reached; its first input held to the next sample.
+struct SceneMpc {
+  bool present = false;
+  double horizon = 0;
+  int intervals = 0;
+  int max_iterations = 100;   ///< IPOPT's iteration limit per solve
+  double tolerance = 1e-8;    ///< IPOPT's tol per solve
+  bool warm_start = true;     ///< each solve starts from the last plan shifted by one period
+  SourceLocation where;       ///< the `mpc` entry
+};
 struct SceneController {
   bool present = false;
   double period = 0;
@@ -152,6 +164,7 @@ struct SceneController {
   std::vector<SceneControllerState> states;
   std::vector<SceneControllerLaw> inputs;  ///< in file order
   std::vector<SceneControllerLaw> update;  ///< one per state, in the states' order
+  SceneMpc mpc;  ///< sets every input of [inputs] that is not a feedback law (no `inputs`, `states` beside it)
 };
 
 /// A [parameters] entry written through other parameters (`Ja = "mw*r^2/2"`): not a parameter of

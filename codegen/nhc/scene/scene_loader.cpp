@@ -843,7 +843,7 @@ class SceneReader {
     const toml::node* node = root.get("controller");
     if (!node) return;
     const toml::table& table = table_value(*node, "controller");
-    check_keys(table, {"period", "states", "inputs", "update"});
+    check_keys(table, {"period", "states", "inputs", "update", "mpc"});
     SceneController& controller = scene.controller;
     controller.present = true;
     controller.where = at(*node);
@@ -854,6 +854,7 @@ class SceneReader {
     controller.period_expression = number_expression(period);
     if (!(controller.period > 0)) fail(period, "period must be a positive number (the controller's sample period h)");
     const JetSpace& jet = *scene.jet;
+    if (const toml::node* mpc = table.get("mpc")) read_mpc(*mpc, table, scene);
     std::map<std::string, int> state_index;
     if (const toml::node* states = table.get("states")) {
       for (const auto& [key, value] : entries_in_file_order(*states, "controller.states")) {
@@ -928,6 +929,47 @@ class SceneReader {
         throw InputError(state.where, "controller state '" + state.name + "' has no update (update = { " + state.name +
                                           " = \"its next value\" })");
       controller.update.push_back(read_law(*updates[i], static_cast<int>(i), state.name, "update of '" + state.name + "'"));
+    }
+  }
+
+  /// `mpc = { horizon = H, intervals = N, max_iterations = M, tolerance = E, warm_start = B }`:
+  /// model predictive control of every [inputs] input (docs/mpc.md); beside it the table holds
+  /// only `period`.
+  void read_mpc(const toml::node& node, const toml::table& controller, Scene& scene) {
+    const toml::table* table = node.as_table();
+    if (!table) fail(node, "mpc must be a table: mpc = { horizon = 1.5, intervals = 15 }");
+    check_keys(*table, {"horizon", "intervals", "max_iterations", "tolerance", "warm_start"});
+    for (const char* other : {"inputs", "states", "update"})
+      if (const toml::node* n = controller.get(other))
+        fail(*n, std::string("[controller] with mpc: the model predictive controller sets every input of [inputs]; '") + other +
+                     "' goes with a controller of laws, not with mpc");
+    SceneMpc& mpc = scene.controller.mpc;
+    mpc.present = true;
+    mpc.where = at(node);
+    const toml::node& horizon = require(*table, "horizon", "controller.mpc");
+    mpc.horizon = number_value(horizon, "horizon");
+    if (!(std::isfinite(mpc.horizon) && mpc.horizon > 0)) fail(horizon, "horizon must be a positive number (the prediction horizon in time)");
+    if (!(mpc.horizon >= scene.controller.period))
+      fail(horizon, "horizon " + shortest(mpc.horizon) + " is shorter than the period " + shortest(scene.controller.period) +
+                        ": each plan must reach the next sample");
+    const toml::node& intervals = require(*table, "intervals", "controller.mpc");
+    const std::optional<int64_t> n = intervals.value_exact<int64_t>();
+    if (!n || *n < 1 || *n > 10000) fail(intervals, "intervals must be a whole number from 1 to 10000 (the horizon's mesh)");
+    mpc.intervals = static_cast<int>(*n);
+    if (const toml::node* m = table->get("max_iterations")) {
+      const std::optional<int64_t> k = m->value_exact<int64_t>();
+      if (!k || *k < 1 || *k > 1000000) fail(*m, "max_iterations must be a whole number from 1 to 1000000");
+      mpc.max_iterations = static_cast<int>(*k);
+    }
+    if (const toml::node* e = table->get("tolerance")) {
+      mpc.tolerance = number_value(*e, "tolerance");
+      if (!(std::isfinite(mpc.tolerance) && mpc.tolerance > 0 && mpc.tolerance < 1))
+        fail(*e, "tolerance must be a number between 0 and 1 (IPOPT's tol of each solve)");
+    }
+    if (const toml::node* w = table->get("warm_start")) {
+      const std::optional<bool> b = w->value_exact<bool>();
+      if (!b) fail(*w, "warm_start must be true or false");
+      mpc.warm_start = *b;
     }
   }
 

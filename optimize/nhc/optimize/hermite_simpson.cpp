@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <stdexcept>
 
 namespace nhc::optimize {
 
@@ -104,7 +105,11 @@ void HermiteSimpson::set_up(const std::vector<double>& mesh) {
       high_[k] = std::min(high_[k], b.high);
     }
   };
-  fix(problem_.initial, 0, "initial");
+  if (problem_.measured_start) {
+    for (const SlotBound& b : problem_.initial) low_[static_cast<std::size_t>(b.slot)] = high_[static_cast<std::size_t>(b.slot)] = b.low;
+  } else {
+    fix(problem_.initial, 0, "initial");
+  }
   fix(problem_.final, points() - 1, "final");
   if (free_time_) {
     low_.back() = t_end_low_;
@@ -224,6 +229,7 @@ void HermiteSimpson::drop_fixed_initial_rows() {
       kept_initial_rows_.push_back(r);
       continue;
     }
+    if (problem_.measured_start) continue;
     const double value = functions_->value(first + r).value;
     if (!(std::abs(value) <= kInitialTolerance))
       throw InputError(initial_where_,
@@ -457,6 +463,19 @@ std::vector<double> HermiteSimpson::from_samples(const std::vector<std::vector<d
       }
   for (std::size_t k = 0; k < z.size(); ++k) z[k] = std::clamp(z[k], low_[k], high_[k]);
   return z;
+}
+
+void HermiteSimpson::restart(double t0, const std::vector<double>& start) {
+  if (free_time_ || start.size() != problem_.initial.size())
+    throw std::logic_error("HermiteSimpson::restart: a fixed final time and one value per initial slot");
+  const double length = t_end_low_ - t0_;
+  t0_ = t0;
+  t_end_low_ = t_end_high_ = t0 + length;
+  for (std::size_t i = 0; i < start.size(); ++i) {
+    const auto k = static_cast<std::size_t>(problem_.initial[i].slot);
+    low_[k] = high_[k] = start[i];
+  }
+  cached_.clear();  // the points' times moved: the functions' values at z are no longer those cached
 }
 
 std::vector<double> HermiteSimpson::mesh() const {

@@ -36,6 +36,11 @@ class HermiteSimpson {
   /// or lowered again): the rounds of mesh refinement (refine.hpp).
   HermiteSimpson remeshed(std::vector<double> mesh) const;
 
+  /// The receding horizon (model predictive control, docs/mpc.md; a fixed final time): the same
+  /// problem, structure and lowered functions over [t0, t0 + its length] from the first point's
+  /// values `start` of the point problem's `initial` slots (in their order).
+  void restart(double t0, const std::vector<double>& start);
+
   /// The node fractions of the mesh (size intervals() + 1).
   std::vector<double> mesh() const;
   /// Point j's fraction of the horizon.

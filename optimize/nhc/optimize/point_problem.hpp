@@ -53,6 +53,10 @@ struct PointProblem {
   std::vector<PointRow> initial_rows;  ///< at the first point only
   std::vector<SlotBound> bounds;
   std::vector<SlotBound> initial, final;  ///< at the first and the last point (low = high: a value)
+  /// The values of `initial` are a state measured by a run, set by HermiteSimpson::restart before
+  /// each solve (model predictive control, docs/mpc.md): not checked against the bounds, and the
+  /// hidden constraints they decide are the run's to keep (its drift), not rows of the problem.
+  bool measured_start = false;
 
   int slots() const { return 2 * states + inputs; }
 };
