@@ -1,6 +1,6 @@
 // Reads scene TOML files (toml++) into Scene, validating every key and expression.
 // Each problem becomes an InputError with the file, line and column of the offending value.
-#include "nhc/scene/scene_toml.hpp"
+#include "nhc/scene/scene_reader.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -131,7 +131,36 @@ void reevaluate_initial_expressions(Scene& scene) {
   }
 }
 
+namespace scene_reading {
+
+/// Non-printable bytes are shown as \xNN so that the one-line message stays one line; a
+/// long text is cut after 60 bytes (at a character boundary) and marked with "...".
+std::string printable(const std::string& text) {
+  constexpr std::size_t kShown = 60;
+  std::string s = text;
+  if (s.size() > kShown) {
+    std::size_t cut = kShown;
+    while (cut > 0 && (static_cast<unsigned char>(s[cut]) & 0xc0) == 0x80) --cut;
+    s = s.substr(0, cut) + "...";
+  }
+  std::string out;
+  for (unsigned char c : s) {
+    if (c < 0x20 || c == 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", c);
+      out += buf;
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  return out;
+}
+
+}  // namespace scene_reading
+
 namespace {
+
+using scene_reading::printable;
 
 bool is_function_name(const std::string& name) {
   const auto& names = function_names();
@@ -186,7 +215,7 @@ class SceneReader {
                       "parameters", "initial", "simulate", "reference", "invariants",
                       "definitions", "forces", "outputs", "inputs", "visual", "events", "contacts",
                       "controller",  // read by the sampled run (app/sampled_run.hpp)
-                      "optimize"});  // read by nhc::optimize (read_settings)
+                      "optimize"});
 
     Scene scene;
     scene.source_path = path_;
@@ -231,6 +260,7 @@ class SceneReader {
     // Multipliers count = constraints count; read the constraint strings first.
     std::vector<const toml::node*> constraint_nodes;
     if (const toml::node* cn = root.get("constraints")) {
+      scene.constraints_where = at(*cn);
       const toml::array& arr = array_value(*cn, "constraints");
       for (const toml::node& c : arr) {
         string_value(c, "constraints entry");
@@ -336,6 +366,7 @@ class SceneReader {
         if (std::find(scene.models.begin(), scene.models.end(), *kind) != scene.models.end())
           fail(m, "model '" + n + "' listed twice");
         scene.models.push_back(*kind);
+        scene.models_where[*kind] = at(m);
       }
     } else {
       scene.models.assign(std::begin(kAllModels), std::end(kAllModels));
@@ -355,6 +386,7 @@ class SceneReader {
     definitions.resolve_all();
     for (const auto& [name, where] : definitions.unused())
       scene.warnings.push_back(where.str() + ": warning: definition '" + name + "' is never used");
+    scene_reading::read_optimize(root, scene, path_);
     return scene;
   }
 
@@ -372,29 +404,6 @@ class SceneReader {
   static std::string shortest(double v) {
     const std::string shorter = runtime::number_text(v, 6);  // enough unless that loses the value
     return std::stod(shorter) == v ? shorter : runtime::number_text(v, 17);
-  }
-
-  /// Non-printable bytes are shown as \xNN so that the one-line message stays one line; a
-  /// long text is cut after 60 bytes (at a character boundary) and marked with "...".
-  static std::string printable(const std::string& text) {
-    constexpr std::size_t kShown = 60;
-    std::string s = text;
-    if (s.size() > kShown) {
-      std::size_t cut = kShown;
-      while (cut > 0 && (static_cast<unsigned char>(s[cut]) & 0xc0) == 0x80) --cut;
-      s = s.substr(0, cut) + "...";
-    }
-    std::string out;
-    for (unsigned char c : s) {
-      if (c < 0x20 || c == 0x7f) {
-        char buf[8];
-        std::snprintf(buf, sizeof buf, "\\x%02x", c);
-        out += buf;
-      } else {
-        out += static_cast<char>(c);
-      }
-    }
-    return out;
   }
 
   void check_keys(const toml::table& table, const std::set<std::string>& allowed) const {
