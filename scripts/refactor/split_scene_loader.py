@@ -137,7 +137,8 @@ for f in PARTS:
 
 # Scene's own functions and the text rewrites
 out = '// The Scene\'s own functions (scene.hpp): parameter values, inputs at a time, names.\n'
-out += '#include "nhc/scene/scene_reader.hpp"\n\n' + '\n'.join(incl).rstrip() + '\n\nnamespace nhc {\n\n'
+out += '#include <algorithm>\n#include <cctype>\n#include <cmath>\n#include <set>\n\n'
+out += '#include "nhc/scene/constant_expression.hpp"\n#include "nhc/scene/scene.hpp"\n\nnamespace nhc {\n\n'
 out += '\n'.join(scene_part).strip() + '\n\n}  // namespace nhc\n'
 open(D + 'scene.cpp', 'w').write(out)
 out = '// Scene texts rewritten (scene.hpp, scene_text.hpp): the system\'s text, a switched model\'s, the\n// [inputs] laws written in place.\n'
@@ -178,6 +179,11 @@ bool looks_like_multiplier(const std::string& name);
 bool has_jet_suffix(const std::string& name);
 
 '''
+hdr = hdr.replace('#include <string>\n\n#include "nhc/scene/scene.hpp"\n',
+                  '#include <map>\n#include <optional>\n#include <set>\n#include <sstream>\n#include <string>\n'
+                  '#include <utility>\n#include <vector>\n\n#include "nhc/scene/definition_table.hpp"\n'
+                  '#include "nhc/scene/expression_parser.hpp"\n#include "nhc/scene/scene.hpp"\n'
+                  '#include "nhc/scene/value.hpp"\n', 1)
 hdr = hdr.replace('/// [optimize] of the scene', helpers_decl + '\n'.join(cls) + '\n\n/// [optimize] of the scene', 1)
 open(D + 'scene_reader.hpp', 'w').write(hdr)
 print('members moved:', len(members))
