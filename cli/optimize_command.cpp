@@ -13,6 +13,7 @@
 
 #include "command_programs.hpp"
 #include "commands.hpp"
+#include "nhc/app/optimize_options.hpp"
 #include "nhc/app/optimize_request.hpp"
 #include "nhc/io/atomic_directory.hpp"
 #include "nhc/io/atomic_file.hpp"
@@ -135,18 +136,12 @@ CommandRunner add_optimize_command(CLI::App& app) {
               << "; start: " << (options->guess.empty() ? "straight line" : options->guess) << "\n";
     std::cout.flush();
 
-    optimize::SolveOptions solve_options;
-    solve_options.max_iterations = static_cast<int>(request.max_iterations);
-    solve_options.tolerance = request.tolerance;
-    solve_options.finite_difference_jacobian = request.jacobian == "finite-differences";
-    solve_options.exact_hessian = request.hessian == "exact";
+    optimize::SolveOptions solve_options = app::solve_options(request);
     solve_options.progress = [](int iteration, double cost, double violation) {
       std::cerr << fmt::format("  iteration {:4d}: cost {:.10g}, violation {:.3g}\n", iteration, cost, violation);
       return true;
     };
-    optimize::RefineOptions refine_options;
-    refine_options.intervals = problem.intervals();
-    refine_options.path_tolerance = request.path_tolerance;
+    optimize::RefineOptions refine_options = app::refine_options(request, problem.intervals());
     refine_options.report = [](const std::string& line) {
       std::cout << "  " << line << "\n";
       std::cout.flush();

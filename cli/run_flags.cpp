@@ -133,6 +133,7 @@ Scene load_run_scene(RunFlags& flags) {
   flags.inputs = signals;
   scene = app::scene_with_input_laws(scene, laws, flags.read, "--input");
   apply_initial_flags(scene, flags.initial);
+  flags.request = run_request(flags, scene);  // once: --output-times is read against this scene's t0
   return scene;
 }
 
@@ -157,7 +158,7 @@ app::RunRequest run_request(const RunFlags& flags, const Scene& scene) {
 }
 
 void check_run_flags(const RunFlags& flags, const Scene& scene, ModelKind kind) {
-  app::check_run_request(run_request(flags, scene), scene, kind, field_names(flags));
+  app::check_run_request(flags.request, scene, kind, field_names(flags));
 }
 
 MpcFactory mpc_factory = nullptr;
@@ -182,7 +183,7 @@ void check_run_features(const RunFlags& flags, const Scene& scene, bool sensitiv
 }
 
 std::vector<double> run_times(const RunFlags& flags, const Scene& scene) {
-  if (scene.controller.present) return app::scene_controller_samples(run_request(flags, scene), scene, field_names(flags));
+  if (scene.controller.present) return app::scene_controller_samples(flags.request, scene, field_names(flags));
   return run_output_times(flags, scene);
 }
 
@@ -200,7 +201,7 @@ app::RunPlan run_plan(const RunFlags& flags, const Scene& scene, const Scene& sc
   plan.options = std::move(io);
   plan.events = run_events(flags, scene_set);  // a contact's mu follows --set
   plan.inputs = inputs;
-  plan.request = run_request(flags, scene_set);
+  plan.request = flags.request;
   if (controller)
     plan.control = app::RunControl{app::sample_law(controller), controller->held(), times, scene_set.controller.period,
                                    controller, {}};
@@ -213,15 +214,15 @@ app::RunPlan run_plan(const RunFlags& flags, const Scene& scene, const Scene& sc
 }
 
 std::vector<SceneEvent> run_events(const RunFlags& flags, const Scene& scene) {
-  return app::run_events(run_request(flags, scene), scene, field_names(flags));
+  return app::run_events(flags.request, scene, field_names(flags));
 }
 
 std::vector<double> run_output_times(const RunFlags& flags, const Scene& scene) {
-  return app::run_output_times(run_request(flags, scene), scene, field_names(flags));
+  return app::run_output_times(flags.request, scene, field_names(flags));
 }
 
 runtime::IntegratorOptions run_integrator_options(const RunFlags& flags, const Scene& scene) {
-  return app::run_integrator_options(run_request(flags, scene), scene);
+  return app::run_integrator_options(flags.request, scene);
 }
 
 runtime::InitialState run_initial_state(const RunFlags& flags, const Scene& scene_set, const runtime::Model& model) {

@@ -35,11 +35,15 @@ struct RunFlags {
   std::optional<std::string> stop_when;  ///< --stop-when EXPR: an event that ends the run
   std::string backend;              ///< --backend compiled | interpreted | auto; empty: $NHC_BACKEND, else auto
   SceneOptions read;
+  /// The flags as the application layer's run request (--output-times read against the scene's t0,
+  /// not yet checked): built once, by load_run_scene, and read by every helper below.
+  app::RunRequest request;
 };
 
 /// The scene of SCENE (with --expand), with the --input feedback laws (expressions of the
 /// coordinates, app::input_laws.hpp) written into its [inputs] and taken out of `flags.inputs`,
-/// and the --initial values written into its [initial] (app::apply_initial_values).
+/// and the --initial values written into its [initial] (app::apply_initial_values); sets
+/// `flags.request` (run_request).
 Scene load_run_scene(RunFlags& flags);
 
 /// Registers --initial NAME=VALUE (repeatable) on `sub`: every command that runs the model has it.
@@ -54,6 +58,7 @@ void add_run_flags(CLI::App* sub, RunFlags& flags);
 
 /// The flags as the application layer's run request (--output-times read, not yet checked).
 app::RunRequest run_request(const RunFlags& flags, const Scene& scene);
+
 
 /// The flags that override [simulate], against the scene: --t-end after t0; --integrator
 /// variational with --step, the chetaev model, no --project, and a step count within --max-steps.

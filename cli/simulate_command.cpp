@@ -46,13 +46,11 @@ namespace nhc::cli {
 
 namespace {
 
-std::string format(double v, int precision = 3) { return runtime::number_text(v, precision); }
-
 /// The run's drift lines: the reference error, the hidden (or, for suslov, monitored) constraints
 /// and the invariants over the samples.
 void write_drift_summary(std::ostream& info, const Scene& scene, const runtime::Model& model, ModelKind kind,
                          const runtime::DriftReport& drift, bool reference_applies) {
-  if (model.n_reference() > 0 && reference_applies) info << "  max reference error " << format(drift.max_error) << "\n";
+  if (model.n_reference() > 0 && reference_applies) info << "  max reference error " << runtime::number_text(drift.max_error, 3) << "\n";
   if (model.n_reference() > 0 && !reference_applies)  // docs/combinations.md
     info << "  no reference error: the closed forms of [reference] start from the scene's own [initial], and "
             "--initial moved the start\n";
@@ -63,23 +61,23 @@ void write_drift_summary(std::ostream& info, const Scene& scene, const runtime::
       const std::size_t k = static_cast<std::size_t>(i);
       info << "  monitored constraint " << model.hidden_name(i)
            << (k < scene.constraint_texts.size() ? " = " + scene.constraint_texts[k] : std::string()) << " (CSV column "
-           << runtime::hidden_column(model, i) << "): value at t0 " << format(drift.first_hidden_each.at(k))
-           << ", max |" << model.hidden_name(i) << "| " << format(drift.max_hidden_each[k])
+           << runtime::hidden_column(model, i) << "): value at t0 " << runtime::number_text(drift.first_hidden_each.at(k), 3)
+           << ", max |" << model.hidden_name(i) << "| " << runtime::number_text(drift.max_hidden_each[k], 3)
            << " (not enforced by the suslov model)\n";
     }
   } else if (model.n_hidden() > 0) {
-    info << "  max hidden-constraint drift " << format(drift.max_hidden) << "\n";
+    info << "  max hidden-constraint drift " << runtime::number_text(drift.max_hidden, 3) << "\n";
   }
   // "change", not "drift": an invariant is a quantity the run watches, and whether the scene's
   // physics conserves it (a driven turntable pumps energy into a ball) is not the summary's to
   // say; where it is conserved, its change is the integration's drift (docs/scenes.md).
   for (int k = 0; k < model.n_invariants(); ++k)
     info << "  invariant " << model.table().invariant_names[k] << ": max change "
-              << format(drift.invariant_drift[k])
+              << runtime::number_text(drift.invariant_drift[k], 3)
               << (drift.invariant_absolute[k]
-                      ? " (absolute: the invariant stays below " + format(runtime::kInvariantScaleFloor) + ")"
-                      : " (relative " + format(drift.invariant_relative[k]) + " to its largest size " +
-                            format(drift.invariant_scale[k]) + ")")
+                      ? " (absolute: the invariant stays below " + runtime::number_text(runtime::kInvariantScaleFloor, 3) + ")"
+                      : " (relative " + runtime::number_text(drift.invariant_relative[k], 3) + " to its largest size " +
+                            runtime::number_text(drift.invariant_scale[k], 3) + ")")
               << "\n";
 }
 
@@ -247,22 +245,22 @@ int run_simulate(SimulateOptions& options) {
          << st.jacobian << "), error-test failures " << st.error_test_failures << ", nonlinear failures "
          << st.nonlinear_failures;
   if (options.run.project) info << ", projections " << st.projections;
-  info << "\n  time: derive " << format(derive_seconds) << " s" << (scene_cached ? " (scene cache)" : "")
+  info << "\n  time: derive " << runtime::number_text(derive_seconds, 3) << " s" << (scene_cached ? " (scene cache)" : "")
        << (built.timings().interpreted
                ? (switched          ? ", interpreted, then compiled behind the run"
                   : compiled_behind ? ", interpreted (compiled behind it for the next run)"
                                     : ", interpreted (no compile)")
-                                       : ", compile " + format(compile_seconds) + " s" +
+                                       : ", compile " + runtime::number_text(compile_seconds, 3) + " s" +
                                              (built.library().reused ? " (cached)" : ""))
        << ", integrate "
-            << format(st.initialization_seconds + st.integration_seconds) << " s";
-  if (!app::input_files(options.run.inputs).empty()) info << ", read inputs " << format(input_seconds) << " s";
+            << runtime::number_text(st.initialization_seconds + st.integration_seconds, 3) << " s";
+  if (!app::input_files(options.run.inputs).empty()) info << ", read inputs " << runtime::number_text(input_seconds, 3) << " s";
   info << "\n";
   if (sensitivities) info << describe_sensitivity_cost(*sensitivities, options.sensitivity, st);
   // Errors and drifts of a run without a sample would read as zeros: there are none to report.
   if (started) write_drift_summary(info, scene, model, kind, drift, options.run.initial.empty());
   if (started && outcome.max_discrete_constraint)
-    info << "  max discrete-constraint residual " << format(*outcome.max_discrete_constraint)
+    info << "  max discrete-constraint residual " << runtime::number_text(*outcome.max_discrete_constraint, 3)
          << " (the constraints the steps solve; the hidden constraints above are evaluated at the\n"
             "  node velocities (q_{k+1} - q_{k-1})/2h and their interpolants, O(h^2): docs/variational.md)\n";
 

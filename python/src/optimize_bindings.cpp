@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "nhc/app/optimize_options.hpp"
 #include "nhc/app/optimize_request.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/io/csv_file.hpp"
@@ -57,20 +58,14 @@ py::dict optimize_scene(const Scene& scene, std::optional<long long> intervals, 
     if (!guess_rows) throw InputError({"guess", 0, 0}, "guess: columns without rows");
     guess = optimize::guess_from_table(*problem, *guess_columns, *guess_rows, scene, "guess", guess_name);
   }
-  optimize::SolveOptions options;
-  options.max_iterations = static_cast<int>(request.max_iterations);
-  options.tolerance = request.tolerance;
-  options.finite_difference_jacobian = request.jacobian == "finite-differences";
-  options.exact_hessian = request.hessian == "exact";
+  optimize::SolveOptions options = app::solve_options(request);
   bool interrupted = false;
   options.progress = [&](int, double, double) {
     py::gil_scoped_acquire gil;  // the solve runs without the GIL; signals are Python's
     if (PyErr_CheckSignals() != 0) interrupted = true;
     return !interrupted;
   };
-  optimize::RefineOptions refine;
-  refine.intervals = problem->intervals();
-  refine.path_tolerance = request.path_tolerance;
+  optimize::RefineOptions refine = app::refine_options(request, problem->intervals());
   std::vector<std::string> rounds;
   refine.report = [&](const std::string& line) { rounds.push_back(line); };
   std::optional<optimize::Outcome> outcome;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "nhc/app/initial_values.hpp"
+#include "nhc/app/optimize_request.hpp"
 #include "nhc/app/output_selection.hpp"
 #include "nhc/app/parameter_overrides.hpp"
 #include "nhc/app/run_request.hpp"
@@ -199,4 +200,25 @@ TEST_CASE("a new t0 moves the default end of the run with it", "[app]") {
   Scene fixed_end = falling();
   nhc::app::apply_initial_values(fixed_end, {{"t0", 3.0, "t0=3"}}, "--initial");
   CHECK_THROWS_AS(nhc::app::run_t_end(fixed_end, std::nullopt, "--t-end"), InputError);
+}
+
+TEST_CASE("an optimize request's solver choices: by name from the front ends, typed for the solver", "[app]") {
+  nhc::app::OptimizeRequest request;
+  CHECK(nhc::app::optimize_choices(request).jacobian == nhc::app::JacobianChoice::exact);
+  CHECK(nhc::app::optimize_choices(request).hessian == nhc::app::HessianChoice::exact);
+  request.jacobian = "finite-differences";
+  request.hessian = "limited-memory";
+  request.max_iterations = 17;
+  request.tolerance = 1e-7;
+  request.path_tolerance = 1e-4;
+  nhc::app::check_optimize_request(request, nhc::app::optimize_python_names());
+  const nhc::app::OptimizeChoices choices = nhc::app::optimize_choices(request);
+  CHECK(choices.jacobian == nhc::app::JacobianChoice::finite_differences);
+  CHECK(choices.hessian == nhc::app::HessianChoice::limited_memory);
+  CHECK(choices.max_iterations == 17);
+  CHECK(choices.tolerance == 1e-7);
+  CHECK(choices.path_tolerance == 1e-4);
+  request.hessian = "bfgs";
+  CHECK_THROWS_WITH(nhc::app::check_optimize_request(request, nhc::app::optimize_command_line_names()),
+                    "--hessian: error: --hessian: 'bfgs' is neither exact nor limited-memory");
 }

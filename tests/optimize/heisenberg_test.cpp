@@ -129,6 +129,39 @@ TEST_CASE("[optimize] entries are located in the scene", "[optimize]") {
         "heisenberg.toml:17:1: error: 'x''': without [inputs] the transcription holds coordinates and their first derivatives only");
 }
 
+TEST_CASE("[optimize] is read with the scene: its keys escaped, its numbers at the parameters' values of the time",
+          "[optimize]") {
+  auto load_message = [](const std::string& text) {
+    try {
+      parse_scene(text, "heisenberg.toml");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  // The loader refuses an unknown key of [optimize] at its place, the key's control character escaped.
+  std::string text = heisenberg(0.5, 1.0);
+  text.replace(text.find("t_end = 1"), 9, "\"k\\u0001\" = 1\nt_end = 1");
+  CHECK(load_message(text) ==
+        "heisenberg.toml:7:1: error: unknown key 'k\\x01' in [optimize] (expected one of: bounds, final, final_cost, "
+        "initial, intervals, model, objective, t_end)");
+  // A number given through a parameter follows a value set after the file was read.
+  text = heisenberg(0.5, 1.0);
+  text.replace(text.rfind("z = 0.5"), 7, "z = \"a\"\n[parameters]\na = 0.5");
+  Scene scene = parse_scene(text, "heisenberg.toml");
+  REQUIRE(scene.optimize.present);
+  CHECK(optimize::read_settings(scene).final.at(2).low == 0.5);
+  scene.parameter_values.at(0) = 0.25;
+  CHECK(optimize::read_settings(scene).final.at(2).low == 0.25);
+  CHECK(optimize::read_settings(scene).final.at(2).high == 0.25);
+  // A scene without the table: refused by nhc optimize at the file, not by the loader.
+  const Scene plain = parse_scene(
+      "name = \"p\"\ncoordinates = [\"x\"]\nlagrangian = \"x'^2/2\"\n", "plain.toml");
+  CHECK(!plain.optimize.present);
+  CHECK_THROWS_WITH(optimize::read_settings(plain),
+                    "plain.toml: error: the scene has no [optimize] table (docs/scenes.md, \"Optimal motions\")");
+}
+
 TEST_CASE("a free final time: the loop's cost 2 pi a/T plus T is least at T = sqrt(2 pi a)", "[optimize]") {
   std::string text = heisenberg(0.5, 1.0);
   text.replace(text.find("t_end = 1"), 9, "t_end = [0.5, 4.0]\nfinal_cost = \"t\"");

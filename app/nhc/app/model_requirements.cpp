@@ -1,41 +1,8 @@
 #include "nhc/app/model_requirements.hpp"
 
-#include "nhc/scene/scene_toml.hpp"
-
-#include <optional>
-
 #include "nhc/errors.hpp"
 
 namespace nhc::app {
-
-namespace {
-
-/// The scene file's TOML (already validated by the loader), or nothing for a scene built in code.
-std::optional<toml::table> scene_table(const Scene& scene) {
-  if (scene.source_path.empty()) return std::nullopt;
-  try {
-    return toml::parse_file(scene.source_path);
-  } catch (const std::exception&) {
-    return std::nullopt;
-  }
-}
-
-SourceLocation location_of(const Scene& scene, const toml::node* node) {
-  if (!node) return {scene.source_path, 1, 1};
-  const toml::source_region& r = node->source();
-  return {scene.source_path, static_cast<int>(r.begin.line), static_cast<int>(r.begin.column)};
-}
-
-/// The node of `kind` in the `models` array, or nullptr.
-const toml::node* listed_model(const toml::table& root, ModelKind kind) {
-  const toml::array* models = root["models"].as_array();
-  if (!models) return nullptr;
-  for (const toml::node& m : *models)
-    if (const auto name = m.value<std::string>(); name && *name == to_string(kind)) return &m;
-  return nullptr;
-}
-
-}  // namespace
 
 std::string missing_model_input(const Scene& scene, ModelKind kind) {
   if (kind != ModelKind::suslov || scene.constraints.empty()) return "";
@@ -54,21 +21,16 @@ void refuse_inputs(const Scene& scene, const std::string& what, const std::strin
                        "of the parameters (docs/runtime.md, \"Inputs\")");
 }
 
-bool scene_lists_model(const Scene& scene, ModelKind kind) {
-  const std::optional<toml::table> root = scene_table(scene);
-  return root && listed_model(*root, kind) != nullptr;
-}
+bool scene_lists_model(const Scene& scene, ModelKind kind) { return scene.models_where.count(kind) > 0; }
 
 void require_model_inputs(const Scene& scene, ModelKind kind) {
   const std::string missing = missing_model_input(scene, kind);
   if (missing.empty()) return;
-  const std::optional<toml::table> root = scene_table(scene);
-  const toml::node* where = nullptr;
-  if (root) {
-    where = listed_model(*root, kind);
-    if (!where) where = root->get("constraints");
-  }
-  throw InputError(location_of(scene, where), missing);
+  // The model's entry in `models`, else the `constraints` key, else the file's start.
+  SourceLocation where{scene.source_path, 1, 1};
+  if (const auto listed = scene.models_where.find(kind); listed != scene.models_where.end()) where = listed->second;
+  else if (scene.constraints_where.line > 0) where = scene.constraints_where;
+  throw InputError(where, missing);
 }
 
 }  // namespace nhc::app

@@ -41,4 +41,14 @@ void check_optimize_request(const OptimizeRequest& r, const OptimizeFieldNames& 
   check_choice(names.hessian, r.hessian, "exact", "limited-memory");
 }
 
+OptimizeChoices optimize_choices(const OptimizeRequest& r) {
+  OptimizeChoices c;
+  c.max_iterations = static_cast<int>(r.max_iterations);
+  c.tolerance = r.tolerance;
+  c.jacobian = r.jacobian == "finite-differences" ? JacobianChoice::finite_differences : JacobianChoice::exact;
+  c.hessian = r.hessian == "limited-memory" ? HessianChoice::limited_memory : HessianChoice::exact;
+  c.path_tolerance = r.path_tolerance;
+  return c;
+}
+
 }  // namespace nhc::app

@@ -31,4 +31,19 @@ struct OptimizeRequest {
 /// Every rule of the request: InputError at the field (in `names`) otherwise.
 void check_optimize_request(const OptimizeRequest& request, const OptimizeFieldNames& names);
 
+/// The solver's choices of a request, typed: where the Jacobian and the Hessian come from.
+enum class JacobianChoice { exact, finite_differences };
+enum class HessianChoice { exact, limited_memory };
+struct OptimizeChoices {
+  int max_iterations = 3000;
+  double tolerance = 1e-10;
+  JacobianChoice jacobian = JacobianChoice::exact;
+  HessianChoice hessian = HessianChoice::exact;
+  double path_tolerance = 1e-6;
+};
+
+/// The request's choices (after check_optimize_request, which refuses names it does not know);
+/// app/nhc/app/optimize_options.hpp turns them into the solver's options for both front ends.
+OptimizeChoices optimize_choices(const OptimizeRequest& request);
+
 }  // namespace nhc::app

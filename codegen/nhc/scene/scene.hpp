@@ -167,6 +167,58 @@ struct SceneController {
   SceneMpc mpc;  ///< sets every input of [inputs] that is not a feedback law (no `inputs`, `states` beside it)
 };
 
+/// A number of [optimize] as written: a number, or a constant expression of the parameters
+/// ("L/2", as [initial] and [simulate] take), which value_at() evaluates at the parameter values
+/// of the time (a value set since the file was read counts, as for [initial]).
+struct SceneNumber {
+  double value = 0;           ///< at the file's parameter values
+  std::string text;           ///< the expression as written; "" for a number
+  std::string what;           ///< its name in messages ("t_end's low bound")
+  bool infinite_ok = false;   ///< ±inf is allowed (an open side of a bound)
+  SourceLocation where;
+  /// The value at `parameters` (Scene::parameter_values_by_name()); InputError at `where` when the
+  /// expression fails there or the value is not a finite number (±inf when `infinite_ok`).
+  double value_at(const std::map<std::string, double>& parameters) const;
+};
+
+/// A coordinate's derivative of some order, an input or a named quantity of [outputs], by its
+/// scene name ("x", "x'", "u1", "speed").
+struct PathQuantity {
+  enum class Kind { coordinate, input, output } kind = Kind::coordinate;
+  int index = 0;  ///< coordinate, input or output index
+  int order = 0;  ///< derivative order (0 for an input)
+  std::string name;
+};
+
+/// `x = 0.0` or `x = [low, high]` of [optimize.initial] and [optimize.final], `u1 = [-5.0, 5.0]`
+/// of [optimize.bounds].
+struct SceneOptimizeEntry {
+  PathQuantity quantity;
+  SourceLocation where;        ///< the name
+  SourceLocation value_where;  ///< the value (the array of a range)
+  bool range = false;          ///< [low, high]; else low and high are the one value
+  SceneNumber low, high;
+  std::string what;            ///< the entry in messages ("x in [optimize.initial]")
+};
+
+/// [optimize] (docs/scenes.md, "Optimal motions"): the problem of `nhc optimize` as written; the
+/// numbers and the objective's parameters take their values when it is solved
+/// (optimize::read_settings).
+struct SceneOptimize {
+  bool present = false;
+  SourceLocation where;                ///< the [optimize] header
+  std::optional<GiNaC::ex> objective;  ///< of t, q, q', …, the inputs and the parameters; none: the Lagrangian
+  SourceLocation objective_where;
+  GiNaC::ex final_cost = 0;            ///< of t and the final state
+  SourceLocation final_cost_where;
+  std::vector<SceneNumber> t_end;      ///< none: [simulate]'s t_end; one: a fixed horizon; two: [low, high]
+  SourceLocation t_end_where;          ///< the entry (else the table's header)
+  std::optional<int> intervals;
+  std::optional<ModelKind> model;
+  SourceLocation model_where;          ///< the `model` entry (else the table's header)
+  std::vector<SceneOptimizeEntry> initial, final, bounds;
+};
+
 /// A [parameters] entry written through other parameters (`Ja = "mw*r^2/2"`): not a parameter of
 /// the equations but an expression of them, substituted where its name appears, so that it
 /// follows every change of the parameters it uses (--set, ensembles, sweeps).
@@ -191,6 +243,10 @@ struct SceneSystemFields {
   std::vector<std::string> constraint_texts;
   std::vector<int> dependent;            ///< coordinate indices d_1..d_g (suslov); may be empty
   std::vector<ModelKind> models;         ///< requested models, default all four
+  /// Where the scene's `models` key lists each model (empty when it has no `models` key: then
+  /// every model is requested, none by name).
+  std::map<ModelKind, SourceLocation> models_where;
+  SourceLocation constraints_where;      ///< the `constraints` key's value (none: line 0)
   /// Generalized non-conservative forces Q_i(t, q, q') of [forces], one per coordinate (0 when
   /// not given); every model adds Q_i to its residual R_i (docs/forces.md).
   std::vector<GiNaC::ex> forces;
@@ -236,6 +292,8 @@ struct SceneExperiment {
   /// [controller]: a sampled controller, evaluated by the run between integrations (not in the
   /// generated model); `present` false when the scene has none.
   SceneController controller;
+  /// [optimize]: the optimal-motion problem; `present` false when the scene has none.
+  SceneOptimize optimize;
 };
 
 /// The presentation: what a run shows of the motion.

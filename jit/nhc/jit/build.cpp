@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "nhc/analysis/index1_reduction.hpp"
+#include "nhc/clock.hpp"
 #include "nhc/long_work.hpp"
 #include "nhc/derive/models.hpp"
 #include "nhc/derive/reduced_form.hpp"
@@ -16,9 +17,6 @@
 namespace nhc::jit {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 /// The scene and model a generated header is for: its namespace is `<scene>_<model>`
 /// (header_emitter.hpp). A header named otherwise (written by hand) has its model checked only.

@@ -1,213 +1,69 @@
 #include "nhc/optimize/settings.hpp"
 
-#include "nhc/scene/scene_toml.hpp"
-
-#include <cmath>
-#include <set>
-
 #include "nhc/runtime/number_text.hpp"
-#include "nhc/scene/constant_expression.hpp"
-#include "nhc/scene/expression_parser.hpp"
 
 namespace nhc::optimize {
 
 namespace {
 
-class Reader {
- public:
-  explicit Reader(const Scene& scene) : scene_(scene), path_(scene.file_location().file) {}
+/// An entry of [optimize.initial], [optimize.final] or [optimize.bounds] at `parameters`.
+void evaluate(const SceneOptimizeEntry& entry, const std::map<std::string, double>& parameters, double& low, double& high) {
+  low = entry.low.value_at(parameters);
+  high = entry.range ? entry.high.value_at(parameters) : low;
+  if (entry.range && !(low <= high)) throw InputError(entry.value_where, "the low bound of " + entry.what + " is above its high bound");
+}
 
-  Settings read() {
-    toml::table root;
-    try {
-      root = toml::parse(scene_.source_text(), path_);
-    } catch (const toml::parse_error& e) {
-      throw InputError(at(e.source()), std::string("TOML syntax: ") + std::string(e.description()));
-    }
-    const toml::node* node = root.get("optimize");
-    if (!node)
-      throw InputError(scene_.file_location(), "the scene has no [optimize] table (docs/scenes.md, \"Optimal motions\")");
-    const toml::table* table = node->as_table();
-    if (!table) fail(*node, "'optimize' must be a table");
-    Settings s;
-    s.table_where = at(node->source());
-    check_keys(*table, {"objective", "final_cost", "t_end", "intervals", "model", "initial", "final", "bounds"});
-
-    s.objective = scene_.lagrangian;
-    s.objective_where = scene_.lagrangian_where;
-    if (const toml::node* n = table->get("objective")) {
-      s.objective = expression(*n, "objective");
-      s.objective_where = at(n->source());
-    }
-    if (const toml::node* n = table->get("final_cost")) {
-      s.final_cost = expression(*n, "final_cost");
-      s.final_cost_where = at(n->source());
-    }
-    const double t0 = scene_.initial.t0;
-    s.t_end_low = s.t_end_high = scene_.simulate.t_end;
-    if (const toml::node* n = table->get("t_end")) {
-      s.t_end_where = at(n->source());
-      if (const toml::array* a = n->as_array()) {
-        if (a->size() != 2) fail(*n, "t_end = [low, high] takes two numbers (a free final time within them)");
-        s.t_end_low = number((*a)[0], "t_end's low bound");
-        s.t_end_high = number((*a)[1], "t_end's high bound");
-        if (!(s.t_end_low > t0)) fail((*a)[0], "t_end's low bound must be after t0 = " + format(t0));
-        if (!(s.t_end_high > s.t_end_low)) fail((*a)[1], "t_end's high bound must be above its low bound");
-      } else {
-        s.t_end_low = s.t_end_high = number(*n, "t_end");
-        if (!(s.t_end_low > t0)) fail(*n, "t_end must be after t0 = " + format(t0));
-      }
-    } else {
-      s.t_end_where = s.table_where;
-    }
-    if (const toml::node* n = table->get("intervals")) {
-      const std::optional<int64_t> count = n->value_exact<int64_t>();
-      if (!count || *count < 1 || *count > 100000) fail(*n, "intervals must be a whole number from 1 to 100000");
-      s.intervals = static_cast<int>(*count);
-    }
-    if (const toml::node* n = table->get("model")) {
-      const std::string name = string(*n, "model");
-      const std::optional<ModelKind> kind = parse_model_kind(name);
-      if (!kind) fail(*n, "unknown model '" + name + "' (known: " + model_name_list() + ")");
-      s.model = kind;
-      s.model_where = at(n->source());
-    }
-    s.initial = boundary(*table, "initial");
-    s.final = boundary(*table, "final");
-    if (const toml::node* n = table->get("bounds")) {
-      const toml::table* bounds = n->as_table();
-      if (!bounds) fail(*n, "[optimize.bounds] must be a table of name = [low, high]");
-      for (auto&& [key, value] : *bounds) {
-        PathBound b;
-        b.where = at(key.source());
-        b.quantity = quantity(std::string(key.str()), b.where, true);
-        const toml::array* a = value.as_array();
-        if (!a || a->size() != 2) fail(value, "a bound is [low, high]");
-        b.low = number((*a)[0], "the low bound of " + b.quantity.name, true);
-        b.high = number((*a)[1], "the high bound of " + b.quantity.name, true);
-        if (!(b.low <= b.high)) fail(value, "the low bound of " + b.quantity.name + " is above its high bound");
-        s.bounds.push_back(b);
-      }
-    }
-    return s;
+std::vector<BoundaryValue> boundary(const std::vector<SceneOptimizeEntry>& entries, const std::map<std::string, double>& parameters) {
+  std::vector<BoundaryValue> out;
+  for (const SceneOptimizeEntry& entry : entries) {
+    BoundaryValue b;
+    b.quantity = entry.quantity;
+    b.where = entry.where;
+    evaluate(entry, parameters, b.low, b.high);
+    out.push_back(b);
   }
-
- private:
-  [[noreturn]] void fail(const toml::node& node, const std::string& message) const {
-    throw InputError(at(node.source()), message);
-  }
-  SourceLocation at(const toml::source_region& r) const {
-    return {path_, static_cast<int>(r.begin.line), static_cast<int>(r.begin.column)};
-  }
-  static std::string format(double v) { return runtime::number_text(v, 6); }
-
-  void check_keys(const toml::table& table, const std::set<std::string>& allowed) const {
-    for (auto&& [key, value] : table)
-      if (!allowed.count(std::string(key.str()))) {
-        std::string list;
-        for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
-        throw InputError(at(key.source()), "unknown key '" + std::string(key.str()) + "' in [optimize] (expected one of: " + list + ")");
-      }
-  }
-
-  std::string string(const toml::node& node, const std::string& what) const {
-    const std::optional<std::string> s = node.value_exact<std::string>();
-    if (!s) fail(node, what + " must be a string");
-    return *s;
-  }
-
-  /// A finite number (an integer is one); `infinite_ok` also takes ±inf (an open side of a bound).
-  double number(const toml::node& node, const std::string& what, bool infinite_ok = false) const {
-    std::optional<double> v;
-    if (node.is_integer()) v = static_cast<double>(*node.value<int64_t>());
-    else if (node.is_floating_point()) v = *node.value<double>();
-    else if (node.is_string()) {
-      // A constant expression of the parameters, as [initial] and [simulate] take ("2*pi", "L/2").
-      try {
-        v = evaluate_constant_expression(*node.value<std::string>(), scene_.parameter_values_by_name());
-      } catch (const std::invalid_argument& e) {
-        fail(node, what + ": " + e.what());
-      }
-    }
-    if (!v || std::isnan(*v) || (!infinite_ok && std::isinf(*v))) fail(node, what + " must be a finite number");
-    return *v;
-  }
-
-  GiNaC::ex expression(const toml::node& node, const std::string& what) const {
-    const std::string text = string(node, what);
-    try {
-      return parse_expression(text, *scene_.jet).subs(scene_.parameter_substitution());
-    } catch (const ExpressionSyntaxError& e) {
-      SourceLocation where = at(node.source());
-      where.column += 1 + static_cast<int>(e.offset());  // past the opening quote
-      throw InputError(where, what + ": " + e.what());
-    }
-  }
-
-  /// "x", "x'", … a coordinate's derivative; an input's name when `inputs_ok`.
-  PathQuantity quantity(const std::string& name, const SourceLocation& where, bool inputs_ok) const {
-    PathQuantity q;
-    q.name = name;
-    const std::size_t end = name.find_last_not_of('\'');
-    const std::string base = end == std::string::npos ? std::string() : name.substr(0, end + 1);
-    q.order = static_cast<int>(name.size() - base.size());
-    if (const std::optional<int> i = scene_.jet->coordinate_index(base)) {
-      q.index = *i;
-      return q;
-    }
-    if (const std::optional<int> k = scene_.jet->input_index(base); k && inputs_ok && q.order == 0) {
-      q.kind = PathQuantity::Kind::input;
-      q.index = *k;
-      return q;
-    }
-    for (std::size_t k = 0; k < scene_.outputs.size() && inputs_ok && q.order == 0; ++k)
-      if (scene_.outputs[k].name == name) {
-        q.kind = PathQuantity::Kind::output;
-        q.index = static_cast<int>(k);
-        return q;
-      }
-    std::string names;
-    for (int i = 0; i < scene_.coordinate_count(); ++i) names += (names.empty() ? "" : ", ") + scene_.jet->coordinates()[static_cast<std::size_t>(i)];
-    if (inputs_ok) {
-      for (const std::string& u : scene_.jet->inputs()) names += ", " + u;
-      for (const SceneQuantity& o : scene_.outputs) names += ", " + o.name;
-    }
-    throw InputError(where, "unknown name '" + name + "' (coordinates with primes for derivatives: " + names + ")");
-  }
-
-  std::vector<BoundaryValue> boundary(const toml::table& table, const std::string& key) const {
-    std::vector<BoundaryValue> out;
-    const toml::node* node = table.get(key);
-    if (!node) return out;
-    const toml::table* values = node->as_table();
-    if (!values) fail(*node, "[optimize." + key + "] must be a table of name = value");
-    for (auto&& [name, value] : *values) {
-      BoundaryValue b;
-      b.where = at(name.source());
-      b.quantity = quantity(std::string(name.str()), b.where, true);
-      if (b.quantity.kind == PathQuantity::Kind::output)
-        throw InputError(b.where, "'" + b.quantity.name + "' is a named quantity: [optimize." + key +
-                                      "] takes coordinates, their derivatives and inputs");
-      const std::string what = std::string(name.str()) + " in [optimize." + key + "]";
-      if (const toml::array* a = value.as_array()) {
-        if (a->size() != 2) fail(value, what + ": a bound is [low, high]");
-        b.low = number((*a)[0], "the low bound of " + what, true);
-        b.high = number((*a)[1], "the high bound of " + what, true);
-        if (!(b.low <= b.high)) fail(value, "the low bound of " + what + " is above its high bound");
-      } else {
-        b.low = b.high = number(value, what);
-      }
-      out.push_back(b);
-    }
-    return out;
-  }
-
-  const Scene& scene_;
-  std::string path_;
-};
+  return out;
+}
 
 }  // namespace
 
-Settings read_settings(const Scene& scene) { return Reader(scene).read(); }
+Settings read_settings(const Scene& scene) {
+  const SceneOptimize& table = scene.optimize;
+  if (!table.present)
+    throw InputError(scene.file_location(), "the scene has no [optimize] table (docs/scenes.md, \"Optimal motions\")");
+  // The scene's values now: a parameter set since the file was read counts.
+  const std::map<std::string, double> parameters = scene.parameter_values_by_name();
+  Settings s;
+  s.table_where = table.where;
+  s.objective = table.objective ? table.objective->subs(scene.parameter_substitution()) : scene.lagrangian;
+  s.objective_where = table.objective ? table.objective_where : scene.lagrangian_where;
+  s.final_cost = table.final_cost.subs(scene.parameter_substitution());
+  s.final_cost_where = table.final_cost_where;
+  const double t0 = scene.initial.t0;
+  s.t_end_low = s.t_end_high = scene.simulate.t_end;
+  s.t_end_where = table.t_end_where;
+  if (table.t_end.size() == 2) {
+    s.t_end_low = table.t_end[0].value_at(parameters);
+    s.t_end_high = table.t_end[1].value_at(parameters);
+    if (!(s.t_end_low > t0)) throw InputError(table.t_end[0].where, "t_end's low bound must be after t0 = " + runtime::number_text(t0, 6));
+    if (!(s.t_end_high > s.t_end_low)) throw InputError(table.t_end[1].where, "t_end's high bound must be above its low bound");
+  } else if (table.t_end.size() == 1) {
+    s.t_end_low = s.t_end_high = table.t_end[0].value_at(parameters);
+    if (!(s.t_end_low > t0)) throw InputError(table.t_end[0].where, "t_end must be after t0 = " + runtime::number_text(t0, 6));
+  }
+  if (table.intervals) s.intervals = *table.intervals;
+  s.model = table.model;
+  s.model_where = table.model_where;
+  s.initial = boundary(table.initial, parameters);
+  s.final = boundary(table.final, parameters);
+  for (const SceneOptimizeEntry& entry : table.bounds) {
+    PathBound b;
+    b.quantity = entry.quantity;
+    b.where = entry.where;
+    evaluate(entry, parameters, b.low, b.high);
+    s.bounds.push_back(b);
+  }
+  return s;
+}
 
 }  // namespace nhc::optimize

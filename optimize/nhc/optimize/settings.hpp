@@ -15,14 +15,8 @@
 
 namespace nhc::optimize {
 
-/// A coordinate's derivative of some order, an input or a named quantity of [outputs], by its
-/// scene name ("x", "x'", "u1", "speed").
-struct PathQuantity {
-  enum class Kind { coordinate, input, output } kind = Kind::coordinate;
-  int index = 0;  ///< coordinate, input or output index
-  int order = 0;  ///< derivative order (0 for an input)
-  std::string name;
-};
+/// A coordinate's derivative, an input or an [outputs] quantity by its scene name (nhc/scene/scene.hpp).
+using nhc::PathQuantity;
 
 /// `x = 0.0` of [optimize.initial] or [optimize.final], or `x = [low, high]` (a bound there).
 struct BoundaryValue {
@@ -55,8 +49,9 @@ struct Settings {
   bool free_time() const { return t_end_low != t_end_high; }
 };
 
-/// Reads [optimize] from the scene's source text. Every problem is an InputError at its
-/// FILE:LINE:COLUMN; a scene without the table is one too (at the file).
+/// The scene's [optimize] (read with the scene, Scene::optimize) at the scene's parameter values.
+/// Every problem is an InputError at its FILE:LINE:COLUMN; a scene without the table is one too
+/// (at the file).
 Settings read_settings(const Scene& scene);
 
 }  // namespace nhc::optimize

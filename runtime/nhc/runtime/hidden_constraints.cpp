@@ -33,16 +33,6 @@ HiddenSolveReport report_of(const ConstraintSolveResult& r) {
 
 }  // namespace
 
-double hidden_residual(const Model& model, const double* p, double t, const double* y) {
-  const int m = model.n_hidden();
-  if (m == 0) return 0.0;
-  std::vector<double> g(m);
-  model.table().hidden_constraints(t, y, p, g.data());
-  double worst = 0;
-  for (double gi : g) worst = std::isfinite(gi) ? std::max(worst, std::abs(gi)) : INFINITY;
-  return worst;
-}
-
 HiddenSolveReport solve_hidden_constraints(const Model& model, const double* p, double t, double* y,
                                            const std::vector<double>& scale, double tolerance,
                                            int max_iterations) {

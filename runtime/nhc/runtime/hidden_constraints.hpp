@@ -22,9 +22,6 @@ struct HiddenSolveReport {
   double correction = 0;       ///< max |Δy_i|
 };
 
-/// max |g_i(t, y)|, 0 when the model has no hidden constraints.
-double hidden_residual(const Model& model, const double* p, double t, const double* y);
-
 /// Moves the states with scale[i] > 0 so that g(t, y) = 0 (|g_i| <= tolerance).
 /// Throws SolverError(inconsistent_initial_values, t) naming the violated constraint and the
 /// free states when no such point is found (e.g. every state the constraint involves is fixed).

@@ -1,6 +1,7 @@
 // The variational integrator's run loop (variational.hpp, docs/variational.md).
 #include "nhc/runtime/variational.hpp"
 
+#include "nhc/clock.hpp"
 #include "nhc/runtime/number_text.hpp"
 
 #include <Eigen/Dense>
@@ -14,12 +15,6 @@
 namespace nhc::runtime {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 /// A node of the discrete trajectory: q_k, its velocity and acceleration, the multipliers.
 struct Node {
