@@ -127,7 +127,7 @@ CommandRunner add_animate_command(CLI::App& app) {
       std::shared_ptr<app::ControllerLaws> controller;
       if (scene.controller.present) controller = std::make_shared<app::ControllerLaws>(scene_set, model, p);
       std::optional<jit::LoadedModel> sliding;
-      const app::RunPlan plan = run_plan(flags, scene, scene_set, kind, build_options, model, p, times, io,
+      const app::RunPlan plan = run_plan(flags, scene_set, kind, build_options, model, p, times, io,
                                          app::input_function(input_signals, model, p), controller, sliding);
       run = app::simulate(plan).run;
     }

@@ -187,7 +187,7 @@ std::vector<double> run_times(const RunFlags& flags, const Scene& scene) {
   return run_output_times(flags, scene);
 }
 
-app::RunPlan run_plan(const RunFlags& flags, const Scene& scene, const Scene& scene_set, ModelKind kind,
+app::RunPlan run_plan(const RunFlags& flags, const Scene& scene_set, ModelKind kind,
                       const jit::BuildOptions& build_options, const runtime::Model& model, const std::vector<double>& p,
                       const std::vector<double>& times, runtime::IntegratorOptions io,
                       const runtime::InputFunction& inputs, std::shared_ptr<app::ControllerLaws> controller,

@@ -92,7 +92,7 @@ std::vector<double> run_times(const RunFlags& flags, const Scene& scene);
 /// parameter values `p` of `scene_set` (the scene after --set): the output times (run_times), the
 /// events, the inputs `inputs`, the scene's controller `controller` (null: none), and the sliding
 /// model of a contact that slides, built into `sliding` as `kind` with `build_options`.
-app::RunPlan run_plan(const RunFlags& flags, const Scene& scene, const Scene& scene_set, ModelKind kind,
+app::RunPlan run_plan(const RunFlags& flags, const Scene& scene_set, ModelKind kind,
                       const jit::BuildOptions& build_options, const runtime::Model& model, const std::vector<double>& p,
                       const std::vector<double>& times, runtime::IntegratorOptions io,
                       const runtime::InputFunction& inputs, std::shared_ptr<app::ControllerLaws> controller,

@@ -185,7 +185,7 @@ int run_simulate(SimulateOptions& options) {
   if (build_options.sensitivities) check_sensitivities_given(thetas, initial);
   // The run: app::simulate, the one engine of every front end (app/run_engine.hpp).
   std::optional<jit::LoadedModel> sliding;
-  app::RunPlan plan = run_plan(options.run, scene, scene_set, kind, build_options, model, p, times, io,
+  app::RunPlan plan = run_plan(options.run, scene_set, kind, build_options, model, p, times, io,
                                input_function(input_signals, model, p), controller, sliding);
   if (mpc) plan.control = mpc->control;
   app::RunOutcome outcome = app::simulate(plan);

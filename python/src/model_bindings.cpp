@@ -503,11 +503,11 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
                                    [mpc_controller](bool at_sample) { return mpc_controller->column_values(at_sample); }};
   } else if (scene_controller) {
     laws = symbolic_work([&] { return std::make_shared<app::ControllerLaws>(scene, model, p); });
-    plan.control = app::RunControl{app::sample_law(laws), laws->held(), times, scene.controller.period, laws};
+    plan.control = app::RunControl{app::sample_law(laws), laws->held(), times, scene.controller.period, laws, {}};
   } else if (function_controller) {
     plan.control = app::RunControl{python_controller(controller, std::make_shared<py::object>(std::move(controller_state)),
                                                      model.n_states(), model.n_inputs(), controller_failure),
-                                   {}, times, *period, nullptr};
+                                   {}, times, *period, nullptr, {}};
   }
   std::map<std::string, long> extra;
   if (variational) plan.model = &built.variational_model();  // a build: symbolic work, with the GIL

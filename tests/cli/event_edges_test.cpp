@@ -206,7 +206,7 @@ TEST_CASE("nhc simulate --sensitivity: a parameter only [initial] uses moves the
                                   "[simulate]\nt_end = \"Tend\"\nrtol = 1e-10\natol = 1e-12\n");
   Run r = run(nhc_command() + " simulate '" + scene + "' --sensitivity A -o '" + dir + "/s.csv'", dir);
   REQUIRE(r.exit_code == 0);
-  const auto csv = columns(read_file(dir + "/s.csv"));
+  const auto csv = csv_columns(read_file(dir + "/s.csv"));
   REQUIRE(csv.count("d(x)/d(A)") == 1);
   double worst = 0;
   for (std::size_t i = 0; i < csv.at("t").size(); ++i)

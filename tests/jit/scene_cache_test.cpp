@@ -413,7 +413,7 @@ TEST_CASE("the system's key follows every change of the system and no change of 
         {"output intervals", [](nhc::Scene& s) { s.simulate.outputs = 7; }},
         {"event", [](nhc::Scene& s) { s.events.front().expression = s.events.front().expression - 1; }},
         {"events", [](nhc::Scene& s) { s.events.clear(); }},
-        {"contact", [](nhc::Scene& s) { s.contacts.push_back({"floor", s.jet->parameter(0), "m", {}, {}, {0}, 0.3}); }},
+        {"contact", [](nhc::Scene& s) { s.contacts.push_back({"floor", s.jet->parameter(0), "m", {}, {}, {0}, 0.3, {}}); }},
         {"output", [](nhc::Scene& s) { s.outputs.front().expression = 2 * s.outputs.front().expression; }},
         {"outputs", [](nhc::Scene& s) { s.outputs.clear(); }},
         {"visuals", [](nhc::Scene& s) { s.visuals.clear(); }},

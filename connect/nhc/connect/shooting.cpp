@@ -124,7 +124,7 @@ class Shooter {
   std::vector<SensitivityParameter> thetas(int segment) const {
     std::vector<SensitivityParameter> out;
     for (int state : layout_.unknown_states(segment))
-      out.push_back({SensitivityParameter::Kind::initial_value, state, free_value_name(problem_.model, state)});
+      out.push_back({SensitivityParameter::Kind::initial_value, state, free_value_name(problem_.model, state), {}, 0});
     return out;
   }
 
