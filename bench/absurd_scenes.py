@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Issue 44: no scene may hang nhc. Generates a seeded family of absurd two-coordinate scenes
+"""No scene may hang nhc. Generates a seeded family of absurd two-coordinate scenes
 (Lagrangians under 200 characters: powers of sums, towers of powers, trigonometric functions of
 sums raised to powers, reciprocals of sums, definitions that square the previous one) and runs
 `nhc derive`, `nhc derive --format latex` and `nhc generate` on each with a time limit, recording

@@ -154,8 +154,8 @@ def main(argv):
     L.append("")
 
     # ---- the front end's scaling goals ----
-    import report_issue17
-    L.extend(report_issue17.goals(jdir, env, load, table, ratio, fmt_x))
+    import report_goals
+    L.extend(report_goals.goals(jdir, env, load, table, ratio, fmt_x))
 
     # ---- targets ----
     n_ref = 16

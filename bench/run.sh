@@ -211,7 +211,7 @@ gnuplot -e "data='$json/plot.dat'; set terminal svg size 900,540 dynamic font 's
 gnuplot -e "data='$json/plot.dat'; set terminal dumb size 110,36; set output '$json/plot.txt'" bench/plot.gp 2>/dev/null
 env_json
 "$python" bench/report.py "$json" "$results/results.md" "$json/plot.dat"
-# Issue 44: a seeded family of 200 absurd scenes (bench/absurd_scenes.py; 6 with --quick, which only
+# No scene may hang nhc: a seeded family of 200 absurd scenes (bench/absurd_scenes.py; 6 with --quick, which only
 # keeps the harness running in CI); every one must end with exit 0, 2 or 3 within 5 s under derive,
 # derive --format latex and generate. Its table is appended.
 absurd_status=0
@@ -227,20 +227,20 @@ NHC_SCENE_CACHE=off NHC_CACHE_DIR="$json/absurd-cache" "$python" bench/absurd_sc
     echo "Not met: $(grep -c '^FAIL' "$json/absurd.log") runs past 5 s or with another exit code ($json/absurd.log)."
   fi
 } >> "$results/results.md"
-# Issue 50: the start-up of the command (perf stat; the libraries each program loads).
+# The start-up of the command (perf stat; the libraries each program loads).
 if command -v perf > /dev/null; then
   { echo; echo "## Start-up of the command (bench/startup.sh)"; echo
     NHC_STARTUP_REPEAT=$([ $quick = 1 ] && echo 5 || echo 30) bench/startup.sh "$nhc" || echo "(bench/startup.sh failed)"
   } >> "$results/results.md"
 fi
-# Issue 50: cold `nhc simulate` (empty caches, --backend auto) of the bicycle, the rattleback and
+# Cold `nhc simulate` (empty caches, --backend auto) of the bicycle, the rattleback and
 # the knife chain N = 512, and their results against --backend compiled (bench/cold_simulate.sh).
 "$python" bench/knife_chain.py "$out/scenes" 512 > /dev/null
 { echo; echo "## Cold nhc simulate (bench/cold_simulate.sh)"; echo
   bench/cold_simulate.sh "$nhc" examples/whipple/whipple_bicycle.toml examples/rattleback.toml \
     "$out/scenes/knife_chain_512.toml" || echo "(bench/cold_simulate.sh failed)"
 } >> "$results/results.md"
-# Issue 49: nhc optimize on the car parking, the wheeled pendulum and the Heisenberg loop with the
+# nhc optimize on the car parking, the wheeled pendulum and the Heisenberg loop with the
 # generated derivatives against IPOPT's approximations (bench/optimize.py, which also writes
 # bench/optimize.md). Not with --quick: the approximations take minutes. Its table is appended.
 if [ "$quick" = 0 ]; then

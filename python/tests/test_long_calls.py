@@ -186,8 +186,8 @@ y = [0.2, 0.5]
 
 
 def test_the_work_budget_stops_symbolic_work_with_the_stage_named():
-    # Issue 44: the command line's --work-limit, from Python. The scene needs minutes of processor
-    # time to derive (tests/fuzz/corpus/scene/issue44_trig_sums_over_reciprocals.toml).
+    # The command line's --work-limit, from Python. The scene needs minutes of processor
+    # time to derive (tests/fuzz/corpus/scene/slow_derivation_trig_sums_over_reciprocals.toml).
     assert nhc.work_limit() == 4.0
     scene = nhc.Scene.from_toml(RUNAWAY, path="runaway.toml")
     nhc.set_work_limit(0.5)

@@ -84,7 +84,7 @@ def test_a_model_that_does_not_apply_is_a_math_error():
 
 
 def test_latex_prints_multi_letter_definitions_upright(source):
-    # Issue 47: a definition named Tb reads as T times b unless set upright, in its own line
+    # A definition named Tb reads as T times b unless set upright, in its own line
     # and inside d/dt dT/dpsi'.
     latex = nhc.Scene.load(source / "examples/wheeled_pendulum.toml").derive("chetaev")._repr_latex_()
     assert "\\frac{d}{dt}\\frac{\\partial \\mathrm{Tb}}{\\partial \\dot{\\psi}}" in latex

@@ -130,7 +130,7 @@ TEST_CASE("nhc animate: refusals leave nothing, a failed run keeps its page", "[
   }
 }
 
-TEST_CASE("nhc animate: sample times after a late t0 stay distinct, the summary says their range", "[cli][animate][issue43]") {
+TEST_CASE("nhc animate: sample times after a late t0 stay distinct, the summary says their range", "[cli][animate]") {
   const std::string dir = scratch_dir("animate_late_t0");
   // t0 = 1e6, 1001 samples 0.01 apart: with 9 significant digits they were 101 distinct times.
   std::string text = read_file(kScene);

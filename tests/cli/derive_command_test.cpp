@@ -464,7 +464,7 @@ TEST_CASE("LaTeX output of the examples compiles with pdflatex, the Whipple bicy
 }
 
 TEST_CASE("LaTeX reads like a textbook: d/dt of partials, like terms gathered, equations named by coordinate",
-          "[cli][latex][issue47]") {
+          "[cli][latex]") {
   const std::string dir = scratch_dir("latex_textbook");
   // R_x = -2 mw x'' - mb x'' + ...: one term in x'' once gathered; Iby next to psi'' spaced.
   const std::string scene = dir + "/cart.toml";
@@ -514,7 +514,7 @@ TEST_CASE("LaTeX reads like a textbook: d/dt of partials, like terms gathered, e
   CHECK(math.out.find("&\\text{Model }\\mathtt{chetaev}") != std::string::npos);
 }
 
-TEST_CASE("the reduced form's forcing reads without accelerations", "[cli][reduced][issue47]") {
+TEST_CASE("the reduced form's forcing reads without accelerations", "[cli][reduced]") {
   // f_r = C^T (r + K w) holds no q'' (docs/reduced-form.md): written as C^T (R + K (w - q'')) the
   // sleigh's f_r[x'] carried m (h_1/cos th + y'') - m y'', like terms apart.
   const std::string dir = scratch_dir("reduced_forcing");
@@ -532,7 +532,7 @@ TEST_CASE("the reduced form's forcing reads without accelerations", "[cli][reduc
 }
 
 TEST_CASE("constraints of order two or more have no multiplier-free form, said in words",
-          "[cli][reduced][issue47]") {
+          "[cli][reduced]") {
   // docs/reduced-form.md, "Constraints of higher order": a second-order constraint leaves every
   // speed a state; a third-order one makes the accelerations states.
   const std::string dir = scratch_dir("reduced_higher_order");
@@ -550,7 +550,7 @@ TEST_CASE("constraints of order two or more have no multiplier-free form, said i
                        "derivatives of the second-order equations") != std::string::npos);
 }
 
-TEST_CASE("every example's LaTeX document compiles with pdflatex", "[cli][latex][issue47]") {
+TEST_CASE("every example's LaTeX document compiles with pdflatex", "[cli][latex]") {
   REQUIRE(std::system("command -v pdflatex >/dev/null 2>&1") == 0);  // scripts/setup.sh installs it
   std::vector<std::string> scenes;
   for (const std::string& name : list_dir(std::string(NHC_SOURCE_DIR) + "/examples", ".toml"))

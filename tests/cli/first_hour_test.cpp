@@ -1,4 +1,4 @@
-// Issue 14, "the first hour of a new user": the reproductions of the issue on Appell–Hamel
+// The first hour of a new user: what went wrong for one on Appell–Hamel
 // (examples/appell_hamel.toml, constraint f1 = z' − (b/a)·sqrt(x'² + y'²), b/a = 1/2).
 // One initial-point rule and one message in analyze and simulate (nhc/runtime/initial_point.hpp),
 // no compile and no file on an inconsistent start, --max-steps, -o -, --repair-initial.
@@ -53,7 +53,7 @@ std::vector<double> csv_row(const std::string& csv, int row) {
 
 }  // namespace
 
-TEST_CASE("velocities typed to ten digits are accepted by analyze and simulate alike", "[cli][issue14]") {
+TEST_CASE("velocities typed to ten digits are accepted by analyze and simulate alike", "[cli]") {
   const std::string dir = nhc::test::scratch_dir("first_hour_ten_digits");
   // z'(0) = sqrt(1.25)/2 = 0.559016994374947…: ten digits miss f1 by 2.5e-11 < atol + rtol = 1.01e-8.
   const std::string scene = appell_hamel_with_z(dir, "ten_digits.toml", "[0.0, 0.5590169944]");
@@ -64,7 +64,7 @@ TEST_CASE("velocities typed to ten digits are accepted by analyze and simulate a
 }
 
 TEST_CASE("a given value that misses a hidden constraint gets the same words in analyze and simulate",
-          "[cli][issue14]") {
+          "[cli]") {
   const std::string dir = nhc::test::scratch_dir("first_hour_three_digits");
   const std::string scene = appell_hamel_with_z(dir, "three_digits.toml", "[0.0, 0.559]");
   const Run analyze = nhc_run("analyze '" + scene + "' -m chetaev", dir);
@@ -81,14 +81,14 @@ TEST_CASE("a given value that misses a hidden constraint gets the same words in 
   CHECK_FALSE(file_exists(dir + "/out.csv"));
 }
 
-TEST_CASE("the runtime applies the same rule when --atol and --rtol loosen it", "[cli][issue14]") {
+TEST_CASE("the runtime applies the same rule when --atol and --rtol loosen it", "[cli]") {
   const std::string dir = nhc::test::scratch_dir("first_hour_loose");
   const std::string scene = appell_hamel_with_z(dir, "three_digits.toml", "[0.0, 0.559]");
   // A miss of 1.7e-5 is within atol = 1e-4.
   CHECK(nhc_run("simulate '" + scene + "' --atol 1e-4 --rtol 1e-6", dir).exit_code == 0);
 }
 
-TEST_CASE("simulate --repair-initial starts on the constraint", "[cli][issue14]") {
+TEST_CASE("simulate --repair-initial starts on the constraint", "[cli]") {
   const std::string dir = nhc::test::scratch_dir("first_hour_repair");
   const std::string scene = appell_hamel_with_z(dir, "three_digits.toml", "[0.0, 0.559]");
   const Run r = nhc_run("simulate '" + scene + "' --repair-initial -o -", dir);
@@ -103,7 +103,7 @@ TEST_CASE("simulate --repair-initial starts on the constraint", "[cli][issue14]"
   CHECK(std::abs(row[8] - 0.559) < 1e-4);
 }
 
-TEST_CASE("simulate --max-steps stops with the limit and the time reached", "[cli][issue14]") {
+TEST_CASE("simulate --max-steps stops with the limit and the time reached", "[cli]") {
   const std::string dir = nhc::test::scratch_dir("first_hour_max_steps");
   const Run r = nhc_run("simulate examples/appell_hamel.toml --max-steps 10 -o '" + dir + "/out.csv'", dir);
   CHECK(r.exit_code == 3);
@@ -112,14 +112,14 @@ TEST_CASE("simulate --max-steps stops with the limit and the time reached", "[cl
   CHECK(nhc_run("simulate examples/appell_hamel.toml --max-steps 0", dir).exit_code == 2);
 }
 
-TEST_CASE("simulate without -o says that no CSV was written", "[cli][issue14]") {
+TEST_CASE("simulate without -o says that no CSV was written", "[cli]") {
   const std::string dir = nhc::test::scratch_dir("first_hour_no_output");
   const Run r = nhc_run("simulate examples/particle.toml", dir);
   CHECK(r.exit_code == 0);
   CHECK_THAT(r.out, Contains("no CSV written"));
 }
 
-TEST_CASE("the suslov model without 'dependent' is bad input located in the scene", "[cli][issue14]") {
+TEST_CASE("the suslov model without 'dependent' is bad input located in the scene", "[cli]") {
   const std::string dir = nhc::test::scratch_dir("first_hour_no_dependent");
   std::string text = read_file(std::string(NHC_SOURCE_DIR) + "/examples/appell_hamel.toml");
   text = std::regex_replace(text, std::regex(R"(\ndependent = \["z"\]\n)"), "\n");
@@ -138,7 +138,7 @@ TEST_CASE("the suslov model without 'dependent' is bad input located in the scen
   CHECK_THAT(all.err, Contains("nhc: note: the suslov model is not applicable"));
 }
 
-TEST_CASE("analyze exits 3 only when a requested model fails", "[cli][issue14]") {
+TEST_CASE("analyze exits 3 only when a requested model fails", "[cli]") {
   const std::string dir = nhc::test::scratch_dir("first_hour_per_model");
   std::string text = read_file(std::string(NHC_SOURCE_DIR) + "/examples/appell_hamel_vakonomic_singular.toml");
   text = std::regex_replace(text, std::regex(R"(\nmodels = \["vakonomic"\]\n)"), "\nmodels = [\"vakonomic\", \"chetaev\"]\n");
@@ -154,7 +154,7 @@ TEST_CASE("analyze exits 3 only when a requested model fails", "[cli][issue14]")
   CHECK_THAT(vakonomic.err, Contains("nhc: error: the system Jacobian of the vakonomic model is singular"));
 }
 
-TEST_CASE("parameters set by --set P=V in simulate, analyze, generate and derive", "[cli][issue14]") {
+TEST_CASE("parameters set by --set P=V in simulate, analyze, generate and derive", "[cli]") {
   const std::string dir = nhc::test::scratch_dir("first_hour_set");
   // g = 0, b = 1/4: z'(0) = (b/a)·|(1, 1/2)| = sqrt(1.25)/4 and Chetaev's v' = −g k/(1 + k²) = 0,
   // uniform motion (docs/models.md), with the model compiled for the scene's values reused.
@@ -235,7 +235,7 @@ TEST_CASE("a parameter the scene computes from others follows --set of those and
   CHECK_THAT(refused.err, Contains("--set: error: Ja=1: the scene computes 'Ja' from other parameters"));
 }
 
-TEST_CASE("output times and columns of simulate", "[cli][issue14]") {
+TEST_CASE("output times and columns of simulate", "[cli]") {
   const std::string dir = nhc::test::scratch_dir("first_hour_outputs");
   // [simulate] outputs = 4: five rows.
   std::string text = read_file(std::string(NHC_SOURCE_DIR) + "/examples/appell_hamel.toml");
@@ -268,7 +268,7 @@ TEST_CASE("output times and columns of simulate", "[cli][issue14]") {
   CHECK(nhc_run("simulate examples/appell_hamel.toml --output-times 0:0.1:0.2 --t-end 1", dir).exit_code == 2);
 }
 
-TEST_CASE("report -o DIR on bad input leaves no directory", "[cli][issue14]") {
+TEST_CASE("report -o DIR on bad input leaves no directory", "[cli]") {
   const std::string dir = nhc::test::scratch_dir("first_hour_report_bad");
   for (const std::string args : {"tests/bad/empty_models.toml", "examples/particle.toml --set q=1",
                                  "examples/particle.toml --tolerances 1e-3:1e-20"}) {
@@ -280,7 +280,7 @@ TEST_CASE("report -o DIR on bad input leaves no directory", "[cli][issue14]") {
 }
 
 TEST_CASE("invariant drift is relative to the invariant's size along the run, absolute below a floor",
-          "[cli][issue14]") {
+          "[cli]") {
   const std::string dir = nhc::test::scratch_dir("first_hour_invariant_scale");
   // The particle (examples/particle.toml): speed² = 1 + 4 + 4 = 9 along the run; the constraint
   // q'·q'' itself as an "invariant" is 0 up to rounding, whose relative drift would be noise.
@@ -298,7 +298,7 @@ TEST_CASE("invariant drift is relative to the invariant's size along the run, ab
 }
 
 TEST_CASE("the suslov run starts where analyze does and shows its monitored constraint, zero at t0",
-          "[cli][issue14]") {
+          "[cli]") {
   const std::string dir = nhc::test::scratch_dir("first_hour_suslov_monitored");
   const Run r = nhc_run("simulate examples/appell_hamel.toml --model suslov -o '" + dir + "/s.csv'", dir);
   REQUIRE(r.exit_code == 0);
@@ -320,7 +320,7 @@ TEST_CASE("the suslov run starts where analyze does and shows its monitored cons
   CHECK(std::abs(row[8] - std::sqrt(1.25) / 2) < 1e-12);
 }
 
-TEST_CASE("repair moves only the values not pinned by [initial] fixed, and writes them back", "[cli][issue14]") {
+TEST_CASE("repair moves only the values not pinned by [initial] fixed, and writes them back", "[cli]") {
   const std::string dir = nhc::test::scratch_dir("first_hour_pinned_repair");
   const std::string scene = appell_hamel_with_z(dir, "pinned.toml", "[0.0, 0.559]\nfixed = [\"x'\", \"z'\"]");
   // x' = 1 and z' = 0.559 pinned: f1 = 0 leaves y' = sqrt((2 z')² − x'²) (b/a = 1/2).
@@ -370,7 +370,7 @@ std::string csv_header_line(const std::string& csv) { return csv.substr(0, csv.f
 
 }  // namespace
 
-TEST_CASE("[outputs] are CSV columns in file order, not invariants", "[cli][issue14]") {
+TEST_CASE("[outputs] are CSV columns in file order, not invariants", "[cli]") {
   const std::string dir = nhc::test::scratch_dir("first_hour_scene_outputs");
   const std::string scene = appell_hamel_with_outputs(
       dir, "outputs.toml", "speed = \"sqrt(x'^2 + y'^2)\"\nlift = \"2*lambda1\"\nclimb = \"z''\"\nclock = \"a*t\"\n");
@@ -408,7 +408,7 @@ TEST_CASE("[outputs] are CSV columns in file order, not invariants", "[cli][issu
   CHECK(std::abs(first[2] - std::sqrt(1.25)) < 1e-14);
 }
 
-TEST_CASE("bad [outputs] are located errors", "[cli][issue14]") {
+TEST_CASE("bad [outputs] are located errors", "[cli]") {
   const std::string dir = nhc::test::scratch_dir("first_hour_bad_outputs");
   struct Case {
     std::string outputs, model, message;
@@ -437,7 +437,7 @@ TEST_CASE("bad [outputs] are located errors", "[cli][issue14]") {
   }
 }
 
-TEST_CASE("an output or invariant a model cannot compute is left out of its CSV with a note", "[cli][issue32]") {
+TEST_CASE("an output or invariant a model cannot compute is left out of its CSV with a note", "[cli]") {
   const std::string dir = nhc::test::scratch_dir("first_hour_left_out_outputs");
   // lambda1 is a state of the chetaev model, not of the suslov model (which has no multipliers);
   // lambda1' is computed by neither.
@@ -469,7 +469,7 @@ TEST_CASE("an output or invariant a model cannot compute is left out of its CSV 
 }
 
 TEST_CASE("a singular iteration matrix is reported in the scene's words, with the quantity that blew up",
-          "[cli][issue14]") {
+          "[cli]") {
   const std::string dir = nhc::test::scratch_dir("first_hour_singular_matrix");
   // tests/cli/scenes/vanishing_mass.toml: x' = 1/(1 − t) and lambda1 = 1/(1 − t)², the
   // iteration matrix singular at t = 1.
@@ -526,7 +526,7 @@ std::size_t csv_column(const std::string& csv, const std::string& name) {
 }  // namespace
 
 TEST_CASE("repairing the initial values keeps the given ones that are consistent, in simulate and analyze alike",
-          "[cli][issue43]") {
+          "[cli]") {
   const std::string dir = nhc::test::scratch_dir("repair_keeps_consistent");
   // Appell–Hamel as shipped: x' = 1, y' = 0.5 given, z' missing. f1 = 0 gives z' = (b/a) sqrt(x'² + y'²)
   // = sqrt(1.25)/2, and the energy m/2 (x'² + y'² + z'²) + m g z = (1.25 + 1.25/4)/2 = 0.78125.
@@ -581,7 +581,7 @@ TEST_CASE("repairing the initial values keeps the given ones that are consistent
 }
 
 TEST_CASE("a run to a far t_end starts: the initial point's calculation does not take its scale from t_end",
-          "[cli][issue43]") {
+          "[cli]") {
   const std::string dir = nhc::test::scratch_dir("far_t_end");
   // x'' = -x: to t_end = 1e7 with one output IDACalcIC took its first step as 1e4 and failed at t0
   // where 1e6 ran. The step limit now stops each run after its start, at a t > 0.

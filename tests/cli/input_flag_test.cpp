@@ -165,7 +165,7 @@ std::vector<double> array_after(const std::string& page, const std::string& key,
 
 }  // namespace
 
-TEST_CASE("[outputs] and [visual] read the inputs as the run drives them", "[cli][inputs][issue43]") {
+TEST_CASE("[outputs] and [visual] read the inputs as the run drives them", "[cli][inputs]") {
   const std::string dir = scratch_dir("input_in_outputs");
   // The driven oscillator with a time-varying default F = sin(2t)/2, an output 2F and a sphere at (x, F, 0).
   std::string text = read_file(kScene);

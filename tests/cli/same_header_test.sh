@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 27: the same scene gives the same header in every run. Ten runs of `nhc generate` on each
+# The same scene gives the same header in every run. Ten runs of `nhc generate` on each
 # example and on the Whipple bicycle (a header of about 230 kB) must write byte-identical headers,
 # started from this shell with address-space layout randomization as the system has it (nhc fixes
 # its own layout: cli/fixed_address_layout.hpp).

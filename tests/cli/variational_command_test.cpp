@@ -129,7 +129,7 @@ TEST_CASE("nhc simulate --integrator variational: Newton's failure in words, the
 }
 
 TEST_CASE("nhc simulate --integrator variational: a run ends on t_end, before a singular point after it",
-          "[cli][variational][issue43]") {
+          "[cli][variational]") {
   const std::string dir = scratch_dir("variational_ends_on_t_end");
   // Appell–Hamel's chetaev motion reaches v = 0, where the constraint is singular, at
   // t* = v0 (a² + b²)/(g a b) = sqrt(1.25)·1.25/(9.81·0.5) = 0.28492: a run to 0.284 with step 0.01 ends

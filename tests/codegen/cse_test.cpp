@@ -146,7 +146,7 @@ TEST_CASE("expressions without a C++ counterpart are refused", "[codegen]") {
 }
 
 TEST_CASE("named intermediates are lowered once each, in proportion to the structure", "[codegen][intermediate]") {
-  // Issue 27's chain d0 = x' + y + 1, d_k = d_{k-1}^2 + x over the functions' inputs: 24
+  // The definition chain d0 = x' + y + 1, d_k = d_{k-1}^2 + x over the functions' inputs: 24
   // squarings and 24 additions, not the 2^24-degree expansion.
   Fixture f;
   const ex q = f.x, qd = f.y;

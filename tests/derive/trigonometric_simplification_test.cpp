@@ -23,7 +23,7 @@ double at(const ex& e, const GiNaC::exmap& point) { return GiNaC::ex_to<GiNaC::n
 
 }  // namespace
 
-TEST_CASE("sin^2 + cos^2 = 1 shortens expressions and keeps their value", "[derive][issue14]") {
+TEST_CASE("sin^2 + cos^2 = 1 shortens expressions and keeps their value", "[derive]") {
   const GiNaC::realsymbol a("a"), l("lambda1"), th("theta"), x("x");
   const ex cases[] = {
       -a * pow(cos(th), 2) * l - a * l * pow(sin(th), 2),                      // the issue's −a λ1
@@ -47,7 +47,7 @@ TEST_CASE("sin^2 + cos^2 = 1 shortens expressions and keeps their value", "[deri
   CHECK(simplify_trigonometric(plain).is_equal(plain));
 }
 
-TEST_CASE("derived equations carry no sin^2 + cos^2", "[derive][issue14]") {
+TEST_CASE("derived equations carry no sin^2 + cos^2", "[derive]") {
   const nhc::Scene scene = nhc::parse_scene(R"TOML(name = "slider"
 coordinates = ["theta", "r"]
 lagrangian = "m/2*(r'^2 + r^2*theta'^2) + m*g*r*cos(theta)"

@@ -79,7 +79,7 @@ TEST_CASE("definitions kept as intermediates give the motion of definitions subs
   }
 }
 
-/// Issue 27's chain d0 = x' + y + 1, d_k = d_{k-1}^2 + x, L = d_n, with the constraint x' = y.
+/// The definition chain d0 = x' + y + 1, d_k = d_{k-1}^2 + x, L = d_n, with the constraint x' = y.
 std::string definition_chain(int n) {
   std::string text = "name = \"definition_chain\"\ncoordinates = [\"x\", \"y\"]\nlagrangian = \"d" +
                      std::to_string(n) + "\"\nconstraints = [\"x' - y\"]\n[definitions]\nd0 = \"x' + y + 1\"\n";

@@ -297,7 +297,7 @@ TEST_CASE("variational: a feedback input, the knife edge's turning damped by u =
 }
 
 TEST_CASE("variational: a step that does not divide the run ends on t_end, order 2 kept; one that does not fit twice is refused",
-          "[jit][variational][issue43]") {
+          "[jit][variational]") {
   const nhc::Scene scene = nhc::parse_scene(kKnifeEdge, "knife_edge_turning.toml");
   const nhc::jit::LoadedModel built = build_variational(scene);
   const rt::Model& model = built.model();

@@ -33,7 +33,7 @@ outputs = 50
 
 }  // namespace
 
-TEST_CASE("constant expressions evaluate like C++ does", "[scene][issue14]") {
+TEST_CASE("constant expressions evaluate like C++ does", "[scene]") {
   using nhc::evaluate_constant_expression;
   CHECK(evaluate_constant_expression("pi/8") == M_PI / 8);
   CHECK(evaluate_constant_expression("e") == M_E);
@@ -50,7 +50,7 @@ TEST_CASE("constant expressions evaluate like C++ does", "[scene][issue14]") {
   CHECK_THROWS_WITH(evaluate_constant_expression("foo(1)"), Catch::Contains("unknown function 'foo'"));
 }
 
-TEST_CASE("parameters, initial values and [simulate] numbers may be constant expressions", "[scene][issue14]") {
+TEST_CASE("parameters, initial values and [simulate] numbers may be constant expressions", "[scene]") {
   const nhc::Scene s = nhc::parse_scene(kScene, "turntable.toml");
   REQUIRE(s.parameter_values.size() == 3);
   // JetSpace parameter order as listed by the loader: look up by name.
@@ -68,7 +68,7 @@ TEST_CASE("parameters, initial values and [simulate] numbers may be constant exp
   CHECK(s.simulate.outputs == 50);
 }
 
-TEST_CASE("a bad constant expression is located at its value", "[scene][issue14]") {
+TEST_CASE("a bad constant expression is located at its value", "[scene]") {
   std::string text = kScene;
   text.replace(text.find("\"v*cos(pi/6)\""), 13, "\"w*cos(pi/6)\"");
   try {

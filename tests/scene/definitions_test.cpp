@@ -256,7 +256,7 @@ TEST_CASE("SceneBuilder writes [definitions] and [forces]", "[scene][definitions
 }
 
 TEST_CASE("long chains of definitions resolve without deep recursion, deep nesting is refused",
-          "[scene][definitions][issue33]") {
+          "[scene][definitions]") {
   // d_k = d_{k-1}, 5000 links: resolved leaves first (the recursive descent overflowed the
   // stack at about 2,400).
   // d1 … d4999 of a chain d_k = "d_{k-1}", after a head that sets T and d0.

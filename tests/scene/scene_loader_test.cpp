@@ -175,7 +175,7 @@ TEST_CASE("reserved names are refused", "[scene][loader]") {
   CHECK(!nhc::is_valid_identifier("x\xc3\xa9"));
 }
 
-TEST_CASE("references per model, invariants with multipliers, required entries", "[scene][loader][issue32]") {
+TEST_CASE("references per model, invariants with multipliers, required entries", "[scene][loader]") {
   const std::string head =
       "name = \"s\"\ncoordinates = [\"x\", \"y\"]\nlagrangian = \"x'^2 + y'^2\"\nconstraints = [\"x' - y\"]\n";
   const nhc::Scene s = nhc::parse_scene(head +

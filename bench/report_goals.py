@@ -1,4 +1,4 @@
-"""Issue 17's part of bench/results.md: the goal table (met / not met), the front end's scaling
+"""The front end's goals in bench/results.md: the goal table (met / not met), the front end's scaling
 (cold, per command), the scene-cache warm simulate and the second family. Every number comes
 from this run's JSON files (bench/run.sh: frontend_*.json from bench/frontend_scaling.py,
 nhc_*.json from nhc_bench, peers_*.json from bench/peers.py)."""
@@ -122,7 +122,7 @@ def goals(jdir, env, load, table, ratio, fmt_x):
                       "%d cases; more than sympy.cse: %s" % (cases, "; ".join(misses) if misses else "none"),
                       _verdict(not misses, cases > 0)))
 
-    L.append("## Issue 17: goals")
+    L.append("## The front end's goals")
     L.append("")
     L.append("Knife-edge chain, Chetaev. The front end is measured cold (`NHC_SCENE_CACHE=off`, a fresh cache "
              "directory) as the three commands `nhc derive`, `nhc analyze`, `nhc generate`, each limited to "
@@ -134,7 +134,7 @@ def goals(jdir, env, load, table, ratio, fmt_x):
     L.append("")
     L.append(table(["goal", "measured", ""], goal_rows))
     L.append("")
-    L.append("## Issue 17: the front end's scaling (knife-edge chain, Chetaev, cold)")
+    L.append("## The front end's goals: scaling (knife-edge chain, Chetaev, cold)")
     L.append("")
     L.append("Wall seconds. Each command runs the pipeline up to its stage: derive = `nhc derive`, analyze = "
              "`nhc analyze` − `nhc derive`, generate = `nhc generate` − `nhc analyze` (differences of separate "
@@ -169,7 +169,7 @@ def goals(jdir, env, load, table, ratio, fmt_x):
                         "rest (start, scene, load, check, CSV, drift)", "peak MB", "status"], wr))
         L.append("")
 
-    L.append("## Issue 17: the second family")
+    L.append("## The front end's goals: the second family")
     L.append("")
     L.append("The particle chain (`bench/particle_chain.py`: N planar particles, x_i'x_i'' + y_i'y_i'' = 0, "
              "neighbours coupled by springs; Chetaev) and the knife-edge chain under the vakonomic model. "
@@ -212,8 +212,8 @@ def goals(jdir, env, load, table, ratio, fmt_x):
 
 
 def rigid_body_family(fe, table):
-    """Issue 27's family of rigid bodies: N rolling balls, every body quantity a definition."""
-    L = ["## Issue 27: a family of rigid bodies", "",
+    """A family of rigid bodies: N rolling balls, every body quantity a definition."""
+    L = ["## A family of rigid bodies", "",
          "N uniform balls rolling without slipping on a plane, neighbours' centres joined by springs "
          "(`bench/rolling_balls.py`: Euler angles, each ball's rotation, angular velocity, centre, velocity, "
          "kinetic energy and contact-point velocity written as definitions, as examples/rolling_ball.toml writes "
