@@ -33,10 +33,43 @@ std::string values_named_in(const std::string& text, const std::map<std::string,
   return list;
 }
 
-/// `number` re-evaluated from its text when it has one; `problem` says why a value cannot stand
-/// at this place ("" when it can), refused there (exit 2) in the key's words.
+/// Why a value cannot stand at a place ("" when it can).
+using ValueProblem = std::string (*)(double);
+std::string any_number(double) { return ""; }
+std::string positive(double v) { return v > 0 ? "" : "must be positive"; }
+std::string non_negative(double v) { return v >= 0 ? "" : "must not be negative"; }
+std::string positive_period(double v) {
+  return v > 0 ? "" : "must be a positive number (the controller's sample period h)";
+}
+
+/// Each of the experiment's numbers that may be written through the parameters, in a fixed order,
+/// as f(what, key, value, expression, problem): its words ("mu of contact 'floor'"), its key as a
+/// refusal names it ("mu"), the number (null when the scene has none: a step not given), its text
+/// and place, and the rule its values obey. One list for re-evaluating and for looking up.
+template <class SceneT, class F>
+void visit_experiment_numbers(SceneT& scene, F&& f) {
+  f("[initial] t0", "t0", &scene.initial.t0, scene.initial.t0_expression, any_number);
+  for (auto& c : scene.contacts) f("mu of contact '" + c.name + "'", "mu", &c.mu, c.mu_expression, non_negative);
+  if (scene.controller.present) {
+    f("[controller] period", "period", &scene.controller.period, scene.controller.period_expression, positive_period);
+    for (auto& s : scene.controller.states)
+      f("[controller] state '" + s.name + "'", "controller state '" + s.name + "'", &s.initial, s.initial_expression,
+        any_number);
+  }
+  auto& run = scene.simulate;
+  // t_end after t0 is the run's check (run_t_end): a t_end from outside may stand in for it.
+  f("[simulate] t_end", "t_end", &run.t_end, run.t_end_expression, any_number);
+  f("[simulate] rtol", "rtol", &run.rtol, run.rtol_expression, relative_tolerance_problem);
+  f("[simulate] atol", "atol", &run.atol, run.atol_expression, positive);
+  f("[simulate] max_step", "max_step", run.max_step ? &*run.max_step : nullptr, run.max_step_expression, positive);
+  f("[simulate] initial_step", "initial_step", run.initial_step ? &*run.initial_step : nullptr,
+    run.initial_step_expression, positive);
+}
+
+/// `number` re-evaluated from its text when it has one; a value `problem` refuses is refused at
+/// the place (exit 2) in the key's words.
 void reevaluate(double& number, const NumberExpression& source, const std::string& key,
-                const std::map<std::string, double>& names, const std::function<std::string(double)>& problem) {
+                const std::map<std::string, double>& names, ValueProblem problem) {
   if (source.empty()) return;
   const std::string values = values_named_in(source.text, names);
   const std::string with = values.empty() ? "" : " at " + values;
@@ -52,50 +85,23 @@ void reevaluate(double& number, const NumberExpression& source, const std::strin
   number = v;
 }
 
-std::string any_number(double) { return ""; }
-std::string positive(double v) { return v > 0 ? "" : "must be positive"; }
-
 }  // namespace
 
 void reevaluate_experiment_numbers(Scene& scene) {
   const std::map<std::string, double> names = scene.parameter_values_by_name();
-  reevaluate(scene.initial.t0, scene.initial.t0_expression, "t0", names, any_number);
+  visit_experiment_numbers(scene, [&](const std::string&, const std::string& key, double* value,
+                                      const NumberExpression& source, ValueProblem problem) {
+    if (value) reevaluate(*value, source, key, names, problem);
+  });
   // Without [simulate] t_end a run lasts 1 from t0 (scene_loader.cpp): from this t0.
   if (!scene.initial.t0_expression.empty() && scene.simulate.t_end_expression.where.line <= 0)
     scene.simulate.t_end = scene.initial.t0 + 1.0;
-  for (SceneContact& c : scene.contacts)
-    reevaluate(c.mu, c.mu_expression, "mu", names, [](double v) { return v >= 0 ? "" : "must not be negative"; });
-  if (scene.controller.present) {
-    reevaluate(scene.controller.period, scene.controller.period_expression, "period", names, [](double v) {
-      return v > 0 ? "" : "must be a positive number (the controller's sample period h)";
-    });
-    for (SceneControllerState& s : scene.controller.states)
-      reevaluate(s.initial, s.initial_expression, "controller state '" + s.name + "'", names, any_number);
-  }
-  SimulateSettings& run = scene.simulate;
-  // t_end after t0 is the run's check (run_t_end): a t_end from outside may stand in for it.
-  reevaluate(run.t_end, run.t_end_expression, "t_end", names, any_number);
-  reevaluate(run.rtol, run.rtol_expression, "rtol", names, [](double v) { return relative_tolerance_problem(v); });
-  reevaluate(run.atol, run.atol_expression, "atol", names, positive);
-  if (run.max_step) reevaluate(*run.max_step, run.max_step_expression, "max_step", names, positive);
-  if (run.initial_step) reevaluate(*run.initial_step, run.initial_step_expression, "initial_step", names, positive);
 }
 
 void for_each_experiment_number(const Scene& scene,
                                 const std::function<void(const std::string&, const NumberExpression&)>& f) {
-  f("[initial] t0", scene.initial.t0_expression);
-  for (const SceneContact& c : scene.contacts) f("mu of contact '" + c.name + "'", c.mu_expression);
-  if (scene.controller.present) {
-    f("[controller] period", scene.controller.period_expression);
-    for (const SceneControllerState& s : scene.controller.states)
-      f("[controller] state '" + s.name + "'", s.initial_expression);
-  }
-  const SimulateSettings& run = scene.simulate;
-  f("[simulate] t_end", run.t_end_expression);
-  f("[simulate] rtol", run.rtol_expression);
-  f("[simulate] atol", run.atol_expression);
-  f("[simulate] max_step", run.max_step_expression);
-  f("[simulate] initial_step", run.initial_step_expression);
+  visit_experiment_numbers(scene, [&](const std::string& what, const std::string&, const double*,
+                                      const NumberExpression& source, ValueProblem) { f(what, source); });
 }
 
 std::vector<std::string> experiment_numbers_using(const Scene& scene, const std::string& name) {
