@@ -22,6 +22,21 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+/// Where the fraction s of the horizon falls among the plan's points: between points a and b, at
+/// weight w on b (linear interpolation; beyond the last point, the last point's values).
+struct Between {
+  int a = 0, b = 0;
+  double w = 0;
+};
+Between between(const optimize::HermiteSimpson& p, double s) {
+  Between at;
+  while (at.a + 1 < p.points() - 1 && p.fraction(at.a + 1) <= s) ++at.a;
+  at.b = std::min(at.a + 1, p.points() - 1);
+  const double span = p.fraction(at.b) - p.fraction(at.a);
+  at.w = span > 0 ? std::clamp((s - p.fraction(at.a)) / span, 0.0, 1.0) : 0.0;
+  return at;
+}
+
 }  // namespace
 
 MpcController::MpcController(const Scene& scene, const runtime::Model& model, const SceneMpc& mpc)
@@ -105,12 +120,7 @@ std::vector<double> MpcController::shifted_plan(const std::vector<double>& plan,
   const int stride = p.points() > 1 ? p.q_index(1, 0) - p.q_index(0, 0) : 0;
   const double length = settings_.horizon;
   for (int j = 0; j < p.points(); ++j) {
-    const double old_s = std::clamp((t + length * p.fraction(j) - plan_t0) / length, 0.0, 1.0);
-    int a = 0;
-    while (a + 1 < p.points() - 1 && p.fraction(a + 1) <= old_s) ++a;
-    const int b = std::min(a + 1, p.points() - 1);
-    const double span = p.fraction(b) - p.fraction(a);
-    const double w = span > 0 ? std::clamp((old_s - p.fraction(a)) / span, 0.0, 1.0) : 0.0;
+    const auto [a, b, w] = between(p, std::clamp((t + length * p.fraction(j) - plan_t0) / length, 0.0, 1.0));
     for (int k = 0; k < stride; ++k) {
       const auto to = static_cast<std::size_t>(j * stride + k);
       z[to] = (1 - w) * plan[static_cast<std::size_t>(a * stride + k)] + w * plan[static_cast<std::size_t>(b * stride + k)];
@@ -123,12 +133,7 @@ std::vector<double> MpcController::shifted_plan(const std::vector<double>& plan,
 // The last plan's inputs at t (linear between its points).
 std::vector<double> MpcController::plan_inputs(double t) const {
   const optimize::HermiteSimpson& p = *problem_;
-  const double s = std::clamp((t - plan_t0_) / settings_.horizon, 0.0, 1.0);
-  int a = 0;
-  while (a + 1 < p.points() - 1 && p.fraction(a + 1) <= s) ++a;
-  const int b = std::min(a + 1, p.points() - 1);
-  const double span = p.fraction(b) - p.fraction(a);
-  const double w = span > 0 ? std::clamp((s - p.fraction(a)) / span, 0.0, 1.0) : 0.0;
+  const auto [a, b, w] = between(p, std::clamp((t - plan_t0_) / settings_.horizon, 0.0, 1.0));
   std::vector<double> u;
   for (int k = 0; k < p.inputs(); ++k)
     u.push_back((1 - w) * plan_[static_cast<std::size_t>(p.u_index(a, k))] + w * plan_[static_cast<std::size_t>(p.u_index(b, k))]);
@@ -141,7 +146,7 @@ std::vector<double> MpcController::operator()(const runtime::Sample& reached) {
   for (int i : start_states_) start.push_back(reached.y.at(static_cast<std::size_t>(i)));
   p.restart(reached.t, start);
   std::vector<double> guess;
-  if (have_plan_ && settings_.warm_start) {
+  if (!plan_.empty() && settings_.warm_start) {
     guess = shifted_plan(plan_, plan_t0_, reached.t);
   } else if (!iterate_.empty() && settings_.warm_start) {
     guess = shifted_plan(iterate_, iterate_t0_, reached.t);
@@ -164,9 +169,8 @@ std::vector<double> MpcController::operator()(const runtime::Sample& reached) {
   if (record.converged) {
     plan_ = solution.z;
     plan_t0_ = reached.t;
-    have_plan_ = true;
     for (int k = 0; k < p.inputs(); ++k) first.push_back(plan_[static_cast<std::size_t>(p.u_index(0, k))]);
-  } else if (have_plan_) {
+  } else if (!plan_.empty()) {
     first = plan_inputs(reached.t);  // the last good plan's input now
   } else {
     // No plan yet: the last iterate's first input, within its bounds; the next solve starts

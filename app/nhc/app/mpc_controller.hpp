@@ -67,9 +67,8 @@ class MpcController {
   std::vector<int> start_states_;  ///< per fixed slot of the first point: the run model's state index
   std::vector<int> input_slots_;   ///< per input of the problem: the model's input index (-1: not set)
   std::vector<bool> held_;
-  std::vector<double> plan_;       ///< the last converged solve's variables
+  std::vector<double> plan_;       ///< the last converged solve's variables (empty: none yet)
   double plan_t0_ = 0;
-  bool have_plan_ = false;
   std::vector<double> iterate_;    ///< before any converged solve: the last iterate (a warm start)
   double iterate_t0_ = 0;
   std::vector<MpcSolve> solves_;
