@@ -1,6 +1,6 @@
 #include "animation_page.hpp"
 
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -23,7 +23,7 @@ void write_number(std::ostream& out, double v) {
     out << "null";
     return;
   }
-  out << runtime::number_text(v, 9);
+  out << base::number_text(v, 9);
 }
 
 /// The sample times in full (the shortest text that reads back as the same double): with 9 digits,

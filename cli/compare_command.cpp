@@ -11,7 +11,7 @@
 #include "nhc/app/run_request.hpp"
 #include "nhc/app/run_engine.hpp"
 #include "nhc/app/sampled_run.hpp"
-#include "nhc/primed_name.hpp"
+#include "nhc/base/primed_name.hpp"
 #include <iostream>
 #include <optional>
 #include <regex>
@@ -27,7 +27,7 @@
 #include "nhc/scene/expression_parser.hpp"
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/app/initial_values.hpp"
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 #include "plots.hpp"
 #include "run_flags.hpp"
 #include "trajectory_plots.hpp"
@@ -54,11 +54,11 @@ std::string command_line(const CompareOptions& o) {
     s += " --models ";
     for (std::size_t k = 0; k < o.models.size(); ++k) s += (k ? "," : "") + o.models[k];
   }
-  if (o.t_end) s += " --t-end " + runtime::number_text(*o.t_end, 15);
-  if (o.rtol) s += " --rtol " + runtime::number_text(*o.rtol, 15);
-  if (o.atol) s += " --atol " + runtime::number_text(*o.atol, 15);
+  if (o.t_end) s += " --t-end " + base::number_text(*o.t_end, 15);
+  if (o.rtol) s += " --rtol " + base::number_text(*o.rtol, 15);
+  if (o.atol) s += " --atol " + base::number_text(*o.atol, 15);
   if (o.outputs != 200) s += " --outputs " + std::to_string(o.outputs);
-  if (o.tolerance != 1e-6) s += " --tolerance " + runtime::number_text(o.tolerance, 15);
+  if (o.tolerance != 1e-6) s += " --tolerance " + base::number_text(o.tolerance, 15);
   for (const std::string& a : o.initial) s += " --initial " + a;
   if (!o.plot_xy.empty()) s += " --plot-xy " + o.plot_xy;
   return s;
@@ -84,12 +84,12 @@ CompareSettings settings_of(const CompareOptions& options, const Scene& scene) {
 
 std::string outcome_of(const runtime::RunResult& run) {
   if (!run.failure) return "ran to the end";
-  const runtime::SolverError& e = *run.failure;
-  const bool singular = e.kind() == runtime::FailureKind::singular_constraint_gradient ||
-                        e.kind() == runtime::FailureKind::singular_iteration_matrix;
+  const base::SolverError& e = *run.failure;
+  const bool singular = e.kind() == base::FailureKind::singular_constraint_gradient ||
+                        e.kind() == base::FailureKind::singular_iteration_matrix;
   // The message's own "at t = <17 digits>" is left out: t is given once, to 6 digits.
   const std::string reason = std::regex_replace(e.what(), std::regex(" at t = [-+0-9.eE]+"), "");
-  return std::string(singular ? "stopped at a singularity" : "stopped") + " at t = " + runtime::number_text(e.t(), 6) +
+  return std::string(singular ? "stopped at a singularity" : "stopped") + " at t = " + base::number_text(e.t(), 6) +
          ": " + reason;
 }
 
@@ -106,7 +106,7 @@ std::vector<ConstraintCheck> check_constraints(const Scene& scene, const CsvTabl
       point[jet.time()] = table.rows[row][table.column("t")];
       for (int i = 0; i < jet.coordinate_count(); ++i)
         for (int k = 0; k <= kMaxDerivativeOrder; ++k)
-          if (const int c = table.column(primed_name(jet.coordinates()[i], static_cast<int>(k))); c >= 0)
+          if (const int c = table.column(base::primed_name(jet.coordinates()[i], static_cast<int>(k))); c >= 0)
             point[jet.q(i, k)] = table.rows[row][c];
       try {
         const double f = evaluate_real(scene.constraints[a], point, "constraint f" + std::to_string(a + 1));

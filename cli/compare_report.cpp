@@ -6,7 +6,7 @@
 #include <optional>
 #include <sstream>
 
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 
 namespace nhc::cli {
 
@@ -20,13 +20,13 @@ constexpr double kNoise = 1e-12;
 
 std::string magnitude(double v) {
   if (std::isnan(v)) return "—";
-  return v < kNoise ? (v == 0 ? "0" : "< 1e-12") : runtime::number_text(v, 4);
+  return v < kNoise ? (v == 0 ? "0" : "< 1e-12") : base::number_text(v, 4);
 }
 
 std::string value(double v) {
   if (std::isnan(v)) return "—";
   if (std::abs(v) < kNoise && v != 0) return "≈ 0";
-  return runtime::number_text(v, 6);
+  return base::number_text(v, 6);
 }
 
 /// Text for a Markdown table cell: a '|' would end the cell.
@@ -155,7 +155,7 @@ void write_differences(std::ostream& md, const CompareSettings& settings, const 
   md << "## Differences between the motions\n\n"
      << "Per pair of models, the largest |q_a − q_b| of each coordinate over the output times both "
         "reached, and the first output time at which some coordinate differs by more than "
-     << runtime::number_text(settings.tolerance, 3) << " (`--tolerance`).\n\n| models |";
+     << base::number_text(settings.tolerance, 3) << " (`--tolerance`).\n\n| models |";
   for (const std::string& q : settings.coordinates) md << " max Δ" << q << " |";
   md << " separate at t | compared up to t |\n|---|";
   for (std::size_t k = 0; k < settings.coordinates.size() + 2; ++k) md << "---|";
@@ -241,7 +241,7 @@ std::string compare_markdown(const fs::path& dir, const CompareSettings& setting
   md << "# " << settings.scene_name << ": the models side by side\n\n"
      << "`" << settings.command_line << "`: every model from the same initial data, t from "
      << value(settings.t0) << " to " << value(settings.t_end) << " (" << settings.outputs
-     << " output intervals), rtol " << runtime::number_text(settings.rtol, 3) << ", atol " << runtime::number_text(settings.atol, 3)
+     << " output intervals), rtol " << base::number_text(settings.rtol, 3) << ", atol " << base::number_text(settings.atol, 3)
      << ". One CSV file per model (the columns of `nhc simulate -o`); the plots are drawn from them. "
         "Magnitudes below 1e-12 (rounding) are shown as < 1e-12, values as ≈ 0.\n\n";
   write_outcomes(md, models);
@@ -253,8 +253,8 @@ std::string compare_markdown(const fs::path& dir, const CompareSettings& setting
   md << "## Wall times\n\n";
   for (const ComparedModel& m : models)
     if (!m.csv.empty())
-      md << "- " << m.name << ": derive, generate and compile " << runtime::number_text(m.build_seconds, 3) << " s, integrate "
-         << runtime::number_text(m.integrate_seconds, 3) << " s\n";
+      md << "- " << m.name << ": derive, generate and compile " << base::number_text(m.build_seconds, 3) << " s, integrate "
+         << base::number_text(m.integrate_seconds, 3) << " s\n";
   return md.str();
 }
 

@@ -24,7 +24,7 @@
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/scene/scene.hpp"
 #include "nhc/app/initial_values.hpp"
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 #include "run_flags.hpp"
 
 namespace nhc::cli {
@@ -133,11 +133,11 @@ std::vector<int> parse_free(const runtime::Model& model, const runtime::InitialS
 void print_result(const connect::ShootingProblem& problem, const connect::ShootingResult& result) {
   const runtime::Model& model = problem.model;
   for (const connect::Iteration& it : result.history)
-    std::cout << "  iteration " << it.number << ": miss " << runtime::number_text(it.miss, 3)
-              << (it.number > 0 ? ", step " + runtime::number_text(it.step, 3) : std::string()) << ", Jacobian rank "
+    std::cout << "  iteration " << it.number << ": miss " << base::number_text(it.miss, 3)
+              << (it.number > 0 ? ", step " + base::number_text(it.step, 3) : std::string()) << ", Jacobian rank "
               << it.rank << "\n";
   std::cout << "  converged in " << result.history.back().number << " iteration"
-            << (result.history.back().number == 1 ? "" : "s") << ", final miss " << runtime::number_text(result.miss, 3)
+            << (result.history.back().number == 1 ? "" : "s") << ", final miss " << base::number_text(result.miss, 3)
             << "\n";
   if (result.minimum_norm)
     std::cout << "  more free values than conditions: minimum-norm Newton steps (the solution found is one of many)\n";
@@ -146,7 +146,7 @@ void print_result(const connect::ShootingProblem& problem, const connect::Shooti
   std::cout << "  values found:\n";
   for (size_t k = 0; k < problem.free_states.size(); ++k)
     std::cout << "    " << connect::free_value_name(model, problem.free_states[k]) << " = "
-              << runtime::number_text(result.values[k], 15) << "\n";
+              << base::number_text(result.values[k], 15) << "\n";
 }
 
 }  // namespace
@@ -225,7 +225,7 @@ CommandRunner add_connect_command(CLI::App& app) {
     } catch (const connect::ShootingFailure& failure) {
       std::cerr << "nhc: error: connect: " << failure.what() << "\n";
       return kExitMathFailure;
-    } catch (const runtime::SolverError& failure) {
+    } catch (const base::SolverError& failure) {
       std::cerr << "nhc: error: connect: the integration failed: " << failure.what() << "\n";
       return kExitMathFailure;
     }

@@ -27,8 +27,8 @@
 #include "nhc/io/output_path.hpp"
 #include "nhc/tools/sha256.hpp"
 #include "nhc/errors.hpp"
-#include "nhc/clock.hpp"
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/clock.hpp"
+#include "nhc/base/number_text.hpp"
 #include "run_flags.hpp"
 
 #ifdef NHC_HAVE_ENSEMBLE
@@ -147,26 +147,26 @@ void check_design_fits(const EnsembleOptions& o, int n_states, int n_invariants,
     const char* units[] = {"bytes", "kB", "MB", "GB", "TB", "PB"};
     int u = 0;
     while (b >= 1000 && u < 5) b /= 1000, ++u;
-    return runtime::number_text(b, 3) + " " + units[u];
+    return base::number_text(b, 3) + " " + units[u];
   };
   std::error_code ec;
   const std::filesystem::path dir = std::filesystem::absolute(o.output).parent_path();
   const std::filesystem::space_info disk = std::filesystem::space(dir, ec);
   if (!ec && file_bytes > static_cast<double>(disk.available))
-    bad_flag(design_flags(o), runtime::number_text(runs, 4) + " runs would write about " + bytes_text(file_bytes) +
+    bad_flag(design_flags(o), base::number_text(runs, 4) + " runs would write about " + bytes_text(file_bytes) +
                                   " to " + o.output + ", and " + bytes_text(static_cast<double>(disk.available)) +
                                   " are free there; make the design smaller");
   const long pages = sysconf(_SC_PHYS_PAGES), page_size = sysconf(_SC_PAGE_SIZE);
   const double memory = pages > 0 && page_size > 0 ? static_cast<double>(pages) * static_cast<double>(page_size) : 0;
   if (memory > 0 && memory_bytes > 0.5 * memory)
-    bad_flag(design_flags(o), runtime::number_text(runs, 4) + " runs would hold about " + bytes_text(memory_bytes) +
+    bad_flag(design_flags(o), base::number_text(runs, 4) + " runs would hold about " + bytes_text(memory_bytes) +
                                   " of results in memory, and the machine has " + bytes_text(memory) +
                                   "; make the design smaller" +
                                   (keep_trajectories ? " or keep fewer outputs (--outputs)" : ""));
 }
 
 Prepared prepare(const EnsembleOptions& o, int ranks, int threads) {
-  const auto start = Clock::now();
+  const auto start = base::Clock::now();
   check_flags(o);
   for (const std::string& v : o.vary) parse_vary(v);  // a malformed flag first, before any estimate
   // Before the design's values are made: at least one state per run.
@@ -253,7 +253,7 @@ Prepared prepare(const EnsembleOptions& o, int ranks, int threads) {
   p.results.records = earlier_records(o, info);
   for (const RunRecord& r : p.results.records)
     if (!r.finished()) p.todo.push_back(r.index);
-  p.build_seconds = seconds_since(start);
+  p.build_seconds = base::seconds_since(start);
   return p;
 }
 
@@ -265,11 +265,11 @@ class Checkpoints {
   Checkpoints(const std::string& path, EnsembleResults& results, double interval)
       : path_(path), results_(results), interval_(interval) {}
   void maybe_write() {
-    if (!dirty_ || seconds_since(last_) < std::max(interval_, 20.0 * last_write_seconds_)) return;
-    const auto start = Clock::now();
+    if (!dirty_ || base::seconds_since(last_) < std::max(interval_, 20.0 * last_write_seconds_)) return;
+    const auto start = base::Clock::now();
     write_results(path_, results_);
-    last_write_seconds_ = seconds_since(start);
-    last_ = Clock::now();
+    last_write_seconds_ = base::seconds_since(start);
+    last_ = base::Clock::now();
     dirty_ = false;
   }
   void touched() { dirty_ = true; }
@@ -278,7 +278,7 @@ class Checkpoints {
   std::string path_;
   EnsembleResults& results_;
   double interval_;
-  Clock::time_point last_ = Clock::now();
+  base::Clock::time_point last_ = base::Clock::now();
   double last_write_seconds_ = 0;
   bool dirty_ = false;
 };
@@ -291,19 +291,19 @@ class TimeEstimate {
   void finished(long count) {
     done_ += count;
     if (said_ || done_ < 1) return;
-    const double elapsed = seconds_since(start_);
+    const double elapsed = base::seconds_since(start_);
     if (elapsed < 2.0) return;
     said_ = true;
     const double rest = elapsed * static_cast<double>(runs_ - done_) / static_cast<double>(done_);
     if (rest > 10.0)
-      std::cerr << "nhc ensemble: " << done_ << " of " << runs_ << " runs in " << runtime::number_text(elapsed, 3)
-                << " s; at that pace about " << runtime::number_text(rest, 3) << " s to go\n";
+      std::cerr << "nhc ensemble: " << done_ << " of " << runs_ << " runs in " << base::number_text(elapsed, 3)
+                << " s; at that pace about " << base::number_text(rest, 3) << " s to go\n";
   }
 
  private:
   long runs_, done_ = 0;
   bool said_ = false;
-  Clock::time_point start_ = Clock::now();
+  base::Clock::time_point start_ = base::Clock::now();
 };
 
 void print_summary(const EnsembleResults& r, const Prepared& p, long ran, double run_seconds, int workers,
@@ -320,12 +320,12 @@ void print_summary(const EnsembleResults& r, const Prepared& p, long ran, double
   if (count[0] > 0) std::cout << ", " << count[0] << " not run";
   std::cout << "\n  ran " << ran << " (" << (i.design.runs - ran) << " finished before) on " << i.ranks << " rank"
             << (i.ranks == 1 ? "" : "s") << " x " << i.threads << " thread" << (i.threads == 1 ? "" : "s")
-            << "; build " << runtime::number_text(p.build_seconds, 3) << " s, runs " << runtime::number_text(run_seconds, 3) << " s";
+            << "; build " << base::number_text(p.build_seconds, 3) << " s, runs " << base::number_text(run_seconds, 3) << " s";
   if (ran > 0 && run_seconds > 0) {
     const double per_run = integration / ran, overhead = std::max(0.0, run_seconds * workers - integration) / ran;
-    std::cout << " (" << runtime::number_text(ran / run_seconds, 4) << " runs/s; per run: integration "
-              << runtime::number_text(per_run * 1e3, 4) << " ms, overhead " << runtime::number_text(overhead * 1e3, 3) << " ms = "
-              << runtime::number_text(100 * overhead / per_run, 3) << " %)";
+    std::cout << " (" << base::number_text(ran / run_seconds, 4) << " runs/s; per run: integration "
+              << base::number_text(per_run * 1e3, 4) << " ms, overhead " << base::number_text(overhead * 1e3, 3) << " ms = "
+              << base::number_text(100 * overhead / per_run, 3) << " %)";
   }
   if (i.ranks > 1) {  // how the dynamic scheduling spread the runs made now
     std::vector<long> per_rank(static_cast<std::size_t>(i.ranks), 0);
@@ -378,14 +378,14 @@ int run_ensemble(const EnsembleOptions& o) {
     checkpoints.touched();
   };
   schedule_options.on_idle = [&] { checkpoints.maybe_write(); };
-  const auto start = Clock::now();
+  const auto start = base::Clock::now();
   const RunFunction run = [&model, &spec](std::int64_t index, const double* values) {
     return run_one(model, spec, index, values);
   };
   try {
     schedule(session, p.todo, run, schedule_options);
     if (!session.is_root()) return kExitOk;
-    results.info.wall_seconds = seconds_since(start);
+    results.info.wall_seconds = base::seconds_since(start);
     write_results(o.output, results);
   } catch (...) {
     const int code = report_failure(std::current_exception());

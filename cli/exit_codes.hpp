@@ -1,7 +1,7 @@
 #pragma once
 /// \file exit_codes.hpp
 /// \brief The exit codes of the nhc command (README, "Command line"). The libraries report
-/// failures as exceptions (nhc::InputError, nhc::MathError, nhc::EnvironmentError, nhc::runtime::SolverError); only
+/// failures as exceptions (nhc::InputError, nhc::MathError, nhc::EnvironmentError, nhc::base::SolverError); only
 /// the command turns them into a process status.
 
 namespace nhc::cli {

@@ -30,7 +30,7 @@
 #include "nhc/io/temporary_files.hpp"
 #include "nhc/tools/gnuplot.hpp"
 #include "nhc/linearize.hpp"
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 #include "nhc/scene/scene.hpp"
 
 namespace nhc::cli {
@@ -50,7 +50,7 @@ struct LinearizeFlags {
   std::string output;
 };
 
-std::string full(double v) { return runtime::number_text(v, 10); }
+std::string full(double v) { return base::number_text(v, 10); }
 
 void write_eigenvalues(JsonWriter& json, const std::vector<std::complex<double>>& eigenvalues) {
   json.begin_array();
@@ -79,7 +79,7 @@ void write_matrix_csv(const fs::path& path, const Eigen::MatrixXd& m, const std:
     out << "\n";
     for (Eigen::Index r = 0; r < m.rows(); ++r) {
       out << rows[static_cast<std::size_t>(r)];
-      for (Eigen::Index c = 0; c < m.cols(); ++c) out << "," << runtime::shortest_text(m(r, c));
+      for (Eigen::Index c = 0; c < m.cols(); ++c) out << "," << base::shortest_text(m(r, c));
       out << "\n";
     }
   });
@@ -157,7 +157,7 @@ void write_text(std::ostream& out, const Linearization& lin, const std::optional
   out << "nhc linearize: " << lin.scene << ", model " << to_string(lin.model) << "\n";
   out << "  operating point:";
   for (const auto& [name, value] : lin.point) out << " " << name << " = " << full(value) << ";";
-  out << "\n  defect " << runtime::number_text(lin.defect, 3) << " (largest |d/dt state| relative to 1 + max |state|, at "
+  out << "\n  defect " << base::number_text(lin.defect, 3) << " (largest |d/dt state| relative to 1 + max |state|, at "
       << (lin.worst_state.empty() ? "-" : lin.worst_state) << ")\n";
   out << "  cyclic coordinates removed: " << (lin.cyclic.empty() ? "none" : join_names(lin.cyclic)) << "\n";
   if (!lin.kept.empty()) out << "  cyclic coordinates kept as states: " << join_names(lin.kept) << "\n";
@@ -207,7 +207,7 @@ void write_text(std::ostream& out, const Linearization& lin, const std::optional
   }
   if (sweep->thresholds.empty()) out << "  no change of verdict\n";
   for (const VerdictChange& t : sweep->thresholds)
-    out << "  threshold " << sweep->range.name << " = " << runtime::number_text(t.value, 12) << ": " << to_string(t.from)
+    out << "  threshold " << sweep->range.name << " = " << base::number_text(t.value, 12) << ": " << to_string(t.from)
         << " -> " << to_string(t.to) << "\n";
 }
 
@@ -219,10 +219,10 @@ void write_csv(const fs::path& path, const SweepResult& sweep) {
     for (std::size_t k = 1; k <= count; ++k) out << ",re" << k << ",im" << k;
     out << ",verdict\n";
     for (const SweepPoint& p : sweep.points) {
-      out << runtime::shortest_text(p.value);
+      out << base::shortest_text(p.value);
       const auto& ev = p.linearization.eigenvalues;
       for (std::size_t k = 0; k < count; ++k)
-        if (k < ev.size()) out << ',' << runtime::shortest_text(ev[k].real()) << ',' << runtime::shortest_text(ev[k].imag());
+        if (k < ev.size()) out << ',' << base::shortest_text(ev[k].real()) << ',' << base::shortest_text(ev[k].imag());
         else out << ",,";
       out << ',' << to_string(p.linearization.verdict) << '\n';
     }
@@ -238,7 +238,7 @@ std::string stability_script(const SweepResult& sweep, const std::string& scene,
     << "set multiplot layout 2,1 title " << tools::gnuplot_string("eigenvalues of " + scene + " against " + sweep.range.name)
     << " noenhanced\n";
   for (const VerdictChange& t : sweep.thresholds)
-    g << "set arrow from " << runtime::shortest_text(t.value) << ", graph 0 to " << runtime::shortest_text(t.value) << ", graph 1 nohead dashtype 2\n";
+    g << "set arrow from " << base::shortest_text(t.value) << ", graph 0 to " << base::shortest_text(t.value) << ", graph 1 nohead dashtype 2\n";
   for (int part = 0; part < 2; ++part) {
     g << "set ylabel " << tools::gnuplot_string(part == 0 ? "Re(lambda)" : "Im(lambda)") << "\nplot ";
     for (std::size_t k = 0; k < count; ++k)

@@ -13,7 +13,7 @@
 #include "nhc/errors.hpp"
 #include "nhc/io/atomic_file.hpp"
 #include "nhc/tools/gnuplot.hpp"
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 
 namespace nhc::cli {
 
@@ -42,7 +42,7 @@ constexpr const char* kColours[] = {"#0072B2", "#D55E00", "#009E73", "#CC79A7", 
 constexpr int kPointTypes[] = {4, 7, 8, 13, 6, 9};
 constexpr int kWidth = 900, kHeight = 560;
 
-std::string number(double v) { return runtime::shortest_text(v); }
+std::string number(double v) { return base::shortest_text(v); }
 
 /// The smallest and largest finite value seen.
 struct Range {

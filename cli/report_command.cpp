@@ -38,8 +38,8 @@
 #include "nhc/jit/scene_cache.hpp"
 #include "nhc/scene/scene.hpp"
 #include "nhc/scene/tolerances.hpp"
-#include "nhc/clock.hpp"
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/clock.hpp"
+#include "nhc/base/number_text.hpp"
 #include "run_flags.hpp"
 #include "work_precision.hpp"
 
@@ -71,7 +71,7 @@ struct ReportOptions {
 /// The variational integrator's steps of a report: the output interval halved 5 times.
 constexpr int kVariationalStepHalvings = 5;
 
-std::string fmt(double v, int precision = 3) { return std::isnan(v) ? std::string("—") : runtime::number_text(v, precision); }
+std::string fmt(double v, int precision = 3) { return std::isnan(v) ? std::string("—") : base::number_text(v, precision); }
 
 std::vector<double> decades_or_throw(const std::string& flag, const std::string& spec) {
   try {
@@ -84,9 +84,9 @@ std::vector<double> decades_or_throw(const std::string& flag, const std::string&
 /// The progress sink: lines on stderr once the command has run for a second (short reports stay quiet).
 ProgressSink progress_sink(bool quiet) {
   if (quiet) return {};
-  const auto start = Clock::now();
+  const auto start = base::Clock::now();
   return [start](const std::string& line) {
-    if (seconds_since(start) > 1.0) std::cerr << "nhc report: " << line << std::endl;
+    if (base::seconds_since(start) > 1.0) std::cerr << "nhc report: " << line << std::endl;
   };
 }
 

@@ -228,7 +228,7 @@ runtime::IntegratorOptions run_integrator_options(const RunFlags& flags, const S
 runtime::InitialState run_initial_state(const RunFlags& flags, const Scene& scene_set, const runtime::Model& model) {
   runtime::InitialState initial = app::initial_state_of(scene_set, model);  // [initial] expressions follow --set
   // --repair-initial: given values that miss a hidden constraint may move, all but those pinned by
-  // [initial] fixed; consistent ones stay (runtime::solve_or_repair_initial_point).
+  // [initial] fixed; consistent ones stay (base::solve_or_repair_initial_point).
   initial.repair = flags.repair;
   initial.pinned.assign(static_cast<std::size_t>(model.n_states()), false);
   for (int i = 0; i < model.n_states(); ++i)

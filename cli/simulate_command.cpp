@@ -35,8 +35,8 @@
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/scene/scene.hpp"
 #include "nhc/scene/tolerances.hpp"
-#include "nhc/clock.hpp"
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/clock.hpp"
+#include "nhc/base/number_text.hpp"
 #include "program_main.hpp"
 #include "run_flags.hpp"
 #include "trajectory_plots.hpp"
@@ -50,7 +50,7 @@ namespace {
 /// and the invariants over the samples.
 void write_drift_summary(std::ostream& info, const Scene& scene, const runtime::Model& model, ModelKind kind,
                          const runtime::DriftReport& drift, bool reference_applies) {
-  if (model.n_reference() > 0 && reference_applies) info << "  max reference error " << runtime::number_text(drift.max_error, 3) << "\n";
+  if (model.n_reference() > 0 && reference_applies) info << "  max reference error " << base::number_text(drift.max_error, 3) << "\n";
   if (model.n_reference() > 0 && !reference_applies)  // docs/combinations.md
     info << "  no reference error: the closed forms of [reference] start from the scene's own [initial], and "
             "--initial moved the start\n";
@@ -61,23 +61,23 @@ void write_drift_summary(std::ostream& info, const Scene& scene, const runtime::
       const std::size_t k = static_cast<std::size_t>(i);
       info << "  monitored constraint " << model.hidden_name(i)
            << (k < scene.constraint_texts.size() ? " = " + scene.constraint_texts[k] : std::string()) << " (CSV column "
-           << runtime::hidden_column(model, i) << "): value at t0 " << runtime::number_text(drift.first_hidden_each.at(k), 3)
-           << ", max |" << model.hidden_name(i) << "| " << runtime::number_text(drift.max_hidden_each[k], 3)
+           << runtime::hidden_column(model, i) << "): value at t0 " << base::number_text(drift.first_hidden_each.at(k), 3)
+           << ", max |" << model.hidden_name(i) << "| " << base::number_text(drift.max_hidden_each[k], 3)
            << " (not enforced by the suslov model)\n";
     }
   } else if (model.n_hidden() > 0) {
-    info << "  max hidden-constraint drift " << runtime::number_text(drift.max_hidden, 3) << "\n";
+    info << "  max hidden-constraint drift " << base::number_text(drift.max_hidden, 3) << "\n";
   }
   // "change", not "drift": an invariant is a quantity the run watches, and whether the scene's
   // physics conserves it (a driven turntable pumps energy into a ball) is not the summary's to
   // say; where it is conserved, its change is the integration's drift (docs/scenes.md).
   for (int k = 0; k < model.n_invariants(); ++k)
     info << "  invariant " << model.table().invariant_names[k] << ": max change "
-              << runtime::number_text(drift.invariant_drift[k], 3)
+              << base::number_text(drift.invariant_drift[k], 3)
               << (drift.invariant_absolute[k]
-                      ? " (absolute: the invariant stays below " + runtime::number_text(runtime::kInvariantScaleFloor, 3) + ")"
-                      : " (relative " + runtime::number_text(drift.invariant_relative[k], 3) + " to its largest size " +
-                            runtime::number_text(drift.invariant_scale[k], 3) + ")")
+                      ? " (absolute: the invariant stays below " + base::number_text(runtime::kInvariantScaleFloor, 3) + ")"
+                      : " (relative " + base::number_text(drift.invariant_relative[k], 3) + " to its largest size " +
+                            base::number_text(drift.invariant_scale[k], 3) + ")")
               << "\n";
 }
 
@@ -85,7 +85,7 @@ void write_drift_summary(std::ostream& info, const Scene& scene, const runtime::
 
 int run_simulate(SimulateOptions& options) {
   // Derive, reduce, generate (Jacobian kind by nhc::default_jacobian_kind), compile (or reuse), load.
-  const auto load_start = Clock::now();
+  const auto load_start = base::Clock::now();
   const Scene scene = load_run_scene(options.run);
   const ModelKind kind = model_or_default(scene, options.run.model);
   app::require_model_inputs(scene, kind);
@@ -124,9 +124,9 @@ int run_simulate(SimulateOptions& options) {
   const double t0 = scene_set.initial.t0;
   const std::vector<double> times = run_times(options.run, scene_set);
   const double t_end = times.back();
-  const auto inputs_start = Clock::now();
+  const auto inputs_start = base::Clock::now();
   const app::InputSignals input_signals = app::parse_input_signals(scene_set, options.run.inputs, t0, t_end);
-  const double input_seconds = seconds_since(inputs_start);  // reading --input files is not deriving
+  const double input_seconds = base::seconds_since(inputs_start);  // reading --input files is not deriving
   // Derived and analysed once (app::prepare_and_build, as Python's Scene.build): the initial-point
   // check's analysis is what the build reduces.
   Scene scene_checked = scene_set;
@@ -137,7 +137,7 @@ int run_simulate(SimulateOptions& options) {
   build_options.sensitivities = !options.sensitivity.names.empty();
   build_options.variational = variational;
   build_options.backend = run_backend(options.run);
-  const double before_check_seconds = seconds_since(load_start) - input_seconds;
+  const double before_check_seconds = base::seconds_since(load_start) - input_seconds;
   const app::PreparedModel prepared = app::prepare_and_build(preparation, scene, options.run.repair, build_options);
   const app::InitialPointCheck& check = prepared.check;
   const double load_seconds = before_check_seconds + prepared.check_seconds;
@@ -245,22 +245,22 @@ int run_simulate(SimulateOptions& options) {
          << st.jacobian << "), error-test failures " << st.error_test_failures << ", nonlinear failures "
          << st.nonlinear_failures;
   if (options.run.project) info << ", projections " << st.projections;
-  info << "\n  time: derive " << runtime::number_text(derive_seconds, 3) << " s" << (scene_cached ? " (scene cache)" : "")
+  info << "\n  time: derive " << base::number_text(derive_seconds, 3) << " s" << (scene_cached ? " (scene cache)" : "")
        << (built.timings().interpreted
                ? (switched          ? ", interpreted, then compiled behind the run"
                   : compiled_behind ? ", interpreted (compiled behind it for the next run)"
                                     : ", interpreted (no compile)")
-                                       : ", compile " + runtime::number_text(compile_seconds, 3) + " s" +
+                                       : ", compile " + base::number_text(compile_seconds, 3) + " s" +
                                              (built.library().reused ? " (cached)" : ""))
        << ", integrate "
-            << runtime::number_text(st.initialization_seconds + st.integration_seconds, 3) << " s";
-  if (!app::input_files(options.run.inputs).empty()) info << ", read inputs " << runtime::number_text(input_seconds, 3) << " s";
+            << base::number_text(st.initialization_seconds + st.integration_seconds, 3) << " s";
+  if (!app::input_files(options.run.inputs).empty()) info << ", read inputs " << base::number_text(input_seconds, 3) << " s";
   info << "\n";
   if (sensitivities) info << describe_sensitivity_cost(*sensitivities, options.sensitivity, st);
   // Errors and drifts of a run without a sample would read as zeros: there are none to report.
   if (started) write_drift_summary(info, scene, model, kind, drift, options.run.initial.empty());
   if (started && outcome.max_discrete_constraint)
-    info << "  max discrete-constraint residual " << runtime::number_text(*outcome.max_discrete_constraint, 3)
+    info << "  max discrete-constraint residual " << base::number_text(*outcome.max_discrete_constraint, 3)
          << " (the constraints the steps solve; the hidden constraints above are evaluated at the\n"
             "  node velocities (q_{k+1} - q_{k-1})/2h and their interpolants, O(h^2): docs/variational.md)\n";
 

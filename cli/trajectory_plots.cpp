@@ -7,7 +7,7 @@
 #include "nhc/errors.hpp"
 #include "nhc/io/atomic_directory.hpp"
 #include "nhc/io/atomic_file.hpp"
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 
 namespace nhc::cli {
 
@@ -100,12 +100,12 @@ std::vector<std::string> write_trajectory_plots(const std::string& directory, co
   const double t_last = run.samples.back().t;
   md << "# " << scene.name << ", model " << model.model_name() << "\n\n"
      << "Drawn by `nhc simulate --plot` from [" << csv << "](" << csv << ") (" << run.samples.size()
-     << " rows, the columns of `nhc simulate -o`): t from " << runtime::number_text(run.samples.front().t, 6) << " to "
-     << runtime::number_text(t_last, 6) << ".";
+     << " rows, the columns of `nhc simulate -o`): t from " << base::number_text(run.samples.front().t, 6) << " to "
+     << base::number_text(t_last, 6) << ".";
   if (run.failure) md << " The run stopped there: " << run.failure->what();
   md << "\n\nEach picture is also a PNG of the same name, drawn by its gnuplot script (`NAME.gp`; redraw with "
         "`gnuplot NAME.gp` in this directory). On the log scale of the drift, values below "
-     << runtime::number_text(kLogFloor, 3) << " are drawn at " << runtime::number_text(kLogFloor, 3) << ".\n\n"
+     << base::number_text(kLogFloor, 3) << " are drawn at " << base::number_text(kLogFloor, 3) << ".\n\n"
      << markdown_images(plots);
   write_file_atomically((staging / "plots.md").string(), [&](std::ostream& o) { o << md.str(); });
   out.commit();

@@ -18,7 +18,7 @@
 #include "nhc/app/parameter_overrides.hpp"
 #include "nhc/jit.hpp"
 #include "nhc/tools/gnuplot.hpp"
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 
 namespace nhc::cli {
 
@@ -47,7 +47,7 @@ std::vector<double> decades(const std::string& flag, const std::string& spec) {
   const double span = std::log10(hi) - std::log10(lo);
   if (span > 19 + 1e-9) throw std::invalid_argument(flag + " " + spec + ": more than 20 decades");
   const int n = static_cast<int>(std::floor(span + 1e-9));
-  for (int k = 0; k <= n; ++k) values.push_back(std::stod(runtime::number_text(hi / std::pow(10.0, k), 12)));
+  for (int k = 0; k <= n; ++k) values.push_back(std::stod(base::number_text(hi / std::pow(10.0, k), 12)));
   return values;
 }
 
@@ -113,7 +113,7 @@ void write_work_precision_csv(const std::string& path, const WorkPrecision& wp) 
            "nonlinear_iterations,nonlinear_failures,projections,max_hidden_drift,max_invariant_drift,t_end,"
            "t_reached,status\n";
     // Ten significant digits: the times and errors are measurements, not values to read back.
-    const auto n = [](double v) { return runtime::number_text(v, 10); };
+    const auto n = [](double v) { return base::number_text(v, 10); };
     for (const Measurement& m : wp.measurements) {
       const runtime::Statistics& s = m.statistics;
       out << m.configuration.label() << ',' << m.configuration.jacobian << ',' << (m.configuration.projection ? 1 : 0)
@@ -144,7 +144,7 @@ void write_data(const fs::path& path, const std::vector<Curve>& curves) {
   write_file_atomically(path.string(), [&](std::ostream& out) {
     for (const Curve& c : curves) {
       out << tools::gnuplot_comment(c.title);
-      for (const auto& [x, y] : c.points) out << runtime::number_text(x, 10) << ' ' << runtime::number_text(y, 10) << '\n';
+      for (const auto& [x, y] : c.points) out << base::number_text(x, 10) << ' ' << base::number_text(y, 10) << '\n';
       out << "\n\n";
     }
   });
@@ -194,7 +194,7 @@ std::vector<std::string> plot_work_precision(const std::string& directory, const
   for (const Measurement& m : wp.measurements) {
     if (!std::isfinite(m.error)) continue;
     std::string title = m.configuration.label();
-    if (m.sweep_value) title += ", " + wp.settings.sweep_parameter + " = " + runtime::number_text(*m.sweep_value, 3);
+    if (m.sweep_value) title += ", " + wp.settings.sweep_parameter + " = " + base::number_text(*m.sweep_value, 3);
     auto it = curve_of.find(title);
     if (it == curve_of.end()) {
       it = curve_of.emplace(title, curves.size()).first;
@@ -217,7 +217,7 @@ std::vector<std::string> plot_work_precision(const std::string& directory, const
     std::vector<Curve> steps;
     std::map<std::string, size_t> steps_of;
     for (const Measurement& m : wp.measurements) {
-      const std::string title = m.configuration.label() + ", rtol " + runtime::number_text(m.rtol, 3);
+      const std::string title = m.configuration.label() + ", rtol " + base::number_text(m.rtol, 3);
       auto it = steps_of.find(title);
       if (it == steps_of.end()) {
         it = steps_of.emplace(title, steps.size()).first;

@@ -1,6 +1,6 @@
 #include "write_initial.hpp"
 
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 
 #include <map>
 #include <ostream>
@@ -11,7 +11,7 @@ namespace nhc::cli {
 namespace {
 
 std::string number(double v) {
-  std::string s = runtime::number_text(v, 17);
+  std::string s = base::number_text(v, 17);
   if (s.find_first_of(".eEn") == std::string::npos) s += ".0";  // a TOML float
   return s;
 }

@@ -4,7 +4,7 @@
 set(NHC_PUBLIC_ENTRY_POINTS
   nhc/codegen.hpp
   nhc/runtime/runtime.hpp
-  nhc/runtime/number_text.hpp
+  nhc/base/number_text.hpp
   nhc/jit.hpp
   nhc/app/run_request.hpp
   nhc/linearize.hpp

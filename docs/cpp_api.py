@@ -17,7 +17,7 @@ GROUPS = [
      "([the runtime](runtime.md) explains it, [generated code](generated-code.md) the model's contract, "
      "[link generated code into an application](howto/application.md) shows it at work).",
      ["runtime/nhc/runtime/runtime.hpp", "runtime/nhc/runtime/*.hpp", "runtime/nhc/runtime/*.h",
-      "base/nhc/runtime/*.hpp"]),
+      "base/nhc/base/*.hpp"]),
     ("The jit (`nhc::jit`, target `nhc::jit`)",
      "A scene's model derived, generated, compiled and loaded at run time, with its caches: "
      "`#include \"nhc/jit.hpp\"` ([library](library.md)).",

@@ -74,7 +74,7 @@ bool appell_hamel() {
   std::printf("appell_hamel max_relative_error = %.3e (limit %.1e)\n", worst, 100 * options.rtol);
   std::printf("appell_hamel energy_drift = %.3e (limit 1e-6)\n", drift.max_invariant_relative);
   bool ok = worst <= 100 * options.rtol && drift.max_invariant_relative < 1e-6;
-  if (!run.failure || run.failure->kind() != FailureKind::singular_constraint_gradient) {
+  if (!run.failure || run.failure->kind() != nhc::base::FailureKind::singular_constraint_gradient) {
     std::printf("appell_hamel FAIL: expected a stop at the singular constraint gradient, got %s\n",
                 run.failure ? run.failure->what() : "no stop");
     return false;

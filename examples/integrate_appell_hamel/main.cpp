@@ -68,7 +68,7 @@ int main() {
               drift.max_hidden);
   ok = ok && worst <= 100 * options.rtol && drift.max_invariant_relative < 1e-6;
 
-  if (!run.failure || run.failure->kind() != FailureKind::singular_constraint_gradient) {
+  if (!run.failure || run.failure->kind() != nhc::base::FailureKind::singular_constraint_gradient) {
     std::printf("FAIL: expected a stop at the singular constraint gradient, got %s\n",
                 run.failure ? run.failure->what() : "no stop");
     return 1;

@@ -31,7 +31,7 @@
 #include "nhc/jit.hpp"
 #include "nhc/tools/gnuplot.hpp"
 #include "nhc/linearize.hpp"
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 #include "nhc/runtime/runtime.hpp"
 
 namespace {
@@ -90,7 +90,7 @@ Motion run(const nhc::runtime::Model& model, const nhc::Scene& scene, const Eige
       m.stopped = true;
       m.why = "fallen: the lean reached 1 rad";
     }
-  } catch (const nhc::runtime::SolverError& e) {
+  } catch (const nhc::base::SolverError& e) {
     m.stopped = true;
     m.why = e.what();
   }
@@ -104,7 +104,7 @@ double largest_lean(const Motion& m) {
 }
 
 void write_csv(const std::filesystem::path& path, const Motion& free, const Motion& controlled) {
-  const auto n = [](double v) { return nhc::runtime::number_text(v, 10); };
+  const auto n = [](double v) { return nhc::base::number_text(v, 10); };
   std::ofstream out(path);
   out << "t,lean_free,steer_free,lean_controlled,steer_controlled,steer_torque\n";
   for (std::size_t k = 0; k < controlled.t.size(); ++k) {

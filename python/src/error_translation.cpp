@@ -4,7 +4,7 @@
 #include <string>
 
 #include "nhc/errors.hpp"
-#include "nhc/runtime/errors.hpp"
+#include "nhc/base/errors.hpp"
 
 namespace py = pybind11;
 
@@ -34,7 +34,7 @@ void register_errors(py::module_&) {
       raise("SceneError", e.what(), where);
     } catch (const WorkLimitExceeded& e) {
       raise("SceneError", std::string("the scene needs too much work: ") + e.what());
-    } catch (const runtime::SolverError& e) {
+    } catch (const base::SolverError& e) {
       py::dict at;
       at["t"] = e.t();
       raise("MathError", e.what(), at);

@@ -2,7 +2,7 @@
 /// \file error_translation.hpp
 /// \brief nhc's C++ failures as the Python exceptions of nhc/errors.py, with the words of the
 /// command line: InputError → nhc.SceneError (.file, .line, .column), MathError and
-/// runtime::SolverError → nhc.MathError (.t when known), EnvironmentError and out of memory →
+/// base::SolverError → nhc.MathError (.t when known), EnvironmentError and out of memory →
 /// nhc.HostError. Nothing aborts the interpreter.
 
 #include <pybind11/pybind11.h>

@@ -29,7 +29,7 @@
 #include "nhc/errors.hpp"
 #include "nhc/jit.hpp"
 #include "nhc/linearize.hpp"
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 #include "nhc/runtime/runtime.hpp"
 #include "nhc/derive/discrete_lagrange_dalembert.hpp"
 #include "nhc/scene/scene.hpp"
@@ -272,7 +272,7 @@ py::array_t<double> data_of(const runtime::Model& model, const std::vector<doubl
 /// The result dict Model.simulate turns into a Run; a failure after some samples is reported in
 /// it (the caller raises with the samples kept), one before any is thrown.
 py::dict result_of(py::object columns, py::array_t<double> data, py::cpp_function summary,
-                   const std::optional<runtime::SolverError>& failure) {
+                   const std::optional<base::SolverError>& failure) {
   py::dict out;
   out["columns"] = std::move(columns);
   out["data"] = std::move(data);
@@ -367,7 +367,7 @@ app::SampleLaw python_controller(const py::function& f, std::shared_ptr<py::obje
       e.set_error();
       failure->emplace();
     }
-    throw runtime::SolverError(runtime::FailureKind::stopped, reached.t, "the controller raised an exception");
+    throw base::SolverError(base::FailureKind::stopped, reached.t, "the controller raised an exception");
   };
 }
 
@@ -391,7 +391,7 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   std::vector<app::InitialValue> given;
   if (initial_values)
     for (const auto& [name, value] : *initial_values)
-      given.push_back({name, value, name + " = " + runtime::number_text(value, 17)});
+      given.push_back({name, value, name + " = " + base::number_text(value, 17)});
   app::apply_initial_values(scene, given, "initial");
   // The closed forms of [reference] are of the scene's own start (docs/combinations.md).
   const bool reference_applies = !t0_value && (!initial_values || initial_values->empty());
@@ -419,8 +419,8 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
     mpc->where = {"controller", 0, 0};
     const double h = period.value_or(scene.controller.period);
     if (!(mpc->horizon >= h))
-      throw InputError({"controller", 0, 0}, "controller=nhc.Mpc(horizon=" + runtime::shortest_text(mpc->horizon) +
-                                                  "): the horizon is shorter than the period " + runtime::shortest_text(h) +
+      throw InputError({"controller", 0, 0}, "controller=nhc.Mpc(horizon=" + base::shortest_text(mpc->horizon) +
+                                                  "): the horizon is shorter than the period " + base::shortest_text(h) +
                                                   ": each plan must reach the next sample");
   } else if (scene_controller && scene.controller.mpc.present) {
     mpc = scene.controller.mpc;
@@ -846,9 +846,9 @@ void register_model(py::module_& m) {
       .def_readonly("tolerance", &SceneMpc::tolerance, "IPOPT's tol per solve.")
       .def_readonly("warm_start", &SceneMpc::warm_start, "Each solve starts from the last plan shifted by one period.")
       .def("__repr__", [](const SceneMpc& mpc) {
-        return "Mpc(horizon=" + runtime::shortest_text(mpc.horizon) + ", intervals=" + std::to_string(mpc.intervals) +
+        return "Mpc(horizon=" + base::shortest_text(mpc.horizon) + ", intervals=" + std::to_string(mpc.intervals) +
                ", max_iterations=" + std::to_string(mpc.max_iterations) + ", tolerance=" +
-               runtime::shortest_text(mpc.tolerance) + ", warm_start=" + (mpc.warm_start ? "True" : "False") + ")";
+               base::shortest_text(mpc.tolerance) + ", warm_start=" + (mpc.warm_start ? "True" : "False") + ")";
       });
   py::class_<BuiltModel>(m, "_Model")
       .def_property_readonly("state_names",

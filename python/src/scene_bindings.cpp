@@ -1,6 +1,6 @@
 #include "scene_bindings.hpp"
 
-#include "nhc/primed_name.hpp"
+#include "nhc/base/primed_name.hpp"
 
 #include <pybind11/stl.h>
 
@@ -91,7 +91,7 @@ py::dict analyze(const Scene& scene, const std::string& model) {
   out["dof"] = s.dof;
   py::list needed;
   for (const JetCoordinate& c : s.initial_values_needed)  // x, x', lambda1: the scene's spelling
-    needed.append(primed_name(scene.jet->variable_name(c.kind, c.index), c.order));
+    needed.append(base::primed_name(scene.jet->variable_name(c.kind, c.index), c.order));
   out["needed"] = needed;
   py::dict point;
   if (a.initial) {

@@ -23,8 +23,8 @@
 #include "nhc/errors.hpp"
 #include "nhc/io/atomic_file.hpp"
 #include "nhc/scene/scene.hpp"
-#include "nhc/clock.hpp"
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/clock.hpp"
+#include "nhc/base/number_text.hpp"
 #include "work_precision.hpp"
 
 namespace {
@@ -40,7 +40,7 @@ struct Options {
 
 constexpr int kOk = 0, kInternal = 1, kBadInput = 2, kMissed = 3;
 
-std::string fmt(double v, int precision = 3) { return std::isnan(v) ? std::string("—") : runtime::number_text(v, precision); }
+std::string fmt(double v, int precision = 3) { return std::isnan(v) ? std::string("—") : base::number_text(v, precision); }
 
 std::string table_row(const std::vector<std::string>& cells) {
   std::string row = "|";
@@ -50,9 +50,9 @@ std::string table_row(const std::vector<std::string>& cells) {
 
 ProgressSink progress_sink(bool quiet) {
   if (quiet) return {};
-  const auto start = Clock::now();
+  const auto start = base::Clock::now();
   return [start](const std::string& line) {
-    if (seconds_since(start) > 1.0) std::cerr << "nhc_stability: " << line << std::endl;
+    if (base::seconds_since(start) > 1.0) std::cerr << "nhc_stability: " << line << std::endl;
   };
 }
 
@@ -196,7 +196,7 @@ WorkPrecisionSettings settings_of(const std::string& manifest, const StabilityCa
     s.sweep_parameter = c.sweep.substr(0, eq);
     double lo = std::stod(c.sweep.substr(eq + 1, colon - eq - 1)), hi = std::stod(c.sweep.substr(colon + 1));
     if (lo > hi) std::swap(lo, hi);
-    s.sweep_values = decades_of(manifest, "sweep", runtime::number_text(hi, 17) + ":" + runtime::number_text(lo, 17));
+    s.sweep_values = decades_of(manifest, "sweep", base::number_text(hi, 17) + ":" + base::number_text(lo, 17));
     std::reverse(s.sweep_values.begin(), s.sweep_values.end());  // increasing
   }
   return s;

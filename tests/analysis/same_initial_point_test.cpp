@@ -71,7 +71,7 @@ void check_same_point(const std::string& scene, const std::string& model) {
     INFO(name << " (" << v.source << ")");
     const auto it = row.find(name);
     REQUIRE(it != row.end());
-    // The initial values come from one solver with one tolerance (runtime::solve_constraints):
+    // The initial values come from one solver with one tolerance (base::solve_constraints):
     // equal to rounding. The leading derivatives solve the same nonsingular system, by Newton
     // (analyze) and IDACalcIC (simulate): equal to the integration tolerance.
     const double tolerance = v.source == "computed" ? 1e-6 : 1e-12;

@@ -1,6 +1,6 @@
 // The first hour of a new user: what went wrong for one on Appell–Hamel
 // (examples/appell_hamel.toml, constraint f1 = z' − (b/a)·sqrt(x'² + y'²), b/a = 1/2).
-// One initial-point rule and one message in analyze and simulate (nhc/runtime/initial_point.hpp),
+// One initial-point rule and one message in analyze and simulate (nhc/base/initial_point.hpp),
 // no compile and no file on an inconsistent start, --max-steps, -o -, --repair-initial.
 #include <catch2/catch.hpp>
 

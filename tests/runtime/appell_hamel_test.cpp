@@ -77,9 +77,9 @@ TEST_CASE("Appell–Hamel chetaev stops at t* naming the singular constraint gra
   const RunResult run = simulate(ah_test::model(), ah.parameters(), ah.initial(),
                                  output_times(0.0, 2 * ah.t_star(), 100), tight());
   REQUIRE(run.failure.has_value());
-  const SolverError& e = *run.failure;
+  const nhc::base::SolverError& e = *run.failure;
   INFO(e.what());
-  CHECK(e.kind() == FailureKind::singular_constraint_gradient);
+  CHECK(e.kind() == nhc::base::FailureKind::singular_constraint_gradient);
   CHECK(std::abs(e.t() - ah.t_star()) < 1e-6);
   const std::string message = e.what();
   CHECK(message.find("constraint gradient is singular") != std::string::npos);
@@ -108,8 +108,8 @@ TEST_CASE("consistent initialization solves the hidden constraint for what was n
     try {
       other.initialize(bad, 0.01);
       FAIL("no exception");
-    } catch (const SolverError& e) {
-      CHECK(e.kind() == FailureKind::inconsistent_initial_values);
+    } catch (const nhc::base::SolverError& e) {
+      CHECK(e.kind() == nhc::base::FailureKind::inconsistent_initial_values);
       CHECK(std::string(e.what()).find("f1") != std::string::npos);
       CHECK(e.t() == 0.0);
     }

@@ -38,20 +38,20 @@ TEST_CASE("SUNDIALS return codes become SolverErrors in words, with t", "[runtim
   try {
     sun::check(IDA_CONV_FAIL, "the integration step", 1.5, "at t = 1.5, mxstep steps taken");
     FAIL("no exception");
-  } catch (const SolverError& e) {
+  } catch (const nhc::base::SolverError& e) {
     const std::string m = e.what();
     CHECK(contains(m, "the integration step failed at t = 1.5"));
     CHECK(contains(m, "failed to converge"));
     CHECK(contains(m, "mxstep"));
-    CHECK(e.kind() == FailureKind::convergence);
+    CHECK(e.kind() == nhc::base::FailureKind::convergence);
     CHECK(e.t() == 1.5);
   }
-  CHECK(sun::classify_ida_flag(IDA_TOO_MUCH_WORK) == FailureKind::too_many_steps);
-  CHECK(sun::classify_ida_flag(IDA_ERR_FAIL) == FailureKind::error_test);
-  CHECK(sun::classify_ida_flag(IDA_LSETUP_FAIL) == FailureKind::singular_iteration_matrix);
-  CHECK(sun::classify_ida_flag(IDA_REP_RES_ERR) == FailureKind::nonfinite_residual);
+  CHECK(sun::classify_ida_flag(IDA_TOO_MUCH_WORK) == nhc::base::FailureKind::too_many_steps);
+  CHECK(sun::classify_ida_flag(IDA_ERR_FAIL) == nhc::base::FailureKind::error_test);
+  CHECK(sun::classify_ida_flag(IDA_LSETUP_FAIL) == nhc::base::FailureKind::singular_iteration_matrix);
+  CHECK(sun::classify_ida_flag(IDA_REP_RES_ERR) == nhc::base::FailureKind::nonfinite_residual);
   CHECK(contains(sun::describe_ida_flag(-12345), "-12345"));
-  CHECK(std::string(to_string(FailureKind::singular_constraint_gradient)) == "singular constraint gradient");
+  CHECK(std::string(to_string(nhc::base::FailureKind::singular_constraint_gradient)) == "singular constraint gradient");
 }
 
 TEST_CASE("NaN in a residual is reported with its name and t", "[runtime]") {
@@ -60,7 +60,7 @@ TEST_CASE("NaN in a residual is reported with its name and t", "[runtime]") {
   const RunResult run = simulate(model, {}, start(), output_times(0.0, 1.0, 10), quiet());
   REQUIRE(run.failure.has_value());
   INFO(run.failure->what());
-  CHECK(run.failure->kind() == FailureKind::nonfinite_residual);
+  CHECK(run.failure->kind() == nhc::base::FailureKind::nonfinite_residual);
   CHECK(run.failure->t() >= 0.5);
   CHECK(run.failure->t() < 0.6);
   CHECK(contains(run.failure->what(), "breakdown"));
@@ -77,7 +77,7 @@ TEST_CASE("a singular iteration matrix is reported with t", "[runtime]") {
   const RunResult run = simulate(model, {}, start(), output_times(0.0, 1.0, 10), quiet());
   REQUIRE(run.failure.has_value());
   INFO(run.failure->what());
-  CHECK(run.failure->kind() == FailureKind::singular_iteration_matrix);
+  CHECK(run.failure->kind() == nhc::base::FailureKind::singular_iteration_matrix);
   CHECK(run.failure->t() == Approx(0.5).margin(0.01));
   CHECK(contains(run.failure->what(), "iteration matrix"));
   CHECK(contains(run.failure->what(), "w"));
@@ -89,7 +89,7 @@ TEST_CASE("the step limit is reported with t", "[runtime]") {
   o.max_steps = 20;
   const RunResult run = simulate(ah_test::model(), ah.parameters(), ah.initial(), {0.0, 0.2}, o);
   REQUIRE(run.failure.has_value());
-  CHECK(run.failure->kind() == FailureKind::too_many_steps);
+  CHECK(run.failure->kind() == nhc::base::FailureKind::too_many_steps);
   CHECK(run.failure->t() > 0.0);
   CHECK(run.failure->t() < 0.2);
   CHECK(contains(run.failure->what(), "step limit (20 steps)"));
@@ -103,6 +103,6 @@ TEST_CASE("starting on the singular set is refused at t0", "[runtime]") {
   const RunResult run = simulate(ah_test::model(), ah.parameters(), s, {0.0, 0.1}, quiet());
   REQUIRE(run.failure.has_value());
   INFO(run.failure->what());
-  CHECK(run.failure->kind() == FailureKind::singular_constraint_gradient);
+  CHECK(run.failure->kind() == nhc::base::FailureKind::singular_constraint_gradient);
   CHECK(run.failure->t() == 0.0);
 }

@@ -35,12 +35,12 @@ TEST_CASE("loading failures are ModelErrors that say why", "[runtime]") {
   try {
     Model::load("/nonexistent/model.so");
     FAIL("no exception");
-  } catch (const ModelError& e) {
+  } catch (const nhc::base::ModelError& e) {
     CHECK(std::string(e.what()).find("/nonexistent/model.so") != std::string::npos);
   }
   nhc_model_table bad = *nhc_gen::appell_hamel_chetaev::model_table();
   bad.abi_version = 7;
-  CHECK_THROWS_AS(Model::from_table(&bad), ModelError);
+  CHECK_THROWS_AS(Model::from_table(&bad), nhc::base::ModelError);
   bad.abi_version = 1;
   bad.residual = nullptr;
   CHECK_THROWS_WITH(Model::from_table(&bad), Catch::Contains("no residual"));

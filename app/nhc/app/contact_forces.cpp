@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 
 namespace nhc::app {
 
@@ -107,16 +107,16 @@ std::optional<std::string> ContactForces::slip_line(const runtime::EventHit& hit
     sample.yp = hit.yp;
     if (hit.name == name + ".liftoff") {
       const double normal = evaluate(sample)[4 * i];
-      std::string line = "contact " + name + " lifts off at t = " + runtime::number_text(hit.t, 12);
+      std::string line = "contact " + name + " lifts off at t = " + base::number_text(hit.t, 12);
       // Met below zero at the start: the contact would have to pull from the first instant.
       if (normal < 0)
-        line += " (its normal force \"" + kept_[i].contact->normal_text + "\" is " + runtime::number_text(normal, 6) +
+        line += " (its normal force \"" + kept_[i].contact->normal_text + "\" is " + base::number_text(normal, 6) +
                 " < 0 there: the contact would have to pull)";
       return line;
     }
     const double ratio = evaluate(sample)[4 * i + 2];
-    return "contact " + kept_[i].contact->name + " slips at t = " + runtime::number_text(hit.t, 12) +
-           " (needs mu >= " + runtime::number_text(ratio, 6) + ")";
+    return "contact " + kept_[i].contact->name + " slips at t = " + base::number_text(hit.t, 12) +
+           " (needs mu >= " + base::number_text(ratio, 6) + ")";
   }
   return std::nullopt;
 }
@@ -134,9 +134,9 @@ std::vector<std::string> ContactForces::need_lines(const std::vector<runtime::Sa
   std::vector<std::string> lines;
   for (std::size_t i = 0; i < kept_.size(); ++i)
     if (worst[i] >= 0)
-      lines.push_back("contact " + kept_[i].contact->name + " needs mu >= " + runtime::number_text(worst[i], 6) +
-                      " (the largest |F_t|/F_n at the output times, at t = " + runtime::number_text(at[i], 6) +
-                      "; mu = " + runtime::number_text(kept_[i].contact->mu, 6) + ")");
+      lines.push_back("contact " + kept_[i].contact->name + " needs mu >= " + base::number_text(worst[i], 6) +
+                      " (the largest |F_t|/F_n at the output times, at t = " + base::number_text(at[i], 6) +
+                      "; mu = " + base::number_text(kept_[i].contact->mu, 6) + ")");
   return lines;
 }
 

@@ -4,8 +4,8 @@
 #include <map>
 
 #include "nhc/errors.hpp"
-#include "nhc/primed_name.hpp"
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/primed_name.hpp"
+#include "nhc/base/number_text.hpp"
 #include "nhc/scene/expression_parser.hpp"
 #include "nhc/scene/scene_text.hpp"
 
@@ -34,7 +34,7 @@ void apply_initial_values(Scene& scene, const std::vector<InitialValue>& values,
   // Which orders of each name the new values give; checked for gaps once all are in.
   std::map<std::string, std::string> written_by_name;
   for (const InitialValue& v : values) {
-    if (!std::isfinite(v.value)) refuse(field, quoted(v.written) + runtime::number_text(v.value, 17) + " is not a finite number");
+    if (!std::isfinite(v.value)) refuse(field, quoted(v.written) + base::number_text(v.value, 17) + " is not a finite number");
     if (v.name == "t0") {
       scene.initial.t0 = v.value;
       scene.initial.t0_expression = {};  // a number now: --set no longer re-evaluates it
@@ -63,7 +63,7 @@ void apply_initial_values(Scene& scene, const std::vector<InitialValue>& values,
   for (const auto& [base, written] : written_by_name)
     for (std::size_t k = 0; k < scene.initial.values[base].size(); ++k)
       if (std::isnan(scene.initial.values[base][k]))
-        refuse(field, quoted(written) + primed_name(base, static_cast<int>(k)) +
+        refuse(field, quoted(written) + base::primed_name(base, static_cast<int>(k)) +
                           " is not given (neither in the scene's [initial] nor here); the values of " + base +
                           " are a value and its derivatives in order, so give it too");
 }

@@ -4,12 +4,12 @@
 #include <cmath>
 #include <limits>
 
-#include "nhc/clock.hpp"
+#include "nhc/base/clock.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/optimize/hermite_simpson.hpp"
 #include "nhc/optimize/settings.hpp"
 #include "nhc/optimize/solve.hpp"
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 
 namespace nhc::app {
 
@@ -106,9 +106,9 @@ std::string MpcController::summary() const {
   const double worst = seconds.empty() ? 0 : *std::max_element(seconds.begin(), seconds.end());
   const double most = iterations.empty() ? 0 : *std::max_element(iterations.begin(), iterations.end());
   return "model predictive control: " + std::to_string(solves_.size()) + " solves, median " +
-         runtime::number_text(median(seconds), 3) + " s, max " + runtime::number_text(worst, 3) + " s, " +
-         std::to_string(failed) + " not converged (IPOPT iterations: median " + runtime::number_text(median(iterations), 3) +
-         ", max " + runtime::number_text(most, 3) + ")";
+         base::number_text(median(seconds), 3) + " s, max " + base::number_text(worst, 3) + " s, " +
+         std::to_string(failed) + " not converged (IPOPT iterations: median " + base::number_text(median(iterations), 3) +
+         ", max " + base::number_text(most, 3) + ")";
 }
 
 // The last plan moved to the horizon [t, t + H]: each variable of the new point j is the old
@@ -156,11 +156,11 @@ std::vector<double> MpcController::operator()(const runtime::Sample& reached) {
   optimize::SolveOptions options;
   options.max_iterations = settings_.max_iterations;
   options.tolerance = settings_.tolerance;
-  const auto started = Clock::now();
+  const auto started = base::Clock::now();
   const optimize::Solution solution = optimize::solve(p, guess, options);
   MpcSolve record;
   record.t = reached.t;
-  record.seconds = seconds_since(started);
+  record.seconds = base::seconds_since(started);
   record.cost = solution.cost;
   record.iterations = solution.iterations;
   record.converged = solution.status == optimize::Solution::Status::optimal;

@@ -8,7 +8,7 @@
 #include "nhc/app/run_request.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/app/parameter_overrides.hpp"
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 #include "nhc/runtime/trajectory.hpp"
 
 namespace nhc::app {
@@ -115,7 +115,7 @@ void write_selected_csv(std::ostream& out, const runtime::Model& model, const st
     }
     if (extra) values.insert(values.end(), extra->rows.at(row).begin(), extra->rows.at(row).end());
     line.clear();
-    for (std::size_t k : keep) runtime::append_shortest(line, ',', values.at(k));
+    for (std::size_t k : keep) base::append_shortest(line, ',', values.at(k));
     line.erase(0, 1);  // the first column has no comma
     line += '\n';
     out << line;

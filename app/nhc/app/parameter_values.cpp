@@ -9,7 +9,7 @@
 
 #include "nhc/errors.hpp"
 #include "nhc/runtime/integrator.hpp"
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 #include "nhc/scene/constant_expression.hpp"
 #include "nhc/scene/tolerances.hpp"
 
@@ -26,7 +26,7 @@ std::string values_named_in(const std::string& text, const std::map<std::string,
         return i < text.size() && (std::isalnum(static_cast<unsigned char>(text[i])) || text[i] == '_');
       };
       if ((at > 0 && word(at - 1)) || word(at + name.size())) continue;
-      list += (list.empty() ? "" : ", ") + name + " = " + runtime::shortest_text(value);
+      list += (list.empty() ? "" : ", ") + name + " = " + base::shortest_text(value);
       break;
     }
   }
@@ -80,7 +80,7 @@ void reevaluate(double& number, const NumberExpression& source, const std::strin
     throw InputError(source.where, key + " = \"" + source.text + "\"" + with + ": " + e.what());
   }
   if (const std::string why = problem(v); !why.empty())
-    throw InputError(source.where, key + " = \"" + source.text + "\" is " + runtime::shortest_text(v) + with + ": " +
+    throw InputError(source.where, key + " = \"" + source.text + "\" is " + base::shortest_text(v) + with + ": " +
                                        key + " " + why);
   number = v;
 }

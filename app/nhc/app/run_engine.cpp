@@ -11,7 +11,7 @@
 #include "nhc/app/scene_events.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/io/output_path.hpp"
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 
 namespace nhc::app {
 
@@ -200,7 +200,7 @@ RunOutcome simulate(const RunPlan& plan) {
       runtime::solve_starting_point(rolling, values.at(t0, solved.data()), t0, solved.data(), plan.initial.given,
                                     options.rtol, options.atol, plan.initial.repair ? &scale : nullptr);
       at.y = solved;
-    } catch (const runtime::SolverError&) {
+    } catch (const base::SolverError&) {
       // the given values miss the rolling constraints: they are the sliding model's start
     }
     const std::vector<double> f = contact->slip_on_rolling(at);
@@ -280,10 +280,10 @@ RunOutcome simulate(const RunPlan& plan) {
                                     std::to_string(n_inputs));
       for (int i = 0; i < n_inputs; ++i)
         if ((all_held || control->held[static_cast<std::size_t>(i)]) && !std::isfinite(u[static_cast<std::size_t>(i)]))
-          throw runtime::SolverError(runtime::FailureKind::nonfinite_residual, tk,
+          throw base::SolverError(base::FailureKind::nonfinite_residual, tk,
                                      "the controller's input " + rolling.input_name(i) + " is " +
-                                         runtime::shortest_text(u[static_cast<std::size_t>(i)]) + " at t = " +
-                                         runtime::shortest_text(tk) + " (sample " + std::to_string(k) + ")");
+                                         base::shortest_text(u[static_cast<std::size_t>(i)]) + " at t = " +
+                                         base::shortest_text(tk) + " (sample " + std::to_string(k) + ")");
       held = std::move(u);
       apply_inputs(integrator, sliding_now);  // the restart keeps the states, recomputes y' and the algebraic ones
       runtime::Sample after = integrator.point();
@@ -299,9 +299,9 @@ RunOutcome simulate(const RunPlan& plan) {
         double moved = 0;
         for (std::size_t i = 0; i < start.y.size(); ++i)
           if (start.given[i] && std::isfinite(start.y[i])) moved = std::max(moved, std::abs(initial_point.y[i] - start.y[i]));
-        out.notes.push_back("note: contact " + slide->name + " rolls again at t = " + runtime::number_text(t, 12) +
+        out.notes.push_back("note: contact " + slide->name + " rolls again at t = " + base::number_text(t, 12) +
                             ": q' projected onto its rolling constraints (largest change " +
-                            runtime::number_text(moved, 3) + ")");
+                            base::number_text(moved, 3) + ")");
       }
       if (control) {
         if (next_sample == 0) {
@@ -331,7 +331,7 @@ RunOutcome simulate(const RunPlan& plan) {
           integrator.integrate(phase_times, [&](const runtime::Sample& s) { push_row(to_run(s), nullptr, false); });
         take_hits();
       }
-    } catch (const runtime::SolverError& e) {
+    } catch (const base::SolverError& e) {
       take_hits();
       add_statistics(out.run.statistics, integrator.statistics());
       out.run.failure = e;
@@ -340,9 +340,9 @@ RunOutcome simulate(const RunPlan& plan) {
     add_statistics(out.run.statistics, integrator.statistics());
     if (stopped || !switch_hit || out.run.samples.empty()) break;
     if (switches >= 1000) {
-      out.run.failure = runtime::SolverError(runtime::FailureKind::other, t,
+      out.run.failure = base::SolverError(base::FailureKind::other, t,
                                              "contact " + slide->name + " switched 1000 times between rolling and "
-                                             "sliding by t = " + runtime::number_text(t, 12));
+                                             "sliding by t = " + base::number_text(t, 12));
       break;
     }
     const runtime::Sample r{switch_hit->t, switch_hit->y, switch_hit->yp, {}};

@@ -9,7 +9,7 @@
 #include "nhc/app/scene_events.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/expr/jet_space.hpp"
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 #include "nhc/runtime/variational.hpp"
 #include "nhc/scene/tolerances.hpp"
 
@@ -83,19 +83,19 @@ void check_output_times(const std::vector<double>& times, double t0, const std::
 
 double run_t_end(const Scene& scene, const std::optional<double>& t_end, const std::string& field,
                  const std::string& where) {
-  using runtime::shortest_text;  // 0.2, not 0.20000000000000001
+  using base::shortest_text;  // 0.2, not 0.20000000000000001
   const std::string& at = where.empty() ? field : where;
   const double t0 = scene.initial.t0;
-  if (t_end && !(*t_end > t0)) refuse(at, field + " " + shortest_text(*t_end) + " must be after t0 = " + shortest_text(t0));
+  if (t_end && !(*t_end > t0)) refuse(at, field + " " + base::shortest_text(*t_end) + " must be after t0 = " + base::shortest_text(t0));
   // The scene's own t_end is after its own t0 (scene_loader.cpp); a t0 from outside may pass it.
   const NumberExpression& written = scene.simulate.t_end_expression;
   if (!t_end && !(scene.simulate.t_end > t0) && !written.empty())  // t_end = "Tend" at the parameters set
-    throw InputError(written.where, "t_end = \"" + written.text + "\" is " + shortest_text(scene.simulate.t_end) +
-                                        ", not after t0 = " + shortest_text(t0) + ": give " + field +
+    throw InputError(written.where, "t_end = \"" + written.text + "\" is " + base::shortest_text(scene.simulate.t_end) +
+                                        ", not after t0 = " + base::shortest_text(t0) + ": give " + field +
                                         " or other parameter values");
   if (!t_end && !(scene.simulate.t_end > t0))
-    refuse(at, "the scene's [simulate] t_end " + shortest_text(scene.simulate.t_end) + " is not after t0 = " +
-                   shortest_text(t0) + ": give " + field);
+    refuse(at, "the scene's [simulate] t_end " + base::shortest_text(scene.simulate.t_end) + " is not after t0 = " +
+                   base::shortest_text(t0) + ": give " + field);
   return t_end.value_or(scene.simulate.t_end);
 }
 

@@ -1,6 +1,6 @@
 #include "nhc/app/sample_expressions.hpp"
 
-#include "nhc/primed_name.hpp"
+#include "nhc/base/primed_name.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -13,7 +13,7 @@ namespace nhc::app {
 
 namespace {
 
-std::string primed(const std::string& variable, int order) { return primed_name(variable, order); }
+std::string primed(const std::string& variable, int order) { return base::primed_name(variable, order); }
 
 }  // namespace
 

@@ -6,22 +6,22 @@
 #include "nhc/app/run_request.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/expr/intermediate.hpp"
-#include "nhc/primed_name.hpp"
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/primed_name.hpp"
+#include "nhc/base/number_text.hpp"
 
 namespace nhc::app {
 
 std::vector<double> sample_times(double t0, double t_end, double period, const SourceLocation& where,
                                  const std::string& what) {
-  const std::string shown = what + " " + runtime::shortest_text(period);
+  const std::string shown = what + " " + base::shortest_text(period);
   if (!(std::isfinite(period) && period > 0))
     throw InputError(where, shown + ": the sample period must be a positive number");
   // The samples are t0 + k h; the run ends at the last one at or before t_end (1e-9 of a period
   // spares a t_end that is a whole number of periods written in decimals).
   const double count = std::floor((t_end - t0) / period + 1e-9);
   if (!(count >= 1))
-    throw InputError(where, shown + ": the run from t0 = " + runtime::shortest_text(t0) + " to t_end = " +
-                                runtime::shortest_text(t_end) + " is shorter than one period");
+    throw InputError(where, shown + ": the run from t0 = " + base::shortest_text(t0) + " to t_end = " +
+                                base::shortest_text(t_end) + " is shorter than one period");
   if (count > static_cast<double>(kMaxOutputs))
     throw InputError(where, shown + ": more than " + std::to_string(kMaxOutputs) + " samples up to t_end");
   std::vector<double> times;
@@ -29,7 +29,7 @@ std::vector<double> sample_times(double t0, double t_end, double period, const S
   for (long k = 0; k <= n; ++k) times.push_back(t0 + static_cast<double>(k) * period);
   if (const std::optional<std::size_t> i = runtime::collapsed_output_time(times))
     throw InputError(where, shown + ": samples " + std::to_string(*i - 1) + " and " + std::to_string(*i) +
-                                " fall on the same double at t = " + runtime::shortest_text(times[*i]));
+                                " fall on the same double at t = " + base::shortest_text(times[*i]));
   return times;
 }
 
@@ -83,7 +83,7 @@ ControllerLaws::ControllerLaws(const Scene& scene, const runtime::Model& model, 
       const int variable = c.kind == VariableKind::coordinate ? c.index : model.n_coordinates() + c.index;
       if (c.kind != VariableKind::coordinate || model.state_index(variable, c.order) < 0)
         throw InputError(law.where, what + " \"" + law.text + "\" uses " +
-                                        primed_name(jet.variable_name(c.kind, c.index), c.order) +
+                                        base::primed_name(jet.variable_name(c.kind, c.index), c.order) +
                                         ", which the " + "model's states do not hold (a controller reads the state the "
                                         "run reached: coordinates and the derivatives that are states)");
     }

@@ -6,7 +6,7 @@
 
 #include "nhc/app/sample_expressions.hpp"
 #include "nhc/errors.hpp"
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 #include "nhc/scene/expression_parser.hpp"
 
 namespace nhc::app {
@@ -61,9 +61,9 @@ std::vector<runtime::Event> runtime_events(const std::vector<SceneEvent>& events
       sample->yp.assign(yp, yp + n);
       const double v = expression->evaluate(*sample).front();
       if (!std::isfinite(v))
-        throw runtime::SolverError(runtime::FailureKind::other, t,
+        throw base::SolverError(base::FailureKind::other, t,
                                    "event " + name + " (\"" + text + "\") is " + (std::isnan(v) ? "NaN" : "infinite") +
-                                       " at t = " + runtime::number_text(t, 15) +
+                                       " at t = " + base::number_text(t, 15) +
                                        ": its crossings cannot be told there (an event must be a finite number "
                                        "along the motion)");
       return v;
@@ -74,7 +74,7 @@ std::vector<runtime::Event> runtime_events(const std::vector<SceneEvent>& events
 }
 
 std::string event_line(const runtime::EventHit& hit) {
-  return "event " + hit.name + " at t = " + runtime::number_text(hit.t, 12);
+  return "event " + hit.name + " at t = " + base::number_text(hit.t, 12);
 }
 
 std::string events_csv_path(const std::string& csv_path) {
@@ -85,7 +85,7 @@ std::string events_csv_path(const std::string& csv_path) {
 
 void write_events_csv(std::ostream& out, const std::vector<runtime::EventHit>& hits) {
   out << "name,t\n";
-  for (const runtime::EventHit& hit : hits) out << hit.name << "," << runtime::number_text(hit.t, 17) << "\n";
+  for (const runtime::EventHit& hit : hits) out << hit.name << "," << base::number_text(hit.t, 17) << "\n";
 }
 
 }  // namespace nhc::app

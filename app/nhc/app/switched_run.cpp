@@ -12,7 +12,7 @@
 #include "nhc/app/scene_events.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/expr/intermediate.hpp"
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 
 namespace nhc::app {
 
@@ -84,7 +84,7 @@ Scene sliding_scene(const Scene& scene, const SceneContact& contact) {
     if (q.is_zero()) continue;
     const std::string size = "sqrt(" + printed(squares) + " + 1e-14)";
     forces[jet.coordinates()[static_cast<std::size_t>(i)]] =
-        "-(" + runtime::number_text(contact.mu, 17) + ")*(" + contact.normal_text + ")*(" + printed(q) + ")/" + size;
+        "-(" + base::number_text(contact.mu, 17) + ")*(" + contact.normal_text + ")*(" + printed(q) + ")/" + size;
   }
   const std::set<int> removed(contact.rolling.begin(), contact.rolling.end());
   return parse_scene(switched_source(scene.source_text(), removed, forces), scene.source_path);

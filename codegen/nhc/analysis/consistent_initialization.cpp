@@ -1,6 +1,6 @@
 #include "nhc/analysis/consistent_initialization.hpp"
 
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 
 #include <Eigen/Dense>
 #include <Eigen/SparseLU>
@@ -20,8 +20,8 @@
 #include "nhc/expr/intermediate.hpp"
 #include "nhc/errors.hpp"
 #include "nhc/expr/partial_derivative.hpp"
-#include "nhc/runtime/constraint_solver.hpp"
-#include "nhc/runtime/initial_point.hpp"
+#include "nhc/base/constraint_solver.hpp"
+#include "nhc/base/initial_point.hpp"
 
 namespace nhc {
 
@@ -38,7 +38,7 @@ std::string to_string(ValueSource source) {
 
 namespace {
 
-std::string number(double v) { return runtime::number_text(v, 10); }
+std::string number(double v) { return base::number_text(v, 10); }
 
 /// Evaluation of a vector of expressions and their Jacobian in a list of jet variables, with
 /// the other symbols fixed by a base substitution. Both are lowered once into NumericProgram's
@@ -254,7 +254,7 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
     result.constraint_names.push_back(c.monitored ? c.name + " (monitored)" : c.name);
   }
   const Evaluator g(hidden, hidden_names, vars);
-  runtime::ConstraintFunctions functions;
+  base::ConstraintFunctions functions;
   functions.count = static_cast<int>(hidden.size());
   functions.size = count;
   functions.values = [&](const double* y, double* out) {
@@ -264,7 +264,7 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
     Eigen::Map<Eigen::MatrixXd>(out, functions.count, count) =
         g.jacobian(g.point(base, Eigen::Map<const Eigen::VectorXd>(y, count)));
   };
-  functions.sparse_jacobian = [&](const double* y, std::vector<runtime::SparseEntry>& entries) {
+  functions.sparse_jacobian = [&](const double* y, std::vector<base::SparseEntry>& entries) {
     const Eigen::SparseMatrix<double> jg = g.sparse_jacobian(g.point(base, Eigen::Map<const Eigen::VectorXd>(y, count)));
     for (Eigen::Index col = 0; col < jg.outerSize(); ++col)
       for (Eigen::SparseMatrix<double>::InnerIterator it(jg, col); it; ++it)
@@ -294,23 +294,23 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
   }
 
   // The missing values from the constraints, with the given ones fixed: the runtime's solver and
-  // tolerance (nhc/runtime/constraint_solver.hpp), so that `nhc analyze` reports the point
+  // tolerance (nhc/base/constraint_solver.hpp), so that `nhc analyze` reports the point
   // `nhc simulate` starts from.
   std::vector<double> y(x.data(), x.data() + count);
   std::vector<double> scale(static_cast<std::size_t>(count), 0.0);
   for (int k : missing) scale[static_cast<std::size_t>(k)] = 1.0;
-  const runtime::InitialPointTolerance tolerance =
-      runtime::initial_point_tolerance(y, scene.simulate.rtol, scene.simulate.atol);
-  // --repair-initial: the same rule as the runtime (runtime::solve_or_repair_initial_point), every
+  const base::InitialPointTolerance tolerance =
+      base::initial_point_tolerance(y, scene.simulate.rtol, scene.simulate.atol);
+  // --repair-initial: the same rule as the runtime (base::solve_or_repair_initial_point), every
   // value free but the pinned ones ([initial] fixed) only when the given values miss.
   std::vector<double> repair_scale(static_cast<std::size_t>(count), 1.0);
   for (int k = 0; k < count; ++k)
     if (std::find(scene.initial.fixed.begin(), scene.initial.fixed.end(),
                   result.values[static_cast<std::size_t>(k)].name) != scene.initial.fixed.end())
       repair_scale[static_cast<std::size_t>(k)] = 0.0;
-  const runtime::InitialPointSolve outcome = runtime::solve_or_repair_initial_point(
+  const base::InitialPointSolve outcome = base::solve_or_repair_initial_point(
       functions, y.data(), scale, options.repair ? &repair_scale : nullptr, tolerance, options.max_iterations);
-  runtime::ConstraintSolveResult solve = outcome.result;
+  base::ConstraintSolveResult solve = outcome.result;
   if (outcome.repaired) {
     if (!solve.converged())
       throw MathError("the " + model + " model: no consistent initial point found near the given "
@@ -328,7 +328,7 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
     const auto worst = static_cast<std::size_t>(solve.worst);
     const Eigen::SparseMatrix<double, Eigen::RowMajor> jg =
         g.sparse_jacobian(g.point(base, Eigen::Map<const Eigen::VectorXd>(y.data(), count)));
-    runtime::InconsistentInitialPoint failure;
+    base::InconsistentInitialPoint failure;
     failure.model = model;
     failure.constraint = hidden_names[worst];
     failure.residual = solve.residuals[worst];
@@ -341,7 +341,7 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
       if (v.source == ValueSource::given) failure.given.push_back({v.name, v.given});
       else failure.free.push_back(v.name);
     }
-    throw InconsistentInitialValues(runtime::describe(failure) + sliding_start(scene, hidden_constraint[worst]));
+    throw InconsistentInitialValues(base::describe(failure) + sliding_start(scene, hidden_constraint[worst]));
   }
   x = Eigen::Map<const Eigen::VectorXd>(y.data(), count);
   const Eigen::VectorXd residual = Eigen::Map<const Eigen::VectorXd>(solve.residuals.data(), functions.count);

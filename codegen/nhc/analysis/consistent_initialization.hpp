@@ -7,7 +7,7 @@
 /// (Pryce 2001, §4; Nedialkov & Pryce, BIT 47 (2007), consistent point of the Σ-method).
 ///
 /// One consistent initialization in nhc: the constraints are solved by the runtime's solver
-/// (nhc/runtime/constraint_solver.hpp, minimum-norm damped Gauss–Newton over the values not
+/// (nhc/base/constraint_solver.hpp, minimum-norm damped Gauss–Newton over the values not
 /// given, with its tolerance), here on GiNaC-evaluated constraints and in the runtime on the
 /// generated ones, so `nhc analyze` and `nhc simulate` start from the same point. The runtime's
 /// is the one kept because an integration must work from a generated header alone (no GiNaC);

@@ -1,11 +1,11 @@
 #include "nhc/analysis/dae_system.hpp"
 
-#include "nhc/primed_name.hpp"
+#include "nhc/base/primed_name.hpp"
 
 namespace nhc {
 
 std::string prime_name(const std::string& variable, int order) {
-  if (order <= 3) return primed_name(variable, order);
+  if (order <= 3) return base::primed_name(variable, order);
   return variable + "^(" + std::to_string(order) + ")";
 }
 

@@ -9,7 +9,7 @@
 #include "nhc/expr/numeric_program.hpp"
 #include "nhc/derive/euler_operator.hpp"
 #include "nhc/expr/partial_derivative.hpp"
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 
 namespace nhc {
 
@@ -115,9 +115,9 @@ std::string describe_singular_jacobian(const StructuralAnalysis& a,
   }
   std::ostringstream s;
   s << "the system Jacobian of the " << to_string(a.system.model) << " model is singular at t0 = "
-    << runtime::number_text(t0, 6) << " (condition number ";
+    << base::number_text(t0, 6) << " (condition number ";
   const double cond = condition_number(j);
-  if (std::isfinite(cond)) s << runtime::number_text(cond, 6); else s << "infinite";
+  if (std::isfinite(cond)) s << base::number_text(cond, 6); else s << "infinite";
   s << ", rank " << rank << " of " << n << "): ";
   s << (rows.size() == 1 ? "the equation " : "the equations ") << join_names(rows)
     << (rows.size() == 1 ? " does not depend on its leading derivatives there"

@@ -12,7 +12,7 @@
 #include "nhc/expr/symbol_substitution.hpp"
 #include "nhc/expr/work_budget.hpp"
 #include "nhc/expr/work_stage.hpp"
-#include "nhc/primed_name.hpp"
+#include "nhc/base/primed_name.hpp"
 
 namespace nhc {
 
@@ -205,7 +205,7 @@ ReducedForm reduce_to_independent_speeds(const Scene& scene, const DerivedModel&
       const ex aj = partial_derivative(v, GiNaC::ex_to<GiNaC::symbol>(jet.q(j, 1)));
       if (jet.highest_coordinate_order(aj) > 0)
         return refuse("constraint f" + std::to_string(a + 1) + " is not linear in the velocities (df" +
-                      std::to_string(a + 1) + "/d" + primed_name(names[static_cast<std::size_t>(j)], 1) +
+                      std::to_string(a + 1) + "/d" + base::primed_name(names[static_cast<std::size_t>(j)], 1) +
                       " depends on velocities)");
       A(static_cast<unsigned>(a), static_cast<unsigned>(j)) = aj;
       linear += aj * jet.q(j, 1);
@@ -227,7 +227,7 @@ ReducedForm reduce_to_independent_speeds(const Scene& scene, const DerivedModel&
     for (const JetCoordinate& c : jet.jet_coordinates_in(R)) {
       if (c.kind == VariableKind::coordinate && c.order > 2)
         return refuse("R_" + names[static_cast<std::size_t>(i)] + " holds " +
-                      primed_name(names[static_cast<std::size_t>(c.index)], c.order) +
+                      base::primed_name(names[static_cast<std::size_t>(c.index)], c.order) +
                       " (the multiplier-free form takes second-order equations)");
       if (c.kind == VariableKind::multiplier && c.order != lambda_order)
         return refuse("R_" + names[static_cast<std::size_t>(i)] + " holds a derivative of a multiplier");
@@ -284,12 +284,12 @@ ReducedForm reduce_to_independent_speeds(const Scene& scene, const DerivedModel&
     if (is_dependent[static_cast<std::size_t>(j)]) out.dependent.push_back(j);
     else {
       out.independent.push_back(j);
-      out.speeds.push_back(primed_name(names[static_cast<std::size_t>(j)], 1));
+      out.speeds.push_back(base::primed_name(names[static_cast<std::size_t>(j)], 1));
     }
   }
   std::vector<std::string> dependent_names;
   for (int d : out.dependent) {
-    dependent_names.push_back(primed_name(names[static_cast<std::size_t>(d)], 1));
+    dependent_names.push_back(base::primed_name(names[static_cast<std::size_t>(d)], 1));
     out.dependent_symbols.push_back(jet.q(d, 1));
   }
   out.dependent_names = dependent_names;
@@ -408,7 +408,7 @@ ReducedForm reduce_to_independent_speeds(const Scene& scene, const DerivedModel&
     const GiNaC::matrix lambda = solve(BT, lrhs);
     for (unsigned a = 0; a < ng; ++a) {
       out.multipliers.push_back(simplified_where_it_pays(lambda(a, 0)));
-      out.multiplier_names.push_back(primed_name(jet.multiplier_name(static_cast<int>(a)), lambda_order));
+      out.multiplier_names.push_back(base::primed_name(jet.multiplier_name(static_cast<int>(a)), lambda_order));
     }
   } catch (const std::exception& e) {
     return refuse(std::string("the multipliers' coefficients are singular: ") + e.what());

@@ -1,6 +1,6 @@
 #include <algorithm>
 
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 #include <cmath>
 #include <iomanip>
 #include <sstream>
@@ -17,7 +17,7 @@ std::string pad(const std::string& s, std::size_t width) {
   return s.size() >= width ? s : std::string(width - s.size(), ' ') + s;
 }
 
-std::string number(double v) { return runtime::number_text(v, 10); }
+std::string number(double v) { return base::number_text(v, 10); }
 
 /// Above this many unknowns σ is listed by rows (finite entries only) instead of as a table,
 /// whose size would grow as n².

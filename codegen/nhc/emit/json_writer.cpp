@@ -3,7 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 
 namespace nhc {
 
@@ -94,7 +94,7 @@ JsonWriter& JsonWriter::value(double d) {
   if (!std::isfinite(d)) {
     out_ << "null";
   } else {
-    out_ << runtime::number_text(d, 17);
+    out_ << base::number_text(d, 17);
   }
   return *this;
 }

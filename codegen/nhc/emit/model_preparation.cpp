@@ -1,7 +1,7 @@
 // The symbolic half of the header emitter (model_preparation.hpp).
 #include "nhc/emit/model_preparation.hpp"
 
-#include "nhc/primed_name.hpp"
+#include "nhc/base/primed_name.hpp"
 
 #include "nhc/expr/common_arguments.hpp"
 #include "nhc/expr/common_factors.hpp"
@@ -110,7 +110,7 @@ std::vector<ModelInvariant> invariants_in_states(const Scene& scene, const Index
 
 namespace {
 
-std::string primed(const std::string& variable, int order) { return primed_name(variable, order); }
+std::string primed(const std::string& variable, int order) { return base::primed_name(variable, order); }
 
 /// Symbol → name in scene notation: t, parameter names, x' for jet symbols, and the jet name of
 /// each state symbol y[k] of `system` when given.

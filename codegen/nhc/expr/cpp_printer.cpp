@@ -5,7 +5,7 @@
 #include <string>
 
 #include "nhc/errors.hpp"
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 
 namespace nhc {
 
@@ -126,7 +126,7 @@ class BlockPrinter {
 std::string cpp_double_literal(double v) {
   if (!std::isfinite(v)) throw MathError("cannot generate code for a non-finite constant");
   if (v == 0.0) return std::signbit(v) ? "-0.0" : "0.0";
-  std::string text = runtime::number_text(v, 17);
+  std::string text = base::number_text(v, 17);
   if (text.find_first_of(".eE") == std::string::npos) text += ".0";
   return text;
 }

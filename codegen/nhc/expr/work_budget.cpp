@@ -1,6 +1,6 @@
 #include "nhc/expr/work_budget.hpp"
 
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -268,7 +268,7 @@ class FractionPredictor {
 
 std::string count_text(double n) {
   if (std::isinf(n)) return "beyond 10^300";
-  return runtime::number_text(n, 2);
+  return base::number_text(n, 2);
 }
 
 }  // namespace

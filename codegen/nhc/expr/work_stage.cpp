@@ -5,7 +5,7 @@
 #include <atomic>
 #include <mutex>
 
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 
 namespace nhc::work_budget {
 
@@ -64,7 +64,7 @@ bool ProcessorTimeLimit::exceeded() {
 
 std::string ProcessorTimeLimit::message(const std::string& how_to_raise) const {
   return stage_ + " took more than " +
-         runtime::number_text(seconds_, 3) + " s of processor time: the expressions grow too large (" + how_to_raise +
+         base::number_text(seconds_, 3) + " s of processor time: the expressions grow too large (" + how_to_raise +
          ")";
 }
 

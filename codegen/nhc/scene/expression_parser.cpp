@@ -1,6 +1,6 @@
 #include "nhc/scene/expression_parser.hpp"
 
-#include "nhc/primed_name.hpp"
+#include "nhc/base/primed_name.hpp"
 
 #include "nhc/expr/elementary_derivatives.hpp"
 #include "nhc/expr/traversal.hpp"
@@ -438,7 +438,7 @@ class Parser {
     for (const auto& [suffix, order] : suffixes)
       if (name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0 &&
           is_coordinate(name.substr(0, name.size() - suffix.size())))
-        return "derivatives are written with primes: " + primed_name(name.substr(0, name.size() - suffix.size()), order);
+        return "derivatives are written with primes: " + base::primed_name(name.substr(0, name.size() - suffix.size()), order);
     if (name.size() > 1 && name[0] == 'd' && is_coordinate(name.substr(1)))
       return "derivatives are written with primes: " + name.substr(1) + "'";
     if (auto alpha = multiplier_index(name); alpha && *alpha >= jet_.multiplier_count())
@@ -687,7 +687,7 @@ class Parser {
     Value derivative = total_derivative(value, jet_, primes);
     for (const ex& e : derivative.entries)
       if (jet_.highest_coordinate_order(e) > kMaxDerivativeOrder)
-        fail(start, "'" + primed_name(shown(name), primes) +
+        fail(start, "'" + base::primed_name(shown(name), primes) +
                         "' has derivatives of order above the limit of " +
                         std::to_string(kMaxDerivativeOrder));
     return derivative;

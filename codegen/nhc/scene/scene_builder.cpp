@@ -2,7 +2,7 @@
 // so that scenes built in code and scenes read from disk share one validation.
 #include "nhc/scene/scene_builder.hpp"
 
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 
 #include <cstdio>
 #include <sstream>
@@ -32,7 +32,7 @@ std::string quoted(const std::string& text) {
 
 /// 17 significant digits: the double reads back exactly. inf and nan are TOML too, and the
 /// loader rejects them with its own message.
-std::string number(double v) { return runtime::number_text(v, 17); }
+std::string number(double v) { return base::number_text(v, 17); }
 
 std::string string_array(const std::vector<std::string>& items) {
   std::string out = "[";

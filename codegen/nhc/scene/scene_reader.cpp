@@ -16,7 +16,7 @@
 #include <fmt/format.h>
 
 #include "nhc/io/input_file.hpp"
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 #include "nhc/expr/intermediate.hpp"
 #include "nhc/expr/work_budget.hpp"
 #include "nhc/scene/definition_table.hpp"
@@ -82,8 +82,8 @@ void SceneReader::fail(const toml::node& node, const std::string& message) const
 
 /// A number as written (0, 1.5, 1e-08), not std::to_string's 0.000000.
 std::string SceneReader::shortest(double v) {
-  const std::string shorter = runtime::number_text(v, 6);  // enough unless that loses the value
-  return std::stod(shorter) == v ? shorter : runtime::number_text(v, 17);
+  const std::string shorter = base::number_text(v, 6);  // enough unless that loses the value
+  return std::stod(shorter) == v ? shorter : base::number_text(v, 17);
 }
 
 void SceneReader::check_keys(const toml::table& table, const std::set<std::string>& allowed) const {

@@ -16,7 +16,7 @@
 #include <fmt/format.h>
 
 #include "nhc/io/input_file.hpp"
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 #include "nhc/expr/intermediate.hpp"
 #include "nhc/expr/work_budget.hpp"
 #include "nhc/scene/definition_table.hpp"

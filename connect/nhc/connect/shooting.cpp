@@ -7,7 +7,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 
 namespace nhc::connect {
 
@@ -85,7 +85,7 @@ class Shooter {
   void validate() const {
     const runtime::Model& model = problem_.model;
     if (model.n_inputs() > 0)  // the shooting Newton needs the sensitivities, which inputs exclude
-      throw runtime::ModelError("boundary-value problems of a model with inputs (" + model.input_name(0) +
+      throw base::ModelError("boundary-value problems of a model with inputs (" + model.input_name(0) +
                                 (model.n_inputs() > 1 ? ", …" : "") + ") are not supported");
     if (!(problem_.t_end > problem_.initial.t0)) throw std::invalid_argument("T must be after t0");
     if (problem_.conditions.empty()) throw std::invalid_argument("no target conditions");
@@ -142,7 +142,7 @@ class Shooter {
       integrator.initialize(segment_initial(x, j, e.ends), tb);
       runtime::SensitivitySample end;
       integrator.integrate({ta, tb}, [&](const runtime::SensitivitySample& s) { end = s; });
-      if (!(end.t == tb)) throw runtime::SolverError(runtime::FailureKind::other, end.t, "the shooting run stopped early");
+      if (!(end.t == tb)) throw base::SolverError(base::FailureKind::other, end.t, "the shooting run stopped early");
       e.ends.push_back(end.state());
       const int n = problem_.model.n_states();
       Eigen::MatrixXd S(n, static_cast<int>(end.s.size()));  // ∂y(t_b)/∂(this segment's unknowns)
@@ -196,7 +196,7 @@ class Shooter {
     std::ostringstream os;
     os << "iteration history (miss, step):";
     for (const Iteration& it : history)
-      os << " " << it.number << ": " << runtime::number_text(it.miss, 3) << " (" << runtime::number_text(it.step, 3) << ")";
+      os << " " << it.number << ": " << base::number_text(it.miss, 3) << " (" << base::number_text(it.step, 3) << ")";
     return os.str();
   }
 
@@ -213,10 +213,10 @@ class Shooter {
       } else {
         os << "the free values influence the target only in combination";
       }
-      os << "; best miss " << runtime::number_text(best_miss, 6) << ". " << history_text(history);
+      os << "; best miss " << base::number_text(best_miss, 6) << ". " << history_text(history);
       throw ShootingFailure(ShootingFailure::Kind::singular, os.str(), history, names, free_values(best));
     }
-    os << "Newton's method stalls: no step reduces the miss, the best miss is " << runtime::number_text(best_miss, 6)
+    os << "Newton's method stalls: no step reduces the miss, the best miss is " << base::number_text(best_miss, 6)
        << " (the target may be unreachable in this model). " << history_text(history);
     throw ShootingFailure(ShootingFailure::Kind::no_convergence, os.str(), history, {}, free_values(best));
   }
@@ -253,7 +253,7 @@ ShootingResult Shooter::solve() {
     const runtime::RunResult run = runtime::simulate(problem_.model, p_, guess, layout_.nodes, problem_.integrator);
     if (run.failure || run.samples.size() != layout_.nodes.size())
       throw run.failure ? *run.failure
-                        : runtime::SolverError(runtime::FailureKind::other, problem_.initial.t0, "the starting guess does not reach T");
+                        : base::SolverError(base::FailureKind::other, problem_.initial.t0, "the starting guess does not reach T");
     const std::vector<int> fixed =
         constraint_fixed(problem_.model, p_, run.samples[1].t, run.samples[1].y, differential);
     for (int i : differential)
@@ -278,7 +278,7 @@ ShootingResult Shooter::solve() {
     if (iteration > problem_.max_iterations) {
       std::ostringstream os;
       os << "Newton's method did not converge in " << problem_.max_iterations << " iterations; best miss "
-         << runtime::number_text(e.miss(), 6) << ". " << history_text(result.history);
+         << base::number_text(e.miss(), 6) << ". " << history_text(result.history);
       throw ShootingFailure(ShootingFailure::Kind::no_convergence, os.str(), result.history, {}, free_values(x));
     }
     // J⁺ r: the Newton step, minimum-norm (more unknowns) or least-squares (more conditions).
@@ -295,7 +295,7 @@ ShootingResult Shooter::solve() {
           accepted = true;
           result.history.push_back({iteration, e.miss(), alpha, 0});
         }
-      } catch (const runtime::SolverError&) {
+      } catch (const base::SolverError&) {
         // the integration failed at the trial point: a shorter step
       }
     }

@@ -83,7 +83,7 @@ class ShootingFailure : public std::runtime_error {
   std::vector<double> best_;
 };
 
-/// Solves the problem. Throws ShootingFailure, runtime::SolverError (an integration that fails
+/// Solves the problem. Throws ShootingFailure, base::SolverError (an integration that fails
 /// at the starting guess), std::invalid_argument (an inconsistent problem: a free state that is
 /// algebraic or given twice, T ≤ t0, no conditions).
 ShootingResult connect(const ShootingProblem& problem);

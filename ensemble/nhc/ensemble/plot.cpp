@@ -17,7 +17,7 @@
 #include "nhc/io/printable.hpp"
 #include "nhc/io/temporary_files.hpp"
 #include "nhc/tools/gnuplot.hpp"
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 
 namespace nhc::ensemble {
 
@@ -104,9 +104,9 @@ std::vector<std::string> plot_outcome(const EnsembleResults& results, const std:
     for (long run = 0; run < d.runs; ++run) {
       // A heat map's rows are separated by blank lines (gnuplot's grid format).
       if (heat_map && run > 0 && run % d.grid_shape[1] == 0) out << "\n";
-      for (std::size_t j = 0; j < nv; ++j) out << runtime::shortest_text(d.row(run)[j]) << ' ';
+      for (std::size_t j = 0; j < nv; ++j) out << base::shortest_text(d.row(run)[j]) << ' ';
       const double value = z[static_cast<std::size_t>(run)];
-      out << runtime::shortest_text(std::isfinite(value) ? value : kNaN) << "\n";
+      out << base::shortest_text(std::isfinite(value) ? value : kNaN) << "\n";
     }
   });
 

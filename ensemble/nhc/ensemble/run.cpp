@@ -1,7 +1,7 @@
 // One run of an ensemble (run.hpp).
 #include "nhc/ensemble/run.hpp"
 
-#include "nhc/primed_name.hpp"
+#include "nhc/base/primed_name.hpp"
 
 #include <new>
 #include <chrono>
@@ -19,7 +19,7 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 std::string initial_name(const std::string& variable, int order) {
-  return primed_name(variable, order) + "(0)";
+  return base::primed_name(variable, order) + "(0)";
 }
 
 std::string joined(const std::vector<std::string>& names) {
@@ -289,8 +289,8 @@ RunRecord run_one(const runtime::Model& model, const RunSpec& spec, std::int64_t
       observer.start(initial_point);
       integrator.integrate(times, std::ref(observer));
       record.outcome = Outcome::ok;
-    } catch (const runtime::SolverError& e) {
-      record.outcome = e.kind() == runtime::FailureKind::singular_constraint_gradient ? Outcome::singular : Outcome::failed;
+    } catch (const base::SolverError& e) {
+      record.outcome = e.kind() == base::FailureKind::singular_constraint_gradient ? Outcome::singular : Outcome::failed;
       record.message = e.what();
       if (!observer.seen || std::isfinite(e.t())) record.t_stop = e.t();
     }

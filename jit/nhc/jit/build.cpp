@@ -7,7 +7,7 @@
 #include <stdexcept>
 
 #include "nhc/analysis/index1_reduction.hpp"
-#include "nhc/clock.hpp"
+#include "nhc/base/clock.hpp"
 #include "nhc/long_work.hpp"
 #include "nhc/derive/models.hpp"
 #include "nhc/derive/reduced_form.hpp"
@@ -118,12 +118,12 @@ LoadedModel::LoadedModel(ModelKind kind, JacobianKind jacobian, GeneratedHeader 
 LoadedModel load_header(const GeneratedHeader& header, ModelKind kind, JacobianKind jacobian,
                         const CompileOptions& options) {
   BuildTimings timings;
-  const auto start = Clock::now();
+  const auto start = base::Clock::now();
   // The table must name the scene and model the header was generated for.
   auto [library, model] = compile_and_load(header.text, header.namespace_name,
                                            identity_of(header, kind), options);
   timings.compile = library.seconds;
-  timings.load = std::max(0.0, seconds_since(start) - library.seconds);
+  timings.load = std::max(0.0, base::seconds_since(start) - library.seconds);
   return LoadedModel(kind, jacobian, header, std::move(library), std::move(model), timings);
 }
 
@@ -173,7 +173,7 @@ class SceneCacheHit {
 };
 
 BuildLookup look_up_build(const Scene& scene, ModelKind kind, const BuildOptions& options) {
-  const auto start = Clock::now();
+  const auto start = base::Clock::now();
   BuildLookup lookup;
   const SceneCache cache(options.compile.cache_directory, options.compile.warn);
   if (const std::optional<std::string> key = header_key(scene, kind, options))
@@ -192,7 +192,7 @@ BuildLookup look_up_build(const Scene& scene, ModelKind kind, const BuildOptions
         else
           cache.discard(*key, "its interpreted program is not one nhc can run (damaged or foreign)");
       }
-  lookup.seconds = seconds_since(start);
+  lookup.seconds = base::seconds_since(start);
   return lookup;
 }
 
@@ -211,13 +211,13 @@ LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& option
   const double lookup_seconds = lookup.seconds;
   if (const SceneCacheHit* hit = lookup.hit.get()) {
     if (hit->program) {  // interpreted before: nothing is lowered either
-      const auto start = Clock::now();
+      const auto start = base::Clock::now();
       runtime::Model model = interpret(hit->program);
       BuildTimings timings;
       timings.scene_cache = lookup_seconds;
       timings.scene_cached = true;
       timings.interpreted = true;
-      timings.load = seconds_since(start);
+      timings.load = base::seconds_since(start);
       return LoadedModel(kind, hit->header.jacobian, hit->header.header, CompiledLibrary{}, std::move(model), timings);
     }
     LoadedModel loaded = load_header(hit->header.header, kind, hit->header.jacobian, options.compile);
@@ -228,7 +228,7 @@ LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& option
                        runtime::Model(loaded.model()), timings);
   }
 
-  auto start = Clock::now();
+  auto start = base::Clock::now();
   // Derived once: from the preparation (with its analysis) when given, else here.
   std::optional<DerivedModel> derived_here;
   if (!given) derived_here = derive_model(scene, kind);
@@ -247,9 +247,9 @@ LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& option
   // The multiplier-free form where the model has one (docs/reduced-form.md), on the default speeds.
   std::optional<ReducedForm> reduced;
   if (options.reduced_form) reduced = reduce_to_independent_speeds(scene, derived);
-  const double derive_seconds = seconds_since(start);
+  const double derive_seconds = base::seconds_since(start);
 
-  start = Clock::now();
+  start = base::Clock::now();
   HeaderOptions header_options;
   header_options.jacobian = options.jacobian.value_or(default_jacobian_kind(system.size()));
   header_options.sensitivities = options.sensitivities;
@@ -260,24 +260,24 @@ LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& option
   PreparedModel prepared;
   GeneratedHeader header = generate_header(scene, system, header_options, may_interpret ? &prepared : nullptr);
   check_for_stop_now();
-  const double generate_seconds = seconds_since(start);
+  const double generate_seconds = base::seconds_since(start);
 
   if (may_interpret && interpretable(prepared)) {
-    start = Clock::now();
+    start = base::Clock::now();
     const std::shared_ptr<const InterpretedProgram> program = interpreted_program(scene, system, prepared);
     runtime::Model model = interpret(program);
     BuildTimings timings;
     timings.derive = derive_seconds;
     timings.generate = generate_seconds;
-    timings.load = seconds_since(start);
+    timings.load = base::seconds_since(start);
     // Stored once the model is made, so that the next run neither derives nor lowers.
-    start = Clock::now();
+    start = base::Clock::now();
     if (const std::optional<std::string> key = program_key(scene, kind, options)) {
       SceneCacheRecord record = header_record(header, header_options.jacobian);
       record.set("program", to_bytes(*program));
       SceneCache(options.compile.cache_directory, options.compile.warn).store(*key, record);
     }
-    timings.scene_cache = lookup_seconds + seconds_since(start);
+    timings.scene_cache = lookup_seconds + base::seconds_since(start);
     timings.interpreted = true;
     return LoadedModel(kind, header_options.jacobian, std::move(header), CompiledLibrary{}, std::move(model), timings);
   }
@@ -288,11 +288,11 @@ LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& option
   LoadedModel loaded = load_header(header, kind, header_options.jacobian, options.compile);
   // Stored once the header compiled and loaded, beside the library (the compile cache's checked
   // directory): a refused or interrupted build leaves no entry.
-  start = Clock::now();
+  start = base::Clock::now();
   if (const std::optional<std::string> key = header_key(scene, kind, options))
     SceneCache(loaded.library().path.parent_path(), options.compile.warn)
         .store(*key, header_record(header, header_options.jacobian));
-  const double store_seconds = seconds_since(start);
+  const double store_seconds = base::seconds_since(start);
   BuildTimings timings = loaded.timings();
   timings.derive = derive_seconds;
   timings.generate = generate_seconds;

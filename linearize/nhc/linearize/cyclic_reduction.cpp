@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "nhc/errors.hpp"
-#include "nhc/primed_name.hpp"
+#include "nhc/base/primed_name.hpp"
 #include "nhc/expr/intermediate.hpp"
 #include "nhc/expr/symbol_substitution.hpp"
 #include "nhc/expr/zero_test.hpp"
@@ -109,7 +109,7 @@ CyclicReduction reduce_cyclic(const Index1System& system, const GiNaC::ex& time,
       drop_residual[static_cast<std::size_t>(chain_row)] = true;  // d_q ≥ 2: q' is a state already
     } else {
       // d_q = 1: the residual holds q' as the derivative of q; it becomes an algebraic state.
-      out.components.push_back({yp, GiNaC::ex(0), false, primed_name(s.name, 1), 1, false});
+      out.components.push_back({yp, GiNaC::ex(0), false, base::primed_name(s.name, 1), 1, false});
     }
   }
   // A cyclic position can still be named inside intermediates, where it cancels: any value

@@ -1,7 +1,7 @@
 #include "nhc/linearize/linearizer.hpp"
 
-#include "nhc/primed_name.hpp"
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/primed_name.hpp"
+#include "nhc/base/number_text.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -28,7 +28,7 @@ namespace nhc {
 
 namespace {
 
-std::string number(double v) { return runtime::number_text(v, 6); }
+std::string number(double v) { return base::number_text(v, 6); }
 
 /// The state of the reduced system at one point: z, z' of the differential states, and the
 /// parameters and t as a GiNaC substitution.
@@ -530,7 +530,7 @@ void Linearizer::Impl::setup_turn(const LinearizeOptions::Turn& turn) {
       if (variable_and_order(reduced.components[d].name) == std::make_pair(other, order)) turn_partner[c] = static_cast<int>(d);
     if (turn_partner[c] < 0)
       throw InputError({"--turn", 0, 0}, "--turn: the reduced system holds " + reduced.components[c].name + " but not " +
-                                             primed_name(other, order) +
+                                             base::primed_name(other, order) +
                                              ", which the turn rotates with it: keep both or neither (--keep)");
     turn_sign[c] = variable == turn.x ? -1.0 : 1.0;  // X: x^(k) -> -y^(k), y^(k) -> x^(k)
   }

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 
 namespace nhc {
 
@@ -45,7 +45,7 @@ std::string combination(const Eigen::VectorXd& v, const std::vector<std::string>
     if (std::abs(v(i)) < 0.1 * largest) continue;
     const double c = v(i) / largest;
     text << (first ? (c < 0 ? "-" : "") : (c < 0 ? " - " : " + "));
-    if (std::abs(std::abs(c) - 1.0) > 1e-6) text << runtime::number_text(std::abs(c), 3) << " ";
+    if (std::abs(std::abs(c) - 1.0) > 1e-6) text << base::number_text(std::abs(c), 3) << " ";
     text << states[static_cast<std::size_t>(i)];
     first = false;
   }

@@ -1,6 +1,6 @@
 #include "nhc/linearize/sweep.hpp"
 
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -27,7 +27,7 @@ double parse_number(const std::string& text, const std::string& flag, const std:
   return v;
 }
 
-std::string number(double v) { return runtime::number_text(v, 17); }
+std::string number(double v) { return base::number_text(v, 17); }
 
 }  // namespace
 

@@ -8,7 +8,7 @@
 
 #include "nhc/analysis/index1_reduction.hpp"
 #include "nhc/derive/models.hpp"
-#include "nhc/primed_name.hpp"
+#include "nhc/base/primed_name.hpp"
 #include "nhc/expr/intermediate.hpp"
 
 namespace nhc::optimize {
@@ -139,7 +139,7 @@ PointProblem dynamics_problem(const Scene& scene, const Settings& settings, Mode
       if (e.is_equal(system.yp[static_cast<std::size_t>(k)]) && p.collocated[static_cast<std::size_t>(k)]) return p.states + k;
     }
     throw InputError(where, "'" + q.name + "' is not among the " + to_string(model) + " model's states and their rates (" +
-                                primed_name(p.state_names.front(), 0) + ", …)");
+                                base::primed_name(p.state_names.front(), 0) + ", …)");
   };
   add_bounds(scene, settings, p, slot_of, in_states, why);
   return p;

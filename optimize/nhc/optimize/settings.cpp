@@ -1,6 +1,6 @@
 #include "nhc/optimize/settings.hpp"
 
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 
 namespace nhc::optimize {
 
@@ -45,11 +45,11 @@ Settings read_settings(const Scene& scene) {
   if (table.t_end.size() == 2) {
     s.t_end_low = table.t_end[0].value_at(parameters);
     s.t_end_high = table.t_end[1].value_at(parameters);
-    if (!(s.t_end_low > t0)) throw InputError(table.t_end[0].where, "t_end's low bound must be after t0 = " + runtime::number_text(t0, 6));
+    if (!(s.t_end_low > t0)) throw InputError(table.t_end[0].where, "t_end's low bound must be after t0 = " + base::number_text(t0, 6));
     if (!(s.t_end_high > s.t_end_low)) throw InputError(table.t_end[1].where, "t_end's high bound must be above its low bound");
   } else if (table.t_end.size() == 1) {
     s.t_end_low = s.t_end_high = table.t_end[0].value_at(parameters);
-    if (!(s.t_end_low > t0)) throw InputError(table.t_end[0].where, "t_end must be after t0 = " + runtime::number_text(t0, 6));
+    if (!(s.t_end_low > t0)) throw InputError(table.t_end[0].where, "t_end must be after t0 = " + base::number_text(t0, 6));
   }
   if (table.intervals) s.intervals = *table.intervals;
   s.model = table.model;

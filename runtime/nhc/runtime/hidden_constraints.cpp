@@ -3,18 +3,18 @@
 #include <cmath>
 #include <sstream>
 
-#include "nhc/runtime/constraint_solver.hpp"
-#include "nhc/runtime/errors.hpp"
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/constraint_solver.hpp"
+#include "nhc/base/errors.hpp"
+#include "nhc/base/number_text.hpp"
 
 namespace nhc::runtime {
 
 namespace {
 
 /// The model's hidden constraints g(t, y; p) at time t as the constraint solver takes them.
-ConstraintFunctions hidden_constraint_functions(const Model& model, const double* p, double t) {
+base::ConstraintFunctions hidden_constraint_functions(const Model& model, const double* p, double t) {
   const auto& tab = model.table();
-  ConstraintFunctions g;
+  base::ConstraintFunctions g;
   g.count = model.n_hidden();
   g.size = model.n_states();
   g.values = [&tab, p, t](const double* y, double* out) { tab.hidden_constraints(t, y, p, out); };
@@ -22,7 +22,7 @@ ConstraintFunctions hidden_constraint_functions(const Model& model, const double
   return g;
 }
 
-HiddenSolveReport report_of(const ConstraintSolveResult& r) {
+HiddenSolveReport report_of(const base::ConstraintSolveResult& r) {
   HiddenSolveReport report;
   report.iterations = r.iterations;
   report.residual_before = r.residual_before;
@@ -38,14 +38,14 @@ HiddenSolveReport solve_hidden_constraints(const Model& model, const double* p, 
                                            int max_iterations) {
   const int n = model.n_states();
   if (model.n_hidden() == 0) return {};
-  const ConstraintSolveResult r =
-      solve_constraints(hidden_constraint_functions(model, p, t), y, scale, tolerance, max_iterations);
+  const base::ConstraintSolveResult r =
+      base::solve_constraints(hidden_constraint_functions(model, p, t), y, scale, tolerance, max_iterations);
   if (r.converged()) return report_of(r);
 
   auto describe = [&](const std::string& why) {
     std::ostringstream os;
-    os << "no consistent initial values at t = " << number_text(t, 17) << ": " << why << "; hidden constraint "
-       << model.hidden_name(r.worst) << " = " << number_text(r.residuals[static_cast<std::size_t>(r.worst)], 17)
+    os << "no consistent initial values at t = " << base::number_text(t, 17) << ": " << why << "; hidden constraint "
+       << model.hidden_name(r.worst) << " = " << base::number_text(r.residuals[static_cast<std::size_t>(r.worst)], 17)
        << ". States that may be changed: ";
     bool any = false;
     for (int i = 0; i < n; ++i)
@@ -58,22 +58,22 @@ HiddenSolveReport solve_hidden_constraints(const Model& model, const double* p, 
     return os.str();
   };
   switch (r.status) {
-    case ConstraintSolveStatus::converged: break;
-    case ConstraintSolveStatus::not_finite:
-      throw SolverError(FailureKind::inconsistent_initial_values, t, describe("a hidden constraint is not finite"));
-    case ConstraintSolveStatus::gradient_not_finite:
-      throw SolverError(FailureKind::singular_constraint_gradient, t,
+    case base::ConstraintSolveStatus::converged: break;
+    case base::ConstraintSolveStatus::not_finite:
+      throw base::SolverError(base::FailureKind::inconsistent_initial_values, t, describe("a hidden constraint is not finite"));
+    case base::ConstraintSolveStatus::gradient_not_finite:
+      throw base::SolverError(base::FailureKind::singular_constraint_gradient, t,
                         describe("the hidden-constraint gradient is not defined (NaN/Inf) at the initial point"));
-    case ConstraintSolveStatus::nothing_free:
-      throw SolverError(FailureKind::inconsistent_initial_values, t, describe("the initial values violate it"));
-    case ConstraintSolveStatus::independent_of_free:
-      throw SolverError(FailureKind::inconsistent_initial_values, t,
+    case base::ConstraintSolveStatus::nothing_free:
+      throw base::SolverError(base::FailureKind::inconsistent_initial_values, t, describe("the initial values violate it"));
+    case base::ConstraintSolveStatus::independent_of_free:
+      throw base::SolverError(base::FailureKind::inconsistent_initial_values, t,
                         describe("the hidden constraints do not depend on any state that may be changed"));
-    case ConstraintSolveStatus::stalled:
-      throw SolverError(FailureKind::inconsistent_initial_values, t,
+    case base::ConstraintSolveStatus::stalled:
+      throw base::SolverError(base::FailureKind::inconsistent_initial_values, t,
                         describe("Gauss–Newton stalls (the free states cannot reduce the violation)"));
-    case ConstraintSolveStatus::iteration_limit:
-      throw SolverError(FailureKind::inconsistent_initial_values, t,
+    case base::ConstraintSolveStatus::iteration_limit:
+      throw base::SolverError(base::FailureKind::inconsistent_initial_values, t,
                         describe("Gauss–Newton did not converge in " + std::to_string(max_iterations) + " iterations"));
   }
   return report_of(r);
@@ -81,18 +81,18 @@ HiddenSolveReport solve_hidden_constraints(const Model& model, const double* p, 
 
 HiddenSolveReport solve_initial_hidden_constraints(const Model& model, const double* p, double t0, double* y,
                                                    const std::vector<double>& scale,
-                                                   const InitialPointTolerance& tolerance, int max_iterations,
+                                                   const base::InitialPointTolerance& tolerance, int max_iterations,
                                                    const std::vector<double>* repair_scale) {
   const int m = model.n_hidden(), n = model.n_states();
   if (m == 0) return {};
   const auto& tab = model.table();
-  const InitialPointSolve solve = solve_or_repair_initial_point(hidden_constraint_functions(model, p, t0), y, scale,
+  const base::InitialPointSolve solve = base::solve_or_repair_initial_point(hidden_constraint_functions(model, p, t0), y, scale,
                                                                 repair_scale, tolerance, max_iterations);
-  const ConstraintSolveResult& r = solve.result;
+  const base::ConstraintSolveResult& r = solve.result;
   const std::vector<double>& moved = solve.repaired ? *repair_scale : scale;
   if (r.converged()) return report_of(r);
 
-  InconsistentInitialPoint failure;
+  base::InconsistentInitialPoint failure;
   failure.model = model.model_name();
   failure.constraint = "hidden constraint " + model.hidden_name(r.worst);
   failure.residual = r.residuals.empty() ? r.residual_after : r.residuals[static_cast<std::size_t>(r.worst)];
@@ -107,10 +107,10 @@ HiddenSolveReport solve_initial_hidden_constraints(const Model& model, const dou
     if (moved[static_cast<std::size_t>(i)] > 0) failure.free.push_back(model.state_name(i));
     else failure.given.push_back({model.state_name(i), y[i]});
   }
-  const FailureKind kind = r.status == ConstraintSolveStatus::gradient_not_finite
-                               ? FailureKind::singular_constraint_gradient
-                               : FailureKind::inconsistent_initial_values;
-  throw SolverError(kind, t0, describe(failure));
+  const base::FailureKind kind = r.status == base::ConstraintSolveStatus::gradient_not_finite
+                               ? base::FailureKind::singular_constraint_gradient
+                               : base::FailureKind::inconsistent_initial_values;
+  throw base::SolverError(kind, t0, describe(failure));
 }
 
 void solve_starting_point(const Model& model, const double* p, double t0, double* y, const std::vector<bool>& given,
@@ -123,7 +123,7 @@ void solve_starting_point(const Model& model, const double* p, double t0, double
   std::vector<double> differential;
   for (int i = 0; i < n; ++i)
     if (model.is_differential(i)) differential.push_back(y[i]);
-  solve_initial_hidden_constraints(model, p, t0, y, scale, initial_point_tolerance(differential, rtol, atol), 50,
+  solve_initial_hidden_constraints(model, p, t0, y, scale, base::initial_point_tolerance(differential, rtol, atol), 50,
                                    repair_scale);
 }
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "nhc/runtime/initial_point.hpp"
+#include "nhc/base/initial_point.hpp"
 #include "nhc/runtime/model.hpp"
 
 namespace nhc::runtime {
@@ -35,7 +35,7 @@ HiddenSolveReport solve_hidden_constraints(const Model& model, const double* p, 
 /// With `repair_scale` the given values are repaired when they miss (solve_or_repair_initial_point).
 HiddenSolveReport solve_initial_hidden_constraints(const Model& model, const double* p, double t0, double* y,
                                                    const std::vector<double>& scale,
-                                                   const InitialPointTolerance& tolerance, int max_iterations = 50,
+                                                   const base::InitialPointTolerance& tolerance, int max_iterations = 50,
                                                    const std::vector<double>* repair_scale = nullptr);
 
 /// The starting point of every IDA run, plain or with sensitivities: the states `given` marks

@@ -1,6 +1,6 @@
 #include "nhc/runtime/inputs.hpp"
 
-#include "nhc/runtime/errors.hpp"
+#include "nhc/base/errors.hpp"
 
 namespace nhc::runtime {
 
@@ -10,7 +10,7 @@ InputValues::InputValues(const Model& model, std::vector<double> parameters)
       n_inputs_(model.n_inputs()),
       parameters_(std::move(parameters)) {
   if (static_cast<int>(parameters_.size()) != n_parameters_)
-    throw ModelError("the model has " + std::to_string(n_parameters_) + " parameters, " +
+    throw base::ModelError("the model has " + std::to_string(n_parameters_) + " parameters, " +
                      std::to_string(parameters_.size()) + " given");
   p_ = parameters_;
   p_.resize(static_cast<std::size_t>(n_parameters_ + n_inputs_), 0.0);
@@ -32,14 +32,14 @@ const double* InputValues::at(double t, const double* y) const {
 }
 
 void InputValues::set_function(InputFunction f) {
-  if (!f) throw ModelError("an input function must not be empty");
+  if (!f) throw base::ModelError("an input function must not be empty");
   function_ = std::move(f);
   source_ = Source::function;
 }
 
 void InputValues::hold(std::vector<double> values) {
   if (static_cast<int>(values.size()) != n_inputs_)
-    throw ModelError("the model has " + std::to_string(n_inputs_) + " inputs, " + std::to_string(values.size()) +
+    throw base::ModelError("the model has " + std::to_string(n_inputs_) + " inputs, " + std::to_string(values.size()) +
                      " values given");
   std::copy(values.begin(), values.end(), p_.begin() + n_parameters_);
   source_ = Source::held;

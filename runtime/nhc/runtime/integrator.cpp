@@ -1,6 +1,6 @@
 #include "nhc/runtime/integrator.hpp"
 
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 #include "nhc/runtime/inputs.hpp"
 
 #include <idas/idas.h>  // IDAS, a superset of IDA: one library for plain runs and sensitivities
@@ -20,10 +20,10 @@
 #include <optional>
 #include <sstream>
 
-#include "nhc/runtime/constraint_solver.hpp"
+#include "nhc/base/constraint_solver.hpp"
 #include "nhc/runtime/hidden_constraints.hpp"
 #include "nhc/runtime/ida_session.hpp"
-#include "nhc/primed_name.hpp"
+#include "nhc/base/primed_name.hpp"
 #include "nhc/runtime/sundials.hpp"
 
 namespace nhc::runtime {
@@ -37,7 +37,7 @@ bool uses_sparse_solver(const Model& model, LinearSolverKind kind) {
   switch (kind) {
     case LinearSolverKind::sparse:
       if (!model.has_sparse_jacobian())
-        throw ModelError("KLU needs the sparse Jacobian, and this model was generated without it "
+        throw base::ModelError("KLU needs the sparse Jacobian, and this model was generated without it "
                          "(generate the header with --jacobian sparse)");
       return true;
     case LinearSolverKind::dense: return false;
@@ -134,7 +134,7 @@ struct Integrator::Impl {
   std::vector<double> event_last;     // each user event's value at t, the last accepted point
   bool event_values_stale = true;     // t moved without the events (start, restart)
   long event_evaluations = 0;
-  std::optional<SolverError> event_error;  // the last error an event function threw
+  std::optional<base::SolverError> event_error;  // the last error an event function threw
   bool restart_pending = false;       // a terminal event stopped the run inside IDA's last step
   std::vector<double> interp_y, interp_yp;  // the state on the interpolating polynomial
 
@@ -252,7 +252,7 @@ struct Integrator::Impl {
     ++event_evaluations;
     try {
       return user_events[static_cast<std::size_t>(k)].function(tt, yy, ypp);
-    } catch (const SolverError& error) {
+    } catch (const base::SolverError& error) {
       event_error = error;
       return NAN;
     }
@@ -271,9 +271,9 @@ struct Integrator::Impl {
     if (event_error && event_error->t() == tt) throw *event_error;
     const Event& e = user_events[static_cast<std::size_t>(k)];
     std::ostringstream os;
-    os << "event " << e.name << " is " << (std::isnan(v) ? "NaN" : "infinite") << " at t = " << number_text(tt, 15)
+    os << "event " << e.name << " is " << (std::isnan(v) ? "NaN" : "infinite") << " at t = " << base::number_text(tt, 15)
        << ": its crossings cannot be told there (an event must be a finite number along the motion)";
-    throw SolverError(FailureKind::other, tt, os.str());
+    throw base::SolverError(base::FailureKind::other, tt, os.str());
   }
 
   /// The state at tt on IDA's interpolating polynomial of the last step (interp_y, interp_yp).
@@ -493,7 +493,7 @@ struct Integrator::Impl {
     const double top = std::abs(v[order[0]]);
     for (int k = 0; k < std::min<int>(3, v.size()); ++k) {
       if (k > 0 && std::abs(v[order[k]]) < 0.1 * top) break;
-      os << (k ? ", " : "") << model.state_name(order[k]) << " (" << number_text(v[order[k]], 2) << ")";
+      os << (k ? ", " : "") << model.state_name(order[k]) << " (" << base::number_text(v[order[k]], 2) << ")";
     }
     return os.str();
   }
@@ -508,7 +508,7 @@ struct Integrator::Impl {
       if (!model.is_differential(i))
         names.push_back(model.state_name(i));
       else if (model.state_index(tab.state_variable[i], tab.state_order[i] + 1) < 0)
-        names.push_back(primed_name(model.state_name(i), 1));
+        names.push_back(base::primed_name(model.state_name(i), 1));
     std::string s;
     for (std::size_t k = 0; k < names.size() && k < 6; ++k) s += (k ? ", " : "") + names[k];
     if (names.size() > 6) s += ", …";
@@ -524,7 +524,7 @@ struct Integrator::Impl {
       if (std::isfinite(y_last[i]) && std::abs(y_last[i]) > 1e8 && (worst < 0 || std::abs(y_last[i]) > std::abs(y_last[worst])))
         worst = i;
     if (worst < 0) return "";
-    return "; " + model.state_name(worst) + " blew up (" + model.state_name(worst) + " ≈ " + number_text(y_last[worst], 2) +
+    return "; " + model.state_name(worst) + " blew up (" + model.state_name(worst) + " ≈ " + base::number_text(y_last[worst], 2) +
            " at the last accepted step)";
   }
 
@@ -559,12 +559,12 @@ struct Integrator::Impl {
 
   [[noreturn]] void throw_singular_gradient(double tt, int monitor, const std::string& entry) {
     std::ostringstream os;
-    os << "the constraint gradient is singular at t = " << number_text(tt, 15) << ": ";
+    os << "the constraint gradient is singular at t = " << base::number_text(tt, 15) << ": ";
     if (monitor >= 0) os << model.singular_name(monitor) << " reaches 0";
     if (monitor >= 0 && !entry.empty()) os << "; ";
     if (!entry.empty()) os << entry << " is not defined there";
     os << ". The motion cannot be continued past this point.";
-    throw SolverError(FailureKind::singular_constraint_gradient, tt, os.str());
+    throw base::SolverError(base::FailureKind::singular_constraint_gradient, tt, os.str());
   }
 
   /// Turns an IDA failure into the most specific SolverError we can justify.
@@ -590,8 +590,8 @@ struct Integrator::Impl {
       } else {
         os << "residual " << model.residual_name(nonfinite.index) << " is NaN or Inf";
       }
-      os << " at t = " << number_text(nonfinite.t, 15) << " (" << what << ": " << symptom << ")";
-      throw SolverError(FailureKind::nonfinite_residual, nonfinite.t, os.str());
+      os << " at t = " << base::number_text(nonfinite.t, 15) << " (" << what << ": " << symptom << ")";
+      throw base::SolverError(base::FailureKind::nonfinite_residual, nonfinite.t, os.str());
     }
 
     // Near a singular set: name it rather than the symptom.
@@ -614,27 +614,27 @@ struct Integrator::Impl {
           std::ostringstream os;
           // Not IDA's "dF/dy + cj dF/dy'": a scene may have a coordinate y. The null direction is
           // a correction of the states (and, times cj, of their derivatives) that the matrix loses.
-          os << "the iteration matrix of the equations (dF/dstates + cj dF/dstates') is singular at t = " << number_text(tt, 15);
-          os << " (condition number " << number_text(cond, 3) << "; the states it does not determine: "
+          os << "the iteration matrix of the equations (dF/dstates + cj dF/dstates') is singular at t = " << base::number_text(tt, 15);
+          os << " (condition number " << base::number_text(cond, 3) << "; the states it does not determine: "
              << dominant_states(svd.matrixV().col(s.size() - 1)) << "): the equations cannot be solved there for "
              << solved_quantities() << blown_up_state();
           os << " (" << what << ": " << symptom << ")";
-          throw SolverError(FailureKind::singular_iteration_matrix, tt, os.str());
+          throw base::SolverError(base::FailureKind::singular_iteration_matrix, tt, os.str());
         }
       }
     }
     if (flag == kStepSizeCollapse)
-      throw SolverError(FailureKind::convergence, tt,
-                        std::string(what) + " failed at t = " + number_text(tt, 15) + ": " + symptom +
+      throw base::SolverError(base::FailureKind::convergence, tt,
+                        std::string(what) + " failed at t = " + base::number_text(tt, 15) + ": " + symptom +
                             "; the solution cannot be continued past this point" + blown_up_state());
     try {
       sd::check(flag, what, tt, last_message);
-    } catch (const SolverError& e) {
+    } catch (const base::SolverError& e) {
       const std::string blown = blown_up_state();
       if (blown.empty()) throw;
-      throw SolverError(e.kind(), e.t(), e.what() + blown);
+      throw base::SolverError(e.kind(), e.t(), e.what() + blown);
     }
-    throw SolverError(FailureKind::other, tt, std::string(what) + " failed at t = " + number_text(tt, 15));
+    throw base::SolverError(base::FailureKind::other, tt, std::string(what) + " failed at t = " + base::number_text(tt, 15));
   }
 
   /// dF/dy + cj dF/dy' from the generated Jacobian, or by differences of the residual.
@@ -866,7 +866,7 @@ Sample Integrator::initialize(const InitialState& state, double t_next) {
   const auto start = std::chrono::steady_clock::now();
   const int n = s.n();
   if (static_cast<int>(state.y.size()) != n)
-    throw ModelError("initial state has " + std::to_string(state.y.size()) + " values, the model " + std::to_string(n) + " states");
+    throw base::ModelError("initial state has " + std::to_string(state.y.size()) + " values, the model " + std::to_string(n) + " states");
   if (!(t_next > state.t0)) throw std::invalid_argument("initialize: t_next must be after t0");
 
   s.ctx = sd::Context::create();
@@ -904,9 +904,9 @@ Sample Integrator::initialize(const InitialState& state, double t_next) {
     if (!s.nonfinite.seen) return;
     const std::string entry = s.nonfinite_constraint_gradient(s.nonfinite.t, s.nonfinite.y.data());
     if (!entry.empty()) s.throw_singular_gradient(s.nonfinite.t, -1, entry);
-    throw SolverError(FailureKind::nonfinite_residual, s.nonfinite.t,
+    throw base::SolverError(base::FailureKind::nonfinite_residual, s.nonfinite.t,
                       std::string("residual ") + s.model.residual_name(s.nonfinite.index) + " is NaN or Inf at t = " +
-                          number_text(s.nonfinite.t, 15) + " (" + stage + ")");
+                          base::number_text(s.nonfinite.t, 15) + " (" + stage + ")");
   };
   s.y_last.assign(s.y.data(), s.y.data() + n);  // the point a failure is diagnosed at
   s.yp_last.assign(s.yp.data(), s.yp.data() + n);
@@ -1010,9 +1010,9 @@ void Integrator::integrate(const std::vector<double>& times, const std::function
   try {
     while (next < times.size()) {
       if (s.total().steps >= s.options.max_steps)
-        throw SolverError(FailureKind::too_many_steps, s.t,
+        throw base::SolverError(base::FailureKind::too_many_steps, s.t,
                           "the step limit (" + std::to_string(s.options.max_steps) + " steps) was reached at t = " +
-                              number_text(s.t, 15) + " before t = " + number_text(t_final, 15));
+                              base::number_text(s.t, 15) + " before t = " + base::number_text(t_final, 15));
       double tret = s.t;
       const double t_before = s.t;
       const int flag = IDASolve(s.ida, t_final, &tret, s.y, s.yp, IDA_ONE_STEP);
@@ -1086,7 +1086,7 @@ void Integrator::integrate(const std::vector<double>& times, const std::function
       s.remember(tret);
       progress.update(tret);
       if (s.options.stop_requested && s.options.stop_requested())
-        throw SolverError(FailureKind::stopped, tret, "the run was stopped at t = " + number_text(tret, 15));
+        throw base::SolverError(base::FailureKind::stopped, tret, "the run was stopped at t = " + base::number_text(tret, 15));
       double h_last = 0;
       IDAGetLastStep(s.ida, &h_last);
       s.tiny_steps = std::abs(h_last) < kTinyStep * std::max(1.0, std::abs(tret)) ? s.tiny_steps + 1 : 0;

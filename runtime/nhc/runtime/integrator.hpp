@@ -13,7 +13,7 @@
 #include <optional>
 #include <vector>
 
-#include "nhc/runtime/errors.hpp"
+#include "nhc/base/errors.hpp"
 #include "nhc/runtime/inputs.hpp"
 #include "nhc/runtime/model.hpp"
 #include "nhc/runtime/progress.hpp"

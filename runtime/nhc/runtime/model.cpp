@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <vector>
 
-#include "nhc/runtime/errors.hpp"
+#include "nhc/base/errors.hpp"
 
 namespace nhc::runtime {
 
@@ -13,7 +13,7 @@ namespace {
 
 void validate(const nhc_model_table* t, const std::string& origin) {
   auto fail = [&](const std::string& what) {
-    throw ModelError("model table of " + origin + ": " + what + " (see docs/generated-code.md)");
+    throw base::ModelError("model table of " + origin + ": " + what + " (see docs/generated-code.md)");
   };
   if (!t) fail("null table");
   if (t->abi_version < 1 || t->abi_version > 6)
@@ -65,13 +65,13 @@ Model Model::load(const std::string& shared_object) {
   void* handle = dlopen(shared_object.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (!handle) {
     const char* why = dlerror();
-    throw ModelError("cannot load " + shared_object + ": " + (why ? why : "unknown reason"));
+    throw base::ModelError("cannot load " + shared_object + ": " + (why ? why : "unknown reason"));
   }
   std::shared_ptr<void> library(handle, [](void* h) { dlclose(h); });
   using Getter = const nhc_model_table* (*)();
   auto get = reinterpret_cast<Getter>(dlsym(handle, "nhc_model_table_get"));
   if (!get)
-    throw ModelError(shared_object + " has no nhc_model_table_get (was it compiled with NHC_EXPORT_MODEL_TABLE?)");
+    throw base::ModelError(shared_object + " has no nhc_model_table_get (was it compiled with NHC_EXPORT_MODEL_TABLE?)");
   const nhc_model_table* table = get();
   validate(table, shared_object);
   return Model(table, std::move(library));

@@ -1,7 +1,7 @@
 #pragma once
 /// \file runtime.hpp
 /// \brief The nhc runtime: integrates generated models (docs/generated-code.md) with SUNDIALS IDA.
-#include "nhc/runtime/errors.hpp"
+#include "nhc/base/errors.hpp"
 #include "nhc/runtime/hidden_constraints.hpp"
 #include "nhc/runtime/integrator.hpp"
 #include "nhc/runtime/model.hpp"

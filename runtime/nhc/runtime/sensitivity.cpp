@@ -1,6 +1,6 @@
 #include "nhc/runtime/sensitivity.hpp"
 
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 
 #include <idas/idas.h>
 #include <idas/idas_ls.h>
@@ -20,7 +20,7 @@
 #include <type_traits>
 #include <stdexcept>
 
-#include "nhc/primed_name.hpp"
+#include "nhc/base/primed_name.hpp"
 #include "nhc/runtime/hidden_constraints.hpp"
 #include "nhc/runtime/ida_session.hpp"
 #include "nhc/runtime/inputs.hpp"
@@ -185,17 +185,17 @@ struct SensitivityIntegrator::Impl {
       : model(std::move(m)), p(std::move(params)), thetas(std::move(th)), options(o), sensitivity(so) {
     if (p.empty()) p = model.default_parameters();
     if (static_cast<int>(p.size()) != model.n_parameters())
-      throw ModelError("the model has " + std::to_string(model.n_parameters()) + " parameters, " +
+      throw base::ModelError("the model has " + std::to_string(model.n_parameters()) + " parameters, " +
                        std::to_string(p.size()) + " given");
     // The inputs follow their default signals s(t, p), of which the generated dF/dp is the total
     // derivative (∂F/∂p + ∂F/∂u ∂s/∂p); inputs set otherwise would need their own ∂u/∂p.
     inputs.emplace(model, p);
     if (thetas.empty()) throw std::invalid_argument("no quantity to differentiate by");
     if (!model.has_dense_jacobian() && !model.has_sparse_jacobian())
-      throw ModelError("sensitivities need the generated Jacobian (generate with --jacobian dense or sparse)");
+      throw base::ModelError("sensitivities need the generated Jacobian (generate with --jacobian dense or sparse)");
     for (const SensitivityParameter& th : thetas)
       if (th.kind == SensitivityParameter::Kind::parameter && !model.has_parameter_jacobian())
-        throw ModelError("sensitivities with respect to parameters need dF/dp: generate the model with --sensitivities");
+        throw base::ModelError("sensitivities with respect to parameters need dF/dp: generate the model with --sensitivities");
   }
 
   int n() const { return model.n_states(); }
@@ -321,9 +321,9 @@ struct SensitivityIntegrator::Impl {
   [[noreturn]] void fail(int flag, const char* what) {
     double tcur = t;
     IDAGetCurrentTime(ida, &tcur);
-    if (stop_seen) throw SolverError(FailureKind::stopped, tcur, "the run was stopped at t = " + number_text(tcur, 15));
-    throw SolverError(sd::classify_ida_flag(flag), tcur,
-                      std::string(what) + " failed at t = " + number_text(tcur, 15) + ": " + sd::describe_ida_flag(flag) +
+    if (stop_seen) throw base::SolverError(base::FailureKind::stopped, tcur, "the run was stopped at t = " + base::number_text(tcur, 15));
+    throw base::SolverError(sd::classify_ida_flag(flag), tcur,
+                      std::string(what) + " failed at t = " + base::number_text(tcur, 15) + ": " + sd::describe_ida_flag(flag) +
                           (last_message.empty() ? "" : " (" + last_message + ")"));
   }
 
@@ -341,7 +341,7 @@ struct SensitivityIntegrator::Impl {
   /// IDAS's cheaper test stays: a poorly converged s fails the error test and the step is retried.)
   void use_strict_sensitivity_corrector() {
     sensitivity_newton = NonlinearSolver(SUNNonlinSol_NewtonSens(ns(), y, ctx));
-    if (!sensitivity_newton) throw SolverError(FailureKind::setup, t, "creating the sensitivity corrector failed");
+    if (!sensitivity_newton) throw base::SolverError(base::FailureKind::setup, t, "creating the sensitivity corrector failed");
     check(IDASetNonlinearSolverSensStg(ida, sensitivity_newton.get()), "attaching the sensitivity corrector");
     check(SUNNonlinSolSetConvTestFn(sensitivity_newton.get(), &Impl::sensitivity_convergence_cb, this),
           "setting the sensitivity corrector's convergence test");
@@ -372,7 +372,7 @@ struct SensitivityIntegrator::Impl {
       Eigen::Map<Eigen::VectorXd>(ypS.data(k), nn).setZero();
       if (th.kind == SensitivityParameter::Kind::initial_value) {
         if (!fixed[static_cast<size_t>(th.index)])
-          throw SolverError(FailureKind::inconsistent_initial_values, state.t0,
+          throw base::SolverError(base::FailureKind::inconsistent_initial_values, state.t0,
                             th.name + " is not given: it follows from the hidden constraints and the given values, "
                                       "so it cannot be varied on its own");
         s[th.index] = 1.0;
@@ -429,7 +429,7 @@ SensitivitySample SensitivityIntegrator::initialize(const InitialState& state, d
   const auto start = std::chrono::steady_clock::now();
   const int n = s.n();
   if (static_cast<int>(state.y.size()) != n)
-    throw ModelError("initial state has " + std::to_string(state.y.size()) + " values, the model " +
+    throw base::ModelError("initial state has " + std::to_string(state.y.size()) + " values, the model " +
                      std::to_string(n) + " states");
   if (!(t_next > state.t0)) throw std::invalid_argument("initialize: t_next must be after t0");
   s.ctx = sd::Context::create();
@@ -516,14 +516,14 @@ void SensitivityIntegrator::integrate(const std::vector<double>& times,
     s.check(IDAGetSensDky(s.ida, tret, 1, s.ypS.get()), "reading the sensitivities' derivatives");
     observer(s.current(tret));
     if (s.options.stop_requested && s.options.stop_requested())
-      throw SolverError(FailureKind::stopped, tret, "the run was stopped at t = " + number_text(tret, 15));
+      throw base::SolverError(base::FailureKind::stopped, tret, "the run was stopped at t = " + base::number_text(tret, 15));
     if (flag == IDA_ROOT_RETURN) {
       std::vector<int> found(static_cast<size_t>(s.model.n_singular()), 0);
       s.check(IDAGetRootInfo(s.ida, found.data()), "reading the monitors");
       for (int k = 0; k < s.model.n_singular(); ++k)
         if (found[static_cast<size_t>(k)] != 0)
-          throw SolverError(FailureKind::singular_constraint_gradient, tret,
-                            "the constraint gradient is singular at t = " + number_text(tret, 15) + ": " +
+          throw base::SolverError(base::FailureKind::singular_constraint_gradient, tret,
+                            "the constraint gradient is singular at t = " + base::number_text(tret, 15) + ": " +
                                 s.model.singular_name(k) + " reaches 0. The motion cannot be continued past this point.");
     }
   }
@@ -551,7 +551,7 @@ SensitivityRun simulate_sensitivities(const Model& model, const std::vector<doub
     const double t_next = first_output_after(times, initial.t0);
     integrator.initialize(initial, t_next);
     integrator.integrate(times, [&](const SensitivitySample& sample) { run.samples.push_back(sample); });
-  } catch (const SolverError& e) {
+  } catch (const base::SolverError& e) {
     run.failure = e;
   }
   run.statistics = integrator.statistics();
@@ -583,7 +583,7 @@ std::vector<std::string> sensitivity_csv_header(const Model& model, const std::v
   std::vector<std::string> header;
   for (const SensitivityParameter& th : thetas)
     for (const auto& [state, derivative] : state_columns(model))
-      header.push_back("d(" + primed_name(model.state_name(state), derivative ? 1 : 0) + ")/d(" + th.name + ")");
+      header.push_back("d(" + base::primed_name(model.state_name(state), derivative ? 1 : 0) + ")/d(" + th.name + ")");
   return header;
 }
 
@@ -614,7 +614,7 @@ void write_sensitivity_csv(std::ostream& out, const Model& model, const std::vec
   for (const SensitivitySample& s : samples) {
     std::getline(lines, line);
     sensitivity_values(model, s, values);
-    for (double v : values) append_shortest(line, ',', v);
+    for (double v : values) base::append_shortest(line, ',', v);
     line += '\n';
     out << line;
   }

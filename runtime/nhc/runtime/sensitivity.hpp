@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "nhc/runtime/errors.hpp"
+#include "nhc/base/errors.hpp"
 #include "nhc/runtime/integrator.hpp"
 #include "nhc/runtime/model.hpp"
 
@@ -101,7 +101,7 @@ class SensitivityIntegrator {
 struct SensitivityRun {
   std::vector<SensitivitySample> samples;
   SensitivityStatistics statistics;
-  std::optional<SolverError> failure;
+  std::optional<base::SolverError> failure;
 };
 
 SensitivityRun simulate_sensitivities(const Model& model, const std::vector<double>& p, const InitialState& initial,

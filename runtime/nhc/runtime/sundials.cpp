@@ -11,7 +11,7 @@
 #include <new>
 #include <sstream>
 
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 
 namespace nhc::runtime {
 
@@ -53,43 +53,43 @@ std::string describe_ida_flag(int flag) {
   return os.str();
 }
 
-FailureKind classify_ida_flag(int flag) {
+base::FailureKind classify_ida_flag(int flag) {
   switch (flag) {
-    case IDA_TOO_MUCH_WORK: return FailureKind::too_many_steps;
-    case IDA_ERR_FAIL: return FailureKind::error_test;
+    case IDA_TOO_MUCH_WORK: return base::FailureKind::too_many_steps;
+    case IDA_ERR_FAIL: return base::FailureKind::error_test;
     case IDA_CONV_FAIL:
     case IDA_NLS_FAIL:
     case IDA_LINESEARCH_FAIL:
-    case IDA_NO_RECOVERY: return FailureKind::convergence;
+    case IDA_NO_RECOVERY: return base::FailureKind::convergence;
     case IDA_LSETUP_FAIL:
-    case IDA_LSOLVE_FAIL: return FailureKind::singular_iteration_matrix;
+    case IDA_LSOLVE_FAIL: return base::FailureKind::singular_iteration_matrix;
     case IDA_RES_FAIL:
     case IDA_REP_RES_ERR:
-    case IDA_FIRST_RES_FAIL: return FailureKind::nonfinite_residual;
+    case IDA_FIRST_RES_FAIL: return base::FailureKind::nonfinite_residual;
     case IDA_MEM_NULL:
     case IDA_MEM_FAIL:
     case IDA_ILL_INPUT:
     case IDA_NO_MALLOC:
     case IDA_LINIT_FAIL:
     case IDA_NLS_INIT_FAIL:
-    case IDA_CONTEXT_ERR: return FailureKind::setup;
-    default: return FailureKind::other;
+    case IDA_CONTEXT_ERR: return base::FailureKind::setup;
+    default: return base::FailureKind::other;
   }
 }
 
 void check(int flag, const char* what, double t, const std::string& detail) {
   if (flag >= 0) return;
   std::string message = std::string(what) + " failed";
-  if (!std::isnan(t)) message += " at t = " + number_text(t, 17);
+  if (!std::isnan(t)) message += " at t = " + base::number_text(t, 17);
   message += ": " + describe_ida_flag(flag);
   if (!detail.empty()) message += " (" + detail + ")";
-  throw SolverError(classify_ida_flag(flag), t, message);
+  throw base::SolverError(classify_ida_flag(flag), t, message);
 }
 
 namespace {
 template <class T>
 T require(T handle, const char* what) {
-  if (!handle) throw SolverError(FailureKind::setup, kNoTime, std::string("cannot create ") + what);
+  if (!handle) throw base::SolverError(base::FailureKind::setup, base::kNoTime, std::string("cannot create ") + what);
   return handle;
 }
 
@@ -108,7 +108,7 @@ N_Vector checked_clone(N_Vector w) {
 Context Context::create() {
   SUNContext ctx = nullptr;
   if (SUNContext_Create(nullptr, &ctx) != 0 || !ctx)
-    throw SolverError(FailureKind::setup, kNoTime, "cannot create the SUNDIALS context");
+    throw base::SolverError(base::FailureKind::setup, base::kNoTime, "cannot create the SUNDIALS context");
   return Context(ctx);
 }
 

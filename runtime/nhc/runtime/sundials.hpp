@@ -14,19 +14,19 @@
 #include <utility>
 #include <vector>
 
-#include "nhc/runtime/errors.hpp"
+#include "nhc/base/errors.hpp"
 
 namespace nhc::runtime::sun {
 
 /// Throws SolverError when `flag` < 0: "`what` failed at t = T: <meaning of flag>[: detail]".
 /// `detail` is typically the message SUNDIALS passed to the error handler.
-void check(int flag, const char* what, double t = kNoTime, const std::string& detail = {});
+void check(int flag, const char* what, double t = base::kNoTime, const std::string& detail = {});
 
 /// The meaning of an IDA return flag in words ("the corrector did not converge ...").
 std::string describe_ida_flag(int flag);
 
 /// The failure kind of an IDA return flag.
-FailureKind classify_ida_flag(int flag);
+base::FailureKind classify_ida_flag(int flag);
 
 /// A move-only owner of a pointer-like SUNDIALS handle; Traits::destroy(h) frees it.
 template <class Handle, class Traits>

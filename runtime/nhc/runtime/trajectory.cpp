@@ -7,8 +7,8 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "nhc/primed_name.hpp"
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/primed_name.hpp"
+#include "nhc/base/number_text.hpp"
 
 namespace nhc::runtime {
 
@@ -46,7 +46,7 @@ void observe(const Model& model, const std::vector<double>& parameters, const Sa
   const double* p = parameters.data();
   if (model.n_inputs() > 0) {
     if (static_cast<int>(s.u.size()) != model.n_inputs())
-      throw ModelError("a sample of a model with " + std::to_string(model.n_inputs()) + " inputs carries " +
+      throw base::ModelError("a sample of a model with " + std::to_string(model.n_inputs()) + " inputs carries " +
                        std::to_string(s.u.size()) + " input values");
     scratch.assign(parameters.begin(), parameters.end());
     scratch.insert(scratch.end(), s.u.begin(), s.u.end());
@@ -113,7 +113,7 @@ std::vector<std::string> csv_header(const Model& model) {
   for (int v = 0; v < unknowns; ++v) {
     for (int i = 0; i < model.n_states(); ++i)
       if (tab.state_variable[i] == v) h.push_back(model.state_name(i));
-    if (top[v] >= 0) h.push_back(primed_name(model.state_name(top[v]), 1));
+    if (top[v] >= 0) h.push_back(base::primed_name(model.state_name(top[v]), 1));
   }
   for (int k = 0; k < model.n_inputs(); ++k) h.push_back("input:" + model.input_name(k));
   for (int i = 0; i < model.n_hidden(); ++i) h.push_back(hidden_column(model, i));
@@ -158,7 +158,7 @@ void write_csv(std::ostream& out, const Model& model, const std::vector<double>&
   for (const Sample& s : samples) {
     rows.row(s, values);
     row.clear();
-    for (double x : values) append_shortest(row, ',', x);
+    for (double x : values) base::append_shortest(row, ',', x);
     row.erase(0, 1);  // the first column has no comma
     row += '\n';
     out << row;
@@ -195,7 +195,7 @@ RunResult simulate(const Model& model, const std::vector<double>& p, const Initi
     const double t_next = first_output_after(times, initial.t0);
     result.initial = integrator.initialize(initial, t_next);
     integrator.integrate(times, [&](const Sample& s) { result.samples.push_back(s); });
-  } catch (const SolverError& e) {
+  } catch (const base::SolverError& e) {
     result.failure = e;
   }
   result.statistics = integrator.statistics();

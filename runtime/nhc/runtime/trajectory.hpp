@@ -88,7 +88,7 @@ struct RunResult {
   std::vector<Sample> samples;
   Statistics statistics;
   std::vector<EventHit> events;
-  std::optional<SolverError> failure;
+  std::optional<base::SolverError> failure;
 };
 
 /// `inputs`: u(t, y) for the model's inputs (inputs.hpp); empty: their default signals.

@@ -1,8 +1,8 @@
 // The variational integrator's run loop (variational.hpp, docs/variational.md).
 #include "nhc/runtime/variational.hpp"
 
-#include "nhc/clock.hpp"
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/clock.hpp"
+#include "nhc/base/number_text.hpp"
 
 #include <Eigen/Dense>
 
@@ -129,16 +129,16 @@ class StepSolver {
       table_.variational_jacobian(t, h, w, dq_previous, q, m, x.data(), p, J_.data());
       ++st.jacobian_evaluations;
       if (!J_.allFinite())
-        throw SolverError(FailureKind::nonfinite_residual, t,
-                          "the Jacobian of the variational step from t = " + number_text(t, 12) + " is not finite");
+        throw base::SolverError(base::FailureKind::nonfinite_residual, t,
+                          "the Jacobian of the variational step from t = " + base::number_text(t, 12) + " is not finite");
       lu_.compute(J_);
       dx_ = lu_.solve(-r_);
       ++st.nonlinear_iterations;
       if (!dx_.allFinite() || lu_.matrixLU().diagonal().cwiseAbs().minCoeff() == 0.0)
-        throw SolverError(FailureKind::singular_iteration_matrix, t,
-                          "the Jacobian of the variational step from t = " + number_text(t, 12) +
+        throw base::SolverError(base::FailureKind::singular_iteration_matrix, t,
+                          "the Jacobian of the variational step from t = " + base::number_text(t, 12) +
                               " is singular (a constraint gradient vanishing there, or a step h = " +
-                              number_text(h, 12) + " at which the discrete equations degenerate)");
+                              base::number_text(h, 12) + " at which the discrete equations degenerate)");
       x += dx_;
       previous_correction = last_correction;
       last_correction = 0;
@@ -152,12 +152,12 @@ class StepSolver {
         return;
     }
     ++st.nonlinear_failures;
-    throw SolverError(FailureKind::convergence, t,
+    throw base::SolverError(base::FailureKind::convergence, t,
                       "Newton's method did not converge on the variational step " + std::to_string(st.steps + 1) +
-                          " from t = " + number_text(t, 12) + " to " + number_text(t + h, 12) +
-                          " (step h = " + number_text(h, 12) + ", " +
+                          " from t = " + base::number_text(t, 12) + " to " + base::number_text(t + h, 12) +
+                          " (step h = " + base::number_text(h, 12) + ", " +
                           std::to_string(options_.max_newton_iterations) + " iterations, last relative correction " +
-                          number_text(last_correction, 12) + ", largest residual " + largest_residual() +
+                          base::number_text(last_correction, 12) + ", largest residual " + largest_residual() +
                           "); try a smaller step (--step) or IDA (--integrator ida)");
   }
 
@@ -168,8 +168,8 @@ class StepSolver {
     ++st.residual_evaluations;
     for (int i = 0; i < size_; ++i)
       if (!std::isfinite(r_[i]))
-        throw SolverError(FailureKind::nonfinite_residual, t,
-                          "the variational step from t = " + number_text(t, 12) + " gives a non-finite " + name(i));
+        throw base::SolverError(base::FailureKind::nonfinite_residual, t,
+                          "the variational step from t = " + base::number_text(t, 12) + " gives a non-finite " + name(i));
   }
 
   const Eigen::VectorXd& r() const { return r_; }
@@ -181,7 +181,7 @@ class StepSolver {
   std::string largest_residual() const {
     Eigen::Index at = 0;
     const double value = r_.cwiseAbs().maxCoeff(&at);
-    return name(static_cast<int>(at)) + " = " + number_text(value, 12);
+    return name(static_cast<int>(at)) + " = " + base::number_text(value, 12);
   }
 
   const Model& model_;
@@ -218,15 +218,15 @@ VariationalRun simulate_variational(const Model& model, const std::vector<double
                                     const std::vector<double>& times, const VariationalOptions& options,
                                     const InputFunction& inputs) {
   if (!model.has_variational_step())
-    throw ModelError("model " + model.scene_name() + "_" + model.model_name() +
+    throw base::ModelError("model " + model.scene_name() + "_" + model.model_name() +
                      " was generated without the variational step (nhc generate --variational)");
   if (!(options.step > 0) || !std::isfinite(options.step))
-    throw std::invalid_argument("the variational step must be positive, not " + number_text(options.step, 12));
+    throw std::invalid_argument("the variational step must be positive, not " + base::number_text(options.step, 12));
   if (times.empty()) throw std::invalid_argument("no output times");
   const double t_end = times.back();
   if (!variational_step_fits(initial.t0, t_end, options.step))
-    throw std::invalid_argument("the variational step " + number_text(options.step, 12) + " does not fit the run from t = " +
-                                number_text(initial.t0, 12) + " to " + number_text(t_end, 12) + " twice");
+    throw std::invalid_argument("the variational step " + base::number_text(options.step, 12) + " does not fit the run from t = " +
+                                base::number_text(initial.t0, 12) + " to " + base::number_text(t_end, 12) + " twice");
   // N equal steps of at most options.step that end on t_end (docs/variational.md, "Samples").
   const long steps = variational_steps_needed(initial.t0, t_end, options.step);
   const double h = steps > 0 ? (t_end - initial.t0) / static_cast<double>(steps) : options.step;
@@ -237,30 +237,30 @@ VariationalRun simulate_variational(const Model& model, const std::vector<double
   st.jacobian = "generated dense (variational step)";
 
   const std::vector<double> parameters = p.empty() ? model.default_parameters() : p;
-  const auto init_start = Clock::now();
+  const auto init_start = base::Clock::now();
   {
     Integrator integrator(model, parameters, options.initialization);
     if (inputs) integrator.set_inputs(inputs);
     try {
       result.initial = integrator.initialize(initial, initial.t0 + h);
-    } catch (const SolverError& e) {
+    } catch (const base::SolverError& e) {
       result.failure = e;
-      st.initialization_seconds = seconds_since(init_start);
+      st.initialization_seconds = base::seconds_since(init_start);
       return out;
     }
   }
-  st.initialization_seconds = seconds_since(init_start);
+  st.initialization_seconds = base::seconds_since(init_start);
   const double t0 = result.initial.t;
   if (steps < 0 || steps > options.max_steps) {
-    result.failure = SolverError(FailureKind::too_many_steps, t0,
-                                 "a fixed step h = " + number_text(h, 12) + " from t = " + number_text(t0, 12) + " to " +
-                                     number_text(times.back(), 12) + " takes " +
+    result.failure = base::SolverError(base::FailureKind::too_many_steps, t0,
+                                 "a fixed step h = " + base::number_text(h, 12) + " from t = " + base::number_text(t0, 12) + " to " +
+                                     base::number_text(times.back(), 12) + " takes " +
                                      (steps < 0 ? std::string("too many") : std::to_string(steps)) +
                                      " steps, more than the limit of " + std::to_string(options.max_steps));
     return out;
   }
 
-  const auto start = Clock::now();
+  const auto start = base::Clock::now();
   const nhc_model_table& table = model.table();
   const StateLayout layout(model);
   const int n = layout.n, g = layout.g;
@@ -298,7 +298,7 @@ VariationalRun simulate_variational(const Model& model, const std::vector<double
     for (long k = 0; k < steps; ++k) {
       const double t = t0 + static_cast<double>(k) * h;
       if (options.stop_requested && options.stop_requested())
-        throw SolverError(FailureKind::stopped, t, "stopped at t = " + number_text(t, 12) + " (interrupted)");
+        throw base::SolverError(base::FailureKind::stopped, t, "stopped at t = " + base::number_text(t, 12) + " (interrupted)");
       const double w = k == 0 ? 0.5 : 1.0;  // the first step meets half the impulse at t0
       // Inputs at the step's midpoint state (second order for a feedback law u(t, y) too): first
       // from the increment x predicts, then from the solution's, until they settle.
@@ -320,10 +320,10 @@ VariationalRun simulate_variational(const Model& model, const std::vector<double
         }
         if (settled) break;
         if (pass == kMaxInputPasses)
-          throw SolverError(FailureKind::convergence, t,
+          throw base::SolverError(base::FailureKind::convergence, t,
                             "the inputs did not settle on the variational step " + std::to_string(st.steps + 1) +
-                                " from t = " + number_text(t, 12) + " to " + number_text(t + h, 12) + " (step h = " +
-                                number_text(h, 12) + "): a feedback law u(t, y) that changes this fast along the " +
+                                " from t = " + base::number_text(t, 12) + " to " + base::number_text(t + h, 12) + " (step h = " +
+                                base::number_text(h, 12) + "): a feedback law u(t, y) that changes this fast along the " +
                                 "step needs a smaller --step");
       }
       solver.residual(t, h, w, dq_previous.data(), q.data(), m.data(), x, pk, st);
@@ -374,11 +374,11 @@ VariationalRun simulate_variational(const Model& model, const std::vector<double
     for (std::size_t a = 0; a < static_cast<std::size_t>(g); ++a)
       last.lambda[a] = 2 * previous.lambda[a] - (lambda_before.empty() ? previous.lambda[a] : lambda_before[a]);
     emit_through(previous, last);
-  } catch (const SolverError& e) {
+  } catch (const base::SolverError& e) {
     result.failure = e;
   }
   out.steps = st.steps;
-  st.integration_seconds = seconds_since(start);
+  st.integration_seconds = base::seconds_since(start);
   return out;
 }
 

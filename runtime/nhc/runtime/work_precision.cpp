@@ -1,6 +1,6 @@
 #include "nhc/runtime/work_precision.hpp"
 
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 #include "nhc/runtime/variational.hpp"
 
 #include <algorithm>
@@ -68,7 +68,7 @@ std::string WorkPrecisionMeasurement::status() const {
 
 std::string ErrorSource::description() const {
   if (exact) return "the scene's [reference] (exact solution)";
-  return "a reference run at rtol " + number_text(rtol, 3) + ", atol " + number_text(atol, 3) +
+  return "a reference run at rtol " + base::number_text(rtol, 3) + ", atol " + base::number_text(atol, 3) +
          " (dense LU, no projection)";
 }
 
@@ -116,19 +116,19 @@ std::vector<InvariantHistory> long_runs(const WorkPrecisionModels& models, doubl
   auto start = std::chrono::steady_clock::now();
   const RunResult ida = simulate(model, p, initial, times, io);
   out.push_back(invariant_history(model, p, ida, k, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()));
-  out.back().integrator = "IDA, rtol " + number_text(io.rtol, 3);
+  out.back().integrator = "IDA, rtol " + base::number_text(io.rtol, 3);
   if (models.variational && settings.long_run_step > 0) {
     const VariationalOptions vo = variational_options(settings.long_run_step, std::numeric_limits<long>::max(), io);
     start = std::chrono::steady_clock::now();
     const RunResult run = simulate_variational(model, p, initial, times, vo).run;
     out.push_back(invariant_history(model, p, run, k, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()));
-    out.back().integrator = "variational, step " + number_text(vo.step, 3);
+    out.back().integrator = "variational, step " + base::number_text(vo.step, 3);
   }
   if (progress)
     for (const InvariantHistory& h : out)
-      progress("long run to t = " + number_text(settings.long_run_t_end, 3) + ", " + h.integrator + ": " +
-               std::to_string(h.steps) + " steps, " + number_text(h.seconds, 3) + " s, max |" + h.invariant +
-               " error| " + number_text(h.error.empty() ? NAN : *std::max_element(h.error.begin(), h.error.end()), 3));
+      progress("long run to t = " + base::number_text(settings.long_run_t_end, 3) + ", " + h.integrator + ": " +
+               std::to_string(h.steps) + " steps, " + base::number_text(h.seconds, 3) + " s, max |" + h.invariant +
+               " error| " + base::number_text(h.error.empty() ? NAN : *std::max_element(h.error.begin(), h.error.end()), 3));
   return out;
 }
 
@@ -137,14 +137,14 @@ std::vector<InvariantHistory> long_runs(const WorkPrecisionModels& models, doubl
 WorkPrecision measure_work_precision(const WorkPrecisionModels& models, double t0,
                                      const std::map<std::string, std::vector<double>>& initial_values,
                                      const WorkPrecisionSettings& settings, const ProgressSink& progress) {
-  if (!models.dense) throw ModelError("work-precision: the dense-Jacobian model is needed (reference runs)");
+  if (!models.dense) throw base::ModelError("work-precision: the dense-Jacobian model is needed (reference runs)");
   auto model_for = [&](const std::string& jacobian) -> const Model& {
     if (jacobian == "dense") return *models.dense;
     if (jacobian == "sparse" && models.sparse) return *models.sparse;
-    throw ModelError("work-precision: no model with the " + jacobian + " Jacobian was given");
+    throw base::ModelError("work-precision: no model with the " + jacobian + " Jacobian was given");
   };
   auto variational_model = [&]() -> const Model& {
-    if (!models.variational) throw ModelError("work-precision: no model with the variational step was given");
+    if (!models.variational) throw base::ModelError("work-precision: no model with the variational step was given");
     return *models.variational;
   };
   const Model& dense = *models.dense;
@@ -164,7 +164,7 @@ WorkPrecision measure_work_precision(const WorkPrecisionModels& models, double t
 
   auto parameter_index = [&](const std::string& name) {
     const int i = dense.parameter_index(name);
-    if (i < 0) throw ModelError("the model " + wp.scene_name + " has no parameter '" + name + "'");
+    if (i < 0) throw base::ModelError("the model " + wp.scene_name + " has no parameter '" + name + "'");
     return i;
   };
   wp.parameters = dense.default_parameters();
@@ -188,7 +188,7 @@ WorkPrecision measure_work_precision(const WorkPrecisionModels& models, double t
   for (const std::optional<double>& value : sweep) {
     std::vector<double> p = wp.parameters;
     if (value) p[sweep_index] = *value;
-    const std::string at = value ? ", " + settings.sweep_parameter + " = " + number_text(*value, 6) : "";
+    const std::string at = value ? ", " + settings.sweep_parameter + " = " + base::number_text(*value, 6) : "";
 
     // The reference run: rtol = reference_rtol, loosened by decades (to 1e-10) while it does not
     // reach t_end (very tight tolerances can exhaust the step limit on stiff problems).
@@ -202,14 +202,14 @@ WorkPrecision measure_work_precision(const WorkPrecisionModels& models, double t
         io.linear_solver = LinearSolverKind::dense;
         const RunResult ref = simulate(dense, p, initial_state_from(dense, t0, initial_values), times, io);
         if (progress)
-          progress("reference run" + at + ": rtol " + number_text(io.rtol, 3) + ", " +
+          progress("reference run" + at + ": rtol " + base::number_text(io.rtol, 3) + ", " +
                    std::to_string(ref.statistics.steps) + " steps" +
                    (ref.failure ? std::string(", stopped: ") + ref.failure->what() : std::string()));
         if (reference.empty() || ref.samples.size() > reference.size()) {
           reference = ref.samples;
           reference_rtol = rtol;
         }
-        if (!ref.failure || ref.failure->kind() != FailureKind::too_many_steps) break;
+        if (!ref.failure || ref.failure->kind() != base::FailureKind::too_many_steps) break;
       }
       wp.source.rtol = std::max(wp.source.rtol, reference_rtol);  // the loosest one used
       wp.source.atol = wp.source.rtol * settings.atol_scale;
@@ -266,9 +266,9 @@ WorkPrecision measure_work_precision(const WorkPrecisionModels& models, double t
         ++done;
         if (progress)
           progress("[" + std::to_string(done) + "/" + std::to_string(total) + "] " + config.label() + at +
-                   (config.variational ? ", step " : ", rtol ") + number_text(setting, 3) + ": error " +
-                   number_text(m.error, 3) + ", " + std::to_string(m.statistics.steps) + " steps, " +
-                   number_text(m.seconds, 3) + " s" + (m.failure ? ", stopped: " + m.status() : std::string()));
+                   (config.variational ? ", step " : ", rtol ") + base::number_text(setting, 3) + ": error " +
+                   base::number_text(m.error, 3) + ", " + std::to_string(m.statistics.steps) + " steps, " +
+                   base::number_text(m.seconds, 3) + " s" + (m.failure ? ", stopped: " + m.status() : std::string()));
       }
     }
   }

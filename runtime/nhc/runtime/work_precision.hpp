@@ -14,7 +14,7 @@
 #include <utility>
 #include <vector>
 
-#include "nhc/runtime/errors.hpp"
+#include "nhc/base/errors.hpp"
 #include "nhc/runtime/integrator.hpp"
 #include "nhc/runtime/model.hpp"
 
@@ -66,7 +66,7 @@ struct WorkPrecisionMeasurement {
   double max_hidden = 0;              ///< max |g_i| over the outputs
   double max_invariant_relative = 0;  ///< max over invariants of max |I(t) − I(t0)| / |I(t0)|
   double t_reached = 0;
-  std::optional<FailureKind> failure;
+  std::optional<base::FailureKind> failure;
   double failure_t = 0;
   std::string failure_message;
   std::string status() const;  ///< "ok" or the failure kind with underscores

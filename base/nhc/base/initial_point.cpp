@@ -1,12 +1,12 @@
-#include "nhc/runtime/initial_point.hpp"
+#include "nhc/base/initial_point.hpp"
 
-#include "nhc/runtime/number_text.hpp"
+#include "nhc/base/number_text.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 
-namespace nhc::runtime {
+namespace nhc::base {
 
 namespace {
 
@@ -70,4 +70,4 @@ std::string describe(const InconsistentInitialPoint& f) {
   return s.str();
 }
 
-}  // namespace nhc::runtime
+}  // namespace nhc::base

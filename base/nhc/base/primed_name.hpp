@@ -6,10 +6,10 @@
 #include <cstddef>
 #include <string>
 
-namespace nhc {
+namespace nhc::base {
 
 inline std::string primed_name(const std::string& name, int order) {
   return name + std::string(static_cast<std::size_t>(order), '\'');
 }
 
-}  // namespace nhc
+}  // namespace nhc::base

@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace nhc::runtime {
+namespace nhc::base {
 
 /// Why an integration stopped.
 enum class FailureKind {
@@ -49,4 +49,4 @@ class SolverError : public std::runtime_error {
 
 inline constexpr double kNoTime = std::numeric_limits<double>::quiet_NaN();
 
-}  // namespace nhc::runtime
+}  // namespace nhc::base

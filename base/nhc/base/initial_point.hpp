@@ -16,9 +16,9 @@
 #include <string>
 #include <vector>
 
-#include "nhc/runtime/constraint_solver.hpp"
+#include "nhc/base/constraint_solver.hpp"
 
-namespace nhc::runtime {
+namespace nhc::base {
 
 struct InitialPointTolerance {
   double rtol = 0, atol = 0;
@@ -74,4 +74,4 @@ struct InconsistentInitialPoint {
 /// move the given ones to the nearest consistent point"
 std::string describe(const InconsistentInitialPoint& failure);
 
-}  // namespace nhc::runtime
+}  // namespace nhc::base

@@ -11,7 +11,7 @@
 #include <iterator>
 #include <string>
 
-namespace nhc::runtime {
+namespace nhc::base {
 
 inline std::string number_text(double value, int significant) {
   return fmt::format("{:.{}g}", value, significant);
@@ -28,4 +28,4 @@ inline void append_shortest(std::string& text, char separator, double value) {
   fmt::format_to(std::back_inserter(text), "{}", value);
 }
 
-}  // namespace nhc::runtime
+}  // namespace nhc::base

@@ -5,7 +5,7 @@
 
 #include <chrono>
 
-namespace nhc {
+namespace nhc::base {
 
 using Clock = std::chrono::steady_clock;
 
@@ -14,4 +14,4 @@ inline double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-}  // namespace nhc
+}  // namespace nhc::base

@@ -1,6 +1,6 @@
-#include "nhc/runtime/errors.hpp"
+#include "nhc/base/errors.hpp"
 
-namespace nhc::runtime {
+namespace nhc::base {
 
 const char* to_string(FailureKind kind) {
   switch (kind) {
@@ -18,4 +18,4 @@ const char* to_string(FailureKind kind) {
   return "numerical failure";
 }
 
-}  // namespace nhc::runtime
+}  // namespace nhc::base

@@ -14,7 +14,7 @@
 #include <functional>
 #include <vector>
 
-namespace nhc::runtime {
+namespace nhc::base {
 
 /// One entry ∂g_row/∂y_col.
 struct SparseEntry {
@@ -70,4 +70,4 @@ struct ConstraintSolveResult {
 ConstraintSolveResult solve_constraints(const ConstraintFunctions& g, double* y, const std::vector<double>& scale,
                                         double tolerance, int max_iterations = 50);
 
-}  // namespace nhc::runtime
+}  // namespace nhc::base

@@ -1,4 +1,4 @@
-#include "nhc/runtime/constraint_solver.hpp"
+#include "nhc/base/constraint_solver.hpp"
 
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
@@ -8,7 +8,7 @@
 #include <cmath>
 #include <optional>
 
-namespace nhc::runtime {
+namespace nhc::base {
 
 namespace {
 
@@ -120,4 +120,4 @@ ConstraintSolveResult solve_constraints(const ConstraintFunctions& functions, do
   return finish(ConstraintSolveStatus::converged, res);
 }
 
-}  // namespace nhc::runtime
+}  // namespace nhc::base
