@@ -109,9 +109,9 @@ std::vector<Measured> measure(const nhc::Scene& scene, const std::vector<const n
       const nhc::runtime::InitialState initial =
           nhc::runtime::initial_state_from(model, scene.initial.t0, scene.initial.values);
       const auto run_start = Clock::now();
-      const nhc::runtime::RunResult run = nhc::runtime::simulate(
-          model, model.default_parameters(), initial,
-          nhc::runtime::output_times(scene.initial.t0, scene.simulate.t_end, 100), io);
+      const nhc::runtime::RunResult run =
+          nhc::runtime::simulate(model, model.default_parameters(), initial,
+                                 nhc::runtime::output_times(scene.initial.t0, scene.simulate.t_end, 100), io);
       out[m].run = std::min(out[m].run, seconds_since(run_start));
       if (run.failure) std::cerr << scene.name << ": the run failed at t = " << run.samples.back().t << "\n";
     }
@@ -143,7 +143,8 @@ int main(int argc, char** argv) {
     b.cold = cold_b;
     const nhc::Scene& s = scene;
     std::cout << fmt::format(
-        "| {} | {} | {:.3g} µs / {:.3g} µs ({:.1f}×) | {:.3g} µs / {:.3g} µs ({:.1f}×) | {:.3g} s / {:.3g} s ({:.1f}×, t_end {}) "
+        "| {} | {} | {:.3g} µs / {:.3g} µs ({:.1f}×) | {:.3g} µs / {:.3g} µs ({:.1f}×) | {:.3g} s / {:.3g} s ({:.1f}×, "
+        "t_end {}) "
         "| {:.2f} s / {:.2f} s | {:.3g} µs, {:.3g} µs ({:.1f}×, {:.1f}×) |\n",
         s.name, a.states, a.residual * 1e6, b.residual * 1e6, a.residual / b.residual, a.jacobian * 1e6,
         b.jacobian * 1e6, b.jacobian > 0 ? a.jacobian / b.jacobian : 0.0, a.run, b.run, a.run / b.run, s.simulate.t_end,

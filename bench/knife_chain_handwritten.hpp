@@ -155,7 +155,7 @@ inline void residual(double /*t*/, const double* y, const double* yp, const doub
   const double m = p[0], J = p[1], k = p[4], l = p[5];
   const double gravity = m * p[2] * std::sin(p[3]);
   for (int i = 0; i < N; ++i) {
-    const double* q = y + 6 * i;    // x, x', y, y', th, th'
+    const double* q = y + 6 * i;  // x, x', y, y', th, th'
     const double* qp = yp + 6 * i;
     const double lam = y[6 * N + i];
     const double s = std::sin(q[4]), c = std::cos(q[4]);
@@ -316,7 +316,5 @@ inline const nhc_model_table* model_table() noexcept {
 }  // namespace nhc_gen::knife_chain_chetaev
 
 #ifdef NHC_EXPORT_MODEL_TABLE
-extern "C" const nhc_model_table* nhc_model_table_get(void) {
-  return nhc_gen::knife_chain_chetaev::model_table();
-}
+extern "C" const nhc_model_table* nhc_model_table_get(void) { return nhc_gen::knife_chain_chetaev::model_table(); }
 #endif

@@ -56,9 +56,7 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 struct Options {
   std::string scene, out = "bench-out", model, jacobian = "auto", handwritten;
@@ -149,16 +147,23 @@ std::vector<double> per_call(const std::vector<std::function<void()>>& fs, doubl
 struct Json {
   std::ostringstream os;
   bool first = true;
-  Json() { os.precision(9); os << "{"; }
+  Json() {
+    os.precision(9);
+    os << "{";
+  }
   void key(const std::string& k) {
     os << (first ? "" : ", ") << "\"" << k << "\": ";
     first = false;
   }
   void number(const std::string& k, double v) {
     key(k);
-    if (std::isfinite(v)) os << v; else os << "null";
+    if (std::isfinite(v)) os << v;
+    else os << "null";
   }
-  void integer(const std::string& k, long long v) { key(k); os << v; }
+  void integer(const std::string& k, long long v) {
+    key(k);
+    os << v;
+  }
   void text(const std::string& k, const std::string& v) {
     key(k);
     os << "\"";
@@ -169,7 +174,10 @@ struct Json {
     }
     os << "\"";
   }
-  void raw(const std::string& k, const std::string& v) { key(k); os << v; }
+  void raw(const std::string& k, const std::string& v) {
+    key(k);
+    os << v;
+  }
   std::string str() { return os.str() + "}"; }
 };
 
@@ -194,7 +202,10 @@ std::string banner_counts(const std::string& text) {
   bool inside = false, first = true;
   while (std::getline(in, line)) {
     if (line.rfind("//", 0) != 0) break;
-    if (line.find("elimination:") != std::string::npos) { inside = true; continue; }
+    if (line.find("elimination:") != std::string::npos) {
+      inside = true;
+      continue;
+    }
     if (!inside) continue;
     std::istringstream fields(line.substr(2));
     std::string name;
@@ -248,8 +259,8 @@ Integration integrate(const nhc::runtime::Model& model, const nhc::runtime::Init
   Integration out;
   const std::vector<double> p = model.default_parameters();
   const auto times = nhc::runtime::output_times(initial.t0, t_end, 10);
-  out.seconds = best_time([&] { out.run = nhc::runtime::simulate(model, p, initial, times, io); },
-                          quick ? 0 : 1.0, quick ? 1 : 5);
+  out.seconds = best_time([&] { out.run = nhc::runtime::simulate(model, p, initial, times, io); }, quick ? 0 : 1.0,
+                          quick ? 1 : 5);
   if (out.run.failure) throw std::runtime_error(std::string("integration failed: ") + out.run.failure->what());
 
   return out;
@@ -279,7 +290,7 @@ void interleave_integrations(const nhc::runtime::Model& generated, const nhc::ru
       const auto wall = Clock::now();
       const double cpu = process_seconds();
       const nhc::runtime::RunResult run = nhc::runtime::simulate(generated_turn ? generated : handwritten,
-                                                                generated_turn ? pg : ph, initial, times, io);
+                                                                 generated_turn ? pg : ph, initial, times, io);
       into.seconds = std::min(into.seconds, seconds_since(wall));
       into.cpu_seconds = std::min(into.cpu_seconds, process_seconds() - cpu);
       into.repetitions += 1;
@@ -324,7 +335,8 @@ void time_calls(const std::vector<const nhc::runtime::Model*>& models, const std
   const std::vector<double> seconds = per_call(fs, quick ? 1e-3 : 0.02, quick ? 1 : 9);
   for (size_t m = 0; m < models.size(); ++m) {
     runs[m]->residual_seconds = seconds[2 * m];
-    runs[m]->jacobian_seconds = models[m]->table().jacobian || models[m]->table().jacobian_values ? seconds[2 * m + 1] : 0;
+    runs[m]->jacobian_seconds =
+        models[m]->table().jacobian || models[m]->table().jacobian_values ? seconds[2 * m + 1] : 0;
   }
 }
 
@@ -373,7 +385,7 @@ int run(const Options& o) {
     const double c = seconds_since(t0);
     t0 = Clock::now();
     nhc::HeaderOptions ho;
-    ho.jacobian = o.jacobian == "auto"    ? nhc::default_jacobian_kind(system.size())
+    ho.jacobian = o.jacobian == "auto"     ? nhc::default_jacobian_kind(system.size())
                   : o.jacobian == "sparse" ? nhc::JacobianKind::sparse
                                            : nhc::JacobianKind::dense;
     sparse = ho.jacobian == nhc::JacobianKind::sparse;
@@ -446,11 +458,12 @@ int run(const Options& o) {
     hw_library_name = hw_library.path.filename().string();
     hw = nhc::runtime::Model::load(hw_library.path.string());
     if (&hw->table() == &model.table())
-      throw std::runtime_error("the hand-written and the generated model share one table: the comparison would be "
-                               "of one code with itself");
+      throw std::runtime_error(
+          "the hand-written and the generated model share one table: the comparison would be "
+          "of one code with itself");
     if (hw->n_states() != model.n_states())
-      throw std::runtime_error("the hand-written model has " + std::to_string(hw->n_states()) + " states, the generated " +
-                               std::to_string(model.n_states()));
+      throw std::runtime_error("the hand-written model has " + std::to_string(hw->n_states()) +
+                               " states, the generated " + std::to_string(model.n_states()));
     for (int i = 0; i < hw->n_states(); ++i)
       if (hw->state_name(i) != model.state_name(i))
         throw std::runtime_error("state " + std::to_string(i) + " is " + hw->state_name(i) + " hand-written, " +

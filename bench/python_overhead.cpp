@@ -56,8 +56,8 @@ int main(int argc, char** argv) {
   // Model.simulate's C++ part: the output times, the initial state, the run.
   const auto one_run = [&] {
     const std::vector<double> times = nhc::runtime::output_times(t0, t_end, outputs);
-    nhc::runtime::RunResult run =
-        nhc::runtime::simulate(model, p, nhc::runtime::initial_state_from(model, t0, scene.initial.values), times, options);
+    nhc::runtime::RunResult run = nhc::runtime::simulate(
+        model, p, nhc::runtime::initial_state_from(model, t0, scene.initial.values), times, options);
     if (run.failure) throw *run.failure;
     return run;
   };

@@ -101,8 +101,8 @@ int main(int argc, char** argv) {
                 << "), error control " << (error_control ? "on " : "off") << ": " << median(with.wall) * 1e3 << " / "
                 << median(with.cpu) * 1e3 << " ms = " << median(with.wall) / median(plain.wall) << " / "
                 << median(with.cpu) / median(plain.cpu) << " x plain (" << median(plain.wall) * 1e3 << " / "
-                << median(plain.cpu) * 1e3 << " ms); " << steps << " steps (plain " << plain_steps << "), "
-                << residuals << " sensitivity residuals\n";
+                << median(plain.cpu) * 1e3 << " ms); " << steps << " steps (plain " << plain_steps << "), " << residuals
+                << " sensitivity residuals\n";
     }
   }
   return 0;

@@ -40,14 +40,13 @@ struct AnalyzeOptions {
 
 CommandRunner add_analyze_command(CLI::App& app) {
   auto options = std::make_shared<AnalyzeOptions>();
-  CLI::App* sub = app.add_subcommand(
-      "analyze", "structural analysis (Pryce's Sigma-method), index, degrees of freedom and "
-                 "consistent initial values of a scene's models");
+  CLI::App* sub = app.add_subcommand("analyze",
+                                     "structural analysis (Pryce's Sigma-method), index, degrees of freedom and "
+                                     "consistent initial values of a scene's models");
   sub->add_option("SCENE", options->scene_path, "scene file (TOML)")->required();
   sub->add_option("--model,-m", options->models, "model(s) to analyse (default: the scene's)")
       ->check(CLI::IsMember(model_names()));
-  sub->add_option("--format,-f", options->format,
-                  "output format (json: one object per model, an array when several)")
+  sub->add_option("--format,-f", options->format, "output format (json: one object per model, an array when several)")
       ->check(CLI::IsMember({"text", "json"}));
   sub->add_flag("--repair-initial", options->repair,
                 "move given initial values that violate a hidden constraint to the nearest "
@@ -71,7 +70,9 @@ CommandRunner add_analyze_command(CLI::App& app) {
     const std::vector<ModelKind> kinds = selected_models(scene, options->models);
     std::vector<ModelKind> requested = selected_models(scene, options->models);
     if (options->models.empty()) requested = {default_model(scene)};
-    auto is_requested = [&](ModelKind k) { return std::find(requested.begin(), requested.end(), k) != requested.end(); };
+    auto is_requested = [&](ModelKind k) {
+      return std::find(requested.begin(), requested.end(), k) != requested.end();
+    };
     for (ModelKind kind : kinds)
       if (is_requested(kind)) app::require_model_inputs(scene, kind);
     for (ModelKind kind : kinds) analyses.push_back(analyze_model(scene, derive_model(scene, kind), init));
@@ -92,8 +93,7 @@ CommandRunner add_analyze_command(CLI::App& app) {
       for (const auto& e : a.errors) failures += (failures.empty() ? "" : "\nnhc: error: ") + e;
       repairable = repairable || a.initial_values_repairable;
     }
-    if (repairable)
-      failures += "\nnhc: note: --repair-initial moves the given values to the nearest consistent point";
+    if (repairable) failures += "\nnhc: note: --repair-initial moves the given values to the nearest consistent point";
     if (!failures.empty()) throw MathError(failures);
     if (!options->write_initial.empty())
       for (const auto& a : analyses)
@@ -101,7 +101,8 @@ CommandRunner add_analyze_command(CLI::App& app) {
           write_file_atomically(options->write_initial, [&](std::ostream& out) {
             write_initial_table(out, scene, to_string(a.model), *a.initial);
           });
-          std::cerr << "nhc: wrote the " << to_string(a.model) << " model's initial point to " << options->write_initial << "\n";
+          std::cerr << "nhc: wrote the " << to_string(a.model) << " model's initial point to " << options->write_initial
+                    << "\n";
           break;
         }
     return 0;

@@ -85,16 +85,16 @@ CommandRunner add_animate_command(CLI::App& app) {
   add_run_flags(sub, options->run);
   sub->add_option("-o,--output", options->output, "directory for the page (index.html with three.js beside it)")
       ->required();
-  sub->add_option("--path", options->path,
-                  "draw the motion in this CSV (t and the model's states by name, e.g. nhc optimize's -o) instead of running");
+  sub->add_option(
+      "--path", options->path,
+      "draw the motion in this CSV (t and the model's states by name, e.g. nhc optimize's -o) instead of running");
 
   return [options]() {
     const Scene scene = load_run_scene(options->run);
     const RunFlags& flags = options->run;
     if (scene.visuals.empty())
-      throw InputError(scene.file_location(),
-                       "the scene has no [visual] table: nothing to draw (shapes: " + visual_shape_names() +
-                           "; docs/animate.md)");
+      throw InputError(scene.file_location(), "the scene has no [visual] table: nothing to draw (shapes: " +
+                                                  visual_shape_names() + "; docs/animate.md)");
     const ModelKind kind = model_or_default(scene, flags.model);
     app::require_model_inputs(scene, kind);
     check_run_flags(flags, scene, kind);
@@ -103,7 +103,8 @@ CommandRunner add_animate_command(CLI::App& app) {
     Scene scene_set = scene;  // the overridden values for the shapes; the model takes them at run time
     app::apply_parameter_overrides(scene_set, overrides);
     const std::vector<double> times = run_times(flags, scene_set);  // numbers written through parameters follow --set
-    const app::InputSignals input_signals = app::parse_input_signals(scene_set, flags.inputs, scene_set.initial.t0, times.back());
+    const app::InputSignals input_signals =
+        app::parse_input_signals(scene_set, flags.inputs, scene_set.initial.t0, times.back());
 
     // The path of nhc simulate (app::prepare_and_build): given initial values that miss a hidden
     // constraint are refused in the analysis' words before anything is compiled.
@@ -143,9 +144,10 @@ CommandRunner add_animate_command(CLI::App& app) {
     if (!options->path.empty()) inputs.push_back(options->path);
     write_animation_page(options->output, content, inputs);
 
-    std::cout << "nhc animate: " << scene.name << ", model " << to_string(kind) << ", t from " << fmt::format("{}", content.times.front())
-              << " to " << fmt::format("{}", content.times.back()) << ", " << content.times.size() << " samples, " << scene.visuals.size()
-              << " shape" << (scene.visuals.size() == 1 ? "" : "s") << "\n  wrote " << options->output
+    std::cout << "nhc animate: " << scene.name << ", model " << to_string(kind) << ", t from "
+              << fmt::format("{}", content.times.front()) << " to " << fmt::format("{}", content.times.back()) << ", "
+              << content.times.size() << " samples, " << scene.visuals.size() << " shape"
+              << (scene.visuals.size() == 1 ? "" : "s") << "\n  wrote " << options->output
               << "/index.html (open it in a browser; #t=1.5 opens it paused at t = 1.5)\n";
     if (run.failure) {
       std::cout.flush();

@@ -25,7 +25,8 @@ inline constexpr CommandProgram kCommandPrograms[] = {
      "many runs of one model over a grid or a random sample of parameters and initial values "
      "(threads, or MPI ranks under mpirun), results in HDF5"},
     {"plot", "nhc-ensemble", "a map of an outcome of an ensemble (FILE.h5 of nhc ensemble)"},
-    {"optimize", "nhc-optimize", "an optimal motion of a scene's [optimize] problem (Hermite-Simpson collocation, IPOPT)"},
+    {"optimize", "nhc-optimize",
+     "an optimal motion of a scene's [optimize] problem (Hermite-Simpson collocation, IPOPT)"},
 };
 
 /// The entry of `command`, or nullptr when nhc-main runs it.

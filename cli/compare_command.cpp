@@ -181,17 +181,25 @@ std::vector<Plot> comparison_plots(const std::filesystem::path& dir, const Compa
     if (!m.csv.empty()) ran.emplace_back(m.name, m.csv);
   std::vector<Plot> plots;
   for (const std::string& q : settings.coordinates) {
-    Plot p{"coordinate_" + q, q + " against t: " + settings.scene_name + ", models side by side", "t", q, false, false, {}};
+    Plot p{"coordinate_" + q,
+           q + " against t: " + settings.scene_name + ", models side by side",
+           "t",
+           q,
+           false,
+           false,
+           {}};
     for (const auto& [name, csv] : ran) p.curves.push_back({name, csv, "t", q});
     plots.push_back(p);
   }
   if (!plane.y.empty())
-    plots.push_back(path_plot("path", "path in the " + plane.x + "," + plane.y + " plane: " + settings.scene_name,
-                              plane, ran));
+    plots.push_back(
+        path_plot("path", "path in the " + plane.x + "," + plane.y + " plane: " + settings.scene_name, plane, ran));
   for (const std::string& name : invariants) {
-    Plot p{"invariant_" + name, "invariant " + name + " against t: " + settings.scene_name, "t", name, false, false, {}};
+    Plot p{
+        "invariant_" + name, "invariant " + name + " against t: " + settings.scene_name, "t", name, false, false, {}};
     for (const auto& [model, csv] : ran)  // a model that cannot compute it has no such column
-      if (read_csv_table(dir / csv).column("invariant:" + name) >= 0) p.curves.push_back({model, csv, "t", "invariant:" + name});
+      if (read_csv_table(dir / csv).column("invariant:" + name) >= 0)
+        p.curves.push_back({model, csv, "t", "invariant:" + name});
     if (!p.curves.empty()) plots.push_back(p);
   }
   return plots;
@@ -239,17 +247,19 @@ CommandRunner add_compare_command(CLI::App& app) {
       ->delimiter(',')
       ->check(CLI::IsMember(model_names()));
   sub->add_option("--t-end", options->t_end, "final time (default: [simulate] t_end)")->check(flag_rules::finite());
-  sub->add_option("--rtol", options->rtol, "relative tolerance (default: [simulate] rtol)")->check(flag_rules::relative_tolerance());
-  sub->add_option("--atol", options->atol, "absolute tolerance (default: [simulate] atol)")->check(flag_rules::absolute_tolerance());
+  sub->add_option("--rtol", options->rtol, "relative tolerance (default: [simulate] rtol)")
+      ->check(flag_rules::relative_tolerance());
+  sub->add_option("--atol", options->atol, "absolute tolerance (default: [simulate] atol)")
+      ->check(flag_rules::absolute_tolerance());
   sub->add_option("--outputs", options->outputs, "number of output intervals (default 200)")
       ->check(flag_rules::count(1, flag_rules::kMaxOutputs));
   sub->add_option("--tolerance", options->tolerance,
                   "the motions separate where a coordinate differs by more than this (default 1e-6)")
       ->check(flag_rules::positive());
   add_initial_flag(sub, options->initial);
-  sub->add_option("--plot-xy", options->plot_xy, "a,b: the plane of the path plot (default: the first two coordinates)");
-  sub->add_option("-o,--output", options->output, "directory for compare.md, the CSV files and the plots")
-      ->required();
+  sub->add_option("--plot-xy", options->plot_xy,
+                  "a,b: the plane of the path plot (default: the first two coordinates)");
+  sub->add_option("-o,--output", options->output, "directory for compare.md, the CSV files and the plots")->required();
   return [options]() { return run_compare(*options); };
 }
 

@@ -40,8 +40,7 @@ bool same_value(double a, double b) { return std::abs(a - b) <= 1e-9 * (1 + std:
 
 bool is_observable(const std::string& column) {
   return column == "t" || column.rfind("hidden:", 0) == 0 || column.rfind("constraint:", 0) == 0 ||
-         column.rfind("invariant:", 0) == 0 ||
-         column.rfind("error:", 0) == 0;
+         column.rfind("invariant:", 0) == 0 || column.rfind("error:", 0) == 0;
 }
 
 /// The given value of a CSV column "x''" from [initial] x = [x, x', x'', …], if given.
@@ -63,7 +62,8 @@ void write_outcomes(std::ostream& md, const std::vector<ComparedModel>& models) 
   md << "## Outcome\n\n| model | outcome | IDA steps | data |\n|---|---|---|---|\n";
   for (const ComparedModel& m : models)
     if (!m.csv.empty())
-      md << "| " << m.name << " | " << cell(m.outcome) << " | " << m.steps << " | [" << m.csv << "](" << m.csv << ") |\n";
+      md << "| " << m.name << " | " << cell(m.outcome) << " | " << m.steps << " | [" << m.csv << "](" << m.csv
+         << ") |\n";
   md << "\n";
   bool any = false;
   for (const ComparedModel& m : models)
@@ -165,8 +165,8 @@ void write_differences(std::ostream& md, const CompareSettings& settings, const 
       const PairDifference d = compare_motions(ran[i].table, ran[j].table, settings.coordinates, settings.tolerance);
       md << "| " << ran[i].model->name << " – " << ran[j].model->name << " |";
       for (double v : d.max_difference) md << ' ' << magnitude(v) << " |";
-      md << ' ' << (d.separation < 0 ? std::string("never") : value(d.separation)) << " | "
-         << value(d.compared_until) << " |\n";
+      md << ' ' << (d.separation < 0 ? std::string("never") : value(d.separation)) << " | " << value(d.compared_until)
+         << " |\n";
     }
   if (ran.size() < 2) md << "\n(Only one model ran: nothing to compare.)\n";
   md << "\n";
@@ -198,7 +198,8 @@ void write_invariants(std::ostream& md, const std::vector<RanModel>& ran) {
       if (name.rfind("invariant:", 0) == 0)
         md << "| " << r.model->name << " | " << name.substr(10) << " | " << value(r.table.rows.front()[c]) << " | "
            << magnitude(max_deviation(r.table, static_cast<int>(c), true)) << " |\n";
-      if (name.rfind("hidden:", 0) == 0 || name.rfind("constraint:", 0) == 0) hidden = std::max(hidden, max_deviation(r.table, static_cast<int>(c), false));
+      if (name.rfind("hidden:", 0) == 0 || name.rfind("constraint:", 0) == 0)
+        hidden = std::max(hidden, max_deviation(r.table, static_cast<int>(c), false));
     }
     md << "| " << r.model->name << " | hidden constraints | | " << (hidden < 0 ? "—" : magnitude(hidden)) << " |\n";
     for (const ConstraintCheck& f : r.model->constraints)
@@ -239,9 +240,9 @@ std::string compare_markdown(const fs::path& dir, const CompareSettings& setting
 
   std::ostringstream md;
   md << "# " << settings.scene_name << ": the models side by side\n\n"
-     << "`" << settings.command_line << "`: every model from the same initial data, t from "
-     << value(settings.t0) << " to " << value(settings.t_end) << " (" << settings.outputs
-     << " output intervals), rtol " << base::number_text(settings.rtol, 3) << ", atol " << base::number_text(settings.atol, 3)
+     << "`" << settings.command_line << "`: every model from the same initial data, t from " << value(settings.t0)
+     << " to " << value(settings.t_end) << " (" << settings.outputs << " output intervals), rtol "
+     << base::number_text(settings.rtol, 3) << ", atol " << base::number_text(settings.atol, 3)
      << ". One CSV file per model (the columns of `nhc simulate -o`); the plots are drawn from them. "
         "Magnitudes below 1e-12 (rounding) are shown as < 1e-12, values as ≈ 0.\n\n";
   write_outcomes(md, models);
@@ -253,8 +254,8 @@ std::string compare_markdown(const fs::path& dir, const CompareSettings& setting
   md << "## Wall times\n\n";
   for (const ComparedModel& m : models)
     if (!m.csv.empty())
-      md << "- " << m.name << ": derive, generate and compile " << base::number_text(m.build_seconds, 3) << " s, integrate "
-         << base::number_text(m.integrate_seconds, 3) << " s\n";
+      md << "- " << m.name << ": derive, generate and compile " << base::number_text(m.build_seconds, 3)
+         << " s, integrate " << base::number_text(m.integrate_seconds, 3) << " s\n";
   return md.str();
 }
 

@@ -16,9 +16,9 @@ namespace nhc::cli {
 
 /// A constraint f^α of the scene evaluated along a model's motion.
 struct ConstraintCheck {
-  std::string name;          ///< "f1: z' - b/a*sqrt(x'^2 + y'^2)"
-  double at_t0 = 0;          ///< f^α at t0 (NaN: not computable from the CSV columns)
-  double largest = 0;        ///< max_t |f^α|
+  std::string name;    ///< "f1: z' - b/a*sqrt(x'^2 + y'^2)"
+  double at_t0 = 0;    ///< f^α at t0 (NaN: not computable from the CSV columns)
+  double largest = 0;  ///< max_t |f^α|
 };
 
 /// One model as `nhc compare` ran it.
@@ -40,7 +40,7 @@ struct CompareSettings {
   double t0 = 0, t_end = 0, rtol = 0, atol = 0;
   int outputs = 0;
   std::vector<double> times;  ///< the outputs + 1 output times, checked not to collapse
-  double tolerance = 0;  ///< motions separate where a coordinate differs by more than this
+  double tolerance = 0;       ///< motions separate where a coordinate differs by more than this
 };
 
 /// Largest difference of two motions, on the output times both reached.

@@ -78,7 +78,8 @@ std::vector<connect::Condition> parse_targets(const runtime::Model& model, const
     } catch (const std::exception&) {
       used = 0;
     }
-    if (used == 0 || used != text.size() || !std::isfinite(value)) bad("'" + text + "' (for " + name + ") is not a finite number");
+    if (used == 0 || used != text.size() || !std::isfinite(value))
+      bad("'" + text + "' (for " + name + ") is not a finite number");
     for (const connect::Condition& c : conditions)
       if (c.state == state) bad(name + " is given twice");
     conditions.push_back({state, name, value});
@@ -113,13 +114,14 @@ std::vector<int> parse_free(const runtime::Model& model, const runtime::InitialS
     const int state = has_suffix ? state_named(model, name.substr(0, name.size() - suffix.size())) : -1;
     if (state < 0)
       throw InputError({"--free", 0, 0}, "unknown initial value '" + name + "': the " + model.model_name() +
-                                            " model's initial values are " + state_list(model, true, "(0)"));
+                                             " model's initial values are " + state_list(model, true, "(0)"));
     if (!model.is_differential(state))
       throw InputError({"--free", 0, 0}, name + " belongs to an algebraic state: it follows from the others");
     if (initial.given[static_cast<size_t>(state)])
       for (const std::string& a : initial_flags)
         if (a.substr(0, a.find('=')) == model.state_name(state))
-          throw InputError({"--initial", 0, 0}, a + ": " + name + " is given here, so it cannot be free (--free " + name + ")");
+          throw InputError({"--initial", 0, 0},
+                           a + ": " + name + " is given here, so it cannot be free (--free " + name + ")");
     if (initial.given[static_cast<size_t>(state)])
       throw InputError(initial_entry(scene_path, model.variable_name(model.table().state_variable[state])),
                        name + " is given in the scene's [initial], so it cannot be free (--free " + name + ")");
@@ -141,8 +143,7 @@ void print_result(const connect::ShootingProblem& problem, const connect::Shooti
             << "\n";
   if (result.minimum_norm)
     std::cout << "  more free values than conditions: minimum-norm Newton steps (the solution found is one of many)\n";
-  if (result.least_squares)
-    std::cout << "  more conditions than free values: least-squares (Gauss-Newton) steps\n";
+  if (result.least_squares) std::cout << "  more conditions than free values: least-squares (Gauss-Newton) steps\n";
   std::cout << "  values found:\n";
   for (size_t k = 0; k < problem.free_states.size(); ++k)
     std::cout << "    " << connect::free_value_name(model, problem.free_states[k]) << " = "
@@ -192,12 +193,22 @@ CommandRunner add_connect_command(CLI::App& app) {
     const jit::LoadedModel built = jit::build(scene, kind);
     const runtime::Model& model = built.model();
 
-    connect::ShootingProblem problem{model, model.default_parameters(), app::initial_state_of(scene, model), {}, {}, 1, 1,
-                                     runtime::IntegratorOptions{}, 1e-9, 50, 200};
+    connect::ShootingProblem problem{model,
+                                     model.default_parameters(),
+                                     app::initial_state_of(scene, model),
+                                     {},
+                                     {},
+                                     1,
+                                     1,
+                                     runtime::IntegratorOptions{},
+                                     1e-9,
+                                     50,
+                                     200};
     problem.conditions = parse_targets(model, options->to);
-    problem.free_states = options->free.empty()
-                              ? connect::default_free_states(model, problem.parameters, problem.initial)
-                              : parse_free(model, problem.initial, options->free, options->scene_path, options->initial);
+    problem.free_states =
+        options->free.empty()
+            ? connect::default_free_states(model, problem.parameters, problem.initial)
+            : parse_free(model, problem.initial, options->free, options->scene_path, options->initial);
     if (problem.free_states.empty())
       throw InputError({"--free", 0, 0}, "no free initial values: the scene gives every one the " + to_string(kind) +
                                              " model needs; name some with --free");

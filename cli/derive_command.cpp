@@ -42,7 +42,8 @@ void add_work_limit_flag(CLI::App* sub) {
            work_limit_given = true;
          },
          "processor seconds the symbolic work (deriving, reducing, generating code) may take before the run "
-         "is refused (default " + fmt::format("{:g}", work_budget::kDefaultWorkSeconds) + ", " +
+         "is refused (default " +
+             fmt::format("{:g}", work_budget::kDefaultWorkSeconds) + ", " +
              fmt::format("{:g}", work_budget::kDefaultWorkSeconds * kExpandedWorkFactor) + " with --expand)")
       ->check(flag_rules::positive())
       ->option_text("SECONDS");

@@ -1,6 +1,7 @@
 // nhc ensemble SCENE [--model M] --vary NAME=a:b:n [--vary …]
 //                    | --sample NAME=uniform(a,b)|normal(m,s) [--sample …] --samples N --seed S
-//              [--t-end T] [--initial NAME=VALUE]... [--outputs K] [--keep trajectories|final] [--resume] [--plot OUTCOME]
+//              [--t-end T] [--initial NAME=VALUE]... [--outputs K] [--keep trajectories|final] [--resume] [--plot
+//              OUTCOME]
 //              [--threads N] -o FILE.h5
 //
 // Many runs of one model (docs/ensemble.md). Rank 0 derives and compiles the model once through
@@ -110,7 +111,8 @@ std::vector<RunRecord> earlier_records(const EnsembleOptions& o, const EnsembleI
   }
   std::vector<RunRecord> records;
   for (long k = 0; k < info.design.runs; ++k)
-    records.push_back(pending_record(k, static_cast<int>(info.state_names.size()), static_cast<int>(info.invariant_names.size())));
+    records.push_back(
+        pending_record(k, static_cast<int>(info.state_names.size()), static_cast<int>(info.invariant_names.size())));
   return records;
 }
 
@@ -248,7 +250,7 @@ Prepared prepare(const EnsembleOptions& o, int ranks, int threads) {
       outcome_values(EnsembleResults{info, {}}, o.plot, "--plot");  // throws, naming the outcomes
     if (info.design.variables.size() > 2)
       bad_flag("--plot " + o.plot, "maps need a design of one or two variables, this one has " +
-                                      std::to_string(info.design.variables.size()));
+                                       std::to_string(info.design.variables.size()));
   }
   p.results.records = earlier_records(o, info);
   for (const RunRecord& r : p.results.records)
@@ -319,13 +321,13 @@ void print_summary(const EnsembleResults& r, const Prepared& p, long ran, double
             << "\n  " << count[1] << " ok, " << count[2] << " stopped at a singular point, " << count[3] << " failed";
   if (count[0] > 0) std::cout << ", " << count[0] << " not run";
   std::cout << "\n  ran " << ran << " (" << (i.design.runs - ran) << " finished before) on " << i.ranks << " rank"
-            << (i.ranks == 1 ? "" : "s") << " x " << i.threads << " thread" << (i.threads == 1 ? "" : "s")
-            << "; build " << base::number_text(p.build_seconds, 3) << " s, runs " << base::number_text(run_seconds, 3) << " s";
+            << (i.ranks == 1 ? "" : "s") << " x " << i.threads << " thread" << (i.threads == 1 ? "" : "s") << "; build "
+            << base::number_text(p.build_seconds, 3) << " s, runs " << base::number_text(run_seconds, 3) << " s";
   if (ran > 0 && run_seconds > 0) {
     const double per_run = integration / ran, overhead = std::max(0.0, run_seconds * workers - integration) / ran;
     std::cout << " (" << base::number_text(ran / run_seconds, 4) << " runs/s; per run: integration "
-              << base::number_text(per_run * 1e3, 4) << " ms, overhead " << base::number_text(overhead * 1e3, 3) << " ms = "
-              << base::number_text(100 * overhead / per_run, 3) << " %)";
+              << base::number_text(per_run * 1e3, 4) << " ms, overhead " << base::number_text(overhead * 1e3, 3)
+              << " ms = " << base::number_text(100 * overhead / per_run, 3) << " %)";
   }
   if (i.ranks > 1) {  // how the dynamic scheduling spread the runs made now
     std::vector<long> per_rank(static_cast<std::size_t>(i.ranks), 0);
@@ -368,7 +370,8 @@ int run_ensemble(const EnsembleOptions& o) {
   EnsembleResults& results = p.results;
   Checkpoints checkpoints(o.output, results, o.checkpoint_seconds);
   ScheduleOptions schedule_options;
-  schedule_options.threads = static_cast<int>(std::clamp<std::int64_t>(static_cast<std::int64_t>(p.todo.size()), 1, threads));
+  schedule_options.threads =
+      static_cast<int>(std::clamp<std::int64_t>(static_cast<std::int64_t>(p.todo.size()), 1, threads));
   schedule_options.values_per_run = static_cast<int>(spec.targets.size());
   schedule_options.values = [&results](std::int64_t i) { return results.info.design.row(i); };
   TimeEstimate estimate(static_cast<long>(p.todo.size()));
@@ -395,7 +398,8 @@ int run_ensemble(const EnsembleOptions& o) {
   const int workers = session.uses_mpi() ? session.size() : threads;
   print_summary(results, p, static_cast<long>(p.todo.size()), results.info.wall_seconds, workers, o.output);
   if (!o.plot.empty())
-    for (const std::string& image : plot_outcome(results, o.plot, default_plot_stem(o.output, o.plot), "--plot", {o.scene_path, o.output}))
+    for (const std::string& image :
+         plot_outcome(results, o.plot, default_plot_stem(o.output, o.plot), "--plot", {o.scene_path, o.output}))
       std::cout << "  wrote " << image << "\n";
   return kExitOk;
 }
@@ -410,8 +414,9 @@ CommandRunner add_ensemble_command(CLI::App& app) {
   sub->add_option("SCENE", o->scene_path, "scene file (TOML)")->required();
   sub->add_option("--model,-m", o->model, "model (default: the scene's [simulate] model, else chetaev)")
       ->check(CLI::IsMember(model_names()));
-  sub->add_option("--vary", o->vary, "NAME=a:b:n: n values from a to b (a parameter, or an initial value x'(0)); "
-                                     "repeated: the Cartesian product")
+  sub->add_option("--vary", o->vary,
+                  "NAME=a:b:n: n values from a to b (a parameter, or an initial value x'(0)); "
+                  "repeated: the Cartesian product")
       ->expected(1)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   sub->add_option("--sample", o->sample, "NAME=uniform(a,b) or NAME=normal(m,s): a random design (repeatable)")
@@ -420,8 +425,10 @@ CommandRunner add_ensemble_command(CLI::App& app) {
   sub->add_option("--samples", o->samples, "N: number of random samples");
   sub->add_option("--seed", o->seed, "S: the seed fixing every sample (default 0)");
   sub->add_option("--t-end", o->t_end, "final time (default: [simulate] t_end)")->check(flag_rules::finite());
-  sub->add_option("--rtol", o->rtol, "relative tolerance (default: [simulate] rtol)")->check(flag_rules::relative_tolerance());
-  sub->add_option("--atol", o->atol, "absolute tolerance (default: [simulate] atol)")->check(flag_rules::absolute_tolerance());
+  sub->add_option("--rtol", o->rtol, "relative tolerance (default: [simulate] rtol)")
+      ->check(flag_rules::relative_tolerance());
+  sub->add_option("--atol", o->atol, "absolute tolerance (default: [simulate] atol)")
+      ->check(flag_rules::absolute_tolerance());
   add_initial_flag(sub, o->initial);
   sub->add_option("--outputs", o->outputs, "K: output intervals per run, for drift and trajectories (default 100)")
       ->check(flag_rules::count(1, flag_rules::kMaxOutputs));
@@ -429,7 +436,8 @@ CommandRunner add_ensemble_command(CLI::App& app) {
   sub->add_option("-o,--output", o->output, "FILE.h5, the results (HDF5)");
   sub->add_flag("--resume", o->resume, "continue the ensemble in FILE.h5: skip its finished runs");
   sub->add_option("--plot", o->plot, "OUTCOME (t_stop, final:x, drift:energy, …): also draw FILE_OUTCOME.svg/.png");
-  sub->add_option("--checkpoint-every", o->checkpoint_seconds, "S: rewrite FILE.h5 every S seconds while running (default 10)")
+  sub->add_option("--checkpoint-every", o->checkpoint_seconds,
+                  "S: rewrite FILE.h5 every S seconds while running (default 10)")
       ->check(flag_rules::positive());
   sub->add_option("--threads", o->threads, "worker threads without mpirun (default 0: all cores)");
   return [o]() { return run_ensemble(*o); };

@@ -79,8 +79,7 @@ std::optional<std::string> empty_inline_value(int argc, const char* const* argv)
 
 void refuse_empty_values(CLI::App& app) {
   const CLI::Validator non_empty(
-      [](std::string& text) -> std::string { return text.empty() ? empty_value_message() : ""; },
-      "");
+      [](std::string& text) -> std::string { return text.empty() ? empty_value_message() : ""; }, "");
   for (CLI::App* sub : app.get_subcommands({}))
     for (CLI::Option* option : sub->get_options())
       if (option->get_type_size() > 0 && option->get_name() != "--help") option->check(non_empty);

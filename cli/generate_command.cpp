@@ -2,9 +2,9 @@
 //              [--print-file-name]
 //
 // Writes DIR/<scene>_<model>.hpp (docs/generated-code.md); with --print-file-name only prints
-// that file name (for build systems: nhc_add_model asks instead of parsing the scene). The model defaults to the scene's
-// [simulate] model, else chetaev when the scene lists it, else the scene's first model: the
-// model one would integrate.
+// that file name (for build systems: nhc_add_model asks instead of parsing the scene). The model defaults to the
+// scene's [simulate] model, else chetaev when the scene lists it, else the scene's first model: the model one would
+// integrate.
 #include <filesystem>
 #include <iostream>
 
@@ -42,18 +42,16 @@ struct GenerateOptions {
 
 CommandRunner add_generate_command(CLI::App& app) {
   auto options = std::make_shared<GenerateOptions>();
-  CLI::App* sub = app.add_subcommand(
-      "generate", "write a self-contained C++ header with the index-1 residual of one model");
+  CLI::App* sub =
+      app.add_subcommand("generate", "write a self-contained C++ header with the index-1 residual of one model");
   sub->add_option("SCENE", options->scene_path, "scene file (TOML)")->required();
-  sub->add_option("--model,-m", options->model,
-                  "model (default: the scene's [simulate] model, else chetaev)")
+  sub->add_option("--model,-m", options->model, "model (default: the scene's [simulate] model, else chetaev)")
       ->check(CLI::IsMember(model_names()));
   sub->add_option("--jacobian,-j", options->jacobian,
                   "Jacobian dF/dy + cj dF/dy': dense (column-major), sparse (compressed column) or "
                   "none")
       ->check(CLI::IsMember({"dense", "sparse", "none"}));
-  sub->add_option("-o,--output-dir", options->directory,
-                  "directory to write <scene>_<model>.hpp into (default: .)");
+  sub->add_option("-o,--output-dir", options->directory, "directory to write <scene>_<model>.hpp into (default: .)");
   sub->add_flag("--sensitivities", options->sensitivities,
                 "also dF/dp and dg/dp for forward sensitivities (docs/generated-code.md)");
   sub->add_flag("--variational", options->variational,
@@ -80,8 +78,7 @@ CommandRunner add_generate_command(CLI::App& app) {
     app::require_model_inputs(scene, kind);
     const DerivedModel derived = derive_model(scene, kind);
     if (!derived.applicable)
-      throw MathError("the " + to_string(kind) + " model does not apply to " + scene.name + ": " +
-                      derived.reason);
+      throw MathError("the " + to_string(kind) + " model does not apply to " + scene.name + ": " + derived.reason);
     const Index1System system = reduce_to_index1(scene, derived);
     // The multiplier-free form where the model has one (docs/reduced-form.md), on the default speeds.
     std::optional<ReducedForm> reduced;
@@ -103,8 +100,7 @@ CommandRunner add_generate_command(CLI::App& app) {
     if (!options->quiet)
       std::cout << path << ": " << system.size() << " states, operations "
                 << operation_count_text(header.before_cse.total()) << " before CSE, "
-                << operation_count_text(header.after_cse.total())
-                << " after\n";
+                << operation_count_text(header.after_cse.total()) << " after\n";
     return 0;
   };
 }

@@ -34,8 +34,7 @@ void install_interrupt_handlers() {
   for (int signal_number : {SIGINT, SIGTERM, SIGHUP}) {
     struct sigaction previous;
     // A signal ignored at start (nohup, background jobs of a non-interactive shell) stays ignored.
-    if (::sigaction(signal_number, nullptr, &previous) == 0 && previous.sa_handler == SIG_IGN)
-      continue;
+    if (::sigaction(signal_number, nullptr, &previous) == 0 && previous.sa_handler == SIG_IGN) continue;
     ::sigaction(signal_number, &action, nullptr);
   }
 }

@@ -1,4 +1,5 @@
-// nhc linearize SCENE [--model M] [--at NAME=VALUE]... [--keep NAME,...] [--states NAME,...] [--turn A:X,Y] [--sweep NAME=a:b:n] [--format text|json] [-o DIR]
+// nhc linearize SCENE [--model M] [--at NAME=VALUE]... [--keep NAME,...] [--states NAME,...] [--turn A:X,Y] [--sweep
+// NAME=a:b:n] [--format text|json] [-o DIR]
 //
 // Linear stability of an equilibrium or steady motion (docs/linearize.md, nhc::linearize):
 // the operating point, cyclic coordinates removed, the matrix A on the constraint manifold in a
@@ -54,7 +55,8 @@ std::string full(double v) { return base::number_text(v, 10); }
 
 void write_eigenvalues(JsonWriter& json, const std::vector<std::complex<double>>& eigenvalues) {
   json.begin_array();
-  for (const auto& l : eigenvalues) json.begin_object().key("re").value(l.real()).key("im").value(l.imag()).end_object();
+  for (const auto& l : eigenvalues)
+    json.begin_object().key("re").value(l.real()).key("im").value(l.imag()).end_object();
   json.end_array();
 }
 
@@ -143,9 +145,12 @@ void write_json(std::ostream& out, const Linearization& lin, const std::optional
     json.key("thresholds").begin_array();
     for (const VerdictChange& t : sweep->thresholds)
       json.begin_object()
-          .key("value").value(t.value)
-          .key("from").value(to_string(t.from))
-          .key("to").value(to_string(t.to))
+          .key("value")
+          .value(t.value)
+          .key("from")
+          .value(to_string(t.from))
+          .key("to")
+          .value(to_string(t.to))
           .end_object();
     json.end_array();
   }
@@ -174,7 +179,8 @@ void write_text(std::ostream& out, const Linearization& lin, const std::optional
     for (const std::string& c : columns) out << " " << std::setw(16) << c;
     out << "\n";
     for (Eigen::Index r = 0; r < m.rows(); ++r) {
-      out << "    " << std::left << std::setw(static_cast<int>(label)) << rows[static_cast<std::size_t>(r)] << std::right;
+      out << "    " << std::left << std::setw(static_cast<int>(label)) << rows[static_cast<std::size_t>(r)]
+          << std::right;
       for (Eigen::Index c = 0; c < m.cols(); ++c) out << " " << std::setw(16) << full(m(r, c));
       out << "\n";
     }
@@ -190,7 +196,8 @@ void write_text(std::ostream& out, const Linearization& lin, const std::optional
     if (!lin.inputs.empty()) print("D (row: δ of the output; column: δ of the input)", lin.D, lin.outputs, lin.inputs);
   }
   out << "  eigenvalues:\n";
-  for (const auto& l : lin.eigenvalues) out << "    " << full(l.real()) << (l.imag() < 0 ? " - " : " + ") << full(std::abs(l.imag())) << "i\n";
+  for (const auto& l : lin.eigenvalues)
+    out << "    " << full(l.real()) << (l.imag() < 0 ? " - " : " + ") << full(std::abs(l.imag())) << "i\n";
   out << "  zero eigenvalues: " << lin.zero_eigenvalues << ", of which " << lin.families.size()
       << " from families of steady motions\n";
   for (const SteadyFamily& f : lin.families) out << "    " << f.description << "\n";
@@ -235,10 +242,11 @@ std::string stability_script(const SweepResult& sweep, const std::string& scene,
   std::ostringstream g;
   g << terminal << "\nset output " << tools::gnuplot_string(output) << "\nset datafile separator ','\n"
     << "set key off\nset grid\nset xlabel " << tools::gnuplot_string(sweep.range.name) << " noenhanced\n"
-    << "set multiplot layout 2,1 title " << tools::gnuplot_string("eigenvalues of " + scene + " against " + sweep.range.name)
-    << " noenhanced\n";
+    << "set multiplot layout 2,1 title "
+    << tools::gnuplot_string("eigenvalues of " + scene + " against " + sweep.range.name) << " noenhanced\n";
   for (const VerdictChange& t : sweep.thresholds)
-    g << "set arrow from " << base::shortest_text(t.value) << ", graph 0 to " << base::shortest_text(t.value) << ", graph 1 nohead dashtype 2\n";
+    g << "set arrow from " << base::shortest_text(t.value) << ", graph 0 to " << base::shortest_text(t.value)
+      << ", graph 1 nohead dashtype 2\n";
   for (int part = 0; part < 2; ++part) {
     g << "set ylabel " << tools::gnuplot_string(part == 0 ? "Re(lambda)" : "Im(lambda)") << "\nplot ";
     for (std::size_t k = 0; k < count; ++k)
@@ -296,8 +304,9 @@ void write_directory(const std::string& target, const std::vector<std::string>& 
 CommandRunner add_linearize_command(CLI::App& app) {
   auto flags = std::make_shared<LinearizeFlags>();
   CLI::App* sub = app.add_subcommand(
-      "linearize", "linear stability of an equilibrium or steady motion: A on the constraint manifold, eigenvalues, "
-                   "verdict; --sweep for stability charts");
+      "linearize",
+      "linear stability of an equilibrium or steady motion: A on the constraint manifold, eigenvalues, "
+      "verdict; --sweep for stability charts");
   sub->add_option("SCENE", flags->scene_path, "scene file (TOML)")->required();
   sub->add_option("--model,-m", flags->model, "model (default: the scene's [simulate] model, else chetaev)")
       ->check(CLI::IsMember(model_names()));
@@ -314,7 +323,9 @@ CommandRunner add_linearize_command(CLI::App& app) {
                   "that move ANGLE), in the turning frame");
   sub->add_option("--sweep", flags->sweep, "NAME=a:b:n: n values from a to b of a parameter or initial value");
   sub->add_option("--format", flags->format, "text or json (default text)")->check(CLI::IsMember({"text", "json"}));
-  sub->add_option("-o,--output", flags->output, "directory for linearize.json, A.csv (B.csv with [inputs]) and, with --sweep, stability.csv/.svg/.png");
+  sub->add_option(
+      "-o,--output", flags->output,
+      "directory for linearize.json, A.csv (B.csv with [inputs]) and, with --sweep, stability.csv/.svg/.png");
 
   return [flags]() {
     const Scene scene = load_scene(flags->scene_path);

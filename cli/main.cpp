@@ -10,9 +10,9 @@ int main(int argc, char** argv) {
   run_with_fixed_address_layout(argv);
   if (argc > 1)
     if (const CommandProgram* entry = command_program(argv[1])) return start_command_program(*entry, argv);
-  return run_program(argc, argv,
-                     {add_derive_command, add_analyze_command, add_generate_command, add_simulate_command,
-                      add_report_command, add_compare_command, add_connect_command, add_linearize_command,
-                      add_animate_command},
-                     /*list_external=*/true);
+  return run_program(
+      argc, argv,
+      {add_derive_command, add_analyze_command, add_generate_command, add_simulate_command, add_report_command,
+       add_compare_command, add_connect_command, add_linearize_command, add_animate_command},
+      /*list_external=*/true);
 }

@@ -41,7 +41,8 @@ struct OptimizeOptions {
 
 /// The starting path from a CSV with a header (nhc simulate's or optimize's): t, each coordinate,
 /// the other states, rates and inputs where present (path_table.hpp).
-std::vector<double> guess_from_file(const Scene& scene, const optimize::HermiteSimpson& problem, const std::string& path) {
+std::vector<double> guess_from_file(const Scene& scene, const optimize::HermiteSimpson& problem,
+                                    const std::string& path) {
   // The data-file rules (docs/safety.md): a regular file within the size limit, finite numbers,
   // every fault at its line and column.
   const CsvFile file = read_csv_file(path, "a CSV file for --guess");
@@ -82,8 +83,9 @@ void write_plots(const std::string& directory, const Scene& scene, const optimiz
   draw_plots(out.path(), plots);
   write_file_atomically(out.file("plots.md"), [&](std::ostream& o) {
     o << "# " << scene.name << ": optimal motion\n\nDrawn by `nhc optimize --plot` from [" << csv << "](" << csv
-      << ") (t, the states, their rates and the inputs on the " << problem.points() << " collocation points). " << summary
-      << "\n\n" << markdown_images(plots);
+      << ") (t, the states, their rates and the inputs on the " << problem.points() << " collocation points). "
+      << summary << "\n\n"
+      << markdown_images(plots);
   });
   out.commit();
 }
@@ -94,24 +96,31 @@ CommandRunner add_optimize_command(CLI::App& app) {
   auto options = std::make_shared<OptimizeOptions>();
   CLI::App* sub = app.add_subcommand("optimize", command_description("optimize"));
   sub->add_option("SCENE", options->scene_path, "scene file (TOML) with an [optimize] table")->required();
-  sub->add_option("-o,--output", options->output, "CSV file for the optimal path (t, the states and their rates, the inputs; nhc animate --path draws it)");
+  sub->add_option(
+      "-o,--output", options->output,
+      "CSV file for the optimal path (t, the states and their rates, the inputs; nhc animate --path draws it)");
   // The values' rules are app::check_optimize_request's, shared with Python.
-  sub->add_option("--intervals", options->request.intervals, "collocation intervals (default: [optimize] intervals, else 40)");
-  sub->add_option("--guess", options->guess, "start from this path (CSV with t and the coordinates, e.g. nhc simulate's or a previous optimum)");
+  sub->add_option("--intervals", options->request.intervals,
+                  "collocation intervals (default: [optimize] intervals, else 40)");
+  sub->add_option("--guess", options->guess,
+                  "start from this path (CSV with t and the coordinates, e.g. nhc simulate's or a previous optimum)");
   sub->add_option("--plot", options->plot, "directory for plots (SVG, PNG) of the coordinates, rates, inputs and path");
   sub->add_option("--jacobian", options->request.jacobian,
                   "exact (the default) or finite-differences: IPOPT's own differences on the same sparsity");
-  sub->add_option("--hessian", options->request.hessian,
-                  "exact (the default: second derivatives of the same functions) or limited-memory (IPOPT's quasi-Newton)");
+  sub->add_option(
+      "--hessian", options->request.hessian,
+      "exact (the default: second derivatives of the same functions) or limited-memory (IPOPT's quasi-Newton)");
   sub->add_option("--max-iterations", options->request.max_iterations, "IPOPT iterations (default 3000)");
-  sub->add_option("--tolerance", options->request.tolerance, "IPOPT's tolerance on the scaled optimality error (default 1e-10)");
+  sub->add_option("--tolerance", options->request.tolerance,
+                  "IPOPT's tolerance on the scaled optimality error (default 1e-10)");
   sub->add_option("--starts", options->starts,
                   "solve from this many starts: the default (or --guess) and K - 1 seeded smooth perturbations of it; "
                   "reports every cost found and keeps the lowest (the optimum is local)")
       ->check(CLI::Range(1, 1000));
   sub->add_option("--seed", options->seed, "seed of the perturbed starts (default 1)");
-  sub->add_option("--path-tolerance", options->request.path_tolerance,
-                  "largest path error accepted, relative to the states' scale (default 1e-6); above it the mesh is refined");
+  sub->add_option(
+      "--path-tolerance", options->request.path_tolerance,
+      "largest path error accepted, relative to the states' scale (default 1e-6); above it the mesh is refined");
 
   return [options]() {
     const app::OptimizeRequest& request = options->request;
@@ -123,14 +132,16 @@ CommandRunner add_optimize_command(CLI::App& app) {
       require_gnuplot("--plot");
       check_output_directory(options->plot, {options->scene_path, options->guess});
     }
-    const optimize::HermiteSimpson problem(scene, settings, static_cast<int>(request.intervals.value_or(settings.intervals)));
-    const std::vector<double> guess = options->guess.empty() ? std::vector<double>{} : guess_from_file(scene, problem, options->guess);
+    const optimize::HermiteSimpson problem(scene, settings,
+                                           static_cast<int>(request.intervals.value_or(settings.intervals)));
+    const std::vector<double> guess =
+        options->guess.empty() ? std::vector<double>{} : guess_from_file(scene, problem, options->guess);
 
     std::cout << "nhc optimize: " << scene.name << ", "
               << (problem.inputs() ? "the " + to_string(problem.point_problem().model) + " model driven by its inputs"
                                    : std::string("the vakonomic problem"))
-              << ", " << problem.intervals() << " Hermite-Simpson intervals, "
-              << problem.variables() << " variables, " << problem.constraints() << " constraints; t_end "
+              << ", " << problem.intervals() << " Hermite-Simpson intervals, " << problem.variables() << " variables, "
+              << problem.constraints() << " constraints; t_end "
               << (settings.free_time() ? fmt::format("free in [{}, {}]", settings.t_end_low, settings.t_end_high)
                                        : fmt::format("{}", settings.t_end_low))
               << "; start: " << (options->guess.empty() ? "straight line" : options->guess) << "\n";
@@ -156,28 +167,33 @@ CommandRunner add_optimize_command(CLI::App& app) {
       optimize::RefineOptions perturbed = refine_options;
       perturbed.continuation_from_guess = guess.empty();
       for (int k = 1; k < options->starts; ++k) {
-        std::cout << "  start " << k + 1 << " of " << options->starts << " (perturbed, seed " << options->seed + static_cast<unsigned>(k) - 1
-                  << "):\n";
+        std::cout << "  start " << k + 1 << " of " << options->starts << " (perturbed, seed "
+                  << options->seed + static_cast<unsigned>(k) - 1 << "):\n";
         optimize::Outcome other = optimize::solve_refined(
-            problem, optimize::perturbed_start(problem, base, options->seed + static_cast<unsigned>(k) - 1), solve_options, perturbed);
+            problem, optimize::perturbed_start(problem, base, options->seed + static_cast<unsigned>(k) - 1),
+            solve_options, perturbed);
         const bool good = other.status == optimize::Outcome::Status::optimal;
         found.push_back(good ? fmt::format("{:.10g}", other.solution.cost) : std::string("none"));
-        if (good && (outcome.status != optimize::Outcome::Status::optimal || other.solution.cost < outcome.solution.cost))
+        if (good &&
+            (outcome.status != optimize::Outcome::Status::optimal || other.solution.cost < outcome.solution.cost))
           outcome = std::move(other);
       }
       std::string list;
       for (std::size_t k = 0; k < found.size(); ++k) list += (k ? ", " : "") + found[k];
-      std::cout << "  costs found from " << options->starts << " starts: " << list << " (\"none\": no optimum from that start); the lowest is kept\n";
+      std::cout << "  costs found from " << options->starts << " starts: " << list
+                << " (\"none\": no optimum from that start); the lowest is kept\n";
     }
     const optimize::HermiteSimpson& last = *outcome.problem;
     const optimize::Solution& solution = outcome.solution;
 
     using Status = optimize::Solution::Status;
     const std::string path_error =
-        outcome.measured ? fmt::format("path error = {:.3g} ({}: {}; the local error is largest in interval {} of {}, [{:.6g}, {:.6g}])",
-                                       outcome.error.error, outcome.error.measure, outcome.error.where, outcome.error.interval + 1,
-                                       last.intervals(), outcome.error.t_low, outcome.error.t_high)
-                         : std::string();
+        outcome.measured
+            ? fmt::format(
+                  "path error = {:.3g} ({}: {}; the local error is largest in interval {} of {}, [{:.6g}, {:.6g}])",
+                  outcome.error.error, outcome.error.measure, outcome.error.where, outcome.error.interval + 1,
+                  last.intervals(), outcome.error.t_low, outcome.error.t_high)
+            : std::string();
     auto write = [&] {
       if (!options->output.empty()) {
         write_file_atomically(options->output, [&](std::ostream& out) { write_path(out, last, solution.z); });
@@ -186,8 +202,8 @@ CommandRunner add_optimize_command(CLI::App& app) {
       if (!options->plot.empty()) {
         const std::string summary =
             outcome.status == optimize::Outcome::Status::optimal
-                ? fmt::format("Cost {:.15g} (a local optimum), constraint violation {:.3g}, {}.", solution.cost, solution.violation,
-                              path_error)
+                ? fmt::format("Cost {:.15g} (a local optimum), constraint violation {:.3g}, {}.", solution.cost,
+                              solution.violation, path_error)
                 : fmt::format("Not an optimum: {} ({} iterations); the last point, cost {:.10g}.", solution.words,
                               solution.iterations, solution.cost);
         write_plots(options->plot, scene, last, solution.z, {options->scene_path, options->guess}, summary);
@@ -199,12 +215,14 @@ CommandRunner add_optimize_command(CLI::App& app) {
       if (settings.free_time()) std::cout << fmt::format("  t_end = {:.15g}\n", last.final_time(solution.z.data()));
       std::cout << fmt::format("  constraint violation = {:.3g}\n", solution.violation);
       std::cout << "  " << path_error << "\n";
-      std::cout << "  intervals = " << last.intervals() << (last.intervals() != problem.intervals() ? " (refined)" : "") << "\n";
+      std::cout << "  intervals = " << last.intervals() << (last.intervals() != problem.intervals() ? " (refined)" : "")
+                << "\n";
       std::cout << "  iterations = " << solution.iterations << "\n";
       if (solution.status == Status::acceptable)
         std::cout << "  IPOPT stopped at its acceptable level (1e-6) twice; the path error above meets the tolerance\n";
-      std::cout << "  the optimum is local: IPOPT finds a point where no small change improves the cost; another start may "
-                   "find a lower one (--starts)\n";
+      std::cout
+          << "  the optimum is local: IPOPT finds a point where no small change improves the cost; another start may "
+             "find a lower one (--starts)\n";
       write();
       return kExitOk;
     }
@@ -212,8 +230,9 @@ CommandRunner add_optimize_command(CLI::App& app) {
       std::cerr << "nhc: error: optimize: not an optimum of the continuous problem: " << outcome.words << "\n";
       return kExitMathFailure;
     }
-    const std::string worst =
-        solution.violation > 0 ? fmt::format("; the largest violation, {:.3g}, is in {}", solution.violation, solution.worst) : "";
+    const std::string worst = solution.violation > 0 ? fmt::format("; the largest violation, {:.3g}, is in {}",
+                                                                   solution.violation, solution.worst)
+                                                     : "";
     if (solution.status == Status::iteration_limit) {
       write();
       std::cerr << "nhc: error: optimize: " << solution.words << " (" << solution.iterations << " iterations) at cost "
@@ -223,8 +242,7 @@ CommandRunner add_optimize_command(CLI::App& app) {
     }
     if (solution.status == Status::infeasible)
       std::cerr << "nhc: error: optimize: no path meets the conditions: " << solution.words << worst << "\n";
-    else
-      std::cerr << "nhc: error: optimize: " << solution.words << worst << "\n";
+    else std::cerr << "nhc: error: optimize: " << solution.words << worst << "\n";
     return kExitMathFailure;
   };
 }

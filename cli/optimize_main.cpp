@@ -10,11 +10,15 @@
 
 namespace {
 
-nhc::cli::MpcParts make_mpc(const nhc::Scene& scene_set, const nhc::runtime::Model& model, const std::vector<double>& samples) {
+nhc::cli::MpcParts make_mpc(const nhc::Scene& scene_set, const nhc::runtime::Model& model,
+                            const std::vector<double>& samples) {
   auto controller = std::make_shared<nhc::app::MpcController>(scene_set, model, scene_set.controller.mpc);
   nhc::cli::MpcParts parts;
-  parts.control = nhc::app::RunControl{nhc::app::sample_law(controller), controller->held(), samples,
-                                       scene_set.controller.period, nullptr,
+  parts.control = nhc::app::RunControl{nhc::app::sample_law(controller),
+                                       controller->held(),
+                                       samples,
+                                       scene_set.controller.period,
+                                       nullptr,
                                        [controller](bool at_sample) { return controller->column_values(at_sample); }};
   parts.columns = nhc::app::MpcController::columns();
   parts.summary = [controller] { return controller->summary(); };

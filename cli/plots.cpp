@@ -53,15 +53,20 @@ struct Range {
   bool empty() const { return !(low <= high); }
   /// Too narrow for gnuplot's autoscaling (it warns on an empty range, and tics of a range
   /// narrower than rounding are unreadable).
-  bool degenerate() const { return !empty() && high - low <= 1e-12 * std::max({std::abs(low), std::abs(high), 1e-300}); }
+  bool degenerate() const {
+    return !empty() && high - low <= 1e-12 * std::max({std::abs(low), std::abs(high), 1e-300});
+  }
   double span() const { return high - low; }
 };
 
 double transformed(double v, Transform transform, double first) {
   switch (transform) {
-    case Transform::value: return v;
-    case Transform::magnitude: return std::isnan(v) ? v : std::max(std::abs(v), kLogFloor);
-    case Transform::drift: return std::isnan(v) ? v : std::max(std::abs(v - first), kLogFloor);
+    case Transform::value:
+      return v;
+    case Transform::magnitude:
+      return std::isnan(v) ? v : std::max(std::abs(v), kLogFloor);
+    case Transform::drift:
+      return std::isnan(v) ? v : std::max(std::abs(v - first), kLogFloor);
   }
   return v;
 }
@@ -78,10 +83,13 @@ std::string using_clause(const Curve& curve, const ResolvedCurve& r) {
   const std::string x = std::to_string(r.x + 1), y = "column(" + std::to_string(r.y + 1) + ")";
   const std::string floor = number(kLogFloor);
   switch (curve.transform) {
-    case Transform::value: return x + ":" + std::to_string(r.y + 1);
-    case Transform::magnitude: return x + ":(v = abs(" + y + "), v != v ? NaN : (v > " + floor + " ? v : " + floor + "))";
+    case Transform::value:
+      return x + ":" + std::to_string(r.y + 1);
+    case Transform::magnitude:
+      return x + ":(v = abs(" + y + "), v != v ? NaN : (v > " + floor + " ? v : " + floor + "))";
     case Transform::drift:
-      return x + ":(v = abs(" + y + " - (" + number(r.first) + ")), v != v ? NaN : (v > " + floor + " ? v : " + floor + "))";
+      return x + ":(v = abs(" + y + " - (" + number(r.first) + ")), v != v ? NaN : (v > " + floor + " ? v : " + floor +
+             "))";
   }
   return x + ":" + y;
 }
@@ -143,8 +151,8 @@ std::string plot_script(const fs::path& dir, const Plot& plot) {
     const double width = 1.5 + 1.5 * static_cast<double>(n - 1 - i);
     const std::size_t interval = std::max<std::size_t>(1, resolved[i].rows / 10);
     g << (i ? ", \\\n     " : "") << tools::gnuplot_string(c.csv) << " skip 1 using " << using_clause(c, resolved[i])
-      << " with linespoints lt " << i + 1 << " lw " << width << " pt " << kPointTypes[i % std::size(kPointTypes)] << " ps 1.3 pi " << interval
-      << " title " << tools::gnuplot_string(c.title) << " noenhanced";
+      << " with linespoints lt " << i + 1 << " lw " << width << " pt " << kPointTypes[i % std::size(kPointTypes)]
+      << " ps 1.3 pi " << interval << " title " << tools::gnuplot_string(c.title) << " noenhanced";
   }
   g << "\n"
     << "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
@@ -161,7 +169,8 @@ std::string plot_script(const fs::path& dir, const Plot& plot) {
 }  // namespace
 
 void require_gnuplot(const std::string& flag) {
-  if (const auto missing = tools::gnuplot_missing()) throw InputError({flag, 0, 0}, *missing + ", so no plots can be drawn");
+  if (const auto missing = tools::gnuplot_missing())
+    throw InputError({flag, 0, 0}, *missing + ", so no plots can be drawn");
 }
 
 void draw_plots(const fs::path& dir, const std::vector<Plot>& plots) {
@@ -186,8 +195,7 @@ void draw_plots(const fs::path& dir, const std::vector<Plot>& plots) {
 
 std::string markdown_images(const std::vector<Plot>& plots, const std::string& prefix) {
   std::ostringstream md;
-  for (const Plot& plot : plots)
-    md << "![" << plot.title << "](" << prefix << plot.stem << ".svg)\n\n";
+  for (const Plot& plot : plots) md << "![" << plot.title << "](" << prefix << plot.stem << ".svg)\n\n";
   return md.str();
 }
 

@@ -34,7 +34,8 @@ namespace {
     try {
       std::rethrow_exception(failure);
     } catch (const std::bad_alloc&) {
-      static const char message[] = "nhc: error: out of memory while starting: free memory or raise the limit (ulimit -v)\n";
+      static const char message[] =
+          "nhc: error: out of memory while starting: free memory or raise the limit (ulimit -v)\n";
       (void)!write(2, message, sizeof message - 1);
       _exit(nhc::cli::kExitEnvironment);
     } catch (...) {
@@ -51,8 +52,9 @@ __attribute__((init_priority(101))) const TerminateInWords terminate_in_words_in
 int run_command_line(int argc, char** argv, std::initializer_list<nhc::cli::CommandAdder> adders, bool list_external) {
   // An interrupted run removes its temporary files and exits 130 (interrupt.hpp).
   nhc::cli::install_interrupt_handlers();
-  CLI::App app{"nhc, the nonholonomic compiler: derives, analyses, generates and integrates the "
-               "equations of motion of systems with high-order nonholonomic constraints"};
+  CLI::App app{
+      "nhc, the nonholonomic compiler: derives, analyses, generates and integrates the "
+      "equations of motion of systems with high-order nonholonomic constraints"};
   app.set_version_flag("--version", std::string("nhc ") + NHC_VERSION);
   app.require_subcommand(1);
 
@@ -65,7 +67,8 @@ int run_command_line(int argc, char** argv, std::initializer_list<nhc::cli::Comm
   // The commands of the other programs, listed by `--help` (nhc-main starts their program
   // before parsing: start_command_program).
   if (list_external)
-    for (const nhc::cli::CommandProgram& entry : nhc::cli::kCommandPrograms) app.add_subcommand(entry.command, entry.description);
+    for (const nhc::cli::CommandProgram& entry : nhc::cli::kCommandPrograms)
+      app.add_subcommand(entry.command, entry.description);
 
   nhc::cli::flag_rules::refuse_empty_values(app);
   if (const auto flag = nhc::cli::flag_rules::empty_inline_value(argc, argv)) {
@@ -87,9 +90,9 @@ int run_command_line(int argc, char** argv, std::initializer_list<nhc::cli::Comm
     const std::string what = e.what();
     const std::size_t colon = what.find(": ");
     if (what.rfind("-", 0) == 0 && colon != std::string::npos)
-      std::cerr << what.substr(0, colon) << ": error: " << what.substr(0, colon) << " " << what.substr(colon + 2) << "\n";
-    else
-      std::cerr << "nhc: error: " << what << " (see nhc --help)\n";
+      std::cerr << what.substr(0, colon) << ": error: " << what.substr(0, colon) << " " << what.substr(colon + 2)
+                << "\n";
+    else std::cerr << "nhc: error: " << what << " (see nhc --help)\n";
     return nhc::cli::kExitBadInput;
   } catch (const CLI::ParseError& e) {
     std::cerr << "nhc: error: " << e.what() << " (see nhc --help)\n";
@@ -138,8 +141,8 @@ int start_command_program(const CommandProgram& entry, char** argv) {
     execv(program.c_str(), argv);
     error = errno;
   }
-  std::cerr << "nhc: error: cannot start " << (program.empty() ? std::string(entry.program) : program) << ", which runs nhc "
-            << entry.command << ": " << std::strerror(error) << "\n";
+  std::cerr << "nhc: error: cannot start " << (program.empty() ? std::string(entry.program) : program)
+            << ", which runs nhc " << entry.command << ": " << std::strerror(error) << "\n";
   return kExitEnvironment;
 }
 

@@ -71,7 +71,9 @@ struct ReportOptions {
 /// The variational integrator's steps of a report: the output interval halved 5 times.
 constexpr int kVariationalStepHalvings = 5;
 
-std::string fmt(double v, int precision = 3) { return std::isnan(v) ? std::string("—") : base::number_text(v, precision); }
+std::string fmt(double v, int precision = 3) {
+  return std::isnan(v) ? std::string("—") : base::number_text(v, precision);
+}
 
 std::vector<double> decades_or_throw(const std::string& flag, const std::string& spec) {
   try {
@@ -145,8 +147,9 @@ PreparedReport prepare(const ReportOptions& o) {
                                                       (steps < 0 ? std::string("too many") : std::to_string(steps)) +
                                                       " variational steps, more than 10^8");
   } else if (o.long_run || o.long_run_step || o.long_run_rtol) {
-    throw InputError({"--long-run", 0, 0}, "--long-run compares IDA with the variational integrator: add "
-                                           "--integrators ida,variational");
+    throw InputError({"--long-run", 0, 0},
+                     "--long-run compares IDA with the variational integrator: add "
+                     "--integrators ida,variational");
   }
   for (const std::string& a : o.set) {
     const auto [name, value] = app::split_assignment("--set", a);
@@ -258,11 +261,10 @@ void write_report(const std::string& path, const Scene& scene, ModelKind kind, c
         << "## Settings\n\n"
         << "- t from " << fmt(scene.initial.t0, 6) << " to " << fmt(s.t_end, 6) << "; error and drift measured at "
         << s.outputs + 1 << " equally spaced output times.\n"
-        << "- rtol = " << fmt(s.rtols.front()) << " … " << fmt(s.rtols.back())
-        << " by decades, atol = rtol × " << fmt(s.atol_scale)
-        << " (the scale is the scene's [simulate] atol/rtol unless `--atol-scale` is given).\n"
-        << "- error: max over the output times and the coordinates of |q − q_ref|, against "
-        << wp.source.description() << ". A run that stops early is compared up to where it stopped.\n"
+        << "- rtol = " << fmt(s.rtols.front()) << " … " << fmt(s.rtols.back()) << " by decades, atol = rtol × "
+        << fmt(s.atol_scale) << " (the scale is the scene's [simulate] atol/rtol unless `--atol-scale` is given).\n"
+        << "- error: max over the output times and the coordinates of |q − q_ref|, against " << wp.source.description()
+        << ". A run that stops early is compared up to where it stopped.\n"
         << "- seconds: wall time of one run (consistent initialization and integration; not derivation or "
            "compilation), the median of up to "
         << s.max_repeats << " repeats while their total stays below " << fmt(s.repeat_seconds) << " s.\n"
@@ -271,8 +273,8 @@ void write_report(const std::string& path, const Scene& scene, ModelKind kind, c
            "onto the hidden constraints (`in_place`, docs/projection.md).\n";
     if (!s.steps.empty())
       out << "- variational: the discrete Lagrange–d'Alembert integrator (docs/variational.md) at the fixed steps "
-          << fmt(s.steps.front()) << " … " << fmt(s.steps.back())
-          << " (halving), its initial point consistent at rtol " << fmt(s.rtols.back()) << ".\n";
+          << fmt(s.steps.front()) << " … " << fmt(s.steps.back()) << " (halving), its initial point consistent at rtol "
+          << fmt(s.rtols.back()) << ".\n";
     if (!s.parameter_overrides.empty()) {
       out << "- parameters set:";
       for (const auto& [n, v] : s.parameter_overrides) out << " " << n << " = " << fmt(v, 6);
@@ -283,9 +285,11 @@ void write_report(const std::string& path, const Scene& scene, ModelKind kind, c
       for (const std::string& a : initial) out << " `" << a << "`";
       out << "\n";
     }
-    if (sweep) out << "- sweep: " << s.sweep_parameter << " = " << fmt(s.sweep_values.front()) << " … " << fmt(s.sweep_values.back()) << " by decades.\n";
-    out << "- derivation and code generation " << fmt(wp.derive_seconds) << " s, compilation " << fmt(wp.compile_seconds)
-        << " s (not in the table).\n\n";
+    if (sweep)
+      out << "- sweep: " << s.sweep_parameter << " = " << fmt(s.sweep_values.front()) << " … "
+          << fmt(s.sweep_values.back()) << " by decades.\n";
+    out << "- derivation and code generation " << fmt(wp.derive_seconds) << " s, compilation "
+        << fmt(wp.compile_seconds) << " s (not in the table).\n\n";
 
     out << "## Plots\n\n";
     for (const std::string& image : images)
@@ -297,8 +301,9 @@ void write_report(const std::string& path, const Scene& scene, ModelKind kind, c
     out << "## Error against tolerance\n\n" << error_summary(wp) << "\n";
     if (!wp.long_runs.empty()) {
       out << "## Long run\n\n"
-          << "From t = " << fmt(scene.initial.t0, 6) << " to " << fmt(s.long_run_t_end, 6) << ", " << s.long_run_outputs + 1
-          << " samples; the error of the invariant `" << wp.long_runs.front().invariant << "`, |I(t) − I(t0)|:\n\n"
+          << "From t = " << fmt(scene.initial.t0, 6) << " to " << fmt(s.long_run_t_end, 6) << ", "
+          << s.long_run_outputs + 1 << " samples; the error of the invariant `" << wp.long_runs.front().invariant
+          << "`, |I(t) − I(t0)|:\n\n"
           << table_row({"integrator", "steps", "seconds", "max error", "error at the end", "status"})
           << table_row({"---", "---", "---", "---", "---", "---"});
       for (const runtime::InvariantHistory& h : wp.long_runs)
@@ -312,8 +317,8 @@ void write_report(const std::string& path, const Scene& scene, ModelKind kind, c
     std::vector<std::string> header{"configuration"};
     if (sweep) header.push_back(s.sweep_parameter);
     for (const char* h : {"rtol", "atol", "step", "error", "seconds", "repeats", "steps", "residuals", "Jacobians",
-                          "error-test failures", "nonlinear failures", "projections", "hidden drift",
-                          "invariant drift", "t reached", "status"})
+                          "error-test failures", "nonlinear failures", "projections", "hidden drift", "invariant drift",
+                          "t reached", "status"})
       header.push_back(h);
     out << table_row(header);
     out << table_row(std::vector<std::string>(header.size(), "---"));
@@ -322,11 +327,11 @@ void write_report(const std::string& path, const Scene& scene, ModelKind kind, c
       std::vector<std::string> row{m.configuration.label()};
       if (sweep) row.push_back(fmt(*m.sweep_value));
       for (const std::string& c :
-           {fmt(m.rtol), fmt(m.atol), m.step > 0 ? fmt(m.step) : std::string("—"), fmt(m.error), fmt(m.seconds), std::to_string(m.repeats), std::to_string(st.steps),
-            std::to_string(st.residual_evaluations), std::to_string(st.jacobian_evaluations),
-            std::to_string(st.error_test_failures), std::to_string(st.nonlinear_failures),
-            std::to_string(st.projections), fmt(m.max_hidden), fmt(m.max_invariant_relative), fmt(m.t_reached, 6),
-            m.status()})
+           {fmt(m.rtol), fmt(m.atol), m.step > 0 ? fmt(m.step) : std::string("—"), fmt(m.error), fmt(m.seconds),
+            std::to_string(m.repeats), std::to_string(st.steps), std::to_string(st.residual_evaluations),
+            std::to_string(st.jacobian_evaluations), std::to_string(st.error_test_failures),
+            std::to_string(st.nonlinear_failures), std::to_string(st.projections), fmt(m.max_hidden),
+            fmt(m.max_invariant_relative), fmt(m.t_reached, 6), m.status()})
         row.push_back(c);
       out << table_row(row);
     }
@@ -349,16 +354,17 @@ void write_report(const std::string& path, const Scene& scene, ModelKind kind, c
       out << "Linear solver and Jacobian per configuration: ";
       std::vector<std::string> seen;
       for (const Measurement& m : wp.measurements) {
-        const std::string d = m.configuration.label() + ": " + m.statistics.linear_solver + ", " + m.statistics.jacobian;
+        const std::string d =
+            m.configuration.label() + ": " + m.statistics.linear_solver + ", " + m.statistics.jacobian;
         if (std::find(seen.begin(), seen.end(), d) == seen.end()) seen.push_back(d);
       }
       for (size_t i = 0; i < seen.size(); ++i) out << (i ? "; " : "") << seen[i];
       out << ".\n\nTightest run of the last configuration: " << st.steps << " steps, " << st.residual_evaluations
           << " residual evaluations, " << st.jacobian_evaluations << " Jacobian evaluations, "
           << st.linear_solver_setups << " linear-solver set-ups, " << st.nonlinear_iterations
-          << " nonlinear iterations, " << st.error_test_failures << " error-test failures, "
-          << st.nonlinear_failures << " nonlinear failures, " << st.root_evaluations << " root evaluations, "
-          << st.projections << " projections.\n\n";
+          << " nonlinear iterations, " << st.error_test_failures << " error-test failures, " << st.nonlinear_failures
+          << " nonlinear failures, " << st.root_evaluations << " root evaluations, " << st.projections
+          << " projections.\n\n";
     }
 
     out << "## Equations\n\n"
@@ -373,7 +379,8 @@ void write_report(const std::string& path, const Scene& scene, ModelKind kind, c
     out << ".";
     if (!wp.singular_names.empty()) {
       out << " Singular-set monitors: ";
-      for (size_t i = 0; i < wp.singular_names.size(); ++i) out << (i ? ", " : "") << "`" << wp.singular_names[i] << "`";
+      for (size_t i = 0; i < wp.singular_names.size(); ++i)
+        out << (i ? ", " : "") << "`" << wp.singular_names[i] << "`";
       out << ".";
     }
     out << "\n\nParameters:";
@@ -391,7 +398,8 @@ int run_report(const ReportOptions& o) {
   // Built in a temporary sibling and moved into place at the end (nhc/io/atomic_directory.hpp).
   AtomicDirectory dir(o.output.empty() ? prepared.scene.name + "-report" : o.output, {o.scene_path});
 
-  const WorkPrecision wp = measure_work_precision(prepared.scene, prepared.kind, prepared.settings, progress_sink(o.quiet));
+  const WorkPrecision wp =
+      measure_work_precision(prepared.scene, prepared.kind, prepared.settings, progress_sink(o.quiet));
   write_work_precision_csv(dir.file("workprec.csv"), wp);
   std::vector<std::string> images;
   std::string plot_error;
@@ -407,7 +415,8 @@ int run_report(const ReportOptions& o) {
               << " runs, error against " << wp.source.description() << "\n";
     for (const std::string& f : {std::string("workprec.csv"), std::string("report.md")})
       std::cout << "  wrote " << dir.final_file(f) << "\n";
-    for (const std::string& f : images) std::cout << "  wrote " << dir.final_file(fs::path(f).filename().string()) << "\n";
+    for (const std::string& f : images)
+      std::cout << "  wrote " << dir.final_file(fs::path(f).filename().string()) << "\n";
   }
   if (!plot_error.empty()) throw EnvironmentError(plot_error);
   return kExitOk;

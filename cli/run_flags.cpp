@@ -47,9 +47,9 @@ void add_run_flags(CLI::App* sub, RunFlags& flags) {
   sub->add_flag("--project", flags.project, "project onto the hidden constraints (docs/projection.md)");
   sub->add_flag("--repair-initial", flags.repair,
                 "move given initial values that miss a hidden constraint to the nearest consistent point");
-  CLI::Option* outputs = sub->add_option("--outputs", flags.outputs,
-                                         "number of output intervals (default: [simulate] outputs, else 200)")
-                             ->check(flag_rules::count(1, flag_rules::kMaxOutputs));
+  CLI::Option* outputs =
+      sub->add_option("--outputs", flags.outputs, "number of output intervals (default: [simulate] outputs, else 200)")
+          ->check(flag_rules::count(1, flag_rules::kMaxOutputs));
   sub->add_option("--output-times", flags.output_times,
                   "START:STEP:END or T1,T2,...: the output times (the last is the end of the run)")
       ->excludes(outputs)
@@ -104,7 +104,8 @@ jit::Backend run_backend(const RunFlags& flags) {
   const char* setting = std::getenv("NHC_BACKEND");
   if (!setting || !*setting) return jit::Backend::automatic;
   if (const std::optional<jit::Backend> backend = jit::parse_backend(setting)) return *backend;
-  throw InputError({"NHC_BACKEND", 0, 0}, std::string("'") + setting + "' is not a backend: compiled, interpreted or auto");
+  throw InputError({"NHC_BACKEND", 0, 0},
+                   std::string("'") + setting + "' is not a backend: compiled, interpreted or auto");
 }
 
 namespace {
@@ -166,8 +167,10 @@ MpcFactory mpc_factory = nullptr;
 void check_run_features(const RunFlags& flags, const Scene& scene, bool sensitivities) {
   app::RunFeatures features;
   features.controller = scene.controller.present;
-  features.controller_name = scene.controller.mpc.present ? "the scene's model predictive control" : "the scene's [controller]";
-  features.controller_where = scene.controller.mpc.present ? scene.controller.mpc.where.str() : scene.controller.where.str();
+  features.controller_name =
+      scene.controller.mpc.present ? "the scene's model predictive control" : "the scene's [controller]";
+  features.controller_where =
+      scene.controller.mpc.present ? scene.controller.mpc.where.str() : scene.controller.where.str();
   features.mpc = scene.controller.mpc.present;
   for (const SceneControllerLaw& law : scene.controller.inputs) features.controlled_inputs.push_back(law.name);
   if (features.mpc)
@@ -203,8 +206,8 @@ app::RunPlan run_plan(const RunFlags& flags, const Scene& scene_set, ModelKind k
   plan.inputs = inputs;
   plan.request = flags.request;
   if (controller)
-    plan.control = app::RunControl{app::sample_law(controller), controller->held(), times, scene_set.controller.period,
-                                   controller, {}};
+    plan.control = app::RunControl{app::sample_law(controller), controller->held(), times,
+                                   scene_set.controller.period, controller,         {}};
   if (!plan.request.variational)
     if (const SceneContact* slide = app::sliding_contact(scene_set)) {
       sliding.emplace(app::build_sliding_model(scene_set, *slide, kind, build_options));

@@ -28,12 +28,12 @@ struct RunFlags {
   std::optional<int> outputs;
   std::string output_times;
   std::vector<std::string> set;
-  std::vector<std::string> inputs;  ///< --input NAME=EXPR | NAME=@FILE.csv
-  std::vector<std::string> initial; ///< --initial NAME=VALUE: [initial] values (x, x', t0) from outside
-  std::string integrator = "ida";   ///< --integrator ida | variational
-  std::optional<double> step;       ///< --step H of the variational integrator
+  std::vector<std::string> inputs;       ///< --input NAME=EXPR | NAME=@FILE.csv
+  std::vector<std::string> initial;      ///< --initial NAME=VALUE: [initial] values (x, x', t0) from outside
+  std::string integrator = "ida";        ///< --integrator ida | variational
+  std::optional<double> step;            ///< --step H of the variational integrator
   std::optional<std::string> stop_when;  ///< --stop-when EXPR: an event that ends the run
-  std::string backend;              ///< --backend compiled | interpreted | auto; empty: $NHC_BACKEND, else auto
+  std::string backend;                   ///< --backend compiled | interpreted | auto; empty: $NHC_BACKEND, else auto
   SceneOptions read;
   /// The flags as the application layer's run request (--output-times read against the scene's t0,
   /// not yet checked): built once, by load_run_scene, and read by every helper below.
@@ -59,7 +59,6 @@ void add_run_flags(CLI::App* sub, RunFlags& flags);
 /// The flags as the application layer's run request (--output-times read, not yet checked).
 app::RunRequest run_request(const RunFlags& flags, const Scene& scene);
 
-
 /// The flags that override [simulate], against the scene: --t-end after t0; --integrator
 /// variational with --step, the chetaev model, no --project, and a step count within --max-steps.
 void check_run_flags(const RunFlags& flags, const Scene& scene, ModelKind kind);
@@ -82,7 +81,8 @@ struct MpcParts {
   std::vector<std::string> columns;
   std::function<std::string()> summary;
 };
-using MpcFactory = MpcParts (*)(const Scene& scene_set, const runtime::Model& model, const std::vector<double>& samples);
+using MpcFactory = MpcParts (*)(const Scene& scene_set, const runtime::Model& model,
+                                const std::vector<double>& samples);
 extern MpcFactory mpc_factory;
 
 /// The output times: the scene [controller]'s samples when it has one, else run_output_times.

@@ -35,9 +35,9 @@ std::string describe_sensitivity_cost(const runtime::SensitivityRun& run, const 
   const double plain_seconds = plain.initialization_seconds + plain.integration_seconds;
   std::ostringstream os;
   os << "  sensitivities (" << request.names.size() << ", IDAS staggered, error control " << request.error_control
-     << "): integrate " << base::number_text(seconds, 3) << " s = "
-     << base::number_text(plain_seconds > 0 ? seconds / plain_seconds : 0, 3) << " x the plain run; steps " << st.steps
-     << " (plain " << plain.steps << "), sensitivity residual evaluations "
+     << "): integrate " << base::number_text(seconds, 3)
+     << " s = " << base::number_text(plain_seconds > 0 ? seconds / plain_seconds : 0, 3) << " x the plain run; steps "
+     << st.steps << " (plain " << plain.steps << "), sensitivity residual evaluations "
      << run.statistics.sensitivity_residual_evaluations << "\n";
   return os.str();
 }

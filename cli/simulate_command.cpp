@@ -50,7 +50,8 @@ namespace {
 /// and the invariants over the samples.
 void write_drift_summary(std::ostream& info, const Scene& scene, const runtime::Model& model, ModelKind kind,
                          const runtime::DriftReport& drift, bool reference_applies) {
-  if (model.n_reference() > 0 && reference_applies) info << "  max reference error " << base::number_text(drift.max_error, 3) << "\n";
+  if (model.n_reference() > 0 && reference_applies)
+    info << "  max reference error " << base::number_text(drift.max_error, 3) << "\n";
   if (model.n_reference() > 0 && !reference_applies)  // docs/combinations.md
     info << "  no reference error: the closed forms of [reference] start from the scene's own [initial], and "
             "--initial moved the start\n";
@@ -61,9 +62,9 @@ void write_drift_summary(std::ostream& info, const Scene& scene, const runtime::
       const std::size_t k = static_cast<std::size_t>(i);
       info << "  monitored constraint " << model.hidden_name(i)
            << (k < scene.constraint_texts.size() ? " = " + scene.constraint_texts[k] : std::string()) << " (CSV column "
-           << runtime::hidden_column(model, i) << "): value at t0 " << base::number_text(drift.first_hidden_each.at(k), 3)
-           << ", max |" << model.hidden_name(i) << "| " << base::number_text(drift.max_hidden_each[k], 3)
-           << " (not enforced by the suslov model)\n";
+           << runtime::hidden_column(model, i) << "): value at t0 "
+           << base::number_text(drift.first_hidden_each.at(k), 3) << ", max |" << model.hidden_name(i) << "| "
+           << base::number_text(drift.max_hidden_each[k], 3) << " (not enforced by the suslov model)\n";
     }
   } else if (model.n_hidden() > 0) {
     info << "  max hidden-constraint drift " << base::number_text(drift.max_hidden, 3) << "\n";
@@ -73,12 +74,12 @@ void write_drift_summary(std::ostream& info, const Scene& scene, const runtime::
   // say; where it is conserved, its change is the integration's drift (docs/scenes.md).
   for (int k = 0; k < model.n_invariants(); ++k)
     info << "  invariant " << model.table().invariant_names[k] << ": max change "
-              << base::number_text(drift.invariant_drift[k], 3)
-              << (drift.invariant_absolute[k]
-                      ? " (absolute: the invariant stays below " + base::number_text(runtime::kInvariantScaleFloor, 3) + ")"
-                      : " (relative " + base::number_text(drift.invariant_relative[k], 3) + " to its largest size " +
-                            base::number_text(drift.invariant_scale[k], 3) + ")")
-              << "\n";
+         << base::number_text(drift.invariant_drift[k], 3)
+         << (drift.invariant_absolute[k]
+                 ? " (absolute: the invariant stays below " + base::number_text(runtime::kInvariantScaleFloor, 3) + ")"
+                 : " (relative " + base::number_text(drift.invariant_relative[k], 3) + " to its largest size " +
+                       base::number_text(drift.invariant_scale[k], 3) + ")")
+         << "\n";
 }
 
 }  // namespace
@@ -189,7 +190,8 @@ int run_simulate(SimulateOptions& options) {
                                input_function(input_signals, model, p), controller, sliding);
   if (mpc) plan.control = mpc->control;
   app::RunOutcome outcome = app::simulate(plan);
-  if (sampled) controller_columns.rows = outcome.controller_rows, controller_columns.rows.resize(outcome.run.samples.size());
+  if (sampled)
+    controller_columns.rows = outcome.controller_rows, controller_columns.rows.resize(outcome.run.samples.size());
   if (outcome.slide && !outcome.sliding.empty()) {
     std::vector<std::pair<double, double>> spans;
     for (const app::SlidingSpan& s : outcome.sliding) spans.emplace_back(s.from, s.to);
@@ -203,10 +205,8 @@ int run_simulate(SimulateOptions& options) {
     sensitivities = app::simulate_sensitivities(plan, thetas, so);
   }
   auto write_rows = [&](std::ostream& out) {
-    if (sensitivities)
-      runtime::write_sensitivity_csv(out, model, p, thetas, sensitivities->samples);
-    else
-      app::write_selected_csv(out, model, p, run.samples, columns, outputs, extra);
+    if (sensitivities) runtime::write_sensitivity_csv(out, model, p, thetas, sensitivities->samples);
+    else app::write_selected_csv(out, model, p, run.samples, columns, outputs, extra);
   };
   // No row, no file: a header-only CSV would look like a result.
   const std::size_t csv_rows = sensitivities ? sensitivities->samples.size() : run.samples.size();
@@ -229,32 +229,28 @@ int run_simulate(SimulateOptions& options) {
   const runtime::DriftReport drift = runtime::measure_drift(model, p, outcome.drift_samples);
   const bool started = !run.samples.empty();
   info << "nhc simulate: " << scene.name << ", model " << to_string(kind);
-  if (started)
-    info << ", t from " << t0 << " to " << run.samples.back().t << " (of " << t_end << ")";
-  else
-    info << ", never started: the run stopped at t0 = " << t0 << " (t_end " << t_end << ")";
+  if (started) info << ", t from " << t0 << " to " << run.samples.back().t << " (of " << t_end << ")";
+  else info << ", never started: the run stopped at t0 = " << t0 << " (t_end " << t_end << ")";
   if (variational)
     info << ", variational integrator (discrete Lagrange-d'Alembert, midpoint), step " << *options.run.step
-         << "\n  steps " << st.steps << ", Newton iterations " << st.nonlinear_iterations
-         << ", residual evaluations " << st.residual_evaluations << ", Jacobian evaluations "
-         << st.jacobian_evaluations << " (" << st.linear_solver << ", " << st.jacobian << ")";
+         << "\n  steps " << st.steps << ", Newton iterations " << st.nonlinear_iterations << ", residual evaluations "
+         << st.residual_evaluations << ", Jacobian evaluations " << st.jacobian_evaluations << " (" << st.linear_solver
+         << ", " << st.jacobian << ")";
   else
     info << ", rtol " << io.rtol << ", atol " << io.atol << (options.run.project ? ", projection" : "") << "\n"
-         << "  steps " << st.steps << ", residual evaluations " << st.residual_evaluations
-         << ", Jacobian evaluations " << st.jacobian_evaluations << " (" << st.linear_solver << ", "
-         << st.jacobian << "), error-test failures " << st.error_test_failures << ", nonlinear failures "
-         << st.nonlinear_failures;
+         << "  steps " << st.steps << ", residual evaluations " << st.residual_evaluations << ", Jacobian evaluations "
+         << st.jacobian_evaluations << " (" << st.linear_solver << ", " << st.jacobian << "), error-test failures "
+         << st.error_test_failures << ", nonlinear failures " << st.nonlinear_failures;
   if (options.run.project) info << ", projections " << st.projections;
   info << "\n  time: derive " << base::number_text(derive_seconds, 3) << " s" << (scene_cached ? " (scene cache)" : "")
-       << (built.timings().interpreted
-               ? (switched          ? ", interpreted, then compiled behind the run"
-                  : compiled_behind ? ", interpreted (compiled behind it for the next run)"
-                                    : ", interpreted (no compile)")
+       << (built.timings().interpreted ? (switched          ? ", interpreted, then compiled behind the run"
+                                          : compiled_behind ? ", interpreted (compiled behind it for the next run)"
+                                                            : ", interpreted (no compile)")
                                        : ", compile " + base::number_text(compile_seconds, 3) + " s" +
                                              (built.library().reused ? " (cached)" : ""))
-       << ", integrate "
-            << base::number_text(st.initialization_seconds + st.integration_seconds, 3) << " s";
-  if (!app::input_files(options.run.inputs).empty()) info << ", read inputs " << base::number_text(input_seconds, 3) << " s";
+       << ", integrate " << base::number_text(st.initialization_seconds + st.integration_seconds, 3) << " s";
+  if (!app::input_files(options.run.inputs).empty())
+    info << ", read inputs " << base::number_text(input_seconds, 3) << " s";
   info << "\n";
   if (sensitivities) info << describe_sensitivity_cost(*sensitivities, options.sensitivity, st);
   // Errors and drifts of a run without a sample would read as zeros: there are none to report.
@@ -290,8 +286,7 @@ int run_simulate(SimulateOptions& options) {
          << csv_rows << " rows" << (csv_cut_short ? ", the motion up to the failure" : "") << ")\n";
   else if (!options.output.empty())
     info << "  no CSV written: the run" << (sensitivities ? " with sensitivities" : "") << " did not get past t0\n";
-  else
-    info << "  no CSV written (-o FILE.csv, or -o - for standard output)\n";
+  else info << "  no CSV written (-o FILE.csv, or -o - for standard output)\n";
   if (!options.plot.empty() && run.samples.empty()) info << "  no plots: the run did not get past t0\n";
   if (!options.plot.empty() && !run.samples.empty()) {
     write_trajectory_plots(options.plot, scene, model, p, run, plane, inputs);
@@ -318,14 +313,14 @@ int run_simulate(SimulateOptions& options) {
 
 CommandRunner add_simulate_command(CLI::App& app) {
   auto options = std::make_shared<SimulateOptions>();
-  CLI::App* sub = app.add_subcommand(
-      "simulate", "derive, generate, compile and integrate one model of a scene with SUNDIALS IDA");
+  CLI::App* sub =
+      app.add_subcommand("simulate", "derive, generate, compile and integrate one model of a scene with SUNDIALS IDA");
   add_run_flags(sub, options->run);
   sub->add_option("--columns", options->columns, "x,y,...: the CSV columns after t (default: all)");
   sub->add_option("-o,--output", options->output,
                   "CSV file for the solution ('-': standard output, the summary then on standard error)");
-  CLI::Option* plot = sub->add_option(
-      "--plot", options->plot, "directory for plots (SVG, PNG) of the coordinates, path, multipliers and drift");
+  CLI::Option* plot = sub->add_option("--plot", options->plot,
+                                      "directory for plots (SVG, PNG) of the coordinates, path, multipliers and drift");
   sub->add_option("--plot-xy", options->plot_xy, "a,b: the plane of the path plot (default: the first two coordinates)")
       ->needs(plot);
   add_sensitivity_options(sub, options->sensitivity);

@@ -33,8 +33,9 @@ std::vector<Plot> trajectory_plots(const runtime::Model& model, const std::strin
   for (const std::string& q : coordinate_names(model)) coordinates.curves.push_back({q, csv, "t", q});
   plots.push_back(coordinates);
 
-  if (!plane.y.empty()) plots.push_back(path_plot("path", "path in the " + plane.x + "," + plane.y + " plane: " + label,
-                                                  plane, {{model.model_name(), csv}}));
+  if (!plane.y.empty())
+    plots.push_back(path_plot("path", "path in the " + plane.x + "," + plane.y + " plane: " + label, plane,
+                              {{model.model_name(), csv}}));
 
   if (model.n_multipliers() > 0) {
     Plot multipliers{"multipliers", "multipliers against t: " + label, "t", "multiplier value", false, false, {}};
@@ -46,8 +47,10 @@ std::vector<Plot> trajectory_plots(const runtime::Model& model, const std::strin
   }
 
   if (model.n_hidden() + model.n_invariants() > 0) {
-    Plot drift{"drift", "drift of the hidden constraints and invariants: " + label, "t",
-               "|g_i|  and  |I(t) - I(t0)|  (log scale)", true, false, {}};
+    Plot drift{"drift", "drift of the hidden constraints and invariants: " + label,
+               "t",     "|g_i|  and  |I(t) - I(t0)|  (log scale)",
+               true,    false,
+               {}};
     for (int i = 0; i < model.n_hidden(); ++i)
       drift.curves.push_back({"|g_" + std::to_string(i + 1) + "|: " + model.hidden_name(i), csv, "t",
                               runtime::hidden_column(model, i), Transform::magnitude});

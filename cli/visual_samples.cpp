@@ -42,7 +42,8 @@ std::vector<VisualTrack> visual_tracks(const Scene& scene, const runtime::Model&
       for (const Slots& s : slots[v]) {
         const auto begin = values.begin() + static_cast<std::ptrdiff_t>(s.first);
         const auto end = begin + static_cast<std::ptrdiff_t>(s.count);
-        if (s.key == "center" || s.key == "point" || s.key == "from") track.position.insert(track.position.end(), begin, end);
+        if (s.key == "center" || s.key == "point" || s.key == "from")
+          track.position.insert(track.position.end(), begin, end);
         else if (s.key == "to") track.to.insert(track.to.end(), begin, end);
         else if (s.key == "rotation") track.rotation.insert(track.rotation.end(), begin, end);
         else if (r == 0) {  // sizes: at the first sample

@@ -82,7 +82,8 @@ WorkPrecision measure_work_precision(const Scene& scene, ModelKind kind, const W
 
   const std::string scene_file = scene.source_path.empty() ? scene.name : scene.source_path;
   auto check_parameter = [&](const std::string& name) {
-    if (!scene.jet->parameter_index(name)) throw InputError({scene_file, 0, 0}, "the scene has no parameter '" + name + "'");
+    if (!scene.jet->parameter_index(name))
+      throw InputError({scene_file, 0, 0}, "the scene has no parameter '" + name + "'");
   };
   // A parameter the model does not read is not in its header: setting it changes nothing there
   // (app::parameters_with_overrides), sweeping it would measure one motion again and again.
@@ -165,11 +166,9 @@ std::string plot_script(const std::string& stem, const std::string& title, const
   std::ostringstream plot;
   plot << "plot ";
   for (size_t i = 0; i < curves.size(); ++i)
-    plot << (i ? ", \\\n     " : "") << tools::gnuplot_string(stem + ".dat") << " index " << i
-         << " using 1:2 with "
+    plot << (i ? ", \\\n     " : "") << tools::gnuplot_string(stem + ".dat") << " index " << i << " using 1:2 with "
          << (curves[i].markers ? "linespoints pointtype " + std::to_string(i % 13 + 1) : std::string("lines"))
-         << " title " << tools::gnuplot_string(curves[i].title)
-         << " noenhanced";
+         << " title " << tools::gnuplot_string(curves[i].title) << " noenhanced";
   g << plot.str() << "\n"
     << "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
     << "  set terminal pngcairo size 900,560 enhanced font 'sans,10' background rgb 'white'\n"
@@ -242,12 +241,13 @@ std::vector<std::string> plot_work_precision(const std::string& directory, const
       histories.push_back(std::move(c));
     }
     write_data(dir / "energy.dat", histories);
-    scripts.emplace_back("energy", plot_script("energy",
-                                               "long run: " + wp.scene_name + " (" + wp.model_name + "), error of " +
-                                                   wp.long_runs.front().invariant,
-                                               "t", "|" + wp.long_runs.front().invariant + "(t) - " +
-                                                        wp.long_runs.front().invariant + "(t0)|",
-                                               true, histories, suffix));
+    scripts.emplace_back(
+        "energy",
+        plot_script(
+            "energy",
+            "long run: " + wp.scene_name + " (" + wp.model_name + "), error of " + wp.long_runs.front().invariant, "t",
+            "|" + wp.long_runs.front().invariant + "(t) - " + wp.long_runs.front().invariant + "(t0)|", true, histories,
+            suffix));
   }
 
   std::vector<std::string> written;

@@ -16,7 +16,9 @@ double work_limit_seconds = work_budget::kDefaultWorkSeconds;
 bool work_limit_given = false;
 bool work_expanded = false;
 
-double work_limit() { return work_limit_given || !work_expanded ? work_limit_seconds : work_limit_seconds * kExpandedWorkFactor; }
+double work_limit() {
+  return work_limit_given || !work_expanded ? work_limit_seconds : work_limit_seconds * kExpandedWorkFactor;
+}
 
 namespace {
 

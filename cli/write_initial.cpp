@@ -18,7 +18,8 @@ std::string number(double v) {
 
 }  // namespace
 
-void write_initial_table(std::ostream& out, const Scene& scene, const std::string& model, const ConsistentPoint& point) {
+void write_initial_table(std::ostream& out, const Scene& scene, const std::string& model,
+                         const ConsistentPoint& point) {
   // Per unknown, its values x_j^(k), k < d_j, in order; named by the order-0 value.
   std::map<int, std::map<int, const InitialValue*>> by_unknown;
   for (const InitialValue& v : point.values) by_unknown[v.unknown][v.order] = &v;
@@ -37,7 +38,8 @@ void write_initial_table(std::ostream& out, const Scene& scene, const std::strin
   }
   if (!scene.initial.fixed.empty()) {
     out << "fixed = [";
-    for (std::size_t i = 0; i < scene.initial.fixed.size(); ++i) out << (i ? ", " : "") << '"' << scene.initial.fixed[i] << '"';
+    for (std::size_t i = 0; i < scene.initial.fixed.size(); ++i)
+      out << (i ? ", " : "") << '"' << scene.initial.fixed[i] << '"';
     out << "]\n";
   }
 }

@@ -10,8 +10,6 @@ std::string SourceLocation::str() const {
 }
 
 InputError::InputError(SourceLocation where, const std::string& message)
-    : std::runtime_error(where.str() + ": error: " + message),
-      where_(std::move(where)),
-      message_(message) {}
+    : std::runtime_error(where.str() + ": error: " + message), where_(std::move(where)), message_(message) {}
 
 }  // namespace nhc

@@ -16,7 +16,10 @@ int main() {
   const double m = 1.0, g = 9.81, a = 1.0, b = 0.5;
   const nhc::Scene scene = nhc::SceneBuilder("appell_hamel")
                                .coordinates({"x", "y", "z"})
-                               .parameter("m", m).parameter("g", g).parameter("a", a).parameter("b", b)
+                               .parameter("m", m)
+                               .parameter("g", g)
+                               .parameter("a", a)
+                               .parameter("b", b)
                                .lagrangian("m/2*(x'^2 + y'^2 + z'^2) - m*g*z")
                                .constraint("z' - b/a*sqrt(x'^2 + y'^2)")
                                .initial("x", {0.0, 1.0})

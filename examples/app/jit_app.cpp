@@ -22,7 +22,10 @@ constexpr double m = 1.0, g = 9.81, a = 1.0, vx0 = 1.0, vy0 = 0.5;
 nhc::Scene appell_hamel(double b) {
   return nhc::SceneBuilder("appell_hamel")
       .coordinates({"x", "y", "z"})
-      .parameter("m", m).parameter("g", g).parameter("a", a).parameter("b", b)
+      .parameter("m", m)
+      .parameter("g", g)
+      .parameter("a", a)
+      .parameter("b", b)
       .lagrangian("m/2*(x'^2 + y'^2 + z'^2) - m*g*z")
       .constraint("z' - b/a*sqrt(x'^2 + y'^2)")
       .initial("x", {0.0, vx0})
@@ -40,9 +43,9 @@ bool check(const nhc::Scene& scene, const nhc::runtime::Model& model, double b) 
   IntegratorOptions options;
   options.rtol = 1e-8;
   options.atol = 1e-10;
-  const RunResult run = simulate(model, model.default_parameters(),
-                                 initial_state_from(model, scene.initial.t0, scene.initial.values),
-                                 output_times(0.0, t_end, 100), options);
+  const RunResult run =
+      simulate(model, model.default_parameters(), initial_state_from(model, scene.initial.t0, scene.initial.values),
+               output_times(0.0, t_end, 100), options);
   if (run.failure) {
     std::printf("jit b = %g FAIL: %s\n", b, run.failure->what());
     return false;
@@ -50,10 +53,11 @@ bool check(const nhc::Scene& scene, const nhc::runtime::Model& model, double b) 
   double worst = 0;
   for (const Sample& sample : run.samples) {
     const double t = sample.t, arc = v0 * t - decel * t * t / 2, v = v0 - decel * t;
-    const double exact[] = {vx0 / v0 * arc, vx0 / v0 * v, vy0 / v0 * arc, vy0 / v0 * v, k * arc, k * v,
-                            m * g / (1 + k * k)};
+    const double exact[] = {vx0 / v0 * arc, vx0 / v0 * v, vy0 / v0 * arc,     vy0 / v0 * v,
+                            k * arc,        k * v,        m * g / (1 + k * k)};
     for (int i = 0; i < 7; ++i)
-      worst = std::max(worst, std::abs(sample.y[static_cast<std::size_t>(i)] - exact[i]) / std::max(1.0, std::abs(exact[i])));
+      worst = std::max(worst,
+                       std::abs(sample.y[static_cast<std::size_t>(i)] - exact[i]) / std::max(1.0, std::abs(exact[i])));
   }
   const double z_dot = run.samples.back().y[static_cast<std::size_t>(model.state_index(2, 1))];
   const bool ok = worst <= 100 * options.rtol && run.samples.back().t == t_end;

@@ -63,10 +63,11 @@ bool appell_hamel() {
   for (const Sample& sample : run.samples) {
     if (sample.t > 0.9 * t_star) break;
     const double t = sample.t, arc = v0 * t - decel * t * t / 2, v = v0 - decel * t;
-    const double exact[] = {vx0 / v0 * arc, vx0 / v0 * v, vy0 / v0 * arc, vy0 / v0 * v, k * arc, k * v,
-                            m * g / (1 + k * k)};
+    const double exact[] = {vx0 / v0 * arc, vx0 / v0 * v, vy0 / v0 * arc,     vy0 / v0 * v,
+                            k * arc,        k * v,        m * g / (1 + k * k)};
     for (int i = 0; i < gen::n_states; ++i)
-      worst = std::max(worst, std::abs(sample.y[static_cast<std::size_t>(i)] - exact[i]) / std::max(1.0, std::abs(exact[i])));
+      worst = std::max(worst,
+                       std::abs(sample.y[static_cast<std::size_t>(i)] - exact[i]) / std::max(1.0, std::abs(exact[i])));
   }
   const DriftReport drift = measure_drift(model, p, run.samples);
   std::printf("appell_hamel chetaev: %d states, b = %.17g, %zu samples, %ld steps\n", gen::n_states, b,
@@ -102,7 +103,8 @@ bool particle() {
   double worst = 0;
   for (const Sample& sample : run.samples)
     for (int c = 0; c < 3; ++c)
-      worst = std::max(worst, std::abs(sample.y[static_cast<std::size_t>(model.state_index(c, 0))] - velocity[c] * sample.t));
+      worst = std::max(worst,
+                       std::abs(sample.y[static_cast<std::size_t>(model.state_index(c, 0))] - velocity[c] * sample.t));
   const DriftReport drift = measure_drift(model, p, run.samples);
   const double t_end = run.samples.empty() ? 0.0 : run.samples.back().t;
   std::printf("particle chetaev: %d states, sparse Jacobian (%d nonzeros), %zu samples to t = %g, %ld steps\n",

@@ -51,18 +51,19 @@ int main() {
   for (const Sample& s : run.samples) {
     if (s.t > 0.9 * t_star) break;
     const double arc = v0 * s.t - decel * s.t * s.t / 2, v = v0 - decel * s.t;
-    const double exact[gen::n_states] = {vx0 / v0 * arc, vx0 / v0 * v, vy0 / v0 * arc, vy0 / v0 * v, k * arc, k * v,
-                                         m * g / (1 + k * k)};
+    const double exact[gen::n_states] = {vx0 / v0 * arc, vx0 / v0 * v, vy0 / v0 * arc,     vy0 / v0 * v,
+                                         k * arc,        k * v,        m * g / (1 + k * k)};
     for (int i = 0; i < gen::n_states; ++i)
       worst = std::max(worst, std::abs(s.y[i] - exact[i]) / std::max(1.0, std::abs(exact[i])));
   }
   const DriftReport drift = measure_drift(model, p, run.samples);
   const Statistics& st = run.statistics;
 
-  std::printf("Appell-Hamel (chetaev): %zu samples, %ld steps, %ld residual and %ld Jacobian evaluations, "
-              "%ld error-test and %ld nonlinear failures, %.3f ms\n",
-              run.samples.size(), st.steps, st.residual_evaluations, st.jacobian_evaluations, st.error_test_failures,
-              st.nonlinear_failures, 1e3 * (st.initialization_seconds + st.integration_seconds));
+  std::printf(
+      "Appell-Hamel (chetaev): %zu samples, %ld steps, %ld residual and %ld Jacobian evaluations, "
+      "%ld error-test and %ld nonlinear failures, %.3f ms\n",
+      run.samples.size(), st.steps, st.residual_evaluations, st.jacobian_evaluations, st.error_test_failures,
+      st.nonlinear_failures, 1e3 * (st.initialization_seconds + st.integration_seconds));
   std::printf("max relative error vs closed form up to 0.9 t*: %.3e (limit %.1e)\n", worst, 100 * options.rtol);
   std::printf("energy drift: %.3e relative (limit 1e-6); hidden-constraint drift %.3e\n", drift.max_invariant_relative,
               drift.max_hidden);

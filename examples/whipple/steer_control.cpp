@@ -70,13 +70,15 @@ Motion run(const nhc::runtime::Model& model, const nhc::Scene& scene, const Eige
   if (gain)  // Tdelta = -K s at every residual call, from the states the generated code holds
     integrator.set_inputs([gain, s_states, steer_torque](double, const double* y, double* u) {
       double torque = 0;
-      for (std::size_t k = 0; k < s_states.size(); ++k) torque -= (*gain)(static_cast<Eigen::Index>(k)) * y[s_states[k]];
+      for (std::size_t k = 0; k < s_states.size(); ++k)
+        torque -= (*gain)(static_cast<Eigen::Index>(k)) * y[s_states[k]];
       u[0] = 0;  // Tphi: no lean torque
       u[steer_torque] = torque;
     });
   // A lean of 1 rad is a fall (the pedals and handlebar reach the ground well before): stop there.
   const int lean = s_states[0];
-  integrator.add_event({"fallen", [lean](double, const double* y, const double*) { return 1.0 - std::abs(y[lean]); }, true});
+  integrator.add_event(
+      {"fallen", [lean](double, const double* y, const double*) { return 1.0 - std::abs(y[lean]); }, true});
   Motion m;
   try {
     integrator.initialize(nhc::runtime::initial_state_from(model, scene.initial.t0, scene.initial.values), 0.02);
@@ -109,7 +111,8 @@ void write_csv(const std::filesystem::path& path, const Motion& free, const Moti
   out << "t,lean_free,steer_free,lean_controlled,steer_controlled,steer_torque\n";
   for (std::size_t k = 0; k < controlled.t.size(); ++k) {
     out << n(controlled.t[k]);
-    if (k < free.t.size() && free.t[k] == controlled.t[k]) out << "," << n(free.lean[k]) << "," << n(free.steer[k]);  // not the fall's own time
+    if (k < free.t.size() && free.t[k] == controlled.t[k])
+      out << "," << n(free.lean[k]) << "," << n(free.steer[k]);  // not the fall's own time
     else out << ",,";
     out << "," << n(controlled.lean[k]) << "," << n(controlled.steer[k]) << "," << n(controlled.torque[k]) << "\n";
   }
@@ -139,7 +142,8 @@ do for [format in 'svg png'] {
   std::ofstream(dir / "steer_control.gp") << script;
   // nhc's gnuplot runner: the directory and the script's name are arguments, never a shell's text.
   std::string messages;
-  if (nhc::tools::run_gnuplot(dir, {"steer_control.gp"}, messages) != 0) std::cout << "gnuplot failed: no picture\n" << messages;
+  if (nhc::tools::run_gnuplot(dir, {"steer_control.gp"}, messages) != 0)
+    std::cout << "gnuplot failed: no picture\n" << messages;
 }
 
 }  // namespace
@@ -154,7 +158,8 @@ int main(int argc, char** argv) {
   try {
     nhc::Scene scene = nhc::load_scene(argv[1]);
     const auto v = scene.jet->parameter_index("v");
-    if (!v || !scene.jet->input_index("Tdelta")) throw std::runtime_error("the scene has no parameter v or input Tdelta");
+    if (!v || !scene.jet->input_index("Tdelta"))
+      throw std::runtime_error("the scene has no parameter v or input Tdelta");
     scene.parameter_values[static_cast<std::size_t>(*v)] = kSpeed;
     reevaluate_initial_expressions(scene);  // the wheel rates follow v
     scene.initial.values["phi"] = {kLean0, 0.0};
@@ -165,11 +170,12 @@ int main(int argc, char** argv) {
     std::vector<Eigen::Index> rows;
     for (const std::string& name : names) {
       const auto at = std::find(lin.states.begin(), lin.states.end(), name);
-      if (at == lin.states.end()) throw std::runtime_error("state " + name + " is not among the linearization's states");
+      if (at == lin.states.end())
+        throw std::runtime_error("state " + name + " is not among the linearization's states");
       rows.push_back(static_cast<Eigen::Index>(at - lin.states.begin()));
     }
-    const auto steer_column = static_cast<Eigen::Index>(
-        std::find(lin.inputs.begin(), lin.inputs.end(), "Tdelta") - lin.inputs.begin());
+    const auto steer_column =
+        static_cast<Eigen::Index>(std::find(lin.inputs.begin(), lin.inputs.end(), "Tdelta") - lin.inputs.begin());
     Eigen::MatrixXd A(4, 4), B(4, 1);
     for (int i = 0; i < 4; ++i) {
       for (int j = 0; j < 4; ++j) A(i, j) = lin.A(rows[static_cast<std::size_t>(i)], rows[static_cast<std::size_t>(j)]);
@@ -200,7 +206,9 @@ int main(int argc, char** argv) {
     plot(dir);
     const double free_lean = largest_lean(free), controlled_lean = largest_lean(controlled);
     std::cout << "free: largest |lean| " << free_lean << " rad"
-              << (free.stopped ? " (stopped at t = " + std::to_string(free.t.empty() ? 0.0 : free.t.back()) + ": " + free.why + ")" : "")
+              << (free.stopped ? " (stopped at t = " + std::to_string(free.t.empty() ? 0.0 : free.t.back()) + ": " +
+                                     free.why + ")"
+                               : "")
               << "\ncontrolled: largest |lean| " << controlled_lean << " rad over " << kDuration << " s"
               << (controlled.stopped ? " (stopped: " + controlled.why + ")" : "") << "\n"
               << "wrote " << (dir / "steer_control.csv").string() << "\n";

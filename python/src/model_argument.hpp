@@ -12,8 +12,7 @@ namespace nhc::python {
 
 inline ModelKind model_named(const std::string& name) {
   const std::optional<ModelKind> kind = parse_model_kind(name);
-  if (!kind)
-    throw InputError({"model", 0, 0}, "unknown model '" + name + "' (known: " + model_name_list() + ")");
+  if (!kind) throw InputError({"model", 0, 0}, "unknown model '" + name + "' (known: " + model_name_list() + ")");
   return *kind;
 }
 

@@ -129,7 +129,8 @@ BuiltModel build(const Scene& scene, const std::string& model, const std::option
   const Scene& written = header_scene ? *header_scene : scene;
   jit::BuildOptions options;
   const std::optional<jit::Backend> chosen = jit::parse_backend(backend);
-  if (!chosen) throw py::value_error("backend must be \"compiled\", \"interpreted\" or \"auto\", not \"" + backend + "\"");
+  if (!chosen)
+    throw py::value_error("backend must be \"compiled\", \"interpreted\" or \"auto\", not \"" + backend + "\"");
   options.backend = *chosen;
   auto loaded = std::make_shared<jit::LoadedModel>(symbolic_work([&] {
     app::Preparation preparation(scene, kind);
@@ -240,8 +241,9 @@ py::cpp_function summary_of(const BuiltModel& built, const runtime::Model& model
       summary["reference_error"] = drift.max_error;
     } else {  // the closed forms are of the scene's own start (docs/combinations.md)
       summary["reference_error"] = py::none();
-      summary["reference_note"] = "no reference error: the closed forms of [reference] start from the scene's own "
-                                  "[initial], and initial= or t0= moved the start";
+      summary["reference_note"] =
+          "no reference error: the closed forms of [reference] start from the scene's own "
+          "[initial], and initial= or t0= moved the start";
     }
     py::dict invariant_drift;
     for (int k = 0; k < model.n_invariants(); ++k)
@@ -308,7 +310,8 @@ py::dict simulate_sensitivities(const BuiltModel& built, app::RunPlan plan, cons
   const Scene& scene = *plan.scene;
   const runtime::Model& plain = built.model();  // the inputs follow their default signals
   // As nhc simulate --sensitivity: a parameter only [initial] is written through among them.
-  const std::vector<runtime::SensitivityParameter> thetas = app::sensitivity_parameters(scene, plain, names, "sensitivity");
+  const std::vector<runtime::SensitivityParameter> thetas =
+      app::sensitivity_parameters(scene, plain, names, "sensitivity");
   try {
     runtime::require_given(thetas, plan.initial);
   } catch (const std::invalid_argument& e) {
@@ -397,19 +400,24 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   const bool reference_applies = !t0_value && (!initial_values || initial_values->empty());
   if (!variational && integrator != "ida")
     throw InputError({"integrator", 0, 0}, "integrator '" + integrator + "': ida or variational");
-  const bool scene_controller = !controller.is_none() && py::isinstance<py::bool_>(controller) && controller.cast<bool>();
+  const bool scene_controller =
+      !controller.is_none() && py::isinstance<py::bool_>(controller) && controller.cast<bool>();
   // controller=nhc.Mpc(...): model predictive control of the scene's [optimize] problem (docs/mpc.md).
   const bool mpc_given = !controller.is_none() && py::isinstance<SceneMpc>(controller);
   const bool function_controller = !controller.is_none() && !py::isinstance<py::bool_>(controller) && !mpc_given;
   if (function_controller && !PyCallable_Check(controller.ptr()))
-    throw InputError({"controller", 0, 0}, "controller= must be a function f(t, y, state) -> (inputs, new_state) or nhc.Mpc(...)");
+    throw InputError({"controller", 0, 0},
+                     "controller= must be a function f(t, y, state) -> (inputs, new_state) or nhc.Mpc(...)");
   if (period && !function_controller && !mpc_given)
-    throw InputError({"period", 0, 0}, scene_controller
-                                           ? "period= goes with controller=; the scene's [controller] has its own"
-                                           : "period= goes with controller= (a function f(t, y, state) -> (inputs, new_state))");
-  if (function_controller && !period) throw InputError({"period", 0, 0}, "controller= needs period= (the sample period h)");
+    throw InputError({"period", 0, 0},
+                     scene_controller
+                         ? "period= goes with controller=; the scene's [controller] has its own"
+                         : "period= goes with controller= (a function f(t, y, state) -> (inputs, new_state))");
+  if (function_controller && !period)
+    throw InputError({"period", 0, 0}, "controller= needs period= (the sample period h)");
   if (mpc_given && !period && !scene.controller.present)
-    throw InputError({"period", 0, 0}, "controller=nhc.Mpc(...) needs period= (the sample period h): the scene has no [controller]");
+    throw InputError({"period", 0, 0},
+                     "controller=nhc.Mpc(...) needs period= (the sample period h): the scene has no [controller]");
   if (scene_controller && !scene.controller.present)
     throw InputError({"controller", 0, 0}, "the scene has no [controller]: give controller= and period=");
   std::optional<SceneMpc> mpc;
@@ -420,8 +428,8 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
     const double h = period.value_or(scene.controller.period);
     if (!(mpc->horizon >= h))
       throw InputError({"controller", 0, 0}, "controller=nhc.Mpc(horizon=" + base::shortest_text(mpc->horizon) +
-                                                  "): the horizon is shorter than the period " + base::shortest_text(h) +
-                                                  ": each plan must reach the next sample");
+                                                 "): the horizon is shorter than the period " + base::shortest_text(h) +
+                                                 ": each plan must reach the next sample");
   } else if (scene_controller && scene.controller.mpc.present) {
     mpc = scene.controller.mpc;
   }
@@ -441,10 +449,11 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   request.step = step;
   request.stop_when = stop_when;
   request.max_step = max_step, request.initial_step = initial_step;  // IDA's largest and first step
-  app::RunFeatures features;  // what the engine refuses to combine
+  app::RunFeatures features;                                         // what the engine refuses to combine
   features.controller = scene_controller || function_controller || mpc_given;
   features.controller_name = mpc ? (mpc_given ? "model predictive control" : "the scene's model predictive control")
-                                 : scene_controller ? "the scene's [controller]" : "the controller";
+                             : scene_controller ? "the scene's [controller]"
+                                                : "the controller";
   features.controller_where = mpc ? mpc->where.str() : scene_controller ? scene.controller.where.str() : "controller=";
   features.mpc = mpc.has_value();
   if (scene_controller && !mpc_given)
@@ -466,9 +475,9 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   if (scene_controller || (mpc_given && !period))
     times = app::scene_controller_samples(request, scene, app::python_names());
   else if (function_controller || mpc_given)
-    times = app::sample_times(scene.initial.t0, app::run_t_end(scene, t_end, "t_end"), *period, {"period", 0, 0}, "period");
-  else
-    times = app::run_output_times(request, scene, app::python_names());
+    times =
+        app::sample_times(scene.initial.t0, app::run_t_end(scene, t_end, "t_end"), *period, {"period", 0, 0}, "period");
+  else times = app::run_output_times(request, scene, app::python_names());
   const InterruptCheck interrupt;
   app::RunPlan plan;
   plan.scene = &scene;
@@ -498,16 +507,25 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
   if (mpc) {
     // The NLP is derived and lowered here, once (symbolic work, with the GIL); the solves run in the loop.
     mpc_controller = symbolic_work([&] { return std::make_shared<app::MpcController>(scene, model, *mpc); });
-    plan.control = app::RunControl{app::sample_law(mpc_controller), mpc_controller->held(), times,
-                                   period.value_or(scene.controller.period), nullptr,
-                                   [mpc_controller](bool at_sample) { return mpc_controller->column_values(at_sample); }};
+    plan.control =
+        app::RunControl{app::sample_law(mpc_controller),
+                        mpc_controller->held(),
+                        times,
+                        period.value_or(scene.controller.period),
+                        nullptr,
+                        [mpc_controller](bool at_sample) { return mpc_controller->column_values(at_sample); }};
   } else if (scene_controller) {
     laws = symbolic_work([&] { return std::make_shared<app::ControllerLaws>(scene, model, p); });
     plan.control = app::RunControl{app::sample_law(laws), laws->held(), times, scene.controller.period, laws, {}};
   } else if (function_controller) {
-    plan.control = app::RunControl{python_controller(controller, std::make_shared<py::object>(std::move(controller_state)),
-                                                     model.n_states(), model.n_inputs(), controller_failure),
-                                   {}, times, *period, nullptr, {}};
+    plan.control =
+        app::RunControl{python_controller(controller, std::make_shared<py::object>(std::move(controller_state)),
+                                          model.n_states(), model.n_inputs(), controller_failure),
+                        {},
+                        times,
+                        *period,
+                        nullptr,
+                        {}};
   }
   std::map<std::string, long> extra;
   if (variational) plan.model = &built.variational_model();  // a build: symbolic work, with the GIL
@@ -568,11 +586,11 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
       v.insert(v.end(), outcome.controller_rows[r].begin(), outcome.controller_rows[r].end());
   };
   py::array_t<double> data = data_of(run_model, p, run.samples, names.size(), extra_values);
-  py::dict result = result_of(py::tuple(names), std::move(data),
-                              // a contact that slid: the drift over the samples where it rolls, as nhc simulate's
-                              summary_of(built, run_model, p, run.statistics, std::move(outcome.drift_samples), extra,
-                                         reference_applies),
-                              run.failure);
+  py::dict result = result_of(
+      py::tuple(names), std::move(data),
+      // a contact that slid: the drift over the samples where it rolls, as nhc simulate's
+      summary_of(built, run_model, p, run.statistics, std::move(outcome.drift_samples), extra, reference_applies),
+      run.failure);
   if (outcome.max_discrete_constraint) result["max_discrete_constraint"] = *outcome.max_discrete_constraint;
   if (mpc_controller) result["mpc"] = mpc_controller->summary();  // nhc simulate's line
   py::list hits;  // run.events: name, t, the state at the crossing by state name
@@ -580,7 +598,8 @@ py::dict simulate(const BuiltModel& built, const std::optional<double>& t_end, c
     py::dict event, state;
     event["name"] = hit.name;
     event["t"] = hit.t;
-    for (int i = 0; i < model.n_states(); ++i) state[py::str(model.state_name(i))] = hit.y.at(static_cast<std::size_t>(i));
+    for (int i = 0; i < model.n_states(); ++i)
+      state[py::str(model.state_name(i))] = hit.y.at(static_cast<std::size_t>(i));
     event["state"] = state;
     hits.append(event);
   }
@@ -598,7 +617,8 @@ std::vector<double> vector_of(const py::array_t<double, py::array::c_style | py:
 std::vector<double> inputs_at(const BuiltModel& built, double t, const std::vector<double>& y,
                               const std::optional<std::vector<double>>& given);
 
-py::array_t<double> residual(const BuiltModel& built, double t, const py::array_t<double, py::array::c_style | py::array::forcecast>& y,
+py::array_t<double> residual(const BuiltModel& built, double t,
+                             const py::array_t<double, py::array::c_style | py::array::forcecast>& y,
                              const py::array_t<double, py::array::c_style | py::array::forcecast>& yp,
                              const std::optional<std::vector<double>>& u) {
   const runtime::Model& model = built.model();
@@ -613,7 +633,8 @@ py::array_t<double> residual(const BuiltModel& built, double t, const py::array_
   return r;
 }
 
-py::array_t<double> jacobian(const BuiltModel& built, double t, const py::array_t<double, py::array::c_style | py::array::forcecast>& y,
+py::array_t<double> jacobian(const BuiltModel& built, double t,
+                             const py::array_t<double, py::array::c_style | py::array::forcecast>& y,
                              const py::array_t<double, py::array::c_style | py::array::forcecast>& yp, double cj) {
   const runtime::Model& model = built.model();
   const int n = model.n_states();
@@ -730,7 +751,8 @@ py::dict linearize_along(const BuiltModel& built, const std::vector<double>& tim
   const auto n = static_cast<py::ssize_t>(model.n_states());
   const auto N = static_cast<py::ssize_t>(times.size());
   if (Y.ndim() != 2 || YP.ndim() != 2 || Y.shape(0) != N || YP.shape(0) != N || Y.shape(1) != n || YP.shape(1) != n)
-    throw InputError({"run", 0, 0}, "the states must be " + std::to_string(N) + " rows of " + std::to_string(n) + " values");
+    throw InputError({"run", 0, 0},
+                     "the states must be " + std::to_string(N) + " rows of " + std::to_string(n) + " values");
   LinearizeOptions options;
   options.keep = keep;
   options.states = states;
@@ -743,7 +765,8 @@ py::dict linearize_along(const BuiltModel& built, const std::vector<double>& tim
     const std::vector<double> y(Y.data(r, 0), Y.data(r, 0) + n), yp(YP.data(r, 0), YP.data(r, 0) + n);
     std::optional<std::vector<double>> u;
     if (inputs) {
-      const py::array_t<double, py::array::c_style | py::array::forcecast> values((*inputs)(t, py::array_t<double>(n, y.data())));
+      const py::array_t<double, py::array::c_style | py::array::forcecast> values(
+          (*inputs)(t, py::array_t<double>(n, y.data())));
       u = std::vector<double>(values.data(), values.data() + values.size());
     }
     Linearization at;
@@ -758,9 +781,9 @@ py::dict linearize_along(const BuiltModel& built, const std::vector<double>& tim
       out["states"] = at.states;
       out["inputs"] = at.inputs;
     } else if (py::cast<std::vector<std::string>>(out["states"]) != at.states) {
-      throw MathError("at t = " + std::to_string(t) + ": the hidden constraints eliminate other states than at t = " +
-                      std::to_string(times.front()) + " (" + join_names(at.states) +
-                      "): choose the states with states=[...]");
+      throw MathError("at t = " + std::to_string(t) +
+                      ": the hidden constraints eliminate other states than at t = " + std::to_string(times.front()) +
+                      " (" + join_names(at.states) + "): choose the states with states=[...]");
     }
     auto a = A->mutable_unchecked<3>();
     auto b = B->mutable_unchecked<3>();
@@ -816,30 +839,35 @@ std::vector<PointOverride> overrides_of(const std::map<std::string, double>& at)
 
 void register_model(py::module_& m) {
   // nhc.Mpc: the settings of model predictive control, as `mpc = { … }` in [controller] (docs/mpc.md).
-  py::class_<SceneMpc>(m, "Mpc",
-                      "Model predictive control's settings, as ``mpc = { horizon = ..., intervals = ... }`` of a scene's\n"
-                      "[controller] (docs/mpc.md): ``Model.simulate(controller=nhc.Mpc(horizon=1.5, intervals=15))``\n"
-                      "solves the scene's [optimize] problem over the receding horizon at every sample.")
-      .def(py::init([](double horizon, long long intervals, long long max_iterations, double tolerance, bool warm_start) {
-             if (!(std::isfinite(horizon) && horizon > 0))
-               throw InputError({"horizon", 0, 0}, "horizon must be a positive number (the prediction horizon in time)");
-             if (intervals < 1 || intervals > 10000)
-               throw InputError({"intervals", 0, 0}, "intervals must be a whole number from 1 to 10000 (the horizon's mesh)");
-             if (max_iterations < 1 || max_iterations > 1000000)
-               throw InputError({"max_iterations", 0, 0}, "max_iterations must be a whole number from 1 to 1000000");
-             if (!(std::isfinite(tolerance) && tolerance > 0 && tolerance < 1))
-               throw InputError({"tolerance", 0, 0}, "tolerance must be a number between 0 and 1 (IPOPT's tol of each solve)");
-             SceneMpc mpc;
-             mpc.present = true;
-             mpc.horizon = horizon;
-             mpc.intervals = static_cast<int>(intervals);
-             mpc.max_iterations = static_cast<int>(max_iterations);
-             mpc.tolerance = tolerance;
-             mpc.warm_start = warm_start;
-             return mpc;
-           }),
-           py::arg("horizon"), py::arg("intervals"), py::arg("max_iterations") = 100, py::arg("tolerance") = 1e-8,
-           py::arg("warm_start") = true)
+  py::class_<SceneMpc>(
+      m, "Mpc",
+      "Model predictive control's settings, as ``mpc = { horizon = ..., intervals = ... }`` of a scene's\n"
+      "[controller] (docs/mpc.md): ``Model.simulate(controller=nhc.Mpc(horizon=1.5, intervals=15))``\n"
+      "solves the scene's [optimize] problem over the receding horizon at every sample.")
+      .def(
+          py::init([](double horizon, long long intervals, long long max_iterations, double tolerance,
+                      bool warm_start) {
+            if (!(std::isfinite(horizon) && horizon > 0))
+              throw InputError({"horizon", 0, 0}, "horizon must be a positive number (the prediction horizon in time)");
+            if (intervals < 1 || intervals > 10000)
+              throw InputError({"intervals", 0, 0},
+                               "intervals must be a whole number from 1 to 10000 (the horizon's mesh)");
+            if (max_iterations < 1 || max_iterations > 1000000)
+              throw InputError({"max_iterations", 0, 0}, "max_iterations must be a whole number from 1 to 1000000");
+            if (!(std::isfinite(tolerance) && tolerance > 0 && tolerance < 1))
+              throw InputError({"tolerance", 0, 0},
+                               "tolerance must be a number between 0 and 1 (IPOPT's tol of each solve)");
+            SceneMpc mpc;
+            mpc.present = true;
+            mpc.horizon = horizon;
+            mpc.intervals = static_cast<int>(intervals);
+            mpc.max_iterations = static_cast<int>(max_iterations);
+            mpc.tolerance = tolerance;
+            mpc.warm_start = warm_start;
+            return mpc;
+          }),
+          py::arg("horizon"), py::arg("intervals"), py::arg("max_iterations") = 100, py::arg("tolerance") = 1e-8,
+          py::arg("warm_start") = true)
       .def_readonly("horizon", &SceneMpc::horizon, "The prediction horizon H in time.")
       .def_readonly("intervals", &SceneMpc::intervals, "The equal intervals of the horizon's mesh.")
       .def_readonly("max_iterations", &SceneMpc::max_iterations, "IPOPT's iteration limit per solve.")
@@ -847,8 +875,9 @@ void register_model(py::module_& m) {
       .def_readonly("warm_start", &SceneMpc::warm_start, "Each solve starts from the last plan shifted by one period.")
       .def("__repr__", [](const SceneMpc& mpc) {
         return "Mpc(horizon=" + base::shortest_text(mpc.horizon) + ", intervals=" + std::to_string(mpc.intervals) +
-               ", max_iterations=" + std::to_string(mpc.max_iterations) + ", tolerance=" +
-               base::shortest_text(mpc.tolerance) + ", warm_start=" + (mpc.warm_start ? "True" : "False") + ")";
+               ", max_iterations=" + std::to_string(mpc.max_iterations) +
+               ", tolerance=" + base::shortest_text(mpc.tolerance) +
+               ", warm_start=" + (mpc.warm_start ? "True" : "False") + ")";
       });
   py::class_<BuiltModel>(m, "_Model")
       .def_property_readonly("state_names",
@@ -867,11 +896,11 @@ void register_model(py::module_& m) {
                              })
       .def_property_readonly("model_name", [](const BuiltModel& b) { return b.model().model_name(); })
       .def("simulate", &simulate, py::arg("t_end") = std::nullopt, py::arg("rtol") = std::nullopt,
-           py::arg("atol") = std::nullopt, py::arg("outputs") = std::nullopt,
-           py::arg("output_times") = std::nullopt, py::arg("inputs") = std::nullopt, py::arg("max_steps") = 1000000,
-           py::arg("sensitivity") = std::nullopt, py::arg("integrator") = "ida", py::arg("step") = std::nullopt,
-           py::arg("stop_when") = std::nullopt, py::arg("initial") = std::nullopt, py::arg("t0") = std::nullopt,
-           py::arg("controller") = py::none(), py::arg("period") = std::nullopt, py::arg("controller_state") = py::none(),
+           py::arg("atol") = std::nullopt, py::arg("outputs") = std::nullopt, py::arg("output_times") = std::nullopt,
+           py::arg("inputs") = std::nullopt, py::arg("max_steps") = 1000000, py::arg("sensitivity") = std::nullopt,
+           py::arg("integrator") = "ida", py::arg("step") = std::nullopt, py::arg("stop_when") = std::nullopt,
+           py::arg("initial") = std::nullopt, py::arg("t0") = std::nullopt, py::arg("controller") = py::none(),
+           py::arg("period") = std::nullopt, py::arg("controller_state") = py::none(),
            py::arg("max_step") = std::nullopt, py::arg("initial_step") = std::nullopt)
       .def_property_readonly("has_controller", [](const BuiltModel& b) { return b.scene.controller.present; })
       .def_property_readonly("inputs",
@@ -883,12 +912,14 @@ void register_model(py::module_& m) {
       .def_property_readonly("differential",
                              [](const BuiltModel& b) {
                                std::vector<bool> out;
-                               for (int i = 0; i < b.model().n_states(); ++i) out.push_back(b.model().is_differential(i));
+                               for (int i = 0; i < b.model().n_states(); ++i)
+                                 out.push_back(b.model().is_differential(i));
                                return out;
                              })
       .def("input_jacobian", &input_jacobian, py::arg("t"), py::arg("y"), py::arg("yp"), py::arg("u") = std::nullopt)
-      .def("linearize_along", &linearize_along, py::arg("t"), py::arg("y"), py::arg("yp"), py::arg("inputs") = std::nullopt,
-           py::arg("keep") = std::vector<std::string>{}, py::arg("states") = std::vector<std::string>{})
+      .def("linearize_along", &linearize_along, py::arg("t"), py::arg("y"), py::arg("yp"),
+           py::arg("inputs") = std::nullopt, py::arg("keep") = std::vector<std::string>{},
+           py::arg("states") = std::vector<std::string>{})
       .def("residual", &residual, py::arg("t"), py::arg("y"), py::arg("yp"), py::arg("u") = std::nullopt)
       .def("jacobian", &jacobian, py::arg("t"), py::arg("y"), py::arg("yp"), py::arg("cj"))
       .def_property_readonly("speeds",
@@ -909,12 +940,14 @@ void register_model(py::module_& m) {
       .def_property_readonly("coordinates",
                              [](const BuiltModel& b) {
                                std::vector<std::string> names;
-                               for (int j = 0; j < b.model().n_coordinates(); ++j) names.push_back(b.model().variable_name(j));
+                               for (int j = 0; j < b.model().n_coordinates(); ++j)
+                                 names.push_back(b.model().variable_name(j));
                                return names;
                              })
       .def(
           "reduced_function",
-          [](const BuiltModel& b, int which, double t, const py::array_t<double, py::array::c_style | py::array::forcecast>& q,
+          [](const BuiltModel& b, int which, double t,
+             const py::array_t<double, py::array::c_style | py::array::forcecast>& q,
              const py::array_t<double, py::array::c_style | py::array::forcecast>& u,
              const std::optional<std::vector<double>>& inputs) { return reduced_function(b, which, t, q, u, inputs); },
           py::arg("which"), py::arg("t"), py::arg("q"), py::arg("u"), py::arg("inputs") = std::nullopt);

@@ -27,19 +27,24 @@ namespace {
 
 const char* status_name(optimize::Solution::Status s) {
   switch (s) {
-    case optimize::Solution::Status::optimal: return "optimal";
-    case optimize::Solution::Status::iteration_limit: return "iteration_limit";
-    case optimize::Solution::Status::acceptable: return "acceptable";
-    case optimize::Solution::Status::infeasible: return "infeasible";
-    default: return "failed";
+    case optimize::Solution::Status::optimal:
+      return "optimal";
+    case optimize::Solution::Status::iteration_limit:
+      return "iteration_limit";
+    case optimize::Solution::Status::acceptable:
+      return "acceptable";
+    case optimize::Solution::Status::infeasible:
+      return "infeasible";
+    default:
+      return "failed";
   }
 }
 
 py::dict optimize_scene(const Scene& scene, std::optional<long long> intervals, long long max_iterations,
-                        double tolerance, const std::string& jacobian, const std::string& hessian, double path_tolerance,
-                        const std::optional<std::vector<std::string>>& guess_columns,
-                        const std::optional<std::vector<std::vector<double>>>& guess_rows, const std::string& guess_name,
-                        const std::string& guess_file) {
+                        double tolerance, const std::string& jacobian, const std::string& hessian,
+                        double path_tolerance, const std::optional<std::vector<std::string>>& guess_columns,
+                        const std::optional<std::vector<std::vector<double>>>& guess_rows,
+                        const std::string& guess_name, const std::string& guess_file) {
   const app::OptimizeRequest request{intervals, max_iterations, tolerance, jacobian, hessian, path_tolerance};
   app::check_optimize_request(request, app::optimize_python_names());
   // Reading, deriving and reducing: symbolic work.
@@ -83,7 +88,8 @@ py::dict optimize_scene(const Scene& scene, std::optional<long long> intervals, 
   py::array_t<double> data({rows.size(), columns.size()});
   auto cells = data.mutable_unchecked<2>();
   for (std::size_t r = 0; r < rows.size(); ++r)
-    for (std::size_t c = 0; c < columns.size(); ++c) cells(static_cast<py::ssize_t>(r), static_cast<py::ssize_t>(c)) = rows[r][c];
+    for (std::size_t c = 0; c < columns.size(); ++c)
+      cells(static_cast<py::ssize_t>(r), static_cast<py::ssize_t>(c)) = rows[r][c];
   py::dict summary;
   summary["cost"] = solution.cost;
   summary["violation"] = solution.violation;
@@ -91,8 +97,8 @@ py::dict optimize_scene(const Scene& scene, std::optional<long long> intervals, 
   summary["iterations"] = solution.iterations;
   const bool path_error = outcome->status == optimize::Outcome::Status::path_error;
   summary["status"] = outcome->status == optimize::Outcome::Status::optimal ? std::string("optimal")
-                      : path_error                                         ? std::string("path_error")
-                                                                           : std::string(status_name(solution.status));
+                      : path_error                                          ? std::string("path_error")
+                                                                            : std::string(status_name(solution.status));
   summary["words"] = path_error ? "not an optimum of the continuous problem: " + outcome->words : solution.words;
   summary["solver_status"] = status_name(solution.status);
   summary["rounds"] = rounds;
@@ -120,9 +126,9 @@ py::dict optimize_scene(const Scene& scene, std::optional<long long> intervals, 
 }  // namespace
 
 void register_optimize(py::module_& m) {
-  m.def("_optimize", &optimize_scene, py::arg("scene"), py::arg("intervals"), py::arg("max_iterations"), py::arg("tolerance"),
-        py::arg("jacobian"), py::arg("hessian"), py::arg("path_tolerance"), py::arg("guess_columns"), py::arg("guess_rows"), py::arg("guess_name"),
-        py::arg("guess_file") = std::string());
+  m.def("_optimize", &optimize_scene, py::arg("scene"), py::arg("intervals"), py::arg("max_iterations"),
+        py::arg("tolerance"), py::arg("jacobian"), py::arg("hessian"), py::arg("path_tolerance"),
+        py::arg("guess_columns"), py::arg("guess_rows"), py::arg("guess_name"), py::arg("guess_file") = std::string());
 }
 
 }  // namespace nhc::python

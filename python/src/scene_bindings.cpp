@@ -127,8 +127,7 @@ void register_scene(py::module_& m) {
           py::arg("path"), py::arg("set") = std::map<std::string, double>{}, py::arg("expand") = false)
       .def_static(
           "from_toml",
-          [](const std::string& text, const std::string& path, const std::map<std::string, double>& set,
-             bool expand) {
+          [](const std::string& text, const std::string& path, const std::map<std::string, double>& set, bool expand) {
             SceneOptions options;
             options.keep_definitions = !expand;
             Scene scene = symbolic_work([&] { return parse_scene(text, path, options); });

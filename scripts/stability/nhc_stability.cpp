@@ -40,7 +40,9 @@ struct Options {
 
 constexpr int kOk = 0, kInternal = 1, kBadInput = 2, kMissed = 3;
 
-std::string fmt(double v, int precision = 3) { return std::isnan(v) ? std::string("—") : base::number_text(v, precision); }
+std::string fmt(double v, int precision = 3) {
+  return std::isnan(v) ? std::string("—") : base::number_text(v, precision);
+}
 
 std::string table_row(const std::vector<std::string>& cells) {
   std::string row = "|";
@@ -143,7 +145,8 @@ bool meets(const StabilityCase& c, const Measurement& m, std::string& why) {
       w << "stopped at t = " << fmt(m.failure_t, 10) << ", expected " << fmt(*c.t_stop, 10) << "; ";
     if (c.accuracy && !(m.error <= *c.accuracy)) w << "error " << fmt(m.error) << " > " << fmt(*c.accuracy) << "; ";
   }
-  if (c.max_steps && m.statistics.steps > *c.max_steps) w << m.statistics.steps << " steps > " << fmt(*c.max_steps) << "; ";
+  if (c.max_steps && m.statistics.steps > *c.max_steps)
+    w << m.statistics.steps << " steps > " << fmt(*c.max_steps) << "; ";
   if (c.max_hidden_drift && !(m.max_hidden <= *c.max_hidden_drift))
     w << "hidden drift " << fmt(m.max_hidden) << " > " << fmt(*c.max_hidden_drift) << "; ";
   if (c.max_invariant_drift && !(m.max_invariant_relative <= *c.max_invariant_drift))
@@ -178,15 +181,18 @@ std::string outcome(const Measurement& m) {
 /// scene's [simulate] rtol), atol scale, t_end, parameters and sweep.
 WorkPrecisionSettings settings_of(const std::string& manifest, const StabilityCase& c, const Scene& scene) {
   WorkPrecisionSettings s;
-  s.rtols = c.tolerances.empty() ? std::vector<double>{scene.simulate.rtol} : decades_of(manifest, "tolerances", c.tolerances);
+  s.rtols = c.tolerances.empty() ? std::vector<double>{scene.simulate.rtol}
+                                 : decades_of(manifest, "tolerances", c.tolerances);
   s.atol_scale = c.atol_scale.value_or(scene.simulate.atol / scene.simulate.rtol);
   s.t_end = c.t_end.value_or(scene.simulate.t_end);
   s.max_repeats = 1;
   for (bool projection : {false, true})
-    if (c.projection == "both" || (c.projection == "on") == projection) s.configurations.push_back({"dense", projection});
+    if (c.projection == "both" || (c.projection == "on") == projection)
+      s.configurations.push_back({"dense", projection});
   for (const std::string& a : c.set) {
     const size_t eq = a.find('=');
-    if (eq == std::string::npos) throw InputError({manifest, 0, 0}, "case " + c.id + ": set " + a + ": expected NAME=VALUE");
+    if (eq == std::string::npos)
+      throw InputError({manifest, 0, 0}, "case " + c.id + ": set " + a + ": expected NAME=VALUE");
     s.parameter_overrides.emplace_back(a.substr(0, eq), std::stod(a.substr(eq + 1)));
   }
   if (!c.sweep.empty()) {
@@ -236,15 +242,15 @@ int run_stability(const Options& o) {
       const bool ok = meets(c, m, why);
       if (!ok) {
         ++missed;
-        std::cerr << "nhc_stability: case " << c.id << " (" << m.configuration.label() << ", rtol "
-                  << fmt(m.rtol) << ") missed its expectation: " << why << "\n";
+        std::cerr << "nhc_stability: case " << c.id << " (" << m.configuration.label() << ", rtol " << fmt(m.rtol)
+                  << ") missed its expectation: " << why << "\n";
       }
       std::string config = m.configuration.label();
       if (m.sweep_value) config += ", " + wp.settings.sweep_parameter + " = " + fmt(*m.sweep_value, 2);
       table << table_row({c.id, config, fmt(m.rtol, 2), wp.source.exact ? "reference" : "reference run",
-                          fmt(m.error, 2), std::to_string(m.statistics.steps),
-                          wp.n_hidden ? fmt(m.max_hidden, 2) : "—", wp.n_invariants ? fmt(m.max_invariant_relative, 2) : "—",
-                          outcome(m), expectation(c), ok ? "yes" : "**no**", fmt(m.seconds, 2)});
+                          fmt(m.error, 2), std::to_string(m.statistics.steps), wp.n_hidden ? fmt(m.max_hidden, 2) : "—",
+                          wp.n_invariants ? fmt(m.max_invariant_relative, 2) : "—", outcome(m), expectation(c),
+                          ok ? "yes" : "**no**", fmt(m.seconds, 2)});
     }
     advice << "### " << c.id << ": " << c.title << "\n\n"
            << "Scene `" << c.scene << "`, model " << wp.model_name << ", t_end " << fmt(wp.settings.t_end, 6)
@@ -305,7 +311,8 @@ int main(int argc, char** argv) {
   Options o;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if ((a == "-o" || a == "--output" || a == "--check") && i + 1 < argc) (a == "--check" ? o.check : o.output) = argv[++i];
+    if ((a == "-o" || a == "--output" || a == "--check") && i + 1 < argc)
+      (a == "--check" ? o.check : o.output) = argv[++i];
     else if (a == "-q" || a == "--quiet") o.quiet = true;
     else if (!a.empty() && a[0] != '-' && o.manifest.empty()) o.manifest = a;
     else {

@@ -14,9 +14,7 @@
 
 namespace nhc::test {
 
-inline Scene scene_at(const std::string& relative) {
-  return load_scene(std::string(NHC_SOURCE_DIR) + "/" + relative);
-}
+inline Scene scene_at(const std::string& relative) { return load_scene(std::string(NHC_SOURCE_DIR) + "/" + relative); }
 
 inline StructuralAnalysis structure_of(const Scene& scene, ModelKind kind) {
   return analyze_structure(dae_system_of(scene, derive_model(scene, kind)));

@@ -21,8 +21,7 @@ using nhc::test::Run;
 
 Run analyze(const std::string& args) {
   const std::string dir = nhc::test::scratch_dir("analyze_" + std::to_string(::getpid()));
-  return nhc::test::run(std::string("cd '") + NHC_SOURCE_DIR + "' && " + nhc::test::nhc_command() +
-                            " analyze " + args,
+  return nhc::test::run(std::string("cd '") + NHC_SOURCE_DIR + "' && " + nhc::test::nhc_command() + " analyze " + args,
                         dir);
 }
 
@@ -60,7 +59,8 @@ TEST_CASE("nhc analyze runs on every example scene", "[sigma]") {
         CHECK_THAT(r.err, Contains("f1 is a rolling constraint of the contact 'floor' (on_slip = \"slide\"): the "
                                    "contact starts sliding"));
       }
-      if (singular) CHECK_THAT(r.err, Contains("nhc: error: the system Jacobian of the vakonomic model is singular at t0 = 0"));
+      if (singular)
+        CHECK_THAT(r.err, Contains("nhc: error: the system Jacobian of the vakonomic model is singular at t0 = 0"));
       CHECK_FALSE(r.out.empty());
     }
   }
@@ -71,9 +71,9 @@ TEST_CASE("nhc analyze runs on every example scene", "[sigma]") {
 TEST_CASE("nhc analyze --format json has the keys of the issue", "[sigma]") {
   const Run r = analyze("examples/appell_hamel.toml --model chetaev --format json");
   REQUIRE(r.exit_code == 0);
-  for (const char* key : {"\"model\": \"chetaev\"", "\"unknowns\"", "\"equations\"", "\"sigma\"",
-                          "\"c\"", "\"d\"", "\"index\": 2", "\"dof\": 5", "\"initial_values_needed\"",
-                          "\"hidden_constraints\"", "\"jacobian_condition\""})
+  for (const char* key :
+       {"\"model\": \"chetaev\"", "\"unknowns\"", "\"equations\"", "\"sigma\"", "\"c\"", "\"d\"", "\"index\": 2",
+        "\"dof\": 5", "\"initial_values_needed\"", "\"hidden_constraints\"", "\"jacobian_condition\""})
     CHECK_THAT(r.out, Contains(key));
   CHECK_THAT(r.out, Contains("null"));  // σ(R_x, z) = −∞
   CHECK(r.out.front() == '{');

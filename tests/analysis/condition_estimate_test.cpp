@@ -59,7 +59,8 @@ TEST_CASE("the 1-norm condition estimate is a close lower bound of the exact one
   REQUIRE(within_factor_3 >= trials * 9 / 10);
 }
 
-TEST_CASE("sparse condition numbers: exact 2-norm up to the limit, an estimate above, infinite when singular", "[sigma]") {
+TEST_CASE("sparse condition numbers: exact 2-norm up to the limit, an estimate above, infinite when singular",
+          "[sigma]") {
   std::mt19937 rng(99);
   const Eigen::SparseMatrix<double> small = random_sparse(rng, 30, 1.0);
   const ConditionNumber c = condition_number(small);

@@ -38,8 +38,8 @@ TEST_CASE("chetaev Appell-Hamel: z' from f1, lambda and accelerations in closed 
   CHECK(std::abs(p.constraint_residuals[0]) < 1e-12);
   // λ is given in the scene but d_λ = 0: a note says it is only a starting guess.
   bool noted = false;
-  for (const auto& n : p.notes) noted = noted || (n.find("lambda1") != std::string::npos &&
-                                                  n.find("starting guess") != std::string::npos);
+  for (const auto& n : p.notes)
+    noted = noted || (n.find("lambda1") != std::string::npos && n.find("starting guess") != std::string::npos);
   CHECK(noted);
 }
 

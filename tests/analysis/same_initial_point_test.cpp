@@ -51,11 +51,12 @@ std::map<std::string, double> first_row(const std::string& csv) {
 void check_same_point(const std::string& scene, const std::string& model) {
   const std::string dir = nhc::test::scratch_dir("same_point_" + std::to_string(::getpid()));
   const std::string in_source = std::string("cd '") + NHC_SOURCE_DIR + "' && ";
-  const Run analyzed =
-      nhc::test::run(in_source + nhc::test::nhc_command() + " analyze " + scene + " --model " + model + " --format json", dir);
-  const Run simulated = nhc::test::run(in_source + "NHC_CACHE_DIR='" + dir + "/cache' " + nhc::test::nhc_command() +
-                                           " simulate " + scene + " --model " + model + " --t-end 1e-3 -o '" + dir + "/run.csv'",
-                                       dir);
+  const Run analyzed = nhc::test::run(
+      in_source + nhc::test::nhc_command() + " analyze " + scene + " --model " + model + " --format json", dir);
+  const Run simulated =
+      nhc::test::run(in_source + "NHC_CACHE_DIR='" + dir + "/cache' " + nhc::test::nhc_command() + " simulate " +
+                         scene + " --model " + model + " --t-end 1e-3 -o '" + dir + "/run.csv'",
+                     dir);
   INFO(scene << " " << model << "\n" << analyzed.err << simulated.err);
   if (analyzed.exit_code != 0) {
     // No consistent point (a singular Jacobian at t0): the integration cannot start either.
@@ -89,9 +90,9 @@ TEST_CASE("nhc analyze and nhc simulate start from the same consistent point", "
   check_same_point("examples/particle.toml", "vakonomic");
   // Every other example scene under its [simulate] model (the paper's vakonomic singular start:
   // neither command finds a point).
-  for (const char* scene : {"appell_hamel_huge_mass", "appell_hamel_near_singular", "appell_hamel_orbit",
-                            "appell_hamel_spring", "appell_hamel_tiny_mass", "particle", "particle_spring",
-                            "third_order"})
+  for (const char* scene :
+       {"appell_hamel_huge_mass", "appell_hamel_near_singular", "appell_hamel_orbit", "appell_hamel_spring",
+        "appell_hamel_tiny_mass", "particle", "particle_spring", "third_order"})
     check_same_point(std::string("examples/") + scene + ".toml", "chetaev");
   check_same_point("examples/appell_hamel_vakonomic_singular.toml", "vakonomic");
 }

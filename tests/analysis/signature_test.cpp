@@ -80,8 +80,7 @@ TEST_CASE("particle, holder: index 1, 10 dof", "[sigma]") {
 TEST_CASE("particle, suslov: index 0, 6 dof", "[sigma]") {
   // E_i(f) = −D(q_i'') + D²(q_i') = 0, so R_i = −q_i'': σ = 2 I, c = 0, d = 2, ν = 0, dof 6.
   const Scene s = test::scene_at("examples/particle.toml");
-  check(test::structure_of(s, ModelKind::suslov),
-        {{{2, X, X}, {X, 2, X}, {X, X, 2}}, {0, 0, 0}, {2, 2, 2}, 0, 6, 0});
+  check(test::structure_of(s, ModelKind::suslov), {{{2, X, X}, {X, 2, X}, {X, X, 2}}, {0, 0, 0}, {2, 2, 2}, 0, 6, 0});
 }
 
 // ---- Example 2, Appell–Hamel: L = m/2 |q'|² − m g z, f = z' − k v, v = √(x'² + y'²) ----------
@@ -122,8 +121,7 @@ TEST_CASE("Appell-Hamel, suslov: index 0, 6 dof", "[sigma]") {
   // E_y(f) = k x'(x' y'' − y' x'')/v³, E_z(f) = 0. R_x = −m x'' − m z' E_x(f): x 2, y 2, z 1;
   // R_y alike; R_z = −m g − m z'': z 2. c = 0, d = (2,2,2), ν = 0, dof = 6.
   const Scene s = test::scene_at("examples/appell_hamel.toml");
-  check(test::structure_of(s, ModelKind::suslov),
-        {{{2, 2, 1}, {2, 2, 1}, {X, X, 2}}, {0, 0, 0}, {2, 2, 2}, 0, 6, 0});
+  check(test::structure_of(s, ModelKind::suslov), {{{2, 2, 1}, {2, 2, 1}, {X, X, 2}}, {0, 0, 0}, {2, 2, 2}, 0, 6, 0});
 }
 
 TEST_CASE("system Jacobians of Appell-Hamel agree with the hand derivation", "[sigma]") {
@@ -163,8 +161,8 @@ TEST_CASE("system Jacobians of Appell-Hamel agree with the hand derivation", "[s
     Eigen::Matrix4d vak;
     const double v3 = v * v * v;
     vak << -m + k * lam * vy * vy / v3, -k * lam * vx * vy / v3, 0, k * vx / v,  //
-        -k * lam * vx * vy / v3, -m + k * lam * vx * vx / v3, 0, k * vy / v,   //
-        0, 0, -m, -1,                                                          //
+        -k * lam * vx * vy / v3, -m + k * lam * vx * vx / v3, 0, k * vy / v,     //
+        0, 0, -m, -1,                                                            //
         -k * vx / v, -k * vy / v, 1, 0;
     const Eigen::Matrix4d vak_n = numeric(ModelKind::vakonomic);
     CHECK((vak_n - vak).cwiseAbs().maxCoeff() < 1e-10);

@@ -25,8 +25,8 @@ TEST_CASE("vakonomic particle at lambda' = 1: singular Jacobian at t0", "[sigma]
   // reduce to (0, q'), rank 2 of 4; the q'' orthogonal to q' are not determined.
   const ModelAnalysis m = analysis("tests/analysis/scenes/particle_vakonomic_singular.toml", ModelKind::vakonomic);
   REQUIRE(m.errors.size() == 1);
-  CHECK_THAT(m.errors[0], Contains("singular at t0") && Contains("R_q1") && Contains("q1''") &&
-                              Contains("rank 2 of 4"));
+  CHECK_THAT(m.errors[0],
+             Contains("singular at t0") && Contains("R_q1") && Contains("q1''") && Contains("rank 2 of 4"));
   CHECK(m.jacobian_condition > 1e12);
   // The same scene with λ'(0) = 0 (examples/particle.toml) is regular.
   CHECK(analysis("examples/particle.toml", ModelKind::vakonomic).ok());

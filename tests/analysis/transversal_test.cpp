@@ -1,5 +1,5 @@
-// The sparse Hungarian transversal and Pryce's offsets against brute force and the dense method, and the Σ-method on the
-// textbook index-3 pendulum (Pryce 2001, §2 example).
+// The sparse Hungarian transversal and Pryce's offsets against brute force and the dense method, and the Σ-method on
+// the textbook index-3 pendulum (Pryce 2001, §2 example).
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -134,12 +134,11 @@ TEST_CASE("the pendulum is index 3 with 2 degrees of freedom", "[sigma]") {
   // x'' + x λ = 0, y'' + y λ − g = 0, x² + y² − L² = 0 (Pryce 2001, §2):
   // σ = [[2,−,0],[−,2,0],[0,0,−]]; c = (0,0,2), d = (2,2,0): the constraint is differentiated
   // twice; ν = max c + 1 (λ algebraic) = 3; dof = 4 − 2 = 2; hidden constraints C and D C.
-  auto jet = std::make_shared<JetSpace>(std::vector<std::string>{"x", "y"}, 1,
-                                        std::vector<std::string>{"g", "L"});
+  auto jet = std::make_shared<JetSpace>(std::vector<std::string>{"x", "y"}, 1, std::vector<std::string>{"g", "L"});
   DaeSystem sys;
   sys.jet = jet;
-  sys.unknowns = {{VariableKind::coordinate, 0, "x"}, {VariableKind::coordinate, 1, "y"},
-                  {VariableKind::multiplier, 0, "lambda1"}};
+  sys.unknowns = {
+      {VariableKind::coordinate, 0, "x"}, {VariableKind::coordinate, 1, "y"}, {VariableKind::multiplier, 0, "lambda1"}};
   const GiNaC::ex x = jet->q(0, 0), y = jet->q(1, 0), lam = jet->lambda(0, 0);
   sys.equations = {jet->q(0, 2) + x * lam, jet->q(1, 2) + y * lam - jet->parameter(0),
                    x * x + y * y - GiNaC::pow(jet->parameter(1), 2)};

@@ -71,7 +71,8 @@ TEST_CASE("nhc animate: the page holds the shapes along the run", "[cli][animate
   const std::string csv = read_file(dir + "/run.csv");
   const std::vector<double> th = column(csv, "th");
   const std::vector<double> th_rate = column(csv, "th'"), w5 = column(csv, "w5_out");
-  for (std::size_t k = 0; k < th.size(); ++k) CHECK(w5[k] == Approx(std::pow(th[k] + th_rate[k] + 1, 5)).epsilon(1e-12));
+  for (std::size_t k = 0; k < th.size(); ++k)
+    CHECK(w5[k] == Approx(std::pow(th[k] + th_rate[k] + 1, 5)).epsilon(1e-12));
   REQUIRE(t.size() == 61);
   REQUIRE(th.size() == 61);
   const std::size_t ball = page.find("\"name\":\"ball\"");
@@ -83,8 +84,9 @@ TEST_CASE("nhc animate: the page holds the shapes along the run", "[cli][animate
   double worst = 0;
   for (std::size_t k = 0; k < 61; ++k) {
     // The bob at (l sin th, 0, -l cos th), l = 2; roty(-th) has entry (1, 3) = -sin th.
-    worst = std::max({worst, std::abs(centre[3 * k] - 2 * std::sin(th[k])), std::abs(centre[3 * k + 1]),
-                      std::abs(centre[3 * k + 2] + 2 * std::cos(th[k])), std::abs(rotation[9 * k + 2] + std::sin(th[k]))});
+    worst =
+        std::max({worst, std::abs(centre[3 * k] - 2 * std::sin(th[k])), std::abs(centre[3 * k + 1]),
+                  std::abs(centre[3 * k + 2] + 2 * std::cos(th[k])), std::abs(rotation[9 * k + 2] + std::sin(th[k]))});
   }
   CHECK(worst < 1e-8);  // the page keeps 9 significant digits
   CHECK(array_after(page, "t").back() == Approx(3.0));
@@ -98,8 +100,9 @@ TEST_CASE("nhc animate: the page holds the shapes along the run", "[cli][animate
 TEST_CASE("nhc animate: refusals leave nothing, a failed run keeps its page", "[cli][animate]") {
   const std::string dir = scratch_dir("animate_refusals");
   SECTION("a scene without [visual]") {
-    const Run r = run(nhc_command() + " animate '" + std::string(NHC_SOURCE_DIR) + "/examples/particle.toml' -o '" +
-                          dir + "/page'", dir);
+    const Run r = run(
+        nhc_command() + " animate '" + std::string(NHC_SOURCE_DIR) + "/examples/particle.toml' -o '" + dir + "/page'",
+        dir);
     CHECK(r.exit_code == 2);
     CHECK(r.err.find("no [visual] table") != std::string::npos);
     CHECK_FALSE(file_exists(dir + "/page"));
@@ -139,7 +142,8 @@ TEST_CASE("nhc animate: sample times after a late t0 stay distinct, the summary 
   const std::string scene = dir + "/late.toml";
   std::ofstream(scene) << text;
   // rtol 1e-8: at the scene's 1e-10 IDA's first steps fall below the collapse test's 1e-12 |t| there.
-  const Run r = run(nhc_command() + " animate '" + scene + "' --outputs 1000 --rtol 1e-8 --atol 1e-10 -o '" + dir + "/page'", dir);
+  const Run r = run(
+      nhc_command() + " animate '" + scene + "' --outputs 1000 --rtol 1e-8 --atol 1e-10 -o '" + dir + "/page'", dir);
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
   CHECK(r.out.find("t from 1000000 to 1000010, 1001 samples") != std::string::npos);

@@ -76,9 +76,7 @@ void check_every_case(const std::string& subcommand, const std::string& argument
     std::string command = arguments;
     command.replace(command.find("{SCENE}"), 7, "'" + c.path + "'");
     command.replace(command.find("{OUT}"), 5, "'" + output + "'");
-    const Run r = run("NHC_CACHE_DIR='" + cache + "' " + nhc_command() + " " + subcommand + " " +
-                          command,
-                      dir);
+    const Run r = run("NHC_CACHE_DIR='" + cache + "' " + nhc_command() + " " + subcommand + " " + command, dir);
     INFO("stderr: " << r.err);
     CHECK(r.exit_code == 2);
     CHECK(r.out.empty());
@@ -115,12 +113,11 @@ TEST_CASE("bad flags of nhc simulate are refused before anything is compiled", "
   const std::string dir = scratch_dir("bad_simulate_flags");
   const std::string cache = dir + "/cache", output = dir + "/out.csv";
   const std::string scene = std::string(NHC_SOURCE_DIR) + "/examples/particle.toml";
-  for (const std::string flags : {"--t-end -1", "--t-end 0", "--t-end nan", "--t-end inf",
-                                  "--rtol -1e-6", "--rtol inf", "--atol 0", "--atol nan",
-                                  "--outputs 0", "--outputs 1000000000"}) {
+  for (const std::string flags : {"--t-end -1", "--t-end 0", "--t-end nan", "--t-end inf", "--rtol -1e-6", "--rtol inf",
+                                  "--atol 0", "--atol nan", "--outputs 0", "--outputs 1000000000"}) {
     INFO("nhc simulate " << flags);
-    const Run r = run("NHC_CACHE_DIR='" + cache + "' " + nhc_command() + " simulate '" + scene +
-                          "' " + flags + " -o '" + output + "'",
+    const Run r = run("NHC_CACHE_DIR='" + cache + "' " + nhc_command() + " simulate '" + scene + "' " + flags +
+                          " -o '" + output + "'",
                       dir);
     INFO("stderr: " << r.err);
     CHECK(r.exit_code == 2);

@@ -109,9 +109,13 @@ TEST_CASE("nhc simulate: [contacts] forces and slip against closed forms", "[cli
     auto c = csv_columns(read_file(dir + "/launched.csv"));
     const std::size_t n = c["t"].size();
     REQUIRE(n == 402);  // the 401 output times and the last sliding point
-    double work = 0;  // of friction, trapezoidal: its integrand mu m g |x' - r th'| is linear while sliding
-    const auto energy = [&](std::size_t i) { return kM / 2 * std::pow(c["x'"][i], 2) + kM * kR * kR / 4 * std::pow(c["th'"][i], 2); };
-    const auto power = [&](std::size_t i) { return c["floor.tangential"][i] * std::abs(c["x'"][i] - kR * c["th'"][i]); };
+    double work = 0;    // of friction, trapezoidal: its integrand mu m g |x' - r th'| is linear while sliding
+    const auto energy = [&](std::size_t i) {
+      return kM / 2 * std::pow(c["x'"][i], 2) + kM * kR * kR / 4 * std::pow(c["th'"][i], 2);
+    };
+    const auto power = [&](std::size_t i) {
+      return c["floor.tangential"][i] * std::abs(c["x'"][i] - kR * c["th'"][i]);
+    };
     for (std::size_t i = 0; i < n; ++i) {
       const double t = c["t"][i];
       if (i > 0) work += (t - c["t"][i - 1]) * (power(i) + power(i - 1)) / 2;
@@ -159,7 +163,8 @@ TEST_CASE("nhc simulate: [contacts] forces and slip against closed forms", "[cli
         // sqrt(f.f + 1e-14), reaches mu m g after about 1e-4 s, which leaves 1.7e-6 in x'
         // (docs/contacts.md, "Sliding").
         CHECK(std::abs(c["x'"][i] - (vs + mu * kG * (t - ts))) < 3e-6);
-        CHECK(std::abs(c["th'"][i] - (vs / kR + (k * (t * t - ts * ts) / 2 - mu * kM * kG * kR * (t - ts)) / inertia)) < 3e-5);
+        CHECK(std::abs(c["th'"][i] - (vs / kR + (k * (t * t - ts * ts) / 2 - mu * kM * kG * kR * (t - ts)) / inertia)) <
+              3e-5);
       }
     }
   }
@@ -172,12 +177,14 @@ TEST_CASE("nhc simulate: [contacts] forces and slip against closed forms", "[cli
       CHECK(r.err.find(message) != std::string::npos);
       CHECK(!file_exists(dir + "/bad.csv"));
     };
-    refused("[contacts.floor]\nnormal = \"lambda1\"\nrolling = [3]\nmu = 0.3\n", "22:12:",
-            "rolling constraint 3 is not one of the scene's 2 constraints");
-    refused("[contacts.floor]\nnormal = \"lambda1\"\nrolling = [2]\nmu = 0.3\non_slip = \"skid\"\n", "24:11:",
-            "on_slip 'skid': stop or slide");
+    refused("[contacts.floor]\nnormal = \"lambda1\"\nrolling = [3]\nmu = 0.3\n",
+            "22:12:", "rolling constraint 3 is not one of the scene's 2 constraints");
+    refused("[contacts.floor]\nnormal = \"lambda1\"\nrolling = [2]\nmu = 0.3\non_slip = \"skid\"\n",
+            "24:11:", "on_slip 'skid': stop or slide");
     refused("[contacts.floor]\nnormal = \"lambda1\"\nrolling = [2]\nmu = -1\n", "23:6:", "mu must not be negative");
-    refused("[contacts.floor]\nnormal = \"lambda1 +\"\nrolling = [2]\nmu = 0.3\n", "21:", "normal force of contact 'floor'");
-    refused("[contacts.floor]\nnormal = \"lambda1\"\nrolling = [2]\nsize = 1\nmu = 0.3\n", "23:1:", "unknown key 'size'");
+    refused("[contacts.floor]\nnormal = \"lambda1 +\"\nrolling = [2]\nmu = 0.3\n",
+            "21:", "normal force of contact 'floor'");
+    refused("[contacts.floor]\nnormal = \"lambda1\"\nrolling = [2]\nsize = 1\nmu = 0.3\n",
+            "23:1:", "unknown key 'size'");
   }
 }

@@ -82,8 +82,7 @@ class JsonReader {
     throw std::runtime_error("JSON: " + what + " at offset " + std::to_string(i_));
   }
   void space() {
-    while (i_ < t_.size() && (t_[i_] == ' ' || t_[i_] == '\n' || t_[i_] == '\t' || t_[i_] == '\r'))
-      ++i_;
+    while (i_ < t_.size() && (t_[i_] == ' ' || t_[i_] == '\n' || t_[i_] == '\t' || t_[i_] == '\r')) ++i_;
   }
   bool take(char c) {
     space();
@@ -106,14 +105,30 @@ class JsonReader {
         if (i_ >= t_.size()) fail("dangling escape");
         const char e = t_[i_++];
         switch (e) {
-          case '"': out += '"'; break;
-          case '\\': out += '\\'; break;
-          case '/': out += '/'; break;
-          case 'b': out += '\b'; break;
-          case 'f': out += '\f'; break;
-          case 'n': out += '\n'; break;
-          case 'r': out += '\r'; break;
-          case 't': out += '\t'; break;
+          case '"':
+            out += '"';
+            break;
+          case '\\':
+            out += '\\';
+            break;
+          case '/':
+            out += '/';
+            break;
+          case 'b':
+            out += '\b';
+            break;
+          case 'f':
+            out += '\f';
+            break;
+          case 'n':
+            out += '\n';
+            break;
+          case 'r':
+            out += '\r';
+            break;
+          case 't':
+            out += '\t';
+            break;
           case 'u': {
             if (i_ + 4 > t_.size()) fail("short \\u escape");
             const unsigned cp = std::stoul(t_.substr(i_, 4), nullptr, 16);
@@ -129,7 +144,8 @@ class JsonReader {
             }
             break;
           }
-          default: fail("bad escape");
+          default:
+            fail("bad escape");
         }
       } else {
         out += c;
@@ -191,9 +207,7 @@ bool same(const GiNaC::ex& a, const GiNaC::ex& b) {
   return d.is_zero() || d.normal().is_zero();
 }
 
-std::string example(const std::string& name) {
-  return std::string(NHC_SOURCE_DIR) + "/examples/" + name + ".toml";
-}
+std::string example(const std::string& name) { return std::string(NHC_SOURCE_DIR) + "/examples/" + name + ".toml"; }
 
 }  // namespace
 
@@ -248,9 +262,9 @@ TEST_CASE("generate --print-file-name names the file generate writes, and writes
                             dir);
     REQUIRE(printed.exit_code == 0);
     CHECK(list_dir(dir + "/out", ".hpp").empty());
-    const Run written = run(nhc_command() + " generate '" + example("appell_hamel") + "'" + model_flag +
-                                " --quiet -o '" + dir + "/out'",
-                            dir);
+    const Run written = run(
+        nhc_command() + " generate '" + example("appell_hamel") + "'" + model_flag + " --quiet -o '" + dir + "/out'",
+        dir);
     REQUIRE(written.exit_code == 0);
     const std::vector<std::string> files = list_dir(dir + "/out", ".hpp");
     REQUIRE(files.size() == 1);
@@ -349,7 +363,8 @@ TEST_CASE("JSON output: schema, symbols, and a symbolic round trip", "[cli][json
   }
 }
 
-TEST_CASE("definitions stay named: the JSON's \"definitions\" substituted give the --expand equations", "[cli][json][intermediates]") {
+TEST_CASE("definitions stay named: the JSON's \"definitions\" substituted give the --expand equations",
+          "[cli][json][intermediates]") {
   // Two derivations of each example with definitions: by default through its definitions kept
   // as named quantities, listed after the equations; with --expand through every definition
   // substituted first. Substituting the listed definitions, last to first, into the
@@ -404,7 +419,8 @@ TEST_CASE("definitions stay named: the JSON's \"definitions\" substituted give t
   }
 }
 
-TEST_CASE("derive --expand substitutes every definition: a chain too large expanded is refused where it grows", "[cli][intermediates]") {
+TEST_CASE("derive --expand substitutes every definition: a chain too large expanded is refused where it grows",
+          "[cli][intermediates]") {
   // Chains of definitions whose expansion doubles at every link (tests/cli/scenes). Kept (the
   // default) they derive; expanded they are refused at the definition that crosses a size limit,
   // with its file, line and column.
@@ -425,16 +441,16 @@ TEST_CASE("derive --expand substitutes every definition: a chain too large expan
 TEST_CASE("JSON output is the same on stdout and with -o", "[cli][json]") {
   const std::string dir = scratch_dir("json_stdout");
   const Run a = run(nhc_command() + " derive '" + example("appell_hamel") + "' --format json", dir);
-  const Run b = run(nhc_command() + " derive '" + example("appell_hamel") + "' --format json -o '" + dir +
-                        "/o.json'",
-                    dir);
+  const Run b =
+      run(nhc_command() + " derive '" + example("appell_hamel") + "' --format json -o '" + dir + "/o.json'", dir);
   REQUIRE(a.exit_code == 0);
   REQUIRE(b.exit_code == 0);
   CHECK(a.out == read_file(dir + "/o.json"));
   CHECK(b.out.empty());
 }
 
-TEST_CASE("LaTeX output of the examples compiles with pdflatex, the Whipple bicycle in at most 10 pages", "[cli][latex]") {
+TEST_CASE("LaTeX output of the examples compiles with pdflatex, the Whipple bicycle in at most 10 pages",
+          "[cli][latex]") {
   // scripts/setup.sh installs pdflatex: without it this test fails rather than passing unchecked.
   INFO("pdflatex is not installed (Debian: apt-get install texlive-latex-base; scripts/setup.sh does)");
   REQUIRE(std::system("command -v pdflatex >/dev/null 2>&1") == 0);
@@ -449,9 +465,8 @@ TEST_CASE("LaTeX output of the examples compiles with pdflatex, the Whipple bicy
     CHECK(text.find("\\documentclass") != std::string::npos);
     CHECK(text.find("\\dot{") != std::string::npos);
     CHECK(text.find("\\lambda_{1}") != std::string::npos);
-    const Run latex = run("cd '" + dir + "' && pdflatex -interaction=nonstopmode -halt-on-error '" +
-                              std::string(name) + ".tex'",
-                          dir);
+    const Run latex = run(
+        "cd '" + dir + "' && pdflatex -interaction=nonstopmode -halt-on-error '" + std::string(name) + ".tex'", dir);
     INFO(latex.out.substr(latex.out.size() > 3000 ? latex.out.size() - 3000 : 0));
     CHECK(latex.exit_code == 0);
     CHECK(file_exists(dir + "/" + name + ".pdf"));
@@ -479,7 +494,8 @@ TEST_CASE("LaTeX reads like a textbook: d/dt of partials, like terms gathered, e
   REQUIRE(rpsi != std::string::npos);
   const std::string row_x = t.substr(rx, t.find('\n', rx) - rx);
   std::size_t accelerations = 0;
-  for (std::size_t at = row_x.find("\\ddot{x}"); at != std::string::npos; at = row_x.find("\\ddot{x}", at + 1)) ++accelerations;
+  for (std::size_t at = row_x.find("\\ddot{x}"); at != std::string::npos; at = row_x.find("\\ddot{x}", at + 1))
+    ++accelerations;
   CHECK(accelerations == 1);
   CHECK(row_x.find("\\mathrm{mw}") != std::string::npos);
   CHECK(t.find("\\mathrm{Iby}\\,\\ddot{\\psi}") != std::string::npos);
@@ -490,7 +506,8 @@ TEST_CASE("LaTeX reads like a textbook: d/dt of partials, like terms gathered, e
   // The text, LaTeX and JSON name the equations alike.
   const Run json = run(nhc_command() + " derive '" + scene + "' --model chetaev --format json", dir);
   REQUIRE(json.exit_code == 0);
-  CHECK(json.out.find("\"equation_names\": [\n        \"R_x\",\n        \"R_psi\",\n        \"R_q1\"") != std::string::npos);
+  CHECK(json.out.find("\"equation_names\": [\n        \"R_x\",\n        \"R_psi\",\n        \"R_q1\"") !=
+        std::string::npos);
 
   // The bicycle's time derivatives of partial derivatives: d/dt before the fraction, never a dot over it.
   const Run bicycle =
@@ -518,7 +535,8 @@ TEST_CASE("the reduced form's forcing reads without accelerations", "[cli][reduc
   // f_r = C^T (r + K w) holds no q'' (docs/reduced-form.md): written as C^T (R + K (w - q'')) the
   // sleigh's f_r[x'] carried m (h_1/cos th + y'') - m y'', like terms apart.
   const std::string dir = scratch_dir("reduced_forcing");
-  const Run r = run(nhc_command() + " derive '" + example("chaplygin_sleigh") + "' --model chetaev --form reduced", dir);
+  const Run r =
+      run(nhc_command() + " derive '" + example("chaplygin_sleigh") + "' --model chetaev --form reduced", dir);
   REQUIRE(r.exit_code == 0);
   std::istringstream lines(r.out);
   int forcing_rows = 0;
@@ -531,8 +549,7 @@ TEST_CASE("the reduced form's forcing reads without accelerations", "[cli][reduc
   CHECK(forcing_rows == 2);
 }
 
-TEST_CASE("constraints of order two or more have no multiplier-free form, said in words",
-          "[cli][reduced]") {
+TEST_CASE("constraints of order two or more have no multiplier-free form, said in words", "[cli][reduced]") {
   // docs/reduced-form.md, "Constraints of higher order": a second-order constraint leaves every
   // speed a state; a third-order one makes the accelerations states.
   const std::string dir = scratch_dir("reduced_higher_order");

@@ -57,7 +57,8 @@ long number_after(const std::string& text, const std::string& key) {
 std::string sine(const std::string& dir, const std::string& extra) {
   return write(dir + "/sine.toml",
                "name = \"sine\"\ncoordinates = [\"x\"]\nlagrangian = \"x'^2/2 - x^2/2\"\n"
-               "[initial]\nx = [0.0, 1.0]\n[simulate]\nt_end = 3.0\n" + extra);
+               "[initial]\nx = [0.0, 1.0]\n[simulate]\nt_end = 3.0\n" +
+                   extra);
 }
 
 }  // namespace
@@ -99,11 +100,11 @@ TEST_CASE("nhc simulate: two crossings inside one step are both found", "[cli][e
   }
   SECTION("a fast event on a slow motion: long steps") {
     const double d = 5e-4;  // crossings 1 ms apart around each maximum of cos(50 x)
-    const std::string scene = write(
-        dir + "/drift.toml", "name = \"drift\"\ncoordinates = [\"x\"]\nlagrangian = \"x'^2/2\"\n"
-                             "[initial]\nx = [0.05, 1.0]\n[simulate]\nt_end = 1.0\noutputs = 4\n"
-                             "[events]\ncomb = { when = \"cos(50*x) - " +
-                                 digits(std::cos(50 * d)) + "\", action = \"record\" }\n");
+    const std::string scene = write(dir + "/drift.toml",
+                                    "name = \"drift\"\ncoordinates = [\"x\"]\nlagrangian = \"x'^2/2\"\n"
+                                    "[initial]\nx = [0.05, 1.0]\n[simulate]\nt_end = 1.0\noutputs = 4\n"
+                                    "[events]\ncomb = { when = \"cos(50*x) - " +
+                                        digits(std::cos(50 * d)) + "\", action = \"record\" }\n");
     const Run r = run(nhc_command() + " simulate '" + scene + "' -o '" + dir + "/d.csv'", dir);
     REQUIRE(r.exit_code == 0);
     const auto rows = event_rows(read_file(dir + "/d.events.csv"));
@@ -123,11 +124,11 @@ TEST_CASE("nhc simulate: the first step from the problem's scale; --max-step, --
   const std::string dir = scratch_dir("event_edges_steps");
   // x'' = A sin(w t) from rest: x' = A (1 - cos w t)/w, x = A t/w - A sin(w t)/w^2.
   const double A = 2.0, w = 0.5;
-  const std::string scene = write(
-      dir + "/forced.toml", "name = \"forced\"\ncoordinates = [\"x\"]\nlagrangian = \"x'^2/2\"\n"
-                            "[parameters]\nA = 2.0\nw = 0.5\n[forces]\nx = \"A*sin(w*t)\"\n"
-                            "[initial]\nx = [0.0, 0.0]\n[simulate]\nrtol = 1e-10\natol = 1e-12\n"
-                            "[reference]\nx = \"A/w*t - A/w^2*sin(w*t)\"\n");
+  const std::string scene = write(dir + "/forced.toml",
+                                  "name = \"forced\"\ncoordinates = [\"x\"]\nlagrangian = \"x'^2/2\"\n"
+                                  "[parameters]\nA = 2.0\nw = 0.5\n[forces]\nx = \"A*sin(w*t)\"\n"
+                                  "[initial]\nx = [0.0, 0.0]\n[simulate]\nrtol = 1e-10\natol = 1e-12\n"
+                                  "[reference]\nx = \"A/w*t - A/w^2*sin(w*t)\"\n");
   SECTION("t_end = 1e3: the closed form to 1e-5 relative") {
     const Run r = run(nhc_command() + " simulate '" + scene + "' --t-end 1e3 -o '" + dir + "/f.csv'", dir);
     REQUIRE(r.exit_code == 0);
@@ -174,7 +175,8 @@ TEST_CASE("nhc simulate: a contact lifts off where its normal force reaches zero
                  "[parameters]\nm = 2.0\nr = 0.3\ng = 9.81\nk = 10.0\n"
                  "[initial]\ns = [0.0, 0.5]\nth = [0.0, \"0.5/r\"]\n"
                  "[simulate]\nt_end = 4.0\nrtol = 1e-10\natol = 1e-12\n"
-                 "[contacts.floor]\nnormal = \"" + normal + "\"\nrolling = [1]\nmu = 0.3\n");
+                 "[contacts.floor]\nnormal = \"" +
+                     normal + "\"\nrolling = [1]\nmu = 0.3\n");
   };
   SECTION("m g - k t: lift-off at t = m g/k, exit 0") {
     const Run r = run(nhc_command() + " simulate '" + floor("m*g - k*t") + "' -o '" + dir + "/l.csv'", dir);
@@ -219,6 +221,6 @@ TEST_CASE("nhc simulate --sensitivity: a parameter only [initial] uses moves the
   // Read by [simulate] t_end only: the refusal names it.
   r = run(nhc_command() + " simulate '" + scene + "' --sensitivity Tend", dir);
   CHECK(r.exit_code == 2);
-  CHECK(r.err.find("only the scene's [simulate] t_end (" + scene + ":11:9) does, which --sensitivity does not follow") !=
-        std::string::npos);
+  CHECK(r.err.find("only the scene's [simulate] t_end (" + scene +
+                   ":11:9) does, which --sensitivity does not follow") != std::string::npos);
 }

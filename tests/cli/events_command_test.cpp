@@ -47,8 +47,9 @@ TEST_CASE("nhc simulate: [events] and --stop-when at the closed form's zero cros
   const std::string dir = scratch_dir("events_command");
   SECTION("recorded events in both directions, then a stop") {
     const std::string scene =
-        write_scene(dir, "[events]\ndown = { when = \"x\", direction = \"down\", action = \"record\" }\n"
-                         "up = { when = \"x\", direction = \"up\", action = \"stop\" }\n");
+        write_scene(dir,
+                    "[events]\ndown = { when = \"x\", direction = \"down\", action = \"record\" }\n"
+                    "up = { when = \"x\", direction = \"up\", action = \"stop\" }\n");
     const Run r = run(nhc_command() + " simulate '" + scene + "' -o '" + dir + "/x.csv'", dir);
     REQUIRE(r.exit_code == 0);
     CHECK(r.out.find("  event down at t = 0.78539816") != std::string::npos);  // pi/4 to the tolerance

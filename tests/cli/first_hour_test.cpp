@@ -63,8 +63,7 @@ TEST_CASE("velocities typed to ten digits are accepted by analyze and simulate a
   CHECK_THAT(sim.out, Contains("201 rows"));
 }
 
-TEST_CASE("a given value that misses a hidden constraint gets the same words in analyze and simulate",
-          "[cli]") {
+TEST_CASE("a given value that misses a hidden constraint gets the same words in analyze and simulate", "[cli]") {
   const std::string dir = nhc::test::scratch_dir("first_hour_three_digits");
   const std::string scene = appell_hamel_with_z(dir, "three_digits.toml", "[0.0, 0.559]");
   const Run analyze = nhc_run("analyze '" + scene + "' -m chetaev", dir);
@@ -125,10 +124,12 @@ TEST_CASE("the suslov model without 'dependent' is bad input located in the scen
   text = std::regex_replace(text, std::regex(R"(\ndependent = \["z"\]\n)"), "\n");
   const std::string scene = dir + "/no_dependent.toml";
   std::ofstream(scene) << text;
-  const std::regex located("^" + scene + R"(:\d+:\d+: error: the suslov model needs one dependent coordinate per constraint.*\n$)");
+  const std::regex located("^" + scene +
+                           R"(:\d+:\d+: error: the suslov model needs one dependent coordinate per constraint.*\n$)");
   for (const std::string command : {"simulate", "derive", "analyze", "generate"}) {
     INFO(command);
-    const Run r = nhc_run(command + " '" + scene + "' --model suslov" + (command == "generate" ? " -o '" + dir + "'" : ""), dir);
+    const Run r =
+        nhc_run(command + " '" + scene + "' --model suslov" + (command == "generate" ? " -o '" + dir + "'" : ""), dir);
     CHECK(r.exit_code == 2);
     CHECK(std::regex_match(r.err, located));
   }
@@ -141,7 +142,8 @@ TEST_CASE("the suslov model without 'dependent' is bad input located in the scen
 TEST_CASE("analyze exits 3 only when a requested model fails", "[cli]") {
   const std::string dir = nhc::test::scratch_dir("first_hour_per_model");
   std::string text = read_file(std::string(NHC_SOURCE_DIR) + "/examples/appell_hamel_vakonomic_singular.toml");
-  text = std::regex_replace(text, std::regex(R"(\nmodels = \["vakonomic"\]\n)"), "\nmodels = [\"vakonomic\", \"chetaev\"]\n");
+  text = std::regex_replace(text, std::regex(R"(\nmodels = \["vakonomic"\]\n)"),
+                            "\nmodels = [\"vakonomic\", \"chetaev\"]\n");
   const std::string scene = dir + "/two_models.toml";
   std::ofstream(scene) << text;
   const Run both = nhc_run("analyze '" + scene + "'", dir);  // default model: chetaev
@@ -163,8 +165,8 @@ TEST_CASE("parameters set by --set P=V in simulate, analyze, generate and derive
   const std::vector<double> first = csv_row(sim.out, 0), last = csv_row(sim.out, 200);
   REQUIRE(first.size() > 9);
   CHECK(std::abs(first[8] - std::sqrt(1.25) / 4) < 1e-12);
-  CHECK(std::abs(last[2] - 1.0) < 1e-9);    // x' stays 1
-  CHECK(std::abs(last[1] - 0.2) < 1e-9);    // x = t
+  CHECK(std::abs(last[2] - 1.0) < 1e-9);  // x' stays 1
+  CHECK(std::abs(last[1] - 0.2) < 1e-9);  // x = t
   CHECK(std::abs(last[7] - 0.2 * std::sqrt(1.25) / 4) < 1e-9);
 
   const Run analyze = nhc_run("analyze examples/appell_hamel.toml -m chetaev --set b=2", dir);
@@ -204,16 +206,19 @@ TEST_CASE("a t0 from --initial after the scene's t_end asks for --t-end in every
   for (const std::string command : {"simulate", "report", "compare", "ensemble"}) {
     INFO(command);
     const std::string extra = command == "ensemble" ? " --vary b=1:2:2" : "";
-    const Run refused = nhc_run(command + " examples/appell_hamel.toml --initial t0=1" + extra + " -o '" + dir + "/x'", dir);
+    const Run refused =
+        nhc_run(command + " examples/appell_hamel.toml --initial t0=1" + extra + " -o '" + dir + "/x'", dir);
     CHECK(refused.exit_code == 2);
     CHECK(message(refused.err) == wanted);
-    const Run given = nhc_run(command + " examples/appell_hamel.toml --initial t0=1 --t-end 0.5" + extra + " -o '" + dir + "/x'", dir);
+    const Run given = nhc_run(
+        command + " examples/appell_hamel.toml --initial t0=1 --t-end 0.5" + extra + " -o '" + dir + "/x'", dir);
     CHECK(given.exit_code == 2);
     CHECK(message(given.err) == "--t-end 0.5 must be after t0 = 1");
   }
 }
 
-TEST_CASE("a parameter the scene computes from others follows --set of those and refuses its own", "[cli][parameters]") {
+TEST_CASE("a parameter the scene computes from others follows --set of those and refuses its own",
+          "[cli][parameters]") {
   const std::string dir = nhc::test::scratch_dir("first_hour_derived_parameters");
   // A wheel (mass mw, radius r, Ja = mw r^2/2) under a body mb, rolling: x' = r th', and
   // x'(0) = r*Ja written through the computed parameter.
@@ -228,7 +233,7 @@ TEST_CASE("a parameter the scene computes from others follows --set of those and
   CHECK(std::abs(csv_row(plain.out, 0)[2] - 0.5 * 0.25) < 1e-15);
   const Run heavier = nhc_run("simulate '" + scene + "' --set mw=4 -o -", dir);
   REQUIRE(heavier.exit_code == 0);
-  CHECK(std::abs(csv_row(heavier.out, 0)[2] - 0.5 * 0.5) < 1e-15);  // Ja = 4 * 0.25 / 2
+  CHECK(std::abs(csv_row(heavier.out, 0)[2] - 0.5 * 0.5) < 1e-15);       // Ja = 4 * 0.25 / 2
   CHECK(std::abs(csv_row(heavier.out, 2)[1] - 0.5 * 0.5 * 0.5) < 1e-9);  // uniform rolling
   const Run refused = nhc_run("simulate '" + scene + "' --set Ja=1 -o -", dir);
   CHECK(refused.exit_code == 2);
@@ -279,8 +284,7 @@ TEST_CASE("report -o DIR on bad input leaves no directory", "[cli]") {
   }
 }
 
-TEST_CASE("invariant drift is relative to the invariant's size along the run, absolute below a floor",
-          "[cli]") {
+TEST_CASE("invariant drift is relative to the invariant's size along the run, absolute below a floor", "[cli]") {
   const std::string dir = nhc::test::scratch_dir("first_hour_invariant_scale");
   // The particle (examples/particle.toml): speed² = 1 + 4 + 4 = 9 along the run; the constraint
   // q'·q'' itself as an "invariant" is 0 up to rounding, whose relative drift would be noise.
@@ -297,8 +301,7 @@ TEST_CASE("invariant drift is relative to the invariant's size along the run, ab
   CHECK_THAT(r.out, Contains("invariant position: max change 1 (relative 1 to its largest size 1)\n"));
 }
 
-TEST_CASE("the suslov run starts where analyze does and shows its monitored constraint, zero at t0",
-          "[cli]") {
+TEST_CASE("the suslov run starts where analyze does and shows its monitored constraint, zero at t0", "[cli]") {
   const std::string dir = nhc::test::scratch_dir("first_hour_suslov_monitored");
   const Run r = nhc_run("simulate examples/appell_hamel.toml --model suslov -o '" + dir + "/s.csv'", dir);
   REQUIRE(r.exit_code == 0);
@@ -333,7 +336,8 @@ TEST_CASE("repair moves only the values not pinned by [initial] fixed, and write
   CHECK(std::abs(row[5] - y_prime) < 1e-12);
 
   const std::string written = dir + "/initial.toml";
-  const Run analyze = nhc_run("analyze '" + scene + "' -m chetaev --repair-initial --write-initial '" + written + "'", dir);
+  const Run analyze =
+      nhc_run("analyze '" + scene + "' -m chetaev --repair-initial --write-initial '" + written + "'", dir);
   REQUIRE(analyze.exit_code == 0);
   CHECK_THAT(analyze.out, Contains("repaired y'"));
   const std::string table = read_file(written);
@@ -421,7 +425,8 @@ TEST_CASE("bad [outputs] are located errors", "[cli]") {
       {"w = \"q\"\n", "chetaev", ":35:6: error: in output 'w' \"q\": unknown name 'q'"},
       {"v = 3\n", "chetaev", ":35:5: error: "},
       {"speed = \"x'\"\nlift = { expression = \"lambda1\", required = true }\n", "suslov",
-       ":36:23: error: output 'lift' uses lambda1 (it has no multiplier lambda1), which the suslov model does not compute"},
+       ":36:23: error: output 'lift' uses lambda1 (it has no multiplier lambda1), which the suslov model does not "
+       "compute"},
       {"jerk = { expression = \"x'''\", required = true }\n", "chetaev",
        ":35:23: error: output 'jerk' uses x''', which the chetaev model does not compute"},
       {"jerk = { expression = \"x'''\", needed = true }\n", "chetaev", ":35:"},
@@ -441,8 +446,8 @@ TEST_CASE("an output or invariant a model cannot compute is left out of its CSV 
   const std::string dir = nhc::test::scratch_dir("first_hour_left_out_outputs");
   // lambda1 is a state of the chetaev model, not of the suslov model (which has no multipliers);
   // lambda1' is computed by neither.
-  const std::string scene = appell_hamel_with_outputs(
-      dir, "left_out.toml", "speed = \"x'\"\nlift = \"lambda1\"\nlift_rate = \"lambda1'\"\n");
+  const std::string scene =
+      appell_hamel_with_outputs(dir, "left_out.toml", "speed = \"x'\"\nlift = \"lambda1\"\nlift_rate = \"lambda1'\"\n");
   const Run suslov = nhc_run("simulate '" + scene + "' -m suslov -o '" + dir + "/suslov.csv'", dir);
   REQUIRE(suslov.exit_code == 0);
   CHECK_THAT(suslov.err, Contains("note: output 'lift' is left out of the suslov model's CSV: it uses lambda1 "
@@ -451,7 +456,8 @@ TEST_CASE("an output or invariant a model cannot compute is left out of its CSV 
   CHECK(csv_header_line(read_file(dir + "/suslov.csv")).find("speed") != std::string::npos);
   const Run chetaev = nhc_run("simulate '" + scene + "' -m chetaev -o '" + dir + "/chetaev.csv'", dir);
   REQUIRE(chetaev.exit_code == 0);
-  CHECK_THAT(chetaev.err, Contains("note: output 'lift_rate' is left out of the chetaev model's CSV: it uses lambda1'"));
+  CHECK_THAT(chetaev.err,
+             Contains("note: output 'lift_rate' is left out of the chetaev model's CSV: it uses lambda1'"));
   CHECK(chetaev.err.find("'lift' is left out") == std::string::npos);
   const std::string csv = read_file(dir + "/chetaev.csv");
   std::vector<std::string> names;
@@ -468,19 +474,21 @@ TEST_CASE("an output or invariant a model cannot compute is left out of its CSV 
   CHECK(row[column("lift")] == row[column("lambda1")]);
 }
 
-TEST_CASE("a singular iteration matrix is reported in the scene's words, with the quantity that blew up",
-          "[cli]") {
+TEST_CASE("a singular iteration matrix is reported in the scene's words, with the quantity that blew up", "[cli]") {
   const std::string dir = nhc::test::scratch_dir("first_hour_singular_matrix");
   // tests/cli/scenes/vanishing_mass.toml: x' = 1/(1 − t) and lambda1 = 1/(1 − t)², the
   // iteration matrix singular at t = 1.
-  const Run r = nhc_run("simulate tests/cli/scenes/vanishing_mass.toml --output-times 0:0.25:2 -o '" + dir + "/m.csv'", dir);
+  const Run r =
+      nhc_run("simulate tests/cli/scenes/vanishing_mass.toml --output-times 0:0.25:2 -o '" + dir + "/m.csv'", dir);
   CHECK(r.exit_code == 3);
   std::smatch m;
-  REQUIRE(std::regex_search(r.err, m, std::regex(
-      R"(^nhc: error: the iteration matrix of the equations \(dF/dstates \+ cj dF/dstates'\) is singular at t = ([0-9.]+) )"
-      R"(\(condition number [0-9.e+]+; the states it does not determine: lambda1 \(-?1\)\): )"
-      R"(the equations cannot be solved there for x'', y'', lambda1; lambda1 blew up \(lambda1 ≈ [0-9.]+e\+[0-9]+ at the )"
-      R"(last accepted step\))")));
+  REQUIRE(std::regex_search(
+      r.err, m,
+      std::regex(
+          R"(^nhc: error: the iteration matrix of the equations \(dF/dstates \+ cj dF/dstates'\) is singular at t = ([0-9.]+) )"
+          R"(\(condition number [0-9.e+]+; the states it does not determine: lambda1 \(-?1\)\): )"
+          R"(the equations cannot be solved there for x'', y'', lambda1; lambda1 blew up \(lambda1 ≈ [0-9.]+e\+[0-9]+ at the )"
+          R"(last accepted step\))")));
   CHECK(std::abs(std::stod(m[1].str()) - 1) < 1e-6);
   CHECK(r.err.find("dF/dy") == std::string::npos);  // IDA's y, y' are not the scene's
   // The motion up to the failure, against the closed form.
@@ -553,19 +561,33 @@ TEST_CASE("repairing the initial values keeps the given ones that are consistent
   };
   const std::vector<Case> cases = {
       // Heisenberg: z' = (x y' − y x')/2 = (1·0.7 − 0)/2.
-      {"heisenberg.toml", "t0 = 0.0\nx = [1.0, 0.3]\ny = [0.0, 0.7]\nz = [0.0]\n", "z'", 0.35, {{"x'", 0.3}, {"y'", 0.7}}},
+      {"heisenberg.toml",
+       "t0 = 0.0\nx = [1.0, 0.3]\ny = [0.0, 0.7]\nz = [0.0]\n",
+       "z'",
+       0.35,
+       {{"x'", 0.3}, {"y'", 0.7}}},
       // Heisenberg off the origin: z' = (1·0.7 − 2·0.3)/2.
-      {"heisenberg.toml", "t0 = 0.0\nx = [1.0, 0.3]\ny = [2.0, 0.7]\nz = [0.0]\n", "z'", 0.05, {{"x'", 0.3}, {"y'", 0.7}}},
+      {"heisenberg.toml",
+       "t0 = 0.0\nx = [1.0, 0.3]\ny = [2.0, 0.7]\nz = [0.0]\n",
+       "z'",
+       0.05,
+       {{"x'", 0.3}, {"y'", 0.7}}},
       // Knife edge: x' sin φ = y' cos φ, so y' = x' tan φ, or x' = y' cot φ.
-      {"knife_edge.toml", "t0 = 0.0\nx = [0.0, 1.0]\ny = [0.0]\nphi = [0.5, 0.2]\n", "y'", std::tan(0.5),
+      {"knife_edge.toml",
+       "t0 = 0.0\nx = [0.0, 1.0]\ny = [0.0]\nphi = [0.5, 0.2]\n",
+       "y'",
+       std::tan(0.5),
        {{"x'", 1.0}, {"phi'", 0.2}}},
-      {"knife_edge.toml", "t0 = 0.0\nx = [0.0]\ny = [0.0, 1.0]\nphi = [0.5, 0.2]\n", "x'", 1 / std::tan(0.5),
+      {"knife_edge.toml",
+       "t0 = 0.0\nx = [0.0]\ny = [0.0, 1.0]\nphi = [0.5, 0.2]\n",
+       "x'",
+       1 / std::tan(0.5),
        {{"y'", 1.0}, {"phi'", 0.2}}},
   };
   for (const Case& c : cases) {
     INFO(c.example << ": " << c.initial);
-    const std::string scene =
-        write_scene(dir, std::string("family_") + c.solved[0] + "_" + c.example, example_with_initial(c.example, c.initial));
+    const std::string scene = write_scene(dir, std::string("family_") + c.solved[0] + "_" + c.example,
+                                          example_with_initial(c.example, c.initial));
     const Run repaired = nhc_run("simulate '" + scene + "' --repair-initial -o -", dir);
     const Run plain = nhc_run("simulate '" + scene + "' -o -", dir);
     REQUIRE(repaired.exit_code == 0);
@@ -580,8 +602,7 @@ TEST_CASE("repairing the initial values keeps the given ones that are consistent
   }
 }
 
-TEST_CASE("a run to a far t_end starts: the initial point's calculation does not take its scale from t_end",
-          "[cli]") {
+TEST_CASE("a run to a far t_end starts: the initial point's calculation does not take its scale from t_end", "[cli]") {
   const std::string dir = nhc::test::scratch_dir("far_t_end");
   // x'' = -x: to t_end = 1e7 with one output IDACalcIC took its first step as 1e4 and failed at t0
   // where 1e6 ran. The step limit now stops each run after its start, at a t > 0.

@@ -61,8 +61,9 @@ TEST_CASE("nhc simulate --input: an expression of t and a CSV series replace the
   SECTION("every model takes the input (the forcing enters each residual undifferentiated)") {
     for (const std::string model : {"vakonomic", "chetaev", "holder", "suslov"}) {
       INFO("model " << model);
-      const Run r = run(nhc_command() + " simulate '" + kScene + "' --model " + model +
-                            " --input 'F=sin(3*t)' -o '" + dir + "/x.csv'", dir);
+      const Run r = run(nhc_command() + " simulate '" + kScene + "' --model " + model + " --input 'F=sin(3*t)' -o '" +
+                            dir + "/x.csv'",
+                        dir);
       REQUIRE(r.exit_code == 0);
       CHECK(errors(read_file(dir + "/x.csv"), 3.0).first < 1e-8);
     }
@@ -74,8 +75,8 @@ TEST_CASE("nhc simulate --input: an expression of t and a CSV series replace the
       series << "time_note,t,F\n";
       for (int k = 0; k <= 3000; ++k) series << "x," << k * 1e-3 << "," << std::sin(2 * k * 1e-3) << "\n";
     }
-    const Run r = run(nhc_command() + " simulate '" + kScene + "' --input 'F=@" + dir + "/F.csv' -o '" + dir +
-                          "/x.csv'", dir);
+    const Run r =
+        run(nhc_command() + " simulate '" + kScene + "' --input 'F=@" + dir + "/F.csv' -o '" + dir + "/x.csv'", dir);
     REQUIRE(r.exit_code == 0);
     const auto [x, F] = errors(read_file(dir + "/x.csv"), 2.0);
     // Linear interpolation of sin(2t) at h = 1e-3: |F error| <= h^2/8 * 4 = 5e-7, and x follows.
@@ -125,7 +126,8 @@ TEST_CASE("nhc connect refuses a scene with inputs, --sensitivity one with --inp
   CHECK(replaced.exit_code == 2);
   CHECK(replaced.err.find("--sensitivity follows the scene's default input signals") != std::string::npos);
   CHECK_FALSE(file_exists(dir + "/x.csv"));
-  const Run followed = run(nhc_command() + " simulate '" + kScene + "' --sensitivity 'x(0)' -o '" + dir + "/x.csv'", dir);
+  const Run followed =
+      run(nhc_command() + " simulate '" + kScene + "' --sensitivity 'x(0)' -o '" + dir + "/x.csv'", dir);
   CHECK(followed.exit_code == 0);
   CHECK(file_exists(dir + "/x.csv"));
 }
@@ -193,14 +195,16 @@ TEST_CASE("[outputs] and [visual] read the inputs as the run drives them", "[cli
     INFO(c.flag);
     const Run r = run(nhc_command() + " simulate '" + scene + "' " + c.flag + " --outputs 37 -o -", dir);
     REQUIRE(r.exit_code == 0);
-    const std::vector<double> t = csv_column(r.out, "t"), F = csv_column(r.out, "input:F"), uu = csv_column(r.out, "uu");
+    const std::vector<double> t = csv_column(r.out, "t"), F = csv_column(r.out, "input:F"),
+                              uu = csv_column(r.out, "uu");
     REQUIRE(uu.size() == 38);
     for (std::size_t k = 0; k < uu.size(); ++k) {
       CHECK(uu[k] == 2 * F[k]);
       CHECK(std::abs(F[k] - c.F(t[k])) < 2e-5);
     }
   }
-  const Run page = run(nhc_command() + " animate '" + scene + "' --input 'F=sin(3*t)' --outputs 37 -o '" + dir + "/page'", dir);
+  const Run page =
+      run(nhc_command() + " animate '" + scene + "' --input 'F=sin(3*t)' --outputs 37 -o '" + dir + "/page'", dir);
   REQUIRE(page.exit_code == 0);
   const std::string html = read_file(dir + "/page/index.html");
   const std::vector<double> t = array_after(html, "t");

@@ -66,9 +66,10 @@ TEST_CASE("outputs: a device and a FIFO are written in place, a link's target is
     CHECK(r.err.find("fifo: error: the output fifo is a FIFO that nobody reads") != std::string::npos);
     CHECK(type_of(f.path("fifo")) == S_IFIFO);
     // A reader started first gets the whole CSV.
-    r = nhc::test::run("cd " + shell_quote(f.dir) + " && (timeout 60 cat fifo > read.csv &) && sleep 0.2 && NHC_CACHE_DIR='" +
-                           NHC_BINARY_DIR + "/tests/cli/nhc-cache' timeout 60 " + nhc::test::nhc_command() +
-                           " simulate " + shell_quote(kScene) + " -o fifo && wait",
+    r = nhc::test::run("cd " + shell_quote(f.dir) +
+                           " && (timeout 60 cat fifo > read.csv &) && sleep 0.2 && NHC_CACHE_DIR='" + NHC_BINARY_DIR +
+                           "/tests/cli/nhc-cache' timeout 60 " + nhc::test::nhc_command() + " simulate " +
+                           shell_quote(kScene) + " -o fifo && wait",
                        f.dir);
     INFO(r.out << r.err);
     CHECK(r.exit_code == 0);
@@ -115,9 +116,9 @@ TEST_CASE("outputs: a device and a FIFO are written in place, a link's target is
     std::ofstream(f.path("scene.toml")) << read_file(kScene);
     fs::create_directory(f.path("lin"));
     fs::create_symlink("../scene.toml", f.path("lin/A.csv"));
-    for (const std::string& args : {std::string("linearize scene.toml -o scene.toml"),
-                                    std::string("linearize scene.toml -o lin"),
-                                    std::string("connect scene.toml --to x=1 --t-end 1 -o scene.toml")}) {
+    for (const std::string& args :
+         {std::string("linearize scene.toml -o scene.toml"), std::string("linearize scene.toml -o lin"),
+          std::string("connect scene.toml --to x=1 --t-end 1 -o scene.toml")}) {
       INFO(args);
       const Run r = f.nhc(args);
       CHECK(r.exit_code == 2);
@@ -157,8 +158,9 @@ TEST_CASE("outputs: a FIFO without a reader is refused before the command's work
     CHECK(r.err.find("iteration") == std::string::npos);
   }
   SECTION("simulate: nothing is derived") {
-    const Run r = run("simulate " + shell_quote(std::string(NHC_SOURCE_DIR) + "/examples/tumbling_top_quaternion.toml") +
-                      " --t-end 2000 --outputs 100000 -o fifo");
+    const Run r =
+        run("simulate " + shell_quote(std::string(NHC_SOURCE_DIR) + "/examples/tumbling_top_quaternion.toml") +
+            " --t-end 2000 --outputs 100000 -o fifo");
     INFO(r.out << r.err);
     CHECK(r.exit_code == 2);
     CHECK(r.err.find("fifo: error: the output fifo is a FIFO that nobody reads") != std::string::npos);
@@ -166,7 +168,8 @@ TEST_CASE("outputs: a FIFO without a reader is refused before the command's work
     CHECK(!fs::exists(cache + "/scenes"));
   }
   SECTION("optimize with a reader started first: the reader, held open through the solve, gets the whole CSV") {
-    const Run r = nhc::test::run("cd " + shell_quote(f.dir) + " && (timeout 60 cat fifo > read.csv &) && sleep 0.2 && NHC_CACHE_DIR=" +
+    const Run r = nhc::test::run("cd " + shell_quote(f.dir) +
+                                     " && (timeout 60 cat fifo > read.csv &) && sleep 0.2 && NHC_CACHE_DIR=" +
                                      shell_quote(cache) + " timeout 60 " + nhc::test::nhc_command() + " optimize " +
                                      shell_quote(std::string(NHC_SOURCE_DIR) + "/examples/heisenberg_optimal.toml") +
                                      " --intervals 10 -o fifo && wait",

@@ -68,9 +68,8 @@ std::vector<std::string> siblings_named(const std::string& dir, const std::strin
 
 TEST_CASE("simulate --plot draws the coordinates, path, multipliers and drift from the -o CSV", "[cli][plots]") {
   const std::string dir = nhc::test::scratch_dir("plots_simulate");
-  const Run r = nhc_run("simulate examples/appell_hamel.toml --plot-xy y,z -o '" + dir + "/run.csv' --plot '" + dir +
-                            "/plots'",
-                        dir);
+  const Run r = nhc_run(
+      "simulate examples/appell_hamel.toml --plot-xy y,z -o '" + dir + "/run.csv' --plot '" + dir + "/plots'", dir);
   INFO(r.out << r.err);
   REQUIRE(r.exit_code == 0);
   CHECK(r.err.empty());
@@ -153,7 +152,8 @@ TEST_CASE("compare runs every model from the same data and reports what differs"
   CHECK(md.find("**z''** differs: -1.962 (vakonomic, chetaev, holder); -9.81 (suslov).") != std::string::npos);
   CHECK(md.find("| chetaev – suslov | ") != std::string::npos);
   std::ostringstream suslov_drift;
-  suslov_drift << "| suslov | constraint f1: z' - b/a*sqrt(x'^2 + y'^2) | ≈ 0 | " << std::setprecision(4) << g * 0.4 << " |";
+  suslov_drift << "| suslov | constraint f1: z' - b/a*sqrt(x'^2 + y'^2) | ≈ 0 | " << std::setprecision(4) << g * 0.4
+               << " |";
   CHECK(md.find(suslov_drift.str()) != std::string::npos);
   CHECK(md.find("## Wall times") != std::string::npos);
 }
@@ -191,8 +191,7 @@ TEST_CASE("compare and simulate --plot refuse bad input with exit 2 and write no
   for (const Case& c : cases) {
     INFO(c.args);
     const Run r = nhc_run(c.args.substr(0, c.args.find(" -o out")) +
-                              (c.args.find(" -o out") != std::string::npos ? " -o '" + dir + "/out'" : "") +
-                              "",
+                              (c.args.find(" -o out") != std::string::npos ? " -o '" + dir + "/out'" : "") + "",
                           dir);
     INFO(r.err);
     CHECK(r.exit_code == 2);
@@ -202,8 +201,7 @@ TEST_CASE("compare and simulate --plot refuse bad input with exit 2 and write no
   }
 }
 
-TEST_CASE("output directories: the user's other files kept, outputs updated, untouched on failure",
-          "[cli][plots]") {
+TEST_CASE("output directories: the user's other files kept, outputs updated, untouched on failure", "[cli][plots]") {
   const std::string dir = nhc::test::scratch_dir("plots_atomic");
   // An existing directory keeps the files that are not outputs (nhc/io/atomic_directory.hpp).
   fs::create_directories(dir + "/foreign");
@@ -242,4 +240,3 @@ TEST_CASE("output directories: the user's other files kept, outputs updated, unt
   CHECK(siblings_named(dir, "out.tmp").empty());
   CHECK(siblings_named(dir, "new.tmp").empty());
 }
-

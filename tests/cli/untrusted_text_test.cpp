@@ -42,9 +42,10 @@ struct Fixture {
   }
   /// gnuplot itself on the kept script (what a user does to redraw): still runs nothing.
   void redraw(const fs::path& script) const {
-    const Run r = nhc::test::run("cd " + shell_quote(script.parent_path().string()) + " && NHC_MARK=" +
-                                     shell_quote(marker) + " gnuplot " + shell_quote("./" + script.filename().string()),
-                                 dir);
+    const Run r =
+        nhc::test::run("cd " + shell_quote(script.parent_path().string()) + " && NHC_MARK=" + shell_quote(marker) +
+                           " gnuplot " + shell_quote("./" + script.filename().string()),
+                       dir);
     INFO(r.err);
     CHECK(r.exit_code == 0);
     CHECK_FALSE(file_exists(marker));
@@ -119,12 +120,14 @@ TEST_CASE("an ensemble file and file names with shell and gnuplot syntax in ever
     INFO(s.out << s.err);
     CHECK(s.exit_code == 0);
     CHECK(files_ending(f.dir + "/" + kHostile + "-plots", ".svg").size() >= 3);
-    const Run c = f.nhc("compare " + shell_quote(scene) + " --models chetaev,vakonomic -o " + shell_quote(kHostile + "-compare"));
+    const Run c =
+        f.nhc("compare " + shell_quote(scene) + " --models chetaev,vakonomic -o " + shell_quote(kHostile + "-compare"));
     INFO(c.out << c.err);
     CHECK(c.exit_code == 0);
     CHECK(files_ending(f.dir + "/" + kHostile + "-compare", ".svg").size() >= 3);
-    const Run l = f.nhc("linearize " + shell_quote(std::string(NHC_SOURCE_DIR) + "/tests/linearize/scenes/rolling_disk.toml") +
-                        " --at \"ps'=5\" --sweep \"ps'=1:4:4\" -o " + shell_quote(kHostile + "-linearize"));
+    const Run l =
+        f.nhc("linearize " + shell_quote(std::string(NHC_SOURCE_DIR) + "/tests/linearize/scenes/rolling_disk.toml") +
+              " --at \"ps'=5\" --sweep \"ps'=1:4:4\" -o " + shell_quote(kHostile + "-linearize"));
     INFO(l.out << l.err);
     CHECK(l.exit_code == 0);
     CHECK(file_exists(f.dir + "/" + kHostile + "-linearize/stability.svg"));

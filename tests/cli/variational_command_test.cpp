@@ -34,13 +34,16 @@ std::string first_line(const std::string& text) { return text.substr(0, text.fin
 
 TEST_CASE("nhc simulate --integrator variational: the inclined knife edge, IDA's columns", "[cli][variational]") {
   const std::string dir = scratch_dir("variational_knife");
-  const Run ida = run(nhc_command() + " simulate " + example("knife_edge_incline.toml") + " -o '" + dir + "/ida.csv'", dir);
+  const Run ida =
+      run(nhc_command() + " simulate " + example("knife_edge_incline.toml") + " -o '" + dir + "/ida.csv'", dir);
   REQUIRE(ida.exit_code == 0);
   const std::string flags = " --integrator variational --step ";
-  const Run coarse = run(nhc_command() + " simulate " + example("knife_edge_incline.toml") + flags + "0.01 -o '" + dir +
-                             "/coarse.csv'", dir);
-  const Run fine = run(nhc_command() + " simulate " + example("knife_edge_incline.toml") + flags + "0.005 -o '" + dir +
-                           "/fine.csv'", dir);
+  const Run coarse = run(
+      nhc_command() + " simulate " + example("knife_edge_incline.toml") + flags + "0.01 -o '" + dir + "/coarse.csv'",
+      dir);
+  const Run fine =
+      run(nhc_command() + " simulate " + example("knife_edge_incline.toml") + flags + "0.005 -o '" + dir + "/fine.csv'",
+          dir);
   INFO(coarse.out << coarse.err);
   REQUIRE(coarse.exit_code == 0);
   REQUIRE(fine.exit_code == 0);
@@ -74,7 +77,8 @@ TEST_CASE("nhc simulate --integrator variational: refusals name the flag or the 
        "does not go with --integrator variational"},
       {example("particle_spring.toml") + " --integrator variational --step 0.01", "has order 2"},
       {example("knife_edge.toml") + " --integrator rk4 --step 0.01", "--integrator"},
-      {example("knife_edge.toml") + " --integrator variational --step 9.99 --t-end 10", "--step 9.99 does not fit the run"},
+      {example("knife_edge.toml") + " --integrator variational --step 9.99 --t-end 10",
+       "--step 9.99 does not fit the run"},
   };
   for (const Refusal& r : refusals) {
     const Run result = run(nhc_command() + " simulate " + r.arguments + out, dir);
@@ -94,8 +98,7 @@ TEST_CASE("nhc simulate --integrator variational: a scene too large for the dens
   for (int i = 0; i <= 200; ++i) {
     coordinates += (i ? ", \"q" : "\"q") + std::to_string(i) + "\"";
     lagrangian += (i ? " + q" : "q") + std::to_string(i) + "'^2/2";
-    if (i < 200)
-      constraints += (i ? ", \"q" : "\"q") + std::to_string(i) + "' - q" + std::to_string(i + 1) + "'\"";
+    if (i < 200) constraints += (i ? ", \"q" : "\"q") + std::to_string(i) + "' - q" + std::to_string(i + 1) + "'\"";
   }
   const std::string scene = dir + "/large.toml";
   {
@@ -103,8 +106,8 @@ TEST_CASE("nhc simulate --integrator variational: a scene too large for the dens
     out << "name = \"large\"\ncoordinates = [" << coordinates << "]\nlagrangian = \"" << lagrangian
         << "\"\nconstraints = [" << constraints << "]\n";
   }
-  const Run r = run(nhc_command() + " simulate '" + scene + "' --integrator variational --step 0.01 -o '" + dir +
-                        "/run.csv'", dir);
+  const Run r = run(
+      nhc_command() + " simulate '" + scene + "' --integrator variational --step 0.01 -o '" + dir + "/run.csv'", dir);
   INFO(r.err);
   CHECK(r.exit_code == 2);
   CHECK(r.err.find("401 coordinates and multipliers, more than the 400") != std::string::npos);
@@ -135,7 +138,8 @@ TEST_CASE("nhc simulate --integrator variational: a run ends on t_end, before a 
   // t* = v0 (a² + b²)/(g a b) = sqrt(1.25)·1.25/(9.81·0.5) = 0.28492: a run to 0.284 with step 0.01 ends
   // there (29 steps of 0.284/29) instead of stepping to 0.30 beyond t*.
   const Run r = run(nhc_command() + " simulate " + example("appell_hamel.toml") +
-                        " --integrator variational --step 0.01 --t-end 0.284 --outputs 4 -o -", dir);
+                        " --integrator variational --step 0.01 --t-end 0.284 --outputs 4 -o -",
+                    dir);
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
   const std::string last = r.out.substr(r.out.rfind('\n', r.out.size() - 2) + 1);

@@ -49,8 +49,7 @@ TEST_CASE("double literals round-trip exactly", "[codegen]") {
     const double v = std::ldexp(mantissa(rng), exponent(rng));
     CHECK(std::strtod(nhc::cpp_double_literal(v).c_str(), nullptr) == v);
   }
-  CHECK_THROWS_AS(nhc::cpp_double_literal(std::numeric_limits<double>::infinity()),
-                  nhc::MathError);
+  CHECK_THROWS_AS(nhc::cpp_double_literal(std::numeric_limits<double>::infinity()), nhc::MathError);
 }
 
 TEST_CASE("powers, quotients and signs print as C++", "[codegen]") {
@@ -171,8 +170,10 @@ namespace {
 double value_of(const nhc::ExpressionDag& dag, int id, const std::map<std::string, double>& inputs) {
   const nhc::Instruction& in = dag[id];
   switch (in.op) {
-    case nhc::OpCode::constant: return in.value;
-    case nhc::OpCode::input: return inputs.at(in.name);
+    case nhc::OpCode::constant:
+      return in.value;
+    case nhc::OpCode::input:
+      return inputs.at(in.name);
     case nhc::OpCode::sum: {
       double s = 0;
       for (std::size_t k = 0; k < in.args.size(); ++k)
@@ -184,13 +185,17 @@ double value_of(const nhc::ExpressionDag& dag, int id, const std::map<std::strin
       for (int a : in.args) p *= value_of(dag, a, inputs);
       return p;
     }
-    case nhc::OpCode::quotient: return value_of(dag, in.args[0], inputs) / value_of(dag, in.args[1], inputs);
-    case nhc::OpCode::negate: return -value_of(dag, in.args[0], inputs);
-    case nhc::OpCode::integer_power: return std::pow(value_of(dag, in.args[0], inputs), in.exponent);
+    case nhc::OpCode::quotient:
+      return value_of(dag, in.args[0], inputs) / value_of(dag, in.args[1], inputs);
+    case nhc::OpCode::negate:
+      return -value_of(dag, in.args[0], inputs);
+    case nhc::OpCode::integer_power:
+      return std::pow(value_of(dag, in.args[0], inputs), in.exponent);
     case nhc::OpCode::call:
       if (in.name == "std::sin") return std::sin(value_of(dag, in.args[0], inputs));
       break;
-    default: break;
+    default:
+      break;
   }
   FAIL("unexpected instruction " << in.name);
   return 0;
@@ -225,7 +230,8 @@ TEST_CASE("pairs common to several sums or products are computed once", "[codege
   }
 }
 
-TEST_CASE("a factor over a common denominator is one quotient, as SymPy's opt_cse finds it", "[codegen][common-arguments]") {
+TEST_CASE("a factor over a common denominator is one quotient, as SymPy's opt_cse finds it",
+          "[codegen][common-arguments]") {
   Fixture f;
   const ex& x = f.x;
   const ex& y = f.y;

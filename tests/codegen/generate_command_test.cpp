@@ -51,8 +51,7 @@ const std::string kAppellHamel = std::string(NHC_SOURCE_DIR) + "/examples/appell
 
 TEST_CASE("nhc generate writes <scene>_<model>.hpp", "[codegen]") {
   const fs::path dir = scratch("command") / "created" / "on" / "demand";
-  const Run run = nhc("generate '" + kAppellHamel + "' --model holder --jacobian sparse -o '" +
-                      dir.string() + "'");
+  const Run run = nhc("generate '" + kAppellHamel + "' --model holder --jacobian sparse -o '" + dir.string() + "'");
   INFO(run.output);
   REQUIRE(run.status == 0);
   const fs::path header = dir / "appell_hamel_holder.hpp";
@@ -67,8 +66,7 @@ TEST_CASE("nhc generate writes <scene>_<model>.hpp", "[codegen]") {
   for (const auto& entry : fs::directory_iterator(dir)) files += entry.is_regular_file() ? 1 : 0;
   CHECK(files == 1);
 
-  const Run none = nhc("generate '" + kAppellHamel + "' --jacobian none --quiet -o '" +
-                       dir.string() + "'");
+  const Run none = nhc("generate '" + kAppellHamel + "' --jacobian none --quiet -o '" + dir.string() + "'");
   REQUIRE(none.status == 0);
   CHECK(none.output.empty());
   // Default model: the scene's [simulate] model.

@@ -59,8 +59,7 @@ std::vector<std::string> compilers() {
   return found;
 }
 
-const char* kStrictFlags =
-    "-std=c++17 -O2 -Wall -Wextra -Wpedantic -Wconversion -Wshadow -Werror";
+const char* kStrictFlags = "-std=c++17 -O2 -Wall -Wextra -Wpedantic -Wconversion -Wshadow -Werror";
 
 /// Compiles `source` (written to dir/name) with every compiler; returns the failures' logs.
 std::string compile_everywhere(const fs::path& dir, const std::string& name, const std::string& source) {
@@ -69,8 +68,8 @@ std::string compile_everywhere(const fs::path& dir, const std::string& name, con
   std::string failures;
   for (const std::string& cxx : compilers()) {
     const fs::path log = dir / (name + "." + cxx + ".log");
-    const std::string command = cxx + " " + kStrictFlags + " -c " + shell_quote(file.string()) +
-                                " -o /dev/null > " + shell_quote(log.string()) + " 2>&1";
+    const std::string command = cxx + " " + kStrictFlags + " -c " + shell_quote(file.string()) + " -o /dev/null > " +
+                                shell_quote(log.string()) + " 2>&1";
     if (run(command) != 0) failures += cxx + " on " + name + ":\n" + read_file(log) + "\n";
   }
   return failures;
@@ -100,8 +99,7 @@ TEST_CASE("generated/ is up to date with examples/ (run the `regenerate` target)
   }
   std::set<std::string> fresh_names, committed_names;
   for (const fs::path& f : files_with_extension(fresh, ".hpp")) fresh_names.insert(f.filename());
-  for (const fs::path& f : files_with_extension(source / "generated", ".hpp"))
-    committed_names.insert(f.filename());
+  for (const fs::path& f : files_with_extension(source / "generated", ".hpp")) committed_names.insert(f.filename());
   CHECK(fresh_names == committed_names);
   for (const std::string& name : fresh_names) {
     INFO("generated/" << name << " differs from a fresh `nhc generate`: build the `regenerate` target");

@@ -62,8 +62,7 @@ Point random_point(const nhc_model_table& table, std::mt19937_64& rng) {
   return x;
 }
 
-double evaluate(const ex& e, const nhc::Index1System& system, const Point& x,
-                const GiNaC::realsymbol* cj = nullptr) {
+double evaluate(const ex& e, const nhc::Index1System& system, const Point& x, const GiNaC::realsymbol* cj = nullptr) {
   GiNaC::exmap values;
   values[system.jet->time()] = x.t;
   for (size_t k = 0; k < x.p.size(); ++k) values[system.jet->parameter(static_cast<int>(k))] = x.p[k];
@@ -138,9 +137,8 @@ TEST_CASE("every compiled header matches its symbolic index-1 system", "[codegen
         CHECK(std::string(table.state_names[k]) == state.name);
         CHECK(table.state_order[k] == state.order);
         CHECK(table.differential_id[k] == (state.differential ? 1.0 : 0.0));
-        CHECK(table.state_variable[k] == (state.kind == nhc::VariableKind::coordinate
-                                              ? state.index
-                                              : table.n_coordinates + state.index));
+        CHECK(table.state_variable[k] ==
+              (state.kind == nhc::VariableKind::coordinate ? state.index : table.n_coordinates + state.index));
         CHECK(std::string(table.residual_names[k]) == system.residual_names[static_cast<size_t>(k)]);
       }
       for (int k = 0; k < table.n_parameters; ++k) {
@@ -162,7 +160,8 @@ TEST_CASE("every compiled header matches its symbolic index-1 system", "[codegen
         // The sparsity pattern is exactly the symbolic nonzeros, sorted within each column.
         REQUIRE(table.jacobian_nnz == static_cast<int>(jac.rowind.size()));
         for (int j = 0; j <= n; ++j) CHECK(table.jacobian_colptr[j] == jac.colptr[static_cast<size_t>(j)]);
-        for (int k = 0; k < table.jacobian_nnz; ++k) CHECK(table.jacobian_rowind[k] == jac.rowind[static_cast<size_t>(k)]);
+        for (int k = 0; k < table.jacobian_nnz; ++k)
+          CHECK(table.jacobian_rowind[k] == jac.rowind[static_cast<size_t>(k)]);
       }
 
       // Independent symbolic derivatives, computed here rather than taken from the emitter.
@@ -204,8 +203,7 @@ TEST_CASE("every compiled header matches its symbolic index-1 system", "[codegen
           const auto rp_plus = residual(table, x, x.y, yp_plus), rp_minus = residual(table, x, x.y, yp_minus);
           for (int i = 0; i < n; ++i) {
             const size_t at = static_cast<size_t>(i + j * n);
-            const double symbolic_value =
-                evaluate(dFdy[at], system, x) + x.cj * evaluate(dFdyp[at], system, x);
+            const double symbolic_value = evaluate(dFdy[at], system, x) + x.cj * evaluate(dFdyp[at], system, x);
             const double fd = (ry_plus[static_cast<size_t>(i)] - ry_minus[static_cast<size_t>(i)]) / (2 * hy) +
                               x.cj * (rp_plus[static_cast<size_t>(i)] - rp_minus[static_cast<size_t>(i)]) / (2 * hyp);
             INFO("J(" << i << ", " << j << ") = " << J[at] << ", GiNaC " << symbolic_value << ", FD " << fd);
@@ -230,8 +228,7 @@ TEST_CASE("every compiled header matches its symbolic index-1 system", "[codegen
               // The reduction's own dg/dy, when it provides one.
               if (static_cast<size_t>(i) < system.hidden_constraint_jacobian.size())
                 CHECK(close(G[static_cast<size_t>(i + j * h)],
-                            evaluate(system.hidden_constraint_derivative(static_cast<size_t>(i), j),
-                                     system, x),
+                            evaluate(system.hidden_constraint_derivative(static_cast<size_t>(i), j), system, x),
                             1e-12));
             }
           }
@@ -241,7 +238,8 @@ TEST_CASE("every compiled header matches its symbolic index-1 system", "[codegen
           std::vector<double> out(static_cast<size_t>(table.n_invariants));
           table.invariants(x.t, x.y.data(), x.yp.data(), x.p.data(), out.data());
           for (int i = 0; i < table.n_invariants; ++i)
-            CHECK(close(out[static_cast<size_t>(i)], evaluate(invariants[static_cast<size_t>(i)].in_states, system, x), 1e-12));
+            CHECK(close(out[static_cast<size_t>(i)], evaluate(invariants[static_cast<size_t>(i)].in_states, system, x),
+                        1e-12));
         }
 
         if (table.n_reference > 0) {
@@ -250,7 +248,8 @@ TEST_CASE("every compiled header matches its symbolic index-1 system", "[codegen
           const nhc::SceneReference::Entries reference = s.scene.reference.for_model(system.model);
           for (int i = 0; i < table.n_reference; ++i) {
             CHECK(table.reference_coordinate[i] == reference[static_cast<size_t>(i)].first);
-            CHECK(close(q[static_cast<size_t>(i)], evaluate(reference[static_cast<size_t>(i)].second, system, x), 1e-12));
+            CHECK(
+                close(q[static_cast<size_t>(i)], evaluate(reference[static_cast<size_t>(i)].second, system, x), 1e-12));
           }
         }
 
@@ -258,7 +257,8 @@ TEST_CASE("every compiled header matches its symbolic index-1 system", "[codegen
           std::vector<double> out(static_cast<size_t>(table.n_singular));
           table.singular_quantities(x.t, x.y.data(), x.p.data(), out.data());
           for (int i = 0; i < table.n_singular; ++i)
-            CHECK(close(out[static_cast<size_t>(i)], evaluate(singular[static_cast<size_t>(i)].expression, system, x), 1e-12));
+            CHECK(close(out[static_cast<size_t>(i)], evaluate(singular[static_cast<size_t>(i)].expression, system, x),
+                        1e-12));
         }
       }
     }

@@ -29,8 +29,7 @@ struct Generated {
   nhc::GeneratedHeader header;
 };
 
-Generated generate(const std::string& text, const std::string& path, nhc::ModelKind model,
-                   nhc::JacobianKind jacobian) {
+Generated generate(const std::string& text, const std::string& path, nhc::ModelKind model, nhc::JacobianKind jacobian) {
   Generated g{nhc::parse_scene(text, path), {}, {}};
   g.system = nhc::reduce_to_index1(g.scene, nhc::derive_model(g.scene, model));
   nhc::HeaderOptions options;
@@ -39,16 +38,13 @@ Generated generate(const std::string& text, const std::string& path, nhc::ModelK
   return g;
 }
 
-bool contains(const std::string& text, const std::string& what) {
-  return text.find(what) != std::string::npos;
-}
+bool contains(const std::string& text, const std::string& what) { return text.find(what) != std::string::npos; }
 
 }  // namespace
 
 TEST_CASE("the header holds what the scene needs and nothing else", "[codegen]") {
   using nhc::JacobianKind;
-  const auto dense = generate(kPendulumLike, "scenes/cart.toml", nhc::ModelKind::chetaev,
-                              JacobianKind::dense);
+  const auto dense = generate(kPendulumLike, "scenes/cart.toml", nhc::ModelKind::chetaev, JacobianKind::dense);
   const std::string& h = dense.header.text;
   CHECK(dense.header.file_name == "cart_chetaev.hpp");
   CHECK(contains(h, "namespace nhc_gen::cart_chetaev {"));
@@ -56,8 +52,9 @@ TEST_CASE("the header holds what the scene needs and nothing else", "[codegen]")
   CHECK(contains(h, "#pragma once"));
   CHECK(contains(h, "#include <cmath>"));
   CHECK(!contains(h, "#include <vector>"));
-  CHECK(contains(h, "inline void residual(double /*t*/, const double* y, const double* yp, "
-                    "const double* p, double* r) noexcept {"));
+  CHECK(contains(h,
+                 "inline void residual(double /*t*/, const double* y, const double* yp, "
+                 "const double* p, double* r) noexcept {"));
   CHECK(contains(h, "inline void jacobian("));
   CHECK(!contains(h, "inline void jacobian_values("));
   CHECK(!contains(h, "inline constexpr int jacobian_colptr"));
@@ -73,18 +70,17 @@ TEST_CASE("the header holds what the scene needs and nothing else", "[codegen]")
   if (dense.system.hidden_constraints.empty()) {
     CHECK(!contains(h, "hidden_constraints("));
   } else {
-    CHECK(contains(h, "inline void hidden_constraints(double /*t*/, const double* y, const double* /*p*/, double* g) noexcept"));
+    CHECK(contains(
+        h, "inline void hidden_constraints(double /*t*/, const double* y, const double* /*p*/, double* g) noexcept"));
     CHECK(contains(h, "inline void hidden_constraints_jacobian("));
   }
 
-  const auto sparse = generate(kPendulumLike, "cart.toml", nhc::ModelKind::chetaev,
-                               JacobianKind::sparse);
+  const auto sparse = generate(kPendulumLike, "cart.toml", nhc::ModelKind::chetaev, JacobianKind::sparse);
   CHECK(!contains(sparse.header.text, "inline void jacobian("));
   CHECK(contains(sparse.header.text, "inline void jacobian_values("));
   CHECK(contains(sparse.header.text, "inline constexpr int jacobian_colptr[n_states + 1] = "));
 
-  const auto none = generate(kPendulumLike, "cart.toml", nhc::ModelKind::chetaev,
-                             JacobianKind::none);
+  const auto none = generate(kPendulumLike, "cart.toml", nhc::ModelKind::chetaev, JacobianKind::none);
   CHECK(!contains(none.header.text, "inline void jacobian"));
   CHECK(!contains(none.header.text, "jacobian_nnz ="));
   // Without a Jacobian there is less to compute.
@@ -92,17 +88,14 @@ TEST_CASE("the header holds what the scene needs and nothing else", "[codegen]")
 }
 
 TEST_CASE("generation is deterministic", "[codegen]") {
-  const auto a = generate(kPendulumLike, "cart.toml", nhc::ModelKind::vakonomic,
-                          nhc::JacobianKind::sparse);
-  const auto b = generate(kPendulumLike, "other/dir/cart.toml", nhc::ModelKind::vakonomic,
-                          nhc::JacobianKind::sparse);
+  const auto a = generate(kPendulumLike, "cart.toml", nhc::ModelKind::vakonomic, nhc::JacobianKind::sparse);
+  const auto b = generate(kPendulumLike, "other/dir/cart.toml", nhc::ModelKind::vakonomic, nhc::JacobianKind::sparse);
   CHECK(a.header.text == b.header.text);
 }
 
 TEST_CASE("scene text cannot escape the banner comments", "[codegen]") {
   const std::string evil_path = "dir/evil*/\n#error escaped?\?/\\\n.toml";
-  const auto g = generate(kPendulumLike, evil_path, nhc::ModelKind::chetaev,
-                          nhc::JacobianKind::dense);
+  const auto g = generate(kPendulumLike, evil_path, nhc::ModelKind::chetaev, nhc::JacobianKind::dense);
   // Every banner line is a // comment (the embedded C table, nhc/runtime/model_table.h, has
   // /* */ comments of its own, so the checks look at the banner).
   const std::string banner = g.header.text.substr(0, g.header.text.find("\n\n#pragma once"));
@@ -122,8 +115,7 @@ TEST_CASE("scene text cannot escape the banner comments", "[codegen]") {
 }
 
 TEST_CASE("the symbolic Jacobian is dF/dy + cj dF/dy' with its nonzero structure", "[codegen]") {
-  const auto g = generate(kPendulumLike, "cart.toml", nhc::ModelKind::chetaev,
-                          nhc::JacobianKind::sparse);
+  const auto g = generate(kPendulumLike, "cart.toml", nhc::ModelKind::chetaev, nhc::JacobianKind::sparse);
   const nhc::SymbolicJacobian jac = nhc::index1_jacobian(g.system);
   const int n = g.system.size();
   REQUIRE(jac.size == n);
@@ -132,12 +124,11 @@ TEST_CASE("the symbolic Jacobian is dF/dy + cj dF/dy' with its nonzero structure
   for (int j = 0; j < n; ++j) {
     for (int i = 0; i < n; ++i) {
       const GiNaC::ex& F = g.system.residuals[static_cast<size_t>(i)];
-      const GiNaC::ex expected = F.diff(g.system.y[static_cast<size_t>(j)]) +
-                                 jac.cj * F.diff(g.system.yp[static_cast<size_t>(j)]);
+      const GiNaC::ex expected =
+          F.diff(g.system.y[static_cast<size_t>(j)]) + jac.cj * F.diff(g.system.yp[static_cast<size_t>(j)]);
       const GiNaC::ex entry = jac.entry(i, j);
       CHECK((entry - expected).expand().is_zero());
-      const bool in_pattern = k < jac.colptr[static_cast<size_t>(j) + 1] &&
-                              jac.rowind[static_cast<size_t>(k)] == i;
+      const bool in_pattern = k < jac.colptr[static_cast<size_t>(j) + 1] && jac.rowind[static_cast<size_t>(k)] == i;
       CHECK(in_pattern == !entry.is_zero());
       if (in_pattern) ++k;
     }
@@ -152,8 +143,7 @@ TEST_CASE("an invariant the states cannot express is left out, or refused when r
   CHECK(!contains(g.header.text, "jerk"));
   const std::string required =
       std::string(kPendulumLike) + "[invariants]\njerk = { expression = \"x'''\", required = true }\n";
-  CHECK_THROWS_AS(generate(required, "cart.toml", nhc::ModelKind::chetaev, nhc::JacobianKind::dense),
-                  nhc::InputError);
+  CHECK_THROWS_AS(generate(required, "cart.toml", nhc::ModelKind::chetaev, nhc::JacobianKind::dense), nhc::InputError);
 }
 
 TEST_CASE("singular-set monitors: Appell-Hamel's horizontal speed", "[codegen]") {
@@ -172,8 +162,7 @@ b = 0.5
   const auto singular = nhc::singular_quantities(g.system);
   REQUIRE(singular.size() == 1);
   const auto& jet = *g.system.jet;
-  const GiNaC::ex expected = (GiNaC::pow(jet.q(0, 1), 2) + GiNaC::pow(jet.q(1, 1), 2))
-                                 .subs(g.system.jet_to_state);
+  const GiNaC::ex expected = (GiNaC::pow(jet.q(0, 1), 2) + GiNaC::pow(jet.q(1, 1), 2)).subs(g.system.jet_to_state);
   CHECK((singular[0].expression - expected).expand().is_zero());
   CHECK((singular[0].name == "x' * x' + y' * y'" || singular[0].name == "y' * y' + x' * x'"));
   CHECK(contains(g.header.text, "inline constexpr int n_singular = 1;"));

@@ -95,10 +95,9 @@ void check_confined(const std::string& header) {
 void check_compiles(const fs::path& header, const std::string& extra) {
   const fs::path source = header.string() + ".cpp", log = header.string() + ".log";
   std::ofstream(source) << "#include \"" << header.filename().string() << "\"\n";
-  const std::string command = std::string("'") + NHC_CXX_COMPILER +
-                              "' -std=c++17 -Wall -Wextra -Werror -fsyntax-only " + extra +
-                              " -I'" + header.parent_path().string() + "' '" + source.string() +
-                              "' >'" + log.string() + "' 2>&1";
+  const std::string command =
+      std::string("'") + NHC_CXX_COMPILER + "' -std=c++17 -Wall -Wextra -Werror -fsyntax-only " + extra + " -I'" +
+      header.parent_path().string() + "' '" + source.string() + "' >'" + log.string() + "' 2>&1";
   const int status = std::system(command.c_str());
   std::ifstream in(log);
   std::ostringstream messages;
@@ -142,8 +141,7 @@ nhc::Scene hostile_scene(const std::string& name, const std::string& source_path
 }
 
 nhc::GeneratedHeader generate(const nhc::Scene& scene, nhc::JacobianKind jacobian) {
-  const nhc::Index1System system =
-      nhc::reduce_to_index1(scene, nhc::derive_model(scene, nhc::ModelKind::chetaev));
+  const nhc::Index1System system = nhc::reduce_to_index1(scene, nhc::derive_model(scene, nhc::ModelKind::chetaev));
   nhc::HeaderOptions options;
   options.jacobian = jacobian;
   return nhc::generate_header(scene, system, options);
@@ -151,8 +149,7 @@ nhc::GeneratedHeader generate(const nhc::Scene& scene, nhc::JacobianKind jacobia
 
 }  // namespace
 
-TEST_CASE("sanitised comments cannot be closed, continued or turned into trigraphs",
-          "[codegen][hostile]") {
+TEST_CASE("sanitised comments cannot be closed, continued or turned into trigraphs", "[codegen][hostile]") {
   for (const std::string& payload : kPayloads) {
     INFO(payload);
     const std::string s = nhc::sanitize_comment(payload);
@@ -175,14 +172,12 @@ TEST_CASE("sanitised comments cannot be closed, continued or turned into trigrap
   }
 }
 
-TEST_CASE("hostile names and file names stay in comments and literals of a compiling header",
-          "[codegen][hostile]") {
+TEST_CASE("hostile names and file names stay in comments and literals of a compiling header", "[codegen][hostile]") {
   const fs::path dir = scratch("hostile_in_code");
   // The banner names the scene file without its directory: hostile text after the last slash.
   std::string source_path = "scenes/";
   for (const std::string& payload : kPayloads)
-    if (payload.find('/') == std::string::npos && payload.find('\\') == std::string::npos)
-      source_path += payload + " ";
+    if (payload.find('/') == std::string::npos && payload.find('\\') == std::string::npos) source_path += payload + " ";
   source_path += ".toml";
   const nhc::Scene scene = hostile_scene("hostile", source_path);
   for (const nhc::JacobianKind jacobian :
@@ -200,9 +195,8 @@ TEST_CASE("hostile names and file names stay in comments and literals of a compi
 }
 
 TEST_CASE("a scene name that is not an identifier never reaches the header", "[codegen][hostile]") {
-  for (const std::string& name :
-       {std::string("a/b"), std::string("../x"), std::string("x y"), std::string("int"),
-        std::string(""), std::string("x;y"), std::string("x\ny"), kPayloads[0]}) {
+  for (const std::string& name : {std::string("a/b"), std::string("../x"), std::string("x y"), std::string("int"),
+                                  std::string(""), std::string("x;y"), std::string("x\ny"), kPayloads[0]}) {
     INFO(name);
     nhc::Scene scene = hostile_scene("ok", "s.toml");
     scene.name = name;
@@ -212,8 +206,7 @@ TEST_CASE("a scene name that is not an identifier never reaches the header", "[c
 
 TEST_CASE("nhc generate on a scene file with a hostile file name", "[codegen][hostile]") {
   const fs::path dir = scratch("hostile_file_name");
-  const std::string scene_text =
-      nhc::test::read_file(std::string(NHC_SOURCE_DIR) + "/examples/particle.toml");
+  const std::string scene_text = nhc::test::read_file(std::string(NHC_SOURCE_DIR) + "/examples/particle.toml");
   REQUIRE(!scene_text.empty());
   // Every payload that can be part of a file name (no slash, no NUL).
   std::string file_name;
@@ -229,8 +222,7 @@ TEST_CASE("nhc generate on a scene file with a hostile file name", "[codegen][ho
   for (const char c : scene.string()) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
   quoted += "'";
   const nhc::test::Run r = nhc::test::run(
-      nhc::test::nhc_command() + " generate " + quoted + " --quiet -o '" + out.string() + "'",
-      dir.string());
+      nhc::test::nhc_command() + " generate " + quoted + " --quiet -o '" + out.string() + "'", dir.string());
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
   const fs::path header = out / "particle_chetaev.hpp";

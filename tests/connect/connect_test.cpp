@@ -12,9 +12,17 @@ namespace {
 
 connect::ShootingProblem problem_for(const runtime::Model& model, const std::string& file) {
   const Scene scene = load_scene(std::string(NHC_SOURCE_DIR) + "/examples/" + file);
-  connect::ShootingProblem problem{model, model.default_parameters(),
+  connect::ShootingProblem problem{model,
+                                   model.default_parameters(),
                                    runtime::initial_state_from(model, scene.initial.t0, scene.initial.values),
-                                   {}, {}, 1, 1, runtime::IntegratorOptions{}, 1e-10, 50, 20};
+                                   {},
+                                   {},
+                                   1,
+                                   1,
+                                   runtime::IntegratorOptions{},
+                                   1e-10,
+                                   50,
+                                   20};
   problem.integrator.rtol = 1e-11;
   problem.integrator.atol = 1e-13;
   problem.free_states = connect::default_free_states(model, problem.parameters, problem.initial);

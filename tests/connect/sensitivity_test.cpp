@@ -120,9 +120,9 @@ TEST_CASE("knife edge on an incline: dx/dalpha and dx/domega in closed form", "[
   for (const bool error_control : {true, false}) {
     runtime::SensitivityOptions so;
     so.error_control = error_control;
-    const runtime::SensitivityRun run =
-        runtime::simulate_sensitivities(model, model.default_parameters(), scene_initial("knife_edge_incline.toml", model),
-                                        thetas, runtime::output_times(0, 2, 40), tight(), so);
+    const runtime::SensitivityRun run = runtime::simulate_sensitivities(
+        model, model.default_parameters(), scene_initial("knife_edge_incline.toml", model), thetas,
+        runtime::output_times(0, 2, 40), tight(), so);
     INFO("error control " << (error_control ? "on" : "off"));
     REQUIRE_FALSE(run.failure);
     const int x = model.state_index(0, 0);
@@ -130,8 +130,9 @@ TEST_CASE("knife edge on an incline: dx/dalpha and dx/domega in closed form", "[
     for (const auto& s : run.samples) {
       const double t = s.t, sw = std::sin(w * t);
       worst_alpha = std::max(worst_alpha, std::abs(s.s[0][x] - g * std::cos(alpha) / (2 * w * w) * sw * sw));
-      worst_omega = std::max(worst_omega, std::abs(s.s[1][x] - g * std::sin(alpha) *
-                                                                  (t * std::sin(2 * w * t) / (2 * w * w) - sw * sw / (w * w * w))));
+      worst_omega = std::max(
+          worst_omega,
+          std::abs(s.s[1][x] - g * std::sin(alpha) * (t * std::sin(2 * w * t) / (2 * w * w) - sw * sw / (w * w * w))));
     }
     INFO(worst_alpha << ", " << worst_omega);
     CHECK(worst_alpha < 1e-8);

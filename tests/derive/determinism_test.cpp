@@ -20,8 +20,8 @@
 
 namespace {
 
-const std::vector<std::string> kScenes = {"chaplygin_sleigh", "rolling_disk", "appell_hamel",
-                                          "knife_edge", "wheeled_pendulum", "rattleback"};
+const std::vector<std::string> kScenes = {"chaplygin_sleigh", "rolling_disk",     "appell_hamel",
+                                          "knife_edge",       "wheeled_pendulum", "rattleback"};
 
 struct Forms {
   std::string text, latex, header;

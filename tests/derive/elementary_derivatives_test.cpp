@@ -19,7 +19,7 @@ struct Case {
   std::string name;
   std::function<ex(const ex&)> symbolic;
   std::function<double(double u, double x)> numeric;  ///< the same with std:: functions
-  double at;  ///< a point inside the function's domain for the inner argument
+  double at;                                          ///< a point inside the function's domain for the inner argument
 };
 
 double value_at(const ex& e, const GiNaC::symbol& x, double at) {

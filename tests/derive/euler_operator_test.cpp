@@ -37,10 +37,18 @@ class RandomJetExpression {
       for (int f = 0; f < factors; ++f) {
         const ex s = symbol(max_order, with_multipliers);
         switch (pick(0, 5)) {
-          case 0: term *= GiNaC::sin(s); break;
-          case 1: term *= GiNaC::cos(s); break;
-          case 2: term *= GiNaC::exp(s / 2); break;
-          default: term *= GiNaC::pow(s, pick(1, 3)); break;
+          case 0:
+            term *= GiNaC::sin(s);
+            break;
+          case 1:
+            term *= GiNaC::cos(s);
+            break;
+          case 2:
+            term *= GiNaC::exp(s / 2);
+            break;
+          default:
+            term *= GiNaC::pow(s, pick(1, 3));
+            break;
         }
       }
       if (pick(0, 3) == 0) term *= jet_.time();
@@ -62,8 +70,7 @@ class RandomJetExpression {
 
 }  // namespace
 
-TEST_CASE("IBP-built Euler operator equals the closed formula on random L and f",
-          "[derive][euler]") {
+TEST_CASE("IBP-built Euler operator equals the closed formula on random L and f", "[derive][euler]") {
   const JetSpace jet({"q1", "q2", "q3"}, 2, {"c"});
   RandomJetExpression random(jet, 20130501u);
   int checked = 0;

@@ -64,7 +64,9 @@ TEST_CASE("partial derivatives through a short chain equal those of the substitu
   // Second derivatives too: the memoized partials are intermediates that differentiate again.
   const GiNaC::symbol& xd = symbol_of(jet, 0, 1);
   const GiNaC::symbol& x = symbol_of(jet, 0, 0);
-  CHECK((nhc::expand_intermediates(L.diff(xd).diff(x)) - nhc::expand_intermediates(L).diff(xd).diff(x)).expand().is_zero());
+  CHECK((nhc::expand_intermediates(L.diff(xd).diff(x)) - nhc::expand_intermediates(L).diff(xd).diff(x))
+            .expand()
+            .is_zero());
 }
 
 TEST_CASE("a chain of 24 definitions differentiates without expanding", "[intermediate]") {

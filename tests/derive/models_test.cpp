@@ -85,16 +85,14 @@ TEST_CASE("m = 1: vakonomic is eq. (6)", "[derive][models]") {
     // (6): [L]_i + λ_α (∂f^α/∂q_i − D ∂f^α/∂q_i') − λ'_α ∂f^α/∂q_i' = 0
     ex expected = bracket(s.L, s.jet, i);
     for (int a = 0; a < 2; ++a)
-      expected += s.jet.lambda(a, 0) * bracket(f[a], s.jet, i) -
-                  s.jet.lambda(a, 1) * f[a].diff(sym(s.jet.q(i, 1)));
+      expected += s.jet.lambda(a, 0) * bracket(f[a], s.jet, i) - s.jet.lambda(a, 1) * f[a].diff(sym(s.jet.q(i, 1)));
     CHECK(same(model.equations[i], expected));
   }
   CHECK(model.constraints_are_equations);
   CHECK(model.multipliers == std::vector<std::string>{"lambda1", "lambda2"});
 }
 
-TEST_CASE("m = 1: chetaev is eq. (8) with Λ = −λ, holder is eq. (8) with Λ = −λ'",
-          "[derive][models]") {
+TEST_CASE("m = 1: chetaev is eq. (8) with Λ = −λ, holder is eq. (8) with Λ = −λ'", "[derive][models]") {
   GenericFirstOrder s;
   const MechanicalSystem sys{s.jet, s.L, {s.f1, s.f2}, {}};
   const DerivedModel chetaev = nhc::derive_model(sys, ModelKind::chetaev);
@@ -128,14 +126,13 @@ TEST_CASE("m = 1, f = q'^α − φ^α: suslov is eq. (10)", "[derive][models]") 
   CHECK(model.multipliers.empty());
   for (int i = 0; i < 3; ++i) {
     // (10): [L]_i − ∂L/∂q'^α (∂f^α/∂q_i − D ∂f^α/∂q_i') = 0
-    const ex expected = bracket(L, jet, i) - L.diff(sym(q(1, 1))) * bracket(f1, jet, i) -
-                        L.diff(sym(q(2, 1))) * bracket(f2, jet, i);
+    const ex expected =
+        bracket(L, jet, i) - L.diff(sym(q(1, 1))) * bracket(f1, jet, i) - L.diff(sym(q(2, 1))) * bracket(f2, jet, i);
     CHECK(same(model.equations[i], expected));
   }
 }
 
-TEST_CASE("m = 2: vakonomic is eq. (22), holder is eq. (26), chetaev uses ∂f/∂q^(m)",
-          "[derive][models]") {
+TEST_CASE("m = 2: vakonomic is eq. (22), holder is eq. (26), chetaev uses ∂f/∂q^(m)", "[derive][models]") {
   JetSpace jet({"q1", "q2"}, 1, {});
   const ex t = jet.time();
   auto q = [&](int i, int k) { return jet.q(i, k); };
@@ -183,8 +180,7 @@ TEST_CASE("Example 1 (particle): the facts of models.md", "[derive][models][pape
     const DerivedModel m = nhc::derive_model(scene, ModelKind::chetaev);
     ex contracted = 0, speed2 = 0;
     for (int i = 0; i < 3; ++i) {
-      CHECK(same(m.equations[i] * m.equations[i],
-                 GiNaC::pow(jet.q(i, 2) - lam * jet.q(i, 1), 2)));
+      CHECK(same(m.equations[i] * m.equations[i], GiNaC::pow(jet.q(i, 2) - lam * jet.q(i, 1), 2)));
       contracted += jet.q(i, 1) * m.equations[i];
       speed2 += GiNaC::pow(jet.q(i, 1), 2);
     }
@@ -194,8 +190,7 @@ TEST_CASE("Example 1 (particle): the facts of models.md", "[derive][models][pape
   SECTION("holder: eq. (26) as printed, −q'' + λ'q'' − λ''q' − 2λq''' with L = |q'|²/2") {
     const DerivedModel m = nhc::derive_model(scene, ModelKind::holder);
     for (int i = 0; i < 3; ++i)
-      CHECK(same(m.equations[i], -jet.q(i, 2) + lam1 * jet.q(i, 2) - lam2 * jet.q(i, 1) -
-                                     2 * lam * jet.q(i, 3)));
+      CHECK(same(m.equations[i], -jet.q(i, 2) + lam1 * jet.q(i, 2) - lam2 * jet.q(i, 1) - 2 * lam * jet.q(i, 3)));
   }
   SECTION("suslov: E_i(f) vanishes identically for f = q'·q'', leaving free motion") {
     for (const ex& e : nhc::euler_operator_closed_form(f, jet)) CHECK(e.is_zero());
@@ -205,8 +200,7 @@ TEST_CASE("Example 1 (particle): the facts of models.md", "[derive][models][pape
   }
 }
 
-TEST_CASE("Example 2 (Appell–Hamel), chetaev: the closed-form motion solves it",
-          "[derive][models][paper]") {
+TEST_CASE("Example 2 (Appell–Hamel), chetaev: the closed-form motion solves it", "[derive][models][paper]") {
   const nhc::Scene scene = nhc::load_scene(scene_dir() + "appell_hamel.toml");
   const JetSpace& jet = *scene.jet;
   const DerivedModel m = nhc::derive_model(scene, ModelKind::chetaev);
@@ -215,11 +209,10 @@ TEST_CASE("Example 2 (Appell–Hamel), chetaev: the closed-form motion solves it
   // Positive symbols for the parameters and the current speed v(t) > 0 (before t*).
   GiNaC::possymbol pm("m"), pg("g"), pa("a"), pb("b"), V("V");
   GiNaC::exmap to_pos;
-  for (const auto& [name, value] :
-       std::vector<std::pair<std::string, ex>>{{"m", pm}, {"g", pg}, {"a", pa}, {"b", pb}})
+  for (const auto& [name, value] : std::vector<std::pair<std::string, ex>>{{"m", pm}, {"g", pg}, {"a", pa}, {"b", pb}})
     to_pos[jet.parameter(*jet.parameter_index(name))] = value;
   const ex k = pb / pa;
-  const ex v_dot = -pg * k / (1 + k * k);        // v' = −g k/(1 + k²)
+  const ex v_dot = -pg * k / (1 + k * k);         // v' = −g k/(1 + k²)
   const ex lambda_exact = pm * pg / (1 + k * k);  // λ = m g/(1 + k²)
   // Constant horizontal direction (3/5, 4/5); z' = k v.
   const GiNaC::numeric c(3, 5), s(4, 5);
@@ -256,17 +249,13 @@ TEST_CASE("Example 2 (Appell–Hamel), chetaev: energy is conserved", "[derive][
   // On the jet: D(E) = −Σ q_i' R_i + λ f, so D(E) = 0 wherever R = 0 and f = 0.
   ex contracted = 0;
   for (int i = 0; i < 3; ++i) contracted += jet.q(i, 1) * m.equations[i];
-  CHECK(on_speed_circle(jet.total_derivative(E) + contracted -
-                            jet.lambda(0, 0) * scene.constraints[0],
-                        jet)
-            .is_zero());
+  CHECK(on_speed_circle(jet.total_derivative(E) + contracted - jet.lambda(0, 0) * scene.constraints[0], jet).is_zero());
 
   // Along the closed-form motion, E(t) is constant (E is polynomial in the velocities).
   const GiNaC::realsymbol t = jet.time();
   GiNaC::possymbol pm("m"), pg("g"), pa("a"), pb("b"), v0("v0"), z0("z0");
   GiNaC::exmap p;
-  for (const auto& [name, value] :
-       std::vector<std::pair<std::string, ex>>{{"m", pm}, {"g", pg}, {"a", pa}, {"b", pb}})
+  for (const auto& [name, value] : std::vector<std::pair<std::string, ex>>{{"m", pm}, {"g", pg}, {"a", pa}, {"b", pb}})
     p[jet.parameter(*jet.parameter_index(name))] = value;
   const ex k = pb / pa, c = pg * k / (1 + k * k), v = v0 - c * t;
   GiNaC::exmap motion = p;
@@ -278,8 +267,7 @@ TEST_CASE("Example 2 (Appell–Hamel), chetaev: energy is conserved", "[derive][
   CHECK(E_t.diff(t).normal().is_zero());
 }
 
-TEST_CASE("Example 2 (Appell–Hamel), vakonomic: singular where m v = λ k",
-          "[derive][models][paper]") {
+TEST_CASE("Example 2 (Appell–Hamel), vakonomic: singular where m v = λ k", "[derive][models][paper]") {
   const nhc::Scene scene = nhc::load_scene(scene_dir() + "appell_hamel.toml");
   const JetSpace& jet = *scene.jet;
   const DerivedModel m = nhc::derive_model(scene, ModelKind::vakonomic);

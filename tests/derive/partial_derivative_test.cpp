@@ -46,14 +46,12 @@ TEST_CASE("partial_derivative gives GiNaC's derivative, term for term", "[interm
        [](double x, double y, double z) { return 5 + x * (y + x * z) - y * y / (1 + x * x); }},
       {"fractional and negative powers", GiNaC::sqrt(x * x + y * y) + GiNaC::pow(x + z, -2),
        [](double x, double y, double z) { return std::sqrt(x * x + y * y) + std::pow(x + z, -2); }},
-      {"a symbolic exponent", GiNaC::pow(x + 2, y),
-       [](double x, double y, double) { return std::pow(x + 2, y); }},
+      {"a symbolic exponent", GiNaC::pow(x + 2, y), [](double x, double y, double) { return std::pow(x + 2, y); }},
       {"functions of sums", GiNaC::atan2(y, x + z) + GiNaC::exp(x * y) * GiNaC::cos(x - z),
        [](double x, double y, double z) { return std::atan2(y, x + z) + std::exp(x * y) * std::cos(x - z); }},
       {"an intermediate in a product and a power", u * x + GiNaC::pow(u, 2) * z,
        [&](double x, double y, double z) { return u_value(x, y, z) * x + std::pow(u_value(x, y, z), 2) * z; }},
-      {"an expression without the variables", GiNaC::numeric(7, 3),
-       [](double, double, double) { return 7.0 / 3.0; }},
+      {"an expression without the variables", GiNaC::numeric(7, 3), [](double, double, double) { return 7.0 / 3.0; }},
   };
   const double px = 0.7, py = -1.3, pz = 0.4, h = 1e-6;
   const GiNaC::exmap point{{x, px}, {y, py}, {z, pz}};
@@ -63,8 +61,7 @@ TEST_CASE("partial_derivative gives GiNaC's derivative, term for term", "[interm
       const ex fast = nhc::partial_derivative(c.expression, *s);
       CHECK(fast.is_equal(c.expression.diff(*s)));
       const double dx = s == &x ? h : 0, dy = s == &y ? h : 0, dz = s == &z ? h : 0;
-      const double central =
-          (c.value(px + dx, py + dy, pz + dz) - c.value(px - dx, py - dy, pz - dz)) / (2 * h);
+      const double central = (c.value(px + dx, py + dy, pz + dz) - c.value(px - dx, py - dy, pz - dz)) / (2 * h);
       CHECK(at(fast, point) == Approx(central).epsilon(1e-7).margin(1e-8));
     }
 }

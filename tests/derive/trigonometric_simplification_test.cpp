@@ -12,23 +12,25 @@
 #include "nhc/scene/scene.hpp"
 
 using GiNaC::cos;
-using nhc::simplify_trigonometric;
 using GiNaC::ex;
 using GiNaC::pow;
 using GiNaC::sin;
+using nhc::simplify_trigonometric;
 
 namespace {
 
-double at(const ex& e, const GiNaC::exmap& point) { return GiNaC::ex_to<GiNaC::numeric>(e.subs(point).evalf()).to_double(); }
+double at(const ex& e, const GiNaC::exmap& point) {
+  return GiNaC::ex_to<GiNaC::numeric>(e.subs(point).evalf()).to_double();
+}
 
 }  // namespace
 
 TEST_CASE("sin^2 + cos^2 = 1 shortens expressions and keeps their value", "[derive]") {
   const GiNaC::realsymbol a("a"), l("lambda1"), th("theta"), x("x");
   const ex cases[] = {
-      -a * pow(cos(th), 2) * l - a * l * pow(sin(th), 2),                      // the issue's −a λ1
+      -a * pow(cos(th), 2) * l - a * l * pow(sin(th), 2),                         // the issue's −a λ1
       pow(sin(th), 4) + 2 * pow(sin(th), 2) * pow(cos(th), 2) + pow(cos(th), 4),  // (sin² + cos²)² = 1
-      x * pow(sin(2 * th), 2) + x * pow(cos(2 * th), 2) - x,                   // cancels identically
+      x * pow(sin(2 * th), 2) + x * pow(cos(2 * th), 2) - x,                      // cancels identically
   };
   const ex expected[] = {-a * l, ex(1), ex(0)};
   std::mt19937 rng(14);
@@ -56,7 +58,8 @@ constraints = ["r' - a*cos(theta)^2*theta' - a*sin(theta)^2*theta'"]
 m = 1.0
 g = 9.81
 a = 0.5
-)TOML", "slider.toml");
+)TOML",
+                                            "slider.toml");
   const nhc::DerivedModel model = nhc::derive_model(scene, nhc::ModelKind::chetaev);
   REQUIRE(model.equations.size() == 2);
   const ex r_theta = model.equations[0];

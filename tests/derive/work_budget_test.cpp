@@ -85,8 +85,7 @@ TEST_CASE("a negative power predicts the expansion of its denominator", "[derive
   CHECK(p.factors >= factors_of(GiNaC::pow(sum_of(a), 4).expand()));
 }
 
-TEST_CASE("definitions that square the previous one are predicted in linear time and saturate",
-          "[derive][budget]") {
+TEST_CASE("definitions that square the previous one are predicted in linear time and saturate", "[derive][budget]") {
   // d_k = d_{k-1}^2 + x, 500 deep: a tree of 2^500 paths, 1000 distinct nodes.
   const symbol x("x"), v("v");
   ex d = x + v;
@@ -106,7 +105,8 @@ TEST_CASE("an expansion of few terms but many factors is refused before it runs"
   CHECK(p.terms == Approx(binomial(22, 5)));
   CHECK(p.terms < nhc::work_budget::kMaxExpandedTerms);
   CHECK(p.factors > nhc::work_budget::kMaxExpandedFactors);
-  CHECK_THROWS_WITH(nhc::work_budget::expand(e), Catch::Contains("factors in") && Catch::Contains("terms (the limit is"));
+  CHECK_THROWS_WITH(nhc::work_budget::expand(e),
+                    Catch::Contains("factors in") && Catch::Contains("terms (the limit is"));
 }
 
 TEST_CASE("the one zero test: through intermediates or with them as symbols, rounding relative to the terms",

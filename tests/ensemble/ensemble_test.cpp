@@ -137,7 +137,8 @@ TEST_CASE("Appell–Hamel stop times on a grid of v0 and b/a match t* = v0 (1 + 
   CHECK(file_exists(dir + "/vx.svg"));
   const auto unknown = run(nhc_command() + " plot '" + file + "' drift:momentum -o '" + dir + "/m'", dir);
   CHECK(unknown.exit_code == 2);
-  CHECK(unknown.err.find("OUTCOME drift:momentum: error: unknown outcome; this ensemble has t_stop") != std::string::npos);
+  CHECK(unknown.err.find("OUTCOME drift:momentum: error: unknown outcome; this ensemble has t_stop") !=
+        std::string::npos);
   CHECK_FALSE(file_exists(dir + "/m.svg"));
 }
 
@@ -181,7 +182,7 @@ TEST_CASE("a failing run is recorded and the ensemble goes on", "[ensemble]") {
   REQUIRE(r.exit_code == 0);
   const std::vector<int> outcome = read_outcomes(file);
   REQUIRE(outcome.size() == 5);
-  CHECK(outcome[2] == 3);  // failed
+  CHECK(outcome[2] == 3);                                                 // failed
   for (int k : {3, 4}) CHECK(outcome[static_cast<std::size_t>(k)] == 1);  // ok
   CHECK(r.out.find("1 failed") != std::string::npos);
 }
@@ -228,12 +229,14 @@ TEST_CASE("resuming runs only the runs a checkpoint lacks and gives the same fil
   text.insert(at + 14, "2*(");
   text.insert(text.find('"', at + 17), ")");
   std::ofstream(dir + "/edited.toml") << text;
-  const auto edited = run("NHC_CACHE_DIR='" + std::string(NHC_BINARY_DIR) + "/tests/scratch/ensemble-cache' " +
-                              nhc_command() + " ensemble '" + dir + "/edited.toml' " + args + "--resume -o '" + part + "'",
-                          dir);
+  const auto edited =
+      run("NHC_CACHE_DIR='" + std::string(NHC_BINARY_DIR) + "/tests/scratch/ensemble-cache' " + nhc_command() +
+              " ensemble '" + dir + "/edited.toml' " + args + "--resume -o '" + part + "'",
+          dir);
   INFO(edited.err);
   CHECK(edited.exit_code == 2);
-  CHECK(edited.err.find("the scene's text or its --initial values differ from those its runs were computed from") != std::string::npos);
+  CHECK(edited.err.find("the scene's text or its --initial values differ from those its runs were computed from") !=
+        std::string::npos);
 }
 
 TEST_CASE("bad input: exit 2, the flag named, no FILE.h5", "[ensemble]") {
@@ -281,8 +284,10 @@ TEST_CASE("an interrupted ensemble leaves its last checkpoint and no temporary f
   // The model compiled before (the compile cache), so that runs start at once.
   REQUIRE(run(ensemble("--vary b=0.2:2:2 -o '" + dir + "/warm.h5'"), dir).exit_code == 0);
   // 2 x 10^4 runs of about a millisecond: interrupted after 1.5 s, with checkpoints every 0.2 s.
-  const auto r = run("bash -c \"" + ensemble("--vary \\\"x'(0)=0.5:2:200\\\" --vary b=0.2:2:100 --threads 1 "
-                                            "--checkpoint-every 0.2 -o '" + file + "'") +
+  const auto r = run("bash -c \"" +
+                         ensemble("--vary \\\"x'(0)=0.5:2:200\\\" --vary b=0.2:2:100 --threads 1 "
+                                  "--checkpoint-every 0.2 -o '" +
+                                  file + "'") +
                          " & pid=\\$!; sleep 1.5; kill -TERM \\$pid; wait \\$pid; echo exit \\$?\"",
                      dir);
   INFO(r.out << r.err);
@@ -308,12 +313,13 @@ TEST_CASE("an ensemble varies a parameter that only [initial] uses: x(0) = A, x(
   std::ofstream(scene) << "name = \"start\"\ncoordinates = [\"x\"]\nlagrangian = \"x'^2/2 - x^2/2\"\n"
                           "[parameters]\nA = 0.7\n[initial]\nx = [\"A\", 0.0]\n"
                           "[simulate]\nt_end = 1.0\nrtol = 1e-10\natol = 1e-12\n";
-  const auto r = run("NHC_CACHE_DIR='" + std::string(NHC_BINARY_DIR) + "/tests/scratch/ensemble-cache' " + nhc_command() +
-                         " ensemble '" + scene + "' --vary A=0.5:1.5:3 -o '" + file + "'",
+  const auto r = run("NHC_CACHE_DIR='" + std::string(NHC_BINARY_DIR) + "/tests/scratch/ensemble-cache' " +
+                         nhc_command() + " ensemble '" + scene + "' --vary A=0.5:1.5:3 -o '" + file + "'",
                      dir);
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
-  const std::vector<double> design = read_doubles(file, "/design/values"), final_state = read_doubles(file, "/runs/final_state");
+  const std::vector<double> design = read_doubles(file, "/design/values"),
+                            final_state = read_doubles(file, "/runs/final_state");
   REQUIRE(design.size() == 3);
   const std::size_t n = final_state.size() / 3;  // x first among the states
   for (std::size_t k = 0; k < 3; ++k) CHECK(std::abs(final_state[k * n] - design[k] * std::cos(1.0)) < 1e-8);

@@ -59,35 +59,34 @@ Item read_attribute(hid_t object, const std::string& name) {
 
 void compare(const std::string& what, Item a, Item b) {
   ++compared;
-  if (H5Tequal(a.type, b.type) <= 0)
-    differ(what + " (type)");
-  else if (a.dims != b.dims)
-    differ(what + " (shape)");
-  else if (a.bytes != b.bytes)
-    differ(what + " (values)");
+  if (H5Tequal(a.type, b.type) <= 0) differ(what + " (type)");
+  else if (a.dims != b.dims) differ(what + " (shape)");
+  else if (a.bytes != b.bytes) differ(what + " (values)");
   H5Tclose(a.type);
   H5Tclose(b.type);
 }
 
 std::vector<std::string> attribute_names(hid_t object) {
   std::vector<std::string> names;
-  H5Aiterate2(object, H5_INDEX_NAME, H5_ITER_INC, nullptr,
-              [](hid_t, const char* name, const H5A_info_t*, void* data) -> herr_t {
-                static_cast<std::vector<std::string>*>(data)->push_back(name);
-                return 0;
-              },
-              &names);
+  H5Aiterate2(
+      object, H5_INDEX_NAME, H5_ITER_INC, nullptr,
+      [](hid_t, const char* name, const H5A_info_t*, void* data) -> herr_t {
+        static_cast<std::vector<std::string>*>(data)->push_back(name);
+        return 0;
+      },
+      &names);
   return names;
 }
 
 std::vector<std::string> object_paths(hid_t file) {
   std::vector<std::string> paths{"/"};
-  H5Lvisit(file, H5_INDEX_NAME, H5_ITER_INC,
-           [](hid_t, const char* name, const H5L_info_t*, void* data) -> herr_t {
-             static_cast<std::vector<std::string>*>(data)->push_back(std::string("/") + name);
-             return 0;
-           },
-           &paths);
+  H5Lvisit(
+      file, H5_INDEX_NAME, H5_ITER_INC,
+      [](hid_t, const char* name, const H5L_info_t*, void* data) -> herr_t {
+        static_cast<std::vector<std::string>*>(data)->push_back(std::string("/") + name);
+        return 0;
+      },
+      &paths);
   return paths;
 }
 
@@ -115,10 +114,8 @@ void compare_attributes(hid_t fa, hid_t fb, const std::string& path) {
 int main(int argc, char** argv) {
   std::vector<std::string> files;
   for (int k = 1; k < argc; ++k) {
-    if (std::strcmp(argv[k], "--ignore") == 0 && k + 1 < argc)
-      ignored.insert(argv[++k]);
-    else
-      files.push_back(argv[k]);
+    if (std::strcmp(argv[k], "--ignore") == 0 && k + 1 < argc) ignored.insert(argv[++k]);
+    else files.push_back(argv[k]);
   }
   if (files.size() != 2) {
     std::cerr << "usage: h5_same A.h5 B.h5 [--ignore PATH | --ignore PATH@ATTRIBUTE]...\n";

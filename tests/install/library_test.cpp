@@ -18,8 +18,7 @@ nhc::SceneBuilder appell_hamel() {
       .lagrangian("m/2*(x'^2 + y'^2 + z'^2) - m*g*z")
       .constraint("z' - b/a*sqrt(x'^2 + y'^2)")
       .dependent({"z"})
-      .models({nhc::ModelKind::vakonomic, nhc::ModelKind::chetaev, nhc::ModelKind::holder,
-               nhc::ModelKind::suslov})
+      .models({nhc::ModelKind::vakonomic, nhc::ModelKind::chetaev, nhc::ModelKind::holder, nhc::ModelKind::suslov})
       .parameter("m", 1.0)
       .parameter("g", 9.81)
       .parameter("a", 1.0)
@@ -39,8 +38,7 @@ std::string without_file_lines(const std::string& text) {
   std::istringstream in(text);
   std::string out;
   for (std::string line; std::getline(in, line);)
-    if (line.find(" from ") == std::string::npos && line.find("nhc generate ") == std::string::npos)
-      out += line + "\n";
+    if (line.find(" from ") == std::string::npos && line.find("nhc generate ") == std::string::npos) out += line + "\n";
   return out;
 }
 
@@ -150,8 +148,8 @@ TEST_CASE("derive, analyse and emit a scene built in code", "[library]") {
   CHECK(latex.str().find("\\begin{document}") != std::string::npos);
   CHECK(json.str().find("\"model\"") != std::string::npos);
 
-  const nhc::GeneratedHeader header = nhc::generate_header(
-      scene, nhc::reduce_to_index1(scene, chetaev), {nhc::JacobianKind::sparse});
+  const nhc::GeneratedHeader header =
+      nhc::generate_header(scene, nhc::reduce_to_index1(scene, chetaev), {nhc::JacobianKind::sparse});
   CHECK(header.file_name == "particle_chetaev.hpp");
   CHECK(header.text.find("inline constexpr int jacobian_nnz") != std::string::npos);
 }

@@ -20,9 +20,10 @@ namespace fs = std::filesystem;
 namespace {
 
 nhc::Scene oscillator(double x0, double v0) {
-  const std::string text = "name = \"driven_oscillator\"\ncoordinates = [\"x\"]\nlagrangian = \"x'^2/2 - x^2/2\"\n"
-                           "[inputs]\nu = \"sin(2*t)\"\n[forces]\nx = \"u\"\n[initial]\nx = [" +
-                           std::to_string(x0) + ", " + std::to_string(v0) + "]\n";
+  const std::string text =
+      "name = \"driven_oscillator\"\ncoordinates = [\"x\"]\nlagrangian = \"x'^2/2 - x^2/2\"\n"
+      "[inputs]\nu = \"sin(2*t)\"\n[forces]\nx = \"u\"\n[initial]\nx = [" +
+      std::to_string(x0) + ", " + std::to_string(v0) + "]\n";
   return nhc::parse_scene(text, "driven_oscillator.toml");
 }
 
@@ -49,9 +50,9 @@ TEST_CASE("inputs: the model table names the inputs, the default signal drives t
   CHECK(model.input_name(0) == "u");
   CHECK(model.input_index("u") == 0);
   CHECK(model.input_index("v") == -1);
-  const nhc::runtime::RunResult run = nhc::runtime::simulate(
-      model, {}, nhc::runtime::initial_state_from(model, 0.0, scene.initial.values),
-      nhc::runtime::output_times(0.0, 3.0, 60), tight());
+  const nhc::runtime::RunResult run =
+      nhc::runtime::simulate(model, {}, nhc::runtime::initial_state_from(model, 0.0, scene.initial.values),
+                             nhc::runtime::output_times(0.0, 3.0, 60), tight());
   REQUIRE_FALSE(run.failure);
   double worst = 0;
   for (const nhc::runtime::Sample& s : run.samples) {
@@ -87,7 +88,8 @@ TEST_CASE("inputs: values held between sampling times (sampled-data control)", "
   const int position = model.state_index(0, 0), velocity = model.state_index(0, 1);
   nhc::runtime::Integrator integrator(model, {}, tight());
   integrator.hold_inputs({-gain * x0});  // before initialize: the inputs it starts with
-  nhc::runtime::Sample now = integrator.initialize(nhc::runtime::initial_state_from(model, 0.0, scene.initial.values), period);
+  nhc::runtime::Sample now =
+      integrator.initialize(nhc::runtime::initial_state_from(model, 0.0, scene.initial.values), period);
   double x = x0, v = v0, worst = 0;  // the closed form, interval by interval
   for (int k = 0; k < 20; ++k) {
     const double t_k = k * period, u = -gain * now.y[static_cast<std::size_t>(position)];  // the controller samples x

@@ -41,9 +41,9 @@ std::vector<double> final_state(const nhc::jit::LoadedModel& built, const nhc::S
   options.rtol = 1e-10;
   options.atol = 1e-12;
   const Model& model = built.model();
-  const RunResult run = simulate(model, model.default_parameters(),
-                                 initial_state_from(model, scene.initial.t0, scene.initial.values),
-                                 output_times(scene.initial.t0, scene.simulate.t_end, 20), options);
+  const RunResult run =
+      simulate(model, model.default_parameters(), initial_state_from(model, scene.initial.t0, scene.initial.values),
+               output_times(scene.initial.t0, scene.simulate.t_end, 20), options);
   REQUIRE_FALSE(run.failure);
   REQUIRE(run.samples.back().t == Approx(scene.simulate.t_end));
   return run.samples.back().y;
@@ -81,8 +81,8 @@ TEST_CASE("definitions kept as intermediates give the motion of definitions subs
 
 /// The definition chain d0 = x' + y + 1, d_k = d_{k-1}^2 + x, L = d_n, with the constraint x' = y.
 std::string definition_chain(int n) {
-  std::string text = "name = \"definition_chain\"\ncoordinates = [\"x\", \"y\"]\nlagrangian = \"d" +
-                     std::to_string(n) + "\"\nconstraints = [\"x' - y\"]\n[definitions]\nd0 = \"x' + y + 1\"\n";
+  std::string text = "name = \"definition_chain\"\ncoordinates = [\"x\", \"y\"]\nlagrangian = \"d" + std::to_string(n) +
+                     "\"\nconstraints = [\"x' - y\"]\n[definitions]\nd0 = \"x' + y + 1\"\n";
   for (int k = 1; k <= n; ++k)
     text += "d" + std::to_string(k) + " = \"d" + std::to_string(k - 1) + "*d" + std::to_string(k - 1) + " + x\"\n";
   return text + "[initial]\nx = [-0.3, -0.4]\ny = [-0.4]\n[simulate]\nt_end = 0.1\n";
@@ -95,10 +95,11 @@ TEST_CASE("a chain of 24 definitions derives and generates in proportion to its 
   std::vector<long long> operations;  // n = 6, 12, 18, 24
   for (int n = 6; n <= 24; n += 6) {
     const nhc::Scene kept = nhc::parse_scene(definition_chain(n), "chain.toml");
-    const nhc::jit::LoadedModel built = nhc::jit::build(kept, nhc::ModelKind::chetaev, options_in("intermediates-cache"));
+    const nhc::jit::LoadedModel built =
+        nhc::jit::build(kept, nhc::ModelKind::chetaev, options_in("intermediates-cache"));
     operations.push_back(built.header().after_cse.total());
-    WARN("chain of " << n << ": operations after CSE " << operations.back() << ", header "
-                     << built.header().text.size() << " bytes");
+    WARN("chain of " << n << ": operations after CSE " << operations.back() << ", header " << built.header().text.size()
+                     << " bytes");
   }
   // Linear: every 6 links add about the same number of operations (measured 1242, 1406, 1283:
   // the first links are small enough to be substituted, and the size threshold names a
@@ -109,7 +110,8 @@ TEST_CASE("a chain of 24 definitions derives and generates in proportion to its 
           Approx(static_cast<double>(operations[1] - operations[0])).epsilon(0.2));
 }
 
-TEST_CASE("the Whipple bicycle with its definitions kept: a small header that conserves energy", "[jit][intermediates]") {
+TEST_CASE("the Whipple bicycle with its definitions kept: a small header that conserves energy",
+          "[jit][intermediates]") {
   // Substituted, the bicycle's header had 639,587 operations and 4.5 MB; kept, the
   // targets for the whole header: at most 30,000 operations and 600 kB. The motion
   // is checked by its energy (T + V, [invariants]), conserved by rolling without slip; the
@@ -118,7 +120,7 @@ TEST_CASE("the Whipple bicycle with its definitions kept: a small header that co
   const nhc::Scene kept = nhc::parse_scene(text, "whipple_bicycle.toml");
   const nhc::jit::LoadedModel built = nhc::jit::build(kept, nhc::ModelKind::chetaev, options_in("intermediates-cache"));
   WARN("Whipple bicycle, kept: operations after CSE " << built.header().after_cse.total() << ", header "
-                                                       << built.header().text.size() << " bytes");
+                                                      << built.header().text.size() << " bytes");
   CHECK(built.header().after_cse.total() <= 30000);
   CHECK(built.header().text.size() <= 600000);
   using namespace nhc::runtime;
@@ -127,14 +129,15 @@ TEST_CASE("the Whipple bicycle with its definitions kept: a small header that co
   IntegratorOptions options;
   options.rtol = 1e-10;
   options.atol = 1e-12;
-  const RunResult run = simulate(model, model.default_parameters(),
-                                 initial_state_from(model, kept.initial.t0, kept.initial.values),
-                                 output_times(kept.initial.t0, kept.simulate.t_end, 50), options);
+  const RunResult run =
+      simulate(model, model.default_parameters(), initial_state_from(model, kept.initial.t0, kept.initial.values),
+               output_times(kept.initial.t0, kept.simulate.t_end, 50), options);
   REQUIRE_FALSE(run.failure);
   const std::vector<double> p = model.default_parameters();
   const double e0 = observe(model, p, run.samples.front()).invariants.at(0);
   double drift = 0;
-  for (const Sample& sample : run.samples) drift = std::max(drift, std::abs(observe(model, p, sample).invariants.at(0) - e0));
+  for (const Sample& sample : run.samples)
+    drift = std::max(drift, std::abs(observe(model, p, sample).invariants.at(0) - e0));
   WARN("energy " << e0 << ", drift " << drift);
   CHECK(drift <= 1e-7 * std::max(1.0, std::abs(e0)));
 }
@@ -146,8 +149,10 @@ TEST_CASE("the Whipple bicycle kept and substituted move alike", "[.whipple-kept
   const nhc::Scene kept = nhc::parse_scene(text, "whipple_bicycle.toml");
   const nhc::Scene substituted = nhc::parse_scene(text, "whipple_bicycle.toml", expanded());
   const nhc::jit::LoadedModel b = nhc::jit::build(kept, nhc::ModelKind::chetaev, options_in("intermediates-cache"));
-  const nhc::jit::LoadedModel a = nhc::jit::build(substituted, nhc::ModelKind::chetaev, options_in("intermediates-cache"));
-  WARN("operations after CSE: " << a.header().after_cse.total() << " substituted, " << b.header().after_cse.total() << " kept");
+  const nhc::jit::LoadedModel a =
+      nhc::jit::build(substituted, nhc::ModelKind::chetaev, options_in("intermediates-cache"));
+  WARN("operations after CSE: " << a.header().after_cse.total() << " substituted, " << b.header().after_cse.total()
+                                << " kept");
   const std::vector<double> ya = final_state(a, substituted), yb = final_state(b, kept);
   for (std::size_t i = 0; i < ya.size(); ++i) {
     INFO(a.model().state_name(static_cast<int>(i)));

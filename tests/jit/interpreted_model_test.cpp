@@ -67,42 +67,54 @@ void compare_tables(const nhc::runtime::Model& interpreted, const nhc::runtime::
       call(C, b.data());
       require_close(a, b, what);
     };
-    both(n, [&](const nhc_model_table& T, double* out) { T.residual(t, y.data(), yp.data(), p.data(), out); },
-         "residual");
+    both(
+        n, [&](const nhc_model_table& T, double* out) { T.residual(t, y.data(), yp.data(), p.data(), out); },
+        "residual");
     if (C.jacobian)
-      both(n * n, [&](const nhc_model_table& T, double* out) { T.jacobian(t, y.data(), yp.data(), cj, p.data(), out); },
-           "dense Jacobian");
+      both(
+          n * n, [&](const nhc_model_table& T, double* out) { T.jacobian(t, y.data(), yp.data(), cj, p.data(), out); },
+          "dense Jacobian");
     if (C.jacobian_values) {
       REQUIRE(I.jacobian_nnz == C.jacobian_nnz);
       REQUIRE(std::equal(C.jacobian_colptr, C.jacobian_colptr + n + 1, I.jacobian_colptr));
-      both(static_cast<std::size_t>(C.jacobian_nnz),
-           [&](const nhc_model_table& T, double* out) { T.jacobian_values(t, y.data(), yp.data(), cj, p.data(), out); },
-           "sparse Jacobian");
+      both(
+          static_cast<std::size_t>(C.jacobian_nnz),
+          [&](const nhc_model_table& T, double* out) { T.jacobian_values(t, y.data(), yp.data(), cj, p.data(), out); },
+          "sparse Jacobian");
     }
     const auto h = static_cast<std::size_t>(C.n_hidden);
     if (h > 0) {
-      both(h, [&](const nhc_model_table& T, double* out) { T.hidden_constraints(t, y.data(), p.data(), out); },
-           "hidden constraints");
-      both(h * n, [&](const nhc_model_table& T, double* out) { T.hidden_constraints_jacobian(t, y.data(), p.data(), out); },
-           "hidden-constraint Jacobian");
+      both(
+          h, [&](const nhc_model_table& T, double* out) { T.hidden_constraints(t, y.data(), p.data(), out); },
+          "hidden constraints");
+      both(
+          h * n,
+          [&](const nhc_model_table& T, double* out) { T.hidden_constraints_jacobian(t, y.data(), p.data(), out); },
+          "hidden-constraint Jacobian");
     }
     if (C.n_invariants > 0)
-      both(static_cast<std::size_t>(C.n_invariants),
-           [&](const nhc_model_table& T, double* out) { T.invariants(t, y.data(), yp.data(), p.data(), out); },
-           "invariants");
+      both(
+          static_cast<std::size_t>(C.n_invariants),
+          [&](const nhc_model_table& T, double* out) { T.invariants(t, y.data(), yp.data(), p.data(), out); },
+          "invariants");
     if (C.n_singular > 0)
-      both(static_cast<std::size_t>(C.n_singular),
-           [&](const nhc_model_table& T, double* out) { T.singular_quantities(t, y.data(), p.data(), out); },
-           "singular quantities");
+      both(
+          static_cast<std::size_t>(C.n_singular),
+          [&](const nhc_model_table& T, double* out) { T.singular_quantities(t, y.data(), p.data(), out); },
+          "singular quantities");
     if (C.residual_parameter_jacobian) {
       REQUIRE(I.residual_parameter_jacobian);
-      both(n * static_cast<std::size_t>(C.n_parameters),
-           [&](const nhc_model_table& T, double* out) { T.residual_parameter_jacobian(t, y.data(), yp.data(), p.data(), out); },
-           "dF/dp");
+      both(
+          n * static_cast<std::size_t>(C.n_parameters),
+          [&](const nhc_model_table& T, double* out) {
+            T.residual_parameter_jacobian(t, y.data(), yp.data(), p.data(), out);
+          },
+          "dF/dp");
     }
     if (C.n_inputs > 0)
-      both(static_cast<std::size_t>(C.n_inputs),
-           [&](const nhc_model_table& T, double* out) { T.default_inputs(t, p.data(), out); }, "default inputs");
+      both(
+          static_cast<std::size_t>(C.n_inputs),
+          [&](const nhc_model_table& T, double* out) { T.default_inputs(t, p.data(), out); }, "default inputs");
     // Reduced-form additions: q from y, the independent speeds from y'.
     REQUIRE(I.n_speeds == C.n_speeds);
     if (C.n_speeds > 0) {
@@ -110,13 +122,16 @@ void compare_tables(const nhc::runtime::Model& interpreted, const nhc::runtime::
       REQUIRE(std::equal(C.speed_coordinate, C.speed_coordinate + C.n_speeds, I.speed_coordinate));
       const auto k = static_cast<std::size_t>(C.n_speeds);
       const std::vector<double> q(y.begin(), y.begin() + C.n_coordinates), u(yp.begin(), yp.begin() + C.n_speeds);
-      both(static_cast<std::size_t>(C.n_coordinates),
-           [&](const nhc_model_table& T, double* out) { T.velocities(t, q.data(), u.data(), p.data(), out); },
-           "velocities");
-      both(k * k, [&](const nhc_model_table& T, double* out) { T.mass_matrix(t, q.data(), u.data(), p.data(), out); },
-           "mass matrix");
-      both(k, [&](const nhc_model_table& T, double* out) { T.forcing(t, q.data(), u.data(), p.data(), out); },
-           "forcing");
+      both(
+          static_cast<std::size_t>(C.n_coordinates),
+          [&](const nhc_model_table& T, double* out) { T.velocities(t, q.data(), u.data(), p.data(), out); },
+          "velocities");
+      both(
+          k * k, [&](const nhc_model_table& T, double* out) { T.mass_matrix(t, q.data(), u.data(), p.data(), out); },
+          "mass matrix");
+      both(
+          k, [&](const nhc_model_table& T, double* out) { T.forcing(t, q.data(), u.data(), p.data(), out); },
+          "forcing");
     }
   }
 }
@@ -126,9 +141,9 @@ std::vector<double> final_state(const nhc::runtime::Model& model, const nhc::Sce
   IntegratorOptions options;
   options.rtol = 1e-10;
   options.atol = 1e-12;
-  const RunResult run = simulate(model, model.default_parameters(),
-                                 initial_state_from(model, scene.initial.t0, scene.initial.values),
-                                 output_times(scene.initial.t0, scene.simulate.t_end, 20), options);
+  const RunResult run =
+      simulate(model, model.default_parameters(), initial_state_from(model, scene.initial.t0, scene.initial.values),
+               output_times(scene.initial.t0, scene.simulate.t_end, 20), options);
   REQUIRE_FALSE(run.failure);
   return run.samples.back().y;
 }
@@ -153,8 +168,9 @@ TEST_CASE("interpreted and compiled models agree function by function and run by
                         {"knife_edge.toml", nhc::ModelKind::holder, false},
                         {"", nhc::ModelKind::chetaev, true}};
   for (const Case& c : cases) {
-    const nhc::Scene scene = c.file.empty() ? nhc::parse_scene(kDriven, "driven_pendulum.toml")
-                                            : nhc::load_scene((fs::path(NHC_SOURCE_DIR) / "examples" / c.file).string());
+    const nhc::Scene scene = c.file.empty()
+                                 ? nhc::parse_scene(kDriven, "driven_pendulum.toml")
+                                 : nhc::load_scene((fs::path(NHC_SOURCE_DIR) / "examples" / c.file).string());
     INFO(scene.name << ", " << nhc::to_string(c.kind));
     nhc::jit::BuildOptions interpreted_options = options_in("interpreter-cache", Backend::interpreted);
     nhc::jit::BuildOptions compiled_options = options_in("interpreter-cache", Backend::compiled);

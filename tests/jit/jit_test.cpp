@@ -29,7 +29,10 @@ constexpr double m = 1.0, g = 9.81, a = 1.0, vx0 = 1.0, vy0 = 0.5;
 nhc::Scene appell_hamel(double b) {
   return nhc::SceneBuilder("appell_hamel")
       .coordinates({"x", "y", "z"})
-      .parameter("m", m).parameter("g", g).parameter("a", a).parameter("b", b)
+      .parameter("m", m)
+      .parameter("g", g)
+      .parameter("a", a)
+      .parameter("b", b)
       .lagrangian("m/2*(x'^2 + y'^2 + z'^2) - m*g*z")
       .constraint("z' - b/a*sqrt(x'^2 + y'^2)")
       .initial("x", {0.0, vx0})
@@ -58,21 +61,22 @@ Outcome integrate(const nhc::runtime::Model& model, const nhc::Scene& scene, dou
   IntegratorOptions options;
   options.rtol = 1e-8;
   options.atol = 1e-10;
-  const RunResult run = simulate(model, model.default_parameters(),
-                                 initial_state_from(model, scene.initial.t0, scene.initial.values),
-                                 output_times(0.0, t_end, 50), options);
+  const RunResult run =
+      simulate(model, model.default_parameters(), initial_state_from(model, scene.initial.t0, scene.initial.values),
+               output_times(0.0, t_end, 50), options);
   REQUIRE_FALSE(run.failure);
   REQUIRE(run.samples.back().t == Approx(t_end));
   Outcome out;
   for (const Sample& sample : run.samples) {
     const double t = sample.t, arc = v0 * t - decel * t * t / 2, v = v0 - decel * t;
-    const double exact[] = {vx0 / v0 * arc, vx0 / v0 * v, vy0 / v0 * arc, vy0 / v0 * v, k * arc, k * v,
-                            m * g / (1 + k * k)};
+    const double exact[] = {vx0 / v0 * arc, vx0 / v0 * v, vy0 / v0 * arc,     vy0 / v0 * v,
+                            k * arc,        k * v,        m * g / (1 + k * k)};
     const char* names[] = {"x", "x'", "y", "y'", "z", "z'", "lambda1"};
     for (int i = 0; i < 7; ++i) {
       const double value = sample.y[static_cast<std::size_t>(i)];
       REQUIRE(model.state_name(i) == names[i]);
-      out.worst_relative_error = std::max(out.worst_relative_error, std::abs(value - exact[i]) / std::max(1.0, std::abs(exact[i])));
+      out.worst_relative_error =
+          std::max(out.worst_relative_error, std::abs(value - exact[i]) / std::max(1.0, std::abs(exact[i])));
     }
   }
   out.z_dot_end = run.samples.back().y[5];

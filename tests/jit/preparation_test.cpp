@@ -16,13 +16,14 @@
 namespace {
 
 nhc::Scene appell_hamel() {
-  return nhc::parse_scene("name = \"appell_hamel\"\n"
-                          "coordinates = [\"x\", \"y\", \"z\"]\n"
-                          "lagrangian = \"m/2*(x'^2 + y'^2 + z'^2) - m*g*z\"\n"
-                          "constraints = [\"z' - b/a*sqrt(x'^2 + y'^2)\"]\n"
-                          "[parameters]\nm = 1.0\ng = 9.81\na = 1.0\nb = 0.5\n"
-                          "[initial]\nt0 = 0.0\nx = [0.0, 1.0]\ny = [0.0, 0.5]\nz = [0.0]\n",
-                          "appell_hamel.toml");
+  return nhc::parse_scene(
+      "name = \"appell_hamel\"\n"
+      "coordinates = [\"x\", \"y\", \"z\"]\n"
+      "lagrangian = \"m/2*(x'^2 + y'^2 + z'^2) - m*g*z\"\n"
+      "constraints = [\"z' - b/a*sqrt(x'^2 + y'^2)\"]\n"
+      "[parameters]\nm = 1.0\ng = 9.81\na = 1.0\nb = 0.5\n"
+      "[initial]\nt0 = 0.0\nx = [0.0, 1.0]\ny = [0.0, 0.5]\nz = [0.0]\n",
+      "appell_hamel.toml");
 }
 
 nhc::jit::BuildOptions uncached_interpreted() {

@@ -35,8 +35,7 @@ std::string appell_hamel_text(const std::string& b = "0.5", const std::string& e
          "coordinates = [\"x\", \"y\", \"z\"]\n"
          "lagrangian = \"m/2*(x'^2 + y'^2 + z'^2) - m*g*z\"\n"
          "constraints = [\"z' - b/a*sqrt(x'^2 + y'^2)\"]\n" +
-         extra +
-         "[parameters]\nm = 1.0\ng = 9.81\na = 1.0\nb = " + b +
+         extra + "[parameters]\nm = 1.0\ng = 9.81\na = 1.0\nb = " + b +
          "\n[initial]\nt0 = 0.0\nx = [0.0, 1.0]\ny = [0.0, 0.5]\nz = [0.0]\n";
 }
 
@@ -77,8 +76,8 @@ double z_dot_error(const nhc::runtime::Model& model, double b) {
   options.atol = 1e-11;
   const double v0 = std::hypot(1.0, 0.5), k = b;
   const std::map<std::string, std::vector<double>> values{{"x", {0.0, 1.0}}, {"y", {0.0, 0.5}}, {"z", {0.0}}};
-  const RunResult run =
-      simulate(model, model.default_parameters(), initial_state_from(model, 0.0, values), output_times(0.0, 0.25, 10), options);
+  const RunResult run = simulate(model, model.default_parameters(), initial_state_from(model, 0.0, values),
+                                 output_times(0.0, 0.25, 10), options);
   REQUIRE_FALSE(run.failure);
   double worst = 0;
   for (const Sample& s : run.samples)
@@ -193,7 +192,8 @@ TEST_CASE("any change of the equations' text, parameters, model, options or vers
     REQUIRE(key);
     REQUIRE(other);
     CHECK(*key != *other);
-    CHECK(*key == *nhc::jit::scene_cache_key(scene, "generated header", "model chetaev", nhc::jit::scene_cache_version()));
+    CHECK(*key ==
+          *nhc::jit::scene_cache_key(scene, "generated header", "model chetaev", nhc::jit::scene_cache_version()));
     // The version names the code generator's sources: a build from others does not match.
     CHECK(nhc::jit::scene_cache_version().find(NHC_VERSION) == 0);
     CHECK(*key != *nhc::jit::scene_cache_key(scene, "generated header", "model chetaev", NHC_VERSION));
@@ -221,7 +221,10 @@ TEST_CASE("any change of the equations' text, parameters, model, options or vers
     auto built = [](double b) {
       return nhc::SceneBuilder("appell_hamel")
           .coordinates({"x", "y", "z"})
-          .parameter("m", 1.0).parameter("g", 9.81).parameter("a", 1.0).parameter("b", b)
+          .parameter("m", 1.0)
+          .parameter("g", 9.81)
+          .parameter("a", 1.0)
+          .parameter("b", b)
           .lagrangian("m/2*(x'^2 + y'^2 + z'^2) - m*g*z")
           .constraint("z' - b/a*sqrt(x'^2 + y'^2)")
           .build();
@@ -233,19 +236,19 @@ TEST_CASE("any change of the equations' text, parameters, model, options or vers
   CHECK(builder.warnings.empty());
 }
 
-TEST_CASE("the reduced form's speeds chosen at the initial point are part of the header's key",
-          "[jit][scene-cache]") {
+TEST_CASE("the reduced form's speeds chosen at the initial point are part of the header's key", "[jit][scene-cache]") {
   // The knife edge x' sin(phi) = y' cos(phi) with no `dependent` key: the default rule makes y
   // dependent from phi = 0 (speeds x', phi') and x from phi = pi/2 or 0.3 (speeds y', phi';
   // docs/reduced-form.md). M_r's first entry, T = m/2 (x'^2 + y'^2) on the chosen speed, is
   // m / cos^2(phi) or m / sin^2(phi).
   auto knife_edge = [](const std::string& phi0) {
-    return nhc::parse_scene("name = \"knife_edge\"\ncoordinates = [\"x\", \"y\", \"phi\"]\n"
-                            "lagrangian = \"m/2*(x'^2 + y'^2) + J/2*phi'^2\"\n"
-                            "constraints = [\"x'*sin(phi) - y'*cos(phi)\"]\nmodels = [\"chetaev\"]\n"
-                            "[parameters]\nm = 2.0\nJ = 0.5\n[initial]\nt0 = 0.0\nx = [0.0]\ny = [0.0]\nphi = [" +
-                                phi0 + "]\n",
-                            "knife_edge.toml");
+    return nhc::parse_scene(
+        "name = \"knife_edge\"\ncoordinates = [\"x\", \"y\", \"phi\"]\n"
+        "lagrangian = \"m/2*(x'^2 + y'^2) + J/2*phi'^2\"\n"
+        "constraints = [\"x'*sin(phi) - y'*cos(phi)\"]\nmodels = [\"chetaev\"]\n"
+        "[parameters]\nm = 2.0\nJ = 0.5\n[initial]\nt0 = 0.0\nx = [0.0]\ny = [0.0]\nphi = [" +
+            phi0 + "]\n",
+        "knife_edge.toml");
   };
   Builder builder{fresh_cache("scene_cache_reduced_speeds")};
   auto options = builder.options();
@@ -284,7 +287,9 @@ TEST_CASE("a damaged or unsafe scene-cache entry is rebuilt with a warning, neve
   Builder builder{fresh_cache("scene_cache_damage")};
   const nhc::Scene scene = scene_of(appell_hamel_text());
   REQUIRE(builder.derivations(scene) == 1);
-  const fs::path entry = header_entry(builder, scene, "model chetaev, jacobian default, sensitivities no, split from " + std::to_string(nhc::HeaderOptions{}.split_from_bytes) + " bytes");
+  const fs::path entry = header_entry(builder, scene,
+                                      "model chetaev, jacobian default, sensitivities no, split from " +
+                                          std::to_string(nhc::HeaderOptions{}.split_from_bytes) + " bytes");
   REQUIRE(fs::is_regular_file(entry));
   const std::string good = read_file(entry);
   CHECK((fs::status(entry).permissions() & (fs::perms::group_all | fs::perms::others_all)) == fs::perms::none);
@@ -403,8 +408,14 @@ TEST_CASE("the system's key follows every change of the system and no change of 
     using Change = std::function<void(nhc::Scene&)>;
     const std::vector<std::pair<const char*, Change>> changes{
         {"t0", [](nhc::Scene& s) { s.initial.t0 = 1.0; }},
-        {"initial value", [](nhc::Scene& s) { s.initial.values["x"] = {0.0, 2.0}; }},
-        {"initial expression", [](nhc::Scene& s) { s.initial.expressions["x"] = {"", "b"}; }},
+        {"initial value",
+         [](nhc::Scene& s) {
+           s.initial.values["x"] = {0.0, 2.0};
+         }},
+        {"initial expression",
+         [](nhc::Scene& s) {
+           s.initial.expressions["x"] = {"", "b"};
+         }},
         {"fixed", [](nhc::Scene& s) { s.initial.fixed.push_back("x"); }},
         {"model", [](nhc::Scene& s) { s.simulate.model = nhc::ModelKind::vakonomic; }},
         {"t_end", [](nhc::Scene& s) { s.simulate.t_end = 9.0; }},
@@ -413,7 +424,10 @@ TEST_CASE("the system's key follows every change of the system and no change of 
         {"output intervals", [](nhc::Scene& s) { s.simulate.outputs = 7; }},
         {"event", [](nhc::Scene& s) { s.events.front().expression = s.events.front().expression - 1; }},
         {"events", [](nhc::Scene& s) { s.events.clear(); }},
-        {"contact", [](nhc::Scene& s) { s.contacts.push_back({"floor", s.jet->parameter(0), "m", {}, {}, {0}, 0.3, {}}); }},
+        {"contact",
+         [](nhc::Scene& s) {
+           s.contacts.push_back({"floor", s.jet->parameter(0), "m", {}, {}, {0}, 0.3, {}});
+         }},
         {"output", [](nhc::Scene& s) { s.outputs.front().expression = 2 * s.outputs.front().expression; }},
         {"outputs", [](nhc::Scene& s) { s.outputs.clear(); }},
         {"visuals", [](nhc::Scene& s) { s.visuals.clear(); }},
@@ -467,7 +481,8 @@ TEST_CASE("the system's key follows every change of the system and no change of 
         {"invariant", [](nhc::Scene& s) { s.invariants.front().expression = 3 * s.invariants.front().expression; }},
         {"invariant required", [](nhc::Scene& s) { s.invariants.front().required = true; }},
         {"reference", [](nhc::Scene& s) { s.reference.all.front().second = s.jet->time(); }},
-        {"reference per model", [](nhc::Scene& s) { s.reference.per_model[nhc::ModelKind::vakonomic] = s.reference.all; }},
+        {"reference per model",
+         [](nhc::Scene& s) { s.reference.per_model[nhc::ModelKind::vakonomic] = s.reference.all; }},
     };
     for (const auto& [what, change] : changes) {
       INFO(what);
@@ -492,11 +507,10 @@ nhc::jit::BuildOptions interpreted(nhc::jit::BuildOptions o) {
 }
 
 fs::path program_entry(const Builder& builder, const nhc::Scene& scene) {
-  const auto key = nhc::jit::scene_cache_key(
-      scene, "interpreted program",
-      "model chetaev, jacobian default, sensitivities no, split from " +
-          std::to_string(nhc::HeaderOptions{}.split_from_bytes) + " bytes",
-      nhc::jit::scene_cache_version(), nhc::jit::FingerprintScope::equations);
+  const auto key = nhc::jit::scene_cache_key(scene, "interpreted program",
+                                             "model chetaev, jacobian default, sensitivities no, split from " +
+                                                 std::to_string(nhc::HeaderOptions{}.split_from_bytes) + " bytes",
+                                             nhc::jit::scene_cache_version(), nhc::jit::FingerprintScope::equations);
   REQUIRE(key);
   return builder.cache / "scenes" / (*key + ".entry");
 }
@@ -505,7 +519,8 @@ fs::path program_entry(const Builder& builder, const nhc::Scene& scene) {
 std::vector<double> residual_at(const nhc::runtime::Model& model) {
   const nhc_model_table& t = model.table();
   std::vector<double> y(static_cast<std::size_t>(t.n_states)), yp(y.size()), r(y.size());
-  for (std::size_t k = 0; k < y.size(); ++k) y[k] = 0.3 + 0.1 * static_cast<double>(k), yp[k] = 0.7 - 0.05 * static_cast<double>(k);
+  for (std::size_t k = 0; k < y.size(); ++k)
+    y[k] = 0.3 + 0.1 * static_cast<double>(k), yp[k] = 0.7 - 0.05 * static_cast<double>(k);
   const std::vector<double> p = model.default_parameters();
   t.residual(0.2, y.data(), yp.data(), p.data(), r.data());
   return r;
@@ -634,9 +649,9 @@ TEST_CASE("the cache keeps under NHC_CACHE_MAX_SIZE, the longest unused entries 
   REQUIRE(cache.load(keys[0]));  // used: now the latest used but the next one stored
   cache.store(keys[3], record);  // four entries of 10 kB: over 35 kB, one removed (90 % of it)
   ::unsetenv("NHC_CACHE_MAX_SIZE");
-  CHECK(fs::exists(cache.entry_path(keys[3])));  // just stored
-  CHECK(fs::exists(cache.entry_path(keys[0])));  // used last
+  CHECK(fs::exists(cache.entry_path(keys[3])));        // just stored
+  CHECK(fs::exists(cache.entry_path(keys[0])));        // used last
   CHECK_FALSE(fs::exists(cache.entry_path(keys[1])));  // the longest unused
-  CHECK(fs::exists(cache.entry_path(keys[2])));  // three entries fit in 90 % of 35 kB
+  CHECK(fs::exists(cache.entry_path(keys[2])));        // three entries fit in 90 % of 35 kB
   CHECK(nhc::jit::cache_size_limit() == (std::uintmax_t{2} << 30));
 }

@@ -45,7 +45,6 @@ nhc::Scene knife_chain() {
   return b.lagrangian(lagrangian).invariant("E", energy).build();
 }
 
-
 /// Every function of the table evaluated at one point (t, y, yp, cj, p drawn from `u`), all
 /// outputs in one list; absent functions contribute nothing.
 std::vector<double> evaluate_all(const nhc_model_table& t, std::mt19937& random) {

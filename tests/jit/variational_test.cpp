@@ -212,15 +212,15 @@ namespace {
 double energy_error(const rt::Model& model, const std::vector<double>& p, const rt::RunResult& result) {
   const rt::DriftReport drift = rt::measure_drift(model, p, result.samples);
   for (int k = 0; k < model.n_invariants(); ++k)
-    if (std::string(model.table().invariant_names[k]) == "energy") return drift.invariant_drift[static_cast<std::size_t>(k)];
+    if (std::string(model.table().invariant_names[k]) == "energy")
+      return drift.invariant_drift[static_cast<std::size_t>(k)];
   FAIL("no invariant named energy");
   return 0;
 }
 
 }  // namespace
 
-TEST_CASE("variational: the energy error stays bounded over 100 times the steps, IDA's grows",
-          "[jit][variational]") {
+TEST_CASE("variational: the energy error stays bounded over 100 times the steps, IDA's grows", "[jit][variational]") {
   struct Case {
     std::string name;
     nhc::Scene scene;
@@ -233,9 +233,10 @@ TEST_CASE("variational: the energy error stays bounded over 100 times the steps,
   cases.push_back({"rolling ball", nhc::load_scene((examples / "rolling_ball.toml").string()), true});
   // The disk wobbling about upright rolling (the example's steady circle lies near a separatrix,
   // where a fixed step meets fast phases: docs/variational.md).
-  cases.push_back({"rolling disk",
-                   nhc::load_scene((fs::path(NHC_SOURCE_DIR) / "bench" / "variational" / "rolling_disk_wobble.toml").string()),
-                   true});
+  cases.push_back(
+      {"rolling disk",
+       nhc::load_scene((fs::path(NHC_SOURCE_DIR) / "bench" / "variational" / "rolling_disk_wobble.toml").string()),
+       true});
   cases.push_back({"sleigh", nhc::parse_scene(kSleigh, "sleigh_free.toml"), false});
   const double h = 0.02;
   const long short_steps = 500, long_steps = 50000;
@@ -254,7 +255,8 @@ TEST_CASE("variational: the energy error stays bounded over 100 times the steps,
     io.rtol = 1e-6;
     io.atol = 1e-8;
     const rt::InitialState initial = rt::initial_state_from(model, t0, c.scene.initial.values);
-    const rt::RunResult ida_short = rt::simulate(model, p, initial, rt::output_times(t0, t0 + h * short_steps, 500), io);
+    const rt::RunResult ida_short =
+        rt::simulate(model, p, initial, rt::output_times(t0, t0 + h * short_steps, 500), io);
     const rt::RunResult ida_long = rt::simulate(model, p, initial, rt::output_times(t0, t0 + h * long_steps, 5000), io);
     const double i_short = energy_error(model, p, ida_short), i_long = energy_error(model, p, ida_long);
     INFO(c.name << ": variational " << e_short << " over " << short_steps << " steps, " << e_long << " over "
@@ -296,8 +298,10 @@ TEST_CASE("variational: a feedback input, the knife edge's turning damped by u =
   for (double order : observed_orders(errors)) CHECK(order == Approx(2.0).margin(0.15));
 }
 
-TEST_CASE("variational: a step that does not divide the run ends on t_end, order 2 kept; one that does not fit twice is refused",
-          "[jit][variational]") {
+TEST_CASE(
+    "variational: a step that does not divide the run ends on t_end, order 2 kept; one that does not fit twice is "
+    "refused",
+    "[jit][variational]") {
   const nhc::Scene scene = nhc::parse_scene(kKnifeEdge, "knife_edge_turning.toml");
   const nhc::jit::LoadedModel built = build_variational(scene);
   const rt::Model& model = built.model();

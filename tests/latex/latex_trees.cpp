@@ -44,11 +44,21 @@ class Random {
 class Trees {
  public:
   explicit Trees(std::uint64_t seed) : random_(seed) {
-    const std::vector<std::pair<std::string, std::string>> names = {
-        {"a", ""}, {"b", ""}, {"m", ""}, {"t", ""}, {"x", ""}, {"x_d1", "\\dot{x}"},
-        {"th", "\\mathrm{th}"}, {"th_d1", "\\dot{\\mathrm{th}}"}, {"theta_d2", "\\ddot{\\theta}"},
-        {"nu", "\\nu"}, {"Jw", "\\mathrm{Jw}"}, {"lambda1", "\\lambda_{1}"},
-        {"lambda1_d1", "\\dot\\lambda_{1}"}, {"q1", "q_{1}"}, {"q1_d1", "\\dot{q}_{1}"}};
+    const std::vector<std::pair<std::string, std::string>> names = {{"a", ""},
+                                                                    {"b", ""},
+                                                                    {"m", ""},
+                                                                    {"t", ""},
+                                                                    {"x", ""},
+                                                                    {"x_d1", "\\dot{x}"},
+                                                                    {"th", "\\mathrm{th}"},
+                                                                    {"th_d1", "\\dot{\\mathrm{th}}"},
+                                                                    {"theta_d2", "\\ddot{\\theta}"},
+                                                                    {"nu", "\\nu"},
+                                                                    {"Jw", "\\mathrm{Jw}"},
+                                                                    {"lambda1", "\\lambda_{1}"},
+                                                                    {"lambda1_d1", "\\dot\\lambda_{1}"},
+                                                                    {"q1", "q_{1}"},
+                                                                    {"q1_d1", "\\dot{q}_{1}"}};
     for (const auto& [name, latex] : names) symbols_.push_back(nhc::stable_symbol(name, latex));
   }
 
@@ -56,14 +66,21 @@ class Trees {
     if (depth <= 0 || random_.chance(20)) return leaf();
     switch (random_.below(9)) {
       case 0:
-      case 1: return sum(depth, 2 + random_.below(4));
+      case 1:
+        return sum(depth, 2 + random_.below(4));
       case 2:
-      case 3: return product(depth);
-      case 4: return power(depth);
-      case 5: return tree(depth - 1) / sum(depth - 1, 2 + random_.below(3));  // quotient of sums
-      case 6: return function(depth);
-      case 7: return number() * sum(depth - 1, 2 + random_.below(3));
-      default: return -tree(depth - 1);
+      case 3:
+        return product(depth);
+      case 4:
+        return power(depth);
+      case 5:
+        return tree(depth - 1) / sum(depth - 1, 2 + random_.below(3));  // quotient of sums
+      case 6:
+        return function(depth);
+      case 7:
+        return number() * sum(depth - 1, 2 + random_.below(3));
+      default:
+        return -tree(depth - 1);
     }
   }
 
@@ -86,9 +103,17 @@ class Trees {
 
   ex symbol() { return symbols_[static_cast<std::size_t>(random_.below(static_cast<int>(symbols_.size())))]; }
   ex number() {
-    static const std::vector<GiNaC::numeric> numbers = {
-        1, 2, 3, -1, -2, 7, GiNaC::numeric(1, 2), GiNaC::numeric(-1, 2), GiNaC::numeric(3, 4),
-        GiNaC::numeric(-5, 3), GiNaC::numeric(22, 7)};
+    static const std::vector<GiNaC::numeric> numbers = {1,
+                                                        2,
+                                                        3,
+                                                        -1,
+                                                        -2,
+                                                        7,
+                                                        GiNaC::numeric(1, 2),
+                                                        GiNaC::numeric(-1, 2),
+                                                        GiNaC::numeric(3, 4),
+                                                        GiNaC::numeric(-5, 3),
+                                                        GiNaC::numeric(22, 7)};
     return numbers[static_cast<std::size_t>(random_.below(static_cast<int>(numbers.size())))];
   }
   ex leaf() { return random_.chance(75) ? symbol() : number(); }
@@ -114,12 +139,18 @@ class Trees {
   ex function(int depth) {
     const ex arg = tree(depth - 1);
     switch (random_.below(6)) {
-      case 0: return GiNaC::sin(arg);
-      case 1: return GiNaC::cos(arg);
-      case 2: return GiNaC::atan2(arg, tree(depth - 1));
-      case 3: return GiNaC::tanh(arg);
-      case 4: return GiNaC::abs(arg);
-      default: return GiNaC::sqrt(arg);
+      case 0:
+        return GiNaC::sin(arg);
+      case 1:
+        return GiNaC::cos(arg);
+      case 2:
+        return GiNaC::atan2(arg, tree(depth - 1));
+      case 3:
+        return GiNaC::tanh(arg);
+      case 4:
+        return GiNaC::abs(arg);
+      default:
+        return GiNaC::sqrt(arg);
     }
   }
 };

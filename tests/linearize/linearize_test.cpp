@@ -196,7 +196,8 @@ TEST_CASE("Rolling disk: [initial] written through a parameter follows --at and 
     return 0.0;
   };
   CHECK(point_value(nhc::linearize(scene, nhc::ModelKind::chetaev, {}), "ps'") == Approx(3.0 / r).epsilon(1e-15));
-  CHECK(point_value(nhc::linearize(scene, nhc::ModelKind::chetaev, {{"v", 1.0}}), "ps'") == Approx(1.0 / r).epsilon(1e-15));
+  CHECK(point_value(nhc::linearize(scene, nhc::ModelKind::chetaev, {{"v", 1.0}}), "ps'") ==
+        Approx(1.0 / r).epsilon(1e-15));
   // A value given with --at is kept when a parameter changes after it.
   CHECK(point_value(nhc::linearize(scene, nhc::ModelKind::chetaev, {{"ps'", 5.0}, {"v", 1.0}}), "ps'") == 5.0);
   const double critical = r * std::sqrt(m * g * r * I1 / (I3 * (I3 + m * r * r)));
@@ -206,8 +207,7 @@ TEST_CASE("Rolling disk: [initial] written through a parameter follows --at and 
   CHECK(result.thresholds[0].value == Approx(critical).epsilon(1e-8));
 }
 
-TEST_CASE("Second-order constraint: constant speed with a spring oscillates at sqrt(K), as simulated",
-          "[linearize]") {
+TEST_CASE("Second-order constraint: constant speed with a spring oscillates at sqrt(K), as simulated", "[linearize]") {
   const nhc::Scene scene = nhc::load_scene(scene_path("speed_constraint"));
   const double K = parameter(scene, "K");
   const nhc::Linearization lin = nhc::linearize(scene, nhc::ModelKind::chetaev);
@@ -229,8 +229,8 @@ TEST_CASE("Second-order constraint: constant speed with a spring oscillates at s
   for (std::size_t k = 1; k < y.size(); ++k) {
     amplitude = std::max(amplitude, std::abs(y[k].second));
     if ((y[k - 1].second < 0) != (y[k].second < 0) && y[k - 1].second != 0)
-      crossings.push_back(y[k - 1].first + (y[k].first - y[k - 1].first) * y[k - 1].second /
-                                               (y[k - 1].second - y[k].second));
+      crossings.push_back(y[k - 1].first +
+                          (y[k].first - y[k - 1].first) * y[k - 1].second / (y[k - 1].second - y[k].second));
   }
   REQUIRE(crossings.size() >= 4);
   const double omega = std::abs(largest(lin.eigenvalues).imag());
@@ -249,9 +249,8 @@ TEST_CASE("Vakonomic sleigh: the perturbation grows at the largest eigenvalue, a
 
   const std::string dir = nhc::test::scratch_dir("linearize_vakonomic_sleigh");
   const std::string path = perturbed_scene("chaplygin_sleigh", "th = [0.0, 0.0]", "th = [0.0, 1e-6]", dir);
-  const Run run = nhc_run("simulate '" + path + "' --model vakonomic --t-end 4 --rtol 1e-10 --atol 1e-14 -o '" +
-                              dir + "/run.csv'",
-                          dir);
+  const Run run = nhc_run(
+      "simulate '" + path + "' --model vakonomic --t-end 4 --rtol 1e-10 --atol 1e-14 -o '" + dir + "/run.csv'", dir);
   REQUIRE(run.exit_code == 0);
   const auto w = series(dir + "/run.csv", "th'");
   // Growth of th' between t = 2 and t = 4, once the unstable mode dominates (the stable one has
@@ -268,13 +267,15 @@ TEST_CASE("Vakonomic sleigh: the perturbation grows at the largest eigenvalue, a
 
 TEST_CASE("nhc linearize: JSON keys, the sweep's files, and the C++ result agree", "[linearize]") {
   const std::string dir = nhc::test::scratch_dir("linearize_cli");
-  const Run run = nhc_run("linearize '" + scene_path("rolling_disk") + "' --at \"ps'=5\" --sweep \"ps'=1:4:4\" "
-                          "--format json -o '" + dir + "/out'",
+  const Run run = nhc_run("linearize '" + scene_path("rolling_disk") +
+                              "' --at \"ps'=5\" --sweep \"ps'=1:4:4\" "
+                              "--format json -o '" +
+                              dir + "/out'",
                           dir);
   REQUIRE(run.exit_code == 0);
-  for (const char* key : {"\"scene\"", "\"model\"", "\"point\"", "\"cyclic\"", "\"states\"", "\"A\"",
-                          "\"eigenvalues\"", "\"verdict\"", "\"defect\"", "\"sweep\"", "\"thresholds\"", "\"re\"",
-                          "\"im\"", "\"from\"", "\"to\""})
+  for (const char* key :
+       {"\"scene\"", "\"model\"", "\"point\"", "\"cyclic\"", "\"states\"", "\"A\"", "\"eigenvalues\"", "\"verdict\"",
+        "\"defect\"", "\"sweep\"", "\"thresholds\"", "\"re\"", "\"im\"", "\"from\"", "\"to\""})
     CHECK(run.out.find(key) != std::string::npos);
   CHECK(run.out == nhc::test::read_file(dir + "/out/linearize.json"));
   CHECK(nhc::test::file_exists(dir + "/out/stability.csv"));
@@ -312,9 +313,9 @@ TEST_CASE("nhc linearize: bad input and non-stationary points are refused in wor
     CHECK(run.err.find(c.words) != std::string::npos);
     CHECK(!nhc::test::file_exists(dir + "/out"));
   }
-  CHECK_THROWS_AS(nhc::linearize(nhc::load_scene(scene_path("rolling_disk")), nhc::ModelKind::chetaev,
-                                 {{"nothing", 1.0}}),
-                  nhc::InputError);
+  CHECK_THROWS_AS(
+      nhc::linearize(nhc::load_scene(scene_path("rolling_disk")), nhc::ModelKind::chetaev, {{"nothing", 1.0}}),
+      nhc::InputError);
 }
 
 TEST_CASE("Whipple bicycle: the benchmark eigenvalues at 5 m/s", "[linearize][whipple]") {
@@ -334,7 +335,8 @@ TEST_CASE("Whipple bicycle: the benchmark eigenvalues at 5 m/s", "[linearize][wh
   CHECK(lin.verdict == nhc::StabilityVerdict::asymptotically_stable);
 }
 
-TEST_CASE("Whipple bicycle: B for the lean and steer torques is the inverse of the benchmark's M", "[linearize][whipple]") {
+TEST_CASE("Whipple bicycle: B for the lean and steer torques is the inverse of the benchmark's M",
+          "[linearize][whipple]") {
   // Meijaard et al. (2007), eq. (3.9) with Table 2: M q'' + v C1 q' + (g K0 + v^2 K2) q = f for
   // q = (phi, delta), f = (T_phi, T_delta), and the mass matrix M independent of v. So the rows
   // of B for phi'' and delta'' are M^-1. The scene's lean phi is the benchmark's (both rotate
@@ -391,7 +393,8 @@ multiplier = "lambda1"
 [initial]
 x = [0.0, 0.0]
 y = [-1.0, 0.0]
-)", "cartesian_pendulum.toml");
+)",
+                                            "cartesian_pendulum.toml");
   const double g = 9.81;
   const nhc::Linearization lin = nhc::linearize(scene, nhc::ModelKind::chetaev);
   REQUIRE(lin.states == std::vector<std::string>{"x", "x'"});

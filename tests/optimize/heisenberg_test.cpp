@@ -126,7 +126,8 @@ TEST_CASE("[optimize] entries are located in the scene", "[optimize]") {
         "heisenberg.toml:17:5: error: the low bound of x is above its high bound");
   CHECK(message(heisenberg(0.5, 0.0)) == "heisenberg.toml:7:9: error: t_end must be after t0 = 0");
   CHECK(message(heisenberg(0.5, 1.0, "\"x''\" = [0, 1]\n")) ==
-        "heisenberg.toml:17:1: error: 'x''': without [inputs] the transcription holds coordinates and their first derivatives only");
+        "heisenberg.toml:17:1: error: 'x''': without [inputs] the transcription holds coordinates and their first "
+        "derivatives only");
 }
 
 TEST_CASE("[optimize] is read with the scene: its keys escaped, its numbers at the parameters' values of the time",
@@ -155,8 +156,7 @@ TEST_CASE("[optimize] is read with the scene: its keys escaped, its numbers at t
   CHECK(optimize::read_settings(scene).final.at(2).low == 0.25);
   CHECK(optimize::read_settings(scene).final.at(2).high == 0.25);
   // A scene without the table: refused by nhc optimize at the file, not by the loader.
-  const Scene plain = parse_scene(
-      "name = \"p\"\ncoordinates = [\"x\"]\nlagrangian = \"x'^2/2\"\n", "plain.toml");
+  const Scene plain = parse_scene("name = \"p\"\ncoordinates = [\"x\"]\nlagrangian = \"x'^2/2\"\n", "plain.toml");
   CHECK(!plain.optimize.present);
   CHECK_THROWS_WITH(optimize::read_settings(plain),
                     "plain.toml: error: the scene has no [optimize] table (docs/scenes.md, \"Optimal motions\")");

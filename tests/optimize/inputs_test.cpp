@@ -37,7 +37,8 @@ std::string car_parking(const std::string& replace_t_end = "", const std::string
   const std::size_t at = s.find(fixed);
   REQUIRE(at != std::string::npos);
   s.replace(at, fixed.size(),
-            "[optimize]\nobjective = \"" + objective + "\"\nt_end = " + (replace_t_end.empty() ? "12.0" : replace_t_end) + "\n");
+            "[optimize]\nobjective = \"" + objective +
+                "\"\nt_end = " + (replace_t_end.empty() ? "12.0" : replace_t_end) + "\n");
   return s;
 }
 
@@ -84,7 +85,8 @@ void check_hessian(const std::string& text) {
     std::vector<double> plus = z, minus = z;
     plus[c] += eps;
     minus[c] -= eps;
-    const std::vector<double> gp = lagrangian_gradient(p, plus, sigma, lambda), gm = lagrangian_gradient(p, minus, sigma, lambda);
+    const std::vector<double> gp = lagrangian_gradient(p, plus, sigma, lambda),
+                              gm = lagrangian_gradient(p, minus, sigma, lambda);
     for (std::size_t r = c; r < z.size(); ++r) {
       const double fd = (gp[r] - gm[r]) / (2 * eps);
       const auto it = exact.find({static_cast<int>(r), static_cast<int>(c)});
@@ -101,7 +103,8 @@ void check_hessian(const std::string& text) {
 TEST_CASE("the exact Hessian of the Lagrangian equals differences of the exact gradients (fixed and free T)",
           "[optimize][inputs]") {
   // An objective and a final cost of t too, so that every term of the free T's row counts.
-  const std::string objective = "(F^2 + tau^2)/2 + t^2*x'*theta + sin(t)*phi^2*F\"\nfinal_cost = \"t*x^2 + y'*t^2 + t^3";
+  const std::string objective =
+      "(F^2 + tau^2)/2 + t^2*x'*theta + sin(t)*phi^2*F\"\nfinal_cost = \"t*x^2 + y'*t^2 + t^3";
   check_hessian(car_parking("", objective));
   check_hessian(car_parking("[8.0, 14.0]", objective));
 }
@@ -109,8 +112,8 @@ TEST_CASE("the exact Hessian of the Lagrangian equals differences of the exact g
 namespace {
 
 struct Replay {
-  double end_error = 0;     ///< largest |IDA - collocation| over the coordinates and rates at T
-  double worst_bound = 0;   ///< largest excess of phi over 0.5 at any point
+  double end_error = 0;    ///< largest |IDA - collocation| over the coordinates and rates at T
+  double worst_bound = 0;  ///< largest excess of phi over 0.5 at any point
 };
 
 /// The car parked with N intervals, its optimal inputs (quadratic through each interval's three
@@ -126,7 +129,8 @@ Replay replay(const Scene& scene, const rt::Model& model, int intervals) {
     const int k = std::clamp(static_cast<int>(t / h), 0, intervals - 1);
     const double x = (t - k * h) / h;  // 0, 1/2, 1 at the interval's points
     for (int i = 0; i < p.inputs(); ++i) {
-      const double a = z[static_cast<std::size_t>(p.u_index(2 * k, i))], m = z[static_cast<std::size_t>(p.u_index(2 * k + 1, i))],
+      const double a = z[static_cast<std::size_t>(p.u_index(2 * k, i))],
+                   m = z[static_cast<std::size_t>(p.u_index(2 * k + 1, i))],
                    b = z[static_cast<std::size_t>(p.u_index(2 * k + 2, i))];
       u[i] = a * 2 * (x - 0.5) * (x - 1) - m * 4 * x * (x - 1) + b * 2 * x * (x - 0.5);  // Lagrange basis
     }
@@ -142,8 +146,8 @@ Replay replay(const Scene& scene, const rt::Model& model, int intervals) {
   rt::IntegratorOptions options;
   options.rtol = 1e-12;
   options.atol = 1e-13;
-  const rt::RunResult run = rt::simulate(model, {}, rt::initial_state_from(model, 0.0, initial), rt::output_times(0.0, T, 1),
-                                         options, {}, inputs);
+  const rt::RunResult run = rt::simulate(model, {}, rt::initial_state_from(model, 0.0, initial),
+                                         rt::output_times(0.0, T, 1), options, {}, inputs);
   REQUIRE_FALSE(run.failure);
   Replay out;
   const rt::Sample& end = run.samples.back();
@@ -151,7 +155,8 @@ Replay replay(const Scene& scene, const rt::Model& model, int intervals) {
     for (const std::string& name : {c, c + "'"})
       for (int k = 0; k < model.n_states(); ++k)
         if (model.state_name(k) == name)
-          out.end_error = std::max(out.end_error, std::abs(end.y[static_cast<std::size_t>(k)] - state(p.points() - 1, name)));
+          out.end_error =
+              std::max(out.end_error, std::abs(end.y[static_cast<std::size_t>(k)] - state(p.points() - 1, name)));
   for (int j = 0; j < p.points(); ++j) out.worst_bound = std::max(out.worst_bound, std::abs(state(j, "phi")) - 0.5);
   return out;
 }

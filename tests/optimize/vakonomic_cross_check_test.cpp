@@ -81,8 +81,9 @@ double largest_difference(const std::string& name, const std::string& head, cons
   double difference = 0;
   for (int j = 0; j < problem.points(); ++j)
     for (std::size_t i = 0; i < coordinates.size(); ++i)
-      difference = std::max(difference, std::abs(solution.z[static_cast<std::size_t>(problem.q_index(j, static_cast<int>(i)))] -
-                                                 connected.at(problem.time(j, solution.z.data()), coordinates[i])));
+      difference =
+          std::max(difference, std::abs(solution.z[static_cast<std::size_t>(problem.q_index(j, static_cast<int>(i)))] -
+                                        connected.at(problem.time(j, solution.z.data()), coordinates[i])));
   return difference;
 }
 

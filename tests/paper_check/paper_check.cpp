@@ -100,21 +100,18 @@ class Report {
     const bool agree = is_zero(difference, *scene.jet, planar_speed);
     std::string verdict;
     if (agree)
-      verdict = c.factor.is_equal(1) ? "**agrees**"
-                                     : "**agrees** up to the overall factor " + nhc::to_text(c.factor);
-    else
-      verdict = "**disagrees**";
+      verdict = c.factor.is_equal(1) ? "**agrees**" : "**agrees** up to the overall factor " + nhc::to_text(c.factor);
+    else verdict = "**disagrees**";
     out_ << "### " << c.label << ": " << verdict << "\n\n"
          << "- paper (transcribed): `" << c.paper_text << " = 0`\n"
-         << "- nhc: " << c.nhc_source << "; times " << nhc::to_text(c.factor) << ": `"
-         << nhc::to_text(scaled) << " = 0`\n";
+         << "- nhc: " << c.nhc_source << "; times " << nhc::to_text(c.factor) << ": `" << nhc::to_text(scaled)
+         << " = 0`\n";
     if (!agree) {
       out_ << "- paper − (" << nhc::to_text(c.factor) << ")·nhc = `"
            << nhc::to_text(readable(difference, *scene.jet, planar_speed)) << "`";
       if (planar_speed)
-        out_ << (along_fixed_direction(difference, *scene.jet)
-                     ? "; it vanishes where x''y' − x'y'' = 0"
-                     : "; it does not vanish where x''y' − x'y'' = 0");
+        out_ << (along_fixed_direction(difference, *scene.jet) ? "; it vanishes where x''y' − x'y'' = 0"
+                                                               : "; it does not vanish where x''y' − x'y'' = 0");
       out_ << "\n";
     }
     out_ << "\n";
@@ -146,8 +143,7 @@ void example_1(std::ostream& out, Report& report, const std::string& source_dir)
   for (int i = 0; i < 3; ++i) {
     const std::string q = "q" + std::to_string(i + 1);
     report.compare(scene,
-                   {std::string("(31") + names[i] + ")",
-                    q + "'' - lambda1'*" + q + "'' - lambda1''*" + q + "'",
+                   {std::string("(31") + names[i] + ")", q + "'' - lambda1'*" + q + "'' - lambda1''*" + q + "'",
                     "`vakonomic` R_" + std::to_string(i + 1), -1, vak.equations[i]},
                    false);
   }
@@ -156,8 +152,7 @@ void example_1(std::ostream& out, Report& report, const std::string& source_dir)
     report.compare(scene,
                    {std::string("(32") + names[i] + ")",
                     q + "'' + lambda1'*" + q + "'' - lambda1''*" + q + "' + 2*lambda1*" + q + "'''",
-                    "`holder` R_" + std::to_string(i + 1) + " (eq. 26 as printed)", -1,
-                    hol.equations[i]},
+                    "`holder` R_" + std::to_string(i + 1) + " (eq. 26 as printed)", -1, hol.equations[i]},
                    false);
   }
   const std::string S = "(q1'*q1' + q2'*q2')^(-1)";
@@ -194,7 +189,7 @@ void example_2(std::ostream& out, Report& report, const std::string& source_dir)
 
   const auto reduce = [&](const std::vector<ex>& R, const ex& multiplier_symbol, int i) {
     ex e = eliminate(R[i], R[2], multiplier_symbol);  // multiplier term from the z equation
-    e = eliminate(e, Df, zdd);                          // z'' from D f = 0
+    e = eliminate(e, Df, zdd);                        // z'' from D f = 0
     return e;
   };
   const std::string v = "sqrt(x'^2 + y'^2)";
@@ -210,8 +205,7 @@ void example_2(std::ostream& out, Report& report, const std::string& source_dir)
                  {"(36b)", head_y + " + (m*b/a*" + v + " + lambda1)*x'*(x'*y'' - y'*x'')/(x'^2 + y'^2)^(3/2)",
                   "`vakonomic` R_y, reduced as (36a)", -1 / m, reduce(vak.equations, lam_dot, 1)},
                  true);
-  report.compare(scene, {"(36c)", "m*g + m*z'' + lambda1'", "`vakonomic` R_z", -1, vak.equations[2]},
-                 true);
+  report.compare(scene, {"(36c)", "m*g + m*z'' + lambda1'", "`vakonomic` R_z", -1, vak.equations[2]}, true);
 
   const auto hol = nhc::derive_model(scene, nhc::ModelKind::holder);
   const auto che = nhc::derive_model(scene, nhc::ModelKind::chetaev);
@@ -232,11 +226,11 @@ void example_2(std::ostream& out, Report& report, const std::string& source_dir)
   const ex on_f = jet.q(2, 1) - f;  // z' on f = 0
   const std::string p38[] = {head_x, head_y};
   for (int i = 0; i < 2; ++i)
-    report.compare(scene,
-                   {i == 0 ? "(38a)" : "(38b)", p38[i],
-                    std::string("`suslov` R_") + (i == 0 ? "x" : "y") + " with z' from f = 0", -1 / m,
-                    sus.equations[i].subs(jet.q(2, 1) == on_f)},
-                   true);
+    report.compare(
+        scene,
+        {i == 0 ? "(38a)" : "(38b)", p38[i], std::string("`suslov` R_") + (i == 0 ? "x" : "y") + " with z' from f = 0",
+         -1 / m, sus.equations[i].subs(jet.q(2, 1) == on_f)},
+        true);
   out << "In the differences, v stands for sqrt(x'^2 + y'^2). On the chetaev motion the horizontal "
          "direction is constant (x''y' − x'y'' = 0). nhc's suslov x and y equations carry no "
          "gravity term: μ = m z' and E_x(f), E_y(f) involve velocities and accelerations only, and "
@@ -259,8 +253,7 @@ void identity_section(std::ostream& out) {
       out << "0 — the identity holds.\n";
       continue;
     }
-    out << "`" << nhc::to_text(r) << "`" << (leibniz ? "" : " (NOT the Leibniz cross terms)")
-        << "\n";
+    out << "`" << nhc::to_text(r) << "`" << (leibniz ? "" : " (NOT the Leibniz cross terms)") << "\n";
   }
   out << "\nThe printed identity moves D^k off ∂f/∂q^(k)·δq as if D^k obeyed "
          "D^k(a δq) = D^k(a) δq + a D^k(δq). By Leibniz's rule the remainder is "
@@ -298,7 +291,8 @@ std::string generate(const std::string& source_dir) {
   Report report(body);
   example_1(body, report, source_dir);
   example_2(body, report, source_dir);
-  out << "## Summary\n\n" << report.agreed() << " printed equations agree with nhc (some up to an "
+  out << "## Summary\n\n"
+      << report.agreed() << " printed equations agree with nhc (some up to an "
       << "overall factor), " << report.disagreed() << " disagree.\n\n";
   out << body.str();
   identity_section(out);
@@ -321,8 +315,9 @@ int main(int argc, char** argv) {
       std::ostringstream current;
       current << in.rdbuf();
       if (!in || current.str() != text) {
-        std::cerr << args[1] << ": stale; regenerate it with `cmake --build <build> --target "
-                                "paper-check` and commit it\n";
+        std::cerr << args[1]
+                  << ": stale; regenerate it with `cmake --build <build> --target "
+                     "paper-check` and commit it\n";
         return 1;
       }
       std::cout << args[1] << " is current\n";

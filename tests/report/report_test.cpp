@@ -105,11 +105,11 @@ TEST_CASE("nhc report on Appell–Hamel writes the CSV, both plots and the repor
   }
 }
 
-TEST_CASE("stiff scenes: the accuracy is met and the steps stay bounded for K = 1e2 … 1e8",
-          "[report]") {
+TEST_CASE("stiff scenes: the accuracy is met and the steps stay bounded for K = 1e2 … 1e8", "[report]") {
   {
-    const auto [r, rows] = report("particle_spring", "examples/particle_spring.toml --sweep K=1e2:1e8 --tolerances 1e-6 "
-                                                     "--jacobian dense --projection off");
+    const auto [r, rows] = report("particle_spring",
+                                  "examples/particle_spring.toml --sweep K=1e2:1e8 --tolerances 1e-6 "
+                                  "--jacobian dense --projection off");
     REQUIRE(rows.size() == 7);
     CHECK(num(rows.front(), "value") == Approx(1e2));
     CHECK(num(rows.back(), "value") == Approx(1e8));
@@ -123,8 +123,9 @@ TEST_CASE("stiff scenes: the accuracy is met and the steps stay bounded for K = 
     }
   }
   {
-    const auto [r, rows] = report("appell_hamel_spring", "examples/appell_hamel_spring.toml --sweep K=1e2:1e8 "
-                                                         "--tolerances 1e-6 --jacobian dense --projection off");
+    const auto [r, rows] = report("appell_hamel_spring",
+                                  "examples/appell_hamel_spring.toml --sweep K=1e2:1e8 "
+                                  "--tolerances 1e-6 --jacobian dense --projection off");
     REQUIRE(rows.size() == 7);
     for (const Row& row : rows) {
       INFO("K = " << row.at("value"));
@@ -144,8 +145,9 @@ TEST_CASE("stiff scenes: the accuracy is met and the steps stay bounded for K = 
 TEST_CASE("extreme scenes meet their accuracy or stop with their diagnostic", "[report]") {
   {
     // v0 = 1e-6: stops at t* = v0 (a^2 + b^2)/(g a b), exact up to there.
-    const auto [r, rows] = report("near_singular", "examples/appell_hamel_near_singular.toml --tolerances 1e-6:1e-9 "
-                                                   "--jacobian dense --projection off");
+    const auto [r, rows] = report("near_singular",
+                                  "examples/appell_hamel_near_singular.toml --tolerances 1e-6:1e-9 "
+                                  "--jacobian dense --projection off");
     REQUIRE(rows.size() == 4);
     const double t_star = 1e-6 * 1.25 / (9.81 * 0.5);
     for (const Row& row : rows) {

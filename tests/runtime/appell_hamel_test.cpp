@@ -63,8 +63,8 @@ TEST_CASE("Appell–Hamel chetaev follows the closed form up to 0.9 t*", "[runti
 
 TEST_CASE("Appell–Hamel chetaev conserves energy to 1e-6 at rtol 1e-8", "[runtime]") {
   const AppellHamel ah;
-  const RunResult run = simulate(ah_test::model(), ah.parameters(), ah.initial(),
-                                 output_times(0.0, 0.99 * ah.t_star(), 500), tight());
+  const RunResult run =
+      simulate(ah_test::model(), ah.parameters(), ah.initial(), output_times(0.0, 0.99 * ah.t_star(), 500), tight());
   REQUIRE_FALSE(run.failure.has_value());
   const DriftReport drift = measure_drift(ah_test::model(), ah.parameters(), run.samples);
   WARN("energy drift " << drift.max_invariant_relative << " relative, hidden-constraint drift " << drift.max_hidden);
@@ -74,8 +74,8 @@ TEST_CASE("Appell–Hamel chetaev conserves energy to 1e-6 at rtol 1e-8", "[runt
 
 TEST_CASE("Appell–Hamel chetaev stops at t* naming the singular constraint gradient", "[runtime]") {
   const AppellHamel ah;
-  const RunResult run = simulate(ah_test::model(), ah.parameters(), ah.initial(),
-                                 output_times(0.0, 2 * ah.t_star(), 100), tight());
+  const RunResult run =
+      simulate(ah_test::model(), ah.parameters(), ah.initial(), output_times(0.0, 2 * ah.t_star(), 100), tight());
   REQUIRE(run.failure.has_value());
   const nhc::base::SolverError& e = *run.failure;
   INFO(e.what());

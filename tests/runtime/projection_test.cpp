@@ -36,10 +36,8 @@ TEST_CASE("projection reduces the hidden-constraint drift of the index-1 pendulu
   const DriftReport b = measure_drift(model, model.default_parameters(), projected.samples);
   WARN((method == ProjectionMethod::in_place ? "in place" : "restart")
        << ": pendulum, t = 20, rtol 1e-6: hidden drift " << a.max_hidden << " -> " << b.max_hidden << ", energy drift "
-                                                    << a.max_invariant_relative << " -> " << b.max_invariant_relative
-                                                    << ", steps " << free_run.statistics.steps << " -> "
-                                                    << projected.statistics.steps << " ("
-                                                    << projected.statistics.projections << " projections)");
+       << a.max_invariant_relative << " -> " << b.max_invariant_relative << ", steps " << free_run.statistics.steps
+       << " -> " << projected.statistics.steps << " (" << projected.statistics.projections << " projections)");
   CHECK(projected.statistics.projections > 0);
   CHECK(b.max_hidden < 0.1 * a.max_hidden);
   CHECK(b.max_hidden < 2e-5);

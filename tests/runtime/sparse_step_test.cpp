@@ -23,7 +23,8 @@ TEST_CASE("sparse and dense Gauss-Newton steps reach the same point", "[runtime]
   f.count = m;
   f.size = n;
   f.values = [&](const double* y, double* g) {
-    for (int i = 0; i < m; ++i) g[i] = y[i] + 0.2 * std::sin(y[i + 1]) + 0.1 * y[i + 3] * y[i + 3] - b[static_cast<std::size_t>(i)];
+    for (int i = 0; i < m; ++i)
+      g[i] = y[i] + 0.2 * std::sin(y[i + 1]) + 0.1 * y[i + 3] * y[i + 3] - b[static_cast<std::size_t>(i)];
   };
   auto entries = [&](const double* y, std::vector<base::SparseEntry>& out) {
     for (int i = 0; i < m; ++i) {
@@ -49,10 +50,12 @@ TEST_CASE("sparse and dense Gauss-Newton steps reach the same point", "[runtime]
   dense_calls = 0;
   f.sparse_jacobian = entries;
   const auto sparse = base::solve_constraints(f, sparse_y.data(), scale, 1e-10);
-  INFO("dense status " << static_cast<int>(dense.status) << " residual " << dense.residual_before << " -> " << dense.residual_after << " after " << dense.iterations);
+  INFO("dense status " << static_cast<int>(dense.status) << " residual " << dense.residual_before << " -> "
+                       << dense.residual_after << " after " << dense.iterations);
   REQUIRE(dense.converged());
   REQUIRE(sparse.converged());
   CHECK(dense_calls == 0);  // every step was taken sparsely
   CHECK(sparse.iterations == dense.iterations);
-  for (int k = 0; k < n; ++k) CHECK(sparse_y[static_cast<std::size_t>(k)] == Approx(dense_y[static_cast<std::size_t>(k)]).margin(1e-11));
+  for (int k = 0; k < n; ++k)
+    CHECK(sparse_y[static_cast<std::size_t>(k)] == Approx(dense_y[static_cast<std::size_t>(k)]).margin(1e-11));
 }

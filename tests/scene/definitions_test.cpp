@@ -35,8 +35,7 @@ bool same_numerically(const ex& a, const ex& b, const JetSpace& jet) {
     point[jet.time()] = 0.2;
     for (int alpha = 0; alpha < jet.multiplier_count(); ++alpha) point[jet.lambda(alpha, 0)] = 0.9;
     const ex d = GiNaC::evalf((a - b).subs(point));
-    if (!GiNaC::is_a<GiNaC::numeric>(d) || std::abs(GiNaC::ex_to<GiNaC::numeric>(d).to_double()) > 1e-12)
-      return false;
+    if (!GiNaC::is_a<GiNaC::numeric>(d) || std::abs(GiNaC::ex_to<GiNaC::numeric>(d).to_double()) > 1e-12) return false;
   }
   return true;
 }
@@ -73,12 +72,11 @@ TEST_CASE("vectors and matrices: literals, products, indexing", "[scene][definit
   CHECK_THROWS_AS(parse_expression("x/[x, y]", jet), nhc::ExpressionSyntaxError);
 }
 
-TEST_CASE("angular velocities in closed form agree with R' R^T of the literal matrices",
-          "[scene][definitions]") {
+TEST_CASE("angular velocities in closed form agree with R' R^T of the literal matrices", "[scene][definitions]") {
   const JetSpace jet = make_jet();
   const std::string composed = "rotz(x)*rotx(y)*roty(z + t)";
-  const std::string literal = "(" + rotation_literal("z", "x") + ")*(" +
-                              rotation_literal("x", "y") + ")*(" + rotation_literal("y", "z + t") + ")";
+  const std::string literal = "(" + rotation_literal("z", "x") + ")*(" + rotation_literal("x", "y") + ")*(" +
+                              rotation_literal("y", "z + t") + ")";
   for (const char* f : {"omega", "omega_body"})
     for (int k = 1; k <= 3; ++k) {
       const std::string index = "[" + std::to_string(k) + "]";
@@ -95,17 +93,15 @@ TEST_CASE("angular velocities in closed form agree with R' R^T of the literal ma
   // Elementary: ω(rotz(x)) = x' e_z.
   CHECK(same(parse_expression("omega(rotz(x))[3]", jet), jet.q(0, 1)));
   // Not rotations.
-  CHECK_THROWS_AS(parse_expression("omega([[1, x, 0], [0, 1, 0], [0, 0, 1]])[1]", jet),
-                  nhc::ExpressionSyntaxError);
+  CHECK_THROWS_AS(parse_expression("omega([[1, x, 0], [0, 1, 0], [0, 0, 1]])[1]", jet), nhc::ExpressionSyntaxError);
   CHECK_THROWS_AS(parse_expression("omega(2*rotx(x))[1]", jet), nhc::ExpressionSyntaxError);
 }
 
 namespace {
 
 nhc::Scene scene_with(const std::string& extra, const std::string& lagrangian = "T") {
-  return nhc::parse_scene("name = \"s\"\ncoordinates = [\"x\", \"y\", \"th\"]\nlagrangian = \"" +
-                              lagrangian + "\"\n" + extra,
-                          "defs.toml");
+  return nhc::parse_scene(
+      "name = \"s\"\ncoordinates = [\"x\", \"y\", \"th\"]\nlagrangian = \"" + lagrangian + "\"\n" + extra, "defs.toml");
 }
 
 }  // namespace
@@ -131,8 +127,8 @@ TEST_CASE("quat(q0, q1, q2, q3) is the rotation of a unit quaternion with its an
   CHECK(same_numerically(det, 1, jet));
   // omega and omega_body against the skew parts of R' R^T and R^T R', differentiated here.
   const nhc::Value dr = nhc::total_derivative(r, jet, 1);
-  const auto product = [](const nhc::Value& a, bool a_transposed, const nhc::Value& b, bool b_transposed,
-                          unsigned i, unsigned j) {
+  const auto product = [](const nhc::Value& a, bool a_transposed, const nhc::Value& b, bool b_transposed, unsigned i,
+                          unsigned j) {
     ex sum = 0;
     for (unsigned k = 0; k < 3; ++k)
       sum += (a_transposed ? a.at(k, i) : a.at(i, k)) * (b_transposed ? b.at(j, k) : b.at(k, j));
@@ -149,7 +145,8 @@ TEST_CASE("quat(q0, q1, q2, q3) is the rotation of a unit quaternion with its an
     // Composed with an elementary rotation, by the rules of products (value.hpp).
     CHECK(same_numerically(parse_expression("omega(rotz(y)*quat(" + unit + "))" + index, jet),
                            parse_expression("omega(rotz(y))" + index, jet) +
-                               parse_expression("(rotz(y)*omega(quat(" + unit + ")))" + index, jet), jet));
+                               parse_expression("(rotz(y)*omega(quat(" + unit + ")))" + index, jet),
+                           jet));
   }
   // A half-angle quaternion about an axis is that axis' rotation.
   for (unsigned i = 0; i < 3; ++i)
@@ -188,8 +185,8 @@ TEST_CASE("[forces] enter every model's residual as + Q_i", "[scene][definitions
   nhc::Scene without = s;
   without.forces.clear();
   const ex b = jet.parameter(0);
-  for (nhc::ModelKind kind : {nhc::ModelKind::vakonomic, nhc::ModelKind::chetaev,
-                              nhc::ModelKind::holder, nhc::ModelKind::suslov}) {
+  for (nhc::ModelKind kind :
+       {nhc::ModelKind::vakonomic, nhc::ModelKind::chetaev, nhc::ModelKind::holder, nhc::ModelKind::suslov}) {
     const auto with_forces = nhc::derive_model(s, kind);
     const auto plain = nhc::derive_model(without, kind);
     REQUIRE(with_forces.equations.size() == 3);
@@ -206,12 +203,11 @@ TEST_CASE("a chain of 1024 bodies with one definition per body parses", "[scene]
     const std::string k = std::to_string(i);
     coordinates += std::string(i > 1 ? ", " : "") + "\"x" + k + "\", \"y" + k + "\"";
     lagrangian += std::string(i > 1 ? " + " : "") + "L" + k;
-    definitions += "L" + k + " = \"m/2*dot(v" + k + ", v" + k + ") - k/2*(x" + k + "^2 + y" + k +
-                   "^2)\"\nv" + k + " = \"[x" + k + "', y" + k + "']\"\n";
+    definitions += "L" + k + " = \"m/2*dot(v" + k + ", v" + k + ") - k/2*(x" + k + "^2 + y" + k + "^2)\"\nv" + k +
+                   " = \"[x" + k + "', y" + k + "']\"\n";
   }
-  const std::string text = "name = \"chain\"\ncoordinates = [" + coordinates + "]\nlagrangian = \"" +
-                           lagrangian + "\"\n[parameters]\nm = 1.0\nk = 1.0\n[definitions]\n" +
-                           definitions;
+  const std::string text = "name = \"chain\"\ncoordinates = [" + coordinates + "]\nlagrangian = \"" + lagrangian +
+                           "\"\n[parameters]\nm = 1.0\nk = 1.0\n[definitions]\n" + definitions;
   const nhc::Scene s = nhc::parse_scene(text, "chain.toml");
   CHECK(s.coordinate_count() == 2 * n);
   CHECK(s.lagrangian.nops() >= static_cast<std::size_t>(n));

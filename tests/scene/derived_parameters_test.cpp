@@ -77,8 +77,7 @@ TEST_CASE("[initial] values written through a computed parameter follow its para
   CHECK(parameter(s, "mw") == 4.0);
 }
 
-TEST_CASE("cycles, coordinates and non-numbers among computed parameters are located refusals",
-          "[scene][parameters]") {
+TEST_CASE("cycles, coordinates and non-numbers among computed parameters are located refusals", "[scene][parameters]") {
   std::string cycle = kWheel;
   cycle.replace(cycle.find("mw = 2.0"), 8, "mw = \"2*Jtotal\"");
   const nhc::InputError c = refusal(cycle);

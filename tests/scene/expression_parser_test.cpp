@@ -32,8 +32,7 @@ long error_offset(const std::string& text, const JetSpace& jet, const Expression
   return -1;
 }
 
-std::string error_message(const std::string& text, const JetSpace& jet,
-                          const ExpressionRules& rules = {}) {
+std::string error_message(const std::string& text, const JetSpace& jet, const ExpressionRules& rules = {}) {
   try {
     parse_expression(text, jet, rules);
   } catch (const ExpressionSyntaxError& e) {
@@ -55,11 +54,11 @@ TEST_CASE("precedence and associativity", "[scene][parser]") {
   const ex m = jet.parameter(0), g = jet.parameter(1), x = jet.q(0, 0);
   CHECK(same(parse_expression("1 + 2*3", jet), 7));
   CHECK(same(parse_expression("(1 + 2)*3", jet), 9));
-  CHECK(same(parse_expression("2^3^2", jet), 512));   // right-associative
-  CHECK(same(parse_expression("-2^2", jet), -4));     // ^ binds tighter than unary minus
+  CHECK(same(parse_expression("2^3^2", jet), 512));  // right-associative
+  CHECK(same(parse_expression("-2^2", jet), -4));    // ^ binds tighter than unary minus
   CHECK(same(parse_expression("2^-1", jet), GiNaC::numeric(1, 2)));
   CHECK(same(parse_expression("2^-1^2", jet), GiNaC::numeric(1, 2)));  // 2^(-(1^2))
-  CHECK(same(parse_expression("8/2/2", jet), 2));     // left-associative
+  CHECK(same(parse_expression("8/2/2", jet), 2));                      // left-associative
   CHECK(same(parse_expression("8-2-2", jet), 4));
   CHECK(same(parse_expression("m/2*x^2", jet), m * x * x / 2));
   CHECK(same(parse_expression("- - m", jet), m));
@@ -82,8 +81,7 @@ TEST_CASE("numbers are exact", "[scene][parser]") {
   CHECK(same(parse_expression(".5", jet), numeric(1, 2)));
   CHECK(same(parse_expression("5.", jet), 5));
   CHECK(same(parse_expression("0.1 + 0.2 - 0.3", jet), 0));  // exact, not floating point
-  CHECK(same(parse_expression("123456789012345678901234567890", jet),
-             numeric("123456789012345678901234567890")));
+  CHECK(same(parse_expression("123456789012345678901234567890", jet), numeric("123456789012345678901234567890")));
   CHECK(same(parse_expression("9.81", jet), numeric(981, 100)));
 }
 
@@ -162,8 +160,7 @@ TEST_CASE("pi and e are constants unless the scene names something so", "[scene]
              jet.parameter(*jet.parameter_index("m")) * GiNaC::Pi / GiNaC::exp(ex(1))));
   // A scene's own name e or pi keeps its meaning: a coordinate, a parameter, a definition.
   const JetSpace named({"e", "y"}, 0, {"pi"});
-  CHECK(same(parse_expression("e' + pi", named),
-             named.q(0, 1) + named.parameter(*named.parameter_index("pi"))));
+  CHECK(same(parse_expression("e' + pi", named), named.q(0, 1) + named.parameter(*named.parameter_index("pi"))));
   ExpressionRules with_definition;
   with_definition.definition = [&](const std::string& name) -> std::optional<nhc::Value> {
     if (name == "e") return nhc::Value::scalar(jet.q(1, 0) * 2);
@@ -185,13 +182,13 @@ TEST_CASE("errors carry the offset of the offending text", "[scene][parser]") {
   CHECK(error_message("m + foo", jet).find("unknown name 'foo'") != std::string::npos);
   CHECK(error_offset("m + foo(x)", jet) == 4);
   CHECK(error_message("m + foo(x)", jet).find("unknown function 'foo'") != std::string::npos);
-  CHECK(error_offset("x + m'", jet) == 4);       // primes on a parameter
-  CHECK(error_offset("x + t'", jet) == 4);       // primes on t
-  CHECK(error_offset("x + t_d1", jet) == 4);     // the jet spelling of t' is just as wrong
+  CHECK(error_offset("x + m'", jet) == 4);    // primes on a parameter
+  CHECK(error_offset("x + t'", jet) == 4);    // primes on t
+  CHECK(error_offset("x + t_d1", jet) == 4);  // the jet spelling of t' is just as wrong
   CHECK(error_offset("x + m_d1", jet) == 4);
-  CHECK(error_offset("x_d2'", jet) == 0);        // both spellings at once
+  CHECK(error_offset("x_d2'", jet) == 0);  // both spellings at once
   CHECK(error_offset("x_d0", jet) == 0);
-  CHECK(error_offset("x'''''''''", jet) == 0);   // 9 > kMaxDerivativeOrder
+  CHECK(error_offset("x'''''''''", jet) == 0);  // 9 > kMaxDerivativeOrder
   CHECK(error_offset("x_d1000", jet) == 0);
   CHECK(error_offset("sin(x, y)", jet) == 0);
   CHECK(error_offset("atan2(x)", jet) == 0);
@@ -202,7 +199,7 @@ TEST_CASE("errors carry the offset of the offending text", "[scene][parser]") {
   CHECK(error_offset("x + 1e", jet) == 4);
   CHECK(error_offset("x + 1e99999", jet) == 4);
   CHECK(error_offset("x $ y", jet) == 2);
-  CHECK(error_offset("x''' + lambda1", jet) == 7);  // multipliers not allowed by default
+  CHECK(error_offset("x''' + lambda1", jet) == 7);               // multipliers not allowed by default
   CHECK(error_offset("lambda3", jet, with_multipliers()) == 0);  // only 2 constraints
   CHECK(error_offset("lambda0", jet, with_multipliers()) == 0);
   ExpressionRules time_only;
@@ -235,7 +232,7 @@ TEST_CASE("size limits on scene input, not on nhc's own printed output", "[scene
   CHECK_NOTHROW(parse_expression("x^x^x^x^t", jet));
   CHECK(error_offset("x*1e300*1e300", jet) == 7);
   CHECK(error_offset("2^2000", jet) == 1);
-  CHECK(error_offset("(x + x' + t + 1)^64 * (x + t)^64", jet) == 0);  // > 10^4 expanded terms
+  CHECK(error_offset("(x + x' + t + 1)^64 * (x + t)^64", jet) == 0);       // > 10^4 expanded terms
   CHECK(error_offset("cos((x + x' + t + 1)^64 * (x + t)^64)", jet) == 0);  // also in arguments
   CHECK(error_offset("sqrt((x + x' + t + 1)^64 * (x + t)^64)", jet) == 0);
   std::string product = "x'";
@@ -288,7 +285,8 @@ TEST_CASE("0 to a non-numeric power is refused where it is written", "[scene][pa
   // Found by scripts/fuzz_long.sh: rotz(x^-0^y') differentiated 0^y', whose derivative holds
   // log(0), and GiNaC's "division by zero" ended nhc as an internal error.
   const JetSpace jet = make_jet();
-  CHECK(error_message("x + 0^y", jet).find("0 to a power that is not a positive number is undefined") != std::string::npos);
+  CHECK(error_message("x + 0^y", jet).find("0 to a power that is not a positive number is undefined") !=
+        std::string::npos);
   CHECK(error_offset("x + 0^y", jet) == 5);
   CHECK(error_message("rotz(x^-0^y')[1, 1]", jet).find("0 to a power") != std::string::npos);
   CHECK(error_offset("0^(-1)", jet) == 1);

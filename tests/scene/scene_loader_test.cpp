@@ -101,8 +101,8 @@ TEST_CASE("the issue's example scene loads", "[scene][loader]") {
 }
 
 TEST_CASE("optional keys take their defaults", "[scene][loader]") {
-  const nhc::Scene s = nhc::parse_scene(
-      "name = \"free\"\ncoordinates = [\"q\"]\nlagrangian = \"q'^2/2\"\n", "free.toml");
+  const nhc::Scene s =
+      nhc::parse_scene("name = \"free\"\ncoordinates = [\"q\"]\nlagrangian = \"q'^2/2\"\n", "free.toml");
   CHECK(s.constraint_count() == 0);
   CHECK(s.dependent.empty());
   CHECK(s.models.size() == 4);
@@ -149,14 +149,12 @@ TEST_CASE("scene errors point at the offending text", "[scene][loader]") {
     CHECK(loc.column == 1);
   }
   SECTION("identically zero constraint") {
-    const auto loc =
-        error_at(head + "lagrangian = \"x'^2\"\nconstraints = [\"x'*y - y*x' + 0\"]\n");
+    const auto loc = error_at(head + "lagrangian = \"x'^2\"\nconstraints = [\"x'*y - y*x' + 0\"]\n");
     CHECK(loc.line == 4);
     CHECK(loc.column == 16);
   }
   SECTION("a constraint that vanishes only after simplification") {
-    const auto loc = error_at(
-        head + "lagrangian = \"x'^2\"\nconstraints = [\"sin(x)^2 + cos(x)^2 - 1\"]\n");
+    const auto loc = error_at(head + "lagrangian = \"x'^2\"\nconstraints = [\"sin(x)^2 + cos(x)^2 - 1\"]\n");
     CHECK(loc.line == 4);
   }
 }
@@ -164,8 +162,7 @@ TEST_CASE("scene errors point at the offending text", "[scene][loader]") {
 TEST_CASE("reserved names are refused", "[scene][loader]") {
   for (const char* bad : {"t", "lambda1", "sin", "x_d1", "class", "Pi", "2x", "a-b"}) {
     INFO(bad);
-    const auto loc = error_at(std::string("name = \"s\"\ncoordinates = [\"") + bad +
-                              "\"]\nlagrangian = \"1\"\n");
+    const auto loc = error_at(std::string("name = \"s\"\ncoordinates = [\"") + bad + "\"]\nlagrangian = \"1\"\n");
     CHECK(loc.line == 2);
     CHECK(loc.column == 16);
   }
@@ -178,11 +175,12 @@ TEST_CASE("reserved names are refused", "[scene][loader]") {
 TEST_CASE("references per model, invariants with multipliers, required entries", "[scene][loader]") {
   const std::string head =
       "name = \"s\"\ncoordinates = [\"x\", \"y\"]\nlagrangian = \"x'^2 + y'^2\"\nconstraints = [\"x' - y\"]\n";
-  const nhc::Scene s = nhc::parse_scene(head +
-                                            "[reference]\nx = \"t\"\ny = \"1\"\n"
-                                            "[reference.vakonomic]\ny = \"2\"\n"
-                                            "[invariants]\nb = \"lambda1\"\na = { expression = \"x\", required = true }\n",
-                                        "s.toml");
+  const nhc::Scene s =
+      nhc::parse_scene(head +
+                           "[reference]\nx = \"t\"\ny = \"1\"\n"
+                           "[reference.vakonomic]\ny = \"2\"\n"
+                           "[invariants]\nb = \"lambda1\"\na = { expression = \"x\", required = true }\n",
+                       "s.toml");
   const ex t = s.jet->time();
   REQUIRE(s.reference.all.size() == 2);
   REQUIRE(s.reference.per_model.size() == 1);

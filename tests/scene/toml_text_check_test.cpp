@@ -41,8 +41,9 @@ const std::vector<char32_t> kCodePoints = {0x85,   0xA0,   0xA1,   0x27E,  0x3BB
                                            0x2000, 0x2028, 0x2C5E, 0x2FFF, 0x3000, 0x3001, 0x3057,
                                            0xFB26, 0xFEFE, 0xFEFF, 0xFF21, 0x1F600};
 
-const char* kHead = "name = \"non_ascii\"\ncoordinates = [\"x\"]\nlagrangian = \"x'^2/2 - k*x^2/2\"\n"
-                    "[parameters]\nk = 1.0\n";  // five lines
+const char* kHead =
+    "name = \"non_ascii\"\ncoordinates = [\"x\"]\nlagrangian = \"x'^2/2 - k*x^2/2\"\n"
+    "[parameters]\nk = 1.0\n";  // five lines
 
 struct Place {
   const char* name;
@@ -161,8 +162,7 @@ TEST_CASE("non-ASCII inside strings and comments reaches toml++ and the scene", 
   CHECK(scene.name == "non_ascii");
 }
 
-TEST_CASE("the fuzzer's input with a quote inside a number is refused at its character",
-          "[scene][loader][toml]") {
+TEST_CASE("the fuzzer's input with a quote inside a number is refused at its character", "[scene][loader][toml]") {
   // scene-crash-19537029…: n=0"trg~7…7ɾ7…: toml++ scans the value 0"trg~… to its end, asking of
   // ɾ (U+027E) whether it is whitespace: __builtin_unreachable in is_non_ascii_horizontal_whitespace.
   const std::string text = "n=0\"trg~" + std::string(24, '7') + "\xC9\xBE" + std::string(8, '7') + "\"]";

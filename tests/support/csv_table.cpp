@@ -14,7 +14,8 @@ std::map<std::string, std::vector<double>> csv_columns(const std::string& csv) {
   std::map<std::string, std::vector<double>> out;
   while (std::getline(in, line)) {
     std::istringstream row(line);
-    for (std::size_t k = 0; k < names.size() && std::getline(row, cell, ','); ++k) out[names[k]].push_back(std::stod(cell));
+    for (std::size_t k = 0; k < names.size() && std::getline(row, cell, ','); ++k)
+      out[names[k]].push_back(std::stod(cell));
   }
   return out;
 }

@@ -89,7 +89,8 @@ std::vector<double> ContactForces::evaluate(const runtime::Sample& sample) const
   return out;
 }
 
-void ContactForces::set_sliding(const std::string& name, std::vector<std::pair<double, double>> spans, bool first_closed) {
+void ContactForces::set_sliding(const std::string& name, std::vector<std::pair<double, double>> spans,
+                                bool first_closed) {
   for (Kept& k : kept_)
     if (k.contact->name == name) {
       k.sliding = std::move(spans);

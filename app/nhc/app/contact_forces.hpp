@@ -52,9 +52,9 @@ class ContactForces {
  private:
   struct Kept {
     const SceneContact* contact;
-    std::size_t normal;  ///< index of F_n among the expressions; |F_t| follows it
+    std::size_t normal;                              ///< index of F_n among the expressions; |F_t| follows it
     std::vector<std::pair<double, double>> sliding;  ///< (from, to] spans of sliding
-    bool first_closed = false;                        ///< the first span is [from, to]
+    bool first_closed = false;                       ///< the first span is [from, to]
   };
   std::vector<Kept> kept_;
   std::vector<std::string> names_;

@@ -34,7 +34,8 @@ void apply_initial_values(Scene& scene, const std::vector<InitialValue>& values,
   // Which orders of each name the new values give; checked for gaps once all are in.
   std::map<std::string, std::string> written_by_name;
   for (const InitialValue& v : values) {
-    if (!std::isfinite(v.value)) refuse(field, quoted(v.written) + base::number_text(v.value, 17) + " is not a finite number");
+    if (!std::isfinite(v.value))
+      refuse(field, quoted(v.written) + base::number_text(v.value, 17) + " is not a finite number");
     if (v.name == "t0") {
       scene.initial.t0 = v.value;
       scene.initial.t0_expression = {};  // a number now: --set no longer re-evaluates it
@@ -47,8 +48,8 @@ void apply_initial_values(Scene& scene, const std::vector<InitialValue>& values,
     if (!names_coordinate_or_multiplier(scene, base)) {
       std::string known;
       for (const std::string& c : scene.jet->coordinates()) known += (known.empty() ? "" : ", ") + c;
-      refuse(field, quoted(v.written) + "'" + base + "' is neither t0, a coordinate nor a multiplier of the scene (coordinates: " +
-                        known + ")");
+      refuse(field, quoted(v.written) + "'" + base +
+                        "' is neither t0, a coordinate nor a multiplier of the scene (coordinates: " + known + ")");
     }
     if (primes > static_cast<std::size_t>(kMaxDerivativeOrder))
       refuse(field, quoted(v.written) + "derivative order " + std::to_string(primes) + " is beyond the limit " +
@@ -56,7 +57,8 @@ void apply_initial_values(Scene& scene, const std::vector<InitialValue>& values,
     std::vector<double>& list = scene.initial.values[base];
     if (list.size() <= primes) list.resize(primes + 1, std::nan(""));  // NaN: not given (checked below)
     list[primes] = v.value;
-    if (auto e = scene.initial.expressions.find(base); e != scene.initial.expressions.end() && primes < e->second.size())
+    if (auto e = scene.initial.expressions.find(base);
+        e != scene.initial.expressions.end() && primes < e->second.size())
       e->second[primes].clear();  // a number now: --set no longer re-evaluates it
     written_by_name[base] = v.written;
   }

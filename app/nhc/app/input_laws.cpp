@@ -49,8 +49,7 @@ bool is_feedback_law(const Scene& scene, const std::string& name, const std::str
   const int order = scene.jet->highest_coordinate_order(law);
   // As for a law in the file (scene_loader.cpp): the states hold q and q', q'' is what the input drives.
   if (order > 1)
-    throw InputError({field, 0, 0}, name + "=" + text + ": uses a derivative of order " +
-                                        std::to_string(order) +
+    throw InputError({field, 0, 0}, name + "=" + text + ": uses a derivative of order " + std::to_string(order) +
                                         " of a coordinate: an algebraic loop (the input drives the accelerations it "
                                         "would read); a feedback law may use t, parameters, coordinates and their "
                                         "first derivatives");

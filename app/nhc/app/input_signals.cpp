@@ -49,7 +49,8 @@ Series read_series(const std::string& path, const std::string& name, double t0, 
   }
   Series s;
   for (std::size_t r = 0; r < file.rows.size(); ++r) {
-    const double pair[2] = {file.number(r, static_cast<std::size_t>(t_column)), file.number(r, static_cast<std::size_t>(u_column))};
+    const double pair[2] = {file.number(r, static_cast<std::size_t>(t_column)),
+                            file.number(r, static_cast<std::size_t>(u_column))};
     const int row = file.rows[r].line;
     const std::string& line = file.rows[r].text;
     if (!s.t.empty() && !(pair[0] > s.t.back())) {
@@ -77,8 +78,8 @@ Signal expression_signal(const Scene& scene, const std::string& name, const std:
   try {
     e = parse_expression(text, *scene.jet, rules);
   } catch (const ExpressionSyntaxError& error) {
-    throw InputError(kFlag, "in " + name + "=" + text + " at character " + std::to_string(error.offset() + 1) + ": " +
-                                error.what());
+    throw InputError(
+        kFlag, "in " + name + "=" + text + " at character " + std::to_string(error.offset() + 1) + ": " + error.what());
   }
   std::vector<GiNaC::ex> symbols{scene.jet->time()};
   std::vector<double> values{0.0};
@@ -117,15 +118,18 @@ InputSignals parse_input_signals(const Scene& scene, const std::vector<std::stri
       std::string known;
       for (const SceneInput& u : scene.inputs) known += (known.empty() ? "" : ", ") + u.name;
       throw InputError(kFlag, "unknown input '" + name + "' (" +
-                                  (known.empty() ? std::string("the scene has no [inputs]") : "inputs: " + known) + ")");
+                                  (known.empty() ? std::string("the scene has no [inputs]") : "inputs: " + known) +
+                                  ")");
     }
     // A feedback law of the scene is compiled into the equations: a signal for it would drive nothing.
     if (scene.inputs[static_cast<std::size_t>(*k)].feedback)
-      throw InputError(kFlag, "input '" + name + "' is a feedback law of the scene (compiled into its equations); "
-                              "change the law in [inputs]");
-    Signal signal = !text.empty() && text[0] == '@'
-                        ? Signal([series = read_series(text.substr(1), name, t0, t_end)](double t) { return series.at(t); })
-                        : expression_signal(scene, name, text);
+      throw InputError(kFlag, "input '" + name +
+                                  "' is a feedback law of the scene (compiled into its equations); "
+                                  "change the law in [inputs]");
+    Signal signal =
+        !text.empty() && text[0] == '@'
+            ? Signal([series = read_series(text.substr(1), name, t0, t_end)](double t) { return series.at(t); })
+            : expression_signal(scene, name, text);
     auto& signals = out.signals;  // the last of repeated names wins, as for --set
     signals.erase(std::remove_if(signals.begin(), signals.end(), [&](const auto& s) { return s.first == *k; }),
                   signals.end());

@@ -11,7 +11,8 @@ IntegratedRun integrate(const RunRequest& request, const runtime::Model& model, 
     out.run = runtime::simulate(model, p, initial, times, options, events, inputs);
     return out;
   }
-  const runtime::VariationalOptions vo = runtime::variational_options(*request.step, static_cast<long>(request.max_steps), options);
+  const runtime::VariationalOptions vo =
+      runtime::variational_options(*request.step, static_cast<long>(request.max_steps), options);
   runtime::VariationalRun run = runtime::simulate_variational(model, p, initial, times, vo, inputs);
   out.run = std::move(run.run);
   out.max_discrete_constraint = run.max_discrete_constraint;

@@ -26,7 +26,8 @@ void record_law_inputs(const Scene& scene, const runtime::Model& model, const st
   for (runtime::Sample& s : samples) {
     if (static_cast<int>(s.u.size()) != model.n_inputs()) continue;
     const std::vector<double> values = expressions->evaluate(s);
-    for (const auto& [k, e] : laws) s.u[static_cast<std::size_t>(k)] = e >= 0 ? values[static_cast<std::size_t>(e)] : NAN;
+    for (const auto& [k, e] : laws)
+      s.u[static_cast<std::size_t>(k)] = e >= 0 ? values[static_cast<std::size_t>(e)] : NAN;
   }
 }
 

@@ -15,10 +15,11 @@ std::string missing_model_input(const Scene& scene, ModelKind kind) {
 
 void refuse_inputs(const Scene& scene, const std::string& what, const std::string& flag) {
   if (scene.inputs.empty()) return;
-  throw InputError(scene.inputs.front().where,
-                   what + " of a scene with [inputs] (" + scene.inputs.front().name + (scene.inputs.size() > 1 ? ", …" : "") +
-                       ") are not supported (" + flag + "): the generated dF/dp treats the inputs as independent "
-                       "of the parameters (docs/runtime.md, \"Inputs\")");
+  throw InputError(scene.inputs.front().where, what + " of a scene with [inputs] (" + scene.inputs.front().name +
+                                                   (scene.inputs.size() > 1 ? ", …" : "") + ") are not supported (" +
+                                                   flag +
+                                                   "): the generated dF/dp treats the inputs as independent "
+                                                   "of the parameters (docs/runtime.md, \"Inputs\")");
 }
 
 bool scene_lists_model(const Scene& scene, ModelKind kind) { return scene.models_where.count(kind) > 0; }

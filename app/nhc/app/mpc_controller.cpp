@@ -42,15 +42,17 @@ Between between(const optimize::HermiteSimpson& p, double s) {
 MpcController::MpcController(const Scene& scene, const runtime::Model& model, const SceneMpc& mpc)
     : model_(&model), settings_(mpc) {
   if (scene.inputs.empty())
-    throw InputError(mpc.where, "mpc sets the inputs of [inputs], and the scene has none (model predictive control plans "
-                                "the inputs of a driven model)");
+    throw InputError(mpc.where,
+                     "mpc sets the inputs of [inputs], and the scene has none (model predictive control plans "
+                     "the inputs of a driven model)");
   optimize::Settings settings;
   try {
     settings = optimize::read_settings(scene);
   } catch (const InputError& e) {
     if (e.where().line > 0) throw;  // a fault inside the table, at its place
-    throw InputError(mpc.where, "mpc solves the scene's [optimize] problem at each sample, and the scene has no [optimize] "
-                                "table (its objective, bounds and final conditions: docs/mpc.md)");
+    throw InputError(mpc.where,
+                     "mpc solves the scene's [optimize] problem at each sample, and the scene has no [optimize] "
+                     "table (its objective, bounds and final conditions: docs/mpc.md)");
   }
   // The receding horizon: [t_k, t_k + horizon]; [optimize]'s t_end and [optimize.initial] do not apply.
   settings.initial.clear();
@@ -107,8 +109,8 @@ std::string MpcController::summary() const {
   const double most = iterations.empty() ? 0 : *std::max_element(iterations.begin(), iterations.end());
   return "model predictive control: " + std::to_string(solves_.size()) + " solves, median " +
          base::number_text(median(seconds), 3) + " s, max " + base::number_text(worst, 3) + " s, " +
-         std::to_string(failed) + " not converged (IPOPT iterations: median " + base::number_text(median(iterations), 3) +
-         ", max " + base::number_text(most, 3) + ")";
+         std::to_string(failed) + " not converged (IPOPT iterations: median " +
+         base::number_text(median(iterations), 3) + ", max " + base::number_text(most, 3) + ")";
 }
 
 // The last plan moved to the horizon [t, t + H]: each variable of the new point j is the old
@@ -123,10 +125,12 @@ std::vector<double> MpcController::shifted_plan(const std::vector<double>& plan,
     const auto [a, b, w] = between(p, std::clamp((t + length * p.fraction(j) - plan_t0) / length, 0.0, 1.0));
     for (int k = 0; k < stride; ++k) {
       const auto to = static_cast<std::size_t>(j * stride + k);
-      z[to] = (1 - w) * plan[static_cast<std::size_t>(a * stride + k)] + w * plan[static_cast<std::size_t>(b * stride + k)];
+      z[to] =
+          (1 - w) * plan[static_cast<std::size_t>(a * stride + k)] + w * plan[static_cast<std::size_t>(b * stride + k)];
     }
   }
-  for (std::size_t k = 0; k < z.size(); ++k) z[k] = std::clamp(z[k], p.variable_low(static_cast<int>(k)), p.variable_high(static_cast<int>(k)));
+  for (std::size_t k = 0; k < z.size(); ++k)
+    z[k] = std::clamp(z[k], p.variable_low(static_cast<int>(k)), p.variable_high(static_cast<int>(k)));
   return z;
 }
 
@@ -136,7 +140,8 @@ std::vector<double> MpcController::plan_inputs(double t) const {
   const auto [a, b, w] = between(p, std::clamp((t - plan_t0_) / settings_.horizon, 0.0, 1.0));
   std::vector<double> u;
   for (int k = 0; k < p.inputs(); ++k)
-    u.push_back((1 - w) * plan_[static_cast<std::size_t>(p.u_index(a, k))] + w * plan_[static_cast<std::size_t>(p.u_index(b, k))]);
+    u.push_back((1 - w) * plan_[static_cast<std::size_t>(p.u_index(a, k))] +
+                w * plan_[static_cast<std::size_t>(p.u_index(b, k))]);
   return u;
 }
 

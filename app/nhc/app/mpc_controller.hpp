@@ -24,9 +24,9 @@ namespace nhc::app {
 /// One solve of the controller, at sample time t.
 struct MpcSolve {
   double t = 0;
-  double cost = 0;       ///< the plan's cost (the last iterate's when not converged)
+  double cost = 0;  ///< the plan's cost (the last iterate's when not converged)
   int iterations = 0;
-  double seconds = 0;    ///< wall time of the solve
+  double seconds = 0;  ///< wall time of the solve
   bool converged = false;
 };
 
@@ -67,9 +67,9 @@ class MpcController {
   std::vector<int> start_states_;  ///< per fixed slot of the first point: the run model's state index
   std::vector<int> input_slots_;   ///< per input of the problem: the model's input index (-1: not set)
   std::vector<bool> held_;
-  std::vector<double> plan_;       ///< the last converged solve's variables (empty: none yet)
+  std::vector<double> plan_;  ///< the last converged solve's variables (empty: none yet)
   double plan_t0_ = 0;
-  std::vector<double> iterate_;    ///< before any converged solve: the last iterate (a warm start)
+  std::vector<double> iterate_;  ///< before any converged solve: the last iterate (a warm start)
   double iterate_t0_ = 0;
   std::vector<MpcSolve> solves_;
 };

@@ -7,7 +7,9 @@ namespace nhc::app {
 
 namespace {
 
-[[noreturn]] void refuse(const std::string& field, const std::string& message) { throw InputError({field, 0, 0}, message); }
+[[noreturn]] void refuse(const std::string& field, const std::string& message) {
+  throw InputError({field, 0, 0}, message);
+}
 
 void check_count(const std::string& field, long long value, long long low, long long high) {
   if (const std::string why = count_problem(value, low, high); !why.empty())
@@ -21,12 +23,14 @@ void check_choice(const std::string& field, const std::string& value, const std:
 }  // namespace
 
 const OptimizeFieldNames& optimize_command_line_names() {
-  static const OptimizeFieldNames names{"--intervals", "--max-iterations", "--tolerance", "--jacobian", "--hessian", "--path-tolerance"};
+  static const OptimizeFieldNames names{"--intervals", "--max-iterations", "--tolerance",
+                                        "--jacobian",  "--hessian",        "--path-tolerance"};
   return names;
 }
 
 const OptimizeFieldNames& optimize_python_names() {
-  static const OptimizeFieldNames names{"intervals", "max_iterations", "tolerance", "jacobian", "hessian", "path_tolerance"};
+  static const OptimizeFieldNames names{"intervals", "max_iterations", "tolerance",
+                                        "jacobian",  "hessian",        "path_tolerance"};
   return names;
 }
 

@@ -22,10 +22,10 @@ const OptimizeFieldNames& optimize_python_names();
 struct OptimizeRequest {
   std::optional<long long> intervals;  ///< none: [optimize] intervals
   long long max_iterations = 3000;
-  double tolerance = 1e-10;            ///< IPOPT's tol
-  std::string jacobian = "exact";      ///< exact | finite-differences
-  std::string hessian = "exact";       ///< exact | limited-memory
-  double path_tolerance = 1e-6;        ///< the largest path error accepted (docs/optimize.md, "Path error")
+  double tolerance = 1e-10;        ///< IPOPT's tol
+  std::string jacobian = "exact";  ///< exact | finite-differences
+  std::string hessian = "exact";   ///< exact | limited-memory
+  double path_tolerance = 1e-6;    ///< the largest path error accepted (docs/optimize.md, "Path error")
 };
 
 /// Every rule of the request: InputError at the field (in `names`) otherwise.

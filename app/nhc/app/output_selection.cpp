@@ -43,7 +43,8 @@ std::vector<double> parse_output_times(const std::string& spec, double t0) {
     const double n = std::round(steps);
     if (std::abs(steps - n) > 1e-9 * std::max(1.0, n)) bad(flag, spec, "(END − START)/STEP is not a whole number");
     if (n > 1e7) bad(flag, spec, "more than 10^7 output times");
-    for (long i = 0; i <= static_cast<long>(n); ++i) times.push_back(i == static_cast<long>(n) ? b : a + h * static_cast<double>(i));
+    for (long i = 0; i <= static_cast<long>(n); ++i)
+      times.push_back(i == static_cast<long>(n) ? b : a + h * static_cast<double>(i));
   } else {
     for (const std::string& part : split(spec, ',')) times.push_back(parse_number(flag, part));
   }
@@ -98,8 +99,7 @@ void write_selected_csv(std::ostream& out, const runtime::Model& model, const st
   std::vector<std::size_t> keep;
   if (columns.empty())
     for (std::size_t k = 0; k < header.size(); ++k) keep.push_back(k);
-  else
-    keep.push_back(0);
+  else keep.push_back(0);
   for (const std::string& c : columns)
     if (c != "t") keep.push_back(static_cast<std::size_t>(std::find(header.begin(), header.end(), c) - header.begin()));
   for (std::size_t k = 0; k < keep.size(); ++k) out << (k ? "," : "") << header.at(keep[k]);

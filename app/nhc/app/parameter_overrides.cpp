@@ -26,11 +26,13 @@ double parse_number(const std::string& flag, const std::string& text, const std:
   } catch (const std::exception&) {
     used = 0;
   }
-  if (used != text.size() || !std::isfinite(v)) throw InputError({flag, 0, 0}, (written.empty() ? "" : written + ": ") + "'" + text + "' is not a number");
+  if (used != text.size() || !std::isfinite(v))
+    throw InputError({flag, 0, 0}, (written.empty() ? "" : written + ": ") + "'" + text + "' is not a number");
   return v;
 }
 
-std::vector<ParameterOverride> parse_parameter_overrides(const Scene& scene, const std::vector<std::string>& assignments) {
+std::vector<ParameterOverride> parse_parameter_overrides(const Scene& scene,
+                                                         const std::vector<std::string>& assignments) {
   std::vector<ParameterOverride> overrides;
   for (const std::string& a : assignments) {
     const auto [name, value] = split_assignment("--set", a);
@@ -49,7 +51,8 @@ void apply_parameter_overrides(Scene& scene, const std::vector<ParameterOverride
   set_parameter_values(scene, values);  // the rule Python's set= follows too
 }
 
-std::vector<double> parameters_with_overrides(const runtime::Model& model, const std::vector<ParameterOverride>& overrides) {
+std::vector<double> parameters_with_overrides(const runtime::Model& model,
+                                              const std::vector<ParameterOverride>& overrides) {
   std::vector<double> p = model.default_parameters();
   for (const ParameterOverride& o : overrides) {
     const int i = model.parameter_index(o.name);

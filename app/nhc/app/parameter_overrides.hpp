@@ -27,7 +27,8 @@ std::pair<std::string, std::string> split_assignment(const std::string& flag, co
 double parse_number(const std::string& flag, const std::string& text, const std::string& written = "");
 
 /// The assignments checked against the scene's [parameters] (the last of repeated names wins).
-std::vector<ParameterOverride> parse_parameter_overrides(const Scene& scene, const std::vector<std::string>& assignments);
+std::vector<ParameterOverride> parse_parameter_overrides(const Scene& scene,
+                                                         const std::vector<std::string>& assignments);
 
 /// The scene with its parameter values replaced (derivation, analysis and generated defaults),
 /// and its [initial] values written through parameters re-evaluated.
@@ -37,7 +38,8 @@ void apply_parameter_overrides(Scene& scene, const std::vector<ParameterOverride
 /// An override of a scene parameter the model does not read (it occurs in no equation,
 /// invariant or reference, so it does not reach the header) changes nothing there and is
 /// skipped; apply_parameter_overrides() has given it to the scene for its outputs.
-std::vector<double> parameters_with_overrides(const runtime::Model& model, const std::vector<ParameterOverride>& overrides);
+std::vector<double> parameters_with_overrides(const runtime::Model& model,
+                                              const std::vector<ParameterOverride>& overrides);
 
 /// InputError at `flag` when `name` is a parameter of the scene that `model` does not read:
 /// varying it, or differentiating with respect to it, would change nothing. `consequence`

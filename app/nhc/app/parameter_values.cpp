@@ -80,8 +80,8 @@ void reevaluate(double& number, const NumberExpression& source, const std::strin
     throw InputError(source.where, key + " = \"" + source.text + "\"" + with + ": " + e.what());
   }
   if (const std::string why = problem(v); !why.empty())
-    throw InputError(source.where, key + " = \"" + source.text + "\" is " + base::shortest_text(v) + with + ": " +
-                                       key + " " + why);
+    throw InputError(source.where,
+                     key + " = \"" + source.text + "\" is " + base::shortest_text(v) + with + ": " + key + " " + why);
   number = v;
 }
 

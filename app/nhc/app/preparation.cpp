@@ -67,8 +67,8 @@ void remember_check(const InitialPointCheck& check, const jit::LoadedModel& buil
 PreparedModel prepare_and_build(Preparation& preparation, const Scene& written, bool repair,
                                 const jit::BuildOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  InitialPointCheck check = sliding_contact(preparation.scene()) ? InitialPointCheck{}
-                                                                 : check_initial_point(preparation, repair);
+  InitialPointCheck check =
+      sliding_contact(preparation.scene()) ? InitialPointCheck{} : check_initial_point(preparation, repair);
   // A check found cached skipped the analysis; a build that derives then makes it here, so that it
   // derives after the same analysis as on a cold cache: the analysis makes symbols, and GiNaC
   // orders terms by symbol hash, which follows creation order (the model would otherwise depend on

@@ -44,26 +44,30 @@ void check_run_features(const Scene& scene, const RunFeatures& f, const FieldNam
     refuse(names.sensitivity, names.sensitivity + " integrates with IDAS; it does not go with " + names.variational);
   if (f.sensitivities && (!f.replaced_inputs.empty() || f.inputs_function))
     refuse(names.sensitivity, names.sensitivity + " follows the scene's default input signals: it does not go with " +
-                                  names.inputs + " (the derivative of a replaced input by the parameters is not known)");
+                                  names.inputs +
+                                  " (the derivative of a replaced input by the parameters is not known)");
   if (f.controller) {
     const std::string controller = f.controller_name + " (" + f.controller_where + ")";
     if (f.sensitivities) refuse(names.sensitivity, names.sensitivity + ": " + controller + " is not differentiated");
-    const std::string rows = ": " + f.controller_name + " runs from sample to sample, whose times are the rows (" +
-                             f.controller_where + ")";
+    const std::string rows =
+        ": " + f.controller_name + " runs from sample to sample, whose times are the rows (" + f.controller_where + ")";
     if (f.outputs) refuse(names.outputs, names.outputs + rows);
     if (f.output_times) refuse(names.output_times, names.output_times + rows);
     if (f.variational)
-      refuse(names.variational, names.variational + ": " + controller +
-                                    " restarts IDA at each sample; the variational integrator takes fixed steps of its own");
+      refuse(names.variational,
+             names.variational + ": " + controller +
+                 " restarts IDA at each sample; the variational integrator takes fixed steps of its own");
     for (const std::string& name : f.replaced_inputs)
       if (f.controls_all_inputs ||
           std::find(f.controlled_inputs.begin(), f.controlled_inputs.end(), name) != f.controlled_inputs.end())
-        refuse(names.inputs, names.inputs + " " + name + ": " + f.controller_name + " sets it (" + f.controller_where + ")");
+        refuse(names.inputs,
+               names.inputs + " " + name + ": " + f.controller_name + " sets it (" + f.controller_where + ")");
     if (f.mpc && !scene.contacts.empty())
-      throw InputError(scene.contacts[0].where,
-             "contact '" + scene.contacts[0].name + "': " + controller +
-                 " plans with the equations of [optimize], which hold no contact force, so its plans cannot keep the "
-                 "contact from slipping; a controller of laws or a function controller runs with contacts");
+      throw InputError(
+          scene.contacts[0].where,
+          "contact '" + scene.contacts[0].name + "': " + controller +
+              " plans with the equations of [optimize], which hold no contact force, so its plans cannot keep the "
+              "contact from slipping; a controller of laws or a function controller runs with contacts");
     if (f.inputs_function && f.controls_all_inputs)
       refuse(names.inputs, names.inputs + ": " + f.controller_name + " sets every input (" + f.controller_where + ")");
   }
@@ -77,11 +81,13 @@ void check_run_features(const Scene& scene, const RunFeatures& f, const FieldNam
                                     scene.contacts[0].where.str() + ") needs IDA to locate its slip");
   }
   if (f.sensitivities) {
-    const std::string why = ", which the run with sensitivities does not locate (IDAS runs on to t_end; the derivative "
-                            "of a switching time is not computed)";
+    const std::string why =
+        ", which the run with sensitivities does not locate (IDAS runs on to t_end; the derivative "
+        "of a switching time is not computed)";
     for (const SceneEvent& e : scene.events)
       if (e.action == EventAction::stop)
-        refuse(names.sensitivity, names.sensitivity + ": event '" + e.name + "' (" + e.where.str() + ") ends the run" + why);
+        refuse(names.sensitivity,
+               names.sensitivity + ": event '" + e.name + "' (" + e.where.str() + ") ends the run" + why);
     if (!scene.contacts.empty())
       refuse(names.sensitivity, names.sensitivity + ": contact '" + scene.contacts[0].name + "' (" +
                                     scene.contacts[0].where.str() + ") may slip, an event" + why);
@@ -107,7 +113,8 @@ RunOutcome simulate(const RunPlan& plan) {
   out.slide = slide;
   std::optional<ContactSwitch> contact;
   if (slide) {
-    if (!plan.sliding_model) throw std::logic_error("run engine: the sliding model of contact " + slide->name + " is missing");
+    if (!plan.sliding_model)
+      throw std::logic_error("run engine: the sliding model of contact " + slide->name + " is missing");
     contact.emplace(scene, *slide, rolling, *plan.sliding_model, p);
   }
   const RunControl* control = plan.control ? &*plan.control : nullptr;
@@ -120,7 +127,8 @@ RunOutcome simulate(const RunPlan& plan) {
   std::vector<runtime::Event> sliding_events;
   std::string slip_name, stick_name;
   if (contact) {
-    for (runtime::Event& e : runtime_events({slip_event(scene, *slide)}, scene, rolling, p)) rolling_events.push_back(e);
+    for (runtime::Event& e : runtime_events({slip_event(scene, *slide)}, scene, rolling, p))
+      rolling_events.push_back(e);
     sliding_events = runtime_events(events_without_multipliers(scene, plan.events), scene, contact->sliding(),
                                     contact->sliding_parameters());
     slip_name = slide->name + ".slip";
@@ -135,10 +143,12 @@ RunOutcome simulate(const RunPlan& plan) {
   const int n_parameters = rolling.n_parameters();
   auto rolling_defaults = std::make_shared<runtime::InputValues>(rolling, p);
   const runtime::InputFunction rolling_free =
-      plan.inputs ? plan.inputs : runtime::InputFunction([rolling_defaults, n_parameters, n_inputs](double t, const double* y, double* u) {
-        const double* values = rolling_defaults->at(t, y);
-        std::copy(values + n_parameters, values + n_parameters + n_inputs, u);
-      });
+      plan.inputs
+          ? plan.inputs
+          : runtime::InputFunction([rolling_defaults, n_parameters, n_inputs](double t, const double* y, double* u) {
+              const double* values = rolling_defaults->at(t, y);
+              std::copy(values + n_parameters, values + n_parameters + n_inputs, u);
+            });
   runtime::InputFunction sliding_free;
   if (contact) {
     const runtime::Model& sliding = contact->sliding();
@@ -153,7 +163,8 @@ RunOutcome simulate(const RunPlan& plan) {
       };
     } else {
       auto defaults = std::make_shared<runtime::InputValues>(sliding, contact->sliding_parameters());
-      sliding_free = [defaults, np = sliding.n_parameters(), ni = sliding.n_inputs()](double t, const double* y, double* u) {
+      sliding_free = [defaults, np = sliding.n_parameters(), ni = sliding.n_inputs()](double t, const double* y,
+                                                                                      double* u) {
         const double* values = defaults->at(t, y);
         std::copy(values + np, values + np + ni, u);
       };
@@ -174,11 +185,12 @@ RunOutcome simulate(const RunPlan& plan) {
     std::vector<double> mask(control->held.size());
     for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = control->held[i] ? 1.0 : 0.0;
     if (sliding_now) mask = contact->sliding_inputs(mask);
-    integrator.set_inputs([u, mask, free = sliding_now ? sliding_free : rolling_free](double t, const double* y, double* values) {
-      free(t, y, values);
-      for (std::size_t i = 0; i < mask.size(); ++i)
-        if (mask[i] != 0) values[i] = u[i];
-    });
+    integrator.set_inputs(
+        [u, mask, free = sliding_now ? sliding_free : rolling_free](double t, const double* y, double* values) {
+          free(t, y, values);
+          for (std::size_t i = 0; i < mask.size(); ++i)
+            if (mask[i] != 0) values[i] = u[i];
+        });
   };
 
   // Where the run starts: a sliding contact slides from t0 only when the rolling model cannot
@@ -190,8 +202,10 @@ RunOutcome simulate(const RunPlan& plan) {
   std::vector<double> direction;
   if (contact) {
     const double t0 = plan.initial.t0;
-    runtime::Sample at{t0, plan.initial.y,
-                       plan.initial.yp.empty() ? std::vector<double>(plan.initial.y.size(), 0.0) : plan.initial.yp, {}};
+    runtime::Sample at{t0,
+                       plan.initial.y,
+                       plan.initial.yp.empty() ? std::vector<double>(plan.initial.y.size(), 0.0) : plan.initial.yp,
+                       {}};
     std::vector<double> solved = plan.initial.y;
     try {
       runtime::InputValues values(rolling, p);
@@ -281,9 +295,9 @@ RunOutcome simulate(const RunPlan& plan) {
       for (int i = 0; i < n_inputs; ++i)
         if ((all_held || control->held[static_cast<std::size_t>(i)]) && !std::isfinite(u[static_cast<std::size_t>(i)]))
           throw base::SolverError(base::FailureKind::nonfinite_residual, tk,
-                                     "the controller's input " + rolling.input_name(i) + " is " +
-                                         base::shortest_text(u[static_cast<std::size_t>(i)]) + " at t = " +
-                                         base::shortest_text(tk) + " (sample " + std::to_string(k) + ")");
+                                  "the controller's input " + rolling.input_name(i) + " is " +
+                                      base::shortest_text(u[static_cast<std::size_t>(i)]) +
+                                      " at t = " + base::shortest_text(tk) + " (sample " + std::to_string(k) + ")");
       held = std::move(u);
       apply_inputs(integrator, sliding_now);  // the restart keeps the states, recomputes y' and the algebraic ones
       runtime::Sample after = integrator.point();
@@ -298,7 +312,8 @@ RunOutcome simulate(const RunPlan& plan) {
       if (!first && !sliding_now) {  // report the projection onto the rolling constraints at the stick
         double moved = 0;
         for (std::size_t i = 0; i < start.y.size(); ++i)
-          if (start.given[i] && std::isfinite(start.y[i])) moved = std::max(moved, std::abs(initial_point.y[i] - start.y[i]));
+          if (start.given[i] && std::isfinite(start.y[i]))
+            moved = std::max(moved, std::abs(initial_point.y[i] - start.y[i]));
         out.notes.push_back("note: contact " + slide->name + " rolls again at t = " + base::number_text(t, 12) +
                             ": q' projected onto its rolling constraints (largest change " +
                             base::number_text(moved, 3) + ")");
@@ -341,8 +356,10 @@ RunOutcome simulate(const RunPlan& plan) {
     if (stopped || !switch_hit || out.run.samples.empty()) break;
     if (switches >= 1000) {
       out.run.failure = base::SolverError(base::FailureKind::other, t,
-                                             "contact " + slide->name + " switched 1000 times between rolling and "
-                                             "sliding by t = " + base::number_text(t, 12));
+                                          "contact " + slide->name +
+                                              " switched 1000 times between rolling and "
+                                              "sliding by t = " +
+                                              base::number_text(t, 12));
       break;
     }
     const runtime::Sample r{switch_hit->t, switch_hit->y, switch_hit->yp, {}};
@@ -370,12 +387,14 @@ RunOutcome simulate(const RunPlan& plan) {
   } else {
     out.drift_samples = rolling_samples(out.run.samples, out.sliding);
     out.notes.push_back("the drift above is measured over the samples where contact " + slide->name + " rolls (" +
-                        std::to_string(out.drift_samples.size()) + " of " + std::to_string(out.run.samples.size()) + ")");
+                        std::to_string(out.drift_samples.size()) + " of " + std::to_string(out.run.samples.size()) +
+                        ")");
   }
   return out;
 }
 
-runtime::SensitivityRun simulate_sensitivities(const RunPlan& plan, const std::vector<runtime::SensitivityParameter>& thetas,
+runtime::SensitivityRun simulate_sensitivities(const RunPlan& plan,
+                                               const std::vector<runtime::SensitivityParameter>& thetas,
                                                const runtime::SensitivityOptions& options) {
   runtime::SensitivityRun run =
       runtime::simulate_sensitivities(*plan.model, plan.p, plan.initial, thetas, plan.times, plan.options, options);

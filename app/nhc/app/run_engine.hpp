@@ -22,14 +22,14 @@ namespace nhc::app {
 
 /// What a run combines, as the engine judges the combination before anything is built.
 struct RunFeatures {
-  bool controller = false;             ///< a sampled controller: the scene's [controller] or a front end's function
-  std::string controller_name;         ///< as messages name it ("the scene's [controller]", "the controller")
-  std::string controller_where;        ///< where it is (the table's FILE:L:C, "controller=")
+  bool controller = false;       ///< a sampled controller: the scene's [controller] or a front end's function
+  std::string controller_name;   ///< as messages name it ("the scene's [controller]", "the controller")
+  std::string controller_where;  ///< where it is (the table's FILE:L:C, "controller=")
   std::vector<std::string> controlled_inputs;  ///< the inputs the controller sets (empty with held-all)
-  bool controls_all_inputs = false;    ///< a front end's controller returns every input
-  bool mpc = false;                    ///< the controller is model predictive control (mpc_controller.hpp)
+  bool controls_all_inputs = false;            ///< a front end's controller returns every input
+  bool mpc = false;                            ///< the controller is model predictive control (mpc_controller.hpp)
   std::vector<std::string> replaced_inputs;    ///< inputs an --input / inputs= replaces
-  bool inputs_function = false;        ///< a front end's u(t, y) for every input (Python's inputs=)
+  bool inputs_function = false;                ///< a front end's u(t, y) for every input (Python's inputs=)
   bool sensitivities = false;
   bool variational = false;
   bool outputs = false, output_times = false;  ///< output times asked for (a controller's rows are its samples)
@@ -46,8 +46,8 @@ void check_run_features(const Scene& scene, const RunFeatures& features, const F
 /// A sampled controller of a run.
 struct RunControl {
   SampleLaw law;
-  std::vector<bool> held;           ///< the inputs it holds (empty: all)
-  std::vector<double> samples;      ///< its sample times t0 + k h (sample_times): the run's rows
+  std::vector<bool> held;       ///< the inputs it holds (empty: all)
+  std::vector<double> samples;  ///< its sample times t0 + k h (sample_times): the run's rows
   double period = 0;
   /// The scene's [controller] (its state columns), null for a front end's function.
   std::shared_ptr<ControllerLaws> scene_laws;
@@ -58,15 +58,15 @@ struct RunControl {
 
 /// A run, as a front end has translated its arguments.
 struct RunPlan {
-  const Scene* scene = nullptr;        ///< the run's scene: its parameter and initial values
+  const Scene* scene = nullptr;           ///< the run's scene: its parameter and initial values
   const runtime::Model* model = nullptr;  ///< the run's model (built for the variational step when asked)
-  std::vector<double> p;               ///< its parameter values (the model's order)
+  std::vector<double> p;                  ///< its parameter values (the model's order)
   runtime::InitialState initial;
-  std::vector<double> times;           ///< the output times; under a controller its samples
+  std::vector<double> times;  ///< the output times; under a controller its samples
   runtime::IntegratorOptions options;
-  std::vector<SceneEvent> events;      ///< run_events(): [events], the stop contacts' slips, stop_when
-  runtime::InputFunction inputs;       ///< u(t, y) from outside (--input series, inputs=); empty: default signals
-  RunRequest request;                  ///< variational, step, max_steps
+  std::vector<SceneEvent> events;  ///< run_events(): [events], the stop contacts' slips, stop_when
+  runtime::InputFunction inputs;   ///< u(t, y) from outside (--input series, inputs=); empty: default signals
+  RunRequest request;              ///< variational, step, max_steps
   std::optional<RunControl> control;
   /// The sliding model of the scene's contact with on_slip = "slide" (sliding_contact;
   /// build_sliding_model of the run's scene), built by the front end (with its locks): required
@@ -83,7 +83,7 @@ struct RunOutcome {
   /// The rows where the run model's hidden constraints and invariants hold (all but the sliding
   /// ones): what the drift is measured over.
   std::vector<runtime::Sample> drift_samples;
-  std::vector<std::string> notes;                 ///< summary lines (switches back to rolling, the drift's rows)
+  std::vector<std::string> notes;  ///< summary lines (switches back to rolling, the drift's rows)
   long controller_calls = 0;
   /// Per row, the scene [controller]'s discrete states (its state_columns), or the values of
   /// RunControl::columns, when it ran.
@@ -102,7 +102,8 @@ RunOutcome simulate(const RunPlan& plan);
 /// The run of `plan` with IDAS's forward sensitivities by `thetas` (check_run_features has refused
 /// what it cannot carry: a controller, an event that ends the run, a contact, replaced inputs, the
 /// variational integrator), the laws of [inputs] written into its rows.
-runtime::SensitivityRun simulate_sensitivities(const RunPlan& plan, const std::vector<runtime::SensitivityParameter>& thetas,
+runtime::SensitivityRun simulate_sensitivities(const RunPlan& plan,
+                                               const std::vector<runtime::SensitivityParameter>& thetas,
                                                const runtime::SensitivityOptions& options);
 
 /// A file written beside the output `output` (its name side(output), e.g. events_csv_path): only

@@ -42,19 +42,42 @@ void check_count(const std::string& field, long long value, long long low, long 
 }  // namespace
 
 const FieldNames& command_line_names() {
-  static const FieldNames names{"--t-end", "--rtol",    "--atol",    "--outputs",
-                                "--output-times", "--max-steps", "--step", "--project",
-                                "--integrator variational", "--step H", "", "--stop-when",
-                                "--sensitivity", "--input",
-                                "--max-step", "--initial-step"};
+  static const FieldNames names{"--t-end",
+                                "--rtol",
+                                "--atol",
+                                "--outputs",
+                                "--output-times",
+                                "--max-steps",
+                                "--step",
+                                "--project",
+                                "--integrator variational",
+                                "--step H",
+                                "",
+                                "--stop-when",
+                                "--sensitivity",
+                                "--input",
+                                "--max-step",
+                                "--initial-step"};
   return names;
 }
 
 const FieldNames& python_names() {
-  static const FieldNames names{"t_end",  "rtol",  "atol",    "outputs", "output_times", "max_steps",
-                                "step",   "project", "integrator='variational'", "step=H", "", "stop_when",
-                                "sensitivity", "inputs",
-                                "max_step", "initial_step"};
+  static const FieldNames names{"t_end",
+                                "rtol",
+                                "atol",
+                                "outputs",
+                                "output_times",
+                                "max_steps",
+                                "step",
+                                "project",
+                                "integrator='variational'",
+                                "step=H",
+                                "",
+                                "stop_when",
+                                "sensitivity",
+                                "inputs",
+                                "max_step",
+                                "initial_step"};
   return names;
 }
 
@@ -86,7 +109,8 @@ double run_t_end(const Scene& scene, const std::optional<double>& t_end, const s
   using base::shortest_text;  // 0.2, not 0.20000000000000001
   const std::string& at = where.empty() ? field : where;
   const double t0 = scene.initial.t0;
-  if (t_end && !(*t_end > t0)) refuse(at, field + " " + base::shortest_text(*t_end) + " must be after t0 = " + base::shortest_text(t0));
+  if (t_end && !(*t_end > t0))
+    refuse(at, field + " " + base::shortest_text(*t_end) + " must be after t0 = " + base::shortest_text(t0));
   // The scene's own t_end is after its own t0 (scene_loader.cpp); a t0 from outside may pass it.
   const NumberExpression& written = scene.simulate.t_end_expression;
   if (!t_end && !(scene.simulate.t_end > t0) && !written.empty())  // t_end = "Tend" at the parameters set
@@ -94,8 +118,8 @@ double run_t_end(const Scene& scene, const std::optional<double>& t_end, const s
                                         ", not after t0 = " + base::shortest_text(t0) + ": give " + field +
                                         " or other parameter values");
   if (!t_end && !(scene.simulate.t_end > t0))
-    refuse(at, "the scene's [simulate] t_end " + base::shortest_text(scene.simulate.t_end) + " is not after t0 = " +
-                   base::shortest_text(t0) + ": give " + field);
+    refuse(at, "the scene's [simulate] t_end " + base::shortest_text(scene.simulate.t_end) +
+                   " is not after t0 = " + base::shortest_text(t0) + ": give " + field);
   return t_end.value_or(scene.simulate.t_end);
 }
 
@@ -107,9 +131,9 @@ void check_run_request(const RunRequest& r, const Scene& scene, ModelKind kind, 
   if (r.max_step) check_value(names.max_step, *r.max_step, positive_problem);
   if (r.initial_step) check_value(names.initial_step, *r.initial_step, positive_problem);
   if (r.variational && (r.max_step || r.initial_step))
-    refuse(r.max_step ? names.max_step : names.initial_step,
-           (r.max_step ? names.max_step : names.initial_step) + " sets IDA's steps; " + names.variational +
-               " takes the fixed step " + names.step_value);
+    refuse(r.max_step ? names.max_step : names.initial_step, (r.max_step ? names.max_step : names.initial_step) +
+                                                                 " sets IDA's steps; " + names.variational +
+                                                                 " takes the fixed step " + names.step_value);
   if (r.outputs) check_count(names.outputs, *r.outputs, 1, kMaxOutputs);
   check_count(names.max_steps, r.max_steps, 1, kMaxSteps);
   if (r.output_times) check_output_times(*r.output_times, scene.initial.t0, names.output_times, r.output_times_text);
@@ -127,8 +151,8 @@ void check_run_request(const RunRequest& r, const Scene& scene, ModelKind kind, 
   require_variational_scene(scene, kind);
   const double t_end = run_output_times(r, scene, names).back();
   if (!runtime::variational_step_fits(scene.initial.t0, t_end, *r.step))
-    refuse(at_step, names.step + " " + number(*r.step, 6) + " does not fit the run from t0 = " +
-                        number(scene.initial.t0, 6) + " to " + number(t_end, 6) +
+    refuse(at_step, names.step + " " + number(*r.step, 6) +
+                        " does not fit the run from t0 = " + number(scene.initial.t0, 6) + " to " + number(t_end, 6) +
                         " twice: the variational integrator needs at least two steps");
   const long steps = runtime::variational_steps_needed(scene.initial.t0, t_end, *r.step);
   if (steps < 0 || steps > r.max_steps)
@@ -149,7 +173,8 @@ std::vector<SceneEvent> run_events(const RunRequest& r, const Scene& scene, cons
   return events;
 }
 
-std::vector<double> equally_spaced_output_times(double t0, double t_end, long long intervals, const std::string& fields) {
+std::vector<double> equally_spaced_output_times(double t0, double t_end, long long intervals,
+                                                const std::string& fields) {
   std::vector<double> times = runtime::output_times(t0, t_end, static_cast<int>(intervals));
   if (const auto i = runtime::collapsed_output_time(times)) {
     std::ostringstream why;
@@ -202,7 +227,8 @@ void check_parameter_name(const Scene& scene, const std::string& name, const std
     std::string key;
     for_each_experiment_number(scene, [&](const std::string& what, const NumberExpression& number) {
       const bool named = what.rfind(name + " ", 0) == 0 ||
-                         (what.size() > name.size() && what.compare(what.size() - name.size() - 1, std::string::npos, " " + name) == 0);
+                         (what.size() > name.size() &&
+                          what.compare(what.size() - name.size() - 1, std::string::npos, " " + name) == 0);
       if (key.empty() && named && number.where.line > 0)
         key = ": it is the scene's " + what + " (" + number.where.str() + ")" +
               (number.empty() ? "; to move it with " + field + ", write it there through a parameter (" + name +

@@ -38,14 +38,14 @@ const FieldNames& python_names();
 /// A run's settings; an empty one takes the scene's [simulate] value.
 struct RunRequest {
   std::optional<double> t_end, rtol, atol;
-  std::optional<long long> outputs;                  ///< output intervals
-  std::optional<std::vector<double>> output_times;   ///< explicit times (the last ends the run)
-  std::string output_times_text;                     ///< as the caller wrote them, for messages
+  std::optional<long long> outputs;                 ///< output intervals
+  std::optional<std::vector<double>> output_times;  ///< explicit times (the last ends the run)
+  std::string output_times_text;                    ///< as the caller wrote them, for messages
   long long max_steps = 1000000;
-  bool variational = false;                          ///< the discrete Lagrange–d'Alembert integrator
-  std::optional<double> step;                        ///< its fixed step
-  bool project = false;                              ///< projection onto the hidden constraints
-  std::optional<std::string> stop_when;              ///< an expression whose zero ends the run
+  bool variational = false;              ///< the discrete Lagrange–d'Alembert integrator
+  std::optional<double> step;            ///< its fixed step
+  bool project = false;                  ///< projection onto the hidden constraints
+  std::optional<std::string> stop_when;  ///< an expression whose zero ends the run
   /// IDA's largest and first step; empty: no limit, and the first step from the problem's scale
   /// (runtime::IntegratorOptions::initial_step).
   std::optional<double> max_step, initial_step;
@@ -76,7 +76,8 @@ void check_run_request(const RunRequest& request, const Scene& scene, ModelKind 
 /// outputs, else 200) equal intervals, refused where consecutive ones collapse in floating point.
 std::vector<double> run_output_times(const RunRequest& request, const Scene& scene, const FieldNames& names);
 /// Equally spaced output times from t0 to t_end; InputError at `fields` where they collapse.
-std::vector<double> equally_spaced_output_times(double t0, double t_end, long long intervals, const std::string& fields);
+std::vector<double> equally_spaced_output_times(double t0, double t_end, long long intervals,
+                                                const std::string& fields);
 
 /// The events of the run: the scene's [events], the lift-offs and slips of its [contacts] (contact_forces.hpp),
 /// then the request's stop_when (scene_events.hpp).

@@ -45,10 +45,8 @@ std::string SampleExpressions::locate(const GiNaC::ex& e, std::vector<Source>& f
     const bool known = c.kind == VariableKind::coordinate || c.index < model.n_multipliers();
     const int state = known ? model.state_index(variable, c.order) : -1;
     const int below = known && c.order > 0 ? model.state_index(variable, c.order - 1) : -1;
-    if (state >= 0)
-      found.push_back({jet.symbol(c), Slot::state, state});
-    else if (below >= 0 && model.is_differential(below))
-      found.push_back({jet.symbol(c), Slot::derivative, below});
+    if (state >= 0) found.push_back({jet.symbol(c), Slot::state, state});
+    else if (below >= 0 && model.is_differential(below)) found.push_back({jet.symbol(c), Slot::derivative, below});
     else
       return primed(jet.variable_name(c.kind, c.index), c.order) +
              (known ? "" : " (it has no multiplier " + jet.variable_name(c.kind, c.index) + ")");
@@ -64,7 +62,9 @@ std::string SampleExpressions::locate(const GiNaC::ex& e, std::vector<Source>& f
 }
 
 double SampleExpressions::value_of(const Source& s, const runtime::Sample& sample) {
-  const std::vector<double>& from = s.slot == Slot::state ? sample.y : s.slot == Slot::derivative ? sample.yp : sample.u;
+  const std::vector<double>& from = s.slot == Slot::state        ? sample.y
+                                    : s.slot == Slot::derivative ? sample.yp
+                                                                 : sample.u;
   const auto k = static_cast<std::size_t>(s.index);
   return k < from.size() ? from[k] : NAN;  // a sample without inputs (read back from a file): NaN
 }
@@ -104,7 +104,8 @@ void SampleExpressions::prepare() const {
 std::vector<double> SampleExpressions::evaluate(const runtime::Sample& sample) const { return evaluate(sample, {}); }
 
 std::vector<double> SampleExpressions::evaluate(const runtime::Sample& sample, const std::vector<double>& free) const {
-  if (free.size() != free_.size()) throw std::invalid_argument("SampleExpressions::evaluate: wrong number of free values");
+  if (free.size() != free_.size())
+    throw std::invalid_argument("SampleExpressions::evaluate: wrong number of free values");
   if (!program_ && !substitute_) {
     const SymbolicSection symbolic;
     prepare();
@@ -112,8 +113,7 @@ std::vector<double> SampleExpressions::evaluate(const runtime::Sample& sample, c
   std::vector<double> out;
   if (program_) {
     std::vector<double> values{sample.t};
-    for (const Source& s : sources_)
-      values.push_back(value_of(s, sample));
+    for (const Source& s : sources_) values.push_back(value_of(s, sample));
     values.insert(values.end(), free.begin(), free.end());
     try {
       out = program_->values_at(values);
@@ -127,8 +127,7 @@ std::vector<double> SampleExpressions::evaluate(const runtime::Sample& sample, c
     const SymbolicSection symbolic;  // a run may call this without the lock (scene_events.hpp)
     GiNaC::exmap values;
     values[scene_->jet->time()] = sample.t;
-    for (const Source& s : sources_)
-      values[s.symbol] = value_of(s, sample);
+    for (const Source& s : sources_) values[s.symbol] = value_of(s, sample);
     for (std::size_t k = 0; k < free_.size(); ++k) values[free_[k]] = free[k];
     for (const GiNaC::ex& e : expressions_) {
       double v = NAN;

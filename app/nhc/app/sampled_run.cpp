@@ -20,8 +20,8 @@ std::vector<double> sample_times(double t0, double t_end, double period, const S
   // spares a t_end that is a whole number of periods written in decimals).
   const double count = std::floor((t_end - t0) / period + 1e-9);
   if (!(count >= 1))
-    throw InputError(where, shown + ": the run from t0 = " + base::shortest_text(t0) + " to t_end = " +
-                                base::shortest_text(t_end) + " is shorter than one period");
+    throw InputError(where, shown + ": the run from t0 = " + base::shortest_text(t0) +
+                                " to t_end = " + base::shortest_text(t_end) + " is shorter than one period");
   if (count > static_cast<double>(kMaxOutputs))
     throw InputError(where, shown + ": more than " + std::to_string(kMaxOutputs) + " samples up to t_end");
   std::vector<double> times;
@@ -47,20 +47,22 @@ std::vector<double> scene_controller_samples(const RunRequest& request, const Sc
 
 void refuse_scene_controller(const Scene& scene, const std::string& command) {
   if (!scene.controller.present) return;
-  throw InputError(scene.controller.where, command + " does not run the scene's [controller] (a sampled controller): "
-                                           "nhc simulate and Python's Model.simulate do; without the table it runs open loop");
+  throw InputError(scene.controller.where,
+                   command +
+                       " does not run the scene's [controller] (a sampled controller): "
+                       "nhc simulate and Python's Model.simulate do; without the table it runs open loop");
 }
 
 void refuse_scene_events_and_contacts(const Scene& scene, const std::string& command) {
   const std::string why = command + " integrates each run straight to t_end and locates no ";
   const std::string instead = ": nhc simulate does (with --set for each value), or remove the table for this command";
   if (!scene.events.empty())
-    throw InputError(scene.events.front().where,
-                     why + "event, so the scene's [events] (\"" + scene.events.front().name + "\") would be skipped" + instead);
+    throw InputError(scene.events.front().where, why + "event, so the scene's [events] (\"" +
+                                                     scene.events.front().name + "\") would be skipped" + instead);
   if (!scene.contacts.empty())
-    throw InputError(scene.contacts.front().where,
-                     why + "slip or lift-off, so the scene's contact \"" + scene.contacts.front().name +
-                         "\" would be held whatever its friction" + instead);
+    throw InputError(scene.contacts.front().where, why + "slip or lift-off, so the scene's contact \"" +
+                                                       scene.contacts.front().name +
+                                                       "\" would be held whatever its friction" + instead);
 }
 
 ControllerLaws::ControllerLaws(const Scene& scene, const runtime::Model& model, const std::vector<double>& p)
@@ -72,8 +74,9 @@ ControllerLaws::ControllerLaws(const Scene& scene, const runtime::Model& model, 
   const SceneController& controller = scene.controller;
   // Model predictive control is no law to evaluate: only the runs that build its solver run it.
   if (controller.mpc.present)
-    throw InputError(controller.mpc.where, "the scene's [controller] is model predictive control (mpc), which nhc simulate "
-                                           "and Python's Model.simulate run; this command does not (it would run open loop)");
+    throw InputError(controller.mpc.where,
+                     "the scene's [controller] is model predictive control (mpc), which nhc simulate "
+                     "and Python's Model.simulate run; this command does not (it would run open loop)");
   const JetSpace& jet = *scene.jet;
   held_.assign(static_cast<std::size_t>(model.n_inputs()), false);
   auto add = [&](const nhc::SceneControllerLaw& law, const std::string& what) {
@@ -84,16 +87,17 @@ ControllerLaws::ControllerLaws(const Scene& scene, const runtime::Model& model, 
       if (c.kind != VariableKind::coordinate || model.state_index(variable, c.order) < 0)
         throw InputError(law.where, what + " \"" + law.text + "\" uses " +
                                         base::primed_name(jet.variable_name(c.kind, c.index), c.order) +
-                                        ", which the " + "model's states do not hold (a controller reads the state the "
+                                        ", which the " +
+                                        "model's states do not hold (a controller reads the state the "
                                         "run reached: coordinates and the derivatives that are states)");
     }
     if (std::string missing = expressions_.add(e); !missing.empty())
-      throw InputError(law.where, what + " \"" + law.text + "\" uses " + missing + ", which the model does not compute");
+      throw InputError(law.where,
+                       what + " \"" + law.text + "\" uses " + missing + ", which the model does not compute");
   };
   for (const nhc::SceneControllerLaw& law : controller.inputs) {
     const int i = model.input_index(law.name);
-    if (i < 0)
-      throw InputError(law.where, "[controller] sets input '" + law.name + "', which the model does not read");
+    if (i < 0) throw InputError(law.where, "[controller] sets input '" + law.name + "', which the model does not read");
     add(law, "controller input '" + law.name + "'");
     input_slots_.push_back(i);
     held_[static_cast<std::size_t>(i)] = true;

@@ -32,8 +32,8 @@ std::vector<double> sample_times(double t0, double t_end, double period, const S
                                  const std::string& what);
 
 /// A run under the scene's [controller]: its rows are the samples (and the point of an event
-/// that ends the run), so `outputs`, `output_times` and the variational integrator are refused (InputError at the field, in `names`'
-/// words); the sample times from t0 to the request's t_end, else [simulate]'s.
+/// that ends the run), so `outputs`, `output_times` and the variational integrator are refused (InputError at the
+/// field, in `names`' words); the sample times from t0 to the request's t_end, else [simulate]'s.
 std::vector<double> scene_controller_samples(const RunRequest& request, const Scene& scene, const FieldNames& names);
 
 /// Commands that do not run a sampled controller (animate, report, compare, ensemble) refuse a
@@ -69,8 +69,8 @@ class ControllerLaws {
   const Scene* scene_;
   const runtime::Model* model_;
   std::vector<double> p_;
-  SampleExpressions expressions_;   ///< the input laws, then the updates
-  std::vector<int> input_slots_;    ///< per input law: the model's input index
+  SampleExpressions expressions_;  ///< the input laws, then the updates
+  std::vector<int> input_slots_;   ///< per input law: the model's input index
   std::vector<bool> held_;
   std::vector<double> z_;
   std::vector<std::string> columns_;

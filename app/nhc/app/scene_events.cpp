@@ -21,8 +21,8 @@ SceneEvent stop_when_event(const Scene& scene, const std::string& text, const st
   try {
     event.expression = parse_expression(text, *scene.jet, rules);
   } catch (const ExpressionSyntaxError& error) {
-    throw InputError(event.where, "in " + field + " \"" + text + "\" at character " + std::to_string(error.offset() + 1) +
-                                      ": " + error.what());
+    throw InputError(event.where, "in " + field + " \"" + text + "\" at character " +
+                                      std::to_string(error.offset() + 1) + ": " + error.what());
   }
   event.direction = EventDirection::any;
   event.action = EventAction::stop;
@@ -41,8 +41,8 @@ std::vector<runtime::Event> runtime_events(const std::vector<SceneEvent>& events
     // One program per event: the root function is called with y and y' only.
     auto expression = std::make_shared<SampleExpressions>(scene, model, p);
     if (const std::string missing = expression->add(event.expression); !missing.empty())
-      throw InputError(event.where, "event '" + event.name + "' uses " + missing + ", which the " +
-                                        model.model_name() + " model does not compute");
+      throw InputError(event.where, "event '" + event.name + "' uses " + missing + ", which the " + model.model_name() +
+                                        " model does not compute");
     expression->prepare();  // here, under the caller's symbolic lock, not in the run
     const int n = model.n_states();
     auto sample = std::make_shared<runtime::Sample>();
@@ -55,17 +55,17 @@ std::vector<runtime::Event> runtime_events(const std::vector<SceneEvent>& events
     // expression and t, which the integrator takes as the event's failure there (it locates the
     // first instant it fails by bisection, and reports the error met there; docs/events.md).
     e.function = [expression, sample, n, name = event.name, text = event.text](double t, const double* y,
-                                                                              const double* yp) {
+                                                                               const double* yp) {
       sample->t = t;
       sample->y.assign(y, y + n);
       sample->yp.assign(yp, yp + n);
       const double v = expression->evaluate(*sample).front();
       if (!std::isfinite(v))
         throw base::SolverError(base::FailureKind::other, t,
-                                   "event " + name + " (\"" + text + "\") is " + (std::isnan(v) ? "NaN" : "infinite") +
-                                       " at t = " + base::number_text(t, 15) +
-                                       ": its crossings cannot be told there (an event must be a finite number "
-                                       "along the motion)");
+                                "event " + name + " (\"" + text + "\") is " + (std::isnan(v) ? "NaN" : "infinite") +
+                                    " at t = " + base::number_text(t, 15) +
+                                    ": its crossings cannot be told there (an event must be a finite number "
+                                    "along the motion)");
       return v;
     };
     out.push_back(std::move(e));

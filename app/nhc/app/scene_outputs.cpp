@@ -26,7 +26,8 @@ SceneOutputs::SceneOutputs(const Scene& scene, const runtime::Model& model, cons
   // refuses a required one); the others are named here with the reason.
   for (const SceneQuantity& invariant : scene.invariants) {
     bool computed = false;
-    for (int k = 0; k < model.n_invariants(); ++k) computed = computed || invariant.name == model.table().invariant_names[k];
+    for (int k = 0; k < model.n_invariants(); ++k)
+      computed = computed || invariant.name == model.table().invariant_names[k];
     if (computed) continue;
     const std::string missing = expressions_.missing(invariant.expression);
     left_out(invariant, "invariant", missing.empty() ? "a quantity" : missing);

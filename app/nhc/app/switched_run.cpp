@@ -45,12 +45,14 @@ const SceneContact* sliding_contact(const Scene& scene) {
   for (const SceneContact& contact : scene.contacts) {
     if (contact.on_slip != SlipAction::slide) continue;
     if (found)
-      throw InputError(contact.on_slip_where, "contact '" + contact.name + "': one contact of a scene may slide (on_slip = \"slide\"); '" +
+      throw InputError(contact.on_slip_where, "contact '" + contact.name +
+                                                  "': one contact of a scene may slide (on_slip = \"slide\"); '" +
                                                   found->name + "' does already");
     if (uses_multiplier(scene, contact.normal) || scene.jet->highest_coordinate_order(contact.normal) > 1)
       throw InputError(contact.on_slip_where,
-                       "contact '" + contact.name + "': on_slip = \"slide\" needs the normal force as an expression of t, "
-                       "q and q' (the sliding model's Coulomb force is a force of those), not \"" +
+                       "contact '" + contact.name +
+                           "': on_slip = \"slide\" needs the normal force as an expression of t, "
+                           "q and q' (the sliding model's Coulomb force is a force of those), not \"" +
                            contact.normal_text + "\"");
     found = &contact;
   }
@@ -66,7 +68,8 @@ std::vector<SceneEvent> events_without_multipliers(const Scene& scene, const std
 
 Scene sliding_scene(const Scene& scene, const SceneContact& contact) {
   if (scene.source_text().empty())
-    throw InputError(contact.on_slip_where, "contact '" + contact.name + "': the sliding model is derived from the scene's text");
+    throw InputError(contact.on_slip_where,
+                     "contact '" + contact.name + "': the sliding model is derived from the scene's text");
   const JetSpace& jet = *scene.jet;
   // docs/contacts.md, eq. (8): Q_i = -mu F_n sum_k f^k df^k/dq_i' / |f|, |f| as sqrt(f.f + 1e-14):
   // at the slip f = 0, where the model's expanded f.f rounds to about 1e-16 |q'|^2 of either sign;
@@ -243,7 +246,8 @@ std::vector<double> ContactSwitch::slip_direction(const runtime::Sample& r) cons
   return direction;
 }
 
-runtime::Event ContactSwitch::stick_event(const std::vector<double>& direction, const runtime::InitialState& start) const {
+runtime::Event ContactSwitch::stick_event(const std::vector<double>& direction,
+                                          const runtime::InitialState& start) const {
   runtime::Event stick;
   stick.name = contact_->name + ".stick";
   stick.terminal = true;

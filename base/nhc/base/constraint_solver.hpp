@@ -39,21 +39,21 @@ struct ConstraintFunctions {
 };
 
 enum class ConstraintSolveStatus {
-  converged,           ///< max |g_i| <= tolerance (or at its noise level, 100 tolerance)
-  not_finite,          ///< g is NaN or Inf at the start
-  gradient_not_finite, ///< ∂g/∂y is NaN or Inf
-  nothing_free,        ///< violated, and every value is fixed
-  independent_of_free, ///< violated, and g does not depend on any free value
-  stalled,             ///< no damped step reduces |g|
-  iteration_limit,     ///< max_iterations reached
+  converged,            ///< max |g_i| <= tolerance (or at its noise level, 100 tolerance)
+  not_finite,           ///< g is NaN or Inf at the start
+  gradient_not_finite,  ///< ∂g/∂y is NaN or Inf
+  nothing_free,         ///< violated, and every value is fixed
+  independent_of_free,  ///< violated, and g does not depend on any free value
+  stalled,              ///< no damped step reduces |g|
+  iteration_limit,      ///< max_iterations reached
 };
 
 struct ConstraintSolveResult {
   ConstraintSolveStatus status = ConstraintSolveStatus::converged;
   int iterations = 0;
-  double residual_before = 0;  ///< max |g_i| before
-  double residual_after = 0;   ///< max |g_i| at the returned y
-  double correction = 0;       ///< max |Δy_i| in total
+  double residual_before = 0;     ///< max |g_i| before
+  double residual_after = 0;      ///< max |g_i| at the returned y
+  double correction = 0;          ///< max |Δy_i| in total
   std::vector<double> residuals;  ///< g at the returned y
   int worst = 0;                  ///< index of the largest |g_i| there
 

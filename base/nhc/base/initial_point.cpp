@@ -12,16 +12,15 @@ namespace {
 
 std::string join(const std::vector<std::string>& items) {
   std::string s;
-  for (std::size_t i = 0; i < items.size(); ++i)
-    s += (i == 0 ? "" : i + 1 == items.size() ? " and " : ", ") + items[i];
+  for (std::size_t i = 0; i < items.size(); ++i) s += (i == 0 ? "" : i + 1 == items.size() ? " and " : ", ") + items[i];
   return s;
 }
 
 }  // namespace
 
 std::string InitialPointTolerance::describe() const {
-  return number_text(accept, 3) + " = atol + rtol·max(1, |y|) = " + number_text(atol, 3) + " + " + number_text(rtol, 3) +
-         "·" + number_text(size, 3);
+  return number_text(accept, 3) + " = atol + rtol·max(1, |y|) = " + number_text(atol, 3) + " + " +
+         number_text(rtol, 3) + "·" + number_text(size, 3);
 }
 
 InitialPointTolerance initial_point_tolerance(const std::vector<double>& y, double rtol, double atol) {
@@ -44,7 +43,8 @@ ConstraintSolveResult solve_initial_point(const ConstraintFunctions& g, double* 
   return r;
 }
 
-InitialPointSolve solve_or_repair_initial_point(const ConstraintFunctions& g, double* y, const std::vector<double>& scale,
+InitialPointSolve solve_or_repair_initial_point(const ConstraintFunctions& g, double* y,
+                                                const std::vector<double>& scale,
                                                 const std::vector<double>* repair_scale,
                                                 const InitialPointTolerance& tolerance, int max_iterations) {
   InitialPointSolve out;
@@ -57,13 +57,13 @@ InitialPointSolve solve_or_repair_initial_point(const ConstraintFunctions& g, do
 
 std::string describe(const InconsistentInitialPoint& f) {
   std::ostringstream s;
-  s << "the initial values of the " << f.model << " model violate " << f.constraint << " at t0 = " << number_text(f.t0, 10)
-    << ": residual " << number_text(f.residual, 10) << " (tolerance " << f.tolerance.describe() << ")";
+  s << "the initial values of the " << f.model << " model violate " << f.constraint
+    << " at t0 = " << number_text(f.t0, 10) << ": residual " << number_text(f.residual, 10) << " (tolerance "
+    << f.tolerance.describe() << ")";
   std::vector<std::string> given;
   for (const InvolvedValue& v : f.given) given.push_back(v.name + " = " + number_text(v.value, 10));
   if (!given.empty()) s << "; it involves the given value" << (given.size() == 1 ? " " : "s ") << join(given);
-  if (f.free.empty())
-    s << "; no value that may be changed enters it";
+  if (f.free.empty()) s << "; no value that may be changed enters it";
   else if (f.status == ConstraintSolveStatus::stalled || f.status == ConstraintSolveStatus::iteration_limit)
     s << "; Gauss–Newton did not converge for " << join(f.free);
   s << ". Give consistent values, or have them repaired to the nearest consistent point (--repair-initial)";

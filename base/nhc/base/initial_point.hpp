@@ -48,7 +48,8 @@ struct InitialPointSolve {
 /// value with repair_scale[i] > 0 (all but those pinned by [initial] fixed) move to the nearest
 /// consistent point, the minimum-norm correction from where the first solve stopped. Given values
 /// that are consistent therefore stay, and a given value no violated constraint involves never moves.
-InitialPointSolve solve_or_repair_initial_point(const ConstraintFunctions& g, double* y, const std::vector<double>& scale,
+InitialPointSolve solve_or_repair_initial_point(const ConstraintFunctions& g, double* y,
+                                                const std::vector<double>& scale,
                                                 const std::vector<double>* repair_scale,
                                                 const InitialPointTolerance& tolerance, int max_iterations = 50);
 

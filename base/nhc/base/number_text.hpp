@@ -13,9 +13,7 @@
 
 namespace nhc::base {
 
-inline std::string number_text(double value, int significant) {
-  return fmt::format("{:.{}g}", value, significant);
-}
+inline std::string number_text(double value, int significant) { return fmt::format("{:.{}g}", value, significant); }
 
 /// The shortest text that reads back as exactly `value` (0.1, 1e-08, 0.30000000000000004; nan,
 /// inf): data files keep every bit without the noise digits of a fixed 17.

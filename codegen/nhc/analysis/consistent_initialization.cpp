@@ -27,11 +27,16 @@ namespace nhc {
 
 std::string to_string(ValueSource source) {
   switch (source) {
-    case ValueSource::given: return "given";
-    case ValueSource::solved: return "solved";
-    case ValueSource::repaired: return "repaired";
-    case ValueSource::defaulted: return "defaulted";
-    case ValueSource::computed: return "computed";
+    case ValueSource::given:
+      return "given";
+    case ValueSource::solved:
+      return "solved";
+    case ValueSource::repaired:
+      return "repaired";
+    case ValueSource::defaulted:
+      return "defaulted";
+    case ValueSource::computed:
+      return "computed";
   }
   return "?";
 }
@@ -48,8 +53,7 @@ std::string number(double v) { return base::number_text(v, 10); }
 /// a linearization sweep's time that way).
 class Evaluator {
  public:
-  Evaluator(std::vector<GiNaC::ex> functions, std::vector<std::string> names,
-            std::vector<GiNaC::ex> variables)
+  Evaluator(std::vector<GiNaC::ex> functions, std::vector<std::string> names, std::vector<GiNaC::ex> variables)
       : f_(std::move(functions)), names_(std::move(names)), vars_(std::move(variables)) {
     // Sparse Jacobian: f_i is differentiated only by the variables that occur in it, so the
     // work is linear in the size of the constraints rather than in (functions × variables).
@@ -81,7 +85,8 @@ class Evaluator {
     std::vector<Eigen::Triplet<double>> triplets;
     std::size_t next = 0;
     for (std::size_t i = 0; i < f_.size(); ++i)
-      for (const auto& entry : jac_[i]) triplets.emplace_back(static_cast<int>(i), static_cast<int>(entry.first), v[next++]);
+      for (const auto& entry : jac_[i])
+        triplets.emplace_back(static_cast<int>(i), static_cast<int>(entry.first), v[next++]);
     Eigen::SparseMatrix<double> out(static_cast<Eigen::Index>(f_.size()), static_cast<Eigen::Index>(vars_.size()));
     out.setFromTriplets(triplets.begin(), triplets.end());
     return out;
@@ -117,8 +122,9 @@ class Evaluator {
     std::vector<double> values;
     values.reserve(p.size());
     for (const auto& [symbol, value] : p)
-      values.push_back(GiNaC::is_a<GiNaC::numeric>(value) ? GiNaC::ex_to<GiNaC::numeric>(value).to_double()
-                                                          : evaluate_real(value, {}, "the value of " + to_text(symbol)));
+      values.push_back(GiNaC::is_a<GiNaC::numeric>(value)
+                           ? GiNaC::ex_to<GiNaC::numeric>(value).to_double()
+                           : evaluate_real(value, {}, "the value of " + to_text(symbol)));
     return values;
   }
 
@@ -199,22 +205,20 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
     const auto named = unknown_named.find(name);
     const int j = named == unknown_named.end() ? -1 : named->second;
     if (j < 0) {
-      result.notes.push_back(name + " is not an unknown of the " + model +
-                             " model: its initial values are ignored");
+      result.notes.push_back(name + " is not an unknown of the " + model + " model: its initial values are ignored");
       continue;
     }
     const int d = a.d(j);
     for (int k = d; k < static_cast<int>(vals.size()); ++k) {
       const std::string what = sys.derivative_name(j, k);
       if (k == d)
-        result.notes.push_back(what + " is not initial data of the " + model + " model (d_" + name +
-                               " = " + std::to_string(d) + "): the given " + what + " = " +
+        result.notes.push_back(what + " is not initial data of the " + model + " model (d_" + name + " = " +
+                               std::to_string(d) + "): the given " + what + " = " +
                                number(vals[static_cast<std::size_t>(k)]) +
                                " serves only as a starting guess for solving the equations at t0");
       else
-        result.notes.push_back(what + " is determined by the " + model +
-                               " equations (d_" + name + " = " + std::to_string(d) +
-                               "): the given value " + number(vals[static_cast<std::size_t>(k)]) +
+        result.notes.push_back(what + " is determined by the " + model + " equations (d_" + name + " = " +
+                               std::to_string(d) + "): the given value " + number(vals[static_cast<std::size_t>(k)]) +
                                " is ignored");
     }
   }
@@ -258,14 +262,16 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
   functions.count = static_cast<int>(hidden.size());
   functions.size = count;
   functions.values = [&](const double* y, double* out) {
-    Eigen::Map<Eigen::VectorXd>(out, functions.count) = g.values(g.point(base, Eigen::Map<const Eigen::VectorXd>(y, count)));
+    Eigen::Map<Eigen::VectorXd>(out, functions.count) =
+        g.values(g.point(base, Eigen::Map<const Eigen::VectorXd>(y, count)));
   };
   functions.jacobian = [&](const double* y, double* out) {
     Eigen::Map<Eigen::MatrixXd>(out, functions.count, count) =
         g.jacobian(g.point(base, Eigen::Map<const Eigen::VectorXd>(y, count)));
   };
   functions.sparse_jacobian = [&](const double* y, std::vector<base::SparseEntry>& entries) {
-    const Eigen::SparseMatrix<double> jg = g.sparse_jacobian(g.point(base, Eigen::Map<const Eigen::VectorXd>(y, count)));
+    const Eigen::SparseMatrix<double> jg =
+        g.sparse_jacobian(g.point(base, Eigen::Map<const Eigen::VectorXd>(y, count)));
     for (Eigen::Index col = 0; col < jg.outerSize(); ++col)
       for (Eigen::SparseMatrix<double>::InnerIterator it(jg, col); it; ++it)
         entries.push_back({static_cast<int>(it.row()), static_cast<int>(col), it.value()});
@@ -288,8 +294,7 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
     if (!defaulted.empty())
       result.notes.push_back(join_names(defaulted) + (defaulted.size() == 1 ? " is" : " are") +
                              " initial data of the " + model + " model but " +
-                             (defaulted.size() == 1 ? "was" : "were") +
-                             " not given and no hidden constraint fixes " +
+                             (defaulted.size() == 1 ? "was" : "were") + " not given and no hidden constraint fixes " +
                              (defaulted.size() == 1 ? "it" : "them") + ": taken as 0");
   }
 
@@ -313,9 +318,11 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
   base::ConstraintSolveResult solve = outcome.result;
   if (outcome.repaired) {
     if (!solve.converged())
-      throw MathError("the " + model + " model: no consistent initial point found near the given "
-                      "values: " + hidden_names[static_cast<std::size_t>(solve.worst)] +
-                      " keeps residual " + number(solve.residuals[static_cast<std::size_t>(solve.worst)]));
+      throw MathError("the " + model +
+                      " model: no consistent initial point found near the given "
+                      "values: " +
+                      hidden_names[static_cast<std::size_t>(solve.worst)] + " keeps residual " +
+                      number(solve.residuals[static_cast<std::size_t>(solve.worst)]));
     for (int k = 0; k < count; ++k) {
       InitialValue& v = result.values[static_cast<std::size_t>(k)];
       if (v.source == ValueSource::given && std::abs(y[static_cast<std::size_t>(k)] - v.given) > 0.0) {
@@ -399,7 +406,8 @@ ConsistentPoint consistent_initial_point(const Scene& scene, const StructuralAna
   result.point = f.point(base, z);
   if (!result.leading_solved) {
     if (condition_number(f.sparse_jacobian(result.point)).value < kSingularCondition)
-      throw MathError("the " + model + " model: Newton's method on the equations at t0 did not "
+      throw MathError("the " + model +
+                      " model: Newton's method on the equations at t0 did not "
                       "converge for the leading derivatives " +
                       [&] {
                         std::vector<std::string> names;

@@ -15,9 +15,7 @@ std::string derivative_equation_name(const std::string& equation, int order) {
   return "D^" + std::to_string(order) + " " + equation;
 }
 
-GiNaC::ex DaeSystem::unknown_symbol(int j, int order) const {
-  return jet->symbol(unknown_coordinate(j, order));
-}
+GiNaC::ex DaeSystem::unknown_symbol(int j, int order) const { return jet->symbol(unknown_coordinate(j, order)); }
 
 JetCoordinate DaeSystem::unknown_coordinate(int j, int order) const {
   const Unknown& u = unknowns.at(static_cast<std::size_t>(j));
@@ -30,8 +28,8 @@ std::string DaeSystem::derivative_name(int j, int order) const {
 
 DaeSystem dae_system_of(const Scene& scene, const DerivedModel& model) {
   if (!model.applicable)
-    throw MathError("the " + to_string(model.kind) + " model is not applicable to scene '" +
-                    scene.name + "': " + model.reason);
+    throw MathError("the " + to_string(model.kind) + " model is not applicable to scene '" + scene.name +
+                    "': " + model.reason);
   DaeSystem system;
   system.model = model.kind;
   system.jet = scene.jet;

@@ -44,8 +44,7 @@ Index1System reduce_to_index1(const StructuralAnalysis& a) {
     const Unknown& u = sys.unknowns[static_cast<std::size_t>(j)];
     first_state[static_cast<std::size_t>(j)] = static_cast<int>(out.states.size());
     const int count = std::max(a.d(j), 1);
-    for (int k = 0; k < count; ++k)
-      out.states.push_back({u.kind, u.index, k, a.d(j) >= 1, sys.derivative_name(j, k)});
+    for (int k = 0; k < count; ++k) out.states.push_back({u.kind, u.index, k, a.d(j) >= 1, sys.derivative_name(j, k)});
   }
   for (int k = 0; k < out.size(); ++k) {
     const std::string idx = std::to_string(k);
@@ -90,7 +89,8 @@ Index1System reduce_to_index1(const StructuralAnalysis& a) {
     out.hidden_constraint_names.push_back(c.name);
     std::set<std::size_t> occurring;
     for (const GiNaC::ex& symbol : symbols_through(g))
-      if (const auto found = state_of_symbol.find(symbol); found != state_of_symbol.end()) occurring.insert(found->second);
+      if (const auto found = state_of_symbol.find(symbol); found != state_of_symbol.end())
+        occurring.insert(found->second);
     std::vector<std::pair<int, GiNaC::ex>> row;
     for (std::size_t k : occurring) {
       GiNaC::ex derivative = simplify_expression(partial_derivative(g, out.y[k]));
@@ -101,8 +101,8 @@ Index1System reduce_to_index1(const StructuralAnalysis& a) {
   return out;
 }
 
-void initial_state(const Index1System& system, const ConsistentPoint& point,
-                   std::vector<double>& y0, std::vector<double>& yp0) {
+void initial_state(const Index1System& system, const ConsistentPoint& point, std::vector<double>& y0,
+                   std::vector<double>& yp0) {
   y0.assign(static_cast<std::size_t>(system.size()), 0.0);
   yp0.assign(static_cast<std::size_t>(system.size()), 0.0);
   const JetSpace& jet = *system.jet;
@@ -111,8 +111,8 @@ void initial_state(const Index1System& system, const ConsistentPoint& point,
     y0[static_cast<std::size_t>(k)] =
         evaluate_real(jet.symbol({s.kind, s.index, s.order}), point.point, "initial value of " + s.name);
     if (s.differential)
-      yp0[static_cast<std::size_t>(k)] = evaluate_real(jet.symbol({s.kind, s.index, s.order + 1}),
-                                                       point.point, "initial derivative of " + s.name);
+      yp0[static_cast<std::size_t>(k)] =
+          evaluate_real(jet.symbol({s.kind, s.index, s.order + 1}), point.point, "initial derivative of " + s.name);
   }
 }
 

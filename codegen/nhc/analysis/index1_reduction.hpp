@@ -30,7 +30,7 @@ Index1System reduce_to_index1(const StructuralAnalysis& analysis);
 
 /// y(t0) and y'(t0) of the reduced system at a consistent point (y' of an algebraic
 /// component is 0).
-void initial_state(const Index1System& system, const ConsistentPoint& point,
-                   std::vector<double>& y0, std::vector<double>& yp0);
+void initial_state(const Index1System& system, const ConsistentPoint& point, std::vector<double>& y0,
+                   std::vector<double>& yp0);
 
 }  // namespace nhc

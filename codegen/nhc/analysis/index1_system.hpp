@@ -32,10 +32,10 @@ namespace nhc {
 /// One component of the state vector y: the order-th derivative of an unknown.
 struct StateComponent {
   VariableKind kind = VariableKind::coordinate;
-  int index = 0;          ///< coordinate or multiplier index
-  int order = 0;          ///< derivative order held in y
+  int index = 0;             ///< coordinate or multiplier index
+  int order = 0;             ///< derivative order held in y
   bool differential = true;  ///< IDA id: true when its derivative appears (d_j ≥ 1)
-  std::string name;       ///< "x", "x'", "x''", "lambda1", "lambda1'"
+  std::string name;          ///< "x", "x'", "x''", "lambda1", "lambda1'"
 };
 
 struct Index1System {

@@ -17,8 +17,8 @@ ModelAnalysis analyze_derived_model(const Scene& scene, const DerivedModel& mode
   out.model = model.kind;
   if (!model.applicable) {
     out.applicable = false;
-    out.errors.push_back("the " + to_string(model.kind) + " model is not applicable to scene '" +
-                         scene.name + "': " + model.reason);
+    out.errors.push_back("the " + to_string(model.kind) + " model is not applicable to scene '" + scene.name +
+                         "': " + model.reason);
     return out;
   }
   out.structure = analyze_structure(dae_system_of(scene, model));
@@ -48,8 +48,7 @@ ModelAnalysis analyze_derived_model(const Scene& scene, const DerivedModel& mode
 
 }  // namespace
 
-ModelAnalysis analyze_model(const Scene& scene, const DerivedModel& model,
-                            const InitializationOptions& options) {
+ModelAnalysis analyze_model(const Scene& scene, const DerivedModel& model, const InitializationOptions& options) {
   const work_budget::Stage stage("analysing the model");
   return refusing_at(scene.file_location(), "analysing the " + to_string(model.kind) + " model",
                      [&] { return analyze_derived_model(scene, model, options); });

@@ -40,7 +40,6 @@ struct ModelAnalysis {
   bool ok() const { return errors.empty(); }
 };
 
-ModelAnalysis analyze_model(const Scene& scene, const DerivedModel& model,
-                            const InitializationOptions& options = {});
+ModelAnalysis analyze_model(const Scene& scene, const DerivedModel& model, const InitializationOptions& options = {});
 
 }  // namespace nhc

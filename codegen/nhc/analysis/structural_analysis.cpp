@@ -28,14 +28,12 @@ void StructuralAnalysis::require_nonsingular() const {
 
 GiNaC::ex differentiated_equation(const StructuralAnalysis& a, int i, int r) {
   const JetSpace& jet = *a.system.jet;
-  GiNaC::ex e = simplify_expression(
-      jet.total_derivative(a.system.equations.at(static_cast<std::size_t>(i)), r));
+  GiNaC::ex e = simplify_expression(jet.total_derivative(a.system.equations.at(static_cast<std::size_t>(i)), r));
   GiNaC::exmap vanishing;
   // analyze_structure fills the lookup once; an analysis assembled by hand gets it here.
   std::map<std::pair<VariableKind, int>, int> computed;
-  const auto& column = a.column_of_unknown.size() == a.system.unknowns.size()
-                           ? a.column_of_unknown
-                           : (computed = unknown_columns(a.system));
+  const auto& column = a.column_of_unknown.size() == a.system.unknowns.size() ? a.column_of_unknown
+                                                                              : (computed = unknown_columns(a.system));
   for (const JetCoordinate& c : jet.jet_coordinates_in(e)) {
     const auto it = column.find({c.kind, c.index});
     if (it == column.end()) continue;
@@ -63,7 +61,9 @@ std::string describe_deficiency(const DaeSystem& system, const StructuralDeficie
   if (eqs.size() == 1) s += "The equation " + eqs.front() + " involves ";
   else s += "The " + std::to_string(eqs.size()) + " equations " + join_names(eqs) + " involve ";
   if (unknowns.empty()) s += "no unknown at all";
-  else s += "only the " + std::to_string(unknowns.size()) + " unknown" + (unknowns.size() == 1 ? " " : "s ") + join_names(unknowns);
+  else
+    s += "only the " + std::to_string(unknowns.size()) + " unknown" + (unknowns.size() == 1 ? " " : "s ") +
+         join_names(unknowns);
   if (!free_unknowns.empty())
     s += ", and " + join_names(free_unknowns) + (free_unknowns.size() == 1 ? " is" : " are") +
          " left without an equation";

@@ -19,8 +19,9 @@ std::vector<JacobianEntry> system_jacobian_entries(const StructuralAnalysis& a) 
   for (int i = 0; i < a.system.size(); ++i)
     for (const auto& e : a.sigma.row(i)) {
       if (a.d(e.col) - a.c(i) != e.value) continue;
-      GiNaC::ex value = simplify_expression(partial_derivative(a.system.equations[static_cast<std::size_t>(i)], 
-          a.system.jet->symbol(a.system.unknown_coordinate(e.col, e.value))));
+      GiNaC::ex value =
+          simplify_expression(partial_derivative(a.system.equations[static_cast<std::size_t>(i)],
+                                                 a.system.jet->symbol(a.system.unknown_coordinate(e.col, e.value))));
       if (!value.is_zero()) out.push_back({i, e.col, std::move(value)});
     }
   return out;
@@ -69,24 +70,26 @@ Eigen::SparseMatrix<double> evaluate_system_jacobian(const std::vector<JacobianE
   triplets.reserve(entries.size());
   for (std::size_t k = 0; k < entries.size(); ++k) {
     const JacobianEntry& e = entries[k];
-    triplets.emplace_back(e.row, e.col,
-                          lowered ? (*lowered)[k]
-                                  : evaluate_real(e.value, point, what + " entry (" + std::to_string(e.row + 1) + "," +
-                                                                      std::to_string(e.col + 1) + ")"));
+    triplets.emplace_back(
+        e.row, e.col,
+        lowered ? (*lowered)[k]
+                : evaluate_real(e.value, point,
+                                what + " entry (" + std::to_string(e.row + 1) + "," + std::to_string(e.col + 1) + ")"));
   }
   Eigen::SparseMatrix<double> j(n, n);
   j.setFromTriplets(triplets.begin(), triplets.end());
   return j;
 }
 
-std::string describe_singular_jacobian(const StructuralAnalysis& a,
-                                       const Eigen::SparseMatrix<double>& sparse, double t0) {
+std::string describe_singular_jacobian(const StructuralAnalysis& a, const Eigen::SparseMatrix<double>& sparse,
+                                       double t0) {
   if (sparse.rows() > kDescribedSingularLimit) {
     std::ostringstream s;
     const double cond = condition_number(sparse).value;
     s << "the system Jacobian of the " << to_string(a.system.model) << " model is singular at t0 = " << t0
       << " (1-norm condition estimate ";
-    if (std::isfinite(cond)) s << cond; else s << "infinite";
+    if (std::isfinite(cond)) s << cond;
+    else s << "infinite";
     s << ", " << sparse.rows() << " unknowns: above " << kDescribedSingularLimit
       << ", the dependent equations are not named); the model cannot be integrated from this point";
     return s.str();
@@ -114,10 +117,11 @@ std::string describe_singular_jacobian(const StructuralAnalysis& a,
     if (right > 0.1) cols.push_back(a.system.derivative_name(m, a.d(m)));
   }
   std::ostringstream s;
-  s << "the system Jacobian of the " << to_string(a.system.model) << " model is singular at t0 = "
-    << base::number_text(t0, 6) << " (condition number ";
+  s << "the system Jacobian of the " << to_string(a.system.model)
+    << " model is singular at t0 = " << base::number_text(t0, 6) << " (condition number ";
   const double cond = condition_number(j);
-  if (std::isfinite(cond)) s << base::number_text(cond, 6); else s << "infinite";
+  if (std::isfinite(cond)) s << base::number_text(cond, 6);
+  else s << "infinite";
   s << ", rank " << rank << " of " << n << "): ";
   s << (rows.size() == 1 ? "the equation " : "the equations ") << join_names(rows)
     << (rows.size() == 1 ? " does not depend on its leading derivatives there"

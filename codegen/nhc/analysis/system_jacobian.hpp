@@ -47,7 +47,7 @@ inline constexpr double kSingularCondition = 1e12;
 /// derivatives (left null vector) and which leading derivatives are not determined
 /// (right null vector), from the SVD; above kDescribedSingularLimit unknowns only the size and
 /// the condition number (an SVD would take O(n³)).
-std::string describe_singular_jacobian(const StructuralAnalysis& analysis,
-                                       const Eigen::SparseMatrix<double>& j, double t0);
+std::string describe_singular_jacobian(const StructuralAnalysis& analysis, const Eigen::SparseMatrix<double>& j,
+                                       double t0);
 
 }  // namespace nhc

@@ -23,10 +23,15 @@ constexpr long long kInfinity = std::numeric_limits<long long>::max() / 4;
 class SparseAssignment {
  public:
   SparseAssignment(const SignatureMatrix& sigma, int hi)
-      : sigma_(sigma), hi_(hi), n_(sigma.rows()),
-        u_(static_cast<std::size_t>(n_), 0), v_(static_cast<std::size_t>(n_), 0),
-        row_of_col_(static_cast<std::size_t>(n_), -1), col_of_row_(static_cast<std::size_t>(n_), -1),
-        dist_(static_cast<std::size_t>(n_), kInfinity), pred_(static_cast<std::size_t>(n_), -1),
+      : sigma_(sigma),
+        hi_(hi),
+        n_(sigma.rows()),
+        u_(static_cast<std::size_t>(n_), 0),
+        v_(static_cast<std::size_t>(n_), 0),
+        row_of_col_(static_cast<std::size_t>(n_), -1),
+        col_of_row_(static_cast<std::size_t>(n_), -1),
+        dist_(static_cast<std::size_t>(n_), kInfinity),
+        pred_(static_cast<std::size_t>(n_), -1),
         settled_(static_cast<std::size_t>(n_), 0) {
     // Row reduction: u_i = min_j cost_ij keeps u_i + v_j ≤ cost_ij and makes each row's
     // cheapest entries tight, so most searches end at once.
@@ -150,8 +155,7 @@ StructuralDeficiency structural_deficiency(const SignatureMatrix& sigma) {
       const int j = e.col;
       if (seen[static_cast<std::size_t>(j)] == stamp) continue;
       seen[static_cast<std::size_t>(j)] = stamp;
-      if (col_match[static_cast<std::size_t>(j)] < 0 ||
-          self(self, col_match[static_cast<std::size_t>(j)])) {
+      if (col_match[static_cast<std::size_t>(j)] < 0 || self(self, col_match[static_cast<std::size_t>(j)])) {
         col_match[static_cast<std::size_t>(j)] = i;
         row_match[static_cast<std::size_t>(i)] = j;
         return true;

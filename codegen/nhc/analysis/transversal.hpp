@@ -8,9 +8,9 @@
 /// shortest-augmenting-path form of the Hungarian method with row and column potentials
 /// (Kuhn 1955; Munkres 1957; Jonker & Volgenant 1987), each path found by Dijkstra's method
 /// over the sparse rows and stopped at the first free column (Duff & Koster, SIAM J. Matrix
-/// Anal. Appl. 22 (2001) 973–996): no n×n cost matrix is formed (docs/analysis.md). When no transversal of finite entries exists the system is structurally
-/// singular; structural_deficiency() then names a set of equations that involve too few
-/// unknowns (Hall's condition fails; Kőnig's theorem).
+/// Anal. Appl. 22 (2001) 973–996): no n×n cost matrix is formed (docs/analysis.md). When no transversal of finite
+/// entries exists the system is structurally singular; structural_deficiency() then names a set of equations that
+/// involve too few unknowns (Hall's condition fails; Kőnig's theorem).
 
 #include <optional>
 #include <vector>

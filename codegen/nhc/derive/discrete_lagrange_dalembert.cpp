@@ -29,9 +29,10 @@ void require_variational_scene(const Scene& scene, ModelKind model) {
                          "model's; discrete vakonomic equations are not generated)");
   const JetSpace& jet = *scene.jet;
   const auto refuse = [&](const SourceLocation& where, const std::string& what) {
-    throw InputError(where, what + "; the variational integrator (docs/variational.md) takes a "
-                            "Lagrangian L(t, q, q'), forces Q(t, q, q') and constraints of order 0 or 1 "
-                            "(use IDA: --integrator ida)");
+    throw InputError(where, what +
+                                "; the variational integrator (docs/variational.md) takes a "
+                                "Lagrangian L(t, q, q'), forces Q(t, q, q') and constraints of order 0 or 1 "
+                                "(use IDA: --integrator ida)");
   };
   if (jet.highest_coordinate_order(scene.lagrangian) > 1)
     refuse(scene.lagrangian_where, "the Lagrangian holds second or higher derivatives");
@@ -86,7 +87,8 @@ DiscreteLagrangeDAlembert discrete_lagrange_dalembert(const Scene& scene, ModelK
     const auto k = static_cast<std::size_t>(i);
     const ex momentum = partial_derivative(scene.lagrangian, GiNaC::ex_to<GiNaC::symbol>(jet.q(i, 1)));
     const ex force = k < scene.forces.size() ? scene.forces[k] : ex(0);
-    const ex half_force = midpoint(partial_derivative(scene.lagrangian, GiNaC::ex_to<GiNaC::symbol>(jet.q(i, 0))) + force) / 2;
+    const ex half_force =
+        midpoint(partial_derivative(scene.lagrangian, GiNaC::ex_to<GiNaC::symbol>(jet.q(i, 0))) + force) / 2;
     const ex momentum_plus = midpoint(momentum);
     d.momentum.push_back(momentum);
     d.residual[k] = (d.momentum_in[k] - momentum_plus) / h + half_force;

@@ -22,8 +22,7 @@ VariationForm VariationForm::first_variation(const GiNaC::ex& F, const JetSpace&
   };
   if (GiNaC::is_a<GiNaC::add>(F))
     for (const auto& term : F) add_term(term);
-  else
-    add_term(F);
+  else add_term(F);
   return form;
 }
 

@@ -51,7 +51,8 @@ std::vector<ex> chetaev(const MechanicalSystem& s) {
     // otherwise): the work per constraint is its own size, not the number of coordinates.
     for (const JetCoordinate& c : occurring_coordinates(s.constraints[a], s.jet))
       if (c.order == m)
-        r[static_cast<std::size_t>(c.index)] += s.jet.lambda(alpha, 0) * partial_derivative(s.constraints[a], s.jet.symbol(c));
+        r[static_cast<std::size_t>(c.index)] +=
+            s.jet.lambda(alpha, 0) * partial_derivative(s.constraints[a], s.jet.symbol(c));
   }
   return r;
 }
@@ -82,20 +83,23 @@ bool suslov(const MechanicalSystem& s, std::vector<ex>& r, std::string& reason) 
   r = euler_operator(s.lagrangian, s.jet);
   if (g == 0) return true;
   if (s.dependent.size() != g) {
-    reason = "the scene names no dependent coordinates (key 'dependent'), which the suslov "
-             "model needs, one per constraint";
+    reason =
+        "the scene names no dependent coordinates (key 'dependent'), which the suslov "
+        "model needs, one per constraint";
     return false;
   }
   GiNaC::matrix A(static_cast<unsigned>(g), static_cast<unsigned>(g));
   for (std::size_t a = 0; a < g; ++a)
     for (std::size_t b = 0; b < g; ++b)
-      A(static_cast<unsigned>(a), static_cast<unsigned>(b)) = partial_derivative(s.constraints[a], 
-          s.jet.symbol({VariableKind::coordinate, s.dependent[b], 1}));
+      A(static_cast<unsigned>(a), static_cast<unsigned>(b)) =
+          partial_derivative(s.constraints[a], s.jet.symbol({VariableKind::coordinate, s.dependent[b], 1}));
   if (work_budget::is_zero(A.determinant())) {
     std::string names;
     for (int d : s.dependent) names += (names.empty() ? "" : ", ") + s.jet.coordinates()[static_cast<std::size_t>(d)];
-    reason = "the matrix A = ∂f/∂q' of the constraints with respect to the first derivatives of "
-             "the dependent coordinates (" + names + ") is identically singular";
+    reason =
+        "the matrix A = ∂f/∂q' of the constraints with respect to the first derivatives of "
+        "the dependent coordinates (" +
+        names + ") is identically singular";
     return false;
   }
   const GiNaC::matrix A_inv = A.inverse();
@@ -131,9 +135,15 @@ DerivedModel derive_model(const MechanicalSystem& system, ModelKind kind) {
   model.constraints = system.constraints;
   std::vector<ex> equations;
   switch (kind) {
-    case ModelKind::vakonomic: equations = vakonomic(system); break;
-    case ModelKind::chetaev: equations = chetaev(system); break;
-    case ModelKind::holder: equations = holder(system); break;
+    case ModelKind::vakonomic:
+      equations = vakonomic(system);
+      break;
+    case ModelKind::chetaev:
+      equations = chetaev(system);
+      break;
+    case ModelKind::holder:
+      equations = holder(system);
+      break;
     case ModelKind::suslov:
       model.constraints_are_equations = false;
       if (!suslov(system, equations, model.reason)) {
@@ -143,8 +153,7 @@ DerivedModel derive_model(const MechanicalSystem& system, ModelKind kind) {
       break;
   }
   // Generalized non-conservative forces: R_i += Q_i in every model (docs/forces.md).
-  for (std::size_t i = 0; i < system.forces.size() && i < equations.size(); ++i)
-    equations[i] += system.forces[i];
+  for (std::size_t i = 0; i < system.forces.size() && i < equations.size(); ++i) equations[i] += system.forces[i];
   if (model.constraints_are_equations)
     for (std::size_t a = 0; a < system.constraints.size(); ++a)
       model.multipliers.push_back(system.jet.multiplier_name(static_cast<int>(a)));

@@ -43,9 +43,9 @@ struct MechanicalSystem {
 struct DerivedModel {
   ModelKind kind = ModelKind::vakonomic;
   bool applicable = true;
-  std::string reason;                   ///< why not, when !applicable
-  std::vector<GiNaC::ex> equations;     ///< R_1..R_n, simplified
-  std::vector<GiNaC::ex> constraints;   ///< f^1..f^g
+  std::string reason;                     ///< why not, when !applicable
+  std::vector<GiNaC::ex> equations;       ///< R_1..R_n, simplified
+  std::vector<GiNaC::ex> constraints;     ///< f^1..f^g
   bool constraints_are_equations = true;  ///< false for suslov (monitored only)
   std::vector<std::string> multipliers;   ///< lambda1.. when the model has them
   /// The multiplier-free form on independent speeds, when asked for (reduce_to_independent_speeds;

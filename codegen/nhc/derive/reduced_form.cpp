@@ -170,8 +170,10 @@ ReducedForm reduce_to_independent_speeds(const Scene& scene, const DerivedModel&
   };
   if (!model.applicable) return refuse("the model does not apply: " + model.reason);
   if (model.kind != ModelKind::chetaev && model.kind != ModelKind::holder)
-    return refuse("the multiplier-free form is that of the chetaev and holder models (constraint forces "
-                  "lambda*df/dq'); the " + to_string(model.kind) + " model's equations are not of that form");
+    return refuse(
+        "the multiplier-free form is that of the chetaev and holder models (constraint forces "
+        "lambda*df/dq'); the " +
+        to_string(model.kind) + " model's equations are not of that form");
 
   // The constraints at velocity level, A q' + b = 0.
   std::vector<ex> velocity(static_cast<std::size_t>(g));
@@ -184,11 +186,13 @@ ReducedForm reduce_to_independent_speeds(const Scene& scene, const DerivedModel&
                     "; the holder model's multiplier-free form takes constraints on velocities only");
     // docs/reduced-form.md, "Constraints of higher order": why these are refused.
     if (m == 2)
-      return refuse("constraint " + fa + " is of order 2: it leaves every speed a state, so its multiplier-free "
+      return refuse("constraint " + fa +
+                    " is of order 2: it leaves every speed a state, so its multiplier-free "
                     "form would be on independent accelerations, not speeds, which nhc does not build (the "
                     "multiplier-free form takes constraints on positions and velocities)");
     if (m > 2)
-      return refuse("constraint " + fa + " is of order " + std::to_string(m) + ": its multiplier is fixed only by the "
+      return refuse("constraint " + fa + " is of order " + std::to_string(m) +
+                    ": its multiplier is fixed only by the "
                     "derivatives of the second-order equations, so the accelerations are part of the state "
                     "and the equations are not of the form M_r u' = f_r on speeds (the multiplier-free form "
                     "takes constraints on positions and velocities)");
@@ -251,18 +255,17 @@ ReducedForm reduce_to_independent_speeds(const Scene& scene, const DerivedModel&
   std::vector<bool> is_dependent(static_cast<std::size_t>(n), false);
   if (!speeds.empty()) {
     if (static_cast<int>(speeds.size()) != n - g)
-      throw InputError({flag, 0, 0}, "names " + std::to_string(speeds.size()) + " speeds; " + scene.name +
-                                         " has " + std::to_string(n) + " coordinates and " + std::to_string(g) +
+      throw InputError({flag, 0, 0}, "names " + std::to_string(speeds.size()) + " speeds; " + scene.name + " has " +
+                                         std::to_string(n) + " coordinates and " + std::to_string(g) +
                                          " constraints, so " + std::to_string(n - g) + " independent speeds");
     std::vector<bool> chosen(static_cast<std::size_t>(n), false);
     for (const std::string& s : speeds) {
-      const auto index = s.size() >= 2 && s.back() == '\'' ? jet.coordinate_index(s.substr(0, s.size() - 1))
-                                                           : std::nullopt;
+      const auto index =
+          s.size() >= 2 && s.back() == '\'' ? jet.coordinate_index(s.substr(0, s.size() - 1)) : std::nullopt;
       if (!index)
         throw InputError({flag, 0, 0}, "'" + s + "' is not the first derivative of a coordinate (coordinates: " +
                                            join(names) + "; write x')");
-      if (chosen[static_cast<std::size_t>(*index)])
-        throw InputError({flag, 0, 0}, "names " + s + " twice");
+      if (chosen[static_cast<std::size_t>(*index)]) throw InputError({flag, 0, 0}, "names " + s + " twice");
       chosen[static_cast<std::size_t>(*index)] = true;
     }
     for (int j = 0; j < n; ++j) is_dependent[static_cast<std::size_t>(j)] = !chosen[static_cast<std::size_t>(j)];
@@ -272,8 +275,9 @@ ReducedForm reduce_to_independent_speeds(const Scene& scene, const DerivedModel&
     out.rule = "the scene's dependent coordinates";
   } else {
     if (!evaluated)
-      return refuse("the constraint Jacobian df/dq' cannot be evaluated at the initial point to choose the "
-                    "dependent speeds; name the independent ones (--speeds)");
+      return refuse(
+          "the constraint Jacobian df/dq' cannot be evaluated at the initial point to choose the "
+          "dependent speeds; name the independent ones (--speeds)");
     const std::vector<int> columns = first_independent_columns(A0, g);
     if (static_cast<int>(columns.size()) < g)
       return refuse("the constraints' Jacobian df/dq' has rank below " + std::to_string(g) + " at the initial point");
@@ -294,9 +298,8 @@ ReducedForm reduce_to_independent_speeds(const Scene& scene, const DerivedModel&
   }
   out.dependent_names = dependent_names;
   if (evaluated && rank_of_columns(A0, out.dependent) < g) {
-    const std::string message = "the dependent speeds " + join(dependent_names) +
-                                " cannot be solved for: df/d(" + join(dependent_names) +
-                                ") is singular at the initial point";
+    const std::string message = "the dependent speeds " + join(dependent_names) + " cannot be solved for: df/d(" +
+                                join(dependent_names) + ") is singular at the initial point";
     if (!speeds.empty()) throw InputError({flag, 0, 0}, message);
     return refuse(message);
   }
@@ -380,7 +383,8 @@ ReducedForm reduce_to_independent_speeds(const Scene& scene, const DerivedModel&
     }
     ex f = 0;
     for (int j = 0; j < n; ++j)
-      if (!C[static_cast<std::size_t>(j)][p].is_zero()) f += C[static_cast<std::size_t>(j)][p] * residual[static_cast<std::size_t>(j)];
+      if (!C[static_cast<std::size_t>(j)][p].is_zero())
+        f += C[static_cast<std::size_t>(j)][p] * residual[static_cast<std::size_t>(j)];
     out.forcing.push_back(simplified_where_it_pays(f));
   }
 

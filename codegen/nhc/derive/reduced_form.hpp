@@ -12,8 +12,8 @@
 ///     M_r = −C^T K C,   f_r = C^T (K w + R|_{λ=0} − K q''),   w = [0; w_D],  A_D w_D = −h,
 ///     h = D(A q' + b) − A q''   (the constraint's acceleration terms without q'').
 /// f_r does not depend on q'' (R|_{λ=0} − K q'' is r, formed first so that R's terms in q''
-/// cancel; q'' inside a named intermediate stays); everything is evaluated with q_D' = X u + y. Entries stay over the scene's named
-/// intermediates; A_D's entries, X, y and w_D become intermediates where they are not small.
+/// cancel; q'' inside a named intermediate stays); everything is evaluated with q_D' = X u + y. Entries stay over the
+/// scene's named intermediates; A_D's entries, X, y and w_D become intermediates where they are not small.
 
 #include <ginac/ginac.h>
 
@@ -28,18 +28,18 @@ namespace nhc {
 
 struct ReducedForm {
   bool available = false;
-  std::string reason;                 ///< why not, in words, when !available
-  std::vector<int> independent;       ///< coordinate indices I (speeds u = q_I')
-  std::vector<int> dependent;         ///< coordinate indices D
-  std::vector<std::string> speeds;    ///< "phi'", … (primed names of I)
-  std::string rule;                   ///< how the speeds were chosen, in words
-  std::vector<std::string> dependent_names;  ///< "x'", … (primed names of D)
-  std::vector<GiNaC::ex> dependent_symbols;  ///< the jet symbols q_D'
-  std::vector<GiNaC::ex> dependent_speeds;  ///< q_D' = X u + y, per D
-  GiNaC::matrix mass_matrix;          ///< M_r, |I| × |I|
-  std::vector<GiNaC::ex> forcing;     ///< f_r, |I|
+  std::string reason;                         ///< why not, in words, when !available
+  std::vector<int> independent;               ///< coordinate indices I (speeds u = q_I')
+  std::vector<int> dependent;                 ///< coordinate indices D
+  std::vector<std::string> speeds;            ///< "phi'", … (primed names of I)
+  std::string rule;                           ///< how the speeds were chosen, in words
+  std::vector<std::string> dependent_names;   ///< "x'", … (primed names of D)
+  std::vector<GiNaC::ex> dependent_symbols;   ///< the jet symbols q_D'
+  std::vector<GiNaC::ex> dependent_speeds;    ///< q_D' = X u + y, per D
+  GiNaC::matrix mass_matrix;                  ///< M_r, |I| × |I|
+  std::vector<GiNaC::ex> forcing;             ///< f_r, |I|
   std::vector<std::string> multiplier_names;  ///< "lambda1" (chetaev), "lambda1'" (holder)
-  std::vector<GiNaC::ex> multipliers;  ///< λ of q, u, u' (u' = q_I''), per constraint
+  std::vector<GiNaC::ex> multipliers;         ///< λ of q, u, u' (u' = q_I''), per constraint
   /// Every expression above, for the "where" list of the printers.
   std::vector<GiNaC::ex> expressions() const;
 };

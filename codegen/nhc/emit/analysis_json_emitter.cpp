@@ -46,9 +46,11 @@ void write_one(JsonWriter& json, const ModelAnalysis& m) {
   ints("c", offsets ? a->offsets.c : std::vector<int>{});
   ints("d", offsets ? a->offsets.d : std::vector<int>{});
   json.key("index");
-  if (offsets) json.value(a->index); else json.null();
+  if (offsets) json.value(a->index);
+  else json.null();
   json.key("dof");
-  if (offsets) json.value(a->dof); else json.null();
+  if (offsets) json.value(a->dof);
+  else json.null();
   json.key("initial_values_needed").begin_array();
   if (offsets)
     for (const JetCoordinate& c : a->initial_values_needed)
@@ -87,8 +89,7 @@ void write_one(JsonWriter& json, const ModelAnalysis& m) {
 
 }  // namespace
 
-void write_analysis_json(std::ostream& out, const Scene& /*scene*/,
-                         const std::vector<ModelAnalysis>& analyses) {
+void write_analysis_json(std::ostream& out, const Scene& /*scene*/, const std::vector<ModelAnalysis>& analyses) {
   JsonWriter json(out);
   if (analyses.size() == 1) {
     write_one(json, analyses.front());

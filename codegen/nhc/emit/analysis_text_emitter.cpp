@@ -96,15 +96,14 @@ void write_one(std::ostream& out, const Scene& scene, const ModelAnalysis& m) {
     std::vector<std::string> needed;
     for (const auto& c : a.initial_values_needed)
       needed.push_back(prime_name(a.system.jet->variable_name(c.kind, c.index), c.order));
-    out << "  initial values needed (" << needed.size() << "): "
-        << (needed.empty() ? std::string("none") : join_names(needed)) << "\n";
+    out << "  initial values needed (" << needed.size()
+        << "): " << (needed.empty() ? std::string("none") : join_names(needed)) << "\n";
     if (a.hidden_constraints.empty()) {
       out << "  hidden constraints: none\n";
     } else {
       out << "  hidden constraints (" << a.hidden_constraints.size() << "):\n";
       for (const auto& h : a.hidden_constraints)
-        out << "    " << h.name << ": "
-            << to_text(differentiated_equation(a, h.equation, h.order)) << " = 0\n";
+        out << "    " << h.name << ": " << to_text(differentiated_equation(a, h.equation, h.order)) << " = 0\n";
     }
   }
   if (m.initial) {
@@ -112,18 +111,17 @@ void write_one(std::ostream& out, const Scene& scene, const ModelAnalysis& m) {
     for (const InitialValue& v : m.initial->values)
       out << "    " << v.name << " = " << number(v.value) << " (" << to_string(v.source) << ")\n";
     std::vector<std::string> leading;
-    for (const InitialValue& v : m.initial->leading)
-      leading.push_back(v.name + " = " + number(v.value));
-    out << "    leading derivatives " << (m.initial->leading_solved ? "" : "(not solved) ")
-        << join_names(leading) << "\n";
+    for (const InitialValue& v : m.initial->leading) leading.push_back(v.name + " = " + number(v.value));
+    out << "    leading derivatives " << (m.initial->leading_solved ? "" : "(not solved) ") << join_names(leading)
+        << "\n";
     for (const auto& n : m.initial->notes) out << "  note: " << n << "\n";
   }
   if (m.jacobian) {
     out << "  system Jacobian at t0: condition number "
         << (std::isfinite(m.jacobian_condition) ? number(m.jacobian_condition) : std::string("infinite"))
-        << (m.jacobian_condition_estimated
-                ? " (1-norm estimate: above " + std::to_string(kExactConditionLimit) + " unknowns the exact 2-norm one is not computed)"
-                : std::string())
+        << (m.jacobian_condition_estimated ? " (1-norm estimate: above " + std::to_string(kExactConditionLimit) +
+                                                 " unknowns the exact 2-norm one is not computed)"
+                                           : std::string())
         << "\n";
   }
   for (const auto& e : m.errors) out << "  error: " << e << "\n";
@@ -132,10 +130,9 @@ void write_one(std::ostream& out, const Scene& scene, const ModelAnalysis& m) {
 
 }  // namespace
 
-void write_analysis_text(std::ostream& out, const Scene& scene,
-                         const std::vector<ModelAnalysis>& analyses) {
-  out << "scene " << scene.name << ": " << scene.coordinate_count() << " coordinates, "
-      << scene.constraint_count() << " constraints; Pryce's structural analysis\n";
+void write_analysis_text(std::ostream& out, const Scene& scene, const std::vector<ModelAnalysis>& analyses) {
+  out << "scene " << scene.name << ": " << scene.coordinate_count() << " coordinates, " << scene.constraint_count()
+      << " constraints; Pryce's structural analysis\n";
   for (const auto& m : analyses) write_one(out, scene, m);
 }
 

@@ -4,8 +4,7 @@
 
 namespace nhc {
 
-std::vector<GiNaC::ex> derivation_intermediates(const Scene& scene,
-                                                const std::vector<DerivedModel>& models) {
+std::vector<GiNaC::ex> derivation_intermediates(const Scene& scene, const std::vector<DerivedModel>& models) {
   std::vector<GiNaC::ex> printed = {scene.lagrangian};
   printed.insert(printed.end(), scene.constraints.begin(), scene.constraints.end());
   for (const DerivedModel& model : models) {

@@ -13,9 +13,12 @@ namespace nhc {
 
 std::string to_string(JacobianKind kind) {
   switch (kind) {
-    case JacobianKind::dense: return "dense";
-    case JacobianKind::sparse: return "sparse";
-    case JacobianKind::none: return "none";
+    case JacobianKind::dense:
+      return "dense";
+    case JacobianKind::sparse:
+      return "sparse";
+    case JacobianKind::none:
+      return "none";
   }
   return "dense";
 }
@@ -71,24 +74,24 @@ std::string generated_header_file_name(const std::string& scene_name, ModelKind 
   return generated_namespace_name(scene_name, model) + ".hpp";
 }
 
-GeneratedHeader generate_header(const Scene& scene, const Index1System& system,
-                                const HeaderOptions& options, PreparedModel* prepared) {
+GeneratedHeader generate_header(const Scene& scene, const Index1System& system, const HeaderOptions& options,
+                                PreparedModel* prepared) {
   const work_budget::Stage stage("generating code (Jacobians, CSE, printing)");
   if (!system.jet) throw MathError("index-1 system without a jet space");
   // The scene name becomes a namespace and a file name: only a validated identifier may. (Scenes
   // built in code skip the loader's checks; every other name only enters comments and literals.)
   if (!is_valid_identifier(scene.name))
     throw InputError({scene.source_path.empty() ? "scene" : scene.source_path, 0, 0},
-                     "invalid scene name '" + sanitize_comment(scene.name) +
-                         "': it must be a C++ identifier");
+                     "invalid scene name '" + sanitize_comment(scene.name) + "': it must be a C++ identifier");
   const size_t n = system.states.size();
   if (system.residuals.size() != n || system.y.size() != n || system.yp.size() != n)
     throw MathError("inconsistent index-1 system: " + std::to_string(n) + " states, " +
                     std::to_string(system.residuals.size()) + " residuals");
   PreparedModel model =
-      refusing_at(scene.file_location(), "generating code for the " + to_string(system.model) + " model",
-                  [&] { return prepare_model(scene, system, options.jacobian, options.sensitivities,
-                                                       options.variational, options.reduced); });
+      refusing_at(scene.file_location(), "generating code for the " + to_string(system.model) + " model", [&] {
+        return prepare_model(scene, system, options.jacobian, options.sensitivities, options.variational,
+                             options.reduced);
+      });
   GeneratedHeader header;
   header.namespace_name = model.namespace_name;
   header.file_name = generated_header_file_name(scene.name, system.model);

@@ -51,7 +51,7 @@ struct GeneratedHeader {
   std::string file_name;       ///< `<scene>_<model>.hpp`
   std::string namespace_name;  ///< `<scene>_<model>`, inside `nhc_gen`
   std::string text;
-  OperationCount before_cse;   ///< every emitted function evaluated as trees
+  OperationCount before_cse;  ///< every emitted function evaluated as trees
   OperationCount after_cse;
 };
 
@@ -66,8 +66,8 @@ std::string generated_header_file_name(const std::string& scene_name, ModelKind 
 /// banner names the scene file without its directory, and no time stamp).
 /// `prepared`, when given, receives the model the header was printed from (what an interpreted
 /// model runs, nhc/jit/interpreted_model.hpp).
-GeneratedHeader generate_header(const Scene& scene, const Index1System& system,
-                                const HeaderOptions& options, PreparedModel* prepared = nullptr);
+GeneratedHeader generate_header(const Scene& scene, const Index1System& system, const HeaderOptions& options,
+                                PreparedModel* prepared = nullptr);
 
 /// Text safe inside a `//` comment: one line, no `*/`, no backslash (line splicing), ASCII only.
 std::string sanitize_comment(const std::string& text);

@@ -74,8 +74,8 @@ void print_banner(std::ostream& out, const Scene& scene, const Index1System& sys
       << sanitize_comment(scene_file) << ", model " << m.model << ".\n"
       << "// Do not edit: regenerate with\n"
       << "//   nhc generate " << sanitize_comment(scene_file) << " --model " << m.model << " --jacobian "
-      << to_string(m.jacobian) << (m.sensitivities ? " --sensitivities" : "")
-      << (m.variational ? " --variational" : "") << "\n"
+      << to_string(m.jacobian) << (m.sensitivities ? " --sensitivities" : "") << (m.variational ? " --variational" : "")
+      << "\n"
       << "// Layout: docs/generated-code.md.\n";
   if (splittable) out << kTranslationUnitsBanner << kMaxTranslationUnits << " translation units (NHC_PART).\n";
   out << "//\n"
@@ -117,8 +117,7 @@ void print_metadata(std::ostream& out, const Scene& scene, const Index1System& s
       << "inline constexpr int n_speeds = " << m.n_speeds << ";\n"
       << "inline constexpr const char* model_name = " << cpp_string_literal(m.model) << ";\n"
       << "inline constexpr const char* scene_name = " << cpp_string_literal(scene.name) << ";\n\n"
-      << part0_begin(splittable)
-      << "/// y[k] holds the state_order[k]-th derivative of variable state_variable[k]\n"
+      << part0_begin(splittable) << "/// y[k] holds the state_order[k]-th derivative of variable state_variable[k]\n"
       << "/// (0..n_coordinates-1: coordinates, then multipliers).\n"
       << "inline constexpr const char* state_names[n_states] = " << strings(layout.state_names) << ";\n"
       << "inline constexpr int state_variable[n_states] = " << ints(layout.state_variable) << ";\n"
@@ -134,8 +133,7 @@ void print_metadata(std::ostream& out, const Scene& scene, const Index1System& s
         << "inline constexpr const char* parameter_names[1] = {nullptr};\n"
         << "inline constexpr double default_parameters[1] = {0.0};\n";
   }
-  if (m.n_inputs > 0)
-    out << "inline constexpr const char* input_names[n_inputs] = " << strings(m.input_names) << ";\n";
+  if (m.n_inputs > 0) out << "inline constexpr const char* input_names[n_inputs] = " << strings(m.input_names) << ";\n";
   if (m.n_hidden > 0)
     out << "inline constexpr const char* hidden_names[n_hidden] = " << strings(layout.hidden_names) << ";\n";
   if (m.n_invariants > 0)
@@ -156,12 +154,10 @@ void print_jacobian_structure(std::ostream& out, const PreparedModel& m, bool sp
   const SymbolicJacobian& jacobian = m.symbolic_jacobian;
   out << "\n/// Compressed-column structure of J (the entries not identically zero).\n"
       << "inline constexpr int jacobian_nnz = " << jacobian.rowind.size() << ";\n"
-      << part0_begin(splittable)
-      << "inline constexpr int jacobian_colptr[n_states + 1] = " << ints(jacobian.colptr) << ";\n";
-  if (jacobian.rowind.empty())
-    out << "inline constexpr int jacobian_rowind[1] = {0};  // no nonzeros: placeholder\n";
-  else
-    out << "inline constexpr int jacobian_rowind[jacobian_nnz] = " << ints(jacobian.rowind) << ";\n";
+      << part0_begin(splittable) << "inline constexpr int jacobian_colptr[n_states + 1] = " << ints(jacobian.colptr)
+      << ";\n";
+  if (jacobian.rowind.empty()) out << "inline constexpr int jacobian_rowind[1] = {0};  // no nonzeros: placeholder\n";
+  else out << "inline constexpr int jacobian_rowind[jacobian_nnz] = " << ints(jacobian.rowind) << ";\n";
   out << part0_end(splittable);
 }
 
@@ -180,8 +176,8 @@ std::string print_function(const Scene& scene, const PreparedModel& m, const Fun
     const bool read = block.used_inputs.count(name) > 0 || type == "double*";
     parameters.push_back(type + " " + (read ? name : "/*" + name + "*/"));
   }
-  return f.doc + "inline void " + f.name + "(" + joined(parameters, ", ") + ") noexcept {\n" + f.prologue +
-         block.code + "}\n";
+  return f.doc + "inline void " + f.name + "(" + joined(parameters, ", ") + ") noexcept {\n" + f.prologue + block.code +
+         "}\n";
 }
 
 /// For K = 1 .. kMaxTranslationUnits parts, the part (0 .. K-1) of each function: the longest
@@ -233,8 +229,7 @@ void print_functions(std::ostream& out, const PreparedModel& m, const std::vecto
   out << "\n#ifdef NHC_PART\n"
       << "/// Compiled as NHC_PARTS translation units: part k enters the functions it defines into\n"
       << "/// the table (table_part_k); make_model_table, in part 0, calls them all.\n";
-  for (int k = 0; k < kMaxTranslationUnits; ++k)
-    out << "void table_part_" << k << "(nhc_model_table& t) noexcept;\n";
+  for (int k = 0; k < kMaxTranslationUnits; ++k) out << "void table_part_" << k << "(nhc_model_table& t) noexcept;\n";
   for (int k = 0; k < kMaxTranslationUnits; ++k) {
     out << "#if NHC_PART == " << k << "\n"
         << "void table_part_" << k << "([[maybe_unused]] nhc_model_table& t) noexcept {\n";
@@ -302,7 +297,8 @@ void print_table(std::ostream& out, const PreparedModel& m, bool splittable) {
       {"mass_matrix", pointer("mass_matrix")},
       {"forcing", pointer("forcing")},
   };
-  out << "\n" << part0_begin(splittable)
+  out << "\n"
+      << part0_begin(splittable)
       << "/// Everything above as the C table of docs/generated-code.md, filled by field name.\n"
       << "inline nhc_model_table make_model_table() noexcept {\n"
       << "  nhc_model_table t{};\n";

@@ -49,8 +49,7 @@ void write_reduced_json(JsonWriter& json, const ReducedForm& r) {
 
 }  // namespace
 
-void write_derivation_json(std::ostream& out, const Scene& scene,
-                           const std::vector<DerivedModel>& models) {
+void write_derivation_json(std::ostream& out, const Scene& scene, const std::vector<DerivedModel>& models) {
   const JetSpace& jet = *scene.jet;
   JsonWriter json(out);
   json.begin_object();
@@ -108,8 +107,7 @@ void write_derivation_json(std::ostream& out, const Scene& scene,
     json.end_array();
     // The equations' names, as the text and LaTeX forms write them: R_<coordinate>.
     json.key("equation_names").begin_array();
-    for (std::size_t i = 0; i < model.equations.size(); ++i)
-      json.value("R_" + scene.jet->coordinates().at(i));
+    for (std::size_t i = 0; i < model.equations.size(); ++i) json.value("R_" + scene.jet->coordinates().at(i));
     json.end_array();
     // Every model lists its constraints under the same key; "constraints_solved" says whether
     // the model solves them (vakonomic, chetaev, holder) or only monitors them (suslov).

@@ -11,11 +11,21 @@ std::string JsonWriter::quote(const std::string& s) {
   std::string out = "\"";
   for (unsigned char c : s) {
     switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\t': out += "\\t"; break;
-      case '\r': out += "\\r"; break;
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
+      case '\r':
+        out += "\\r";
+        break;
       default:
         if (c < 0x20) {
           char buf[8];
@@ -29,9 +39,7 @@ std::string JsonWriter::quote(const std::string& s) {
   return out + "\"";
 }
 
-void JsonWriter::newline() {
-  out_ << '\n' << std::string(2 * stack_.size(), ' ');
-}
+void JsonWriter::newline() { out_ << '\n' << std::string(2 * stack_.size(), ' '); }
 
 void JsonWriter::before_value() {
   if (after_key_) {

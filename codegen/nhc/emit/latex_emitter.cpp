@@ -16,8 +16,7 @@ namespace {
 std::string latex_text(const std::string& s) {
   std::string out;
   for (char c : s) {
-    if (c == '_' || c == '&' || c == '%' || c == '$' || c == '#' || c == '{' || c == '}')
-      out += '\\';
+    if (c == '_' || c == '&' || c == '%' || c == '$' || c == '#' || c == '{' || c == '}') out += '\\';
     out += c;
   }
   return out;
@@ -217,11 +216,12 @@ void write_reduced_latex(std::ostream& out, const JetSpace& jet, const ReducedFo
   for (unsigned i = 0; i < r.forcing.size(); ++i) align.equation("f_{" + speed(i) + "}", r.forcing[i], "");
   for (std::size_t a = 0; a < r.multipliers.size(); ++a)
     align.equation(r.multiplier_names[a].back() == '\'' ? "\\dot\\lambda_{" + std::to_string(a + 1) + "}"
-                                                         : "\\lambda_{" + std::to_string(a + 1) + "}",
+                                                        : "\\lambda_{" + std::to_string(a + 1) + "}",
                    r.multipliers[a], "");
 }
 
-void write_latex(std::ostream& out, const Scene& scene, const std::vector<DerivedModel>& models, const LatexForm& form) {
+void write_latex(std::ostream& out, const Scene& scene, const std::vector<DerivedModel>& models,
+                 const LatexForm& form) {
   const JetSpace& jet = *scene.jet;
   {
     AlignWriter align(out, form.heading(out, 0, "Scene", scene.name), form.rows());
@@ -255,8 +255,7 @@ void write_latex(std::ostream& out, const Scene& scene, const std::vector<Derive
     out << "\\subsection*{Where}\n"
            "Each quantity after the ones it uses (\\texttt{--format json} lists their expressions, "
            "\\texttt{nhc derive --expand} substitutes all).\n";
-  else
-    heading = "&\\text{where}";
+  else heading = "&\\text{where}";
   AlignWriter align(out, heading, form.rows());
   for (const GiNaC::ex& d : where) {
     const auto& i = GiNaC::ex_to<Intermediate>(d);

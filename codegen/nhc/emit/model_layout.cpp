@@ -12,7 +12,8 @@ ModelLayout model_layout(const Scene& scene, const Index1System& system, const P
   }
   layout.residual_names = system.residual_names;
   layout.residual_names.resize(static_cast<std::size_t>(m.n_states));
-  for (int k : m.parameters) layout.default_parameters.push_back(scene.parameter_values.at(static_cast<std::size_t>(k)));
+  for (int k : m.parameters)
+    layout.default_parameters.push_back(scene.parameter_values.at(static_cast<std::size_t>(k)));
   if (m.n_hidden > 0) {
     layout.hidden_names = system.hidden_constraint_names;
     layout.hidden_names.resize(static_cast<std::size_t>(m.n_hidden));

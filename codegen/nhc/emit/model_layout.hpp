@@ -15,9 +15,9 @@ namespace nhc {
 
 struct ModelLayout {
   std::vector<std::string> state_names;
-  std::vector<int> state_variable;       ///< 0..n_coordinates-1: coordinates, then multipliers
+  std::vector<int> state_variable;  ///< 0..n_coordinates-1: coordinates, then multipliers
   std::vector<int> state_order;
-  std::vector<double> differential_id;   ///< IDA id: 1.0 differential, 0.0 algebraic
+  std::vector<double> differential_id;  ///< IDA id: 1.0 differential, 0.0 algebraic
   std::vector<std::string> residual_names;
   std::vector<double> default_parameters;  ///< of PreparedModel::parameters, in its order
   std::vector<std::string> hidden_names;

@@ -80,8 +80,8 @@ SymbolicJacobian index1_jacobian(const Index1System& system) {
     for (int i : rows[static_cast<size_t>(j)]) {
       const GiNaC::ex& f = system.residuals[static_cast<size_t>(i)];
       const auto row = static_cast<size_t>(i), column = static_cast<size_t>(j);
-      GiNaC::ex entry = partial(f, system.y[column], has(in_y[row], j)) +
-                        jac.cj * partial(f, system.yp[column], has(in_yp[row], j));
+      GiNaC::ex entry =
+          partial(f, system.y[column], has(in_y[row], j)) + jac.cj * partial(f, system.yp[column], has(in_yp[row], j));
       if (entry.is_zero()) continue;
       jac.rowind.push_back(i);
       jac.values.push_back(entry);
@@ -114,14 +114,12 @@ std::string primed(const std::string& variable, int order) { return base::primed
 
 /// Symbol → name in scene notation: t, parameter names, x' for jet symbols, and the jet name of
 /// each state symbol y[k] of `system` when given.
-std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> scene_names(const JetSpace& jet,
-                                                                const Index1System* system) {
+std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> scene_names(const JetSpace& jet, const Index1System* system) {
   std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> names;
   names[jet.time()] = "t";
   for (int k = 0; k < static_cast<int>(jet.parameters().size()); ++k)
     names[jet.parameter(k)] = jet.parameters()[static_cast<size_t>(k)];
-  for (const auto& [c, symbol] : jet.symbols())
-    names[symbol] = primed(jet.variable_name(c.kind, c.index), c.order);
+  for (const auto& [c, symbol] : jet.symbols()) names[symbol] = primed(jet.variable_name(c.kind, c.index), c.order);
   if (system)
     for (const auto& [jet_symbol, state] : system->jet_to_state)
       if (const auto c = jet.classify(jet_symbol))
@@ -135,7 +133,8 @@ std::vector<std::string> scene_notation(const std::vector<GiNaC::ex>& expression
   // One table of names for all: building it is linear in the jet space, not once per expression. A named
   // intermediate is printed by its name (its expression can be exponentially long written out).
   auto names = scene_names(jet, nullptr);
-  for (const GiNaC::ex& d : intermediates_in_order(expressions)) names[d] = GiNaC::ex_to<Intermediate>(d).intermediate_name();
+  for (const GiNaC::ex& d : intermediates_in_order(expressions))
+    names[d] = GiNaC::ex_to<Intermediate>(d).intermediate_name();
   ExpressionDag dag(std::move(names));
   std::vector<std::string> printed;
   for (const GiNaC::ex& e : expressions) printed.push_back(print_cpp_expression(dag, dag.add(e)));
@@ -145,7 +144,8 @@ std::vector<std::string> scene_notation(const std::vector<GiNaC::ex>& expression
 std::vector<SingularQuantity> singular_quantities(const Index1System& system) {
   auto depends_on = [](const GiNaC::ex& e, const std::vector<GiNaC::realsymbol>& symbols) {
     const auto through = symbols_through(e);
-    return std::any_of(symbols.begin(), symbols.end(), [&](const GiNaC::realsymbol& s) { return through.count(s) > 0; });
+    return std::any_of(symbols.begin(), symbols.end(),
+                       [&](const GiNaC::realsymbol& s) { return through.count(s) > 0; });
   };
   // Lowered into a DAG of their own: it names them in scene notation, removes duplicates and
   // gives them an order that does not depend on GiNaC's (run-dependent) term order.
@@ -159,22 +159,20 @@ std::vector<SingularQuantity> singular_quantities(const Index1System& system) {
   std::vector<GiNaC::ex> sources = system.residuals;
   sources.insert(sources.end(), system.hidden_constraints.begin(), system.hidden_constraints.end());
   // The expressions of the intermediates they use hold radicals and logarithms too.
-  for (const GiNaC::ex& d : intermediates_in_order(sources)) sources.push_back(GiNaC::ex_to<Intermediate>(d).expression());
+  for (const GiNaC::ex& d : intermediates_in_order(sources))
+    sources.push_back(GiNaC::ex_to<Intermediate>(d).expression());
   for (const GiNaC::ex& e : sources)
     for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it) {
       const GiNaC::ex& sub = *it;
-      if (GiNaC::is_exactly_a<GiNaC::power>(sub) &&
-          GiNaC::is_exactly_a<GiNaC::numeric>(sub.op(1))) {
+      if (GiNaC::is_exactly_a<GiNaC::power>(sub) && GiNaC::is_exactly_a<GiNaC::numeric>(sub.op(1))) {
         const auto& exponent = GiNaC::ex_to<GiNaC::numeric>(sub.op(1));
         if (exponent.is_negative() || !exponent.is_integer()) consider(sub.op(0));
-      } else if (GiNaC::is_a<GiNaC::function>(sub) &&
-                 GiNaC::ex_to<GiNaC::function>(sub).get_name() == "log") {
+      } else if (GiNaC::is_a<GiNaC::function>(sub) && GiNaC::ex_to<GiNaC::function>(sub).get_name() == "log") {
         consider(sub.op(0));
       }
     }
   std::vector<SingularQuantity> out;
-  for (const auto& [key, expression] : found)
-    out.push_back({print_cpp_expression(dag, key.second), expression});
+  for (const auto& [key, expression] : found) out.push_back({print_cpp_expression(dag, key.second), expression});
   return out;
 }
 
@@ -246,16 +244,16 @@ FunctionPlan residual_function(const Index1System& system, ExpressionDag& dag) {
   f.parameters = kStateInputs;
   f.parameters.push_back({"double*", "r"});
   for (size_t i = 0; i < system.residuals.size(); ++i)
-    f.assignments.push_back({"r[" + std::to_string(i) + "]", dag.add(system.residuals[i]),
-                             name_or_empty(system.residual_names, i)});
+    f.assignments.push_back(
+        {"r[" + std::to_string(i) + "]", dag.add(system.residuals[i]), name_or_empty(system.residual_names, i)});
   return f;
 }
 
 /// J = dF/dy + cj dF/dy': dense column-major, or the compressed-column values.
 FunctionPlan jacobian_function(const SymbolicJacobian& jacobian, bool dense, ExpressionDag& dag) {
   FunctionPlan f;
-  f.parameters = {{"double", "t"},  {"const double*", "y"}, {"const double*", "yp"},
-                  {"double", "cj"}, {"const double*", "p"}};
+  f.parameters = {
+      {"double", "t"}, {"const double*", "y"}, {"const double*", "yp"}, {"double", "cj"}, {"const double*", "p"}};
   if (dense) {
     f.name = "jacobian";
     f.doc = "/// J = dF/dy + cj dF/dy', column-major n_states x n_states.\n";
@@ -264,8 +262,9 @@ FunctionPlan jacobian_function(const SymbolicJacobian& jacobian, bool dense, Exp
     f.zero_fill = jacobian.size * jacobian.size;
   } else {
     f.name = "jacobian_values";
-    f.doc = "/// Nonzero values of J = dF/dy + cj dF/dy' in compressed-column order\n"
-            "/// (jacobian_colptr, jacobian_rowind).\n";
+    f.doc =
+        "/// Nonzero values of J = dF/dy + cj dF/dy' in compressed-column order\n"
+        "/// (jacobian_colptr, jacobian_rowind).\n";
     f.parameters.push_back({"double*", "values"});
   }
   const size_t n = static_cast<size_t>(jacobian.size);
@@ -283,9 +282,10 @@ FunctionPlan jacobian_function(const SymbolicJacobian& jacobian, bool dense, Exp
 FunctionPlan hidden_constraints_function(const Index1System& system, ExpressionDag& dag) {
   FunctionPlan g;
   g.name = "hidden_constraints";
-  g.doc = "/// Hidden constraints g(t, y) = 0 (derivatives of the equations the index-1 form\n"
-          "/// differentiated away); they fix consistent initial values and drift during\n"
-          "/// integration.\n";
+  g.doc =
+      "/// Hidden constraints g(t, y) = 0 (derivatives of the equations the index-1 form\n"
+      "/// differentiated away); they fix consistent initial values and drift during\n"
+      "/// integration.\n";
   g.parameters = {{"double", "t"}, {"const double*", "y"}, {"const double*", "p"}, {"double*", "g"}};
   for (size_t i = 0; i < system.hidden_constraints.size(); ++i)
     g.assignments.push_back({"g[" + std::to_string(i) + "]", dag.add(system.hidden_constraints[i]),
@@ -309,8 +309,9 @@ FunctionPlan hidden_constraints_jacobian_function(const Index1System& system, Ex
   for (size_t r = 0; r < h; ++r)
     for (const auto& [k, value] : system.hidden_constraint_jacobian[r])
       entries.emplace_back(static_cast<size_t>(k), r, &value);
-  std::sort(entries.begin(), entries.end(),
-            [](const auto& a, const auto& b) { return std::tie(std::get<0>(a), std::get<1>(a)) < std::tie(std::get<0>(b), std::get<1>(b)); });
+  std::sort(entries.begin(), entries.end(), [](const auto& a, const auto& b) {
+    return std::tie(std::get<0>(a), std::get<1>(a)) < std::tie(std::get<0>(b), std::get<1>(b));
+  });
   for (const auto& [k, r, entry] : entries)
     if (!entry->is_zero())
       G.assignments.push_back({"G[" + std::to_string(r + h * k) + "]", dag.add(*entry),
@@ -325,8 +326,8 @@ FunctionPlan invariants_function(const std::vector<ModelInvariant>& invariants, 
   f.parameters = kStateInputs;
   f.parameters.push_back({"double*", "out"});
   for (size_t i = 0; i < invariants.size(); ++i)
-    f.assignments.push_back({"out[" + std::to_string(i) + "]", dag.add(invariants[i].in_states),
-                             sanitize_comment(invariants[i].name)});
+    f.assignments.push_back(
+        {"out[" + std::to_string(i) + "]", dag.add(invariants[i].in_states), sanitize_comment(invariants[i].name)});
   return f;
 }
 
@@ -348,11 +349,13 @@ FunctionPlan reference_function(const SceneReference::Entries& reference, const 
 FunctionPlan default_inputs_function(const std::vector<SceneInput>& inputs, ExpressionDag& dag) {
   FunctionPlan f;
   f.name = "default_inputs";
-  f.doc = "/// The inputs' default signals u(t), in input_names order (what p[n_parameters + k] holds\n"
-          "/// unless the application sets the input).\n";
+  f.doc =
+      "/// The inputs' default signals u(t), in input_names order (what p[n_parameters + k] holds\n"
+      "/// unless the application sets the input).\n";
   f.parameters = {{"double", "t"}, {"const double*", "p"}, {"double*", "u"}};
   for (size_t k = 0; k < inputs.size(); ++k)
-    f.assignments.push_back({"u[" + std::to_string(k) + "]", dag.add(inputs[k].default_signal), sanitize_comment(inputs[k].name)});
+    f.assignments.push_back(
+        {"u[" + std::to_string(k) + "]", dag.add(inputs[k].default_signal), sanitize_comment(inputs[k].name)});
   return f;
 }
 
@@ -361,8 +364,9 @@ FunctionPlan default_inputs_function(const std::vector<SceneInput>& inputs, Expr
 FunctionPlan singular_quantities_function(const std::vector<SingularQuantity>& singular, ExpressionDag& dag) {
   FunctionPlan f;
   f.name = "singular_quantities";
-  f.doc = "/// Quantities that vanish where the equations are singular (bases of square roots,\n"
-          "/// of negative powers and arguments of logarithms), in singular_names order.\n";
+  f.doc =
+      "/// Quantities that vanish where the equations are singular (bases of square roots,\n"
+      "/// of negative powers and arguments of logarithms), in singular_names order.\n";
   f.parameters = {{"double", "t"}, {"const double*", "y"}, {"const double*", "p"}, {"double*", "s"}};
   for (size_t i = 0; i < singular.size(); ++i)
     f.assignments.push_back({"s[" + std::to_string(i) + "]", dag.add(singular[i].expression), ""});
@@ -401,7 +405,7 @@ FunctionPlan momentum_function(const DiscreteLagrangeDAlembert& step, const Inde
 }
 
 const std::vector<std::pair<std::string, std::string>> kStepInputs = {
-    {"double", "t"},         {"double", "h"},       {"double", "impulse_weight"}, {"const double*", "dq_previous"},
+    {"double", "t"},        {"double", "h"},        {"double", "impulse_weight"}, {"const double*", "dq_previous"},
     {"const double*", "q"}, {"const double*", "m"}, {"const double*", "x"},       {"const double*", "p"}};
 
 /// The discrete Lagrange–d'Alembert residual in x = (Δq_k, λ_k) (discrete_lagrange_dalembert.hpp).
@@ -409,8 +413,9 @@ FunctionPlan variational_residual_function(const DiscreteLagrangeDAlembert& step
                                            ExpressionDag& dag) {
   FunctionPlan f;
   f.name = "variational_residual";
-  f.doc = "/// The discrete Lagrange-d'Alembert step r(x) = 0 in x = (q_{k+1} - q_k, lambda_k), n_coordinates +\n"
-          "/// n_multipliers entries (docs/variational.md).\n";
+  f.doc =
+      "/// The discrete Lagrange-d'Alembert step r(x) = 0 in x = (q_{k+1} - q_k, lambda_k), n_coordinates +\n"
+      "/// n_multipliers entries (docs/variational.md).\n";
   f.parameters = kStepInputs;
   f.parameters.push_back({"double*", "r"});
   const int n = system.jet->coordinate_count();
@@ -454,8 +459,8 @@ FunctionPlan variational_momentum_function(const DiscreteLagrangeDAlembert& step
   FunctionPlan f;
   f.name = "variational_momentum";
   f.doc = "/// The discrete momentum m_{k+1} at q_{k+1} after the step from q_k to x.\n";
-  f.parameters = {{"double", "t"}, {"double", "h"}, {"const double*", "q"}, {"const double*", "x"},
-                  {"const double*", "p"}, {"double*", "m_next"}};
+  f.parameters = {{"double", "t"},        {"double", "h"},        {"const double*", "q"},
+                  {"const double*", "x"}, {"const double*", "p"}, {"double*", "m_next"}};
   for (std::size_t i = 0; i < step.momentum_out.size(); ++i)
     f.assignments.push_back({"m_next[" + std::to_string(i) + "]", dag.add(step.momentum_out[i]),
                              sanitize_comment(system.jet->coordinates().at(i))});
@@ -518,8 +523,8 @@ bool PreparedModel::has_function(const std::string& name) const {
   return std::any_of(functions.begin(), functions.end(), [&](const FunctionPlan& f) { return f.name == name; });
 }
 
-PreparedModel prepare_model(const Scene& scene, const Index1System& system, JacobianKind jacobian,
-                            bool sensitivities, bool variational, const ReducedForm* reduced) {
+PreparedModel prepare_model(const Scene& scene, const Index1System& system, JacobianKind jacobian, bool sensitivities,
+                            bool variational, const ReducedForm* reduced) {
   PreparedModel m;
   m.model = to_string(system.model);
   m.namespace_name = generated_namespace_name(scene.name, system.model);
@@ -566,8 +571,8 @@ PreparedModel prepare_model(const Scene& scene, const Index1System& system, Jaco
   for (const SceneInput& u : scene.inputs) m.input_names.push_back(u.name);
 
   // Lowered in the order the functions are printed.
-  m.dag = ExpressionDag(
-      function_inputs(system, m.parameters, m.symbolic_jacobian.cj, step ? &*step : nullptr, reduced));
+  m.dag =
+      ExpressionDag(function_inputs(system, m.parameters, m.symbolic_jacobian.cj, step ? &*step : nullptr, reduced));
   m.functions.push_back(residual_function(system, m.dag));
   if (dense || sparse) m.functions.push_back(jacobian_function(m.symbolic_jacobian, dense, m.dag));
   if (m.n_hidden > 0) {
@@ -582,10 +587,9 @@ PreparedModel prepare_model(const Scene& scene, const Index1System& system, Jaco
   m.sensitivities = sensitivities && m.n_parameters > 0;
   if (m.sensitivities) {
     const ParameterJacobian pj = parameter_jacobian(system, m.parameters, scene.inputs);
-    m.functions.push_back(parameter_matrix_function("residual_parameter_jacobian",
-                                                    "/// dF/dp, column-major n_states x n_parameters.\n", "Fp",
-                                                    m.n_states, m.n_parameters, pj.residual, pj.residual_nonzeros,
-                                                    kStateInputs, m.dag));
+    m.functions.push_back(parameter_matrix_function(
+        "residual_parameter_jacobian", "/// dF/dp, column-major n_states x n_parameters.\n", "Fp", m.n_states,
+        m.n_parameters, pj.residual, pj.residual_nonzeros, kStateInputs, m.dag));
     if (m.n_hidden > 0)
       m.functions.push_back(parameter_matrix_function(
           "hidden_parameter_jacobian", "/// dg/dp of the hidden constraints, column-major n_hidden x n_parameters.\n",
@@ -607,9 +611,9 @@ PreparedModel prepare_model(const Scene& scene, const Index1System& system, Jaco
     m.functions.push_back(reduced_function(
         "velocities", "/// q'(t, q, u): the independent speeds u and the dependent ones from them, n_coordinates.\n",
         "qp", speeds->velocities, velocity_names, false, m.dag));
-    m.functions.push_back(reduced_function(
-        "mass_matrix", "/// M_r(t, q, u) of M_r u' = f_r, column-major n_speeds x n_speeds.\n", "M",
-        speeds->mass_matrix, mass_names, true, m.dag));
+    m.functions.push_back(reduced_function("mass_matrix",
+                                           "/// M_r(t, q, u) of M_r u' = f_r, column-major n_speeds x n_speeds.\n", "M",
+                                           speeds->mass_matrix, mass_names, true, m.dag));
     m.functions.push_back(reduced_function("forcing", "/// f_r(t, q, u) of M_r u' = f_r, n_speeds.\n", "f",
                                            speeds->forcing, reduced->speeds, false, m.dag));
   }

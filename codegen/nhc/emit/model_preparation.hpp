@@ -30,15 +30,14 @@ struct ReducedForm;       // derive/reduced_form.hpp
 struct SymbolicJacobian {
   GiNaC::realsymbol cj = stable_symbol("cj");
   int size = 0;
-  std::vector<int> colptr;         ///< size + 1
-  std::vector<int> rowind;         ///< colptr.back()
-  std::vector<GiNaC::ex> values;   ///< the entries of rowind, in the same order (no dense copy:
-                                   ///< at N = 1024 knives size² expressions took 400 MB)
+  std::vector<int> colptr;        ///< size + 1
+  std::vector<int> rowind;        ///< colptr.back()
+  std::vector<GiNaC::ex> values;  ///< the entries of rowind, in the same order (no dense copy:
+                                  ///< at N = 1024 knives size² expressions took 400 MB)
   /// The entry (i, j): a value, or 0 outside the pattern.
   GiNaC::ex entry(int i, int j) const;
 };
 SymbolicJacobian index1_jacobian(const Index1System& system);
-
 
 /// An invariant of the scene as the model computes it.
 struct ModelInvariant {
@@ -96,9 +95,9 @@ struct PreparedModel {
   /// header is input k (docs/generated-code.md, "Input additions").
   int n_inputs = 0;
   std::vector<std::string> input_names;
-  std::vector<ModelInvariant> invariants;             ///< the scene's invariants this model computes
-  SceneReference::Entries reference;                  ///< the scene's closed forms for this model
-  SymbolicJacobian symbolic_jacobian;  ///< empty for JacobianKind::none
+  std::vector<ModelInvariant> invariants;  ///< the scene's invariants this model computes
+  SceneReference::Entries reference;       ///< the scene's closed forms for this model
+  SymbolicJacobian symbolic_jacobian;      ///< empty for JacobianKind::none
   std::vector<SingularQuantity> singular;
   /// The multiplier-free form's independent speeds (Reduced-form additions of
   /// docs/generated-code.md): u[k] is the first derivative of coordinate speed_coordinate[k].
@@ -120,7 +119,6 @@ struct PreparedModel {
 /// `reduced`: when given and available, also velocities, mass_matrix and forcing of the
 /// multiplier-free form ("Reduced-form additions").
 PreparedModel prepare_model(const Scene& scene, const Index1System& system, JacobianKind jacobian,
-                            bool sensitivities = false, bool variational = false,
-                            const ReducedForm* reduced = nullptr);
+                            bool sensitivities = false, bool variational = false, const ReducedForm* reduced = nullptr);
 
 }  // namespace nhc

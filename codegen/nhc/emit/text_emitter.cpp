@@ -35,11 +35,10 @@ void write_reduced_text(std::ostream& out, const ReducedForm& r) {
 
 }  // namespace
 
-void write_derivation_text(std::ostream& out, const Scene& scene,
-                           const std::vector<DerivedModel>& models) {
+void write_derivation_text(std::ostream& out, const Scene& scene, const std::vector<DerivedModel>& models) {
   const JetSpace& jet = *scene.jet;
-  out << "scene " << scene.name << ": " << jet.coordinate_count() << " coordinates, "
-      << scene.constraint_count() << " constraints\n";
+  out << "scene " << scene.name << ": " << jet.coordinate_count() << " coordinates, " << scene.constraint_count()
+      << " constraints\n";
   out << "  L = " << to_text(scene.lagrangian) << "\n";
   for (std::size_t a = 0; a < scene.constraints.size(); ++a)
     out << "  f" << a + 1 << " = " << to_text(scene.constraints[a]) << "\n";

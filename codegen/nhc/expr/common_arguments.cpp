@@ -39,8 +39,10 @@ using PairId = std::tuple<bool, int, int, bool>;
 struct PairIdHash {
   std::size_t operator()(const PairId& p) const {
     const auto [sum, first, second, opposite] = p;
-    return static_cast<std::size_t>(mix_keys(mix_keys(static_cast<std::uint64_t>(first) * 4 + (sum ? 2 : 0) + (opposite ? 1 : 0),
-                                                      static_cast<std::uint64_t>(second)), 0));
+    return static_cast<std::size_t>(
+        mix_keys(mix_keys(static_cast<std::uint64_t>(first) * 4 + (sum ? 2 : 0) + (opposite ? 1 : 0),
+                          static_cast<std::uint64_t>(second)),
+                 0));
   }
 };
 
@@ -75,8 +77,7 @@ class CommonArguments {
         Site site{id, false, {}};
         if (absorbed.count(in.args[0]))
           for (int a : dag[in.args[0]].args) site.operands.push_back({a, false, false});
-        else
-          site.operands.push_back({in.args[0], false, false});
+        else site.operands.push_back({in.args[0], false, false});
         site.operands.push_back({in.args[1], false, true});
         site_of_.emplace(id, static_cast<int>(sites_.size()));
         sites_.push_back(std::move(site));

@@ -86,8 +86,8 @@ class CommonFactors {
       }
       int best = -1, best_count = 1;
       for (const auto& [f, c] : count)
-        if (c > best_count || (c == best_count && best >= 0 &&
-                               std::make_pair(dag_[f].key, f) < std::make_pair(dag_[best].key, best))) {
+        if (c > best_count ||
+            (c == best_count && best >= 0 && std::make_pair(dag_[f].key, f) < std::make_pair(dag_[best].key, best))) {
           if (c < 2) continue;
           best = f;
           best_count = c;

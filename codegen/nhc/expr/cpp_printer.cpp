@@ -26,10 +26,13 @@ struct Printed {
 /// test read their operand more than once, which then must be a temporary.
 int reads_of_operand(const Instruction& in) {
   switch (in.op) {
-    case OpCode::integer_power: return in.exponent;
+    case OpCode::integer_power:
+      return in.exponent;
     case OpCode::sign:
-    case OpCode::step: return 2;
-    default: return 1;
+    case OpCode::step:
+      return 2;
+    default:
+      return 1;
   }
 }
 

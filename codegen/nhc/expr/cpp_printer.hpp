@@ -28,8 +28,8 @@ struct Assignment {
 };
 
 struct PrintedBlock {
-  std::string code;                    ///< the statements, one per line, each line indented
-  std::set<std::string> used_inputs;   ///< array or scalar names the code reads: "y", "p", "t"…
+  std::string code;                   ///< the statements, one per line, each line indented
+  std::set<std::string> used_inputs;  ///< array or scalar names the code reads: "y", "p", "t"…
   int temporaries = 0;
 };
 

@@ -23,15 +23,27 @@ ex chain(const ex& x, const symbol& s, Partial partial) {
   return partial(x) * dx;
 }
 
-ex sin_d(const ex& x, const symbol& s) { return chain(x, s, [](const ex& a) { return GiNaC::cos(a); }); }
-ex cos_d(const ex& x, const symbol& s) { return chain(x, s, [](const ex& a) { return -GiNaC::sin(a); }); }
+ex sin_d(const ex& x, const symbol& s) {
+  return chain(x, s, [](const ex& a) { return GiNaC::cos(a); });
+}
+ex cos_d(const ex& x, const symbol& s) {
+  return chain(x, s, [](const ex& a) { return -GiNaC::sin(a); });
+}
 ex tan_d(const ex& x, const symbol& s) {
   return chain(x, s, [](const ex& a) { return 1 + power(GiNaC::tan(a), 2); });
 }
-ex exp_d(const ex& x, const symbol& s) { return chain(x, s, [](const ex& a) { return GiNaC::exp(a); }); }
-ex log_d(const ex& x, const symbol& s) { return chain(x, s, [](const ex& a) { return power(a, -1); }); }
-ex sinh_d(const ex& x, const symbol& s) { return chain(x, s, [](const ex& a) { return GiNaC::cosh(a); }); }
-ex cosh_d(const ex& x, const symbol& s) { return chain(x, s, [](const ex& a) { return GiNaC::sinh(a); }); }
+ex exp_d(const ex& x, const symbol& s) {
+  return chain(x, s, [](const ex& a) { return GiNaC::exp(a); });
+}
+ex log_d(const ex& x, const symbol& s) {
+  return chain(x, s, [](const ex& a) { return power(a, -1); });
+}
+ex sinh_d(const ex& x, const symbol& s) {
+  return chain(x, s, [](const ex& a) { return GiNaC::cosh(a); });
+}
+ex cosh_d(const ex& x, const symbol& s) {
+  return chain(x, s, [](const ex& a) { return GiNaC::sinh(a); });
+}
 ex tanh_d(const ex& x, const symbol& s) {
   return chain(x, s, [](const ex& a) { return 1 - power(GiNaC::tanh(a), 2); });
 }
@@ -48,9 +60,8 @@ ex asinh_d(const ex& x, const symbol& s) {
   return chain(x, s, [](const ex& a) { return power(1 + power(a, 2), GiNaC::numeric(-1, 2)); });
 }
 ex acosh_d(const ex& x, const symbol& s) {
-  return chain(x, s, [](const ex& a) {
-    return power(a + -1, GiNaC::numeric(-1, 2)) * power(a + 1, GiNaC::numeric(-1, 2));
-  });
+  return chain(x, s,
+               [](const ex& a) { return power(a + -1, GiNaC::numeric(-1, 2)) * power(a + 1, GiNaC::numeric(-1, 2)); });
 }
 ex atanh_d(const ex& x, const symbol& s) {
   return chain(x, s, [](const ex& a) { return power(1 - power(a, 2), -1); });

@@ -96,7 +96,8 @@ EvaluationProgram::EvaluationProgram(const ExpressionDag& dag, const std::vector
       }
       case OpCode::sum:
         if (in.args.size() == 2) {
-          static constexpr Code codes[2][2] = {{Code::add, Code::subtract}, {Code::negated_add, Code::negated_subtract}};
+          static constexpr Code codes[2][2] = {{Code::add, Code::subtract},
+                                               {Code::negated_add, Code::negated_subtract}};
           op.code = codes[in.negated[0] ? 1 : 0][in.negated[1] ? 1 : 0];
           op.a = reg(0);
           op.b = reg(1);
@@ -195,8 +196,7 @@ void EvaluationProgram::allocate_registers(const std::vector<int>& pinned, const
       case Code::product:
         if (read)
           for (int k = op.a; k < op.a + op.b; ++k) f(operands_[static_cast<std::size_t>(k)]);
-        else
-          f(op.target);
+        else f(op.target);
         break;
       case Code::add:
       case Code::subtract:
@@ -441,7 +441,9 @@ std::optional<EvaluationProgram> EvaluationProgram::from_bytes(std::string_view 
     const Operation& op = p.operations_[i];
     bool sound = true;
     switch (op.code) {
-      case Code::load: sound = reg(op.target) && op.a >= 0 && op.a < arguments && op.b >= 0; break;
+      case Code::load:
+        sound = reg(op.target) && op.a >= 0 && op.a < arguments && op.b >= 0;
+        break;
       case Code::sum:
       case Code::product:
         sound = reg(op.target) && op.a >= 0 && op.b >= 1 &&
@@ -452,24 +454,38 @@ std::optional<EvaluationProgram> EvaluationProgram::from_bytes(std::string_view 
       case Code::negated_add:
       case Code::negated_subtract:
       case Code::multiply:
-      case Code::quotient: sound = reg(op.target) && reg(op.a) && reg(op.b); break;
-      case Code::multiply3: sound = reg(op.target) && reg(op.a) && reg(op.b) && reg(op.c); break;
+      case Code::quotient:
+        sound = reg(op.target) && reg(op.a) && reg(op.b);
+        break;
+      case Code::multiply3:
+        sound = reg(op.target) && reg(op.a) && reg(op.b) && reg(op.c);
+        break;
       case Code::negate:
       case Code::square_root:
       case Code::square:
       case Code::sign:
-      case Code::step: sound = reg(op.target) && reg(op.a); break;
-      case Code::power: sound = reg(op.target) && reg(op.a) && op.b >= 1; break;
+      case Code::step:
+        sound = reg(op.target) && reg(op.a);
+        break;
+      case Code::power:
+        sound = reg(op.target) && reg(op.a) && op.b >= 1;
+        break;
       case Code::call1:
         sound = reg(op.target) && reg(op.a) && op.b >= 0 && static_cast<std::size_t>(op.b) < p.unary_.size();
         break;
       case Code::call2:
-        sound = reg(op.target) && reg(op.a) && reg(op.c) && op.b >= 0 &&
-                static_cast<std::size_t>(op.b) < p.binary_.size();
+        sound =
+            reg(op.target) && reg(op.a) && reg(op.c) && op.b >= 0 && static_cast<std::size_t>(op.b) < p.binary_.size();
         break;
-      case Code::sincos: sound = reg(op.target) && reg(op.a) && reg(op.b); break;
-      case Code::store: sound = op.target >= 0 && op.target < outputs && reg(op.a) && op.b >= 0; break;
-      case Code::halt: sound = i + 1 == p.operations_.size(); break;
+      case Code::sincos:
+        sound = reg(op.target) && reg(op.a) && reg(op.b);
+        break;
+      case Code::store:
+        sound = op.target >= 0 && op.target < outputs && reg(op.a) && op.b >= 0;
+        break;
+      case Code::halt:
+        sound = i + 1 == p.operations_.size();
+        break;
     }
     if (!sound) return std::nullopt;
   }
@@ -498,9 +514,10 @@ void EvaluationProgram::run(const double* const* arguments, double* const* outpu
   // interpreted and the compiled model agree to the last bit where the compiler keeps IEEE order.
 #if defined(__GNUC__)
   static const void* const labels[] = {
-      &&op_load,     &&op_add,         &&op_subtract, &&op_negated_add, &&op_negated_subtract, &&op_sum, &&op_multiply,
-      &&op_multiply3, &&op_product,    &&op_quotient, &&op_negate,      &&op_square_root,      &&op_square, &&op_power,
-      &&op_call1,    &&op_call2,       &&op_sincos,   &&op_sign,        &&op_step,             &&op_store, &&op_halt};
+      &&op_load,     &&op_add,       &&op_subtract, &&op_negated_add, &&op_negated_subtract, &&op_sum,
+      &&op_multiply, &&op_multiply3, &&op_product,  &&op_quotient,    &&op_negate,           &&op_square_root,
+      &&op_square,   &&op_power,     &&op_call1,    &&op_call2,       &&op_sincos,           &&op_sign,
+      &&op_step,     &&op_store,     &&op_halt};
   static_assert(sizeof(labels) / sizeof(labels[0]) == static_cast<int>(Code::halt) + 1);
 #define NHC_OP(name) op_##name:
 #define NHC_NEXT goto* labels[static_cast<int>((++op)->code)]
@@ -571,8 +588,8 @@ void EvaluationProgram::run(const double* const* arguments, double* const* outpu
   NHC_NEXT;
   NHC_OP(halt) return;
 #if !defined(__GNUC__)
-    }
-  }
+}
+}
 #endif
 #undef NHC_OP
 #undef NHC_NEXT

@@ -58,27 +58,27 @@ class EvaluationProgram {
   // One operation of the program. Binary sums and products (most of a CSE'd list) have codes of
   // their own, so that they run without the operand list's indirection and loop.
   enum class Code : std::uint8_t {
-    load,       ///< r[target] = arguments[a][b]
-    add,        ///< r[a] + r[b]
-    subtract,   ///< r[a] - r[b]
+    load,              ///< r[target] = arguments[a][b]
+    add,               ///< r[a] + r[b]
+    subtract,          ///< r[a] - r[b]
     negated_add,       ///< -r[a] + r[b]
     negated_subtract,  ///< -r[a] - r[b]
-    sum,        ///< the operands operands_[a, a + b), signs negated_
-    multiply,   ///< r[a] * r[b]
-    multiply3,  ///< r[a] * r[b] * r[c]
-    product,    ///< the operands operands_[a, a + b)
+    sum,               ///< the operands operands_[a, a + b), signs negated_
+    multiply,          ///< r[a] * r[b]
+    multiply3,         ///< r[a] * r[b] * r[c]
+    product,           ///< the operands operands_[a, a + b)
     quotient,
     negate,
     square_root,
-    square,     ///< r[a] * r[a]
-    power,      ///< r[a] multiplied out b times
-    call1,      ///< unary_[b](r[a])
-    call2,      ///< binary_[b](r[a], r[c])
-    sincos,     ///< r[target], r[b] = sin, cos of r[a]
+    square,  ///< r[a] * r[a]
+    power,   ///< r[a] multiplied out b times
+    call1,   ///< unary_[b](r[a])
+    call2,   ///< binary_[b](r[a], r[c])
+    sincos,  ///< r[target], r[b] = sin, cos of r[a]
     sign,
     step,
-    store,      ///< outputs[target][b] = r[a]
-    halt,       ///< the last operation
+    store,  ///< outputs[target][b] = r[a]
+    halt,   ///< the last operation
   };
   struct Operation {
     Code code = Code::load;

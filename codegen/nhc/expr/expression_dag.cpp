@@ -33,20 +33,17 @@ unsigned long long bits_of(double v) {
 }
 
 double to_real(const GiNaC::numeric& n, const GiNaC::ex& context) {
-  if (!n.is_real())
-    throw MathError("cannot generate code for a complex number in " + describe(context));
+  if (!n.is_real()) throw MathError("cannot generate code for a complex number in " + describe(context));
   return n.to_double();
 }
 
 /// GiNaC functions with a C++ counterpart of the same arity.
 const std::map<std::string, std::string>& cpp_functions() {
   static const std::map<std::string, std::string> table = {
-      {"sin", "std::sin"},     {"cos", "std::cos"},     {"tan", "std::tan"},
-      {"exp", "std::exp"},     {"log", "std::log"},     {"sinh", "std::sinh"},
-      {"cosh", "std::cosh"},   {"tanh", "std::tanh"},   {"asin", "std::asin"},
-      {"acos", "std::acos"},   {"atan", "std::atan"},   {"asinh", "std::asinh"},
-      {"acosh", "std::acosh"}, {"atanh", "std::atanh"}, {"abs", "std::fabs"},
-      {"atan2", "std::atan2"},
+      {"sin", "std::sin"},     {"cos", "std::cos"},     {"tan", "std::tan"},   {"exp", "std::exp"},
+      {"log", "std::log"},     {"sinh", "std::sinh"},   {"cosh", "std::cosh"}, {"tanh", "std::tanh"},
+      {"asin", "std::asin"},   {"acos", "std::acos"},   {"atan", "std::atan"}, {"asinh", "std::asinh"},
+      {"acosh", "std::acosh"}, {"atanh", "std::atanh"}, {"abs", "std::fabs"},  {"atan2", "std::atan2"},
   };
   return table;
 }
@@ -68,21 +65,20 @@ std::uint64_t mix_keys(std::uint64_t seed, std::uint64_t value) {
 }
 
 bool Instruction::operator<(const Instruction& o) const {
-  return std::make_tuple(op, std::cref(args), std::cref(negated), bits_of(value), exponent,
-                         std::cref(name)) <
-         std::make_tuple(o.op, std::cref(o.args), std::cref(o.negated), bits_of(o.value),
-                         o.exponent, std::cref(o.name));
+  return std::make_tuple(op, std::cref(args), std::cref(negated), bits_of(value), exponent, std::cref(name)) <
+         std::make_tuple(o.op, std::cref(o.args), std::cref(o.negated), bits_of(o.value), o.exponent,
+                         std::cref(o.name));
 }
 
-ExpressionDag::ExpressionDag(std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> inputs)
-    : inputs_(std::move(inputs)) {}
+ExpressionDag::ExpressionDag(std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> inputs) : inputs_(std::move(inputs)) {}
 
 int ExpressionDag::add(const GiNaC::ex& e) {
   // Named intermediates first, each once and in dependency order (each after those it uses):
   // one instruction per intermediate, shared by every output, and no recursion per link of a
   // chain of definitions when e is lowered.
   for (const GiNaC::ex& d : intermediates_in_order({e}))
-    if (!by_expression_.count(d) && !inputs_.count(d)) by_expression_.emplace(d, lower_signed(intermediate_expression(d)));
+    if (!by_expression_.count(d) && !inputs_.count(d))
+      by_expression_.emplace(d, lower_signed(intermediate_expression(d)));
   return lower(e);
 }
 
@@ -95,9 +91,8 @@ int ExpressionDag::make(Instruction instruction) {
   // for the astronomically unlikely equal keys); added terms before subtracted ones.
   auto key_of = [this](int id) { return instructions_[static_cast<size_t>(id)].key; };
   if (instruction.op == OpCode::product) {
-    std::sort(instruction.args.begin(), instruction.args.end(), [&](int a, int b) {
-      return std::make_pair(key_of(a), a) < std::make_pair(key_of(b), b);
-    });
+    std::sort(instruction.args.begin(), instruction.args.end(),
+              [&](int a, int b) { return std::make_pair(key_of(a), a) < std::make_pair(key_of(b), b); });
   } else if (instruction.op == OpCode::sum) {
     std::vector<std::pair<bool, int>> terms;
     for (size_t k = 0; k < instruction.args.size(); ++k)
@@ -212,8 +207,7 @@ std::pair<int, bool> ExpressionDag::lower_signed(const GiNaC::ex& e) {
   } else if (GiNaC::is_a<GiNaC::symbol>(e)) {
     auto it = inputs_.find(e);
     if (it == inputs_.end())
-      throw MathError("cannot generate code: " + describe(e) +
-                      " is not an input of the generated function");
+      throw MathError("cannot generate code: " + describe(e) + " is not an input of the generated function");
     Instruction in;
     in.op = OpCode::input;
     in.name = it->second;
@@ -253,8 +247,7 @@ std::pair<int, bool> ExpressionDag::lower_product(const GiNaC::ex& e) {
   std::vector<GiNaC::ex> factors;
   if (GiNaC::is_exactly_a<GiNaC::mul>(e))
     for (size_t k = 0; k < e.nops(); ++k) factors.push_back(e.op(k));
-  else
-    factors.push_back(e);
+  else factors.push_back(e);
 
   bool negative = false;
   std::vector<int> numerator, denominator;
@@ -272,8 +265,7 @@ std::pair<int, bool> ExpressionDag::lower_product(const GiNaC::ex& e) {
       continue;
     }
     const GiNaC::ex base = f.op(0), exponent = f.op(1);
-    if (!GiNaC::is_exactly_a<GiNaC::numeric>(exponent) ||
-        !GiNaC::ex_to<GiNaC::numeric>(exponent).is_rational()) {
+    if (!GiNaC::is_exactly_a<GiNaC::numeric>(exponent) || !GiNaC::ex_to<GiNaC::numeric>(exponent).is_rational()) {
       Instruction p;
       p.op = OpCode::call;
       p.name = "std::pow";

@@ -41,11 +41,11 @@ std::uint64_t mix_keys(std::uint64_t seed, std::uint64_t value);
 
 struct Instruction {
   OpCode op = OpCode::constant;
-  std::vector<int> args;       ///< operand instruction indices, all smaller than this one's
-  std::vector<bool> negated;   ///< sum only
-  double value = 0.0;          ///< constant only
-  int exponent = 0;            ///< integer_power only
-  std::string name;            ///< input: printed form; call: C++ function name
+  std::vector<int> args;      ///< operand instruction indices, all smaller than this one's
+  std::vector<bool> negated;  ///< sum only
+  double value = 0.0;         ///< constant only
+  int exponent = 0;           ///< integer_power only
+  std::string name;           ///< input: printed form; call: C++ function name
   /// Structural hash from the fields above and the operands' keys; independent of instruction
   /// indices and of GiNaC's term order (which follows object addresses and so changes from
   /// run to run). Operands of sums and products are sorted by it, and the printer walks the
@@ -103,17 +103,16 @@ class ExpressionDag {
   std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> inputs_;
   std::vector<Instruction> instructions_;
   std::map<Instruction, int> by_instruction_;
-  std::unordered_map<GiNaC::ex, std::pair<int, bool>, std::hash<GiNaC::ex>, GiNaC::ex_is_equal>
-      by_expression_;
+  std::unordered_map<GiNaC::ex, std::pair<int, bool>, std::hash<GiNaC::ex>, GiNaC::ex_is_equal> by_expression_;
 };
 
 /// Floating-point operations, counted as the printed C++ performs them: an n-ary sum or product
 /// is n − 1 operations, x^k (k ≤ 4) is k − 1 multiplications, a function call is one.
 struct OperationCount {
-  long long additions = 0;        ///< + and − (binary and unary)
+  long long additions = 0;  ///< + and − (binary and unary)
   long long multiplications = 0;
   long long divisions = 0;
-  long long calls = 0;            ///< sqrt, pow, sin, …
+  long long calls = 0;  ///< sqrt, pow, sin, …
   /// The sum of the four; every count saturates at kSaturatedOperations instead of wrapping (a
   /// chain of definitions d_k = d_{k-1}² + x doubles the tree count at every step).
   long long total() const;

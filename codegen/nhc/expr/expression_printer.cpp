@@ -77,9 +77,8 @@ class CanonicalText {
     return memo_.emplace(e, std::move(text)).first->second;
   }
 
-  static std::string wrap(const std::string& s, bool parenthesize) {
-    return parenthesize ? "(" + s + ")" : s;
-  }
+  static std::string wrap(const std::string& s, bool parenthesize) { return parenthesize ? "(" + s + ")" : s; }
+
  public:
   /// True when the first term of the sum, in canonical order, is negative. normal() picks the
   /// sign of a sum factor by GiNaC's term order, which varies between runs; printers flip such
@@ -184,7 +183,7 @@ class CanonicalLatex {
     if (it != memo_.end()) return it->second;
     std::string text = GiNaC::is_a<GiNaC::add>(e)                       ? sum(e)
                        : GiNaC::is_a<GiNaC::mul>(e) || is_reciprocal(e) ? product(e)
-                                                                         : power(e);
+                                                                        : power(e);
     return memo_.emplace(e, std::move(text)).first->second;
   }
 
@@ -212,10 +211,8 @@ class CanonicalLatex {
 
   std::string sum(const ex& e) const {
     std::vector<std::pair<std::string, ex>> terms;  // sorted by canonical text
-    for (std::size_t i = 0; i < e.nops(); ++i)
-      terms.emplace_back(text_.print(e.op(i)), e.op(i));
-    std::sort(terms.begin(), terms.end(),
-              [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (std::size_t i = 0; i < e.nops(); ++i) terms.emplace_back(text_.print(e.op(i)), e.op(i));
+    std::sort(terms.begin(), terms.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     std::string out;
     for (std::size_t i = 0; i < terms.size(); ++i) {
       std::string t = print(terms[i].second, Position::term);
@@ -280,21 +277,27 @@ class CanonicalLatex {
   std::string power(const ex& e) const {
     const ex base = e.op(0), exponent = e.op(1);
     if (exponent.is_equal(GiNaC::numeric(1, 2))) return "\\sqrt{" + print(base) + "}";
-    std::string exponent_text = GiNaC::is_a<GiNaC::numeric>(exponent)
-                                    ? ginac_text(exponent)
-                                    : print(exponent);
+    std::string exponent_text = GiNaC::is_a<GiNaC::numeric>(exponent) ? ginac_text(exponent) : print(exponent);
     // A jet symbol such as \dot{x} takes its exponent directly; other bases are braced.
     return "{" + print(base, Position::base) + "}^{" + exponent_text + "}";
   }
 
   std::string call(const ex& e) const {
-    static const std::map<std::string, std::string> names = {
-        {"sin", "\\sin"},       {"cos", "\\cos"},       {"tan", "\\tan"},
-        {"exp", "\\exp"},       {"log", "\\ln"},        {"sinh", "\\sinh"},
-        {"cosh", "\\cosh"},     {"tanh", "\\tanh"},     {"asin", "\\arcsin"},
-        {"acos", "\\arccos"},   {"atan", "\\arctan"},   {"atan2", "\\operatorname{atan2}"},
-        {"asinh", "\\operatorname{arsinh}"}, {"acosh", "\\operatorname{arcosh}"},
-        {"atanh", "\\operatorname{artanh}"}};
+    static const std::map<std::string, std::string> names = {{"sin", "\\sin"},
+                                                             {"cos", "\\cos"},
+                                                             {"tan", "\\tan"},
+                                                             {"exp", "\\exp"},
+                                                             {"log", "\\ln"},
+                                                             {"sinh", "\\sinh"},
+                                                             {"cosh", "\\cosh"},
+                                                             {"tanh", "\\tanh"},
+                                                             {"asin", "\\arcsin"},
+                                                             {"acos", "\\arccos"},
+                                                             {"atan", "\\arctan"},
+                                                             {"atan2", "\\operatorname{atan2}"},
+                                                             {"asinh", "\\operatorname{arsinh}"},
+                                                             {"acosh", "\\operatorname{arcosh}"},
+                                                             {"atanh", "\\operatorname{artanh}"}};
     const std::string name = GiNaC::ex_to<GiNaC::function>(e).get_name();
     if (name == "abs") return "\\left|" + print(e.op(0)) + "\\right|";
     auto it = names.find(name);

@@ -310,10 +310,12 @@ GiNaC::ex TotalDerivative::operator()(const GiNaC::ex& e) const {
       const GiNaC::ex Dz = of_symbol(z);
       if (!Dz.is_zero()) result += partial_derivative(e, GiNaC::ex_to<GiNaC::symbol>(z)) * Dz;
     }
-    for (const GiNaC::ex& d : intermediates) explicit_partials.push_back(partial_derivative(e, GiNaC::ex_to<GiNaC::symbol>(d)));
+    for (const GiNaC::ex& d : intermediates)
+      explicit_partials.push_back(partial_derivative(e, GiNaC::ex_to<GiNaC::symbol>(d)));
   }
   for (std::size_t k = 0; k < intermediates.size(); ++k)
-    if (!explicit_partials[k].is_zero()) result += explicit_partials[k] * as_intermediate(intermediates[k]).total_derivative(*this);
+    if (!explicit_partials[k].is_zero())
+      result += explicit_partials[k] * as_intermediate(intermediates[k]).total_derivative(*this);
   return result;
 }
 

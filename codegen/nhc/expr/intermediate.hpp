@@ -75,10 +75,10 @@ class Intermediate : public GiNaC::realsymbol {
     std::string name, latex;
     GiNaC::ex expression;
     Origin origin = Origin::defined;
-    mutable std::unique_ptr<std::vector<GiNaC::ex>> uses;  ///< direct intermediates, on demand
+    mutable std::unique_ptr<std::vector<GiNaC::ex>> uses;                ///< direct intermediates, on demand
     mutable std::map<GiNaC::ex, GiNaC::ex, GiNaC::ex_is_less> partials;  ///< ∂d/∂s by s
-    mutable std::unique_ptr<GiNaC::ex> total;                          ///< D d, on demand
-    mutable int expanded_nodes = -1, expanded_limit = 0;  ///< expanded_nodes(expression), up to a limit
+    mutable std::unique_ptr<GiNaC::ex> total;                            ///< D d, on demand
+    mutable int expanded_nodes = -1, expanded_limit = 0;                 ///< expanded_nodes(expression), up to a limit
     /// Every non-intermediate symbol d depends on, through the intermediates it uses.
     mutable std::unique_ptr<std::set<GiNaC::ex, GiNaC::ex_is_less>> free_symbols;
   };

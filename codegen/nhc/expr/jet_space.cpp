@@ -14,10 +14,9 @@ namespace {
 
 const std::set<std::string>& greek_letters() {
   static const std::set<std::string> names = {
-      "alpha", "beta",  "gamma", "delta", "epsilon", "zeta", "eta",   "theta",
-      "iota",  "kappa", "mu",    "nu",    "xi",      "pi",   "rho",   "sigma",
-      "tau",   "upsilon", "phi", "chi",   "psi",     "omega", "Gamma", "Delta",
-      "Theta", "Lambda", "Xi",   "Pi",    "Sigma",   "Upsilon", "Phi", "Psi", "Omega"};
+      "alpha", "beta",  "gamma", "delta",  "epsilon", "zeta", "eta",     "theta",   "iota", "kappa", "mu",
+      "nu",    "xi",    "pi",    "rho",    "sigma",   "tau",  "upsilon", "phi",     "chi",  "psi",   "omega",
+      "Gamma", "Delta", "Theta", "Lambda", "Xi",      "Pi",   "Sigma",   "Upsilon", "Phi",  "Psi",   "Omega"};
   return names;
 }
 
@@ -28,8 +27,7 @@ std::string latex_base(const std::string& name) {
   if (name.size() == 1) return name;
   if (greek_letters().count(name)) return "\\" + name;
   const std::size_t digits = name.find_first_of("0123456789");
-  if (digits != std::string::npos && digits > 0 &&
-      name.find_first_not_of("0123456789", digits) == std::string::npos) {
+  if (digits != std::string::npos && digits > 0 && name.find_first_not_of("0123456789", digits) == std::string::npos) {
     const std::string letters = name.substr(0, digits);
     if (letters.size() == 1 || greek_letters().count(letters))
       return latex_base(letters) + "_{" + name.substr(digits) + "}";
@@ -55,11 +53,16 @@ std::string jet_symbol_latex(const std::string& variable, VariableKind kind, int
     // "lambda7" → \lambda_7 ; \dot\lambda_7 puts the dot on λ, not on the subscript.
     base = "\\lambda_{" + variable.substr(6) + "}";
     switch (order) {
-      case 0: return base;
-      case 1: return "\\dot\\lambda_{" + variable.substr(6) + "}";
-      case 2: return "\\ddot\\lambda_{" + variable.substr(6) + "}";
-      case 3: return "\\dddot\\lambda_{" + variable.substr(6) + "}";
-      default: return "\\lambda_{" + variable.substr(6) + "}^{(" + std::to_string(order) + ")}";
+      case 0:
+        return base;
+      case 1:
+        return "\\dot\\lambda_{" + variable.substr(6) + "}";
+      case 2:
+        return "\\ddot\\lambda_{" + variable.substr(6) + "}";
+      case 3:
+        return "\\dddot\\lambda_{" + variable.substr(6) + "}";
+      default:
+        return "\\lambda_{" + variable.substr(6) + "}^{(" + std::to_string(order) + ")}";
     }
   }
   base = latex_base(variable);
@@ -69,16 +72,21 @@ std::string jet_symbol_latex(const std::string& variable, VariableKind kind, int
   const std::string letter = indexed ? base.substr(0, subscript) : base;
   const std::string index = indexed ? base.substr(subscript) : "";
   switch (order) {
-    case 0: return base;
-    case 1: return "\\dot{" + letter + "}" + index;
-    case 2: return "\\ddot{" + letter + "}" + index;
-    case 3: return "\\dddot{" + letter + "}" + index;
-    default: return letter + index + "^{(" + std::to_string(order) + ")}";
+    case 0:
+      return base;
+    case 1:
+      return "\\dot{" + letter + "}" + index;
+    case 2:
+      return "\\ddot{" + letter + "}" + index;
+    case 3:
+      return "\\dddot{" + letter + "}" + index;
+    default:
+      return letter + index + "^{(" + std::to_string(order) + ")}";
   }
 }
 
-JetSpace::JetSpace(std::vector<std::string> coordinates, int multiplier_count,
-                   std::vector<std::string> parameters, std::vector<std::string> inputs)
+JetSpace::JetSpace(std::vector<std::string> coordinates, int multiplier_count, std::vector<std::string> parameters,
+                   std::vector<std::string> inputs)
     : coordinates_(std::move(coordinates)),
       multiplier_count_(multiplier_count),
       parameter_names_(std::move(parameters)),
@@ -88,7 +96,8 @@ JetSpace::JetSpace(std::vector<std::string> coordinates, int multiplier_count,
   for (const auto& name : input_names_) inputs_.push_back(stable_symbol(name, latex_base(name)));
   input_locations_.assign(input_names_.size(), SourceLocation{"scene", 0, 0});
   // The first of equal names wins, as a search from the front would find it.
-  for (std::size_t k = 0; k < coordinates_.size(); ++k) coordinate_indices_.emplace(coordinates_[k], static_cast<int>(k));
+  for (std::size_t k = 0; k < coordinates_.size(); ++k)
+    coordinate_indices_.emplace(coordinates_[k], static_cast<int>(k));
   for (std::size_t k = 0; k < parameter_names_.size(); ++k)
     parameter_indices_.emplace(parameter_names_[k], static_cast<int>(k));
   for (std::size_t k = 0; k < input_names_.size(); ++k) input_indices_.emplace(input_names_[k], static_cast<int>(k));
@@ -120,13 +129,10 @@ void JetSpace::set_input_location(int k, SourceLocation where) {
   input_locations_.at(static_cast<size_t>(k)) = std::move(where);
 }
 
-std::string JetSpace::multiplier_name(int alpha) const {
-  return "lambda" + std::to_string(alpha + 1);
-}
+std::string JetSpace::multiplier_name(int alpha) const { return "lambda" + std::to_string(alpha + 1); }
 
 std::string JetSpace::variable_name(VariableKind kind, int index) const {
-  return kind == VariableKind::coordinate ? coordinates_.at(static_cast<size_t>(index))
-                                          : multiplier_name(index);
+  return kind == VariableKind::coordinate ? coordinates_.at(static_cast<size_t>(index)) : multiplier_name(index);
 }
 
 std::optional<int> JetSpace::parameter_index(const std::string& name) const {
@@ -137,8 +143,7 @@ const GiNaC::realsymbol& JetSpace::symbol(const JetCoordinate& c) const {
   auto it = jet_.find(c);
   if (it != jet_.end()) return it->second;
   const int count = c.kind == VariableKind::coordinate ? coordinate_count() : multiplier_count_;
-  if (c.index < 0 || c.index >= count || c.order < 0)
-    throw std::out_of_range("jet coordinate out of range");
+  if (c.index < 0 || c.index >= count || c.order < 0) throw std::out_of_range("jet coordinate out of range");
   const std::string variable = variable_name(c.kind, c.index);
   const GiNaC::realsymbol s =
       stable_symbol(jet_symbol_name(variable, c.order), jet_symbol_latex(variable, c.kind, c.order));

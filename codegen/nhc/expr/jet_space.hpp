@@ -36,9 +36,7 @@ struct JetCoordinate {
     if (index != o.index) return index < o.index;
     return order < o.order;
   }
-  bool operator==(const JetCoordinate& o) const {
-    return kind == o.kind && index == o.index && order == o.order;
-  }
+  bool operator==(const JetCoordinate& o) const { return kind == o.kind && index == o.index && order == o.order; }
 };
 
 /// Printed name of the k-th derivative of a variable: `x`, `x_d1`, `x_d2`, …
@@ -49,8 +47,8 @@ std::string jet_symbol_latex(const std::string& variable, VariableKind kind, int
 
 class JetSpace {
  public:
-  JetSpace(std::vector<std::string> coordinates, int multiplier_count,
-           std::vector<std::string> parameters, std::vector<std::string> inputs = {});
+  JetSpace(std::vector<std::string> coordinates, int multiplier_count, std::vector<std::string> parameters,
+           std::vector<std::string> inputs = {});
 
   int coordinate_count() const { return static_cast<int>(coordinates_.size()); }
   int multiplier_count() const { return multiplier_count_; }
@@ -78,9 +76,7 @@ class JetSpace {
 
   /// q_i^(k) and λ_α^(k); created on first use.
   GiNaC::ex q(int i, int order) const { return symbol({VariableKind::coordinate, i, order}); }
-  GiNaC::ex lambda(int alpha, int order) const {
-    return symbol({VariableKind::multiplier, alpha, order});
-  }
+  GiNaC::ex lambda(int alpha, int order) const { return symbol({VariableKind::multiplier, alpha, order}); }
   const GiNaC::realsymbol& symbol(const JetCoordinate& c) const;
 
   /// The jet coordinate a symbol stands for, if it is a jet symbol of this space.

@@ -41,11 +41,10 @@ class NumericProgram {
   void prepare() const;
 
  private:
-
   ExpressionDag dag_;
   std::vector<int> outputs_;
   std::vector<std::string> labels_;
-  mutable EvaluationProgram program_;      ///< the outputs' instructions, lowered on first use
+  mutable EvaluationProgram program_;  ///< the outputs' instructions, lowered on first use
   mutable bool prepared_ = false;
 };
 

@@ -7,8 +7,7 @@ namespace nhc {
 
 GiNaC::ex simplify_trigonometric(const GiNaC::ex& e) {
   const GiNaC::ex u = GiNaC::wild();
-  if (!work_budget::worth_trigonometric_simplification(e) || !e.has(GiNaC::sin(u)) || !e.has(GiNaC::cos(u)))
-    return e;
+  if (!work_budget::worth_trigonometric_simplification(e) || !e.has(GiNaC::sin(u)) || !e.has(GiNaC::cos(u))) return e;
   GiNaC::ex best = e;
   std::size_t best_size = work_budget::node_count(e);
   const GiNaC::ex rules[] = {GiNaC::pow(GiNaC::sin(u), 2) == 1 - GiNaC::pow(GiNaC::cos(u), 2),
@@ -32,9 +31,8 @@ GiNaC::ex simplify_expression(const GiNaC::ex& e) {
   if (!work_budget::worth_simplifying(expanded)) return simplify_trigonometric(expanded);
   const GiNaC::ex fraction = expanded.normal().numer_denom();
   const GiNaC::ex combined = work_budget::expand(fraction.op(0)) / fraction.op(1);
-  return simplify_trigonometric(work_budget::node_count(combined) < work_budget::node_count(expanded)
-                                    ? combined
-                                    : expanded);
+  return simplify_trigonometric(work_budget::node_count(combined) < work_budget::node_count(expanded) ? combined
+                                                                                                      : expanded);
 }
 
 }  // namespace nhc

@@ -20,8 +20,7 @@ GiNaC::ex SymbolSubstitution::operator()(const GiNaC::ex& e) const {
     const GiNaC::ex image = substitute_plain(i.expression(), map);
     if (GiNaC::is_a<GiNaC::numeric>(image) || image.is_equal(i.expression()))
       map.emplace(d, image.is_equal(i.expression()) ? d : image);
-    else
-      map.emplace(d, Intermediate(i.intermediate_name(), i.latex_name(), image, i.origin()));
+    else map.emplace(d, Intermediate(i.intermediate_name(), i.latex_name(), image, i.origin()));
   }
   return substitute_plain(e, map);
 }

@@ -19,8 +19,8 @@ double process_seconds() {
 
 // Written by the working thread, read by the watchdog: atomics, no locks on the hot path.
 std::atomic<const char*> current_stage{nullptr};
-std::atomic<double> spent_before{0};   // seconds inside stages before the current outermost one
-std::atomic<double> entered_at{0};     // process time when the current outermost stage began
+std::atomic<double> spent_before{0};  // seconds inside stages before the current outermost one
+std::atomic<double> entered_at{0};    // process time when the current outermost stage began
 std::mutex scene_mutex;
 std::string scene;  // kept alive for the snapshot's pointer: set before the stages run
 
@@ -63,9 +63,8 @@ bool ProcessorTimeLimit::exceeded() {
 }
 
 std::string ProcessorTimeLimit::message(const std::string& how_to_raise) const {
-  return stage_ + " took more than " +
-         base::number_text(seconds_, 3) + " s of processor time: the expressions grow too large (" + how_to_raise +
-         ")";
+  return stage_ + " took more than " + base::number_text(seconds_, 3) +
+         " s of processor time: the expressions grow too large (" + how_to_raise + ")";
 }
 
 }  // namespace nhc::work_budget

@@ -33,10 +33,10 @@ std::set<GiNaC::ex, GiNaC::ex_is_less> own_symbols_of(const GiNaC::ex& e) {
 /// cut, a symbol left).
 double value_at(const GiNaC::ex& e, const GiNaC::exmap& values, IntermediateValues intermediates) {
   try {
-    const GiNaC::ex value = (intermediates == IntermediateValues::through
-                                 ? substitute_symbols(e, values)
-                                 : e.subs(values, GiNaC::subs_options::no_pattern))
-                                .evalf();
+    const GiNaC::ex value =
+        (intermediates == IntermediateValues::through ? substitute_symbols(e, values)
+                                                      : e.subs(values, GiNaC::subs_options::no_pattern))
+            .evalf();
     if (!GiNaC::is_a<GiNaC::numeric>(value)) return NAN;
     const GiNaC::numeric& n = GiNaC::ex_to<GiNaC::numeric>(value);
     if (!n.is_real()) return NAN;

@@ -36,8 +36,7 @@ AtomicDirectory::AtomicDirectory(std::string target, std::vector<std::string> in
 
 AtomicDirectory::~AtomicDirectory() {
   temporary_.reset();  // removes what is left of the temporary directory
-  if (!committed_)
-    remove_created_parents(created_parents_);
+  if (!committed_) remove_created_parents(created_parents_);
 }
 
 const std::string& AtomicDirectory::path() const noexcept { return temporary_->path(); }

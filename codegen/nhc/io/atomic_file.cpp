@@ -65,8 +65,7 @@ static void write_in_place(const std::string& path, const std::string& device,
   ::close(fd);
 }
 
-void write_file_atomically(const std::string& path,
-                           const std::function<void(std::ostream&)>& write) {
+void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
   const std::vector<std::string> created = create_missing_parents(path);
   try {
     const OutputTarget target = output_target(path);
@@ -85,7 +84,8 @@ static void write_into_existing_directory(const std::string& path, const std::fu
   {
     errno = 0;
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) throw EnvironmentError("cannot write " + path + ": " + system_reason(errno, "cannot create a file there"));
+    if (!out)
+      throw EnvironmentError("cannot write " + path + ": " + system_reason(errno, "cannot create a file there"));
     try {
       errno = 0;
       write(out);

@@ -70,7 +70,9 @@ int CsvFile::column(const std::string& name) const {
   int found = -1;
   for (std::size_t c = 0; c < header.size(); ++c) {
     if (header[c] != name) continue;
-    if (found >= 0) throw InputError({path, 1, csv_cell_column(header_text, c)}, "duplicate column '" + printable(name) + "' (also column " + std::to_string(found + 1) + ")");
+    if (found >= 0)
+      throw InputError({path, 1, csv_cell_column(header_text, c)},
+                       "duplicate column '" + printable(name) + "' (also column " + std::to_string(found + 1) + ")");
     found = static_cast<int>(c);
   }
   return found;
@@ -78,8 +80,8 @@ int CsvFile::column(const std::string& name) const {
 
 double CsvFile::number(std::size_t r, std::size_t c, bool finite_only) const {
   const Row& row = rows[r];
-  const SourceLocation where{path, row.line,
-                             c < row.cells.size() ? csv_cell_column(row.text, c) : static_cast<int>(row.text.size()) + 1};
+  const SourceLocation where{
+      path, row.line, c < row.cells.size() ? csv_cell_column(row.text, c) : static_cast<int>(row.text.size()) + 1};
   const std::string name = c < header.size() ? printable(header[c]) : std::to_string(c + 1);
   if (c >= row.cells.size()) throw InputError(where, "missing value of column '" + name + "'");
   const std::string& text = row.cells[c];

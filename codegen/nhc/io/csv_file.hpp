@@ -16,9 +16,9 @@ struct CsvFile {
   std::vector<std::string> header;  ///< the first line's names, trimmed
   std::string header_text;          ///< the first line (without a byte order mark)
   struct Row {
-    int line = 0;                     ///< 1-based line in the file
-    std::string text;                 ///< the line without its line end
-    std::vector<std::string> cells;   ///< trimmed
+    int line = 0;                    ///< 1-based line in the file
+    std::string text;                ///< the line without its line end
+    std::vector<std::string> cells;  ///< trimmed
   };
   std::vector<Row> rows;
 

@@ -29,7 +29,8 @@ std::string megabytes(std::uintmax_t bytes) {
 
 void check_input_file(const std::string& path, const std::string& what, std::uintmax_t limit) {
   struct stat s {};
-  if (::stat(path.c_str(), &s) != 0) throw InputError({path, 0, 0}, "cannot read " + what + ": " + std::strerror(errno));
+  if (::stat(path.c_str(), &s) != 0)
+    throw InputError({path, 0, 0}, "cannot read " + what + ": " + std::strerror(errno));
   if (!S_ISREG(s.st_mode)) throw InputError({path, 0, 0}, "is " + kind_of(s.st_mode) + ", not " + what);
   if (static_cast<std::uintmax_t>(s.st_size) > limit)
     throw InputError({path, 0, 0}, "is " + megabytes(static_cast<std::uintmax_t>(s.st_size)) + ", more than the " +

@@ -18,7 +18,8 @@ namespace nhc {
 namespace fs = std::filesystem;
 
 bool same_file(const std::string& a, const std::string& b) {
-  struct stat sa {}, sb {};
+  struct stat sa {
+  }, sb{};
   if (::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0)
     return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
   std::error_code ea, eb;
@@ -129,7 +130,9 @@ OutputTarget output_target(const std::string& path) {
     if (S_ISDIR(s.st_mode))
       throw InputError({path, 0, 0}, "the output " + path + " is a directory; a file name is expected");
     throw InputError({path, 0, 0}, "the output " + path + " is " +
-                                       (S_ISBLK(s.st_mode) ? "a block device" : S_ISSOCK(s.st_mode) ? "a socket" : "not a regular file") +
+                                       (S_ISBLK(s.st_mode)    ? "a block device"
+                                        : S_ISSOCK(s.st_mode) ? "a socket"
+                                                              : "not a regular file") +
                                        "; nhc writes outputs only to regular files, character devices and FIFOs");
   }
 }

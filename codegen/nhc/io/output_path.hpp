@@ -25,7 +25,7 @@ bool same_file(const std::string& a, const std::string& b);
 /// Where the bytes of an output named `path` go.
 struct OutputTarget {
   enum class Kind { new_file, regular, stream };
-  std::string path;  ///< `path` with its symbolic links followed (the file that is replaced)
+  std::string path;            ///< `path` with its symbolic links followed (the file that is replaced)
   Kind kind = Kind::new_file;  ///< stream: a character device or FIFO, written in place
 };
 

@@ -101,8 +101,7 @@ TemporaryFile::~TemporaryFile() {
 
 void TemporaryFile::remove() const noexcept { ::unlink(path_.c_str()); }
 
-TemporaryDirectory::TemporaryDirectory(std::string path)
-    : path_(std::move(path)), slot_(register_path(path_, true)) {}
+TemporaryDirectory::TemporaryDirectory(std::string path) : path_(std::move(path)), slot_(register_path(path_, true)) {}
 
 TemporaryDirectory::~TemporaryDirectory() {
   remove();
@@ -129,8 +128,7 @@ ChildProcessGroup::~ChildProcessGroup() {
 std::string unique_temporary_name(const std::string& path) {
   static std::atomic<unsigned> counter{0};
   static const unsigned salt = std::random_device{}() % 1000000u;
-  return path + ".tmp" + std::to_string(::getpid()) + "_" + std::to_string(counter++) + "_" +
-         std::to_string(salt);
+  return path + ".tmp" + std::to_string(::getpid()) + "_" + std::to_string(counter++) + "_" + std::to_string(salt);
 }
 
 int sweep_stale_temporaries(const std::string& directory, double min_age_seconds) {

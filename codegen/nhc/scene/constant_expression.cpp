@@ -9,7 +9,8 @@ namespace nhc {
 namespace {
 
 /// Recursive descent: sum := product (('+'|'-') product)*; product := unary (('*'|'/') unary)*;
-/// unary := ('+'|'-') unary | power; power := atom ('^' unary)?; atom := number | name | name '(' sum ')' | '(' sum ')'.
+/// unary := ('+'|'-') unary | power; power := atom ('^' unary)?; atom := number | name | name '(' sum ')' | '(' sum
+/// ')'.
 class ConstantParser {
  public:
   ConstantParser(const std::string& text, const std::map<std::string, double>& names) : text_(text), names_(names) {}

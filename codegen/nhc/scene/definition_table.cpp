@@ -11,9 +11,7 @@ namespace nhc {
 
 namespace {
 
-std::string quoted_text(const std::string& text) {
-  return text.size() <= 60 ? text : text.substr(0, 60) + "...";
-}
+std::string quoted_text(const std::string& text) { return text.size() <= 60 ? text : text.substr(0, 60) + "..."; }
 
 }  // namespace
 
@@ -77,8 +75,8 @@ std::optional<Value> DefinitionTable::resolve(const std::string& name) {
   } catch (const ExpressionSyntaxError& e) {
     resolving_.pop_back();
     entry.in_progress = false;
-    throw InputError(entry.locate(e.offset()), "in definition '" + name + "' \"" +
-                                                   quoted_text(entry.text) + "\": " + e.what());
+    throw InputError(entry.locate(e.offset()),
+                     "in definition '" + name + "' \"" + quoted_text(entry.text) + "\": " + e.what());
   } catch (...) {
     resolving_.pop_back();
     entry.in_progress = false;

@@ -22,9 +22,7 @@ namespace {
 using GiNaC::ex;
 
 /// A name for a message: long ones cut after 40 characters.
-std::string shown(const std::string& name) {
-  return name.size() <= 40 ? name : name.substr(0, 40) + "...";
-}
+std::string shown(const std::string& name) { return name.size() <= 40 ? name : name.substr(0, 40) + "..."; }
 
 bool is_name_start(char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; }
 bool is_name_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; }
@@ -78,8 +76,7 @@ class Parser {
     std::size_t nodes = 0;
     for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it) {
       if (++nodes > kMaxNodes)
-        fail(0, "the expression is larger than " + std::to_string(kMaxNodes) +
-                    " nodes (definitions substituted)");
+        fail(0, "the expression is larger than " + std::to_string(kMaxNodes) + " nodes (definitions substituted)");
       if (GiNaC::is_exactly_a<GiNaC::mul>(*it) && it->nops() > kMaxFactors)
         fail(0, "a product of more than " + std::to_string(kMaxFactors) + " factors");
     }
@@ -99,9 +96,7 @@ class Parser {
                   std::to_string(static_cast<long>(work_budget::kMaxExpandedTerms)) + " terms");
   }
 
-  [[noreturn]] void fail(std::size_t at, const std::string& message) const {
-    throw ExpressionSyntaxError(at, message);
-  }
+  [[noreturn]] void fail(std::size_t at, const std::string& message) const { throw ExpressionSyntaxError(at, message); }
   bool at_end() const { return pos_ >= text_.size(); }
   char peek() const { return at_end() ? '\0' : text_[pos_]; }
   void skip_space() {
@@ -118,16 +113,15 @@ class Parser {
     Parser& p;
     explicit DepthGuard(Parser& parser) : p(parser) {
       if (++p.depth_ > (p.rules_.input_limits ? 1 : 20) * kMaxExpressionDepth)
-        p.fail(p.pos_, "expression nested more than " + std::to_string(kMaxExpressionDepth) +
-                           " levels deep");
+        p.fail(p.pos_, "expression nested more than " + std::to_string(kMaxExpressionDepth) + " levels deep");
     }
     ~DepthGuard() { --p.depth_; }
   };
 
   /// True when a rational number of e has a numerator or denominator of more than kMaxPowerBits
-  /// bits or is too large for a double: looking at e's own coefficients (cheap, after each operation) or, with `deep`, at
-  /// every number in it. Products of numbers grow without a power (1e400*1e400*…), and every
-  /// number nhc accepts must print as a literal it reads back.
+  /// bits or is too large for a double: looking at e's own coefficients (cheap, after each operation) or, with `deep`,
+  /// at every number in it. Products of numbers grow without a power (1e400*1e400*…), and every number nhc accepts must
+  /// print as a literal it reads back.
   static bool has_large_number(const ex& e, bool deep) {
     auto large = [](const ex& x) {
       if (!GiNaC::is_a<GiNaC::numeric>(x)) return false;
@@ -137,15 +131,13 @@ class Parser {
       const long denominator_bits = GiNaC::denom(n).int_length();
       // |n| < 2^(numerator_bits - denominator_bits + 1): beyond 2^1023 no double holds it, and
       // the generated code and the runtime compute in doubles.
-      return std::max(numerator_bits, denominator_bits) > kMaxPowerBits ||
-             numerator_bits - denominator_bits > 1022;
+      return std::max(numerator_bits, denominator_bits) > kMaxPowerBits || numerator_bits - denominator_bits > 1022;
     };
     if (deep) return any_subexpression(e, large);
     if (large(e)) return true;
     if (GiNaC::is_exactly_a<GiNaC::mul>(e) || GiNaC::is_exactly_a<GiNaC::add>(e))
       for (std::size_t k = 0; k < e.nops(); ++k)
-        if (large(e.op(k)) || (GiNaC::is_exactly_a<GiNaC::mul>(e.op(k)) &&
-                               large(e.op(k).op(e.op(k).nops() - 1))))
+        if (large(e.op(k)) || (GiNaC::is_exactly_a<GiNaC::mul>(e.op(k)) && large(e.op(k).op(e.op(k).nops() - 1))))
           return true;
     return false;
   }
@@ -161,9 +153,8 @@ class Parser {
 
   /// True when e contains a number that is not real (GiNaC evaluates sqrt(-4) to 2*I).
   static bool has_complex_number(const ex& e) {
-    return any_subexpression(e, [](const ex& x) {
-      return GiNaC::is_a<GiNaC::numeric>(x) && !GiNaC::ex_to<GiNaC::numeric>(x).is_real();
-    });
+    return any_subexpression(
+        e, [](const ex& x) { return GiNaC::is_a<GiNaC::numeric>(x) && !GiNaC::ex_to<GiNaC::numeric>(x).is_real(); });
   }
 
   /// GiNaC reports 1/0 and similar by throwing; turn that into a positioned error. A complex
@@ -215,8 +206,7 @@ class Parser {
       return Value::scalar(GiNaC::add(scalars));
     }
     Value sum = terms.front();
-    for (std::size_t k = 1; k < terms.size(); ++k)
-      sum = valued(at[k], [&] { return add(sum, terms[k]); });
+    for (std::size_t k = 1; k < terms.size(); ++k) sum = valued(at[k], [&] { return add(sum, terms[k]); });
     return sum;
   }
 
@@ -277,8 +267,7 @@ class Parser {
     if (!v.is_scalar()) return 1;
     const ex& e = v.entries[0];
     if (GiNaC::is_a<GiNaC::numeric>(e)) return GiNaC::ex_to<GiNaC::numeric>(e);
-    if (GiNaC::is_exactly_a<GiNaC::mul>(e) && e.nops() > 0 &&
-        GiNaC::is_a<GiNaC::numeric>(e.op(e.nops() - 1)))
+    if (GiNaC::is_exactly_a<GiNaC::mul>(e) && e.nops() > 0 && GiNaC::is_a<GiNaC::numeric>(e.op(e.nops() - 1)))
       return GiNaC::ex_to<GiNaC::numeric>(e.op(e.nops() - 1));
     return 1;
   }
@@ -305,16 +294,15 @@ class Parser {
       check_exponent(base, exponent, at);
       // 0^y is 0 for y > 0 and undefined otherwise; its derivative holds log(0) (a crash in
       // every model). Only a positive number is a meaningful exponent of 0.
-      if (base.is_zero() && !(GiNaC::is_a<GiNaC::numeric>(exponent) && GiNaC::ex_to<GiNaC::numeric>(exponent).is_positive()))
+      if (base.is_zero() &&
+          !(GiNaC::is_a<GiNaC::numeric>(exponent) && GiNaC::ex_to<GiNaC::numeric>(exponent).is_positive()))
         fail(at, "0 to a power that is not a positive number is undefined (0^y); write 0 or 1");
       // e^y is exp(y): GiNaC keeps exp(1)^y as a power of a number, which neither prints nor
       // differentiates as the exponential it is.
       const bool of_e = base.is_equal(GiNaC::exp(ex(1)));
       ex result = guarded(at, [&] { return of_e ? GiNaC::exp(exponent) : GiNaC::pow(base, exponent); });
-      if (rules_.input_limits && !GiNaC::is_a<GiNaC::numeric>(exponent) &&
-          exponent_tower(result) > kMaxExponentTower)
-        fail(at, "powers with non-numeric exponents nested more than " +
-                     std::to_string(kMaxExponentTower) + " deep");
+      if (rules_.input_limits && !GiNaC::is_a<GiNaC::numeric>(exponent) && exponent_tower(result) > kMaxExponentTower)
+        fail(at, "powers with non-numeric exponents nested more than " + std::to_string(kMaxExponentTower) + " deep");
       return Value::scalar(result);
     }
     return base_value;
@@ -358,8 +346,8 @@ class Parser {
     std::vector<ex> entries;
     for (const Value& row : items) {
       if (!row.is_vector() || row.rows != cols)
-        fail(start, "the rows of a matrix must be vectors of one length (got " +
-                        items.front().describe() + " and " + row.describe() + ")");
+        fail(start, "the rows of a matrix must be vectors of one length (got " + items.front().describe() + " and " +
+                        row.describe() + ")");
       entries.insert(entries.end(), row.entries.begin(), row.entries.end());
     }
     return Value::matrix(static_cast<unsigned>(items.size()), cols, std::move(entries));
@@ -379,8 +367,7 @@ class Parser {
       if (!b.is_rational() || b.is_zero()) return;
       const double bits = std::max(GiNaC::numer(b).int_length(), GiNaC::denom(b).int_length());
       if (bits * magnitude > kMaxPowerBits)
-        fail(at, "the number this power gives is too large (more than " +
-                     std::to_string(kMaxPowerBits) + " bits)");
+        fail(at, "the number this power gives is too large (more than " + std::to_string(kMaxPowerBits) + " bits)");
     } else if (magnitude > kMaxExponent) {
       fail(at, "exponent too large (the limit is " + std::to_string(kMaxExponent) + ")");
     }
@@ -433,17 +420,19 @@ class Parser {
   /// close.
   std::string hint_for(const std::string& name) const {
     const auto is_coordinate = [&](const std::string& n) { return jet_.coordinate_index(n).has_value(); };
-    static const std::vector<std::pair<std::string, int>> suffixes = {
-        {"_ddot", 2}, {"ddot", 2}, {"_dd", 2}, {"_tt", 2}, {"_dot", 1}, {"dot", 1}, {"_t", 1}, {"d", 1}};
+    static const std::vector<std::pair<std::string, int>> suffixes = {{"_ddot", 2}, {"ddot", 2}, {"_dd", 2}, {"_tt", 2},
+                                                                      {"_dot", 1},  {"dot", 1},  {"_t", 1},  {"d", 1}};
     for (const auto& [suffix, order] : suffixes)
       if (name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0 &&
           is_coordinate(name.substr(0, name.size() - suffix.size())))
-        return "derivatives are written with primes: " + base::primed_name(name.substr(0, name.size() - suffix.size()), order);
+        return "derivatives are written with primes: " +
+               base::primed_name(name.substr(0, name.size() - suffix.size()), order);
     if (name.size() > 1 && name[0] == 'd' && is_coordinate(name.substr(1)))
       return "derivatives are written with primes: " + name.substr(1) + "'";
     if (auto alpha = multiplier_index(name); alpha && *alpha >= jet_.multiplier_count())
-      return jet_.multiplier_count() == 0 ? "the scene has no constraints, so no multipliers"
-                                          : "the multipliers are lambda1 to lambda" + std::to_string(jet_.multiplier_count());
+      return jet_.multiplier_count() == 0
+                 ? "the scene has no constraints, so no multipliers"
+                 : "the multipliers are lambda1 to lambda" + std::to_string(jet_.multiplier_count());
     std::vector<std::string> known = jet_.coordinates();
     known.insert(known.end(), jet_.parameters().begin(), jet_.parameters().end());
     std::string best;
@@ -515,29 +504,21 @@ class Parser {
     if (is_name_start(peek())) fail(pos_, "a name cannot follow a number directly; write '*'");
     const GiNaC::numeric result = value * scale;
     if (rules_.input_limits && has_large_number(result, false))
-      fail(start, "number out of range (beyond double precision or more than " +
-                      std::to_string(kMaxPowerBits) + " bits)");
+      fail(start,
+           "number out of range (beyond double precision or more than " + std::to_string(kMaxPowerBits) + " bits)");
     return result;
   }
 
   Value call(const std::string& name, std::size_t start) {
     static const std::map<std::string, std::function<ex(const ex&)>> unary_functions = {
-        {"sin", [](const ex& a) { return GiNaC::sin(a); }},
-        {"cos", [](const ex& a) { return GiNaC::cos(a); }},
-        {"tan", [](const ex& a) { return GiNaC::tan(a); }},
-        {"exp", [](const ex& a) { return GiNaC::exp(a); }},
-        {"log", [](const ex& a) { return GiNaC::log(a); }},
-        {"sqrt", [](const ex& a) { return GiNaC::sqrt(a); }},
-        {"abs", [](const ex& a) { return GiNaC::abs(a); }},
-        {"sinh", [](const ex& a) { return GiNaC::sinh(a); }},
-        {"cosh", [](const ex& a) { return GiNaC::cosh(a); }},
-        {"tanh", [](const ex& a) { return GiNaC::tanh(a); }},
-        {"asin", [](const ex& a) { return GiNaC::asin(a); }},
-        {"acos", [](const ex& a) { return GiNaC::acos(a); }},
-        {"atan", [](const ex& a) { return GiNaC::atan(a); }},
-        {"asinh", [](const ex& a) { return GiNaC::asinh(a); }},
-        {"acosh", [](const ex& a) { return GiNaC::acosh(a); }},
-        {"atanh", [](const ex& a) { return GiNaC::atanh(a); }},
+        {"sin", [](const ex& a) { return GiNaC::sin(a); }},     {"cos", [](const ex& a) { return GiNaC::cos(a); }},
+        {"tan", [](const ex& a) { return GiNaC::tan(a); }},     {"exp", [](const ex& a) { return GiNaC::exp(a); }},
+        {"log", [](const ex& a) { return GiNaC::log(a); }},     {"sqrt", [](const ex& a) { return GiNaC::sqrt(a); }},
+        {"abs", [](const ex& a) { return GiNaC::abs(a); }},     {"sinh", [](const ex& a) { return GiNaC::sinh(a); }},
+        {"cosh", [](const ex& a) { return GiNaC::cosh(a); }},   {"tanh", [](const ex& a) { return GiNaC::tanh(a); }},
+        {"asin", [](const ex& a) { return GiNaC::asin(a); }},   {"acos", [](const ex& a) { return GiNaC::acos(a); }},
+        {"atan", [](const ex& a) { return GiNaC::atan(a); }},   {"asinh", [](const ex& a) { return GiNaC::asinh(a); }},
+        {"acosh", [](const ex& a) { return GiNaC::acosh(a); }}, {"atanh", [](const ex& a) { return GiNaC::atanh(a); }},
     };
     const auto& names = function_names();
     if (std::find(names.begin(), names.end(), name) == names.end())
@@ -554,8 +535,8 @@ class Parser {
     const bool binary = name == "atan2" || name == "dot" || name == "cross";
     const std::size_t expected = name == "quat" ? 4 : binary ? 2 : 1;
     if (args.size() != expected)
-      fail(start, name + " takes " + std::to_string(expected) + " argument" +
-                      (expected == 1 ? "" : "s") + ", got " + std::to_string(args.size()));
+      fail(start, name + " takes " + std::to_string(expected) + " argument" + (expected == 1 ? "" : "s") + ", got " +
+                      std::to_string(args.size()));
     if (auto it = unary_functions.find(name); it != unary_functions.end()) {
       const ex& a = scalar_argument(name, args[0], arg_positions[0]);
       return Value::scalar(guarded(start, [&] { return it->second(a); }));
@@ -584,8 +565,8 @@ class Parser {
   }
 
   /// dot cross norm transpose rotx roty rotz quat omega omega_body (value.hpp).
-  Value vector_function(const std::string& name, const std::vector<Value>& args,
-                        std::size_t start, const std::vector<std::size_t>& arg_positions) {
+  Value vector_function(const std::string& name, const std::vector<Value>& args, std::size_t start,
+                        const std::vector<std::size_t>& arg_positions) {
     const std::size_t first_argument = arg_positions[0];
     if (name == "quat") {
       std::vector<ex> q;
@@ -623,8 +604,8 @@ class Parser {
       }
     }
     if (order > kMaxDerivativeOrder)
-      fail(start, "derivative order " + std::to_string(order) + " of '" + shown(base) +
-                      "' exceeds the limit of " + std::to_string(kMaxDerivativeOrder));
+      fail(start, "derivative order " + std::to_string(order) + " of '" + shown(base) + "' exceeds the limit of " +
+                      std::to_string(kMaxDerivativeOrder));
     // GiNaC prints π as `Pi` (acos(-1), atan(1)*4 evaluate to it); read it back.
     if (base == "Pi" && !jet_.parameter_index(base) && !jet_.input_index(base) && !known_variable(base)) {
       if (order > 0) fail(start, "'Pi' is a constant and cannot carry primes");
@@ -640,8 +621,7 @@ class Parser {
       return Value::scalar(jet_.parameter(*p));
     }
     if (auto k = jet_.input_index(base)) {
-      if (order > 0)
-        fail(start, "input '" + base + "' cannot carry primes: an input's derivative is not known");
+      if (order > 0) fail(start, "input '" + base + "' cannot carry primes: an input's derivative is not known");
       if (!rules_.allow_coordinates) fail(start, "input '" + base + "' is not allowed here " + allowed_here());
       if (!rules_.allow_inputs)
         fail(start, "input '" + base + "' is not allowed here (an input's law may not use another input)");
@@ -650,8 +630,7 @@ class Parser {
       return Value::scalar(jet_.input(*k));
     }
     if (const std::optional<int> i = jet_.coordinate_index(base)) {
-      if (!rules_.allow_coordinates)
-        fail(start, "coordinate '" + base + "' is not allowed here " + allowed_here());
+      if (!rules_.allow_coordinates) fail(start, "coordinate '" + base + "' is not allowed here " + allowed_here());
       return Value::scalar(jet_.q(*i, order));
     }
     if (auto alpha = multiplier_index(base); alpha && *alpha < jet_.multiplier_count()) {
@@ -678,8 +657,7 @@ class Parser {
     if (!rules_.allow_coordinates || !rules_.allow_time)
       for (const ex& e : value.entries) {
         if (!rules_.allow_coordinates && jet_.highest_coordinate_order(e) >= 0)
-          fail(start, "definition '" + shown(name) + "' involves coordinates, not allowed here " +
-                          allowed_here());
+          fail(start, "definition '" + shown(name) + "' involves coordinates, not allowed here " + allowed_here());
         if (!rules_.allow_time && e.has(jet_.time()))
           fail(start, "definition '" + shown(name) + "' involves 't', not allowed here");
       }
@@ -687,8 +665,7 @@ class Parser {
     Value derivative = total_derivative(value, jet_, primes);
     for (const ex& e : derivative.entries)
       if (jet_.highest_coordinate_order(e) > kMaxDerivativeOrder)
-        fail(start, "'" + base::primed_name(shown(name), primes) +
-                        "' has derivatives of order above the limit of " +
+        fail(start, "'" + base::primed_name(shown(name), primes) + "' has derivatives of order above the limit of " +
                         std::to_string(kMaxDerivativeOrder));
     return derivative;
   }
@@ -709,11 +686,9 @@ class Parser {
 
 }  // namespace
 
-GiNaC::ex parse_expression(const std::string& text, const JetSpace& jet,
-                           const ExpressionRules& rules) {
+GiNaC::ex parse_expression(const std::string& text, const JetSpace& jet, const ExpressionRules& rules) {
   const Value v = Parser(text, jet, rules).parse();
-  if (!v.is_scalar())
-    throw ExpressionSyntaxError(0, "expected a scalar, but the expression is " + v.describe());
+  if (!v.is_scalar()) throw ExpressionSyntaxError(0, "expected a scalar, but the expression is " + v.describe());
   return v.entries[0];
 }
 
@@ -722,11 +697,10 @@ Value parse_value(const std::string& text, const JetSpace& jet, const Expression
 }
 
 const std::vector<std::string>& function_names() {
-  static const std::vector<std::string> names = {
-      "sin",  "cos",  "tan",  "exp",  "log",  "sqrt",  "abs",      "sinh", "cosh",  "tanh",
-      "asin", "acos", "atan", "asinh", "acosh", "atanh", "atan2", "dot", "cross", "norm",
-      "transpose", "rotx", "roty",
-      "rotz", "quat", "omega", "omega_body"};
+  static const std::vector<std::string> names = {"sin",   "cos",   "tan",   "exp",  "log",   "sqrt",      "abs",
+                                                 "sinh",  "cosh",  "tanh",  "asin", "acos",  "atan",      "asinh",
+                                                 "acosh", "atanh", "atan2", "dot",  "cross", "norm",      "transpose",
+                                                 "rotx",  "roty",  "rotz",  "quat", "omega", "omega_body"};
   return names;
 }
 

@@ -101,8 +101,7 @@ struct ExpressionRules {
 };
 
 /// Parse `text` to a scalar; throws ExpressionSyntaxError on any error (a vector or matrix is one).
-GiNaC::ex parse_expression(const std::string& text, const JetSpace& jet,
-                           const ExpressionRules& rules = {});
+GiNaC::ex parse_expression(const std::string& text, const JetSpace& jet, const ExpressionRules& rules = {});
 /// Parse `text` to a value of any shape (a definition).
 Value parse_value(const std::string& text, const JetSpace& jet, const ExpressionRules& rules = {});
 

@@ -7,10 +7,14 @@ namespace nhc {
 
 std::string to_string(ModelKind model) {
   switch (model) {
-    case ModelKind::vakonomic: return "vakonomic";
-    case ModelKind::chetaev: return "chetaev";
-    case ModelKind::holder: return "holder";
-    case ModelKind::suslov: return "suslov";
+    case ModelKind::vakonomic:
+      return "vakonomic";
+    case ModelKind::chetaev:
+      return "chetaev";
+    case ModelKind::holder:
+      return "holder";
+    case ModelKind::suslov:
+      return "suslov";
   }
   return "?";
 }

@@ -15,8 +15,8 @@ struct Scene;
 
 enum class ModelKind { vakonomic, chetaev, holder, suslov };
 
-inline constexpr ModelKind kAllModels[] = {ModelKind::vakonomic, ModelKind::chetaev,
-                                           ModelKind::holder, ModelKind::suslov};
+inline constexpr ModelKind kAllModels[] = {ModelKind::vakonomic, ModelKind::chetaev, ModelKind::holder,
+                                           ModelKind::suslov};
 
 std::string to_string(ModelKind model);
 std::optional<ModelKind> parse_model_kind(const std::string& name);

@@ -46,12 +46,11 @@ struct SimulateSettings {
   double t_end = 1.0;
   double rtol = 1e-8;
   double atol = 1e-10;
-  std::optional<int> outputs;  ///< output intervals ([simulate] outputs), default 200
+  std::optional<int> outputs;          ///< output intervals ([simulate] outputs), default 200
   std::optional<double> max_step;      ///< IDA's largest step ([simulate] max_step)
   std::optional<double> initial_step;  ///< IDA's first step ([simulate] initial_step)
   /// The keys written as expressions of the parameters (NumberExpression).
-  NumberExpression t_end_expression, rtol_expression, atol_expression, max_step_expression,
-      initial_step_expression;
+  NumberExpression t_end_expression, rtol_expression, atol_expression, max_step_expression, initial_step_expression;
 };
 
 /// One entry of [invariants] or [outputs]: a named quantity of t, parameters, q, q', … and the
@@ -73,8 +72,8 @@ enum class EventAction { stop, record };
 struct SceneEvent {
   std::string name;
   GiNaC::ex expression;
-  std::string text;       ///< as written
-  SourceLocation where;   ///< the expression's place in the scene file (or the flag)
+  std::string text;      ///< as written
+  SourceLocation where;  ///< the expression's place in the scene file (or the flag)
   EventDirection direction = EventDirection::any;
   EventAction action = EventAction::stop;
   /// Also met at t0 when the value starts below zero (a contact that slips from the start).
@@ -88,11 +87,11 @@ struct SceneEvent {
 enum class SlipAction { stop, slide };
 struct SceneContact {
   std::string name;
-  GiNaC::ex normal;           ///< F_n(t, q, q', …, λ)
-  std::string normal_text;    ///< as written
-  SourceLocation where;       ///< the contact's table in the scene file
+  GiNaC::ex normal;         ///< F_n(t, q, q', …, λ)
+  std::string normal_text;  ///< as written
+  SourceLocation where;     ///< the contact's table in the scene file
   SourceLocation on_slip_where;
-  std::vector<int> rolling;   ///< 0-based constraint indices: the slip velocity's components
+  std::vector<int> rolling;  ///< 0-based constraint indices: the slip velocity's components
   double mu = 0;
   NumberExpression mu_expression;  ///< mu written through the parameters
   SlipAction on_slip = SlipAction::stop;
@@ -129,9 +128,9 @@ struct SceneInput {
 /// sets the inputs it drives (held until the next sample) and its discrete states' next values.
 struct SceneControllerState {
   std::string name;
-  double initial = 0;       ///< its value at t0
-  GiNaC::symbol symbol;     ///< the name in the controller's expressions
-  SourceLocation where;     ///< the entry of `states`
+  double initial = 0;                   ///< its value at t0
+  GiNaC::symbol symbol;                 ///< the name in the controller's expressions
+  SourceLocation where;                 ///< the entry of `states`
   NumberExpression initial_expression;  ///< `initial` written through the parameters
 };
 /// An entry of `inputs` (target: the input's index in JetSpace::inputs()) or of `update`
@@ -150,16 +149,16 @@ struct SceneMpc {
   bool present = false;
   double horizon = 0;
   int intervals = 0;
-  int max_iterations = 100;   ///< IPOPT's iteration limit per solve
-  double tolerance = 1e-8;    ///< IPOPT's tol per solve
-  bool warm_start = true;     ///< each solve starts from the last plan shifted by one period
-  SourceLocation where;       ///< the `mpc` entry
+  int max_iterations = 100;  ///< IPOPT's iteration limit per solve
+  double tolerance = 1e-8;   ///< IPOPT's tol per solve
+  bool warm_start = true;    ///< each solve starts from the last plan shifted by one period
+  SourceLocation where;      ///< the `mpc` entry
 };
 struct SceneController {
   bool present = false;
   double period = 0;
-  SourceLocation where;         ///< the table
-  SourceLocation period_where;  ///< its period
+  SourceLocation where;                ///< the table
+  SourceLocation period_where;         ///< its period
   NumberExpression period_expression;  ///< the period written through the parameters
   std::vector<SceneControllerState> states;
   std::vector<SceneControllerLaw> inputs;  ///< in file order
@@ -171,10 +170,10 @@ struct SceneController {
 /// ("L/2", as [initial] and [simulate] take), which value_at() evaluates at the parameter values
 /// of the time (a value set since the file was read counts, as for [initial]).
 struct SceneNumber {
-  double value = 0;           ///< at the file's parameter values
-  std::string text;           ///< the expression as written; "" for a number
-  std::string what;           ///< its name in messages ("t_end's low bound")
-  bool infinite_ok = false;   ///< ±inf is allowed (an open side of a bound)
+  double value = 0;          ///< at the file's parameter values
+  std::string text;          ///< the expression as written; "" for a number
+  std::string what;          ///< its name in messages ("t_end's low bound")
+  bool infinite_ok = false;  ///< ±inf is allowed (an open side of a bound)
   SourceLocation where;
   /// The value at `parameters` (Scene::parameter_values_by_name()); InputError at `where` when the
   /// expression fails there or the value is not a finite number (±inf when `infinite_ok`).
@@ -198,7 +197,7 @@ struct SceneOptimizeEntry {
   SourceLocation value_where;  ///< the value (the array of a range)
   bool range = false;          ///< [low, high]; else low and high are the one value
   SceneNumber low, high;
-  std::string what;            ///< the entry in messages ("x in [optimize.initial]")
+  std::string what;  ///< the entry in messages ("x in [optimize.initial]")
 };
 
 /// [optimize] (docs/scenes.md, "Optimal motions"): the problem of `nhc optimize` as written; the
@@ -209,13 +208,13 @@ struct SceneOptimize {
   SourceLocation where;                ///< the [optimize] header
   std::optional<GiNaC::ex> objective;  ///< of t, q, q', …, the inputs and the parameters; none: the Lagrangian
   SourceLocation objective_where;
-  GiNaC::ex final_cost = 0;            ///< of t and the final state
+  GiNaC::ex final_cost = 0;  ///< of t and the final state
   SourceLocation final_cost_where;
-  std::vector<SceneNumber> t_end;      ///< none: [simulate]'s t_end; one: a fixed horizon; two: [low, high]
-  SourceLocation t_end_where;          ///< the entry (else the table's header)
+  std::vector<SceneNumber> t_end;  ///< none: [simulate]'s t_end; one: a fixed horizon; two: [low, high]
+  SourceLocation t_end_where;      ///< the entry (else the table's header)
   std::optional<int> intervals;
   std::optional<ModelKind> model;
-  SourceLocation model_where;          ///< the `model` entry (else the table's header)
+  SourceLocation model_where;  ///< the `model` entry (else the table's header)
   std::vector<SceneOptimizeEntry> initial, final, bounds;
 };
 
@@ -237,16 +236,16 @@ struct SceneSystemFields {
   bool keep_definitions = false;
   std::shared_ptr<JetSpace> jet;
   std::vector<DerivedParameter> derived_parameters;  ///< each after those it uses
-  GiNaC::ex lagrangian;                  ///< L(t, q, q')
-  SourceLocation lagrangian_where;       ///< where the scene file writes L (refusals point there)
-  std::vector<GiNaC::ex> constraints;    ///< f^α(t, q, …, q^(m_α)) = 0
+  GiNaC::ex lagrangian;                              ///< L(t, q, q')
+  SourceLocation lagrangian_where;                   ///< where the scene file writes L (refusals point there)
+  std::vector<GiNaC::ex> constraints;                ///< f^α(t, q, …, q^(m_α)) = 0
   std::vector<std::string> constraint_texts;
-  std::vector<int> dependent;            ///< coordinate indices d_1..d_g (suslov); may be empty
-  std::vector<ModelKind> models;         ///< requested models, default all four
+  std::vector<int> dependent;     ///< coordinate indices d_1..d_g (suslov); may be empty
+  std::vector<ModelKind> models;  ///< requested models, default all four
   /// Where the scene's `models` key lists each model (empty when it has no `models` key: then
   /// every model is requested, none by name).
   std::map<ModelKind, SourceLocation> models_where;
-  SourceLocation constraints_where;      ///< the `constraints` key's value (none: line 0)
+  SourceLocation constraints_where;  ///< the `constraints` key's value (none: line 0)
   /// Generalized non-conservative forces Q_i(t, q, q') of [forces], one per coordinate (0 when
   /// not given); every model adds Q_i to its residual R_i (docs/forces.md).
   std::vector<GiNaC::ex> forces;
@@ -287,8 +286,8 @@ struct SceneExperiment {
   std::vector<double> parameter_values;  ///< in JetSpace parameter order
   InitialData initial;
   SimulateSettings simulate;
-  std::vector<SceneEvent> events;        ///< [events], in file order
-  std::vector<SceneContact> contacts;    ///< [contacts], in file order
+  std::vector<SceneEvent> events;      ///< [events], in file order
+  std::vector<SceneContact> contacts;  ///< [contacts], in file order
   /// [controller]: a sampled controller, evaluated by the run between integrations (not in the
   /// generated model); `present` false when the scene has none.
   SceneController controller;

@@ -125,8 +125,7 @@ std::string SceneBuilder::toml() const {
   if (t0_ || !initial_.empty()) {
     out << "\n[initial]\n";
     if (t0_) out << "t0 = " << number(*t0_) << "\n";
-    for (const auto& [variable, values] : initial_)
-      out << quoted(variable) << " = " << number_array(values) << "\n";
+    for (const auto& [variable, values] : initial_) out << quoted(variable) << " = " << number_array(values) << "\n";
   }
   if (simulate_) {
     out << "\n[simulate]\n"
@@ -142,8 +141,7 @@ std::string SceneBuilder::toml() const {
   }
   if (!invariants_.empty()) {
     out << "\n[invariants]\n";
-    for (const auto& [name, expression] : invariants_)
-      out << quoted(name) << " = " << quoted(expression) << "\n";
+    for (const auto& [name, expression] : invariants_) out << quoted(name) << " = " << quoted(expression) << "\n";
   }
   for (const auto& [title, entries] : {std::pair{"definitions", &definitions_}, std::pair{"forces", &forces_}}) {
     if (entries->empty()) continue;

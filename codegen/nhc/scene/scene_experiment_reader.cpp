@@ -40,7 +40,9 @@ void SceneReader::read_events(const toml::table& root, Scene& scene, const Expre
     const std::string n(key->str());
     check_variable_name_at(at(key->source()), n, "event");
     const toml::table* t = value->as_table();
-    if (!t) fail(*value, "event '" + n + "' must be a table: { when = \"expression\", direction = \"up\", action = \"stop\" }");
+    if (!t)
+      fail(*value,
+           "event '" + n + "' must be a table: { when = \"expression\", direction = \"up\", action = \"stop\" }");
     check_keys(*t, {"when", "direction", "action"});
     const toml::node& when = require(*t, "when", "events." + n);
     SceneEvent event;
@@ -84,8 +86,8 @@ void SceneReader::read_contacts(const toml::table& root, Scene& scene, const Exp
     contact.where = at(key->source());
     const toml::node& normal = require(*t, "normal", "contacts." + n);
     contact.normal_text = string_value(normal, "normal");
-    contact.normal = expression(normal, "the normal force of contact '" + n + "'", *scene.jet,
-                                multipliers_allowed(rules));
+    contact.normal =
+        expression(normal, "the normal force of contact '" + n + "'", *scene.jet, multipliers_allowed(rules));
     const toml::node& rolling = require(*t, "rolling", "contacts." + n);
     const toml::array& indices = array_value(rolling, "rolling");
     if (indices.empty()) fail(rolling, "'rolling' of contact '" + n + "' is empty: name the rolling constraints");
@@ -138,9 +140,11 @@ void SceneReader::read_controller(const toml::table& root, Scene& scene, const E
     for (const auto& [key, value] : entries_in_file_order(*states, "controller.states")) {
       const std::string n(key->str());
       if (jet.coordinate_index(n))
-        throw InputError(at(key->source()), "controller state '" + printable(n) +
-                                                "' is named like a coordinate: a discrete state needs a name of its own");
-      if (n == "period") throw InputError(at(key->source()), "'period' is the controller's sample period, not a state name");
+        throw InputError(at(key->source()),
+                         "controller state '" + printable(n) +
+                             "' is named like a coordinate: a discrete state needs a name of its own");
+      if (n == "period")
+        throw InputError(at(key->source()), "'period' is the controller's sample period, not a state name");
       check_variable_name_at(at(key->source()), n, "controller state");
       SceneControllerState state{n, number_value(*value, "controller state '" + n + "'"), GiNaC::symbol(n),
                                  at(key->source()), number_expression(*value)};
@@ -156,7 +160,8 @@ void SceneReader::read_controller(const toml::table& root, Scene& scene, const E
   // `period` in the laws is the period's expression of the parameters, so that it follows them.
   const GiNaC::ex h = period.is_string() ? expression(period, "the controller's period", jet, rules)
                                          : GiNaC::ex(GiNaC::numeric(controller.period));
-  law.definition = [&controller, state_index, h, outer = rules.definition](const std::string& name) -> std::optional<Value> {
+  law.definition = [&controller, state_index, h,
+                    outer = rules.definition](const std::string& name) -> std::optional<Value> {
     if (const auto it = state_index.find(name); it != state_index.end())
       return Value::scalar(controller.states[static_cast<std::size_t>(it->second)].symbol);
     if (name == "period") return Value::scalar(h);
@@ -185,8 +190,9 @@ void SceneReader::read_controller(const toml::table& root, Scene& scene, const E
                                                 "', which is not an [inputs] entry (the controller drives inputs)");
       const SceneInput& input = scene.inputs.at(static_cast<std::size_t>(*k));
       if (input.feedback)
-        throw InputError(at(key->source()), "[controller] sets input '" + n + "', whose [inputs] entry is a feedback law (" +
-                                                input.where.str() + "): an input has one law; give it a signal there");
+        throw InputError(at(key->source()), "[controller] sets input '" + n +
+                                                "', whose [inputs] entry is a feedback law (" + input.where.str() +
+                                                "): an input has one law; give it a signal there");
       controller.inputs.push_back(read_law(*value, *k, n, "controller input '" + n + "'"));
     }
   }
@@ -206,7 +212,8 @@ void SceneReader::read_controller(const toml::table& root, Scene& scene, const E
     if (!updates[i])
       throw InputError(state.where, "controller state '" + state.name + "' has no update (update = { " + state.name +
                                         " = \"its next value\" })");
-    controller.update.push_back(read_law(*updates[i], static_cast<int>(i), state.name, "update of '" + state.name + "'"));
+    controller.update.push_back(
+        read_law(*updates[i], static_cast<int>(i), state.name, "update of '" + state.name + "'"));
   }
 }
 
@@ -219,20 +226,22 @@ void SceneReader::read_mpc(const toml::node& node, const toml::table& controller
   check_keys(*table, {"horizon", "intervals", "max_iterations", "tolerance", "warm_start"});
   for (const char* other : {"inputs", "states", "update"})
     if (const toml::node* n = controller.get(other))
-      fail(*n, std::string("[controller] with mpc: the model predictive controller sets every input of [inputs]; '") + other +
-                   "' goes with a controller of laws, not with mpc");
+      fail(*n, std::string("[controller] with mpc: the model predictive controller sets every input of [inputs]; '") +
+                   other + "' goes with a controller of laws, not with mpc");
   SceneMpc& mpc = scene.controller.mpc;
   mpc.present = true;
   mpc.where = at(node);
   const toml::node& horizon = require(*table, "horizon", "controller.mpc");
   mpc.horizon = number_value(horizon, "horizon");
-  if (!(std::isfinite(mpc.horizon) && mpc.horizon > 0)) fail(horizon, "horizon must be a positive number (the prediction horizon in time)");
+  if (!(std::isfinite(mpc.horizon) && mpc.horizon > 0))
+    fail(horizon, "horizon must be a positive number (the prediction horizon in time)");
   if (!(mpc.horizon >= scene.controller.period))
-    fail(horizon, "horizon " + shortest(mpc.horizon) + " is shorter than the period " + shortest(scene.controller.period) +
-                      ": each plan must reach the next sample");
+    fail(horizon, "horizon " + shortest(mpc.horizon) + " is shorter than the period " +
+                      shortest(scene.controller.period) + ": each plan must reach the next sample");
   const toml::node& intervals = require(*table, "intervals", "controller.mpc");
   const std::optional<int64_t> n = intervals.value_exact<int64_t>();
-  if (!n || *n < 1 || *n > 10000) fail(intervals, "intervals must be a whole number from 1 to 10000 (the horizon's mesh)");
+  if (!n || *n < 1 || *n > 10000)
+    fail(intervals, "intervals must be a whole number from 1 to 10000 (the horizon's mesh)");
   mpc.intervals = static_cast<int>(*n);
   if (const toml::node* m = table->get("max_iterations")) {
     const std::optional<int64_t> k = m->value_exact<int64_t>();
@@ -290,8 +299,7 @@ void SceneReader::read_initial(const toml::table& root, Scene& scene) {
     const toml::array& arr = array_value(value, "initial " + n);
     if (arr.empty()) fail(value, "initial values of '" + n + "' are empty");
     if (arr.size() > static_cast<std::size_t>(kMaxDerivativeOrder) + 1)
-      fail(value, "initial values of '" + n + "' go beyond derivative order " +
-                      std::to_string(kMaxDerivativeOrder));
+      fail(value, "initial values of '" + n + "' go beyond derivative order " + std::to_string(kMaxDerivativeOrder));
     std::vector<double> values;
     std::vector<std::string> texts;
     for (const toml::node& v : arr) {
@@ -330,8 +338,7 @@ void SceneReader::read_simulate(const toml::table& root, Scene& scene) {
   if (const toml::node* m = table.get("model")) {
     const std::string n = string_value(*m, "simulate model");
     auto kind = parse_model_kind(n);
-    if (!kind)
-      fail(*m, "unknown model '" + printable(n) + "' (known: " + model_name_list() + ")");
+    if (!kind) fail(*m, "unknown model '" + printable(n) + "' (known: " + model_name_list() + ")");
     if (std::find(scene.models.begin(), scene.models.end(), *kind) == scene.models.end())
       fail(*m, "model '" + n + "' is not among the scene's models");
     scene.simulate.model = kind;
@@ -339,8 +346,7 @@ void SceneReader::read_simulate(const toml::table& root, Scene& scene) {
   if (const toml::node* te = table.get("t_end")) {
     scene.simulate.t_end = number_value(*te, "t_end");
     scene.simulate.t_end_expression = number_expression(*te);
-    if (!(scene.simulate.t_end > scene.initial.t0))
-      fail(*te, "t_end must be after t0 = " + shortest(scene.initial.t0));
+    if (!(scene.simulate.t_end > scene.initial.t0)) fail(*te, "t_end must be after t0 = " + shortest(scene.initial.t0));
   }
   if (const toml::node* n = table.get("outputs")) {
     const std::optional<int64_t> count = n->value_exact<int64_t>();
@@ -364,7 +370,8 @@ void SceneReader::read_simulate(const toml::table& root, Scene& scene) {
       if (!(v > 0)) fail(*step, std::string(key) + " must be positive (a step of IDA's, in the units of t)");
       const bool largest = std::string(key) == "max_step";
       (largest ? scene.simulate.max_step : scene.simulate.initial_step) = v;
-      (largest ? scene.simulate.max_step_expression : scene.simulate.initial_step_expression) = number_expression(*step);
+      (largest ? scene.simulate.max_step_expression : scene.simulate.initial_step_expression) =
+          number_expression(*step);
     }
   }
 }

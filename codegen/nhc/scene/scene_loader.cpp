@@ -45,11 +45,12 @@ Scene SceneReader::read() {
     const TextCharacter& c = m->character;
     if (m->after_backslash)
       throw InputError({path_, c.line, c.column},
-                       "TOML syntax: '" + printable(c.text) + "' after a backslash in a multi-line string (the "
-                       "TOML reader cannot take it there; write it as a \\u escape or start the line with ASCII)");
-    throw InputError({path_, c.line, c.column},
-                     "TOML syntax: '" + printable(c.text) + "' outside a string or comment (names, numbers and "
-                     "punctuation are ASCII; write it inside quotes or after #)");
+                       "TOML syntax: '" + printable(c.text) +
+                           "' after a backslash in a multi-line string (the "
+                           "TOML reader cannot take it there; write it as a \\u escape or start the line with ASCII)");
+    throw InputError({path_, c.line, c.column}, "TOML syntax: '" + printable(c.text) +
+                                                    "' outside a string or comment (names, numbers and "
+                                                    "punctuation are ASCII; write it inside quotes or after #)");
   }
   toml::table root;
   try {
@@ -58,9 +59,9 @@ Scene SceneReader::read() {
     throw InputError(at(e.source()), std::string("TOML syntax: ") + std::string(e.description()));
   }
 
-  check_keys(root, {"name", "coordinates", "lagrangian", "constraints", "dependent", "models",
-                    "parameters", "initial", "simulate", "reference", "invariants",
-                    "definitions", "forces", "outputs", "inputs", "visual", "events", "contacts",
+  check_keys(root, {"name",       "coordinates", "lagrangian", "constraints", "dependent",  "models",
+                    "parameters", "initial",     "simulate",   "reference",   "invariants", "definitions",
+                    "forces",     "outputs",     "inputs",     "visual",      "events",     "contacts",
                     "controller",  // read by the sampled run (app/sampled_run.hpp)
                     "optimize"});
 
@@ -114,8 +115,7 @@ Scene SceneReader::read() {
       constraint_nodes.push_back(&c);
     }
     if (constraint_nodes.size() >= coordinate_names.size() && !constraint_nodes.empty())
-      fail(*cn, std::to_string(constraint_nodes.size()) + " constraints on " +
-                    std::to_string(coordinate_names.size()) +
+      fail(*cn, std::to_string(constraint_nodes.size()) + " constraints on " + std::to_string(coordinate_names.size()) +
                     " coordinates: there must be fewer constraints than coordinates");
   }
 
@@ -132,9 +132,8 @@ Scene SceneReader::read() {
     }
   }
 
-  scene.jet = std::make_shared<JetSpace>(coordinate_names,
-                                         static_cast<int>(constraint_nodes.size()),
-                                         parameter_names, input_names);
+  scene.jet = std::make_shared<JetSpace>(coordinate_names, static_cast<int>(constraint_nodes.size()), parameter_names,
+                                         input_names);
   scene.parameter_values = parameter_values;
   for (std::size_t i = 0; i < parameter_names.size(); ++i) constants_[parameter_names[i]] = parameter_values[i];
   const JetSpace& jet = *scene.jet;
@@ -169,10 +168,10 @@ Scene SceneReader::read() {
   scene.lagrangian = expression(lagrangian_node, "lagrangian", jet, mechanics);
   scene.lagrangian_where = at(lagrangian_node);
   if (jet.highest_coordinate_order(scene.lagrangian) > 1)
-    fail(lagrangian_node, "the Lagrangian may depend on t, q and q' only (found a derivative "
-                          "of order " +
-                              std::to_string(jet.highest_coordinate_order(scene.lagrangian)) +
-                              ")");
+    fail(lagrangian_node,
+         "the Lagrangian may depend on t, q and q' only (found a derivative "
+         "of order " +
+             std::to_string(jet.highest_coordinate_order(scene.lagrangian)) + ")");
 
   for (std::size_t a = 0; a < constraint_nodes.size(); ++a) {
     const toml::node& c = *constraint_nodes[a];
@@ -197,8 +196,8 @@ Scene SceneReader::read() {
       scene.dependent.push_back(index);
     }
     if (scene.dependent.size() != scene.constraints.size())
-      fail(*dn, "'dependent' lists " + std::to_string(scene.dependent.size()) +
-                    " coordinates but there are " + std::to_string(scene.constraints.size()) +
+      fail(*dn, "'dependent' lists " + std::to_string(scene.dependent.size()) + " coordinates but there are " +
+                    std::to_string(scene.constraints.size()) +
                     " constraints; give one dependent coordinate per constraint");
   }
 
@@ -208,8 +207,7 @@ Scene SceneReader::read() {
     for (const toml::node& m : arr) {
       const std::string n = string_value(m, "models entry");
       auto kind = parse_model_kind(n);
-      if (!kind)
-        fail(m, "unknown model '" + printable(n) + "' (known: " + model_name_list() + ")");
+      if (!kind) fail(m, "unknown model '" + printable(n) + "' (known: " + model_name_list() + ")");
       if (std::find(scene.models.begin(), scene.models.end(), *kind) != scene.models.end())
         fail(m, "model '" + n + "' listed twice");
       scene.models.push_back(*kind);

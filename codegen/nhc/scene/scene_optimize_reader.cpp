@@ -134,7 +134,8 @@ class OptimizeReader {
     } else {
       fail(node, what + " must be a finite number");
     }
-    if (number.text.empty()) number.value_at({});  // a finite number as written (an expression's value is checked above)
+    if (number.text.empty())
+      number.value_at({});  // a finite number as written (an expression's value is checked above)
     return number;
   }
 
@@ -174,12 +175,14 @@ class OptimizeReader {
         return q;
       }
     std::string names;
-    for (int i = 0; i < scene_.coordinate_count(); ++i) names += (names.empty() ? "" : ", ") + scene_.jet->coordinates()[static_cast<std::size_t>(i)];
+    for (int i = 0; i < scene_.coordinate_count(); ++i)
+      names += (names.empty() ? "" : ", ") + scene_.jet->coordinates()[static_cast<std::size_t>(i)];
     if (inputs_ok) {
       for (const std::string& u : scene_.jet->inputs()) names += ", " + u;
       for (const SceneQuantity& o : scene_.outputs) names += ", " + o.name;
     }
-    throw InputError(where, "unknown name '" + printable(name) + "' (coordinates with primes for derivatives: " + names + ")");
+    throw InputError(where,
+                     "unknown name '" + printable(name) + "' (coordinates with primes for derivatives: " + names + ")");
   }
 
   std::vector<SceneOptimizeEntry> boundary(const toml::table& table, const std::string& key) const {
@@ -217,7 +220,9 @@ class OptimizeReader {
 
 }  // namespace
 
-void read_optimize(const toml::table& root, Scene& scene, const std::string& path) { OptimizeReader(scene, path).read(root); }
+void read_optimize(const toml::table& root, Scene& scene, const std::string& path) {
+  OptimizeReader(scene, path).read(root);
+}
 
 }  // namespace scene_reading
 

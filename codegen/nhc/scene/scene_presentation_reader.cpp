@@ -38,7 +38,8 @@ void SceneReader::read_outputs(const toml::table& root, Scene& scene, const Expr
 
 /// A value of the scene language (value.hpp) written at `node`: a string, a number (a scalar)
 /// or an array of numbers and strings (a vector).
-Value SceneReader::value_at(const toml::node& node, const std::string& what, const JetSpace& jet, const ExpressionRules& rules) {
+Value SceneReader::value_at(const toml::node& node, const std::string& what, const JetSpace& jet,
+                            const ExpressionRules& rules) {
   if (node.is_number()) return Value::scalar(GiNaC::ex(number_value(node, what)));
   if (const toml::array* entries = node.as_array()) {
     std::vector<GiNaC::ex> vector;
@@ -106,8 +107,8 @@ void SceneReader::read_visuals(const toml::table& root, Scene& scene, const Expr
   }
 }
 
-void SceneReader::check_visual_value(const toml::node& node, const std::string& what, VisualValueKind kind, const Value& v,
-                        const ExpressionRules& rules) const {
+void SceneReader::check_visual_value(const toml::node& node, const std::string& what, VisualValueKind kind,
+                                     const Value& v, const ExpressionRules& rules) const {
   switch (kind) {
     case VisualValueKind::scalar:
       if (!v.is_scalar()) fail(node, what + " must be a scalar, got " + v.describe());

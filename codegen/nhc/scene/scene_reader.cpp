@@ -61,8 +61,7 @@ bool is_function_name(const std::string& name) {
 
 bool looks_like_multiplier(const std::string& name) {
   if (name.rfind("lambda", 0) != 0 || name.size() == 6) return false;
-  return std::all_of(name.begin() + 6, name.end(),
-                     [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
+  return std::all_of(name.begin() + 6, name.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
 }
 
 bool has_jet_suffix(const std::string& name) {
@@ -92,14 +91,13 @@ void SceneReader::check_keys(const toml::table& table, const std::set<std::strin
     if (!allowed.count(k)) {
       std::string list;
       for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-      throw InputError(at(key.source()),
-                       "unknown key '" + printable(k) + "' (expected one of: " + list + ")");
+      throw InputError(at(key.source()), "unknown key '" + printable(k) + "' (expected one of: " + list + ")");
     }
   }
 }
 
 const toml::node& SceneReader::require(const toml::table& table, const std::string& key,
-                          const std::string& where) const {
+                                       const std::string& where) const {
   const toml::node* n = table.get(key);
   if (!n) {
     SourceLocation loc = at(table);
@@ -142,23 +140,28 @@ NumberExpression SceneReader::number_expression(const toml::node& node) const {
 
 std::string SceneReader::type_name(const toml::node& node) {
   switch (node.type()) {
-    case toml::node_type::table: return "a table";
-    case toml::node_type::array: return "an array";
-    case toml::node_type::string: return "a string";
-    case toml::node_type::integer: return "an integer";
-    case toml::node_type::floating_point: return "a floating-point number";
-    case toml::node_type::boolean: return "a boolean";
-    default: return "a date or time";
+    case toml::node_type::table:
+      return "a table";
+    case toml::node_type::array:
+      return "an array";
+    case toml::node_type::string:
+      return "a string";
+    case toml::node_type::integer:
+      return "an integer";
+    case toml::node_type::floating_point:
+      return "a floating-point number";
+    case toml::node_type::boolean:
+      return "a boolean";
+    default:
+      return "a date or time";
   }
 }
 
-void SceneReader::check_variable_name(const toml::node& node, const std::string& n,
-                         const std::string& what) {
+void SceneReader::check_variable_name(const toml::node& node, const std::string& n, const std::string& what) {
   check_variable_name_at(at(node), n, what);
 }
 
-void SceneReader::check_variable_name_at(const SourceLocation& where, const std::string& n,
-                            const std::string& what) {
+void SceneReader::check_variable_name_at(const SourceLocation& where, const std::string& n, const std::string& what) {
   auto bad = [&](const std::string& why) {
     throw InputError(where, "invalid " + what + " name '" + printable(n) + "': " + why);
   };
@@ -187,13 +190,12 @@ SourceLocation SceneReader::expression_location(const toml::node& node, std::siz
 }
 
 GiNaC::ex SceneReader::expression(const toml::node& node, const std::string& what, const JetSpace& jet,
-                     const ExpressionRules& rules) const {
+                                  const ExpressionRules& rules) const {
   const std::string text = string_value(node, what);
   try {
     return parse_expression(text, jet, rules);
   } catch (const ExpressionSyntaxError& e) {
-    throw InputError(expression_location(node, e.offset()),
-                     "in " + what + " \"" + printable(text) + "\": " + e.what());
+    throw InputError(expression_location(node, e.offset()), "in " + what + " \"" + printable(text) + "\": " + e.what());
   }
 }
 
@@ -214,8 +216,8 @@ ExpressionRules SceneReader::multipliers_allowed(ExpressionRules rules) {
 }
 
 /// The entries of a table in the order the file writes them (toml++ keeps tables sorted by key).
-std::vector<std::pair<const toml::key*, const toml::node*>> SceneReader::entries_in_file_order(const toml::node& node,
-                                                                                  const std::string& table) const {
+std::vector<std::pair<const toml::key*, const toml::node*>> SceneReader::entries_in_file_order(
+    const toml::node& node, const std::string& table) const {
   std::vector<std::pair<const toml::key*, const toml::node*>> entries;
   for (auto&& [key, value] : table_value(node, table)) entries.emplace_back(&key, &value);
   std::sort(entries.begin(), entries.end(), [](const auto& a, const auto& b) {
@@ -227,8 +229,9 @@ std::vector<std::pair<const toml::key*, const toml::node*>> SceneReader::entries
 
 /// [invariants] and [outputs]: name = "expression", or name = { expression = "…", required =
 /// true } for an entry every model must compute; in file order (the CSV's).
-std::vector<SceneQuantity> SceneReader::read_quantities(const toml::node& node, const std::string& table, const std::string& what,
-                                           const JetSpace& jet, const ExpressionRules& rules) {
+std::vector<SceneQuantity> SceneReader::read_quantities(const toml::node& node, const std::string& table,
+                                                        const std::string& what, const JetSpace& jet,
+                                                        const ExpressionRules& rules) {
   std::vector<SceneQuantity> quantities;
   for (const auto& [key, value] : entries_in_file_order(node, table)) {
     const std::string n(key->str());

@@ -49,18 +49,15 @@ class SceneReader {
   [[noreturn]] void fail(const toml::node& node, const std::string& message) const;
   static std::string shortest(double v);
   void check_keys(const toml::table& table, const std::set<std::string>& allowed) const;
-  const toml::node& require(const toml::table& table, const std::string& key,
-                            const std::string& where) const;
+  const toml::node& require(const toml::table& table, const std::string& key, const std::string& where) const;
   std::string string_value(const toml::node& node, const std::string& what) const;
   const toml::array& array_value(const toml::node& node, const std::string& what) const;
   const toml::table& table_value(const toml::node& node, const std::string& what) const;
   double number_value(const toml::node& node, const std::string& what) const;
   NumberExpression number_expression(const toml::node& node) const;
   static std::string type_name(const toml::node& node);
-  void check_variable_name(const toml::node& node, const std::string& n,
-                           const std::string& what);
-  void check_variable_name_at(const SourceLocation& where, const std::string& n,
-                              const std::string& what);
+  void check_variable_name(const toml::node& node, const std::string& n, const std::string& what);
+  void check_variable_name_at(const SourceLocation& where, const std::string& n, const std::string& what);
   SourceLocation expression_location(const toml::node& node, std::size_t offset) const;
   GiNaC::ex expression(const toml::node& node, const std::string& what, const JetSpace& jet,
                        const ExpressionRules& rules) const;
@@ -105,12 +102,12 @@ class SceneReader {
   const std::string& text_;
   std::string path_;
   SceneOptions options_;
-  std::map<std::string, double> constants_;  ///< the parameters, once read
+  std::map<std::string, double> constants_;                 ///< the parameters, once read
   std::map<std::string, const toml::node*> derived_nodes_;  ///< [parameters] computed from others
   std::map<std::string, GiNaC::ex> derived_values_;         ///< … as expressions of the parameters
   std::vector<std::string> derived_order_;                  ///< … each after those it uses
   std::vector<std::string> derived_chain_;                  ///< being resolved (for cycles)
-  std::vector<const toml::node*> fixed_nodes_;  ///< [initial] fixed, checked after the values
+  std::vector<const toml::node*> fixed_nodes_;              ///< [initial] fixed, checked after the values
   std::vector<std::string> lines_;
   std::set<std::string> names_;
 };

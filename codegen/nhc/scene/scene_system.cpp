@@ -81,13 +81,14 @@ class SystemWalk {
   /// until it is listed here (the structured bindings name them all), so none is left unchecked.
   void add(const SceneSystemFields& system) {
     const auto& [name, source_path, keep_definitions, jet, derived_parameters, lagrangian, lagrangian_where,
-                 constraints, constraint_texts, dependent, models, models_where, constraints_where, forces, inputs, invariants,
-                 reference] = system;
+                 constraints, constraint_texts, dependent, models, models_where, constraints_where, forces, inputs,
+                 invariants, reference] = system;
     add(name), add(source_path), add(keep_definitions);
     if (!recorded_) fields.jet = jet;
     else if (recorded_->jet != jet) differs = true;
     add(derived_parameters), add(lagrangian), add(lagrangian_where), add(constraints), add(constraint_texts);
-    add(dependent), add(models), add(models_where), add(constraints_where), add(forces), add(inputs), add(invariants), add(reference);
+    add(dependent), add(models), add(models_where), add(constraints_where), add(forces), add(inputs), add(invariants),
+        add(reference);
     fields.values = out_.str();
     if (recorded_ && (count_ != recorded_->expressions.size() || fields.values != recorded_->values)) differs = true;
   }

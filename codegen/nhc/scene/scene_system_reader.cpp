@@ -40,9 +40,8 @@ void SceneReader::read_definitions(const toml::table& root, DefinitionTable& def
     check_variable_name_at(at(key.source()), n, "definition");
     const std::string text = string_value(value, "definition '" + n + "'");
     const toml::node* value_node = &value;
-    definitions.add(n, text, [this, value_node](std::size_t offset) {
-      return expression_location(*value_node, offset);
-    });
+    definitions.add(n, text,
+                    [this, value_node](std::size_t offset) { return expression_location(*value_node, offset); });
   }
 }
 
@@ -57,16 +56,16 @@ void SceneReader::read_reference(const toml::node& node, Scene& scene, const Exp
       if (value.is_table()) {
         const auto kind = parse_model_kind(n);
         if (!kind || where != "reference")
-          throw InputError(at(key.source()),
-                           "[" + where + "." + printable(n) + "]: " +
-                               (where != "reference" ? "a model's reference holds coordinates only"
-                                                     : "'" + printable(n) + "' is not a model (known: " + model_name_list() + ")"));
+          throw InputError(
+              at(key.source()),
+              "[" + where + "." + printable(n) + "]: " +
+                  (where != "reference" ? "a model's reference holds coordinates only"
+                                        : "'" + printable(n) + "' is not a model (known: " + model_name_list() + ")"));
         continue;
       }
       const std::optional<int> i = scene.jet->coordinate_index(n);
       if (!i)
-        throw InputError(at(key.source()),
-                         "[" + where + "] names '" + printable(n) + "', which is not a coordinate");
+        throw InputError(at(key.source()), "[" + where + "] names '" + printable(n) + "', which is not a coordinate");
       entries.emplace_back(*i, expression(value, "reference", *scene.jet, time_only));
     }
     return entries;
@@ -85,8 +84,8 @@ void SceneReader::read_reference(const toml::node& node, Scene& scene, const Exp
 /// Either may name the [definitions] (`rules` has them): a definition is resolved once, so one
 /// that names an input whose entry comes later holds that input's symbol, which a law may not
 /// reach (the symbols are searched through the definitions' named intermediates).
-void SceneReader::read_input_signals(const std::vector<std::pair<const toml::node*, SourceLocation>>& nodes, Scene& scene,
-                        const ExpressionRules& rules) {
+void SceneReader::read_input_signals(const std::vector<std::pair<const toml::node*, SourceLocation>>& nodes,
+                                     Scene& scene, const ExpressionRules& rules) {
   ExpressionRules signal = rules;
   signal.allow_inputs = false;  // a signal of t, or a feedback law of t, q and q'; no other input
   for (std::size_t k = 0; k < nodes.size(); ++k) {
@@ -95,7 +94,9 @@ void SceneReader::read_input_signals(const std::vector<std::pair<const toml::nod
     GiNaC::ex u;
     if (value.is_number()) u = number_value(value, "input '" + name + "'");
     else if (value.is_string()) u = expression(value, "input '" + name + "'", *scene.jet, signal);
-    else fail(value, "input '" + name + "' must be a number or an expression of t, the parameters and the coordinates (a string)");
+    else
+      fail(value, "input '" + name +
+                      "' must be a number or an expression of t, the parameters and the coordinates (a string)");
     for (const GiNaC::ex& s : symbols_through(u))
       if (const std::optional<int> j = scene.jet->input_of(s))
         fail(value, "input '" + name + "' uses input '" + scene.jet->inputs()[static_cast<std::size_t>(*j)] +
@@ -131,13 +132,13 @@ void SceneReader::read_forces(const toml::table& root, Scene& scene, const Expre
   for (auto&& [key, value] : table_value(*node, "forces")) {
     const std::string n(key.str());
     const std::optional<int> i = jet.coordinate_index(n);
-    if (!i)
-      throw InputError(at(key.source()),
-                       "[forces] names '" + printable(n) + "', which is not a coordinate");
+    if (!i) throw InputError(at(key.source()), "[forces] names '" + printable(n) + "', which is not a coordinate");
     const GiNaC::ex q = expression(value, "force", jet, rules);
     if (jet.highest_coordinate_order(q) > 1)
-      fail(value, "a generalized force may depend on t, q and q' only (found a derivative of "
-                  "order " + std::to_string(jet.highest_coordinate_order(q)) + ")");
+      fail(value,
+           "a generalized force may depend on t, q and q' only (found a derivative of "
+           "order " +
+               std::to_string(jet.highest_coordinate_order(q)) + ")");
     scene.forces[static_cast<std::size_t>(*i)] = q;
   }
 }
@@ -217,8 +218,8 @@ void SceneReader::read_derived_parameters(Scene& scene) {
         std::string chain;
         auto it = std::find_if(stack.begin(), stack.end(), [&](const auto& e) { return e.first == next; });
         for (; it != stack.end(); ++it) chain += it->first + " -> ";
-        fail(*derived_nodes_.at(stack.back().first), "parameter '" + stack.back().first +
-                                                         "' is computed from itself: " + chain + next);
+        fail(*derived_nodes_.at(stack.back().first),
+             "parameter '" + stack.back().first + "' is computed from itself: " + chain + next);
       }
       if (state[next] == 0) push(next);
     }

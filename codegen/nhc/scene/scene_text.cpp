@@ -41,7 +41,8 @@ std::string switched_source(const std::string& text, const std::set<int>& remove
   } catch (const toml::parse_error&) {
     return text;
   }
-  for (const char* table : {"contacts", "events", "outputs", "invariants", "reference", "visual", "optimize", "controller"})
+  for (const char* table :
+       {"contacts", "events", "outputs", "invariants", "reference", "visual", "optimize", "controller"})
     root.erase(table);
   if (toml::array* constraints = root["constraints"].as_array()) {
     toml::array kept;
@@ -62,7 +63,8 @@ std::string switched_source(const std::string& text, const std::set<int>& remove
     toml::table& forces = *root["forces"].as_table();
     for (const auto& [coordinate, force] : added_forces) {
       const toml::node* old = forces.get(coordinate);
-      const std::string sum = old && old->is_string() ? "(" + *old->value<std::string>() + ") + (" + force + ")" : force;
+      const std::string sum =
+          old && old->is_string() ? "(" + *old->value<std::string>() + ") + (" + force + ")" : force;
       forces.insert_or_assign(coordinate, sum);
     }
   }
@@ -80,12 +82,12 @@ std::string equations_source(const std::string& text) {
   }
   root.erase("initial");
   root.erase("simulate");
-  root.erase("optimize");  // steers nhc optimize, not part of the equations
-  root.erase("visual");  // drawn from the run, not part of the equations
-  root.erase("events");  // located along the run, not part of the equations
-  root.erase("contacts");  // forces read from the multipliers along the run
+  root.erase("optimize");    // steers nhc optimize, not part of the equations
+  root.erase("visual");      // drawn from the run, not part of the equations
+  root.erase("events");      // located along the run, not part of the equations
+  root.erase("contacts");    // forces read from the multipliers along the run
   root.erase("controller");  // sets the inputs along the run, not part of the equations
-  root.erase("outputs");  // sampled from the run, not part of the equations
+  root.erase("outputs");     // sampled from the run, not part of the equations
   std::ostringstream out;
   out << toml::toml_formatter(root);
   return out.str();
@@ -117,9 +119,7 @@ std::string scene_text_with_inputs(const std::string& text, const std::map<std::
   return out;
 }
 
-bool scene_gives_t_end(const std::string& text) {
-  return toml::parse(text)["simulate"]["t_end"].node() != nullptr;
-}
+bool scene_gives_t_end(const std::string& text) { return toml::parse(text)["simulate"]["t_end"].node() != nullptr; }
 
 std::set<std::string> scene_definition_names(const std::string& text) {
   std::set<std::string> names;

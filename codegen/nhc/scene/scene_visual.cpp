@@ -16,10 +16,18 @@ struct ShapeEntry {
 
 const std::array<ShapeEntry, 6>& shapes() {
   static const std::array<ShapeEntry, 6> table{{
-      {VisualShape::sphere, "sphere", {{"radius", K::scalar, true}, {"center", K::vector, true}, {"rotation", K::rotation, false}}},
-      {VisualShape::cylinder, "cylinder",
-       {{"radius", K::scalar, true}, {"length", K::scalar, true}, {"center", K::vector, true}, {"rotation", K::rotation, false}}},
-      {VisualShape::box, "box", {{"size", K::vector, true}, {"center", K::vector, true}, {"rotation", K::rotation, false}}},
+      {VisualShape::sphere,
+       "sphere",
+       {{"radius", K::scalar, true}, {"center", K::vector, true}, {"rotation", K::rotation, false}}},
+      {VisualShape::cylinder,
+       "cylinder",
+       {{"radius", K::scalar, true},
+        {"length", K::scalar, true},
+        {"center", K::vector, true},
+        {"rotation", K::rotation, false}}},
+      {VisualShape::box,
+       "box",
+       {{"size", K::vector, true}, {"center", K::vector, true}, {"rotation", K::rotation, false}}},
       {VisualShape::segment, "segment", {{"from", K::vector, true}, {"to", K::vector, true}}},
       {VisualShape::trace, "trace", {{"point", K::vector, true}}},
       {VisualShape::plane, "plane", {{"size", K::scalar, false}}},

@@ -48,11 +48,11 @@ std::string visual_shape_names();
 struct SceneVisual {
   std::string name;
   VisualShape shape = VisualShape::sphere;
-  SourceLocation where;              ///< the entry in the scene file
+  SourceLocation where;                 ///< the entry in the scene file
   std::map<std::string, Value> values;  ///< by key of visual_keys(shape): a scalar, a 3-vector or a 3×3 rotation
   std::map<std::string, SourceLocation> value_where;  ///< where each value is written
-  int axis = 2;                      ///< a cylinder's axis in its own frame: 0 x, 1 y, 2 z
-  std::string color;                 ///< "#rrggbb", "" for the page's choice
+  int axis = 2;                                       ///< a cylinder's axis in its own frame: 0 x, 1 y, 2 z
+  std::string color;                                  ///< "#rrggbb", "" for the page's choice
   double opacity = 1.0;
 };
 

@@ -91,7 +91,8 @@ std::optional<MisplacedCharacter> misplaced_non_ascii(std::string_view toml) {
           may_start = false;  // a bare key or value, or misplaced punctuation: toml++ refuses that
         }
         break;
-      case In::comment: break;
+      case In::comment:
+        break;
       case In::basic:
         if (c == '\\' && i + 1 < toml.size() && toml[i + 1] != '\n') ++i, ++column;  // an escaped character
         else if (c == '"') in = In::text;

@@ -39,8 +39,7 @@ Value scaled(const Value& a, const ex& s) {
 
 Value matrix_product(const Value& a, const Value& b) {
   if (a.cols != b.rows)
-    throw ValueError("cannot multiply " + a.describe() + " by " + b.describe() +
-                     " (inner sizes differ)");
+    throw ValueError("cannot multiply " + a.describe() + " by " + b.describe() + " (inner sizes differ)");
   std::vector<ex> out;
   out.reserve(a.rows * b.cols);
   for (unsigned i = 0; i < a.rows; ++i)
@@ -56,8 +55,7 @@ Value matrix_product(const Value& a, const Value& b) {
 }
 
 const std::vector<ex>& require_vector(const Value& a, const char* what) {
-  if (a.cols != 1 || a.rows < 2)
-    throw ValueError(std::string(what) + " needs vectors, got " + a.describe());
+  if (a.cols != 1 || a.rows < 2) throw ValueError(std::string(what) + " needs vectors, got " + a.describe());
   return a.entries;
 }
 
@@ -82,8 +80,7 @@ Value elementary_rotation(int axis, const ex& angle, const JetSpace& jet) {
 }  // namespace
 
 void require_rotation(const Value& r, const RotationCheck& check, const char* what) {
-  if (!r.is_square3())
-    throw ValueError(std::string(what) + " needs a 3x3 rotation matrix, got " + r.describe());
+  if (!r.is_square3()) throw ValueError(std::string(what) + " needs a 3x3 rotation matrix, got " + r.describe());
   const Value product = matrix_product(r, transpose(r));
   static const GiNaC::exmap empty;
   for (unsigned i = 0; i < 3; ++i)
@@ -97,9 +94,10 @@ void require_rotation(const Value& r, const RotationCheck& check, const char* wh
         zero = false;
       }
       if (!zero)
-        throw ValueError(std::string(what) + " needs a rotation matrix: R*transpose(R) is not "
-                         "the identity (entry " + std::to_string(i + 1) + ", " +
-                         std::to_string(j + 1) + ", at the initial point)");
+        throw ValueError(std::string(what) +
+                         " needs a rotation matrix: R*transpose(R) is not "
+                         "the identity (entry " +
+                         std::to_string(i + 1) + ", " + std::to_string(j + 1) + ", at the initial point)");
     }
 }
 
@@ -122,8 +120,7 @@ Value multiply(const Value& a, const Value& b) {
   if (a.is_scalar()) return scaled(b, a.entries[0]);
   if (b.is_scalar()) return scaled(a, b.entries[0]);
   if (a.cols == 1 && b.cols == 1)
-    throw ValueError("cannot multiply " + a.describe() + " by " + b.describe() +
-                     ": use dot(a, b) or cross(a, b)");
+    throw ValueError("cannot multiply " + a.describe() + " by " + b.describe() + ": use dot(a, b) or cross(a, b)");
   Value product = matrix_product(a, b);
   if (a.angular_velocity && b.angular_velocity && product.is_square3()) {
     // ω(R₁R₂) = ω(R₁) + R₁ ω(R₂)
@@ -132,8 +129,8 @@ Value multiply(const Value& a, const Value& b) {
     for (unsigned k = 0; k < 3; ++k) w[k] = (*a.angular_velocity)[k] + rotated.entries[k];
     product.angular_velocity = std::move(w);
     // Ω(R₁R₂) = R₂ᵀ Ω(R₁) + Ω(R₂)
-    const Value turned = matrix_product(transpose(Value::matrix(3, 3, b.entries)),
-                                        Value::vector(*a.body_angular_velocity));
+    const Value turned =
+        matrix_product(transpose(Value::matrix(3, 3, b.entries)), Value::vector(*a.body_angular_velocity));
     std::vector<ex> body(3);
     for (unsigned k = 0; k < 3; ++k) body[k] = turned.entries[k] + (*b.body_angular_velocity)[k];
     product.body_angular_velocity = std::move(body);
@@ -157,14 +154,13 @@ Value transpose(const Value& a) {
 Value component(const Value& a, const std::vector<long>& indices) {
   auto check = [](long index, unsigned size, const char* what) {
     if (index < 1 || index > static_cast<long>(size))
-      throw ValueError(std::string(what) + " index " + std::to_string(index) +
-                       " is out of range 1.." + std::to_string(size));
+      throw ValueError(std::string(what) + " index " + std::to_string(index) + " is out of range 1.." +
+                       std::to_string(size));
     return static_cast<unsigned>(index - 1);
   };
   if (a.is_scalar()) throw ValueError("a scalar cannot be indexed");
   if (indices.size() == 1) {
-    if (a.cols != 1 && a.rows != 1)
-      throw ValueError("a matrix takes two indices, M[i, j]; got one");
+    if (a.cols != 1 && a.rows != 1) throw ValueError("a matrix takes two indices, M[i, j]; got one");
     const unsigned size = a.cols == 1 ? a.rows : a.cols;
     return Value::scalar(a.entries[check(indices[0], size, "vector")]);
   }
@@ -176,8 +172,7 @@ Value component(const Value& a, const std::vector<long>& indices) {
 ex dot(const Value& a, const Value& b) {
   const auto& x = require_vector(a, "dot");
   const auto& y = require_vector(b, "dot");
-  if (x.size() != y.size())
-    throw ValueError("dot of " + a.describe() + " and " + b.describe() + ": lengths differ");
+  if (x.size() != y.size()) throw ValueError("dot of " + a.describe() + " and " + b.describe() + ": lengths differ");
   GiNaC::exvector terms;
   for (std::size_t k = 0; k < x.size(); ++k) terms.push_back(x[k] * y[k]);
   return GiNaC::add(terms);
@@ -188,8 +183,7 @@ Value cross(const Value& a, const Value& b) {
   const auto& y = require_vector(b, "cross");
   if (x.size() != 3 || y.size() != 3)
     throw ValueError("cross needs two 3-vectors, got " + a.describe() + " and " + b.describe());
-  return Value::vector({x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2],
-                        x[0] * y[1] - x[1] * y[0]});
+  return Value::vector({x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]});
 }
 
 ex norm(const Value& a) {
@@ -241,16 +235,14 @@ Value spatial_angular_velocity(const Value& r, const JetSpace& jet, const Rotati
   require_rotation(r, check, "omega");
   // Ṙ Rᵀ = [ω]×: ω from its skew-symmetric part, ω_x = (W₃₂ − W₂₃)/2 and cyclically.
   const Value w = matrix_product(total_derivative(r, jet, 1), transpose(r));
-  return Value::vector({(w.at(2, 1) - w.at(1, 2)) / 2, (w.at(0, 2) - w.at(2, 0)) / 2,
-                        (w.at(1, 0) - w.at(0, 1)) / 2});
+  return Value::vector({(w.at(2, 1) - w.at(1, 2)) / 2, (w.at(0, 2) - w.at(2, 0)) / 2, (w.at(1, 0) - w.at(0, 1)) / 2});
 }
 
 Value body_angular_velocity(const Value& r, const JetSpace& jet, const RotationCheck& check) {
   if (r.body_angular_velocity) return Value::vector(*r.body_angular_velocity);
   require_rotation(r, check, "omega_body");
   // Ω = Rᵀ ω (Rᵀ Ṙ = Rᵀ [ω]× R = [Rᵀ ω]×)
-  return matrix_product(transpose(Value::matrix(3, 3, r.entries)),
-                        spatial_angular_velocity(r, jet, check));
+  return matrix_product(transpose(Value::matrix(3, 3, r.entries)), spatial_angular_velocity(r, jet, check));
 }
 
 }  // namespace nhc

@@ -36,8 +36,8 @@ struct Layout {
 struct Evaluation {
   Eigen::VectorXd r;
   Eigen::MatrixXd J;
-  Eigen::VectorXd scale;   ///< 1 + |target| per row (continuity rows: 1 + |node value|)
-  Eigen::MatrixXd chain;   ///< ∂(targets)/∂(segment 0's free values) through all segments
+  Eigen::VectorXd scale;              ///< 1 + |target| per row (continuity rows: 1 + |node value|)
+  Eigen::MatrixXd chain;              ///< ∂(targets)/∂(segment 0's free values) through all segments
   std::vector<runtime::Sample> ends;  ///< each segment's end point
   double miss() const { return r.size() ? r.cwiseAbs().maxCoeff() : 0.0; }
   bool converged(double tolerance) const {
@@ -61,7 +61,8 @@ std::vector<int> constraint_fixed(const runtime::Model& model, const std::vector
   Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(A);
   qr.setThreshold(1e-10);
   std::vector<int> fixed;
-  for (int k = 0; k < qr.rank(); ++k) fixed.push_back(candidates[static_cast<size_t>(qr.colsPermutation().indices()[k])]);
+  for (int k = 0; k < qr.rank(); ++k)
+    fixed.push_back(candidates[static_cast<size_t>(qr.colsPermutation().indices()[k])]);
   return fixed;
 }
 
@@ -73,8 +74,7 @@ class Shooter {
     layout_.segments = problem.segments;
     const double t0 = problem.initial.t0;
     for (int j = 0; j <= problem.segments; ++j)
-      layout_.nodes.push_back(j == problem.segments ? problem.t_end
-                                                    : t0 + (problem.t_end - t0) * j / problem.segments);
+      layout_.nodes.push_back(j == problem.segments ? problem.t_end : t0 + (problem.t_end - t0) * j / problem.segments);
     layout_.free = problem.free_states;
     layout_.conditions = static_cast<int>(problem.conditions.size());
   }
@@ -86,7 +86,7 @@ class Shooter {
     const runtime::Model& model = problem_.model;
     if (model.n_inputs() > 0)  // the shooting Newton needs the sensitivities, which inputs exclude
       throw base::ModelError("boundary-value problems of a model with inputs (" + model.input_name(0) +
-                                (model.n_inputs() > 1 ? ", …" : "") + ") are not supported");
+                             (model.n_inputs() > 1 ? ", …" : "") + ") are not supported");
     if (!(problem_.t_end > problem_.initial.t0)) throw std::invalid_argument("T must be after t0");
     if (problem_.conditions.empty()) throw std::invalid_argument("no target conditions");
     if (problem_.free_states.empty()) throw std::invalid_argument("no free initial values");
@@ -174,7 +174,8 @@ class Shooter {
       }
     }
     e.chain.resize(layout_.conditions, layout_.nf());
-    for (int c = 0; c < layout_.conditions; ++c) e.chain.row(c) = chain.row(problem_.conditions[static_cast<size_t>(c)].state);
+    for (int c = 0; c < layout_.conditions; ++c)
+      e.chain.row(c) = chain.row(problem_.conditions[static_cast<size_t>(c)].state);
     return e;
   }
 
@@ -244,7 +245,8 @@ class Shooter {
 ShootingResult Shooter::solve() {
   // Inner nodes: the independent states, their starting values from one run of the guess.
   Eigen::VectorXd x(layout_.nf());
-  for (int k = 0; k < layout_.nf(); ++k) x[k] = problem_.initial.y[static_cast<size_t>(layout_.free[static_cast<size_t>(k)])];
+  for (int k = 0; k < layout_.nf(); ++k)
+    x[k] = problem_.initial.y[static_cast<size_t>(layout_.free[static_cast<size_t>(k)])];
   if (layout_.segments > 1) {
     std::vector<int> differential;
     for (int i = 0; i < problem_.model.n_states(); ++i)
@@ -252,8 +254,9 @@ ShootingResult Shooter::solve() {
     runtime::InitialState guess = segment_initial(x, 0, {});
     const runtime::RunResult run = runtime::simulate(problem_.model, p_, guess, layout_.nodes, problem_.integrator);
     if (run.failure || run.samples.size() != layout_.nodes.size())
-      throw run.failure ? *run.failure
-                        : base::SolverError(base::FailureKind::other, problem_.initial.t0, "the starting guess does not reach T");
+      throw run.failure
+          ? *run.failure
+          : base::SolverError(base::FailureKind::other, problem_.initial.t0, "the starting guess does not reach T");
     const std::vector<int> fixed =
         constraint_fixed(problem_.model, p_, run.samples[1].t, run.samples[1].y, differential);
     for (int i : differential)
@@ -261,7 +264,8 @@ ShootingResult Shooter::solve() {
     x.conservativeResize(layout_.unknowns());
     for (int j = 1; j < layout_.segments; ++j)
       for (int a = 0; a < layout_.m(); ++a)
-        x[layout_.column(j) + a] = run.samples[static_cast<size_t>(j)].y[static_cast<size_t>(layout_.independent[static_cast<size_t>(a)])];
+        x[layout_.column(j) + a] =
+            run.samples[static_cast<size_t>(j)].y[static_cast<size_t>(layout_.independent[static_cast<size_t>(a)])];
   }
 
   ShootingResult result;
@@ -316,7 +320,8 @@ std::vector<int> default_free_states(const runtime::Model& model, const std::vec
   const std::vector<double> p = parameters.empty() ? model.default_parameters() : parameters;
   std::vector<int> candidates;
   for (int i = 0; i < model.n_states(); ++i)
-    if (model.is_differential(i) && !(i < static_cast<int>(initial.given.size()) && initial.given[static_cast<size_t>(i)]))
+    if (model.is_differential(i) &&
+        !(i < static_cast<int>(initial.given.size()) && initial.given[static_cast<size_t>(i)]))
       candidates.push_back(i);
   const std::vector<int> fixed = constraint_fixed(model, p, initial.t0, initial.y, candidates);
   std::vector<int> free;

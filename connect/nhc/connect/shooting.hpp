@@ -29,7 +29,7 @@ struct Condition {
 };
 
 struct ShootingProblem {
-  runtime::Model model;  ///< generated with its Jacobian (dF/dp is not needed)
+  runtime::Model model;            ///< generated with its Jacobian (dF/dp is not needed)
   std::vector<double> parameters;  ///< empty: the model's defaults
   /// The given initial data (runtime::initial_state_from); the free states' values are the
   /// starting guesses and are overwritten.
@@ -45,10 +45,10 @@ struct ShootingProblem {
 };
 
 struct Iteration {
-  int number = 0;     ///< 0: the starting guess
-  double miss = 0;    ///< max |r_i| (targets and, with segments, the continuity defects)
-  double step = 0;    ///< line-search factor of the Newton step that led here (0 for number 0)
-  int rank = 0;       ///< rank of the shooting Jacobian at this point
+  int number = 0;   ///< 0: the starting guess
+  double miss = 0;  ///< max |r_i| (targets and, with segments, the continuity defects)
+  double step = 0;  ///< line-search factor of the Newton step that led here (0 for number 0)
+  int rank = 0;     ///< rank of the shooting Jacobian at this point
 };
 
 struct ShootingResult {
@@ -69,8 +69,11 @@ class ShootingFailure : public std::runtime_error {
   enum class Kind { no_convergence, singular };
   ShootingFailure(Kind kind, const std::string& message, std::vector<Iteration> history,
                   std::vector<std::string> uninfluential, std::vector<double> best)
-      : std::runtime_error(message), kind_(kind), history_(std::move(history)),
-        uninfluential_(std::move(uninfluential)), best_(std::move(best)) {}
+      : std::runtime_error(message),
+        kind_(kind),
+        history_(std::move(history)),
+        uninfluential_(std::move(uninfluential)),
+        best_(std::move(best)) {}
   Kind kind() const noexcept { return kind_; }
   const std::vector<Iteration>& history() const noexcept { return history_; }
   const std::vector<std::string>& uninfluential() const noexcept { return uninfluential_; }

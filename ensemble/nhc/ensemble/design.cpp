@@ -123,8 +123,10 @@ std::vector<std::string> Design::names() const {
 std::vector<double> grid_values(const VariableSpec& spec) {
   std::vector<double> v(static_cast<std::size_t>(spec.n));
   for (long k = 0; k < spec.n; ++k)
-    v[static_cast<std::size_t>(k)] =
-        spec.n == 1 ? spec.a : k == spec.n - 1 ? spec.b : spec.a + (spec.b - spec.a) * static_cast<double>(k) / (spec.n - 1);
+    v[static_cast<std::size_t>(k)] = spec.n == 1 ? spec.a
+                                     : k == spec.n - 1
+                                         ? spec.b
+                                         : spec.a + (spec.b - spec.a) * static_cast<double>(k) / (spec.n - 1);
   return v;
 }
 

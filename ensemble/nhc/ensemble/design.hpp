@@ -37,7 +37,7 @@ struct Design {
   std::vector<long> grid_shape;  ///< grid: n of each variable
   std::uint64_t seed = 0;        ///< sample
   long runs = 0;
-  std::vector<double> values;    ///< runs × variables, row-major
+  std::vector<double> values;  ///< runs × variables, row-major
 
   const double* row(long run) const { return values.data() + run * static_cast<long>(variables.size()); }
   std::vector<std::string> names() const;

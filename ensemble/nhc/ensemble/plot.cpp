@@ -48,7 +48,8 @@ std::vector<std::string> outcome_names(const EnsembleInfo& info) {
   return names;
 }
 
-std::vector<double> outcome_values(const EnsembleResults& results, const std::string& outcome, const std::string& flag) {
+std::vector<double> outcome_values(const EnsembleResults& results, const std::string& outcome,
+                                   const std::string& flag) {
   const EnsembleInfo& info = results.info;
   std::function<double(const RunRecord&)> value;
   if (outcome == "t_stop") {
@@ -93,14 +94,15 @@ std::vector<std::string> plot_outcome(const EnsembleResults& results, const std:
   const std::vector<double> z = outcome_values(results, outcome, flag);
   const std::size_t nv = d.variables.size();
   if (nv < 1 || nv > 2)
-    throw InputError({flag + " " + outcome, 0, 0}, "maps need a design of one or two variables, this one has " +
-                                       std::to_string(nv));
+    throw InputError({flag + " " + outcome, 0, 0},
+                     "maps need a design of one or two variables, this one has " + std::to_string(nv));
   if (const auto missing = tools::gnuplot_missing()) throw EnvironmentError(*missing);
   for (const char* ext : {".dat", ".gp", ".svg", ".png"}) check_output_file(stem + ext, inputs);
 
   const bool heat_map = nv == 2 && d.kind == Design::Kind::grid;
   write_file_atomically(stem + ".dat", [&](std::ostream& out) {
-    out << tools::gnuplot_comment(joined(d.names()) + " " + outcome + " (" + results.info.scene + ", " + results.info.model + ")");
+    out << tools::gnuplot_comment(joined(d.names()) + " " + outcome + " (" + results.info.scene + ", " +
+                                  results.info.model + ")");
     for (long run = 0; run < d.runs; ++run) {
       // A heat map's rows are separated by blank lines (gnuplot's grid format).
       if (heat_map && run > 0 && run % d.grid_shape[1] == 0) out << "\n";
@@ -118,13 +120,14 @@ std::vector<std::string> plot_outcome(const EnsembleResults& results, const std:
   if (nv == 1) {
     plot << "set ylabel " << tools::gnuplot_string(outcome) << " noenhanced\nset grid\nunset key\n"
          << "plot " << tools::gnuplot_string(dat) << " using 1:2 with "
-         << (d.kind == Design::Kind::grid ? "linespoints pointtype 7 pointsize 0.5" : "points pointtype 7 pointsize 0.5")
+         << (d.kind == Design::Kind::grid ? "linespoints pointtype 7 pointsize 0.5"
+                                          : "points pointtype 7 pointsize 0.5")
          << "\n";
   } else {
     plot << "set ylabel " << tools::gnuplot_string(d.variables[1].name) << " noenhanced\n"
-         << "set cblabel " << tools::gnuplot_string(outcome) << " noenhanced\nset palette rgbformulae 33,13,10\nunset key\n";
-    if (heat_map)
-      plot << "set autoscale fix\nplot " << tools::gnuplot_string(dat) << " using 1:2:3 with image\n";
+         << "set cblabel " << tools::gnuplot_string(outcome)
+         << " noenhanced\nset palette rgbformulae 33,13,10\nunset key\n";
+    if (heat_map) plot << "set autoscale fix\nplot " << tools::gnuplot_string(dat) << " using 1:2:3 with image\n";
     else
       plot << "plot " << tools::gnuplot_string(dat) << " using 1:2:3 with points pointtype 7 pointsize 0.6 palette\n";
   }
@@ -133,8 +136,7 @@ std::vector<std::string> plot_outcome(const EnsembleResults& results, const std:
     std::ostringstream g;
     g << "set terminal svg size 900,640 dynamic enhanced font 'sans,12' background rgb 'white'\n"
       << "set output " << tools::gnuplot_string(svg) << "\n"
-      << plot.str()
-      << "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
+      << plot.str() << "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
       << "  set terminal pngcairo size 900,640 enhanced font 'sans,10' background rgb 'white'\n"
       << "} else {\n  set terminal png size 900,640 enhanced background rgb 'white'\n}\n"
       << "set output " << tools::gnuplot_string(png) << "\nreplot\nset output\n";

@@ -19,7 +19,8 @@
 namespace nhc::ensemble {
 
 long EnsembleResults::finished() const {
-  return static_cast<long>(std::count_if(records.begin(), records.end(), [](const RunRecord& r) { return r.finished(); }));
+  return static_cast<long>(
+      std::count_if(records.begin(), records.end(), [](const RunRecord& r) { return r.finished(); }));
 }
 
 namespace {
@@ -129,13 +130,15 @@ void strings(hid_t group, const char* name, const std::vector<std::string>& valu
   std::size_t length = 1;
   for (const std::string& s : values) length = std::max(length, s.size());
   std::vector<char> buffer(values.size() * length, '\0');
-  for (std::size_t k = 0; k < values.size(); ++k) std::copy(values[k].begin(), values[k].end(), buffer.begin() + static_cast<long>(k * length));
+  for (std::size_t k = 0; k < values.size(); ++k)
+    std::copy(values[k].begin(), values[k].end(), buffer.begin() + static_cast<long>(k * length));
   Handle type = string_type(length);
   dataset(group, name, type, {values.size()}, buffer.data());
 }
 
 Handle group(hid_t file, const char* name) {
-  return Handle(H5Gcreate2(file, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, std::string("create group ") + name);
+  return Handle(H5Gcreate2(file, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
+                std::string("create group ") + name);
 }
 
 void write_attributes(hid_t file, const EnsembleResults& results) {
@@ -232,8 +235,9 @@ void write_trajectories(hid_t file, const EnsembleResults& results) {
   dataset(g, "t", H5T_NATIVE_DOUBLE, {times.size()}, times.data());
   const std::size_t width = times.size() * i.state_names.size();
   dataset(g, "y", H5T_NATIVE_DOUBLE, {results.records.size(), times.size(), i.state_names.size()},
-          matrix(results.records, width, [](const RunRecord& r) -> const std::vector<double>& { return r.trajectory; })
-              .data());
+          matrix(results.records, width, [](const RunRecord& r) -> const std::vector<double>& {
+            return r.trajectory;
+          }).data());
 }
 
 // ---- reading ------------------------------------------------------------------------------
@@ -370,7 +374,8 @@ std::vector<RunRecord> read_runs(const Reader& in, const EnsembleInfo& i) {
   std::vector<double> trajectories;
   const std::size_t width = (static_cast<std::size_t>(i.outputs) + 1) * ns;
   if (i.keep_trajectories)
-    trajectories = in.numbers<double>("/trajectories/y", H5T_NATIVE_DOUBLE, {runs, static_cast<hsize_t>(i.outputs) + 1, ns});
+    trajectories =
+        in.numbers<double>("/trajectories/y", H5T_NATIVE_DOUBLE, {runs, static_cast<hsize_t>(i.outputs) + 1, ns});
   std::vector<RunRecord> records(runs);
   for (std::size_t k = 0; k < runs; ++k) {
     RunRecord& r = records[k];
@@ -379,14 +384,17 @@ std::vector<RunRecord> read_runs(const Reader& in, const EnsembleInfo& i) {
     r.outcome = static_cast<Outcome>(outcome[k]);
     r.t_stop = t_stop[k];
     r.message = message[k];
-    r.final_state.assign(final_state.begin() + static_cast<long>(k * ns), final_state.begin() + static_cast<long>((k + 1) * ns));
-    r.invariant_drift.assign(drift.begin() + static_cast<long>(k * ni), drift.begin() + static_cast<long>((k + 1) * ni));
+    r.final_state.assign(final_state.begin() + static_cast<long>(k * ns),
+                         final_state.begin() + static_cast<long>((k + 1) * ns));
+    r.invariant_drift.assign(drift.begin() + static_cast<long>(k * ni),
+                             drift.begin() + static_cast<long>((k + 1) * ni));
     r.hidden_drift = hidden[k];
     r.steps = steps[k];
     r.seconds = seconds[k];
     r.rank = rank[k];
     if (i.keep_trajectories)
-      r.trajectory.assign(trajectories.begin() + static_cast<long>(k * width), trajectories.begin() + static_cast<long>((k + 1) * width));
+      r.trajectory.assign(trajectories.begin() + static_cast<long>(k * width),
+                          trajectories.begin() + static_cast<long>((k + 1) * width));
   }
   return records;
 }
@@ -420,11 +428,12 @@ void write_results(const std::string& path, const EnsembleResults& results) {
     if (H5Fget_file_image(file, image.data(), image.size()) != size) fail("copy the file's image");
   } catch (const Hdf5Failure& e) {
     if (e.cause() == Hdf5Failure::Cause::call) throw;  // nhc's bug: "internal error"
-    throw EnvironmentError("cannot write " + path + ": " + e.what() + " in memory: " +
-                           (e.cause() == Hdf5Failure::Cause::resource ? std::strerror(ENOMEM)
-                                                                       : "HDF5 gave no reason (out of memory?)"));
+    throw EnvironmentError(
+        "cannot write " + path + ": " + e.what() + " in memory: " +
+        (e.cause() == Hdf5Failure::Cause::resource ? std::strerror(ENOMEM) : "HDF5 gave no reason (out of memory?)"));
   }
-  write_file_atomically(path, [&](std::ostream& out) { out.write(image.data(), static_cast<std::streamsize>(image.size())); });
+  write_file_atomically(
+      path, [&](std::ostream& out) { out.write(image.data(), static_cast<std::streamsize>(image.size())); });
 }
 
 EnsembleResults read_results(const std::string& path) {
@@ -437,8 +446,9 @@ EnsembleResults read_results(const std::string& path) {
   // A file that starts as HDF5 but is truncated or damaged fails to open or to read: bad input.
   const hid_t id = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   if (id < 0)
-    throw InputError({path, 0, 0}, "the HDF5 file is damaged or truncated: it cannot be opened "
-                                   "(was it written completely by nhc ensemble?)");
+    throw InputError({path, 0, 0},
+                     "the HDF5 file is damaged or truncated: it cannot be opened "
+                     "(was it written completely by nhc ensemble?)");
   Handle file(id, H5Fclose, "open " + path);
   const Reader in{path, file};
   try {

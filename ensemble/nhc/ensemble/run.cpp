@@ -18,9 +18,7 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-std::string initial_name(const std::string& variable, int order) {
-  return base::primed_name(variable, order) + "(0)";
-}
+std::string initial_name(const std::string& variable, int order) { return base::primed_name(variable, order) + "(0)"; }
 
 std::string joined(const std::vector<std::string>& names) {
   std::string s;
@@ -48,8 +46,8 @@ Target resolve_target(const runtime::Model& model, const std::string& name, cons
   }
   // q(0), q'(0), q''(0), …
   auto unknown = [&]() -> Target {
-    throw InputError({flag, 0, 0}, "unknown name '" + name + "'; " + model.scene_name() +
-                                       " (" + model.model_name() + ") has " + joined(variable_names(model)));
+    throw InputError({flag, 0, 0}, "unknown name '" + name + "'; " + model.scene_name() + " (" + model.model_name() +
+                                       ") has " + joined(variable_names(model)));
   };
   if (name.size() < 4 || name.compare(name.size() - 3, 3, "(0)") != 0) return unknown();
   std::string base = name.substr(0, name.size() - 3);
@@ -153,10 +151,14 @@ RunSpec decode_spec(const std::vector<char>& bytes) {
 
 const char* to_string(Outcome outcome) {
   switch (outcome) {
-    case Outcome::pending: return "pending";
-    case Outcome::ok: return "ok";
-    case Outcome::singular: return "singular";
-    case Outcome::failed: return "failed";
+    case Outcome::pending:
+      return "pending";
+    case Outcome::ok:
+      return "ok";
+    case Outcome::singular:
+      return "singular";
+    case Outcome::failed:
+      return "failed";
   }
   return "?";
 }
@@ -290,7 +292,8 @@ RunRecord run_one(const runtime::Model& model, const RunSpec& spec, std::int64_t
       integrator.integrate(times, std::ref(observer));
       record.outcome = Outcome::ok;
     } catch (const base::SolverError& e) {
-      record.outcome = e.kind() == base::FailureKind::singular_constraint_gradient ? Outcome::singular : Outcome::failed;
+      record.outcome =
+          e.kind() == base::FailureKind::singular_constraint_gradient ? Outcome::singular : Outcome::failed;
       record.message = e.what();
       if (!observer.seen || std::isfinite(e.t())) record.t_stop = e.t();
     }

@@ -68,13 +68,13 @@ const char* to_string(Outcome outcome);
 struct RunRecord {
   std::int64_t index = -1;
   Outcome outcome = Outcome::pending;
-  double t_stop = 0;        ///< the last time reached (t_end when ok)
-  std::string message;      ///< the failure, in words ("" when ok)
+  double t_stop = 0;                    ///< the last time reached (t_end when ok)
+  std::string message;                  ///< the failure, in words ("" when ok)
   std::vector<double> final_state;      ///< y at t_stop (NaN when nothing was reached)
   std::vector<double> invariant_drift;  ///< max_t |I_k(t) − I_k(t0)|
   double hidden_drift = 0;              ///< max_t max_i |g_i|
   std::int64_t steps = 0;
-  double seconds = 0;  ///< wall time of the run (timing: differs between runs of one ensemble)
+  double seconds = 0;     ///< wall time of the run (timing: differs between runs of one ensemble)
   std::int32_t rank = 0;  ///< the MPI rank that ran it
   /// With keep_trajectories: y at the spec's times, (outputs + 1) × n_states, NaN after t_stop.
   std::vector<double> trajectory;

@@ -20,7 +20,8 @@ Dispenser::Dispenser(std::vector<std::int64_t> todo, int workers)
 std::vector<std::int64_t> Dispenser::next() {
   const std::lock_guard<std::mutex> lock(mutex_);
   const std::size_t remaining = todo_.size() - position_;
-  const std::size_t guided = (remaining + 2 * static_cast<std::size_t>(workers_) - 1) / (2 * static_cast<std::size_t>(workers_));
+  const std::size_t guided =
+      (remaining + 2 * static_cast<std::size_t>(workers_) - 1) / (2 * static_cast<std::size_t>(workers_));
   const std::size_t n = std::min<std::size_t>(remaining, std::clamp<std::size_t>(guided, 1, kMaxChunk));
   std::vector<std::int64_t> chunk(todo_.begin() + static_cast<long>(position_),
                                   todo_.begin() + static_cast<long>(position_ + n));
@@ -243,10 +244,8 @@ void schedule(const Session& session, std::vector<std::int64_t> todo, const RunF
               const ScheduleOptions& options) {
 #ifdef NHC_HAVE_MPI
   if (session.uses_mpi() && session.size() > 1) {
-    if (session.is_root())
-      manage(session, std::move(todo), run, options);
-    else
-      work(session, run, options);
+    if (session.is_root()) manage(session, std::move(todo), run, options);
+    else work(session, run, options);
     return;
   }
 #endif

@@ -93,9 +93,12 @@ std::optional<CachedHeader> cached_header(const SceneCacheRecord& record) {
 
 std::string to_string(Backend backend) {
   switch (backend) {
-    case Backend::compiled: return "compiled";
-    case Backend::interpreted: return "interpreted";
-    case Backend::automatic: return "auto";
+    case Backend::compiled:
+      return "compiled";
+    case Backend::interpreted:
+      return "interpreted";
+    case Backend::automatic:
+      return "auto";
   }
   return "compiled";
 }
@@ -120,8 +123,7 @@ LoadedModel load_header(const GeneratedHeader& header, ModelKind kind, JacobianK
   BuildTimings timings;
   const auto start = base::Clock::now();
   // The table must name the scene and model the header was generated for.
-  auto [library, model] = compile_and_load(header.text, header.namespace_name,
-                                           identity_of(header, kind), options);
+  auto [library, model] = compile_and_load(header.text, header.namespace_name, identity_of(header, kind), options);
   timings.compile = library.seconds;
   timings.load = std::max(0.0, base::seconds_since(start) - library.seconds);
   return LoadedModel(kind, jacobian, header, std::move(library), std::move(model), timings);
@@ -134,8 +136,9 @@ void remember_compiled_header(const Scene& scene, ModelKind kind, const BuildOpt
   // The key of a compiled build: what build() looks up first.
   BuildOptions compiled = options;
   compiled.backend = Backend::compiled;
-  if (const std::optional<std::string> key = scene_cache_key(scene, kHeaderProduct, header_options_text(scene, kind, compiled),
-                                                             scene_cache_version(), FingerprintScope::equations))
+  if (const std::optional<std::string> key =
+          scene_cache_key(scene, kHeaderProduct, header_options_text(scene, kind, compiled), scene_cache_version(),
+                          FingerprintScope::equations))
     SceneCache(library_directory, options.compile.warn).store(*key, header_record(header, jacobian));
 }
 
@@ -189,8 +192,7 @@ BuildLookup look_up_build(const Scene& scene, ModelKind kind, const BuildOptions
             header && bytes ? interpreted_program_from_bytes(*bytes, scene.name, to_string(kind)) : nullptr;
         if (program)
           lookup.hit = std::make_shared<SceneCacheHit>(SceneCacheHit{std::move(*header), std::move(program)});
-        else
-          cache.discard(*key, "its interpreted program is not one nhc can run (damaged or foreign)");
+        else cache.discard(*key, "its interpreted program is not one nhc can run (damaged or foreign)");
       }
   lookup.seconds = base::seconds_since(start);
   return lookup;
@@ -200,8 +202,7 @@ bool build_derives(const Scene& scene, ModelKind kind, const BuildOptions& optio
   return look_up_build(scene, kind, options).derives();
 }
 
-LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& options,
-                  const DerivedAndAnalysed* given) {
+LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& options, const DerivedAndAnalysed* given) {
   return build(scene, kind, options, given, look_up_build(scene, kind, options));
 }
 
@@ -224,8 +225,8 @@ LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& option
     BuildTimings timings = loaded.timings();
     timings.scene_cache = lookup_seconds;
     timings.scene_cached = true;
-    return LoadedModel(kind, hit->header.jacobian, hit->header.header, loaded.library(),
-                       runtime::Model(loaded.model()), timings);
+    return LoadedModel(kind, hit->header.jacobian, hit->header.header, loaded.library(), runtime::Model(loaded.model()),
+                       timings);
   }
 
   auto start = base::Clock::now();
@@ -297,8 +298,8 @@ LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& option
   timings.derive = derive_seconds;
   timings.generate = generate_seconds;
   timings.scene_cache = lookup_seconds + store_seconds;
-  return LoadedModel(kind, header_options.jacobian, std::move(header), loaded.library(),
-                     runtime::Model(loaded.model()), timings);
+  return LoadedModel(kind, header_options.jacobian, std::move(header), loaded.library(), runtime::Model(loaded.model()),
+                     timings);
 }
 
 }  // namespace nhc::jit

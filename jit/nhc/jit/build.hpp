@@ -60,7 +60,7 @@ struct BuildTimings {
   double derive = 0;       ///< derivation and reduction to index 1 (0 when scene_cached)
   double generate = 0;     ///< code generation (0 when scene_cached)
   double scene_cache = 0;  ///< looking the header up in the scene cache, and storing it after a miss
-  double compile = 0;   ///< compiling, or finding the shared object in the cache
+  double compile = 0;      ///< compiling, or finding the shared object in the cache
   double load = 0;         ///< dlopen and table checks
   /// The header came from the scene cache: nothing was derived, reduced or generated.
   bool scene_cached = false;
@@ -132,8 +132,8 @@ LoadedModel build(const Scene& scene, ModelKind kind, const BuildOptions& option
                   const BuildLookup& lookup);
 
 /// Whether build() with these arguments derives the model: false when it takes the header or the
-/// interpreted program from the scene cache (look_up_build()). A caller that analyses before a build that derives (app::Preparation) makes
-/// the same symbols in the same order on every path, so the generated model does not depend on
+/// interpreted program from the scene cache (look_up_build()). A caller that analyses before a build that derives
+/// (app::Preparation) makes the same symbols in the same order on every path, so the generated model does not depend on
 /// what its caches hold (GiNaC orders terms by symbol hash, which follows creation order).
 bool build_derives(const Scene& scene, ModelKind kind, const BuildOptions& options = {});
 

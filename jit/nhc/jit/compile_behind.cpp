@@ -17,7 +17,9 @@ double predicted_compile_seconds(const GeneratedHeader& header, const CompileOpt
 CompileBehind::CompileBehind(const Scene& scene, ModelKind kind, const BuildOptions& options, const LoadedModel& loaded)
     : scene_(scene), kind_(kind), options_(options), loaded_(loaded) {
   active_ = loaded.timings().interpreted && options.backend == Backend::automatic;
-  if (active_) predicted_seconds_ = options.compile_behind_after.value_or(predicted_compile_seconds(loaded.header(), options.compile));
+  if (active_)
+    predicted_seconds_ =
+        options.compile_behind_after.value_or(predicted_compile_seconds(loaded.header(), options.compile));
 }
 
 CompileBehind::~CompileBehind() {

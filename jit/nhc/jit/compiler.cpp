@@ -73,8 +73,9 @@ std::string translation_unit(const std::string& header_name, const std::string& 
                      "#define NHC_EXPORT_MODEL_TABLE\n";
   if (parts > 1)
     text += "#define NHC_PARTS " + std::to_string(parts) + "\n#define NHC_PART " + std::to_string(part) + "\n";
-  text += "struct nhc_model_table;\n"
-          "extern \"C\" __attribute__((visibility(\"default\"))) const nhc_model_table* nhc_model_table_get(void);\n";
+  text +=
+      "struct nhc_model_table;\n"
+      "extern \"C\" __attribute__((visibility(\"default\"))) const nhc_model_table* nhc_model_table_get(void);\n";
   if (part == 0)
     text += "extern \"C\" __attribute__((visibility(\"default\"))) const char nhc_model_build_key[] = \"" +
             c_string_body(build_record) + "\";\n";
@@ -146,8 +147,8 @@ void run_all(const std::vector<std::function<void()>>& commands, int jobs) {
 std::vector<std::string> contract_flags(const std::string& compiler_version) {
   // -s: no symbol table, so that the bytes do not depend on the temporary source file's name
   // and concurrent builds of one entry write identical files (and digests).
-  std::vector<std::string> flags{"-std=c++17", "-fPIC", "-shared", "-fvisibility=hidden",
-                                 "-fvisibility-inlines-hidden", "-s"};
+  std::vector<std::string> flags{"-std=c++17", "-fPIC", "-shared", "-fvisibility=hidden", "-fvisibility-inlines-hidden",
+                                 "-s"};
   // GCC gives function-local statics of inline functions STB_GNU_UNIQUE binding, which the
   // dynamic linker shares across every loaded library; hidden visibility already avoids it, and
   // -fno-gnu-unique makes sure.
@@ -213,8 +214,7 @@ void write_text(const fs::path& path, const std::string& text) {
   file << text;
   file.close();
   if (!file)
-    throw EnvironmentError("cannot write " + path.string() + ": " +
-                           (errno ? std::strerror(errno) : "write failed"));
+    throw EnvironmentError("cannot write " + path.string() + ": " + (errno ? std::strerror(errno) : "write failed"));
 }
 
 /// The compiler's version line(s); EnvironmentError when it cannot be run.
@@ -228,8 +228,8 @@ std::string compiler_version(const std::string& compiler, double timeout) {
     throw EnvironmentError("the C++ compiler " + compiler + " did not answer --version within " +
                            std::to_string(static_cast<long long>(timeout)) + " s (NHC_COMPILE_TIMEOUT)");
   if (!r.ok())
-    throw EnvironmentError("the C++ compiler " + compiler + " does not work (" + compiler +
-                           " --version failed):\n" + first_errors(version));
+    throw EnvironmentError("the C++ compiler " + compiler + " does not work (" + compiler + " --version failed):\n" +
+                           first_errors(version));
   return version;
 }
 
@@ -246,8 +246,8 @@ void run_compiler(const std::vector<std::string>& command, const std::string& la
                            " (set NHC_CXX to a C++17 compiler)");
   if (r.timed_out)
     throw EnvironmentError("the C++ compiler took longer than " + std::to_string(static_cast<long long>(timeout)) +
-                           " s on the code of " + label + " and was stopped (raise NHC_COMPILE_TIMEOUT, 0: no limit)\n  " +
-                           command_line);
+                           " s on the code of " + label +
+                           " and was stopped (raise NHC_COMPILE_TIMEOUT, 0: no limit)\n  " + command_line);
   // Memory is the machine's, not the code's: cc1plus says "out of memory allocating …" under a
   // ulimit, "virtual memory exhausted" when the system runs out; the kernel's OOM killer sends 9.
   const bool out_of_memory = messages.find("out of memory") != std::string::npos ||
@@ -256,7 +256,8 @@ void run_compiler(const std::vector<std::string>& command, const std::string& la
   if (out_of_memory)
     throw EnvironmentError("the C++ compiler ran out of memory compiling the code of " + label +
                            (r.signal == 9 ? " (killed by signal 9, as the kernel does when memory runs out)" : "") +
-                           ": free memory or raise the limit (ulimit -v)\n  " + command_line + "\n" + first_errors(messages));
+                           ": free memory or raise the limit (ulimit -v)\n  " + command_line + "\n" +
+                           first_errors(messages));
   const std::string reason = system_reason_in(messages);
   if (!reason.empty())
     throw EnvironmentError("cannot compile " + label + " into the cache " + cache.string() + ": " + reason + "\n" +
@@ -342,8 +343,8 @@ std::vector<std::string> optimization_flags(const CompileOptions& options, std::
 
 fs::path default_cache_directory() { return default_cache_location().path; }
 
-CompiledLibrary compile_header(const std::string& header_text, const std::string& label,
-                               const CompileOptions& options, const ModelIdentity& identity) {
+CompiledLibrary compile_header(const std::string& header_text, const std::string& label, const CompileOptions& options,
+                               const ModelIdentity& identity) {
   const auto start = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   const Warning warn = warning_sink(options);
@@ -360,8 +361,7 @@ CompiledLibrary compile_header(const std::string& header_text, const std::string
   const std::string key =
       sha256_hex(std::string(NHC_VERSION) + "\n" + model_table_text() + "\n" + compiler + "\n" + version + "\n" +
                  flag_text + "\n" + "translation units " + std::to_string(parts) + "\n" + header_text);
-  const std::string record =
-      "nhc build key " + key + "\nscene " + identity.scene + "\nmodel " + identity.model + "\n";
+  const std::string record = "nhc build key " + key + "\nscene " + identity.scene + "\nmodel " + identity.model + "\n";
 
   const fs::path dir = options.cache_directory.empty()
                            ? private_cache_directory(default_cache_location(), warn)

@@ -72,7 +72,7 @@ std::filesystem::path default_cache_directory();
 struct CompiledLibrary {
   std::filesystem::path path;
   bool reused = false;
-  double seconds = 0;  ///< compiling (or finding it in the cache)
+  double seconds = 0;         ///< compiling (or finding it in the cache)
   int translation_units = 1;  ///< it was compiled as (CompileOptions::translation_units)
   /// What the library records of itself (exported as `nhc_model_build_key`): the SHA-256 of
   /// nhc's version, the compiler, its version, the flags, the number of translation units and the

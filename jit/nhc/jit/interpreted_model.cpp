@@ -20,17 +20,33 @@ namespace nhc::jit {
 namespace {
 
 // The table's function fields the interpreter fills, by name (docs/generated-code.md).
-#define NHC_INTERPRETED_FIELDS(X)                                                                                 \
-  X(residual) X(jacobian) X(jacobian_values) X(hidden_constraints) X(hidden_constraints_jacobian) X(invariants) \
-  X(reference) X(singular_quantities) X(residual_parameter_jacobian) X(hidden_parameter_jacobian)               \
-  X(default_inputs) X(momentum) X(variational_residual) X(variational_jacobian) X(variational_momentum)          \
-  X(velocities) X(mass_matrix) X(forcing)
+// clang-format off
+#define NHC_INTERPRETED_FIELDS(X) \
+  X(residual)                     \
+  X(jacobian)                     \
+  X(jacobian_values)              \
+  X(hidden_constraints)           \
+  X(hidden_constraints_jacobian)  \
+  X(invariants)                   \
+  X(reference)                    \
+  X(singular_quantities)          \
+  X(residual_parameter_jacobian)  \
+  X(hidden_parameter_jacobian)    \
+  X(default_inputs)               \
+  X(momentum)                     \
+  X(variational_residual)         \
+  X(variational_jacobian)         \
+  X(variational_momentum)         \
+  X(velocities)                   \
+  X(mass_matrix)                  \
+  X(forcing)
+// clang-format on
 
 enum Field : int {
 #define NHC_FIELD_ENUM(name) field_##name,
   NHC_INTERPRETED_FIELDS(NHC_FIELD_ENUM)
 #undef NHC_FIELD_ENUM
-  kFieldCount
+      kFieldCount
 };
 
 int field_of(const std::string& function) {
@@ -171,8 +187,7 @@ InterpretedFunction interpreted_function(const FunctionPlan& f, const Expression
   interpreted.program = EvaluationProgram(dag, outputs, [&](const Instruction& in) {
     const auto [array, index] = split_name(in.name);
     const auto at = std::find(inputs.begin(), inputs.end(), array);
-    if (at == inputs.end())
-      throw MathError(f.name + " depends on " + in.name + ", which it does not receive");
+    if (at == inputs.end()) throw MathError(f.name + " depends on " + in.name + ", which it does not receive");
     return EvaluationProgram::InputLocation{static_cast<int>(at - inputs.begin()), index};
   });
   return interpreted;
@@ -240,8 +255,9 @@ void Interpreter::install() {
       return;
     }
   }
-  throw EnvironmentError(std::to_string(kInterpretedModelSlots) +
-                         " interpreted models exist already in this process: release one, or compile (--backend compiled)");
+  throw EnvironmentError(
+      std::to_string(kInterpretedModelSlots) +
+      " interpreted models exist already in this process: release one, or compile (--backend compiled)");
 }
 
 bool Interpreter::adopt(const runtime::Model& compiled) {
@@ -402,8 +418,8 @@ std::string to_bytes(const InterpretedProgram& p) {
   w.text(kProgramMagic);
   w.text(p.scene_name);
   w.text(p.model_name);
-  for (int n : {p.n_states, p.n_parameters, p.n_coordinates, p.n_multipliers, p.n_hidden, p.n_invariants,
-                p.n_reference, p.n_singular, p.n_inputs, p.n_speeds})
+  for (int n : {p.n_states, p.n_parameters, p.n_coordinates, p.n_multipliers, p.n_hidden, p.n_invariants, p.n_reference,
+                p.n_singular, p.n_inputs, p.n_speeds})
     w.integer(n);
   const ModelLayout& l = p.layout;
   w.texts(l.state_names);
@@ -439,8 +455,8 @@ std::shared_ptr<const InterpretedProgram> interpreted_program_from_bytes(std::st
   p->scene_name = std::string(r.text());
   p->model_name = std::string(r.text());
   if (!r.ok || p->scene_name != scene_name || p->model_name != model) return nullptr;
-  for (int* n : {&p->n_states, &p->n_parameters, &p->n_coordinates, &p->n_multipliers, &p->n_hidden,
-                 &p->n_invariants, &p->n_reference, &p->n_singular, &p->n_inputs, &p->n_speeds})
+  for (int* n : {&p->n_states, &p->n_parameters, &p->n_coordinates, &p->n_multipliers, &p->n_hidden, &p->n_invariants,
+                 &p->n_reference, &p->n_singular, &p->n_inputs, &p->n_speeds})
     *n = r.integer();
   ModelLayout& l = p->layout;
   l.state_names = r.texts();

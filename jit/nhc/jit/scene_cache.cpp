@@ -224,9 +224,7 @@ std::optional<std::string> scene_fingerprint(const Scene& scene, FingerprintScop
   return out.str();
 }
 
-std::string scene_cache_version() {
-  return std::string(NHC_VERSION) + ", generator " + NHC_GENERATOR_FINGERPRINT;
-}
+std::string scene_cache_version() { return std::string(NHC_VERSION) + ", generator " + NHC_GENERATOR_FINGERPRINT; }
 
 std::optional<std::string> scene_cache_key(const Scene& scene, const std::string& product, const std::string& options,
                                            const std::string& version, FingerprintScope scope) {
@@ -290,8 +288,8 @@ void SceneCache::discard(const std::string& key, const std::string& problem) con
 void SceneCache::store(const std::string& key, const SceneCacheRecord& record) const {
   const fs::path path = entry_path(key);
   const std::string payload = record.serialize();
-  const std::string bytes = std::string(kEntryMagic) + "\nkey " + key + "\nsha256 " + sha256_hex(payload) +
-                            "\nbytes " + std::to_string(payload.size()) + "\n" + payload;
+  const std::string bytes = std::string(kEntryMagic) + "\nkey " + key + "\nsha256 " + sha256_hex(payload) + "\nbytes " +
+                            std::to_string(payload.size()) + "\n" + payload;
   // A name unique to this process and call, registered before it exists (temporary_files.hpp);
   // concurrent runs write the same bytes and rename them into place, either one wins.
   const TemporaryFile temporary(unique_temporary_name(path.string()));

@@ -15,10 +15,10 @@
 /// values (its defaults), not the initial data or run settings, which it takes at run time, so a
 /// new start or tolerance reuses it (and the compile cache its library), except that a header with
 /// the multiplier-free form is keyed also by the speeds chosen at the start (jit/build.cpp,
-/// docs/reduced-form.md); the initial-point check keeps the key of everything. The system's fingerprint is made from the text it was read from,
-/// which stands for it only while none of its fields has changed (SceneSystem::source_text()):
-/// a system assembled or changed in code has none and is never cached. SceneBuilder's scenes have
-/// the text they are built from.
+/// docs/reduced-form.md); the initial-point check keeps the key of everything. The system's fingerprint is made from
+/// the text it was read from, which stands for it only while none of its fields has changed
+/// (SceneSystem::source_text()): a system assembled or changed in code has none and is never cached. SceneBuilder's
+/// scenes have the text they are built from.
 
 #include <filesystem>
 #include <map>

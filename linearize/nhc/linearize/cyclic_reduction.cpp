@@ -67,8 +67,8 @@ std::vector<std::vector<GiNaC::ex>> jacobian(const std::vector<GiNaC::ex>& funct
 
 }  // namespace
 
-CyclicReduction reduce_cyclic(const Index1System& system, const GiNaC::ex& time,
-                              const std::vector<std::string>& keep, bool autonomous) {
+CyclicReduction reduce_cyclic(const Index1System& system, const GiNaC::ex& time, const std::vector<std::string>& keep,
+                              bool autonomous) {
   if (autonomous) require_autonomous(system, time);
   CyclicReduction out;
   std::vector<bool> drop_residual(system.residuals.size(), false);
@@ -77,8 +77,8 @@ CyclicReduction reduce_cyclic(const Index1System& system, const GiNaC::ex& time,
     const StateComponent& s = system.states[static_cast<std::size_t>(k)];
     const GiNaC::ex& y = system.y[static_cast<std::size_t>(k)];
     const GiNaC::ex& yp = system.yp[static_cast<std::size_t>(k)];
-    ReducedComponent z{y, s.differential ? yp : GiNaC::ex(0), s.differential, s.name, s.order,
-                       s.kind == VariableKind::multiplier};
+    ReducedComponent z{y,       s.differential ? yp : GiNaC::ex(0), s.differential, s.name,
+                       s.order, s.kind == VariableKind::multiplier};
     const bool position = s.kind == VariableKind::coordinate && s.order == 0 && s.differential;
     if (!position || any_has(system.hidden_constraints, y)) {
       out.components.push_back(z);

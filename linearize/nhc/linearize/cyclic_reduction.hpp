@@ -26,17 +26,17 @@ struct ReducedComponent {
   GiNaC::ex derivative;  ///< the symbol of z_c' (yp[k]); 0 when algebraic
   bool differential = true;
   std::string name;
-  int order = 0;          ///< derivative order of the variable it holds
+  int order = 0;  ///< derivative order of the variable it holds
   bool multiplier = false;
 };
 
 struct CyclicReduction {
-  std::vector<std::string> cyclic;             ///< removed coordinates
-  std::vector<std::string> kept;               ///< cyclic coordinates kept as states (`keep`)
-  std::vector<ReducedComponent> components;    ///< z, N of them
-  std::vector<GiNaC::ex> residuals;            ///< F(p, z, z'), N of them
+  std::vector<std::string> cyclic;           ///< removed coordinates
+  std::vector<std::string> kept;             ///< cyclic coordinates kept as states (`keep`)
+  std::vector<ReducedComponent> components;  ///< z, N of them
+  std::vector<GiNaC::ex> residuals;          ///< F(p, z, z'), N of them
   std::vector<std::string> residual_names;
-  std::vector<GiNaC::ex> hidden;               ///< g(p, z)
+  std::vector<GiNaC::ex> hidden;  ///< g(p, z)
   std::vector<std::string> hidden_names;
   std::vector<std::vector<GiNaC::ex>> dF_dz, dF_dzp;  ///< N × N
   std::vector<std::vector<GiNaC::ex>> dg_dz;          ///< m × N

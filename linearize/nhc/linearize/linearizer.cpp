@@ -33,7 +33,7 @@ std::string number(double v) { return base::number_text(v, 6); }
 /// The state of the reduced system at one point: z, z' of the differential states, and the
 /// parameters and t as a GiNaC substitution.
 struct NumericPoint {
-  GiNaC::exmap base;  ///< t, parameters and inputs
+  GiNaC::exmap base;              ///< t, parameters and inputs
   std::vector<double> constants;  ///< the same values: t, the parameters, the inputs in JetSpace order
   Eigen::VectorXd z;
   Eigen::VectorXd zp;  ///< per state; 0 for algebraic ones
@@ -63,7 +63,7 @@ std::vector<double> program_values(const CyclicReduction& r, const NumericPoint&
 struct MatrixOutputs {
   Eigen::Index rows = 0, cols = 0;
   std::vector<std::pair<Eigen::Index, Eigen::Index>> entries;  ///< per output, in order
-  int first = 0;                                                ///< index of the first output
+  int first = 0;                                               ///< index of the first output
 };
 
 MatrixOutputs add_matrix(NumericProgram& program, const std::vector<std::vector<GiNaC::ex>>& m, std::size_t cols) {
@@ -109,7 +109,8 @@ void order_states(Linearization& lin, const std::vector<std::string>& wanted) {
   const auto n = static_cast<Eigen::Index>(wanted.size());
   Eigen::PermutationMatrix<Eigen::Dynamic> P(n);  // P δs_old = δs_new
   for (Eigen::Index k = 0; k < n; ++k) {
-    const auto old = std::find(lin.states.begin(), lin.states.end(), wanted[static_cast<std::size_t>(k)]) - lin.states.begin();
+    const auto old =
+        std::find(lin.states.begin(), lin.states.end(), wanted[static_cast<std::size_t>(k)]) - lin.states.begin();
     P.indices()(old) = static_cast<int>(k);
   }
   lin.A = P * lin.A * P.transpose();
@@ -228,7 +229,8 @@ NumericPoint Linearizer::Impl::operating_point(const Scene& s, Linearization& ou
     if (z.differential) p.zp(c) = evaluate_real(z.derivative, full, "the derivative of " + z.name);
   }
   for (int q = 0; q < static_cast<int>(s.parameter_values.size()); ++q)
-    out.point.emplace_back(s.jet->parameters()[static_cast<std::size_t>(q)], s.parameter_values[static_cast<std::size_t>(q)]);
+    out.point.emplace_back(s.jet->parameters()[static_cast<std::size_t>(q)],
+                           s.parameter_values[static_cast<std::size_t>(q)]);
   for (int k = 0; k < system.size(); ++k)
     out.point.emplace_back(system.states[static_cast<std::size_t>(k)].name, y0[static_cast<std::size_t>(k)]);
   return p;
@@ -243,7 +245,8 @@ void Linearizer::Impl::check_stationary(const NumericPoint& p, Linearization& ou
     const double rate = std::abs(p.zp(static_cast<Eigen::Index>(c)) - drift(static_cast<Eigen::Index>(c))) / scale;
     const ReducedComponent& z = reduced.components[c];
     // A kept cyclic coordinate may drift: the equations do not contain it (LinearizeOptions::keep).
-    const bool drifts = z.order == 0 && std::find(reduced.kept.begin(), reduced.kept.end(), z.name) != reduced.kept.end();
+    const bool drifts =
+        z.order == 0 && std::find(reduced.kept.begin(), reduced.kept.end(), z.name) != reduced.kept.end();
     if (z.differential && !drifts && rate >= worst && (rate > worst || out.worst_state.empty())) {
       worst = rate;
       out.worst_state = reduced.components[c].name;
@@ -255,9 +258,9 @@ void Linearizer::Impl::check_stationary(const NumericPoint& p, Linearization& ou
     while (reduced.components[c].name != out.worst_state) ++c;
     const ReducedComponent& z = reduced.components[c];
     const std::string moving = "the operating point is not stationary" +
-                               std::string(turning() ? " in the turning frame" : "") + ": d/dt " + out.worst_state + " = " +
-                               number(p.zp(static_cast<Eigen::Index>(c))) + " (defect " + number(worst) + " > " +
-                               number(options.stationarity) + ", relative to 1 + max |state|)";
+                               std::string(turning() ? " in the turning frame" : "") + ": d/dt " + out.worst_state +
+                               " = " + number(p.zp(static_cast<Eigen::Index>(c))) + " (defect " + number(worst) +
+                               " > " + number(options.stationarity) + ", relative to 1 + max |state|)";
     if (z.order > 0 || z.multiplier || turning())
       throw MathError(moving + "; choose [initial] or --at values of an equilibrium or steady motion");
     // A coordinate that moves at the point but is not cyclic: a steady turn or spin (a relative
@@ -265,15 +268,18 @@ void Linearizer::Impl::check_stationary(const NumericPoint& p, Linearization& ou
     // "Relative equilibria").
     std::string depends;
     for (std::size_t i = 0; i < reduced.residuals.size(); ++i)
-      if (depends_on(reduced.residuals[i], z.value)) depends += (depends.empty() ? "" : ", ") + reduced.residual_names[i];
+      if (depends_on(reduced.residuals[i], z.value))
+        depends += (depends.empty() ? "" : ", ") + reduced.residual_names[i];
     for (std::size_t i = 0; i < reduced.hidden.size(); ++i)
       if (depends_on(reduced.hidden[i], z.value)) depends += (depends.empty() ? "" : ", ") + reduced.hidden_names[i];
     throw MathError(moving + ": " + z.name + " moves but is not cyclic (" +
                     (depends.empty() ? std::string("the equations contain it") : "it appears in " + depends) +
                     "), so this steady motion is not an equilibrium of the system reduced by its cyclic coordinates; "
-                    "if it is a relative equilibrium (a steady turn or spin, " + z.name +
+                    "if it is a relative equilibrium (a steady turn or spin, " +
+                    z.name +
                     " moving together with other coordinates), write the scene in coordinates where that symmetry is "
-                    "cyclic (docs/linearize.md, \"Relative equilibria\"), or choose a point with " + z.name + "' = 0");
+                    "cyclic (docs/linearize.md, \"Relative equilibria\"), or choose a point with " +
+                    z.name + "' = 0");
   }
 }
 
@@ -326,7 +332,8 @@ std::vector<SteadyFamily> Linearizer::Impl::families_at(const NumericPoint& p, c
   if (G_dependent.size()) {
     const Eigen::MatrixXd G = matrix_of(dg_dz, jacobians->evaluate(program_values(reduced, p), "the Jacobians"));
     for (std::size_t r = 0; r < lin.dependent.size(); ++r)
-      G_dependent.col(static_cast<Eigen::Index>(r)) = G.col(lin.differential[static_cast<std::size_t>(lin.dependent[r])]);
+      G_dependent.col(static_cast<Eigen::Index>(r)) =
+          G.col(lin.differential[static_cast<std::size_t>(lin.dependent[r])]);
   }
   const ReducedVelocity h = [&](const Eigen::VectorXd& s) { return velocity(p, lin, G_dependent, s); };
   return steady_families(lin.A, s_star, h, zero_eigenvalues, states, options.zero_tolerance);
@@ -344,8 +351,9 @@ std::string Linearizer::Impl::describe_basis(const ManifoldLinearization& lin) c
   auto names = [&](const std::vector<int>& positions, bool through_differential) {
     std::vector<std::string> out;
     for (int k : positions)
-      out.push_back(reduced.components[static_cast<std::size_t>(
-                                           through_differential ? lin.differential[static_cast<std::size_t>(k)] : k)]
+      out.push_back(reduced
+                        .components[static_cast<std::size_t>(
+                            through_differential ? lin.differential[static_cast<std::size_t>(k)] : k)]
                         .name);
     return out;
   };
@@ -359,8 +367,7 @@ std::string Linearizer::Impl::describe_basis(const ManifoldLinearization& lin) c
          << " (one state per independent constraint, chosen greedily: coordinates before multipliers, "
             "higher derivatives before lower, larger constraint-gradient column first, each kept if it "
             "raises the rank)";
-  else if (!reduced.hidden.empty())
-    text << "; the hidden constraints cut no direction at this point";
+  else if (!reduced.hidden.empty()) text << "; the hidden constraints cut no direction at this point";
   return text.str();
 }
 
@@ -408,8 +415,8 @@ Linearizer::Linearizer(const Scene& scene, ModelKind model, LinearizeOptions opt
     if (std::find(differential.begin(), differential.end(), name) != differential.end()) continue;
     const bool removed = std::find(m.reduced.cyclic.begin(), m.reduced.cyclic.end(), name) != m.reduced.cyclic.end();
     throw InputError({"--states", 0, 0},
-                     "--states " + name + ": not a differential state of the reduced " + to_string(model) +
-                         " system" + (removed ? " (" + name + " is cyclic and removed: keep it with --keep " + name + ")" : "") +
+                     "--states " + name + ": not a differential state of the reduced " + to_string(model) + " system" +
+                         (removed ? " (" + name + " is cyclic and removed: keep it with --keep " + name + ")" : "") +
                          "; its differential states: " + join_names(differential));
   }
   m.compile_programs();
@@ -437,7 +444,8 @@ void Linearizer::Impl::compile_programs() {
   dF_du = add_matrix(*jacobians, input_derivatives(reduced.residuals, scene), scene.inputs.size());
   compile_outputs();
   std::vector<GiNaC::ex> full_inputs{scene.jet->time()};
-  for (int q = 0; q < static_cast<int>(scene.parameter_values.size()); ++q) full_inputs.push_back(scene.jet->parameter(q));
+  for (int q = 0; q < static_cast<int>(scene.parameter_values.size()); ++q)
+    full_inputs.push_back(scene.jet->parameter(q));
   for (int k = 0; k < static_cast<int>(scene.inputs.size()); ++k) full_inputs.push_back(scene.jet->input(k));
   full_inputs.insert(full_inputs.end(), system.y.begin(), system.y.end());
   full_inputs.insert(full_inputs.end(), system.yp.begin(), system.yp.end());
@@ -458,7 +466,8 @@ void Linearizer::Impl::compile_outputs() {
   for (const SceneQuantity& output : scene.outputs) {
     const GiNaC::ex h = system.in_states(output.expression);
     const auto symbols = symbols_through(h);
-    const auto unknown = std::find_if(symbols.begin(), symbols.end(), [&](const GiNaC::ex& s) { return !known.count(s); });
+    const auto unknown =
+        std::find_if(symbols.begin(), symbols.end(), [&](const GiNaC::ex& s) { return !known.count(s); });
     if (unknown != symbols.end()) {
       std::ostringstream symbol;
       symbol << *unknown;
@@ -527,15 +536,17 @@ void Linearizer::Impl::setup_turn(const LinearizeOptions::Turn& turn) {
     if (variable != turn.x && variable != turn.y) continue;
     const std::string& other = variable == turn.x ? turn.y : turn.x;
     for (std::size_t d = 0; d < n; ++d)
-      if (variable_and_order(reduced.components[d].name) == std::make_pair(other, order)) turn_partner[c] = static_cast<int>(d);
+      if (variable_and_order(reduced.components[d].name) == std::make_pair(other, order))
+        turn_partner[c] = static_cast<int>(d);
     if (turn_partner[c] < 0)
-      throw InputError({"--turn", 0, 0}, "--turn: the reduced system holds " + reduced.components[c].name + " but not " +
-                                             base::primed_name(other, order) +
+      throw InputError({"--turn", 0, 0}, "--turn: the reduced system holds " + reduced.components[c].name +
+                                             " but not " + base::primed_name(other, order) +
                                              ", which the turn rotates with it: keep both or neither (--keep)");
     turn_sign[c] = variable == turn.x ? -1.0 : 1.0;  // X: x^(k) -> -y^(k), y^(k) -> x^(k)
   }
   if (turn_angle < 0)
-    throw InputError({"--turn", 0, 0}, "--turn: " + turn.angle + " is cyclic, so a steady turn is an equilibrium "
+    throw InputError({"--turn", 0, 0}, "--turn: " + turn.angle +
+                                           " is cyclic, so a steady turn is an equilibrium "
                                            "of the reduced system already: leave --turn out");
 }
 
@@ -544,7 +555,8 @@ Eigen::VectorXd Linearizer::Impl::generator(const Eigen::VectorXd& z) const {
   if (!turning()) return X;
   X(turn_angle) = 1.0;
   for (Eigen::Index c = 0; c < z.size(); ++c)
-    if (turn_partner[static_cast<std::size_t>(c)] >= 0) X(c) = turn_sign[static_cast<std::size_t>(c)] * z(turn_partner[static_cast<std::size_t>(c)]);
+    if (turn_partner[static_cast<std::size_t>(c)] >= 0)
+      X(c) = turn_sign[static_cast<std::size_t>(c)] * z(turn_partner[static_cast<std::size_t>(c)]);
   return X;
 }
 
@@ -576,7 +588,8 @@ void Linearizer::Impl::check_invariant(const NumericPoint& p) const {
     for (int iteration = 0; iteration < 20; ++iteration) {
       const ManifoldInput in = manifold_input(q);
       Eigen::MatrixXd K(in.dF_dz.rows(), static_cast<Eigen::Index>(differential.size() + algebraic.size()));
-      for (std::size_t k = 0; k < differential.size(); ++k) K.col(static_cast<Eigen::Index>(k)) = in.dF_dzp.col(differential[k]);
+      for (std::size_t k = 0; k < differential.size(); ++k)
+        K.col(static_cast<Eigen::Index>(k)) = in.dF_dzp.col(differential[k]);
       for (std::size_t k = 0; k < algebraic.size(); ++k)
         K.col(static_cast<Eigen::Index>(differential.size() + k)) = in.dF_dz.col(algebraic[k]);
       const Eigen::VectorXd step = -K.fullPivLu().solve(hidden_and_residual(q).second);
@@ -598,8 +611,15 @@ void Linearizer::Impl::check_invariant(const NumericPoint& p) const {
 
 ManifoldInput Linearizer::Impl::manifold_input(const NumericPoint& p) const {
   const std::vector<double> values = jacobians->evaluate(program_values(reduced, p), "dF/dz, dF/dz' or dg/dz");
-  ManifoldInput input{matrix_of(dF_dz, values), matrix_of(dF_dzp, values), matrix_of(dg_dz, values),
-                      matrix_of(dF_du, values), {}, {}, {}, {}, {}};
+  ManifoldInput input{matrix_of(dF_dz, values),
+                      matrix_of(dF_dzp, values),
+                      matrix_of(dg_dz, values),
+                      matrix_of(dF_du, values),
+                      {},
+                      {},
+                      {},
+                      {},
+                      {}};
   for (const ReducedComponent& z : reduced.components) {
     input.differential.push_back(z.differential);
     input.order.push_back(z.order);
@@ -615,13 +635,15 @@ namespace {
 
 void require_size(const std::vector<double>& v, std::size_t n, const std::string& what) {
   if (v.size() != n)
-    throw InputError({what, 0, 0}, what + " has " + std::to_string(v.size()) + " values; the system has " + std::to_string(n));
+    throw InputError({what, 0, 0},
+                     what + " has " + std::to_string(v.size()) + " values; the system has " + std::to_string(n));
 }
 
 }  // namespace
 
 std::vector<double> Linearizer::Impl::point_constants(double t, const std::vector<double>& y,
-                                                      const std::vector<double>& yp, const std::vector<double>& u) const {
+                                                      const std::vector<double>& yp,
+                                                      const std::vector<double>& u) const {
   const auto n = static_cast<std::size_t>(system.size());
   require_size(y, n, "y");
   require_size(yp, n, "yp");
@@ -643,7 +665,8 @@ Linearization Linearizer::along(double t, const std::vector<double>& y, const st
   for (Eigen::Index c = 0; c < N; ++c) {
     const auto [k, from_yp] = m.value_source[static_cast<std::size_t>(c)];
     p.z(c) = (from_yp ? yp : y)[static_cast<std::size_t>(k)];
-    if (const int d = m.derivative_source[static_cast<std::size_t>(c)]; d >= 0) p.zp(c) = yp[static_cast<std::size_t>(d)];
+    if (const int d = m.derivative_source[static_cast<std::size_t>(c)]; d >= 0)
+      p.zp(c) = yp[static_cast<std::size_t>(d)];
   }
   const ManifoldLinearization lin = linearize_on_manifold(m.manifold_input(p));
   Linearization out;
@@ -709,7 +732,8 @@ Linearization Linearizer::at(const std::vector<PointOverride>& overrides) const 
       const int c = lin.differential[static_cast<std::size_t>(i)];
       const int partner = m.turn_partner[static_cast<std::size_t>(c)];
       for (Eigen::Index j = 0; j < nD && partner >= 0; ++j)
-        if (lin.differential[static_cast<std::size_t>(j)] == partner) DX(i, j) = m.turn_sign[static_cast<std::size_t>(c)];
+        if (lin.differential[static_cast<std::size_t>(j)] == partner)
+          DX(i, j) = m.turn_sign[static_cast<std::size_t>(c)];
     }
     const Eigen::MatrixXd correction = DX * lin.T;
     for (std::size_t r = 0; r < lin.independent.size(); ++r)

@@ -86,8 +86,7 @@ class Linearizer {
 LinearizeOptions::Turn parse_turn(const std::string& text, const std::string& flag = "--turn");
 
 /// One-shot form: Linearizer(scene, model, options).at(overrides).
-Linearization linearize(const Scene& scene, ModelKind model,
-                        const std::vector<PointOverride>& overrides = {},
+Linearization linearize(const Scene& scene, ModelKind model, const std::vector<PointOverride>& overrides = {},
                         const LinearizeOptions& options = {});
 
 }  // namespace nhc

@@ -56,9 +56,12 @@ std::vector<int> eliminated_columns(const Eigen::MatrixXd& G_hat, const Manifold
     std::string kept;
     for (std::size_t k = 0; k < in.kept.size(); ++k)
       if (in.kept[k]) kept += (kept.empty() ? "" : ", ") + in.names[k];
-    throw MathError("the hidden constraints fix " + std::to_string(rank) + " of the differential states at this point, "
-                    "but only " + std::to_string(chosen.size()) + " can be eliminated when " + kept +
-                    " are all kept as states: name fewer states, or others (docs/linearize.md, \"Choosing the states\")");
+    throw MathError(
+        "the hidden constraints fix " + std::to_string(rank) +
+        " of the differential states at this point, "
+        "but only " +
+        std::to_string(chosen.size()) + " can be eliminated when " + kept +
+        " are all kept as states: name fewer states, or others (docs/linearize.md, \"Choosing the states\")");
   }
   std::sort(chosen.begin(), chosen.end());
   return chosen;
@@ -69,7 +72,8 @@ std::vector<int> eliminated_columns(const Eigen::MatrixXd& G_hat, const Manifold
 ManifoldLinearization linearize_on_manifold(const ManifoldInput& in, double tolerance) {
   ManifoldLinearization out;
   const auto n = static_cast<int>(in.differential.size());
-  for (int k = 0; k < n; ++k) (in.differential[static_cast<std::size_t>(k)] ? out.differential : out.algebraic).push_back(k);
+  for (int k = 0; k < n; ++k)
+    (in.differential[static_cast<std::size_t>(k)] ? out.differential : out.algebraic).push_back(k);
   const auto nD = static_cast<Eigen::Index>(out.differential.size());
   const auto nA = static_cast<Eigen::Index>(out.algebraic.size());
 
@@ -77,8 +81,10 @@ ManifoldLinearization linearize_on_manifold(const ManifoldInput& in, double tole
   K << columns(in.dF_dzp, out.differential), columns(in.dF_dz, out.algebraic);
   out.K_condition = condition_number(K);
   if (!(out.K_condition < 1e14))
-    throw MathError("the index-1 matrix [dF/dz'_differential, dF/dz_algebraic] is singular at the operating point "
-                    "(condition number " + std::to_string(out.K_condition) + "): the model is not index 1 there");
+    throw MathError(
+        "the index-1 matrix [dF/dz'_differential, dF/dz_algebraic] is singular at the operating point "
+        "(condition number " +
+        std::to_string(out.K_condition) + "): the model is not index 1 there");
   out.K.compute(K);
   const Eigen::MatrixXd M = -out.K.solve(columns(in.dF_dz, out.differential));
   out.M_D = M.topRows(nD);
@@ -94,8 +100,8 @@ ManifoldLinearization linearize_on_manifold(const ManifoldInput& in, double tole
   for (Eigen::Index c = 0; c < ns; ++c) out.T(out.independent[static_cast<std::size_t>(c)], c) = 1.0;
   if (!out.dependent.empty()) {
     // Ĝ_dep δz_dep + Ĝ_ind δs = 0 (least squares: redundant constraint rows are consistent).
-    const Eigen::MatrixXd dep = -columns(out.G_hat, out.dependent).colPivHouseholderQr().solve(
-        columns(out.G_hat, out.independent));
+    const Eigen::MatrixXd dep =
+        -columns(out.G_hat, out.dependent).colPivHouseholderQr().solve(columns(out.G_hat, out.independent));
     for (std::size_t r = 0; r < out.dependent.size(); ++r)
       out.T.row(out.dependent[r]) = dep.row(static_cast<Eigen::Index>(r));
   }
@@ -109,7 +115,8 @@ ManifoldLinearization linearize_on_manifold(const ManifoldInput& in, double tole
 }
 
 std::pair<Eigen::MatrixXd, Eigen::MatrixXd> output_matrices(const ManifoldLinearization& lin, const Eigen::MatrixXd& H,
-                                                            const Eigen::MatrixXd& H_prime, const Eigen::MatrixXd& H_u) {
+                                                            const Eigen::MatrixXd& H_prime,
+                                                            const Eigen::MatrixXd& H_u) {
   const Eigen::MatrixXd H_D = columns(H, lin.differential), H_A = columns(H, lin.algebraic);
   const Eigen::MatrixXd H_prime_D = columns(H_prime, lin.differential);
   Eigen::MatrixXd C = (H_D + H_A * lin.M_A + H_prime_D * lin.M_D) * lin.T;

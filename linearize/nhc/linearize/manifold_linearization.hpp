@@ -43,7 +43,7 @@ struct ManifoldLinearization {
   /// Positions in `differential` of the kept (s) and eliminated states.
   std::vector<int> independent, dependent;
   Eigen::MatrixXd M_D, M_A, G_hat, T, A, B;
-  Eigen::MatrixXd N_D, N_A;  ///< −K⁻¹ F_u: differential rows (δz_D'), algebraic rows (δz_A)
+  Eigen::MatrixXd N_D, N_A;                ///< −K⁻¹ F_u: differential rows (δz_D'), algebraic rows (δz_A)
   Eigen::PartialPivLU<Eigen::MatrixXd> K;  ///< [E_D  J_A]
   double K_condition = 0.0;
   double manifold_residual = 0.0;  ///< max |Ĝ M_D T|

@@ -11,9 +11,7 @@ namespace nhc {
 
 namespace {
 
-[[noreturn]] void bad(const std::string& flag, const std::string& message) {
-  throw InputError({flag, 0, 0}, message);
-}
+[[noreturn]] void bad(const std::string& flag, const std::string& message) { throw InputError({flag, 0, 0}, message); }
 
 bool is_variable_of(const Scene& scene, const std::string& name) {
   const JetSpace& jet = *scene.jet;
@@ -32,7 +30,8 @@ std::pair<std::string, int> split_derivative(const std::string& name) {
   const std::size_t d = name.rfind("_d");
   if (d != std::string::npos && d + 2 < name.size() && name.size() - d - 2 <= 2) {
     bool digits = true;
-    for (std::size_t k = d + 2; k < name.size(); ++k) digits = digits && std::isdigit(static_cast<unsigned char>(name[k]));
+    for (std::size_t k = d + 2; k < name.size(); ++k)
+      digits = digits && std::isdigit(static_cast<unsigned char>(name[k]));
     if (digits) return {name.substr(0, d), std::atoi(name.c_str() + d + 2)};
   }
   return {name, 0};
@@ -42,8 +41,7 @@ std::pair<std::string, int> split_derivative(const std::string& name) {
 
 PointOverride parse_point_override(const std::string& text, const std::string& flag) {
   const std::size_t eq = text.find('=');
-  if (eq == std::string::npos || eq == 0)
-    bad(flag, flag + " " + text + ": expected NAME=VALUE (e.g. th=0, ph'=5)");
+  if (eq == std::string::npos || eq == 0) bad(flag, flag + " " + text + ": expected NAME=VALUE (e.g. th=0, ph'=5)");
   const std::string value_text = text.substr(eq + 1);
   char* end = nullptr;
   const double value = std::strtod(value_text.c_str(), &end);

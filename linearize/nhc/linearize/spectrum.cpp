@@ -7,9 +7,12 @@ namespace nhc {
 
 std::string to_string(StabilityVerdict verdict) {
   switch (verdict) {
-    case StabilityVerdict::unstable: return "unstable";
-    case StabilityVerdict::marginally_stable: return "marginally_stable";
-    case StabilityVerdict::asymptotically_stable: return "asymptotically_stable";
+    case StabilityVerdict::unstable:
+      return "unstable";
+    case StabilityVerdict::marginally_stable:
+      return "marginally_stable";
+    case StabilityVerdict::asymptotically_stable:
+      return "asymptotically_stable";
   }
   return "?";
 }

@@ -23,6 +23,6 @@ int count_zero_eigenvalues(const Eigen::MatrixXd& A, const std::vector<std::comp
 /// Re λ > tolerance·scale; asymptotically_stable when every other λ has Re λ < −tolerance·scale
 /// and every zero eigenvalue is explained; marginally_stable otherwise.
 StabilityVerdict classify_spectrum(const Eigen::MatrixXd& A, const std::vector<std::complex<double>>& eigenvalues,
-                                  int families, double tolerance, double zero_tolerance);
+                                   int families, double tolerance, double zero_tolerance);
 
 }  // namespace nhc

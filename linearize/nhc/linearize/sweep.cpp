@@ -15,9 +15,7 @@ namespace nhc {
 
 namespace {
 
-[[noreturn]] void bad(const std::string& flag, const std::string& message) {
-  throw InputError({flag, 0, 0}, message);
-}
+[[noreturn]] void bad(const std::string& flag, const std::string& message) { throw InputError({flag, 0, 0}, message); }
 
 double parse_number(const std::string& text, const std::string& flag, const std::string& whole) {
   char* end = nullptr;
@@ -66,8 +64,7 @@ SweepRange parse_sweep_range(const std::string& text, const std::string& flag) {
 /// Otherwise it is ±1 by the verdict: "same as the lower end or not".
 class ThresholdSide {
  public:
-  ThresholdSide(const Linearization& lower, const Linearization& upper, double tolerance)
-      : lower_(lower.verdict) {
+  ThresholdSide(const Linearization& lower, const Linearization& upper, double tolerance) : lower_(lower.verdict) {
     const bool lower_unstable = lower.verdict == StabilityVerdict::unstable;
     continuous_ = lower_unstable != (upper.verdict == StabilityVerdict::unstable);
     const Linearization& stable = lower_unstable ? upper : lower;
@@ -80,7 +77,8 @@ class ThresholdSide {
     std::vector<std::complex<double>> rest(l.eigenvalues.begin(), l.eigenvalues.end());
     std::sort(rest.begin(), rest.end(), [](auto x, auto y) { return std::abs(x) < std::abs(y); });
     double largest = -std::numeric_limits<double>::infinity();
-    for (std::size_t k = std::min(families_, rest.size()); k < rest.size(); ++k) largest = std::max(largest, rest[k].real());
+    for (std::size_t k = std::min(families_, rest.size()); k < rest.size(); ++k)
+      largest = std::max(largest, rest[k].real());
     const double scale = std::max(1.0, l.A.size() ? l.A.cwiseAbs().rowwise().sum().maxCoeff() : 0.0);
     return largest - tolerance_ * scale;
   }
@@ -107,9 +105,8 @@ SweepResult sweep(const Linearizer& linearizer, const std::vector<PointOverride>
     }
   };
   for (int k = 0; k < range.count; ++k) {
-    const double value = k + 1 == range.count
-                             ? range.last
-                             : range.first + (range.last - range.first) * k / (range.count - 1);
+    const double value =
+        k + 1 == range.count ? range.last : range.first + (range.last - range.first) * k / (range.count - 1);
     out.points.push_back({value, at(value)});
   }
   for (std::size_t k = 0; k + 1 < out.points.size(); ++k) {

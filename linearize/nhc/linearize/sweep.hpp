@@ -27,7 +27,7 @@ struct SweepPoint {
 };
 
 struct VerdictChange {
-  double value = 0.0;  ///< midpoint of the final bisection bracket
+  double value = 0.0;               ///< midpoint of the final bisection bracket
   double lower = 0.0, upper = 0.0;  ///< the bracket
   StabilityVerdict from = StabilityVerdict::unstable, to = StabilityVerdict::unstable;
 };
@@ -41,7 +41,7 @@ struct SweepResult {
 /// Linearizes at n equally spaced values of range.name (overrides applied first, then the
 /// swept value), and bisects every interval whose end verdicts differ until its width is at
 /// most `relative_width`·max(|lower|, |upper|). Throws like Linearizer::at, naming the value.
-SweepResult sweep(const Linearizer& linearizer, const std::vector<PointOverride>& overrides,
-                  const SweepRange& range, double relative_width = 1e-12);
+SweepResult sweep(const Linearizer& linearizer, const std::vector<PointOverride>& overrides, const SweepRange& range,
+                  double relative_width = 1e-12);
 
 }  // namespace nhc

@@ -36,7 +36,8 @@ HermiteSimpson::HermiteSimpson(const Scene& scene, const Settings& settings, int
 HermiteSimpson::HermiteSimpson(const Scene& scene, const Settings& settings, PointProblem problem, int intervals)
     : HermiteSimpson(scene, settings, std::move(problem), equal_mesh(intervals)) {}
 
-HermiteSimpson::HermiteSimpson(const Scene& scene, const Settings& settings, PointProblem problem, std::vector<double> mesh)
+HermiteSimpson::HermiteSimpson(const Scene& scene, const Settings& settings, PointProblem problem,
+                               std::vector<double> mesh)
     : problem_(std::move(problem)),
       n_(problem_.states),
       stride_(problem_.slots()),
@@ -64,7 +65,9 @@ HermiteSimpson::HermiteSimpson(const HermiteSimpson& other, std::vector<double> 
   set_up(mesh);
 }
 
-HermiteSimpson HermiteSimpson::remeshed(std::vector<double> mesh) const { return HermiteSimpson(*this, std::move(mesh), Shared{}); }
+HermiteSimpson HermiteSimpson::remeshed(std::vector<double> mesh) const {
+  return HermiteSimpson(*this, std::move(mesh), Shared{});
+}
 
 void HermiteSimpson::set_up(const std::vector<double>& mesh) {
   // Point fractions and Simpson's weights h_k/6 at each end of interval k (a node inside the
@@ -87,7 +90,8 @@ void HermiteSimpson::set_up(const std::vector<double>& mesh) {
   // An algebraic state's rate is no variable of the problem: held at 0.
   for (int i = 0; i < n_; ++i)
     if (!problem_.collocated[static_cast<std::size_t>(i)])
-      for (int j = 0; j < points(); ++j) low_[static_cast<std::size_t>(v_index(j, i))] = high_[static_cast<std::size_t>(v_index(j, i))] = 0;
+      for (int j = 0; j < points(); ++j)
+        low_[static_cast<std::size_t>(v_index(j, i))] = high_[static_cast<std::size_t>(v_index(j, i))] = 0;
   for (const SlotBound& b : problem_.bounds)
     for (int j = 0; j < points(); ++j) {
       const auto k = static_cast<std::size_t>(j * stride_ + b.slot);
@@ -98,15 +102,17 @@ void HermiteSimpson::set_up(const std::vector<double>& mesh) {
     for (const SlotBound& b : values) {
       const auto k = static_cast<std::size_t>(point * stride_ + b.slot);
       if (b.high < low_[k] || b.low > high_[k])
-        throw InputError(b.where, fmt::format("{} = {} in [optimize.{}] is outside its bound [{}, {}] in [optimize.bounds]", b.name,
-                                              b.low == b.high ? fmt::format("{}", b.low) : fmt::format("[{}, {}]", b.low, b.high),
-                                              table, low_[k], high_[k]));
+        throw InputError(
+            b.where, fmt::format("{} = {} in [optimize.{}] is outside its bound [{}, {}] in [optimize.bounds]", b.name,
+                                 b.low == b.high ? fmt::format("{}", b.low) : fmt::format("[{}, {}]", b.low, b.high),
+                                 table, low_[k], high_[k]));
       low_[k] = std::max(low_[k], b.low);
       high_[k] = std::min(high_[k], b.high);
     }
   };
   if (problem_.measured_start) {
-    for (const SlotBound& b : problem_.initial) low_[static_cast<std::size_t>(b.slot)] = high_[static_cast<std::size_t>(b.slot)] = b.low;
+    for (const SlotBound& b : problem_.initial)
+      low_[static_cast<std::size_t>(b.slot)] = high_[static_cast<std::size_t>(b.slot)] = b.low;
   } else {
     fix(problem_.initial, 0, "initial");
   }
@@ -184,7 +190,8 @@ void HermiteSimpson::hessian_values(const double* z, double sigma, const double*
       // second term above); d2f/dT2 = sum_j w_j (2 l_t s_j + (T - t0) l_tt s_j^2).
       const ValueGradient& l = functions_->value(kIntegrand);
       const std::vector<int>& slots = functions_->slots(kIntegrand);
-      for (std::size_t e = 0; e < slots.size(); ++e) values[hessian_entry(T, j * stride_ + slots[e])] += sigma * w * l.d[e];
+      for (std::size_t e = 0; e < slots.size(); ++e)
+        values[hessian_entry(T, j * stride_ + slots[e])] += sigma * w * l.d[e];
       values[hessian_entry(T, T)] += sigma * w * 2 * l.dt * s_j;
     }
     for (int r = 0; r < path_rows(); ++r) add_function(kFirstPathRow + r, j, lambda[row + j * path_rows() + r], s_j);
@@ -217,7 +224,8 @@ void HermiteSimpson::hessian_values(const double* z, double sigma, const double*
 void HermiteSimpson::drop_fixed_initial_rows() {
   std::vector<double> point(static_cast<std::size_t>(stride_), 0.0);
   for (int s = 0; s < stride_; ++s)
-    if (low_[static_cast<std::size_t>(s)] == high_[static_cast<std::size_t>(s)]) point[static_cast<std::size_t>(s)] = low_[static_cast<std::size_t>(s)];
+    if (low_[static_cast<std::size_t>(s)] == high_[static_cast<std::size_t>(s)])
+      point[static_cast<std::size_t>(s)] = low_[static_cast<std::size_t>(s)];
   functions_->evaluate(t0_, point.data());
   const int first = kFirstPathRow + path_rows();
   for (int r = 0; r < static_cast<int>(problem_.initial_rows.size()); ++r) {
@@ -232,15 +240,16 @@ void HermiteSimpson::drop_fixed_initial_rows() {
     if (problem_.measured_start) continue;
     const double value = functions_->value(first + r).value;
     if (!(std::abs(value) <= kInitialTolerance))
-      throw InputError(initial_where_,
-                       fmt::format("the values of [optimize.initial] violate {}: it is {:.6g} there", problem_.initial_rows[static_cast<std::size_t>(r)].name, value));
+      throw InputError(initial_where_, fmt::format("the values of [optimize.initial] violate {}: it is {:.6g} there",
+                                                   problem_.initial_rows[static_cast<std::size_t>(r)].name, value));
   }
 }
 
 int HermiteSimpson::jacobian_nonzeros() const noexcept {
   const int t = free_time_ ? 1 : 0;
   int count = collocation_rows() * (5 + t);
-  for (int r = 0; r < path_rows(); ++r) count += points() * (static_cast<int>(functions_->slots(kFirstPathRow + r).size()) + t);
+  for (int r = 0; r < path_rows(); ++r)
+    count += points() * (static_cast<int>(functions_->slots(kFirstPathRow + r).size()) + t);
   for (int r : kept_initial_rows_) count += static_cast<int>(functions_->slots(kFirstPathRow + path_rows() + r).size());
   return count;
 }
@@ -291,7 +300,8 @@ void HermiteSimpson::evaluate_points(const double* z, bool derivatives) {
 double HermiteSimpson::objective(const double* z) {
   evaluate_points(z, false);
   double sum = 0;
-  for (int j = 0; j < points(); ++j) sum += weight_[static_cast<std::size_t>(j)] * at_[static_cast<std::size_t>(j)][kIntegrand].value;
+  for (int j = 0; j < points(); ++j)
+    sum += weight_[static_cast<std::size_t>(j)] * at_[static_cast<std::size_t>(j)][kIntegrand].value;
   return (final_time(z) - t0_) * sum + at_.back()[kFinalCost].value;
 }
 
@@ -325,13 +335,17 @@ void HermiteSimpson::constraint_values(const double* z, double* g) {
     const int a = 2 * k, m = a + 1, b = a + 2;
     const double h = interval_length(k, z);
     for (int i : collocated_)
-      g[row++] = z[q_index(m, i)] - 0.5 * (z[q_index(a, i)] + z[q_index(b, i)]) - h / 8 * (z[v_index(a, i)] - z[v_index(b, i)]);
+      g[row++] = z[q_index(m, i)] - 0.5 * (z[q_index(a, i)] + z[q_index(b, i)]) -
+                 h / 8 * (z[v_index(a, i)] - z[v_index(b, i)]);
     for (int i : collocated_)
-      g[row++] = z[q_index(b, i)] - z[q_index(a, i)] - h / 6 * (z[v_index(a, i)] + 4 * z[v_index(m, i)] + z[v_index(b, i)]);
+      g[row++] =
+          z[q_index(b, i)] - z[q_index(a, i)] - h / 6 * (z[v_index(a, i)] + 4 * z[v_index(m, i)] + z[v_index(b, i)]);
   }
   for (int j = 0; j < points(); ++j)
-    for (int r = 0; r < path_rows(); ++r) g[row++] = at_[static_cast<std::size_t>(j)][static_cast<std::size_t>(kFirstPathRow + r)].value;
-  for (int r : kept_initial_rows_) g[row++] = at_.front()[static_cast<std::size_t>(kFirstPathRow + path_rows() + r)].value;
+    for (int r = 0; r < path_rows(); ++r)
+      g[row++] = at_[static_cast<std::size_t>(j)][static_cast<std::size_t>(kFirstPathRow + r)].value;
+  for (int r : kept_initial_rows_)
+    g[row++] = at_.front()[static_cast<std::size_t>(kFirstPathRow + path_rows() + r)].value;
 }
 
 void HermiteSimpson::jacobian_structure(int* rows, int* columns) const {
@@ -403,7 +417,9 @@ std::vector<double> HermiteSimpson::straight_line() const {
   // A value fixed at one end only is held along the line; clamp into the bounds.
   auto end_value = [&](int index, int other) {
     const auto k = static_cast<std::size_t>(index), o = static_cast<std::size_t>(other);
-    auto middle = [&](std::size_t c) { return std::isfinite(low_[c]) && std::isfinite(high_[c]) ? 0.5 * (low_[c] + high_[c]) : low_[c]; };
+    auto middle = [&](std::size_t c) {
+      return std::isfinite(low_[c]) && std::isfinite(high_[c]) ? 0.5 * (low_[c] + high_[c]) : low_[c];
+    };
     if (low_[k] == high_[k]) return low_[k];
     if (low_[o] == high_[o]) return low_[o];
     if (std::isfinite(low_[k]) && std::isfinite(high_[k])) return middle(k);
@@ -437,7 +453,8 @@ std::vector<double> HermiteSimpson::from_samples(const std::vector<std::vector<d
     const auto c = static_cast<std::size_t>(column);
     if (t <= rows.front()[tc]) return rows.front()[c];
     if (t >= rows.back()[tc]) return rows.back()[c];
-    const auto it = std::upper_bound(rows.begin(), rows.end(), t, [&](double x, const std::vector<double>& r) { return x < r[tc]; });
+    const auto it = std::upper_bound(rows.begin(), rows.end(), t,
+                                     [&](double x, const std::vector<double>& r) { return x < r[tc]; });
     const std::vector<double>& r1 = *it;
     const std::vector<double>& r0 = *(it - 1);
     const double s = r1[tc] > r0[tc] ? (t - r0[tc]) / (r1[tc] - r0[tc]) : 0.0;
@@ -451,7 +468,8 @@ std::vector<double> HermiteSimpson::from_samples(const std::vector<std::vector<d
       if (vc >= 0) z[static_cast<std::size_t>(v_index(j, i))] = interpolate(t, vc);
     }
     for (std::size_t k = 0; k < u_columns.size(); ++k)
-      if (u_columns[k] >= 0) z[static_cast<std::size_t>(u_index(j, static_cast<int>(k)))] = interpolate(t, u_columns[k]);
+      if (u_columns[k] >= 0)
+        z[static_cast<std::size_t>(u_index(j, static_cast<int>(k)))] = interpolate(t, u_columns[k]);
   }
   for (int i = 0; i < n_; ++i)
     if (v_columns[static_cast<std::size_t>(i)] < 0 && q_columns[static_cast<std::size_t>(i)] >= 0)

@@ -6,9 +6,9 @@
 ///
 /// Points j = 0 … 2N: the N + 1 mesh nodes (even j) and the N interval midpoints (odd j), at
 /// t_j = t0 + (T - t0) s_j, s_j the point's fraction of the horizon (a mesh of N intervals given
-/// by its node fractions 0 = s_0 < s_2 < … < s_2N = 1; equal intervals by default). Each point holds the PointProblem's slots: the states y, their
-/// rates y' and the inputs u (without [inputs]: y = q, y' = q'); a free final time adds T as the
-/// last variable.
+/// by its node fractions 0 = s_0 < s_2 < … < s_2N = 1; equal intervals by default). Each point holds the PointProblem's
+/// slots: the states y, their rates y' and the inputs u (without [inputs]: y = q, y' = q'); a free final time adds T as
+/// the last variable.
 
 #include <map>
 #include <memory>
@@ -119,10 +119,10 @@ class HermiteSimpson {
   double t0_, t_end_low_, t_end_high_;
   bool free_time_;
   std::shared_ptr<PathFunctions> functions_;
-  SourceLocation initial_where_;  ///< where a violated hidden constraint is reported
-  std::vector<int> collocated_;       ///< the states with collocation rows
+  SourceLocation initial_where_;        ///< where a violated hidden constraint is reported
+  std::vector<int> collocated_;         ///< the states with collocation rows
   std::vector<int> kept_initial_rows_;  ///< initial rows not already decided by fixed values
-  std::vector<double> low_, high_;  ///< variable bounds
+  std::vector<double> low_, high_;      ///< variable bounds
   /// Per point: every function of functions_ at the z of cached_.
   std::vector<std::vector<ValueGradient>> at_;
   std::vector<double> cached_;

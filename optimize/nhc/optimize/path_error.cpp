@@ -91,7 +91,8 @@ PathError residual_error(HermiteSimpson& p, const std::vector<double>& zv) {
       for (std::size_t r = 0; r < problem.path.size(); ++r) {
         const PointRow& row = problem.path[r];
         const double g = p.functions().value(kFirstPathRow + static_cast<int>(r)).value;
-        const double outside = std::isfinite(g) ? std::max({row.low - g, g - row.high, 0.0}) : std::numeric_limits<double>::infinity();
+        const double outside =
+            std::isfinite(g) ? std::max({row.low - g, g - row.high, 0.0}) : std::numeric_limits<double>::infinity();
         if (!(outside * h / common <= e)) {
           e = outside * h / common;
           what = fmt::format("{} at t = {:.6g}", row.name, t);
@@ -150,7 +151,8 @@ int replay_residual(sunrealtype t, N_Vector y, N_Vector yp, N_Vector res, void* 
   for (int row = 0; row < r.p->point_problem().dynamics_rows; ++row) {
     out[row] = r.p->functions().value(kFirstPathRow + row).value;
     if (!std::isfinite(out[row])) {
-      r.failure = fmt::format("{} is not finite at t = {:.6g}", r.p->point_problem().path[static_cast<std::size_t>(row)].name, t);
+      r.failure = fmt::format("{} is not finite at t = {:.6g}",
+                              r.p->point_problem().path[static_cast<std::size_t>(row)].name, t);
       return 1;
     }
   }
@@ -190,7 +192,8 @@ class ReplaySession {
     A_ = SUNDenseMatrix(n_, n_, context_);
     LS_ = SUNLinSol_Dense(y_, A_, context_);
     mem_ = IDACreate(context_);
-    if (!y_ || !yp_ || !A_ || !LS_ || !mem_) throw EnvironmentError("SUNDIALS could not allocate the replay's integrator");
+    if (!y_ || !yp_ || !A_ || !LS_ || !mem_)
+      throw EnvironmentError("SUNDIALS could not allocate the replay's integrator");
     set_node(0);
     check(IDAInit(mem_, replay_residual, p.time(0, z), y_, yp_), "IDAInit");
     check(IDASStolerances(mem_, kReplayTolerance, kReplayTolerance), "IDASStolerances");
@@ -199,7 +202,9 @@ class ReplaySession {
     check(IDASetJacFn(mem_, replay_jacobian), "IDASetJacFn");
     check(IDASetMaxNumSteps(mem_, kMaxSteps), "IDASetMaxNumSteps");
     // Failures are reported in words by the caller, not printed by SUNDIALS.
-    check(IDASetErrHandlerFn(mem_, [](int, const char*, const char*, char*, void*) {}, nullptr), "IDASetErrHandlerFn");
+    check(IDASetErrHandlerFn(
+              mem_, [](int, const char*, const char*, char*, void*) {}, nullptr),
+          "IDASetErrHandlerFn");
     id_ = N_VNew_Serial(n_, context_);
     double* id = N_VGetArrayPointer(id_);
     for (int i = 0; i < n_; ++i) id[i] = p.point_problem().collocated[static_cast<std::size_t>(i)] ? 1.0 : 0.0;
@@ -263,7 +268,8 @@ class ReplaySession {
     }
   }
   static void check(int flag, const char* what) {
-    if (flag < 0) throw EnvironmentError(fmt::format("the replay's {} failed: {}", what, runtime::sun::describe_ida_flag(flag)));
+    if (flag < 0)
+      throw EnvironmentError(fmt::format("the replay's {} failed: {}", what, runtime::sun::describe_ida_flag(flag)));
   }
 
   Replay data_;
@@ -316,9 +322,11 @@ PathError replay_error(HermiteSimpson& p, const std::vector<double>& zv) {
   // intervals' own errors, which bounds it for a motion that does not amplify), the path is
   // judged by that sum.
   out.error = std::min(global, sum);
-  out.where = global <= sum ? fmt::format("the replayed states at t = {:.6g}", out.replay_at)
-                            : fmt::format("the intervals' local errors summed; the replay from t0 deviates by {:.3g} at t = {:.6g}{}",
-                                          global, out.replay_at, out.replay_failure.empty() ? "" : " (" + out.replay_failure + ")");
+  out.where =
+      global <= sum
+          ? fmt::format("the replayed states at t = {:.6g}", out.replay_at)
+          : fmt::format("the intervals' local errors summed; the replay from t0 deviates by {:.3g} at t = {:.6g}{}",
+                        global, out.replay_at, out.replay_failure.empty() ? "" : " (" + out.replay_failure + ")");
   return out;
 }
 
@@ -350,7 +358,8 @@ std::vector<double> transfer(const HermiteSimpson& from, const std::vector<doubl
     const std::vector<double> point = point_at(from, z.data(), to.fraction(j));
     std::copy(point.begin(), point.end(), out.begin() + static_cast<std::ptrdiff_t>(j) * stride);
   }
-  for (std::size_t k = 0; k < out.size(); ++k) out[k] = std::clamp(out[k], to.variable_low(static_cast<int>(k)), to.variable_high(static_cast<int>(k)));
+  for (std::size_t k = 0; k < out.size(); ++k)
+    out[k] = std::clamp(out[k], to.variable_low(static_cast<int>(k)), to.variable_high(static_cast<int>(k)));
   return out;
 }
 

@@ -24,10 +24,10 @@ struct PathError {
   /// of a constraint or a bounded quantity at the interval's quarter points times the interval's
   /// length (a rate's defect over the interval), or of a state's bound there, over the scale.
   std::vector<double> local;
-  int interval = 0;  ///< the interval where the local error is largest
+  int interval = 0;              ///< the interval where the local error is largest
   double t_low = 0, t_high = 0;  ///< its ends
-  std::string measure;  ///< "replay by IDA" or "quarter-point residuals"
-  std::string where;    ///< in words: what is largest there ("the constraint … at t = 0.3")
+  std::string measure;           ///< "replay by IDA" or "quarter-point residuals"
+  std::string where;             ///< in words: what is largest there ("the constraint … at t = 0.3")
   /// With [inputs]: the replay from t0's largest deviation (at replay_at), the sum of the local
   /// errors, and why the replay stopped (empty: it did not).
   double replay = 0, replay_at = 0, local_sum = 0;

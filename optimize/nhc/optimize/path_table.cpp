@@ -45,7 +45,8 @@ std::vector<std::vector<double>> path_rows(const HermiteSimpson& problem, const 
     std::vector<double> row{problem.time(j, z.data())};
     for (int i = 0; i < p.states; ++i) {
       row.push_back(z[static_cast<std::size_t>(problem.q_index(j, i))]);
-      if (!rates[static_cast<std::size_t>(i)].empty()) row.push_back(z[static_cast<std::size_t>(problem.v_index(j, i))]);
+      if (!rates[static_cast<std::size_t>(i)].empty())
+        row.push_back(z[static_cast<std::size_t>(problem.v_index(j, i))]);
     }
     for (int k = 0; k < p.inputs; ++k) row.push_back(z[static_cast<std::size_t>(problem.u_index(j, k))]);
     out.push_back(std::move(row));
@@ -67,7 +68,8 @@ std::vector<double> guess_from_table(const HermiteSimpson& problem, const std::v
   // table is line r + 2 of a file, after the header).
   for (std::size_t r = 0; r < rows.size(); ++r) {
     if (rows[r].size() != header.size())
-      throw InputError(at, fmt::format("{}: row {} has {} values, the header {} names", name, r + 1, rows[r].size(), header.size()));
+      throw InputError(
+          at, fmt::format("{}: row {} has {} values, the header {} names", name, r + 1, rows[r].size(), header.size()));
     for (std::size_t c = 0; c < header.size(); ++c)
       if (!std::isfinite(rows[r][c]))
         throw InputError(at, fmt::format("{}: row {}, column {} ('{}') is {}, not a finite number", name, r + 1, c + 1,

@@ -17,7 +17,8 @@ namespace {
 
 /// The symbols common to both problems after t, y, y', u: the parameters.
 void add_parameters(const Scene& scene, PointProblem& p) {
-  for (int q = 0; q < static_cast<int>(scene.parameter_values.size()); ++q) p.symbols.push_back(scene.jet->parameter(q));
+  for (int q = 0; q < static_cast<int>(scene.parameter_values.size()); ++q)
+    p.symbols.push_back(scene.jet->parameter(q));
   p.parameter_values = scene.parameter_values;
 }
 
@@ -78,17 +79,21 @@ PointProblem vakonomic_problem(const Scene& scene, const Settings& settings) {
   check_symbols(p, p.final_cost, settings.final_cost_where, "final_cost", why);
   for (int a = 0; a < scene.constraint_count(); ++a) {
     const std::string& text = scene.constraint_texts[static_cast<std::size_t>(a)];
-    p.path.push_back({scene.constraints[static_cast<std::size_t>(a)].subs(parameters), "the constraint " + text + " = 0"});
+    p.path.push_back(
+        {scene.constraints[static_cast<std::size_t>(a)].subs(parameters), "the constraint " + text + " = 0"});
     check_symbols(p, p.path.back().expression, scene.file_location(), "the constraint " + text, why);
   }
   auto slot_of = [&](const PathQuantity& q, const SourceLocation& where) {
     if (q.kind == PathQuantity::Kind::input)
       throw InputError(where, "'" + q.name + "' is an input, and the scene has no [inputs]");
     if (q.order > 1)
-      throw InputError(where, "'" + q.name + "': without [inputs] the transcription holds coordinates and their first derivatives only");
+      throw InputError(
+          where,
+          "'" + q.name + "': without [inputs] the transcription holds coordinates and their first derivatives only");
     return q.order == 0 ? q.index : p.states + q.index;
   };
-  add_bounds(scene, settings, p, slot_of, [&](const GiNaC::ex& e) { return e.subs(parameters); }, why);
+  add_bounds(
+      scene, settings, p, slot_of, [&](const GiNaC::ex& e) { return e.subs(parameters); }, why);
   return p;
 }
 
@@ -118,8 +123,9 @@ PointProblem dynamics_problem(const Scene& scene, const Settings& settings, Mode
     p.symbols.push_back(jet.input(k));
   }
   add_parameters(scene, p);
-  const std::string why = "the " + to_string(model) + " model's states hold the coordinates, their derivatives up to " +
-                          "the order of its equations and the multipliers (docs/optimize.md, \"Two problems from one table\")";
+  const std::string why =
+      "the " + to_string(model) + " model's states hold the coordinates, their derivatives up to " +
+      "the order of its equations and the multipliers (docs/optimize.md, \"Two problems from one table\")";
   auto in_states = [&](const GiNaC::ex& e) { return system.in_states(e); };
   p.integrand = in_states(settings.objective);
   check_symbols(p, p.integrand, settings.objective_where, "the objective", why);
@@ -127,19 +133,23 @@ PointProblem dynamics_problem(const Scene& scene, const Settings& settings, Mode
   check_symbols(p, p.final_cost, settings.final_cost_where, "final_cost", why);
   p.dynamics_rows = static_cast<int>(system.residuals.size());
   for (std::size_t r = 0; r < system.residuals.size(); ++r)
-    p.path.push_back({system.residuals[r], fmt::format("the {} model's equation {} = 0", to_string(model), system.residual_names[r])});
+    p.path.push_back({system.residuals[r],
+                      fmt::format("the {} model's equation {} = 0", to_string(model), system.residual_names[r])});
   for (std::size_t r = 0; r < system.hidden_constraints.size(); ++r)
-    p.initial_rows.push_back({system.hidden_constraints[r], fmt::format("the hidden constraint {} = 0 of the {} model",
-                                                                       system.hidden_constraint_names[r], to_string(model))});
+    p.initial_rows.push_back(
+        {system.hidden_constraints[r], fmt::format("the hidden constraint {} = 0 of the {} model",
+                                                   system.hidden_constraint_names[r], to_string(model))});
   auto slot_of = [&](const PathQuantity& q, const SourceLocation& where) {
     if (q.kind == PathQuantity::Kind::input) return 2 * p.states + q.index;
     const GiNaC::ex e = in_states(jet.q(q.index, q.order));
     for (int k = 0; k < p.states; ++k) {
       if (e.is_equal(system.y[static_cast<std::size_t>(k)])) return k;
-      if (e.is_equal(system.yp[static_cast<std::size_t>(k)]) && p.collocated[static_cast<std::size_t>(k)]) return p.states + k;
+      if (e.is_equal(system.yp[static_cast<std::size_t>(k)]) && p.collocated[static_cast<std::size_t>(k)])
+        return p.states + k;
     }
-    throw InputError(where, "'" + q.name + "' is not among the " + to_string(model) + " model's states and their rates (" +
-                                base::primed_name(p.state_names.front(), 0) + ", …)");
+    throw InputError(where, "'" + q.name + "' is not among the " + to_string(model) +
+                                " model's states and their rates (" + base::primed_name(p.state_names.front(), 0) +
+                                ", …)");
   };
   add_bounds(scene, settings, p, slot_of, in_states, why);
   return p;

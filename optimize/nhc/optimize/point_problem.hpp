@@ -46,7 +46,7 @@ struct PointProblem {
   std::vector<GiNaC::ex> symbols;
   std::vector<double> parameter_values;
   GiNaC::ex integrand, final_cost;
-  std::vector<PointRow> path;     ///< at every point
+  std::vector<PointRow> path;  ///< at every point
   /// With [inputs]: the first `dynamics_rows` rows of `path` are the model's residual F (as many
   /// as states); the others bound named quantities.
   int dynamics_rows = 0;

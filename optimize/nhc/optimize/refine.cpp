@@ -55,7 +55,8 @@ std::vector<double> perturbed_start(const HermiteSimpson& problem, const std::ve
   for (int i = 0; i < p.states; ++i) {
     if (!p.collocated[static_cast<std::size_t>(i)]) continue;
     double scale = 1;
-    for (int j = 0; j < problem.points(); ++j) scale = std::max(scale, std::abs(z[static_cast<std::size_t>(problem.q_index(j, i))]));
+    for (int j = 0; j < problem.points(); ++j)
+      scale = std::max(scale, std::abs(z[static_cast<std::size_t>(problem.q_index(j, i))]));
     double a[3];
     for (double& c : a) c = amplitude * scale * uniform(generator);
     for (int j = 0; j < problem.points(); ++j) {
@@ -71,13 +72,14 @@ std::vector<double> perturbed_start(const HermiteSimpson& problem, const std::ve
   return z;
 }
 
-Outcome solve_refined(const HermiteSimpson& problem, const std::vector<double>& guess, const SolveOptions& solve_options,
-                      const RefineOptions& options) {
+Outcome solve_refined(const HermiteSimpson& problem, const std::vector<double>& guess,
+                      const SolveOptions& solve_options, const RefineOptions& options) {
   // Continuation: N, N/4, N/16, … down to the first below 4 times the coarsest, solved coarse to fine.
   std::vector<int> schedule{options.intervals};
   while (schedule.back() >= 4 * options.coarsest) schedule.push_back((schedule.back() + 3) / 4);
   std::reverse(schedule.begin(), schedule.end());
-  if (!guess.empty() && !options.continuation_from_guess) schedule = {options.intervals};  // a guess is the continuation's start itself
+  if (!guess.empty() && !options.continuation_from_guess)
+    schedule = {options.intervals};  // a guess is the continuation's start itself
 
   Outcome out;
   auto current = std::make_shared<HermiteSimpson>(problem);
@@ -106,7 +108,8 @@ Outcome solve_refined(const HermiteSimpson& problem, const std::vector<double>& 
       round.error = path_error(*next, round.solution.z);
       round.measured = true;
     }
-    std::string line = fmt::format("{}: {} intervals, {} iterations, ", label, next->intervals(), round.solution.iterations);
+    std::string line =
+        fmt::format("{}: {} intervals, {} iterations, ", label, next->intervals(), round.solution.iterations);
     if (converged(round.solution)) {
       line += fmt::format("cost {:.12g}, violation {:.2g}", round.solution.cost, round.solution.violation);
       if (round.solution.status == Solution::Status::acceptable) line += " (IPOPT's acceptable level)";
@@ -142,12 +145,13 @@ Outcome solve_refined(const HermiteSimpson& problem, const std::vector<double>& 
       out.status = Outcome::Status::optimal;
       return out;
     }
-    const std::string at = fmt::format("interval {} [{:.6g}, {:.6g}] of {}", round.error.interval + 1, round.error.t_low,
-                                       round.error.t_high, current->intervals());
+    const std::string at = fmt::format("interval {} [{:.6g}, {:.6g}] of {}", round.error.interval + 1,
+                                       round.error.t_low, round.error.t_high, current->intervals());
     out.status = Outcome::Status::path_error;
     if (refinement >= options.max_rounds) {
-      out.words = fmt::format("the path error {:.3g} is above the tolerance {:.3g} after {} refinements; largest in {} ({})",
-                              round.error.error, options.path_tolerance, refinement, at, round.error.where);
+      out.words =
+          fmt::format("the path error {:.3g} is above the tolerance {:.3g} after {} refinements; largest in {} ({})",
+                      round.error.error, options.path_tolerance, refinement, at, round.error.where);
       return out;
     }
     if (refinement > 0) {
@@ -156,7 +160,8 @@ Outcome solve_refined(const HermiteSimpson& problem, const std::vector<double>& 
       // spurious discrete mode, docs/optimize.md, "Path error").
       const Round& before = out.rounds[out.rounds.size() - 2];
       const double ratio = static_cast<double>(round.intervals) / before.intervals;
-      if (before.measured && std::isfinite(before.error.error) && round.error.error > before.error.error / (ratio * ratio)) {
+      if (before.measured && std::isfinite(before.error.error) &&
+          round.error.error > before.error.error / (ratio * ratio)) {
         out.words = fmt::format(
             "the path error does not fall with refinement ({:.3g} at {} intervals, {:.3g} at {}): the discrete optimum "
             "is no path of the continuous problem; largest in {} ({})",
@@ -166,8 +171,10 @@ Outcome solve_refined(const HermiteSimpson& problem, const std::vector<double>& 
     }
     std::vector<double> mesh = split(*current, round.error, options.path_tolerance);
     if (static_cast<int>(mesh.size()) - 1 > options.max_intervals) {
-      out.words = fmt::format("the path error {:.3g} is above the tolerance {:.3g}, and meeting it needs more than {} intervals; largest in {} ({})",
-                              round.error.error, options.path_tolerance, options.max_intervals, at, round.error.where);
+      out.words = fmt::format(
+          "the path error {:.3g} is above the tolerance {:.3g}, and meeting it needs more than {} intervals; largest "
+          "in {} ({})",
+          round.error.error, options.path_tolerance, options.max_intervals, at, round.error.where);
       return out;
     }
     current = std::make_shared<HermiteSimpson>(problem.remeshed(std::move(mesh)));

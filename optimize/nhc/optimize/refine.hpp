@@ -43,11 +43,11 @@ struct Outcome {
     solver,      ///< IPOPT did not converge on the last mesh (`solution.words`)
   } status = Status::solver;
   std::shared_ptr<HermiteSimpson> problem;  ///< the last mesh
-  Solution solution;       ///< its solve
-  PathError error;         ///< its path error (measured unless status is solver and nothing was reached)
+  Solution solution;                        ///< its solve
+  PathError error;  ///< its path error (measured unless status is solver and nothing was reached)
   bool measured = false;
   std::vector<Round> rounds;
-  std::string words;       ///< why not optimal, in words
+  std::string words;  ///< why not optimal, in words
 };
 
 /// `start` bent by a seeded smooth perturbation: each state of each point moved by
@@ -59,7 +59,7 @@ std::vector<double> perturbed_start(const HermiteSimpson& problem, const std::ve
 
 /// Solves `problem`'s NLP from `guess` (on `problem`'s own mesh; empty: the straight line) by
 /// continuation and refinement. `problem` carries the lowered functions; its mesh is replaced.
-Outcome solve_refined(const HermiteSimpson& problem, const std::vector<double>& guess, const SolveOptions& solve_options,
-                      const RefineOptions& options);
+Outcome solve_refined(const HermiteSimpson& problem, const std::vector<double>& guess,
+                      const SolveOptions& solve_options, const RefineOptions& options);
 
 }  // namespace nhc::optimize

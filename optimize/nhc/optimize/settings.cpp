@@ -7,13 +7,16 @@ namespace nhc::optimize {
 namespace {
 
 /// An entry of [optimize.initial], [optimize.final] or [optimize.bounds] at `parameters`.
-void evaluate(const SceneOptimizeEntry& entry, const std::map<std::string, double>& parameters, double& low, double& high) {
+void evaluate(const SceneOptimizeEntry& entry, const std::map<std::string, double>& parameters, double& low,
+              double& high) {
   low = entry.low.value_at(parameters);
   high = entry.range ? entry.high.value_at(parameters) : low;
-  if (entry.range && !(low <= high)) throw InputError(entry.value_where, "the low bound of " + entry.what + " is above its high bound");
+  if (entry.range && !(low <= high))
+    throw InputError(entry.value_where, "the low bound of " + entry.what + " is above its high bound");
 }
 
-std::vector<BoundaryValue> boundary(const std::vector<SceneOptimizeEntry>& entries, const std::map<std::string, double>& parameters) {
+std::vector<BoundaryValue> boundary(const std::vector<SceneOptimizeEntry>& entries,
+                                    const std::map<std::string, double>& parameters) {
   std::vector<BoundaryValue> out;
   for (const SceneOptimizeEntry& entry : entries) {
     BoundaryValue b;
@@ -45,11 +48,14 @@ Settings read_settings(const Scene& scene) {
   if (table.t_end.size() == 2) {
     s.t_end_low = table.t_end[0].value_at(parameters);
     s.t_end_high = table.t_end[1].value_at(parameters);
-    if (!(s.t_end_low > t0)) throw InputError(table.t_end[0].where, "t_end's low bound must be after t0 = " + base::number_text(t0, 6));
-    if (!(s.t_end_high > s.t_end_low)) throw InputError(table.t_end[1].where, "t_end's high bound must be above its low bound");
+    if (!(s.t_end_low > t0))
+      throw InputError(table.t_end[0].where, "t_end's low bound must be after t0 = " + base::number_text(t0, 6));
+    if (!(s.t_end_high > s.t_end_low))
+      throw InputError(table.t_end[1].where, "t_end's high bound must be above its low bound");
   } else if (table.t_end.size() == 1) {
     s.t_end_low = s.t_end_high = table.t_end[0].value_at(parameters);
-    if (!(s.t_end_low > t0)) throw InputError(table.t_end[0].where, "t_end must be after t0 = " + base::number_text(t0, 6));
+    if (!(s.t_end_low > t0))
+      throw InputError(table.t_end[0].where, "t_end must be after t0 = " + base::number_text(t0, 6));
   }
   if (table.intervals) s.intervals = *table.intervals;
   s.model = table.model;

@@ -41,7 +41,7 @@ struct Settings {
   SourceLocation t_end_where;
   int intervals = 40;
   std::optional<ModelKind> model;  ///< used when the scene has [inputs]
-  SourceLocation model_where;  ///< the `model` entry (else the table's header)
+  SourceLocation model_where;      ///< the `model` entry (else the table's header)
   std::vector<BoundaryValue> initial, final;
   std::vector<PathBound> bounds;
   SourceLocation table_where;  ///< the [optimize] header

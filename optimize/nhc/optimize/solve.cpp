@@ -93,7 +93,8 @@ class Adapter : public Ipopt::TNLP {
                          Ipopt::IpoptCalculatedQuantities*) override {
     out_.z.assign(x, x + n);
     out_.cost = obj_value;
-    std::vector<double> g(static_cast<std::size_t>(m)), low(static_cast<std::size_t>(m)), high(static_cast<std::size_t>(m));
+    std::vector<double> g(static_cast<std::size_t>(m)), low(static_cast<std::size_t>(m)),
+        high(static_cast<std::size_t>(m));
     problem_.constraint_values(x, g.data());
     problem_.constraint_bounds(low.data(), high.data());
     // How far each row is outside [low, high] (an equation: |g|); an inequality's bounds are
@@ -118,44 +119,53 @@ class Adapter : public Ipopt::TNLP {
       case Ipopt::MAXITER_EXCEEDED:
       case Ipopt::CPUTIME_EXCEEDED:
       case Ipopt::STOP_AT_ACCEPTABLE_POINT:
-        out_.status = status == Ipopt::STOP_AT_ACCEPTABLE_POINT ? Solution::Status::acceptable : Solution::Status::iteration_limit;
+        out_.status = status == Ipopt::STOP_AT_ACCEPTABLE_POINT ? Solution::Status::acceptable
+                                                                : Solution::Status::iteration_limit;
         out_.words = status == Ipopt::STOP_AT_ACCEPTABLE_POINT
                          ? "IPOPT stopped at a point that meets only its acceptable tolerance (1e-6), not --tolerance"
                          : "IPOPT reached its iteration limit";
         break;
       case Ipopt::LOCAL_INFEASIBILITY:
         out_.status = Solution::Status::infeasible;
-        out_.words = "the problem is locally infeasible: IPOPT converged to a point that minimises the violation of the constraints";
+        out_.words =
+            "the problem is locally infeasible: IPOPT converged to a point that minimises the violation of the "
+            "constraints";
         break;
       case Ipopt::RESTORATION_FAILURE:
         // Not a proof of infeasibility: a start where the constraints' gradients vanish, or a
         // badly scaled problem, ends here too.
         out_.status = Solution::Status::failed;
-        out_.words = "IPOPT's restoration phase could not reduce the violation of the constraints (this does not show that no "
-                     "path exists: another start or --guess may find one)";
+        out_.words =
+            "IPOPT's restoration phase could not reduce the violation of the constraints (this does not show that no "
+            "path exists: another start or --guess may find one)";
         break;
       case Ipopt::DIVERGING_ITERATES:
         out_.status = Solution::Status::failed;
-        out_.words = "IPOPT's iterates diverged (a variable grew beyond 1e20): the cost may be unbounded below, or a variable "
-                     "needs a bound";
+        out_.words =
+            "IPOPT's iterates diverged (a variable grew beyond 1e20): the cost may be unbounded below, or a variable "
+            "needs a bound";
         break;
       case Ipopt::INVALID_NUMBER_DETECTED:
         out_.status = Solution::Status::failed;
-        out_.words = "a function was not finite at IPOPT's iterate" + (nonfinite_.empty() ? std::string() : ": " + nonfinite_);
+        out_.words =
+            "a function was not finite at IPOPT's iterate" + (nonfinite_.empty() ? std::string() : ": " + nonfinite_);
         break;
       case Ipopt::ERROR_IN_STEP_COMPUTATION:
         out_.status = Solution::Status::failed;
-        out_.words = "IPOPT could not compute a step (its linear system stayed singular: conditions that repeat what the "
-                     "dynamics already keep?)";
+        out_.words =
+            "IPOPT could not compute a step (its linear system stayed singular: conditions that repeat what the "
+            "dynamics already keep?)";
         break;
       case Ipopt::TOO_FEW_DEGREES_OF_FREEDOM:
         out_.status = Solution::Status::failed;
-        out_.words = "more conditions than unknowns (too few degrees of freedom): the boundary values repeat what the "
-                     "dynamics already keep";
+        out_.words =
+            "more conditions than unknowns (too few degrees of freedom): the boundary values repeat what the "
+            "dynamics already keep";
         break;
       case Ipopt::STOP_AT_TINY_STEP:
         out_.status = Solution::Status::failed;
-        out_.words = "IPOPT's steps became too small to make progress before its tolerance was met (try --tolerance larger)";
+        out_.words =
+            "IPOPT's steps became too small to make progress before its tolerance was met (try --tolerance larger)";
         break;
       case Ipopt::OUT_OF_MEMORY:
         out_.status = Solution::Status::failed;
@@ -167,7 +177,8 @@ class Adapter : public Ipopt::TNLP {
         break;
       default:
         out_.status = Solution::Status::failed;
-        out_.words = "IPOPT failed with an internal error or an invalid option (its status " + std::to_string(static_cast<int>(status)) + ")";
+        out_.words = "IPOPT failed with an internal error or an invalid option (its status " +
+                     std::to_string(static_cast<int>(status)) + ")";
     }
     // A point reported as converged (or acceptable) meets the stated violation tolerance, measured
     // here on the variables' own bounds, or it is no answer.
@@ -220,7 +231,8 @@ Solution solve(HermiteSimpson& problem, const std::vector<double>& guess, const 
   const std::lock_guard<std::mutex> one_at_a_time(mumps);
   const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(nlp);
   if (solution.z.empty())
-    throw MathError("IPOPT stopped before its first iteration (status " + std::to_string(static_cast<int>(status)) + ")");
+    throw MathError("IPOPT stopped before its first iteration (status " + std::to_string(static_cast<int>(status)) +
+                    ")");
   return solution;
 }
 

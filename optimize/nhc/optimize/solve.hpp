@@ -13,7 +13,7 @@ namespace nhc::optimize {
 
 struct SolveOptions {
   int max_iterations = 3000;
-  double tolerance = 1e-10;  ///< IPOPT's tol: the scaled KKT error at the optimum
+  double tolerance = 1e-10;           ///< IPOPT's tol: the scaled KKT error at the optimum
   double violation_tolerance = 1e-9;  ///< IPOPT's constr_viol_tol: the largest |constraint| at the optimum
   /// IPOPT's acceptable_iter: this many iterates in a row that meet the acceptable optimality
   /// tolerance (1e-6) and the violation tolerance stop the solve (Solution::Status::acceptable).
@@ -33,11 +33,11 @@ struct SolveOptions {
 struct Solution {
   /// acceptable: IPOPT stopped at a point that meets only its looser acceptable_tol (1e-6).
   enum class Status { optimal, iteration_limit, acceptable, infeasible, failed } status = Status::failed;
-  std::string words;       ///< IPOPT's status in words (empty when optimal)
-  std::vector<double> z;   ///< the last point: the optimum, or the best IPOPT reached
+  std::string words;      ///< IPOPT's status in words (empty when optimal)
+  std::vector<double> z;  ///< the last point: the optimum, or the best IPOPT reached
   double cost = 0;
-  double violation = 0;    ///< the largest |constraint| at z
-  std::string worst;       ///< the constraint of that violation, in words (constraint_name)
+  double violation = 0;  ///< the largest |constraint| at z
+  std::string worst;     ///< the constraint of that violation, in words (constraint_name)
   int iterations = 0;
 };
 

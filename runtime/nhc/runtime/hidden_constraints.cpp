@@ -34,8 +34,7 @@ HiddenSolveReport report_of(const base::ConstraintSolveResult& r) {
 }  // namespace
 
 HiddenSolveReport solve_hidden_constraints(const Model& model, const double* p, double t, double* y,
-                                           const std::vector<double>& scale, double tolerance,
-                                           int max_iterations) {
+                                           const std::vector<double>& scale, double tolerance, int max_iterations) {
   const int n = model.n_states();
   if (model.n_hidden() == 0) return {};
   const base::ConstraintSolveResult r =
@@ -58,23 +57,27 @@ HiddenSolveReport solve_hidden_constraints(const Model& model, const double* p, 
     return os.str();
   };
   switch (r.status) {
-    case base::ConstraintSolveStatus::converged: break;
+    case base::ConstraintSolveStatus::converged:
+      break;
     case base::ConstraintSolveStatus::not_finite:
-      throw base::SolverError(base::FailureKind::inconsistent_initial_values, t, describe("a hidden constraint is not finite"));
+      throw base::SolverError(base::FailureKind::inconsistent_initial_values, t,
+                              describe("a hidden constraint is not finite"));
     case base::ConstraintSolveStatus::gradient_not_finite:
       throw base::SolverError(base::FailureKind::singular_constraint_gradient, t,
-                        describe("the hidden-constraint gradient is not defined (NaN/Inf) at the initial point"));
+                              describe("the hidden-constraint gradient is not defined (NaN/Inf) at the initial point"));
     case base::ConstraintSolveStatus::nothing_free:
-      throw base::SolverError(base::FailureKind::inconsistent_initial_values, t, describe("the initial values violate it"));
+      throw base::SolverError(base::FailureKind::inconsistent_initial_values, t,
+                              describe("the initial values violate it"));
     case base::ConstraintSolveStatus::independent_of_free:
       throw base::SolverError(base::FailureKind::inconsistent_initial_values, t,
-                        describe("the hidden constraints do not depend on any state that may be changed"));
+                              describe("the hidden constraints do not depend on any state that may be changed"));
     case base::ConstraintSolveStatus::stalled:
       throw base::SolverError(base::FailureKind::inconsistent_initial_values, t,
-                        describe("Gauss–Newton stalls (the free states cannot reduce the violation)"));
+                              describe("Gauss–Newton stalls (the free states cannot reduce the violation)"));
     case base::ConstraintSolveStatus::iteration_limit:
-      throw base::SolverError(base::FailureKind::inconsistent_initial_values, t,
-                        describe("Gauss–Newton did not converge in " + std::to_string(max_iterations) + " iterations"));
+      throw base::SolverError(
+          base::FailureKind::inconsistent_initial_values, t,
+          describe("Gauss–Newton did not converge in " + std::to_string(max_iterations) + " iterations"));
   }
   return report_of(r);
 }
@@ -86,8 +89,8 @@ HiddenSolveReport solve_initial_hidden_constraints(const Model& model, const dou
   const int m = model.n_hidden(), n = model.n_states();
   if (m == 0) return {};
   const auto& tab = model.table();
-  const base::InitialPointSolve solve = base::solve_or_repair_initial_point(hidden_constraint_functions(model, p, t0), y, scale,
-                                                                repair_scale, tolerance, max_iterations);
+  const base::InitialPointSolve solve = base::solve_or_repair_initial_point(
+      hidden_constraint_functions(model, p, t0), y, scale, repair_scale, tolerance, max_iterations);
   const base::ConstraintSolveResult& r = solve.result;
   const std::vector<double>& moved = solve.repaired ? *repair_scale : scale;
   if (r.converged()) return report_of(r);
@@ -102,14 +105,15 @@ HiddenSolveReport solve_initial_hidden_constraints(const Model& model, const dou
   std::vector<double> jacobian(static_cast<std::size_t>(m) * static_cast<std::size_t>(n));
   tab.hidden_constraints_jacobian(t0, y, p, jacobian.data());
   for (int i = 0; i < n; ++i) {
-    const double entry = jacobian[static_cast<std::size_t>(i) * static_cast<std::size_t>(m) + static_cast<std::size_t>(r.worst)];
+    const double entry =
+        jacobian[static_cast<std::size_t>(i) * static_cast<std::size_t>(m) + static_cast<std::size_t>(r.worst)];
     if (entry == 0.0) continue;
     if (moved[static_cast<std::size_t>(i)] > 0) failure.free.push_back(model.state_name(i));
     else failure.given.push_back({model.state_name(i), y[i]});
   }
   const base::FailureKind kind = r.status == base::ConstraintSolveStatus::gradient_not_finite
-                               ? base::FailureKind::singular_constraint_gradient
-                               : base::FailureKind::inconsistent_initial_values;
+                                     ? base::FailureKind::singular_constraint_gradient
+                                     : base::FailureKind::inconsistent_initial_values;
   throw base::SolverError(kind, t0, describe(failure));
 }
 

@@ -26,8 +26,7 @@ struct HiddenSolveReport {
 /// Throws SolverError(inconsistent_initial_values, t) naming the violated constraint and the
 /// free states when no such point is found (e.g. every state the constraint involves is fixed).
 HiddenSolveReport solve_hidden_constraints(const Model& model, const double* p, double t, double* y,
-                                           const std::vector<double>& scale, double tolerance,
-                                           int max_iterations = 50);
+                                           const std::vector<double>& scale, double tolerance, int max_iterations = 50);
 
 /// The consistent initial point: the states with scale[i] > 0 are solved from g(t0, y) = 0,
 /// the given ones (scale 0) accepted within tolerance.accept (initial_point.hpp). Throws
@@ -35,7 +34,8 @@ HiddenSolveReport solve_hidden_constraints(const Model& model, const double* p, 
 /// With `repair_scale` the given values are repaired when they miss (solve_or_repair_initial_point).
 HiddenSolveReport solve_initial_hidden_constraints(const Model& model, const double* p, double t0, double* y,
                                                    const std::vector<double>& scale,
-                                                   const base::InitialPointTolerance& tolerance, int max_iterations = 50,
+                                                   const base::InitialPointTolerance& tolerance,
+                                                   int max_iterations = 50,
                                                    const std::vector<double>* repair_scale = nullptr);
 
 /// The starting point of every IDA run, plain or with sensitivities: the states `given` marks

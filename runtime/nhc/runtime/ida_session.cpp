@@ -22,8 +22,8 @@ void configure(void* ida, const IntegratorOptions& options, N_Vector id, const C
   if (options.initial_step > 0) check(IDASetInitStep(ida, options.initial_step), "setting the initial step");
 }
 
-LinearSystem attach_linear_solver(void* ida, const Model& model, LinearSolverKind kind, N_Vector y,
-                                  SUNContext ctx, IDALsJacFn jacobian, const Check& check) {
+LinearSystem attach_linear_solver(void* ida, const Model& model, LinearSolverKind kind, N_Vector y, SUNContext ctx,
+                                  IDALsJacFn jacobian, const Check& check) {
   LinearSystem ls;
   const long n = model.n_states();
   ls.sparse = uses_sparse_solver(model, kind);

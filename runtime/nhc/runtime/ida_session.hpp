@@ -32,8 +32,8 @@ struct LinearSystem {
   bool sparse = false;
   std::string jacobian_kind;  ///< Statistics::jacobian
 };
-LinearSystem attach_linear_solver(void* ida, const Model& model, LinearSolverKind kind, N_Vector y,
-                                  SUNContext ctx, IDALsJacFn jacobian, const Check& check);
+LinearSystem attach_linear_solver(void* ida, const Model& model, LinearSolverKind kind, N_Vector y, SUNContext ctx,
+                                  IDALsJacFn jacobian, const Check& check);
 
 /// J = dF/dy + cj dF/dy' into IDA's matrix: the compressed columns (pattern and values) for
 /// KLU, else dense (Model::dense_jacobian). Returns the index of the first entry that is not

@@ -11,7 +11,7 @@ InputValues::InputValues(const Model& model, std::vector<double> parameters)
       parameters_(std::move(parameters)) {
   if (static_cast<int>(parameters_.size()) != n_parameters_)
     throw base::ModelError("the model has " + std::to_string(n_parameters_) + " parameters, " +
-                     std::to_string(parameters_.size()) + " given");
+                           std::to_string(parameters_.size()) + " given");
   p_ = parameters_;
   p_.resize(static_cast<std::size_t>(n_parameters_ + n_inputs_), 0.0);
 }
@@ -40,7 +40,7 @@ void InputValues::set_function(InputFunction f) {
 void InputValues::hold(std::vector<double> values) {
   if (static_cast<int>(values.size()) != n_inputs_)
     throw base::ModelError("the model has " + std::to_string(n_inputs_) + " inputs, " + std::to_string(values.size()) +
-                     " values given");
+                           " values given");
   std::copy(values.begin(), values.end(), p_.begin() + n_parameters_);
   source_ = Source::held;
 }

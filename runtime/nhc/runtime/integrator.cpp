@@ -37,11 +37,14 @@ bool uses_sparse_solver(const Model& model, LinearSolverKind kind) {
   switch (kind) {
     case LinearSolverKind::sparse:
       if (!model.has_sparse_jacobian())
-        throw base::ModelError("KLU needs the sparse Jacobian, and this model was generated without it "
-                         "(generate the header with --jacobian sparse)");
+        throw base::ModelError(
+            "KLU needs the sparse Jacobian, and this model was generated without it "
+            "(generate the header with --jacobian sparse)");
       return true;
-    case LinearSolverKind::dense: return false;
-    case LinearSolverKind::automatic: return model.has_sparse_jacobian();
+    case LinearSolverKind::dense:
+      return false;
+    case LinearSolverKind::automatic:
+      return model.has_sparse_jacobian();
   }
   return false;
 }
@@ -106,9 +109,7 @@ InitialState initial_state_from(const Model& model, double t0,
 /// at 1e-4 of the others and Newton fails although the point is consistent. So the span is at most
 /// one time unit (the scale of most scenes' runs), or 1e-6 |t0| where one unit is lost in rounding.
 namespace {
-double calc_ic_tout(double t0, double t_next) {
-  return t0 + std::min(t_next - t0, std::max(1.0, 1e-6 * std::abs(t0)));
-}
+double calc_ic_tout(double t0, double t_next) { return t0 + std::min(t_next - t0, std::max(1.0, 1e-6 * std::abs(t0))); }
 }  // namespace
 
 double first_output_after(const std::vector<double>& times, double t0) {
@@ -135,8 +136,8 @@ struct Integrator::Impl {
   bool event_values_stale = true;     // t moved without the events (start, restart)
   long event_evaluations = 0;
   std::optional<base::SolverError> event_error;  // the last error an event function threw
-  bool restart_pending = false;       // a terminal event stopped the run inside IDA's last step
-  std::vector<double> interp_y, interp_yp;  // the state on the interpolating polynomial
+  bool restart_pending = false;                  // a terminal event stopped the run inside IDA's last step
+  std::vector<double> interp_y, interp_yp;       // the state on the interpolating polynomial
 
   sd::Context ctx;
   sd::Vector y, yp, id, work;
@@ -190,7 +191,8 @@ struct Integrator::Impl {
   }
 
   Impl(Model m, std::vector<double> params, IntegratorOptions opts)
-      : model(std::move(m)), inputs(model, params.empty() ? model.default_parameters() : std::move(params)),
+      : model(std::move(m)),
+        inputs(model, params.empty() ? model.default_parameters() : std::move(params)),
         options(opts) {}
 
   int n() const { return model.n_states(); }
@@ -221,8 +223,8 @@ struct Integrator::Impl {
     return 0;
   }
 
-  static int jacobian_cb(sunrealtype tt, sunrealtype cj, N_Vector yy, N_Vector ypp, N_Vector, SUNMatrix J,
-                         void* data, N_Vector, N_Vector, N_Vector) {
+  static int jacobian_cb(sunrealtype tt, sunrealtype cj, N_Vector yy, N_Vector ypp, N_Vector, SUNMatrix J, void* data,
+                         N_Vector, N_Vector, N_Vector) {
     auto* self = static_cast<Impl*>(data);
     const double* yv = N_VGetArrayPointer(yy);
     const long bad = ida_session::fill_jacobian(self->model, self->sparse, tt, yv, N_VGetArrayPointer(ypp), cj,
@@ -271,7 +273,8 @@ struct Integrator::Impl {
     if (event_error && event_error->t() == tt) throw *event_error;
     const Event& e = user_events[static_cast<std::size_t>(k)];
     std::ostringstream os;
-    os << "event " << e.name << " is " << (std::isnan(v) ? "NaN" : "infinite") << " at t = " << base::number_text(tt, 15)
+    os << "event " << e.name << " is " << (std::isnan(v) ? "NaN" : "infinite")
+       << " at t = " << base::number_text(tt, 15)
        << ": its crossings cannot be told there (an event must be a finite number along the motion)";
     throw base::SolverError(base::FailureKind::other, tt, os.str());
   }
@@ -467,8 +470,9 @@ struct Integrator::Impl {
   // ---- set-up ----------------------------------------------------------------------------
 
   void create_linear_solver() {
-    ida_session::LinearSystem ls = ida_session::attach_linear_solver(
-        ida, model, options.linear_solver, y, ctx, &Impl::jacobian_cb, [](int flag, const char* what) { sd::check(flag, what); });
+    ida_session::LinearSystem ls =
+        ida_session::attach_linear_solver(ida, model, options.linear_solver, y, ctx, &Impl::jacobian_cb,
+                                          [](int flag, const char* what) { sd::check(flag, what); });
     A = std::move(ls.A);
     solver = std::move(ls.solver);
     sparse = ls.sparse;
@@ -505,8 +509,7 @@ struct Integrator::Impl {
     std::vector<std::string> names;
     const auto& tab = model.table();
     for (int i = 0; i < n(); ++i)
-      if (!model.is_differential(i))
-        names.push_back(model.state_name(i));
+      if (!model.is_differential(i)) names.push_back(model.state_name(i));
       else if (model.state_index(tab.state_variable[i], tab.state_order[i] + 1) < 0)
         names.push_back(base::primed_name(model.state_name(i), 1));
     std::string s;
@@ -521,11 +524,12 @@ struct Integrator::Impl {
   std::string blown_up_state() const {
     int worst = -1;
     for (int i = 0; i < n() && i < static_cast<int>(y_last.size()); ++i)
-      if (std::isfinite(y_last[i]) && std::abs(y_last[i]) > 1e8 && (worst < 0 || std::abs(y_last[i]) > std::abs(y_last[worst])))
+      if (std::isfinite(y_last[i]) && std::abs(y_last[i]) > 1e8 &&
+          (worst < 0 || std::abs(y_last[i]) > std::abs(y_last[worst])))
         worst = i;
     if (worst < 0) return "";
-    return "; " + model.state_name(worst) + " blew up (" + model.state_name(worst) + " ≈ " + base::number_text(y_last[worst], 2) +
-           " at the last accepted step)";
+    return "; " + model.state_name(worst) + " blew up (" + model.state_name(worst) + " ≈ " +
+           base::number_text(y_last[worst], 2) + " at the last accepted step)";
   }
 
   /// The singular-set monitor closest to zero relative to its start, if any is below `ratio`.
@@ -614,10 +618,11 @@ struct Integrator::Impl {
           std::ostringstream os;
           // Not IDA's "dF/dy + cj dF/dy'": a scene may have a coordinate y. The null direction is
           // a correction of the states (and, times cj, of their derivatives) that the matrix loses.
-          os << "the iteration matrix of the equations (dF/dstates + cj dF/dstates') is singular at t = " << base::number_text(tt, 15);
-          os << " (condition number " << base::number_text(cond, 3) << "; the states it does not determine: "
-             << dominant_states(svd.matrixV().col(s.size() - 1)) << "): the equations cannot be solved there for "
-             << solved_quantities() << blown_up_state();
+          os << "the iteration matrix of the equations (dF/dstates + cj dF/dstates') is singular at t = "
+             << base::number_text(tt, 15);
+          os << " (condition number " << base::number_text(cond, 3)
+             << "; the states it does not determine: " << dominant_states(svd.matrixV().col(s.size() - 1))
+             << "): the equations cannot be solved there for " << solved_quantities() << blown_up_state();
           os << " (" << what << ": " << symptom << ")";
           throw base::SolverError(base::FailureKind::singular_iteration_matrix, tt, os.str());
         }
@@ -625,8 +630,8 @@ struct Integrator::Impl {
     }
     if (flag == kStepSizeCollapse)
       throw base::SolverError(base::FailureKind::convergence, tt,
-                        std::string(what) + " failed at t = " + base::number_text(tt, 15) + ": " + symptom +
-                            "; the solution cannot be continued past this point" + blown_up_state());
+                              std::string(what) + " failed at t = " + base::number_text(tt, 15) + ": " + symptom +
+                                  "; the solution cannot be continued past this point" + blown_up_state());
     try {
       sd::check(flag, what, tt, last_message);
     } catch (const base::SolverError& e) {
@@ -634,7 +639,8 @@ struct Integrator::Impl {
       if (blown.empty()) throw;
       throw base::SolverError(e.kind(), e.t(), e.what() + blown);
     }
-    throw base::SolverError(base::FailureKind::other, tt, std::string(what) + " failed at t = " + base::number_text(tt, 15));
+    throw base::SolverError(base::FailureKind::other, tt,
+                            std::string(what) + " failed at t = " + base::number_text(tt, 15));
   }
 
   /// dF/dy + cj dF/dy' from the generated Jacobian, or by differences of the residual.
@@ -866,7 +872,8 @@ Sample Integrator::initialize(const InitialState& state, double t_next) {
   const auto start = std::chrono::steady_clock::now();
   const int n = s.n();
   if (static_cast<int>(state.y.size()) != n)
-    throw base::ModelError("initial state has " + std::to_string(state.y.size()) + " values, the model " + std::to_string(n) + " states");
+    throw base::ModelError("initial state has " + std::to_string(state.y.size()) + " values, the model " +
+                           std::to_string(n) + " states");
   if (!(t_next > state.t0)) throw std::invalid_argument("initialize: t_next must be after t0");
 
   s.ctx = sd::Context::create();
@@ -905,8 +912,8 @@ Sample Integrator::initialize(const InitialState& state, double t_next) {
     const std::string entry = s.nonfinite_constraint_gradient(s.nonfinite.t, s.nonfinite.y.data());
     if (!entry.empty()) s.throw_singular_gradient(s.nonfinite.t, -1, entry);
     throw base::SolverError(base::FailureKind::nonfinite_residual, s.nonfinite.t,
-                      std::string("residual ") + s.model.residual_name(s.nonfinite.index) + " is NaN or Inf at t = " +
-                          base::number_text(s.nonfinite.t, 15) + " (" + stage + ")");
+                            std::string("residual ") + s.model.residual_name(s.nonfinite.index) +
+                                " is NaN or Inf at t = " + base::number_text(s.nonfinite.t, 15) + " (" + stage + ")");
   };
   s.y_last.assign(s.y.data(), s.y.data() + n);  // the point a failure is diagnosed at
   s.yp_last.assign(s.yp.data(), s.yp.data() + n);
@@ -924,7 +931,8 @@ Sample Integrator::initialize(const InitialState& state, double t_next) {
   const int ns = s.model.n_singular();
   if (ns > 0) {
     s.singular_scale.assign(ns, 0.0);
-    s.model.table().singular_quantities(state.t0, s.y.data(), s.inputs.at(state.t0, s.y.data()), s.singular_scale.data());
+    s.model.table().singular_quantities(state.t0, s.y.data(), s.inputs.at(state.t0, s.y.data()),
+                                        s.singular_scale.data());
     for (int k = 0; k < ns; ++k) {
       s.singular_scale[k] = std::abs(s.singular_scale[k]);
       if (!(s.singular_scale[k] > 0)) s.throw_singular_gradient(state.t0, k, "");
@@ -1011,8 +1019,9 @@ void Integrator::integrate(const std::vector<double>& times, const std::function
     while (next < times.size()) {
       if (s.total().steps >= s.options.max_steps)
         throw base::SolverError(base::FailureKind::too_many_steps, s.t,
-                          "the step limit (" + std::to_string(s.options.max_steps) + " steps) was reached at t = " +
-                              base::number_text(s.t, 15) + " before t = " + base::number_text(t_final, 15));
+                                "the step limit (" + std::to_string(s.options.max_steps) +
+                                    " steps) was reached at t = " + base::number_text(s.t, 15) +
+                                    " before t = " + base::number_text(t_final, 15));
       double tret = s.t;
       const double t_before = s.t;
       const int flag = IDASolve(s.ida, t_final, &tret, s.y, s.yp, IDA_ONE_STEP);
@@ -1062,7 +1071,8 @@ void Integrator::integrate(const std::vector<double>& times, const std::function
       for (const EventRoot& r : roots) {  // non-terminal events, or a terminal one at the step's end
         if (r.t == tret) {
           s.hits.push_back({s.user_events[static_cast<std::size_t>(r.event)].name, r.t,
-                            std::vector<double>(s.y.data(), s.y.data() + n), std::vector<double>(s.yp.data(), s.yp.data() + n)});
+                            std::vector<double>(s.y.data(), s.y.data() + n),
+                            std::vector<double>(s.yp.data(), s.yp.data() + n)});
         } else {
           s.interpolate(r.t, dky);
           s.hits.push_back({s.user_events[static_cast<std::size_t>(r.event)].name, r.t, s.interp_y, s.interp_yp});
@@ -1086,7 +1096,8 @@ void Integrator::integrate(const std::vector<double>& times, const std::function
       s.remember(tret);
       progress.update(tret);
       if (s.options.stop_requested && s.options.stop_requested())
-        throw base::SolverError(base::FailureKind::stopped, tret, "the run was stopped at t = " + base::number_text(tret, 15));
+        throw base::SolverError(base::FailureKind::stopped, tret,
+                                "the run was stopped at t = " + base::number_text(tret, 15));
       double h_last = 0;
       IDAGetLastStep(s.ida, &h_last);
       s.tiny_steps = std::abs(h_last) < kTinyStep * std::max(1.0, std::abs(tret)) ? s.tiny_steps + 1 : 0;
@@ -1141,10 +1152,10 @@ std::vector<double> output_times(double t0, double t_end, int intervals) {
   for (int i = 0; i <= intervals; ++i) {
     const double s = static_cast<double>(i) / intervals;
     // span * i overflows first for t_end near DBL_MAX (1e308 * 2); span itself beyond it.
-    times[i] = i == intervals                                ? t_end
-               : std::isfinite(span * intervals)             ? t0 + span * i / intervals
-               : std::isfinite(span)                         ? t0 + span * s
-                                                             : (1 - s) * t0 + s * t_end;
+    times[i] = i == intervals                    ? t_end
+               : std::isfinite(span * intervals) ? t0 + span * i / intervals
+               : std::isfinite(span)             ? t0 + span * s
+                                                 : (1 - s) * t0 + s * t_end;
   }
   return times;
 }

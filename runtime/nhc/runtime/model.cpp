@@ -20,8 +20,7 @@ void validate(const nhc_model_table* t, const std::string& origin) {
     fail("unsupported ABI version " + std::to_string(t->abi_version) + " (this runtime reads 1 to 6)");
   if (t->n_states <= 0) fail("no states");
   if (!t->residual) fail("no residual function");
-  if (!t->state_names || !t->state_variable || !t->state_order || !t->differential_id)
-    fail("missing state metadata");
+  if (!t->state_names || !t->state_variable || !t->state_order || !t->differential_id) fail("missing state metadata");
   if (t->n_parameters > 0 && (!t->default_parameters || !t->parameter_names)) fail("missing parameters");
   if (t->n_hidden > 0 && (!t->hidden_constraints || !t->hidden_constraints_jacobian))
     fail("hidden constraints declared but their functions are missing");
@@ -71,25 +70,23 @@ Model Model::load(const std::string& shared_object) {
   using Getter = const nhc_model_table* (*)();
   auto get = reinterpret_cast<Getter>(dlsym(handle, "nhc_model_table_get"));
   if (!get)
-    throw base::ModelError(shared_object + " has no nhc_model_table_get (was it compiled with NHC_EXPORT_MODEL_TABLE?)");
+    throw base::ModelError(shared_object +
+                           " has no nhc_model_table_get (was it compiled with NHC_EXPORT_MODEL_TABLE?)");
   const nhc_model_table* table = get();
   validate(table, shared_object);
   return Model(table, std::move(library));
 }
 
 bool Model::has_parameter_jacobian() const noexcept {
-  return table_->n_parameters == 0 ||
-         (table_->abi_version >= 3 && table_->residual_parameter_jacobian != nullptr &&
-          (table_->n_hidden == 0 || table_->hidden_parameter_jacobian != nullptr));
+  return table_->n_parameters == 0 || (table_->abi_version >= 3 && table_->residual_parameter_jacobian != nullptr &&
+                                       (table_->n_hidden == 0 || table_->hidden_parameter_jacobian != nullptr));
 }
 
 bool Model::has_variational_step() const noexcept {
   return table_->abi_version >= 5 && table_->variational_residual != nullptr;
 }
 
-int Model::n_speeds() const noexcept {
-  return table_->abi_version >= 6 && table_->mass_matrix ? table_->n_speeds : 0;
-}
+int Model::n_speeds() const noexcept { return table_->abi_version >= 6 && table_->mass_matrix ? table_->n_speeds : 0; }
 
 int Model::speed_coordinate(int k) const noexcept { return table_->speed_coordinate[k]; }
 
@@ -132,8 +129,7 @@ int Model::state_index(int variable, int order) const noexcept {
 }
 
 std::string Model::residual_name(int i) const {
-  if (table_->abi_version >= 2 && table_->residual_names && table_->residual_names[i])
-    return table_->residual_names[i];
+  if (table_->abi_version >= 2 && table_->residual_names && table_->residual_names[i]) return table_->residual_names[i];
   return "residual " + std::to_string(i);
 }
 
@@ -143,8 +139,7 @@ std::string Model::hidden_name(int i) const {
 }
 
 std::string Model::singular_name(int i) const {
-  if (table_->abi_version >= 2 && table_->singular_names && table_->singular_names[i])
-    return table_->singular_names[i];
+  if (table_->abi_version >= 2 && table_->singular_names && table_->singular_names[i]) return table_->singular_names[i];
   return "singular-set monitor " + std::to_string(i + 1);
 }
 

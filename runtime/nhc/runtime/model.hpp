@@ -90,5 +90,4 @@ class Model {
 
 /// The model of a generated namespace compiled into this program, e.g.
 /// `auto model = NHC_RUNTIME_MODEL(nhc_gen::appell_hamel_chetaev);`
-#define NHC_RUNTIME_MODEL(generated_namespace) \
-  ::nhc::runtime::Model::from_table(generated_namespace::model_table())
+#define NHC_RUNTIME_MODEL(generated_namespace) ::nhc::runtime::Model::from_table(generated_namespace::model_table())

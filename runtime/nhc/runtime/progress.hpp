@@ -9,9 +9,9 @@
 namespace nhc::runtime {
 
 struct Progress {
-  double t_start = 0;  ///< where this integrate() call started
-  double t = 0;        ///< the last accepted step
-  double t_end = 0;    ///< the last output time asked for
+  double t_start = 0;     ///< where this integrate() call started
+  double t = 0;           ///< the last accepted step
+  double t_end = 0;       ///< the last output time asked for
   bool finished = false;  ///< the call returned or failed; the last report of the call
 };
 

@@ -77,8 +77,8 @@ SensitivityParameter sensitivity_parameter(const Model& model, const std::string
     for (int i = 0; i < model.n_states(); ++i)
       if (model.state_name(i) == state) {
         if (!model.is_differential(i))
-          throw std::invalid_argument(name + " is the initial value of an algebraic state of the " + model.model_name() +
-                                      " model: it follows from the others and cannot be varied");
+          throw std::invalid_argument(name + " is the initial value of an algebraic state of the " +
+                                      model.model_name() + " model: it follows from the others and cannot be varied");
         theta.kind = SensitivityParameter::Kind::initial_value;
         theta.index = i;
         return theta;
@@ -92,7 +92,8 @@ SensitivityParameter sensitivity_parameter(const Model& model, const std::string
   const int k = model.parameter_index(name);
   if (k < 0) {
     std::string names;
-    for (int j = 0; j < model.n_parameters(); ++j) names += (j ? ", " : "") + std::string(model.table().parameter_names[j]);
+    for (int j = 0; j < model.n_parameters(); ++j)
+      names += (j ? ", " : "") + std::string(model.table().parameter_names[j]);
     throw std::invalid_argument("unknown parameter " + name + " (parameters: " + (names.empty() ? "none" : names) +
                                 "; an initial value is written x(0) or x'(0))");
   }
@@ -161,8 +162,8 @@ struct SensitivityIntegrator::Impl {
   // corrector calls it repeatedly at the same point) and dF/dp.
   double cached_t = NAN;
   std::vector<double> cached_y, cached_yp;
-  Eigen::MatrixXd Fy, Fyp, Fp;                    // dense models
-  std::vector<double> Fy_values, Fyp_values;       // sparse models, compressed-column values
+  Eigen::MatrixXd Fy, Fyp, Fp;                // dense models
+  std::vector<double> Fy_values, Fyp_values;  // sparse models, compressed-column values
 
   /// r = F_y s + F_y' s' with the matrices of update_matrices().
   void apply(const double* s, const double* sp, double* r) const {
@@ -177,7 +178,8 @@ struct SensitivityIntegrator::Impl {
     std::fill(r, r + nn, 0.0);
     for (int j = 0; j < nn; ++j)
       for (int k = tab.jacobian_colptr[j]; k < tab.jacobian_colptr[j + 1]; ++k)
-        r[tab.jacobian_rowind[k]] += Fy_values[static_cast<size_t>(k)] * s[j] + Fyp_values[static_cast<size_t>(k)] * sp[j];
+        r[tab.jacobian_rowind[k]] +=
+            Fy_values[static_cast<size_t>(k)] * s[j] + Fyp_values[static_cast<size_t>(k)] * sp[j];
   }
 
   Impl(Model m, std::vector<double> params, std::vector<SensitivityParameter> th, IntegratorOptions o,
@@ -186,7 +188,7 @@ struct SensitivityIntegrator::Impl {
     if (p.empty()) p = model.default_parameters();
     if (static_cast<int>(p.size()) != model.n_parameters())
       throw base::ModelError("the model has " + std::to_string(model.n_parameters()) + " parameters, " +
-                       std::to_string(p.size()) + " given");
+                             std::to_string(p.size()) + " given");
     // The inputs follow their default signals s(t, p), of which the generated dF/dp is the total
     // derivative (∂F/∂p + ∂F/∂u ∂s/∂p); inputs set otherwise would need their own ∂u/∂p.
     inputs.emplace(model, p);
@@ -195,7 +197,8 @@ struct SensitivityIntegrator::Impl {
       throw base::ModelError("sensitivities need the generated Jacobian (generate with --jacobian dense or sparse)");
     for (const SensitivityParameter& th : thetas)
       if (th.kind == SensitivityParameter::Kind::parameter && !model.has_parameter_jacobian())
-        throw base::ModelError("sensitivities with respect to parameters need dF/dp: generate the model with --sensitivities");
+        throw base::ModelError(
+            "sensitivities with respect to parameters need dF/dp: generate the model with --sensitivities");
   }
 
   int n() const { return model.n_states(); }
@@ -321,15 +324,18 @@ struct SensitivityIntegrator::Impl {
   [[noreturn]] void fail(int flag, const char* what) {
     double tcur = t;
     IDAGetCurrentTime(ida, &tcur);
-    if (stop_seen) throw base::SolverError(base::FailureKind::stopped, tcur, "the run was stopped at t = " + base::number_text(tcur, 15));
+    if (stop_seen)
+      throw base::SolverError(base::FailureKind::stopped, tcur,
+                              "the run was stopped at t = " + base::number_text(tcur, 15));
     throw base::SolverError(sd::classify_ida_flag(flag), tcur,
-                      std::string(what) + " failed at t = " + base::number_text(tcur, 15) + ": " + sd::describe_ida_flag(flag) +
-                          (last_message.empty() ? "" : " (" + last_message + ")"));
+                            std::string(what) + " failed at t = " + base::number_text(tcur, 15) + ": " +
+                                sd::describe_ida_flag(flag) + (last_message.empty() ? "" : " (" + last_message + ")"));
   }
 
   void create_linear_solver() {
-    ida_session::LinearSystem ls = ida_session::attach_linear_solver(
-        ida, model, options.linear_solver, y, ctx, &Impl::jacobian_cb, [this](int flag, const char* what) { check(flag, what); });
+    ida_session::LinearSystem ls =
+        ida_session::attach_linear_solver(ida, model, options.linear_solver, y, ctx, &Impl::jacobian_cb,
+                                          [this](int flag, const char* what) { check(flag, what); });
     A = std::move(ls.A);
     solver = std::move(ls.solver);
     sparse = ls.sparse;
@@ -341,7 +347,8 @@ struct SensitivityIntegrator::Impl {
   /// IDAS's cheaper test stays: a poorly converged s fails the error test and the step is retried.)
   void use_strict_sensitivity_corrector() {
     sensitivity_newton = NonlinearSolver(SUNNonlinSol_NewtonSens(ns(), y, ctx));
-    if (!sensitivity_newton) throw base::SolverError(base::FailureKind::setup, t, "creating the sensitivity corrector failed");
+    if (!sensitivity_newton)
+      throw base::SolverError(base::FailureKind::setup, t, "creating the sensitivity corrector failed");
     check(IDASetNonlinearSolverSensStg(ida, sensitivity_newton.get()), "attaching the sensitivity corrector");
     check(SUNNonlinSolSetConvTestFn(sensitivity_newton.get(), &Impl::sensitivity_convergence_cb, this),
           "setting the sensitivity corrector's convergence test");
@@ -352,7 +359,8 @@ struct SensitivityIntegrator::Impl {
   void initial_sensitivities(const InitialState& state) {
     const int nn = n(), m = model.n_hidden();
     std::vector<bool> fixed(static_cast<size_t>(nn), false);
-    for (int i = 0; i < nn && i < static_cast<int>(state.given.size()); ++i) fixed[static_cast<size_t>(i)] = state.given[static_cast<size_t>(i)];
+    for (int i = 0; i < nn && i < static_cast<int>(state.given.size()); ++i)
+      fixed[static_cast<size_t>(i)] = state.given[static_cast<size_t>(i)];
     Eigen::MatrixXd G, Gp;
     if (m > 0) {
       G.resize(m, nn);
@@ -373,7 +381,8 @@ struct SensitivityIntegrator::Impl {
       if (th.kind == SensitivityParameter::Kind::initial_value) {
         if (!fixed[static_cast<size_t>(th.index)])
           throw base::SolverError(base::FailureKind::inconsistent_initial_values, state.t0,
-                            th.name + " is not given: it follows from the hidden constraints and the given values, "
+                                  th.name +
+                                      " is not given: it follows from the hidden constraints and the given values, "
                                       "so it cannot be varied on its own");
         s[th.index] = 1.0;
       }
@@ -430,7 +439,7 @@ SensitivitySample SensitivityIntegrator::initialize(const InitialState& state, d
   const int n = s.n();
   if (static_cast<int>(state.y.size()) != n)
     throw base::ModelError("initial state has " + std::to_string(state.y.size()) + " values, the model " +
-                     std::to_string(n) + " states");
+                           std::to_string(n) + " states");
   if (!(t_next > state.t0)) throw std::invalid_argument("initialize: t_next must be after t0");
   s.ctx = sd::Context::create();
   s.y = sd::Vector::create(n, s.ctx);
@@ -445,8 +454,8 @@ SensitivitySample SensitivityIntegrator::initialize(const InitialState& state, d
 
   // 1. Hidden constraints: move what the user did not give (the plain run's rule).
   const std::vector<double> repair_scale = initial_repair_scale(state);
-  solve_starting_point(s.model, s.pu(state.t0, s.y.data()), state.t0, s.y.data(), state.given, s.options.rtol, s.options.atol,
-                       state.repair ? &repair_scale : nullptr);
+  solve_starting_point(s.model, s.pu(state.t0, s.y.data()), state.t0, s.y.data(), state.given, s.options.rtol,
+                       s.options.atol, state.repair ? &repair_scale : nullptr);
   // 2. Their derivative: the initial sensitivities of the differential states.
   s.yS = VectorArray(s.ns(), s.y);
   s.ypS = VectorArray(s.ns(), s.y);
@@ -516,15 +525,17 @@ void SensitivityIntegrator::integrate(const std::vector<double>& times,
     s.check(IDAGetSensDky(s.ida, tret, 1, s.ypS.get()), "reading the sensitivities' derivatives");
     observer(s.current(tret));
     if (s.options.stop_requested && s.options.stop_requested())
-      throw base::SolverError(base::FailureKind::stopped, tret, "the run was stopped at t = " + base::number_text(tret, 15));
+      throw base::SolverError(base::FailureKind::stopped, tret,
+                              "the run was stopped at t = " + base::number_text(tret, 15));
     if (flag == IDA_ROOT_RETURN) {
       std::vector<int> found(static_cast<size_t>(s.model.n_singular()), 0);
       s.check(IDAGetRootInfo(s.ida, found.data()), "reading the monitors");
       for (int k = 0; k < s.model.n_singular(); ++k)
         if (found[static_cast<size_t>(k)] != 0)
           throw base::SolverError(base::FailureKind::singular_constraint_gradient, tret,
-                            "the constraint gradient is singular at t = " + base::number_text(tret, 15) + ": " +
-                                s.model.singular_name(k) + " reaches 0. The motion cannot be continued past this point.");
+                                  "the constraint gradient is singular at t = " + base::number_text(tret, 15) + ": " +
+                                      s.model.singular_name(k) +
+                                      " reaches 0. The motion cannot be continued past this point.");
     }
   }
 }

@@ -7,7 +7,8 @@
 /// s_k solves the sensitivity DAE  F_y s_k + F_y' s_k' + ∂F/∂θ_k = 0  (∂F/∂θ_k = dF/dp_k of the
 /// generated Sensitivity additions, 0 for an initial value). Its initial value differentiates the
 /// consistent initialization: the given differential states are fixed (s = e_i for θ = their own
-/// initial value, plus ∂y_i(t0)/∂θ where the scene writes y_i(t0) through θ), the other differential states solve the hidden constraints g(t0, y0, p) = 0, so
+/// initial value, plus ∂y_i(t0)/∂θ where the scene writes y_i(t0) through θ), the other differential states solve the
+/// hidden constraints g(t0, y0, p) = 0, so
 ///   G_free s_free = −(G_fixed s_fixed + ∂g/∂θ_k)  (minimum-norm solution, as the states themselves),
 /// and IDACalcIC then makes the algebraic components and s' consistent.
 
@@ -60,12 +61,12 @@ struct SensitivitySample {
   double t = 0;
   std::vector<double> y, yp;
   std::vector<std::vector<double>> s, sp;  ///< s[k][i] = ∂y_i/∂θ_k, sp[k][i] = ∂y'_i/∂θ_k
-  std::vector<double> u;  ///< the inputs (their default signals) at t
+  std::vector<double> u;                   ///< the inputs (their default signals) at t
   Sample state() const { return Sample{t, y, yp, u}; }
 };
 
 struct SensitivityStatistics {
-  Statistics state;                   ///< as for a plain run (IDAS counts the state's work here)
+  Statistics state;                           ///< as for a plain run (IDAS counts the state's work here)
   long sensitivity_residual_evaluations = 0;  ///< calls of the sensitivity residual (all θ at once)
   long sensitivity_error_test_failures = 0;
   long sensitivity_nonlinear_iterations = 0;
@@ -106,7 +107,8 @@ struct SensitivityRun {
 
 SensitivityRun simulate_sensitivities(const Model& model, const std::vector<double>& p, const InitialState& initial,
                                       const std::vector<SensitivityParameter>& thetas, const std::vector<double>& times,
-                                      const IntegratorOptions& options = {}, const SensitivityOptions& sensitivity = {});
+                                      const IntegratorOptions& options = {},
+                                      const SensitivityOptions& sensitivity = {});
 
 /// Column names `d(<column>)/d(<θ>)` for every state column of csv_header (x, x', x'' …,
 /// multipliers), θ by θ.

@@ -19,34 +19,62 @@ namespace sun {
 
 std::string describe_ida_flag(int flag) {
   switch (flag) {
-    case IDA_TOO_MUCH_WORK: return "the maximum number of internal steps was taken before reaching the output time";
-    case IDA_TOO_MUCH_ACC: return "the requested accuracy cannot be reached (tolerances too small)";
-    case IDA_ERR_FAIL: return "the local error test failed repeatedly or with the minimum step size";
-    case IDA_CONV_FAIL: return "the Newton corrector failed to converge repeatedly or with the minimum step size";
-    case IDA_LINIT_FAIL: return "the linear solver could not be initialised";
-    case IDA_LSETUP_FAIL: return "the linear solver set-up (factorisation of the iteration matrix) failed unrecoverably";
-    case IDA_LSOLVE_FAIL: return "the linear solve failed unrecoverably";
-    case IDA_RES_FAIL: return "the residual function failed unrecoverably";
-    case IDA_REP_RES_ERR: return "the residual function failed repeatedly";
-    case IDA_RTFUNC_FAIL: return "the root (event) function failed";
-    case IDA_CONSTR_FAIL: return "the inequality constraints could not be met";
-    case IDA_FIRST_RES_FAIL: return "the residual function failed at the first call of the initial-condition calculation";
-    case IDA_LINESEARCH_FAIL: return "the line search of the initial-condition calculation failed";
-    case IDA_NO_RECOVERY: return "the residual, Jacobian or linear solver failed recoverably but could not recover";
-    case IDA_NLS_INIT_FAIL: return "the nonlinear solver could not be initialised";
-    case IDA_NLS_SETUP_FAIL: return "the nonlinear solver set-up failed";
-    case IDA_NLS_FAIL: return "the nonlinear solver failed";
-    case IDA_MEM_NULL: return "the integrator memory is null";
-    case IDA_MEM_FAIL: return "out of memory";
-    case IDA_ILL_INPUT: return "an input to the integrator is illegal";
-    case IDA_NO_MALLOC: return "the integrator was not initialised";
-    case IDA_BAD_EWT: return "an error weight became zero or negative (a state is zero with atol = 0?)";
-    case IDA_BAD_K: return "illegal derivative order requested";
-    case IDA_BAD_T: return "time outside the last step";
-    case IDA_BAD_DKY: return "output vector is null";
-    case IDA_VECTOROP_ERR: return "a vector operation failed";
-    case IDA_CONTEXT_ERR: return "the SUNDIALS context is invalid";
-    default: break;
+    case IDA_TOO_MUCH_WORK:
+      return "the maximum number of internal steps was taken before reaching the output time";
+    case IDA_TOO_MUCH_ACC:
+      return "the requested accuracy cannot be reached (tolerances too small)";
+    case IDA_ERR_FAIL:
+      return "the local error test failed repeatedly or with the minimum step size";
+    case IDA_CONV_FAIL:
+      return "the Newton corrector failed to converge repeatedly or with the minimum step size";
+    case IDA_LINIT_FAIL:
+      return "the linear solver could not be initialised";
+    case IDA_LSETUP_FAIL:
+      return "the linear solver set-up (factorisation of the iteration matrix) failed unrecoverably";
+    case IDA_LSOLVE_FAIL:
+      return "the linear solve failed unrecoverably";
+    case IDA_RES_FAIL:
+      return "the residual function failed unrecoverably";
+    case IDA_REP_RES_ERR:
+      return "the residual function failed repeatedly";
+    case IDA_RTFUNC_FAIL:
+      return "the root (event) function failed";
+    case IDA_CONSTR_FAIL:
+      return "the inequality constraints could not be met";
+    case IDA_FIRST_RES_FAIL:
+      return "the residual function failed at the first call of the initial-condition calculation";
+    case IDA_LINESEARCH_FAIL:
+      return "the line search of the initial-condition calculation failed";
+    case IDA_NO_RECOVERY:
+      return "the residual, Jacobian or linear solver failed recoverably but could not recover";
+    case IDA_NLS_INIT_FAIL:
+      return "the nonlinear solver could not be initialised";
+    case IDA_NLS_SETUP_FAIL:
+      return "the nonlinear solver set-up failed";
+    case IDA_NLS_FAIL:
+      return "the nonlinear solver failed";
+    case IDA_MEM_NULL:
+      return "the integrator memory is null";
+    case IDA_MEM_FAIL:
+      return "out of memory";
+    case IDA_ILL_INPUT:
+      return "an input to the integrator is illegal";
+    case IDA_NO_MALLOC:
+      return "the integrator was not initialised";
+    case IDA_BAD_EWT:
+      return "an error weight became zero or negative (a state is zero with atol = 0?)";
+    case IDA_BAD_K:
+      return "illegal derivative order requested";
+    case IDA_BAD_T:
+      return "time outside the last step";
+    case IDA_BAD_DKY:
+      return "output vector is null";
+    case IDA_VECTOROP_ERR:
+      return "a vector operation failed";
+    case IDA_CONTEXT_ERR:
+      return "the SUNDIALS context is invalid";
+    default:
+      break;
   }
   std::ostringstream os;
   os << "SUNDIALS return code " << flag;
@@ -55,25 +83,32 @@ std::string describe_ida_flag(int flag) {
 
 base::FailureKind classify_ida_flag(int flag) {
   switch (flag) {
-    case IDA_TOO_MUCH_WORK: return base::FailureKind::too_many_steps;
-    case IDA_ERR_FAIL: return base::FailureKind::error_test;
+    case IDA_TOO_MUCH_WORK:
+      return base::FailureKind::too_many_steps;
+    case IDA_ERR_FAIL:
+      return base::FailureKind::error_test;
     case IDA_CONV_FAIL:
     case IDA_NLS_FAIL:
     case IDA_LINESEARCH_FAIL:
-    case IDA_NO_RECOVERY: return base::FailureKind::convergence;
+    case IDA_NO_RECOVERY:
+      return base::FailureKind::convergence;
     case IDA_LSETUP_FAIL:
-    case IDA_LSOLVE_FAIL: return base::FailureKind::singular_iteration_matrix;
+    case IDA_LSOLVE_FAIL:
+      return base::FailureKind::singular_iteration_matrix;
     case IDA_RES_FAIL:
     case IDA_REP_RES_ERR:
-    case IDA_FIRST_RES_FAIL: return base::FailureKind::nonfinite_residual;
+    case IDA_FIRST_RES_FAIL:
+      return base::FailureKind::nonfinite_residual;
     case IDA_MEM_NULL:
     case IDA_MEM_FAIL:
     case IDA_ILL_INPUT:
     case IDA_NO_MALLOC:
     case IDA_LINIT_FAIL:
     case IDA_NLS_INIT_FAIL:
-    case IDA_CONTEXT_ERR: return base::FailureKind::setup;
-    default: return base::FailureKind::other;
+    case IDA_CONTEXT_ERR:
+      return base::FailureKind::setup;
+    default:
+      return base::FailureKind::other;
   }
 }
 
@@ -136,9 +171,7 @@ LinearSolver LinearSolver::klu(N_Vector y, SUNMatrix A, SUNContext ctx) {
   return LinearSolver(require(SUNLinSol_KLU(y, A, ctx), "the KLU sparse linear solver"));
 }
 
-IdaMemory IdaMemory::create(SUNContext ctx) {
-  return IdaMemory(require(IDACreate(ctx), "the IDA integrator"));
-}
+IdaMemory IdaMemory::create(SUNContext ctx) { return IdaMemory(require(IDACreate(ctx), "the IDA integrator")); }
 
 namespace {
 

@@ -47,7 +47,7 @@ void observe(const Model& model, const std::vector<double>& parameters, const Sa
   if (model.n_inputs() > 0) {
     if (static_cast<int>(s.u.size()) != model.n_inputs())
       throw base::ModelError("a sample of a model with " + std::to_string(model.n_inputs()) + " inputs carries " +
-                       std::to_string(s.u.size()) + " input values");
+                             std::to_string(s.u.size()) + " input values");
     scratch.assign(parameters.begin(), parameters.end());
     scratch.insert(scratch.end(), s.u.begin(), s.u.end());
     p = scratch.data();
@@ -82,12 +82,14 @@ DriftReport measure_drift(const Model& model, const std::vector<double>& p, cons
   auto worse = [](double& acc, double v) { acc = std::isfinite(v) ? std::max(acc, std::abs(v)) : INFINITY; };
   for (const Sample& s : samples) {
     const Observables o = observe(model, p, s);
-    for (size_t i = 0; i < o.hidden.size(); ++i) worse(d.max_hidden_each[i], o.hidden[i]), worse(d.max_hidden, o.hidden[i]);
+    for (size_t i = 0; i < o.hidden.size(); ++i)
+      worse(d.max_hidden_each[i], o.hidden[i]), worse(d.max_hidden, o.hidden[i]);
     for (size_t k = 0; k < o.invariants.size(); ++k) {
       worse(d.invariant_drift[k], o.invariants[k] - first.invariants[k]);
       worse(d.invariant_scale[k], o.invariants[k]);
     }
-    for (size_t k = 0; k < o.errors.size(); ++k) worse(d.max_error_each[k], o.errors[k]), worse(d.max_error, o.errors[k]);
+    for (size_t k = 0; k < o.errors.size(); ++k)
+      worse(d.max_error_each[k], o.errors[k]), worse(d.max_error, o.errors[k]);
   }
   for (size_t k = 0; k < d.invariant_drift.size(); ++k) {
     // Relative to the invariant's size along the run, max_t |I(t)| (not |I(t0)|, which may be
@@ -118,7 +120,8 @@ std::vector<std::string> csv_header(const Model& model) {
   for (int k = 0; k < model.n_inputs(); ++k) h.push_back("input:" + model.input_name(k));
   for (int i = 0; i < model.n_hidden(); ++i) h.push_back(hidden_column(model, i));
   for (int k = 0; k < model.n_invariants(); ++k) h.push_back(std::string("invariant:") + tab.invariant_names[k]);
-  for (int k = 0; k < model.n_reference(); ++k) h.push_back("error:" + model.variable_name(tab.reference_coordinate[k]));
+  for (int k = 0; k < model.n_reference(); ++k)
+    h.push_back("error:" + model.variable_name(tab.reference_coordinate[k]));
   return h;
 }
 
@@ -185,8 +188,8 @@ void write_csv(const std::string& path, const Model& model, const std::vector<do
 }
 
 RunResult simulate(const Model& model, const std::vector<double>& p, const InitialState& initial,
-                   const std::vector<double>& times, const IntegratorOptions& options,
-                   const std::vector<Event>& events, const InputFunction& inputs) {
+                   const std::vector<double>& times, const IntegratorOptions& options, const std::vector<Event>& events,
+                   const InputFunction& inputs) {
   RunResult result;
   Integrator integrator(model, p, options);
   for (const Event& e : events) integrator.add_event(e);

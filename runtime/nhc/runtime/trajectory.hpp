@@ -39,10 +39,10 @@ struct DriftReport {
   /// kInvariantScaleFloor (an invariant that is zero along the run: a relative drift of a
   /// value at rounding level would be noise).
   std::vector<double> invariant_relative;
-  std::vector<double> invariant_scale;    ///< max_t |I_k(t)|: the invariant's size along the run
-  std::vector<bool> invariant_absolute;   ///< invariant_relative holds the absolute drift
+  std::vector<double> invariant_scale;   ///< max_t |I_k(t)|: the invariant's size along the run
+  std::vector<bool> invariant_absolute;  ///< invariant_relative holds the absolute drift
   double max_invariant_relative = 0;
-  std::vector<double> max_error_each;     ///< per reference coordinate
+  std::vector<double> max_error_each;  ///< per reference coordinate
   double max_error = 0;
 };
 
@@ -78,8 +78,7 @@ std::string hidden_column(const Model& model, int i);
 void write_csv(const std::string& path, const Model& model, const std::vector<double>& p,
                const std::vector<Sample>& samples);
 /// The same CSV text on a stream (for callers with their own atomic writing).
-void write_csv(std::ostream& out, const Model& model, const std::vector<double>& p,
-               const std::vector<Sample>& samples);
+void write_csv(std::ostream& out, const Model& model, const std::vector<double>& p, const std::vector<Sample>& samples);
 
 /// A whole run: initialization, integration through `times`, statistics; a SolverError is caught
 /// and kept in `failure`, the samples up to the failure are kept.

@@ -11,7 +11,6 @@
 #include <cmath>
 #include <stdexcept>
 
-
 namespace nhc::runtime {
 
 namespace {
@@ -117,28 +116,36 @@ constexpr double kRoundingLevelFactor = 1000;
 class StepSolver {
  public:
   StepSolver(const Model& model, const VariationalOptions& options)
-      : model_(model), table_(model.table()), options_(options), n_(model.n_coordinates()),
-        size_(model.n_coordinates() + model.n_multipliers()), r_(size_), dx_(size_), J_(size_, size_), lu_(size_) {}
+      : model_(model),
+        table_(model.table()),
+        options_(options),
+        n_(model.n_coordinates()),
+        size_(model.n_coordinates() + model.n_multipliers()),
+        r_(size_),
+        dx_(size_),
+        J_(size_, size_),
+        lu_(size_) {}
 
   /// Solves for x (its guess in, the solution out); throws SolverError at a failure.
-  void solve(double t, double h, double w, const double* dq_previous, const double* q, const double* m,
-             const double* p, Eigen::VectorXd& x, Statistics& st) {
+  void solve(double t, double h, double w, const double* dq_previous, const double* q, const double* m, const double* p,
+             Eigen::VectorXd& x, Statistics& st) {
     double last_correction = 0, previous_correction = 0;
     for (int iteration = 0; iteration < options_.max_newton_iterations; ++iteration) {
       residual(t, h, w, dq_previous, q, m, x, p, st);
       table_.variational_jacobian(t, h, w, dq_previous, q, m, x.data(), p, J_.data());
       ++st.jacobian_evaluations;
       if (!J_.allFinite())
-        throw base::SolverError(base::FailureKind::nonfinite_residual, t,
-                          "the Jacobian of the variational step from t = " + base::number_text(t, 12) + " is not finite");
+        throw base::SolverError(
+            base::FailureKind::nonfinite_residual, t,
+            "the Jacobian of the variational step from t = " + base::number_text(t, 12) + " is not finite");
       lu_.compute(J_);
       dx_ = lu_.solve(-r_);
       ++st.nonlinear_iterations;
       if (!dx_.allFinite() || lu_.matrixLU().diagonal().cwiseAbs().minCoeff() == 0.0)
         throw base::SolverError(base::FailureKind::singular_iteration_matrix, t,
-                          "the Jacobian of the variational step from t = " + base::number_text(t, 12) +
-                              " is singular (a constraint gradient vanishing there, or a step h = " +
-                              base::number_text(h, 12) + " at which the discrete equations degenerate)");
+                                "the Jacobian of the variational step from t = " + base::number_text(t, 12) +
+                                    " is singular (a constraint gradient vanishing there, or a step h = " +
+                                    base::number_text(h, 12) + " at which the discrete equations degenerate)");
       x += dx_;
       previous_correction = last_correction;
       last_correction = 0;
@@ -152,13 +159,13 @@ class StepSolver {
         return;
     }
     ++st.nonlinear_failures;
-    throw base::SolverError(base::FailureKind::convergence, t,
-                      "Newton's method did not converge on the variational step " + std::to_string(st.steps + 1) +
-                          " from t = " + base::number_text(t, 12) + " to " + base::number_text(t + h, 12) +
-                          " (step h = " + base::number_text(h, 12) + ", " +
-                          std::to_string(options_.max_newton_iterations) + " iterations, last relative correction " +
-                          base::number_text(last_correction, 12) + ", largest residual " + largest_residual() +
-                          "); try a smaller step (--step) or IDA (--integrator ida)");
+    throw base::SolverError(
+        base::FailureKind::convergence, t,
+        "Newton's method did not converge on the variational step " + std::to_string(st.steps + 1) +
+            " from t = " + base::number_text(t, 12) + " to " + base::number_text(t + h, 12) +
+            " (step h = " + base::number_text(h, 12) + ", " + std::to_string(options_.max_newton_iterations) +
+            " iterations, last relative correction " + base::number_text(last_correction, 12) + ", largest residual " +
+            largest_residual() + "); try a smaller step (--step) or IDA (--integrator ida)");
   }
 
   /// r(x) into r(), with the check that it is finite.
@@ -168,16 +175,15 @@ class StepSolver {
     ++st.residual_evaluations;
     for (int i = 0; i < size_; ++i)
       if (!std::isfinite(r_[i]))
-        throw base::SolverError(base::FailureKind::nonfinite_residual, t,
-                          "the variational step from t = " + base::number_text(t, 12) + " gives a non-finite " + name(i));
+        throw base::SolverError(
+            base::FailureKind::nonfinite_residual, t,
+            "the variational step from t = " + base::number_text(t, 12) + " gives a non-finite " + name(i));
   }
 
   const Eigen::VectorXd& r() const { return r_; }
 
  private:
-  std::string name(int i) const {
-    return i < n_ ? "R_" + model_.variable_name(i) : "f" + std::to_string(i - n_ + 1);
-  }
+  std::string name(int i) const { return i < n_ ? "R_" + model_.variable_name(i) : "f" + std::to_string(i - n_ + 1); }
   std::string largest_residual() const {
     Eigen::Index at = 0;
     const double value = r_.cwiseAbs().maxCoeff(&at);
@@ -219,14 +225,15 @@ VariationalRun simulate_variational(const Model& model, const std::vector<double
                                     const InputFunction& inputs) {
   if (!model.has_variational_step())
     throw base::ModelError("model " + model.scene_name() + "_" + model.model_name() +
-                     " was generated without the variational step (nhc generate --variational)");
+                           " was generated without the variational step (nhc generate --variational)");
   if (!(options.step > 0) || !std::isfinite(options.step))
     throw std::invalid_argument("the variational step must be positive, not " + base::number_text(options.step, 12));
   if (times.empty()) throw std::invalid_argument("no output times");
   const double t_end = times.back();
   if (!variational_step_fits(initial.t0, t_end, options.step))
-    throw std::invalid_argument("the variational step " + base::number_text(options.step, 12) + " does not fit the run from t = " +
-                                base::number_text(initial.t0, 12) + " to " + base::number_text(t_end, 12) + " twice");
+    throw std::invalid_argument("the variational step " + base::number_text(options.step, 12) +
+                                " does not fit the run from t = " + base::number_text(initial.t0, 12) + " to " +
+                                base::number_text(t_end, 12) + " twice");
   // N equal steps of at most options.step that end on t_end (docs/variational.md, "Samples").
   const long steps = variational_steps_needed(initial.t0, t_end, options.step);
   const double h = steps > 0 ? (t_end - initial.t0) / static_cast<double>(steps) : options.step;
@@ -252,11 +259,12 @@ VariationalRun simulate_variational(const Model& model, const std::vector<double
   st.initialization_seconds = base::seconds_since(init_start);
   const double t0 = result.initial.t;
   if (steps < 0 || steps > options.max_steps) {
-    result.failure = base::SolverError(base::FailureKind::too_many_steps, t0,
-                                 "a fixed step h = " + base::number_text(h, 12) + " from t = " + base::number_text(t0, 12) + " to " +
-                                     base::number_text(times.back(), 12) + " takes " +
-                                     (steps < 0 ? std::string("too many") : std::to_string(steps)) +
-                                     " steps, more than the limit of " + std::to_string(options.max_steps));
+    result.failure =
+        base::SolverError(base::FailureKind::too_many_steps, t0,
+                          "a fixed step h = " + base::number_text(h, 12) + " from t = " + base::number_text(t0, 12) +
+                              " to " + base::number_text(times.back(), 12) + " takes " +
+                              (steps < 0 ? std::string("too many") : std::to_string(steps)) +
+                              " steps, more than the limit of " + std::to_string(options.max_steps));
     return out;
   }
 
@@ -273,8 +281,8 @@ VariationalRun simulate_variational(const Model& model, const std::vector<double
   Node previous = layout.node(result.initial);  // the last completed node
   // q_k summed from the increments with Kahan's compensation: a million steps add no more
   // rounding to q than a few.
-  std::vector<double> dq_previous(nn), q = previous.q, q_compensation(nn, 0.0), m(nn), m_next(nn),
-      used_inputs, dq_before, lambda_before;
+  std::vector<double> dq_previous(nn), q = previous.q, q_compensation(nn, 0.0), m(nn), m_next(nn), used_inputs,
+                                       dq_before, lambda_before;
   const std::vector<double>& y0 = result.initial.y;
   for (std::size_t i = 0; i < nn; ++i) dq_previous[i] = h * previous.v[i];
   table.momentum(t0, y0.data(), values.at(t0, y0.data()), m.data());
@@ -298,7 +306,8 @@ VariationalRun simulate_variational(const Model& model, const std::vector<double
     for (long k = 0; k < steps; ++k) {
       const double t = t0 + static_cast<double>(k) * h;
       if (options.stop_requested && options.stop_requested())
-        throw base::SolverError(base::FailureKind::stopped, t, "stopped at t = " + base::number_text(t, 12) + " (interrupted)");
+        throw base::SolverError(base::FailureKind::stopped, t,
+                                "stopped at t = " + base::number_text(t, 12) + " (interrupted)");
       const double w = k == 0 ? 0.5 : 1.0;  // the first step meets half the impulse at t0
       // Inputs at the step's midpoint state (second order for a feedback law u(t, y) too): first
       // from the increment x predicts, then from the solution's, until they settle.
@@ -321,10 +330,11 @@ VariationalRun simulate_variational(const Model& model, const std::vector<double
         if (settled) break;
         if (pass == kMaxInputPasses)
           throw base::SolverError(base::FailureKind::convergence, t,
-                            "the inputs did not settle on the variational step " + std::to_string(st.steps + 1) +
-                                " from t = " + base::number_text(t, 12) + " to " + base::number_text(t + h, 12) + " (step h = " +
-                                base::number_text(h, 12) + "): a feedback law u(t, y) that changes this fast along the " +
-                                "step needs a smaller --step");
+                                  "the inputs did not settle on the variational step " + std::to_string(st.steps + 1) +
+                                      " from t = " + base::number_text(t, 12) + " to " + base::number_text(t + h, 12) +
+                                      " (step h = " + base::number_text(h, 12) +
+                                      "): a feedback law u(t, y) that changes this fast along the " +
+                                      "step needs a smaller --step");
       }
       solver.residual(t, h, w, dq_previous.data(), q.data(), m.data(), x, pk, st);
       for (int a = 0; a < g; ++a)

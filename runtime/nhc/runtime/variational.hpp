@@ -27,7 +27,7 @@ struct VariationalOptions {
   double newton_tolerance = 1e-12;
   /// The consistent initial point is IDA's (IntegratorOptions::rtol, atol).
   IntegratorOptions initialization;
-  ProgressCallback progress;  ///< as IntegratorOptions::progress
+  ProgressCallback progress;             ///< as IntegratorOptions::progress
   std::function<bool()> stop_requested;  ///< as IntegratorOptions::stop_requested, asked every step
 };
 

@@ -15,7 +15,6 @@ namespace nhc::runtime {
 
 namespace {
 
-
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   const size_t n = v.size();
@@ -33,8 +32,7 @@ std::vector<int> coordinate_states(const Model& model) {
 }
 
 /// max |q − q_ref| over the coordinates at the output times both runs reached.
-double error_against_run(const Model& model, const std::vector<Sample>& run,
-                         const std::vector<Sample>& reference) {
+double error_against_run(const Model& model, const std::vector<Sample>& run, const std::vector<Sample>& reference) {
   const std::vector<int> coords = coordinate_states(model);
   double worst = 0;
   size_t compared = 0;
@@ -115,20 +113,23 @@ std::vector<InvariantHistory> long_runs(const WorkPrecisionModels& models, doubl
   io.max_steps = std::numeric_limits<long>::max();
   auto start = std::chrono::steady_clock::now();
   const RunResult ida = simulate(model, p, initial, times, io);
-  out.push_back(invariant_history(model, p, ida, k, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()));
+  out.push_back(invariant_history(model, p, ida, k,
+                                  std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()));
   out.back().integrator = "IDA, rtol " + base::number_text(io.rtol, 3);
   if (models.variational && settings.long_run_step > 0) {
     const VariationalOptions vo = variational_options(settings.long_run_step, std::numeric_limits<long>::max(), io);
     start = std::chrono::steady_clock::now();
     const RunResult run = simulate_variational(model, p, initial, times, vo).run;
-    out.push_back(invariant_history(model, p, run, k, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()));
+    out.push_back(invariant_history(model, p, run, k,
+                                    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()));
     out.back().integrator = "variational, step " + base::number_text(vo.step, 3);
   }
   if (progress)
     for (const InvariantHistory& h : out)
       progress("long run to t = " + base::number_text(settings.long_run_t_end, 3) + ", " + h.integrator + ": " +
                std::to_string(h.steps) + " steps, " + base::number_text(h.seconds, 3) + " s, max |" + h.invariant +
-               " error| " + base::number_text(h.error.empty() ? NAN : *std::max_element(h.error.begin(), h.error.end()), 3));
+               " error| " +
+               base::number_text(h.error.empty() ? NAN : *std::max_element(h.error.begin(), h.error.end()), 3));
   return out;
 }
 
@@ -272,7 +273,8 @@ WorkPrecision measure_work_precision(const WorkPrecisionModels& models, double t
       }
     }
   }
-  if (settings.long_run_t_end > t0) wp.long_runs = long_runs(models, t0, initial_values, wp.parameters, settings, progress);
+  if (settings.long_run_t_end > t0)
+    wp.long_runs = long_runs(models, t0, initial_values, wp.parameters, settings, progress);
   return wp;
 }
 

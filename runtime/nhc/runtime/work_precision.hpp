@@ -31,15 +31,15 @@ struct WorkPrecisionConfiguration {
 };
 
 struct WorkPrecisionSettings {
-  std::vector<double> rtols;      ///< loosest first
-  double atol_scale = 1e-2;       ///< atol = rtol × atol_scale
+  std::vector<double> rtols;  ///< loosest first
+  double atol_scale = 1e-2;   ///< atol = rtol × atol_scale
   double t_end = 1;
   int outputs = 200;              ///< error and drift are measured at outputs + 1 equally spaced times
   double reference_rtol = 1e-13;  ///< the reference run when the model has no reference solution
   int max_repeats = 5;            ///< repeat a run while the total time is below repeat_seconds
   double repeat_seconds = 0.2;
   std::vector<WorkPrecisionConfiguration> configurations;
-  std::string sweep_parameter;     ///< empty: no sweep
+  std::string sweep_parameter;  ///< empty: no sweep
   std::vector<double> sweep_values;
   std::vector<std::pair<std::string, double>> parameter_overrides;
   /// The fixed steps of a variational configuration, largest first.
@@ -59,8 +59,8 @@ struct WorkPrecisionMeasurement {
   std::optional<double> sweep_value;
   double rtol = 0, atol = 0;  ///< IDA's; NaN for a variational run
   double step = 0;            ///< the variational integrator's fixed step; 0 for IDA
-  double error = 0;     ///< max over output times and coordinates of |q − q_ref|; NaN when nothing to compare
-  double seconds = 0;   ///< wall time of simulate() (initialization + integration), median of repeats
+  double error = 0;           ///< max over output times and coordinates of |q − q_ref|; NaN when nothing to compare
+  double seconds = 0;         ///< wall time of simulate() (initialization + integration), median of repeats
   int repeats = 1;
   Statistics statistics;
   double max_hidden = 0;              ///< max |g_i| over the outputs
@@ -74,7 +74,7 @@ struct WorkPrecisionMeasurement {
 
 /// The reference a series was measured against.
 struct ErrorSource {
-  bool exact = false;  ///< the model's reference solution (the scene's [reference]); else a reference run
+  bool exact = false;         ///< the model's reference solution (the scene's [reference]); else a reference run
   double rtol = 0, atol = 0;  ///< of the reference run
   std::string description() const;
 };

@@ -120,11 +120,10 @@ inline void invariants(double t, const double* y, const double* yp, const double
 }
 
 // ---- Runtime additions (docs/generated-code.md) ----
-inline constexpr const char* residual_names[n_states] = {"R_x", "R_y", "R_z", "D f1",
+inline constexpr const char* residual_names[n_states] = {"R_x",           "R_y",           "R_z",          "D f1",
                                                          "chain x' = x'", "chain y' = y'", "chain z' = z'"};
 inline constexpr int n_singular = 1;
-inline constexpr const char* singular_names[n_singular] = {
-    "x'^2 + y'^2 (under the square root in df1/dx', df1/dy')"};
+inline constexpr const char* singular_names[n_singular] = {"x'^2 + y'^2 (under the square root in df1/dx', df1/dy')"};
 inline void singular_quantities(double t, const double* y, const double* p, double* s) noexcept {
   (void)t;
   (void)p;
@@ -175,7 +174,5 @@ inline const nhc_model_table* model_table() noexcept {
 }  // namespace nhc_gen::appell_hamel_chetaev
 
 #ifdef NHC_EXPORT_MODEL_TABLE
-extern "C" const nhc_model_table* nhc_model_table_get(void) {
-  return nhc_gen::appell_hamel_chetaev::model_table();
-}
+extern "C" const nhc_model_table* nhc_model_table_get(void) { return nhc_gen::appell_hamel_chetaev::model_table(); }
 #endif

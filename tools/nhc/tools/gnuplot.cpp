@@ -35,7 +35,8 @@ std::string gnuplot_string(const std::string& text) {
 
 std::string gnuplot_comment(const std::string& text) {
   std::string line = "# ";
-  for (char ch : text) line += control(static_cast<unsigned char>(ch)) ? octal(static_cast<unsigned char>(ch)) : std::string(1, ch);
+  for (char ch : text)
+    line += control(static_cast<unsigned char>(ch)) ? octal(static_cast<unsigned char>(ch)) : std::string(1, ch);
   if (line.back() == '\\') line += ' ';
   return line + "\n";
 }

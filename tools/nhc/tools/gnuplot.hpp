@@ -29,7 +29,6 @@ std::optional<std::string> gnuplot_missing();
 /// `directory` as its working directory, without a shell; an interrupt stops it
 /// (subprocess.hpp). Returns its exit status (-1 when it could not be started or was killed) and
 /// appends what it printed to `messages`.
-int run_gnuplot(const std::filesystem::path& directory, const std::vector<std::string>& scripts,
-                std::string& messages);
+int run_gnuplot(const std::filesystem::path& directory, const std::vector<std::string>& scripts, std::string& messages);
 
 }  // namespace nhc::tools
