@@ -5,8 +5,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/setup.sh
-# New and changed C++ lines follow .clang-format (against the merge base with main; NHC_FORMAT_BASE
-# names another base): the tree as a whole is not reformatted yet (docs/architecture.md, "Code format").
+# Every C++ file follows .clang-format (docs/architecture.md, "Code format").
 ./scripts/check_format.sh
 jobs=$(nproc 2>/dev/null || echo 2)
 # The documentation site (Sphinx, under a minute with the compile cache warm): built before the
