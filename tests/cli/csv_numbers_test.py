@@ -3,8 +3,9 @@
 (docs/scenes.md): each field compared with repr(float(field)), Python's shortest round-trip form.
 
 The files: nhc simulate's CSV (scenes with [outputs] columns, with contacts' extra columns, with
---columns) and its event table; nhc optimize -o; nhc report's workprec.csv and plot data; nhc
-linearize -o's CSV and JSON; the JSON of derive and analyze --format json; analyze --write-initial.
+--columns, with --sensitivity) and its event table; nhc optimize -o; nhc connect -o; nhc compare's
+CSV files; nhc report's workprec.csv and plot data; nhc linearize -o's CSV and JSON; the JSON of
+derive and analyze --format json; analyze --write-initial.
 
     csv_numbers_test.py NHC SOURCE_DIR OUT_DIR
 """
@@ -21,6 +22,7 @@ SIMULATE = [
     ("examples/sliding_cylinder.toml", []),
     ("examples/chaplygin_sleigh.toml", []),          # the model's columns alone
     ("examples/wheeled_pendulum.toml", ["--columns", "t,x"]),
+    ("examples/wheeled_pendulum.toml", ["--sensitivity", "mb"]),    # the sensitivities' columns
     ("examples/chaplygin_sleigh.toml", ["--stop-when", "t - 0.1"]),  # the event table beside the CSV
 ]
 
@@ -101,6 +103,16 @@ def main():
     optimal = out / "optimal.csv"
     run([nhc, "optimize", str(source / "examples/heisenberg_optimal.toml"), "--intervals", "10", "-o", str(optimal)])
     check.csv(optimal)
+
+    connected = out / "connect.csv"
+    run([nhc, "connect", str(source / "examples/heisenberg.toml"), "--to", "x=1,y=0,z=0.25", "--t-end", "1", "-o",
+         str(connected)])
+    check.csv(connected)
+
+    compared = out / "compare"
+    run([nhc, "compare", str(source / "examples/chaplygin_sleigh.toml"), "--t-end", "0.5", "-o", str(compared)])
+    for data in sorted(compared.glob("*.csv")):
+        check.csv(data)
 
     report = out / "report"
     run([nhc, "report", str(source / "examples/chaplygin_sleigh.toml"), "--tolerances", "1e-3:1e-4", "--repeats", "1",
