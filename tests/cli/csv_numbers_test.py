@@ -12,6 +12,7 @@ derive and analyze --format json; analyze --write-initial.
 import json
 import pathlib
 import re
+import shutil
 import subprocess
 import sys
 
@@ -89,7 +90,9 @@ def run(command):
 
 def main():
     nhc, source, out = sys.argv[1], pathlib.Path(sys.argv[2]), pathlib.Path(sys.argv[3])
-    out.mkdir(parents=True, exist_ok=True)
+    if out.exists():
+        shutil.rmtree(out)  # no file of an earlier run is read as this one's
+    out.mkdir(parents=True)
     check = Checker()
     for k, (scene, flags) in enumerate(SIMULATE):
         csv = out / f"run{k}.csv"
