@@ -358,3 +358,18 @@ def test_output_times_are_checked_against_the_start_set(tmp_path):
     refused = simulate(path, "--set", "T0=3", "--output-times", "3")
     assert refused.returncode == 2 and "--output-times 3: the last time must be after t0 = 3" in refused.stderr, \
         refused.stderr
+
+
+def test_animate_checks_output_times_against_the_start_set(tmp_path):
+    """nhc animate takes the run flags of nhc simulate: --output-times against the t0 --set gives."""
+    path = tmp_path / "late.toml"
+    path.write_text(LATE + '[visual]\nbob = { shape = "sphere", center = "[x, 0, 0]", radius = 0.1 }\n')
+    done = subprocess.run([nhc_command(), "animate", str(path), "--set", "T0=-1", "--output-times", "-1,-0.5,0",
+                           "-o", str(tmp_path / "page")], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert (tmp_path / "page" / "index.html").stat().st_size > 0
+    refused = subprocess.run([nhc_command(), "animate", str(path), "--set", "T0=2", "--output-times", "1,2.5",
+                              "-o", str(tmp_path / "late")], capture_output=True, text=True)
+    assert refused.returncode == 2 and "--output-times 1,2.5: the first time is before t0 = 2" in refused.stderr, \
+        refused.stderr
+    assert not (tmp_path / "late").exists()
