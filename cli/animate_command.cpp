@@ -97,11 +97,11 @@ CommandRunner add_animate_command(CLI::App& app) {
                                                   visual_shape_names() + "; docs/animate.md)");
     const ModelKind kind = model_or_default(scene, flags.model);
     app::require_model_inputs(scene, kind);
-    check_run_flags(flags, scene, kind);
-    check_run_features(flags, scene, false);  // the engine's refusals, as nhc simulate's
     const std::vector<app::ParameterOverride> overrides = app::parse_parameter_overrides(scene, flags.set);
     Scene scene_set = scene;  // the overridden values for the shapes; the model takes them at run time
     app::apply_parameter_overrides(scene_set, overrides);
+    check_run_flags(flags, scene_set, kind);  // against the t0 and t_end the run takes (--set moves them)
+    check_run_features(flags, scene, false);  // the engine's refusals, as nhc simulate's
     const std::vector<double> times = run_times(flags, scene_set);  // numbers written through parameters follow --set
     const app::InputSignals input_signals =
         app::parse_input_signals(scene_set, flags.inputs, scene_set.initial.t0, times.back());

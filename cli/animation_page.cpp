@@ -8,8 +8,6 @@
 #include <fstream>
 #include <sstream>
 
-#include <fmt/format.h>
-
 #include "nhc/errors.hpp"
 #include "nhc/io/atomic_directory.hpp"
 
@@ -32,7 +30,7 @@ void write_times(std::ostream& out, const std::vector<double>& values) {
   out << '[';
   for (std::size_t i = 0; i < values.size(); ++i) {
     if (i) out << ',';
-    if (std::isfinite(values[i])) out << fmt::format("{}", values[i]);
+    if (std::isfinite(values[i])) out << base::shortest_text(values[i]);
     else out << "null";
   }
   out << ']';

@@ -1,5 +1,6 @@
 // nhc optimize SCENE [-o FILE.csv] [--intervals N] [--guess FILE.csv] [--plot DIR] [--max-iterations N]
 //                    [--tolerance E] [--jacobian exact|finite-differences] [--hessian exact|limited-memory]
+//                    [--set NAME=VALUE]...
 //
 // An optimal motion (docs/optimize.md): the scene's [optimize] table transcribed by
 // Hermite–Simpson collocation and solved by IPOPT (nhc::optimize). Prints `cost = C`, the
@@ -13,8 +14,11 @@
 
 #include "command_programs.hpp"
 #include "commands.hpp"
+#include "flag_rules.hpp"
 #include "nhc/app/optimize_options.hpp"
 #include "nhc/app/optimize_request.hpp"
+#include "nhc/app/parameter_overrides.hpp"
+#include "nhc/base/number_text.hpp"
 #include "nhc/io/atomic_directory.hpp"
 #include "nhc/io/atomic_file.hpp"
 #include "nhc/io/csv_file.hpp"
@@ -34,6 +38,7 @@ namespace {
 
 struct OptimizeOptions {
   std::string scene_path, output, guess, plot;
+  std::vector<std::string> set;  ///< --set NAME=VALUE, as nhc simulate's
   int starts = 1;
   unsigned seed = 1;
   app::OptimizeRequest request;
@@ -53,9 +58,12 @@ void write_path(std::ostream& out, const optimize::HermiteSimpson& problem, cons
   const std::vector<std::string> columns = optimize::path_columns(problem);
   for (std::size_t c = 0; c < columns.size(); ++c) out << (c ? "," : "") << columns[c];
   out << "\n";
+  // Each number once in its shortest round-trip form (0.1, not 0.10000000000000001), as every
+  // data file nhc writes (base/number_text.hpp).
   for (const std::vector<double>& row : optimize::path_rows(problem, z)) {
-    for (std::size_t c = 0; c < row.size(); ++c) out << (c ? "," : "") << fmt::format("{:.17g}", row[c]);
-    out << "\n";
+    std::string line = base::shortest_text(row.at(0));  // t
+    for (std::size_t c = 1; c < row.size(); ++c) base::append_shortest(line, ',', row[c]);
+    out << line << '\n';
   }
 }
 
@@ -121,11 +129,16 @@ CommandRunner add_optimize_command(CLI::App& app) {
   sub->add_option(
       "--path-tolerance", options->request.path_tolerance,
       "largest path error accepted, relative to the states' scale (default 1e-6); above it the mesh is refined");
+  add_set_option(sub, options->set);
 
   return [options]() {
     const app::OptimizeRequest& request = options->request;
     app::check_optimize_request(request, app::optimize_command_line_names());
-    const Scene scene = load_scene(options->scene_path);
+    Scene scene = load_scene(options->scene_path);
+    // --set: the parameters replaced and everything written through them (the [initial] values,
+    // t0, [simulate]) re-evaluated by app::set_parameter_values, Python's set= rule; [optimize]'s
+    // numbers and expressions take the values as the problem is read (optimize::read_settings).
+    app::apply_parameter_overrides(scene, app::parse_parameter_overrides(scene, options->set));
     const optimize::Settings settings = optimize::read_settings(scene);
     if (!options->output.empty()) check_output_file(options->output, {options->scene_path, options->guess});
     if (!options->plot.empty()) {

@@ -56,8 +56,9 @@ void apply_initial_flags(Scene& scene, const std::vector<std::string>& assignmen
 /// --project, --repair-initial, --outputs, --output-times, --integrator, --step and --stop-when on `sub`.
 void add_run_flags(CLI::App* sub, RunFlags& flags);
 
-/// The flags as the application layer's run request (--output-times read, not yet checked).
-app::RunRequest run_request(const RunFlags& flags, const Scene& scene);
+/// The flags as the application layer's run request (--output-times read; checked against the
+/// scene the run takes, its parameters set, by check_run_flags).
+app::RunRequest run_request(const RunFlags& flags);
 
 /// The flags that override [simulate], against the scene: --t-end after t0; --integrator
 /// variational with --step, the chetaev model, no --project, and a step count within --max-steps.

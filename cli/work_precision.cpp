@@ -113,8 +113,9 @@ void write_work_precision_csv(const std::string& path, const WorkPrecision& wp) 
            "residual_evaluations,jacobian_evaluations,linear_solver_setups,error_test_failures,"
            "nonlinear_iterations,nonlinear_failures,projections,max_hidden_drift,max_invariant_drift,t_end,"
            "t_reached,status\n";
-    // Ten significant digits: the times and errors are measurements, not values to read back.
-    const auto n = [](double v) { return base::number_text(v, 10); };
+    // Every number in its shortest round-trip form, as in every data file nhc writes: a program
+    // reading the file gets the tolerances and swept values the runs took, bit for bit.
+    const auto n = [](double v) { return base::shortest_text(v); };
     for (const Measurement& m : wp.measurements) {
       const runtime::Statistics& s = m.statistics;
       out << m.configuration.label() << ',' << m.configuration.jacobian << ',' << (m.configuration.projection ? 1 : 0)
@@ -145,7 +146,7 @@ void write_data(const fs::path& path, const std::vector<Curve>& curves) {
   write_file_atomically(path.string(), [&](std::ostream& out) {
     for (const Curve& c : curves) {
       out << tools::gnuplot_comment(c.title);
-      for (const auto& [x, y] : c.points) out << base::number_text(x, 10) << ' ' << base::number_text(y, 10) << '\n';
+      for (const auto& [x, y] : c.points) out << base::shortest_text(x) << ' ' << base::shortest_text(y) << '\n';
       out << "\n\n";
     }
   });

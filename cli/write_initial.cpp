@@ -11,7 +11,8 @@ namespace nhc::cli {
 namespace {
 
 std::string number(double v) {
-  std::string s = base::number_text(v, 17);
+  // The shortest text that reads back as the same double, as in every data file nhc writes.
+  std::string s = base::shortest_text(v);
   if (s.find_first_of(".eEn") == std::string::npos) s += ".0";  // a TOML float
   return s;
 }

@@ -11,7 +11,6 @@
 #include <memory>
 #include <mutex>
 #include <optional>
-#include <sstream>
 #include <stdexcept>
 
 #include "model_argument.hpp"
@@ -289,16 +288,7 @@ py::dict result_of(py::object columns, py::array_t<double> data, py::cpp_functio
 /// Output times as a message quotes them: "0, 0.5, 0.2, 1".
 std::string join_numbers(const std::vector<double>& values) {
   std::string out;
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    std::ostringstream number;  // the shortest of 15 to 17 digits that reads back as the value
-    for (int digits = 15; digits <= 17; ++digits) {
-      number.str("");
-      number.precision(digits);
-      number << values[i];
-      if (std::stod(number.str()) == values[i] || !std::isfinite(values[i])) break;
-    }
-    out += (i ? ", " : "") + number.str();
-  }
+  for (std::size_t i = 0; i < values.size(); ++i) out += (i ? ", " : "") + base::shortest_text(values[i]);
   return out;
 }
 

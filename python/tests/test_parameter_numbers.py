@@ -324,3 +324,52 @@ def test_a_start_time_written_through_a_parameter(tmp_path):
     run = read_csv(tmp_path / "late.csv")
     assert run["t"][0] == 2.0 and run["t"][-1] == 3.0
     assert np.max(np.abs(run["x"] - np.cos(run["t"] - 2.0))) < 1e-7
+
+
+LATE = ('name = "late"\ncoordinates = ["x"]\nlagrangian = "x\'^2/2 - x^2/2"\n[parameters]\nT0 = 0.5\n'
+        '[initial]\nt0 = "T0"\nx = [1.0, 0.0]\n')
+
+
+def test_output_times_are_checked_against_the_start_set(tmp_path):
+    """--output-times (Python output_times=) against the t0 the run takes: [initial] t0 = "T0" at
+    0.5 as written, --set T0=-1 moves it, so times from -1 on are the run's, x = cos(t + 1); times
+    before the moved t0 are refused (exit 2 naming the flag), though they are after the written one."""
+    path = tmp_path / "late.toml"
+    path.write_text(LATE)
+    times = [-1.0, -0.5, 0.0, 0.25]
+    done = simulate(path, "--set", "T0=-1", "--output-times", ",".join(repr(t) for t in times), "-o",
+                    str(tmp_path / "early.csv"), "--rtol", "1e-10", "--atol", "1e-12")
+    assert done.returncode == 0, done.stderr
+    run = read_csv(tmp_path / "early.csv")
+    assert list(run["t"]) == times
+    assert np.max(np.abs(run["x"] - np.cos(run["t"] + 1.0))) < 1e-7
+    python = nhc.Scene.load(path, set={"T0": -1.0}).build().simulate(output_times=times, rtol=1e-10, atol=1e-12)
+    assert list(python["t"]) == times
+    assert np.max(np.abs(python["x"] - np.cos(python["t"] + 1.0))) < 1e-7
+
+    # Valid for the written t0 (0.5), not for the moved one (2).
+    refused = simulate(path, "--set", "T0=2", "--output-times", "1,2.5", "-o", str(tmp_path / "late.csv"))
+    assert refused.returncode == 2, refused.stderr
+    assert "--output-times 1,2.5: the first time is before t0 = 2" in refused.stderr, refused.stderr
+    assert not (tmp_path / "late.csv").exists()
+    with pytest.raises(nhc.SceneError, match=r"output_times \[1, 2.5\]: the first time is before t0 = 2"):
+        nhc.Scene.load(path, set={"T0": 2.0}).build().simulate(output_times=[1.0, 2.5])
+    # And the moved t0 itself: every time must be after it.
+    refused = simulate(path, "--set", "T0=3", "--output-times", "3")
+    assert refused.returncode == 2 and "--output-times 3: the last time must be after t0 = 3" in refused.stderr, \
+        refused.stderr
+
+
+def test_animate_checks_output_times_against_the_start_set(tmp_path):
+    """nhc animate takes the run flags of nhc simulate: --output-times against the t0 --set gives."""
+    path = tmp_path / "late.toml"
+    path.write_text(LATE + '[visual]\nbob = { shape = "sphere", center = "[x, 0, 0]", radius = 0.1 }\n')
+    done = subprocess.run([nhc_command(), "animate", str(path), "--set", "T0=-1", "--output-times", "-1,-0.5,0",
+                           "-o", str(tmp_path / "page")], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert (tmp_path / "page" / "index.html").stat().st_size > 0
+    refused = subprocess.run([nhc_command(), "animate", str(path), "--set", "T0=2", "--output-times", "1,2.5",
+                              "-o", str(tmp_path / "late")], capture_output=True, text=True)
+    assert refused.returncode == 2 and "--output-times 1,2.5: the first time is before t0 = 2" in refused.stderr, \
+        refused.stderr
+    assert not (tmp_path / "late").exists()

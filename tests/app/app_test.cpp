@@ -124,14 +124,20 @@ TEST_CASE("output times are equal intervals to t_end or the explicit ones and ne
 }
 
 TEST_CASE("output time specifications a:h:b and lists start at t0 and increase", "[app]") {
-  const std::vector<double> grid = nhc::app::parse_output_times("0:0.25:1", 0.0);
+  const std::vector<double> grid = nhc::app::parse_output_times("0:0.25:1");
   REQUIRE(grid.size() == 5);
   for (int k = 0; k <= 4; ++k) CHECK(grid[static_cast<std::size_t>(k)] == Approx(0.25 * k).margin(1e-15));
-  CHECK(nhc::app::parse_output_times("0.5,1.5,4", 0.0) == std::vector<double>{0.5, 1.5, 4.0});
-  for (const std::string bad : {"0:0.3:1", "0.5,0.2", "-1,1", "0:0:1", "1:0.5:0", "a,b", "0,nan"}) {
+  CHECK(nhc::app::parse_output_times("0.5,1.5,4") == std::vector<double>{0.5, 1.5, 4.0});
+  for (const std::string bad : {"0:0.3:1", "0.5,0.2", "0:0:1", "1:0.5:0", "a,b", "0,nan"}) {
     INFO(bad);
-    CHECK_THROWS_AS(nhc::app::parse_output_times(bad, 0.0), InputError);
+    CHECK_THROWS_AS(nhc::app::parse_output_times(bad), InputError);
   }
+  // Their place against t0 is the run's scene's (a t0 written through a parameter moves with
+  // --set): read without it, checked with it.
+  const std::vector<double> early = nhc::app::parse_output_times("-1,1");
+  CHECK_THROWS_AS(nhc::app::check_output_times(early, 0.0, "--output-times", "-1,1"), InputError);
+  CHECK_NOTHROW(nhc::app::check_output_times(early, -1.0, "--output-times", "-1,1"));
+  CHECK_THROWS_AS(nhc::app::check_output_times({0.5, 1.0}, 1.0, "--output-times", "0.5,1"), InputError);
 }
 
 TEST_CASE("sample times: t0 + k period up to the last at or before t_end", "[app]") {

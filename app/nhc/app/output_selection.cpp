@@ -30,7 +30,7 @@ std::vector<std::string> split(const std::string& text, char separator) {
 
 }  // namespace
 
-std::vector<double> parse_output_times(const std::string& spec, double t0) {
+std::vector<double> parse_output_times(const std::string& spec) {
   const std::string flag = "--output-times";
   std::vector<double> times;
   if (spec.find(':') != std::string::npos) {
@@ -48,7 +48,8 @@ std::vector<double> parse_output_times(const std::string& spec, double t0) {
   } else {
     for (const std::string& part : split(spec, ',')) times.push_back(parse_number(flag, part));
   }
-  check_output_times(times, t0, flag, spec);  // the rules Python's output_times= obey too
+  // Against t0 they are checked with the run's scene, its parameters set (check_run_request).
+  check_output_time_order(times, flag, spec);
   return times;
 }
 

@@ -14,9 +14,10 @@
 
 namespace nhc::app {
 
-/// "a:h:b" (a, a + h, …, b; (b − a)/h must be a whole number to 1e-9) or "t1,t2,…" (increasing),
-/// all at or after t0 with the last after t0.
-std::vector<double> parse_output_times(const std::string& spec, double t0);
+/// "a:h:b" (a, a + h, …, b; (b − a)/h must be a whole number to 1e-9) or "t1,t2,…" (increasing).
+/// Their place against t0 (all at or after it, the last after it) is check_run_request's, with
+/// the scene the run takes: a t0 written through a parameter moves with --set.
+std::vector<double> parse_output_times(const std::string& spec);
 
 /// The columns of the CSV runtime::write_csv writes for `model` (its header line, split), then
 /// the scene's [outputs].

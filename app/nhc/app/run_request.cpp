@@ -92,16 +92,21 @@ std::string count_problem(long long value, long long low, long long high) {
   return "is not a whole number from " + std::to_string(low) + " to " + std::to_string(high);
 }
 
-void check_output_times(const std::vector<double>& times, double t0, const std::string& field,
-                        const std::string& text) {
+void check_output_time_order(const std::vector<double>& times, const std::string& field, const std::string& text) {
   const auto bad = [&](const std::string& why) { refuse(field, field + " " + text + ": " + why); };
   for (double t : times)
-    if (!std::isfinite(t)) bad(number(t, 17) + " is not a finite number");
+    if (!std::isfinite(t)) bad(base::shortest_text(t) + " is not a finite number");
   for (std::size_t i = 1; i < times.size(); ++i)
     if (!(times[i] > times[i - 1])) bad("the times must increase");
   if (times.empty()) bad("no time");
-  if (times.front() < t0) bad("the first time is before t0 = " + number(t0, 17));
-  if (!(times.back() > t0)) bad("the last time must be after t0 = " + number(t0, 17));
+}
+
+void check_output_times(const std::vector<double>& times, double t0, const std::string& field,
+                        const std::string& text) {
+  check_output_time_order(times, field, text);
+  const auto bad = [&](const std::string& why) { refuse(field, field + " " + text + ": " + why); };
+  if (times.front() < t0) bad("the first time is before t0 = " + base::shortest_text(t0));
+  if (!(times.back() > t0)) bad("the last time must be after t0 = " + base::shortest_text(t0));
 }
 
 double run_t_end(const Scene& scene, const std::optional<double>& t_end, const std::string& field,

@@ -58,8 +58,12 @@ std::string relative_tolerance_problem(double value);
 std::string count_problem(long long value, long long low, long long high);
 
 /// Explicit output times: finite, increasing, from t0 on and ending after it. InputError at
-/// `field` ("--output-times"), the message quoting `text` as the caller wrote the times.
+/// `field` ("--output-times"), the message quoting `text` as the caller wrote the times. `t0` is
+/// the run's: the scene's after its parameters are set (--set, set=) and --initial t0 is given,
+/// since a t0 written through a parameter moves with it (check_run_request checks them there).
 void check_output_times(const std::vector<double>& times, double t0, const std::string& field, const std::string& text);
+/// The rules of output times that do not depend on the scene: finite, increasing, at least one.
+void check_output_time_order(const std::vector<double>& times, const std::string& field, const std::string& text);
 
 /// The end of a run: `t_end` when given (by the flag or keyword `field`), else the scene's
 /// [simulate] t_end; either must be after the scene's t0 (a t0 from outside, `--initial t0=…`,

@@ -85,7 +85,7 @@ std::string events_csv_path(const std::string& csv_path) {
 
 void write_events_csv(std::ostream& out, const std::vector<runtime::EventHit>& hits) {
   out << "name,t\n";
-  for (const runtime::EventHit& hit : hits) out << hit.name << "," << base::number_text(hit.t, 17) << "\n";
+  for (const runtime::EventHit& hit : hits) out << hit.name << "," << base::shortest_text(hit.t) << "\n";
 }
 
 }  // namespace nhc::app

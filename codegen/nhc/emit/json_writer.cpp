@@ -102,7 +102,7 @@ JsonWriter& JsonWriter::value(double d) {
   if (!std::isfinite(d)) {
     out_ << "null";
   } else {
-    out_ << base::number_text(d, 17);
+    out_ << base::shortest_text(d);  // reads back as the same double, no noise digits
   }
   return *this;
 }

@@ -228,10 +228,11 @@ Scene SceneReader::read() {
   read_forces(root, scene, mechanics);
   read_visuals(root, scene, mechanics);
   read_controller(root, scene, mechanics);
+  // [optimize]'s objective and final cost may use the definitions: read before the unused ones are named.
+  scene_reading::read_optimize(root, scene, path_, mechanics);
   definitions.resolve_all();
   for (const auto& [name, where] : definitions.unused())
     scene.warnings.push_back(where.str() + ": warning: definition '" + name + "' is never used");
-  scene_reading::read_optimize(root, scene, path_);
   return scene;
 }
 

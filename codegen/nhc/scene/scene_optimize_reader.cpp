@@ -30,7 +30,8 @@ namespace {
 
 class OptimizeReader {
  public:
-  OptimizeReader(Scene& scene, std::string path) : scene_(scene), path_(std::move(path)) {}
+  OptimizeReader(Scene& scene, std::string path, const ExpressionRules& rules)
+      : scene_(scene), path_(std::move(path)), rules_(rules) {}
 
   void read(const toml::table& root) {
     const toml::node* node = root.get("optimize");
@@ -139,12 +140,12 @@ class OptimizeReader {
     return number;
   }
 
-  /// An expression of t, the coordinates, the inputs and the parameters (their values are taken
-  /// when the problem is solved).
+  /// An expression of t, the coordinates, the inputs, the parameters (their values are taken when
+  /// the problem is solved) and the [definitions], read by the rules of the Lagrangian.
   GiNaC::ex expression(const toml::node& node, const std::string& what) const {
     const std::string text = string(node, what);
     try {
-      return parse_expression(text, *scene_.jet);
+      return parse_expression(text, *scene_.jet, rules_);
     } catch (const ExpressionSyntaxError& e) {
       SourceLocation where = at(node.source());
       where.column += 1 + static_cast<int>(e.offset());  // past the opening quote
@@ -216,12 +217,13 @@ class OptimizeReader {
 
   Scene& scene_;
   std::string path_;
+  const ExpressionRules& rules_;
 };
 
 }  // namespace
 
-void read_optimize(const toml::table& root, Scene& scene, const std::string& path) {
-  OptimizeReader(scene, path).read(root);
+void read_optimize(const toml::table& root, Scene& scene, const std::string& path, const ExpressionRules& rules) {
+  OptimizeReader(scene, path, rules).read(root);
 }
 
 }  // namespace scene_reading

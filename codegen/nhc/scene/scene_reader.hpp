@@ -113,8 +113,9 @@ class SceneReader {
 };
 
 /// [optimize] of the scene file's table `root` into scene.optimize, once the rest of the scene is
-/// read (its names, parameters, [simulate] and [outputs]). Every problem is an InputError at its
-/// FILE:LINE:COLUMN of `path`.
-void read_optimize(const toml::table& root, Scene& scene, const std::string& path);
+/// read (its names, parameters, [simulate] and [outputs]); its expressions by `rules`, the
+/// Lagrangian's (the [definitions] and the parameters computed from others resolved). Every
+/// problem is an InputError at its FILE:LINE:COLUMN of `path`.
+void read_optimize(const toml::table& root, Scene& scene, const std::string& path, const ExpressionRules& rules);
 
 }  // namespace nhc::scene_reading
