@@ -413,13 +413,14 @@ def test_animate_goes_through_the_engine(tmp_path):
 
 @pytest.mark.parametrize("feature,words", [("events", 'locates no event, so the scene\'s [events] ("mark")'),
                                            ("contact stop", 'locates no slip or lift-off, so the scene\'s contact "floor"')])
-@pytest.mark.parametrize("command", ["ensemble", "report"])
+@pytest.mark.parametrize("command", ["report"])
 def test_commands_that_integrate_straight_to_t_end_refuse_events_and_contacts(feature, words, command, tmp_path):
-    """nhc ensemble and nhc report integrate each run to t_end: a scene with [events] or a contact
-    is refused at its table (exit 2, file:line:column), not run without them."""
+    """nhc report integrates each run to t_end: a scene with [events] or a contact is refused at
+    its table (exit 2, file:line:column), not run without them. (nhc ensemble runs its members
+    through the engine: test_ensemble_engine.py.)"""
     path = tmp_path / "hybrid.toml"
     path.write_text(scene_text({feature}))
-    extra = ["--vary", "k=1:2:2"] if command == "ensemble" else ["--tolerances", "1e-6"]
+    extra = ["--tolerances", "1e-6"]
     done = subprocess.run([nhc_command(), command, str(path), *extra, "-o", str(tmp_path / "out")],
                           capture_output=True, text=True, timeout=300)
     assert done.returncode == 2, done.stdout + done.stderr
