@@ -15,8 +15,8 @@
 
 namespace nhc::app {
 
-SceneRuns::SceneRuns(const Scene& scene, const runtime::Model& model, const runtime::Model* sliding,
-                     RunRequest request, FieldNames names)
+SceneRuns::SceneRuns(const Scene& scene, const runtime::Model& model, const runtime::Model* sliding, RunRequest request,
+                     FieldNames names)
     : scene_(&scene), model_(&model), sliding_(sliding), request_(std::move(request)), names_(std::move(names)) {
   refuse_many_runs_of_mpc(scene, "these runs");
   if (sliding_contact(scene) && !sliding)
@@ -86,6 +86,46 @@ void refuse_many_runs_of_mpc(const Scene& scene, const std::string& command) {
                        " does not run the scene's model predictive control (mpc): its plans are solved by IPOPT, "
                        "which nhc simulate and Python's Model.simulate load, and each run would derive its horizon "
                        "problem again; run nhc simulate --set NAME=… for each value");
+}
+
+SceneRun SceneRuns::run_at(const runtime::Model& model, const std::vector<double>& p,
+                           const runtime::InitialState& initial, const std::vector<double>& times,
+                           const runtime::IntegratorOptions& options) const {
+  if (scene_->controller.present) throw std::logic_error("scene runs: a controller's rows are its samples");
+  std::optional<SymbolicSection> symbolic;  // as in run()
+  symbolic.emplace();
+  auto scene = std::make_unique<Scene>(*scene_);
+  std::vector<std::pair<std::string, double>> values;
+  const std::map<std::string, double> now = scene->parameter_values_by_name();
+  for (int k = 0; k < model.n_parameters(); ++k) {
+    const std::string& name = model.table().parameter_names[k];
+    const auto at = now.find(name);
+    const double v = p.at(static_cast<std::size_t>(k));
+    if (at != now.end() && at->second != v) values.emplace_back(name, v);
+  }
+  set_parameter_values(*scene, values);
+  SceneRun out;
+  out.p = p;
+  RunPlan plan;
+  plan.scene = scene.get();
+  plan.model = &model;
+  plan.p = p;
+  plan.initial = initial;
+  plan.times = times;
+  plan.options = options;
+  plan.events = run_events(request_, *scene, names_);
+  plan.request = request_;
+  plan.sliding_model = sliding_;
+  symbolic.reset();
+  try {
+    out.outcome = simulate(plan);
+  } catch (...) {
+    symbolic.emplace();
+    throw;
+  }
+  symbolic.emplace();
+  out.outcome.slide = nullptr;
+  return out;
 }
 
 std::vector<std::string> run_places_reading(const Scene& scene, const std::string& name) {

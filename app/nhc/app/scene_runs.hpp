@@ -54,6 +54,14 @@ class SceneRuns {
   /// symbolic lock (nhc/long_work.hpp), which the caller installs when it runs threads.
   SceneRun run(const RunValues& values) const;
 
+  /// The run of `model` (a flavour of the model given: another Jacobian) with the parameters `p`
+  /// (the model's order; the scene's parameters that differ are set as --set sets them, so its
+  /// events and contacts follow) from `initial`, its rows at `times`, with the integrator's
+  /// `options`: nhc report's runs at its tolerances and configurations. Not for a scene with a
+  /// sampled controller (its rows are its samples: std::logic_error).
+  SceneRun run_at(const runtime::Model& model, const std::vector<double>& p, const runtime::InitialState& initial,
+                  const std::vector<double>& times, const runtime::IntegratorOptions& options) const;
+
  private:
   const Scene* scene_;
   const runtime::Model* model_;
