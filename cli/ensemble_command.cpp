@@ -12,13 +12,19 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <mutex>
 #include <thread>
 
 #include <unistd.h>
 
 #include "nhc/app/parameter_values.hpp"
+#include "nhc/app/run_engine.hpp"
 #include "nhc/app/run_request.hpp"
 #include "nhc/app/sampled_run.hpp"
+#include "nhc/app/scene_runs.hpp"
+#include "nhc/app/switched_run.hpp"
+#include "nhc/base/primed_name.hpp"
+#include "nhc/long_work.hpp"
 #include "command_programs.hpp"
 #include "commands.hpp"
 #include "failure_report.hpp"
@@ -51,7 +57,7 @@ struct EnsembleOptions {
   std::optional<long> samples;
   std::uint64_t seed = 0;
   std::optional<double> t_end, rtol, atol;
-  int outputs = 100;
+  std::optional<int> outputs;  ///< default 100 (none under a sampled controller: its samples)
   int threads = 0;
   double checkpoint_seconds = 10;
   bool resume = false;
@@ -70,9 +76,19 @@ int run_ensemble(const EnsembleOptions&) {
 
 using namespace nhc::ensemble;
 
+/// What every rank runs: the scene (the text rank 0 read, with the --initial values), the
+/// compiled model and the sliding model of a contact that slides, loaded from the shared objects
+/// rank 0 built, and the runs of the one run engine on them (app::SceneRuns).
+struct Members {
+  std::unique_ptr<Scene> scene;
+  std::unique_ptr<runtime::Model> model, sliding;  ///< loaded (workers); null on rank 0 (its builds hold them)
+  std::unique_ptr<app::SceneRuns> runs;
+};
+
 /// What rank 0 prepares before any run: the model, the design, the settings, earlier records.
 struct Prepared {
-  std::unique_ptr<jit::LoadedModel> built;
+  std::unique_ptr<jit::LoadedModel> built, sliding;
+  Members members;
   RunSpec spec;
   EnsembleResults results;
   std::vector<std::int64_t> todo;
@@ -138,10 +154,10 @@ std::string design_flags(const EnsembleOptions& o) {
 /// against the free space of the disk it goes to, and the same records in memory against the
 /// machine's memory. Both are estimates from the sizes of the records (ensemble/run.hpp), which
 /// is what grows with the number of runs.
-void check_design_fits(const EnsembleOptions& o, int n_states, int n_invariants, bool keep_trajectories) {
+void check_design_fits(const EnsembleOptions& o, int outputs, int n_states, int n_invariants, bool keep_trajectories) {
   const double runs = requested_runs(o);
   const double variables = static_cast<double>(o.vary.size() + o.sample.size());
-  const double trajectory = keep_trajectories ? 8.0 * (o.outputs + 1) * n_states : 0.0;
+  const double trajectory = keep_trajectories ? 8.0 * (outputs + 1) * n_states : 0.0;
   const double file_per_run = 8.0 * (variables + n_states + n_invariants + 6) + trajectory;
   const double memory_per_run = sizeof(RunRecord) + 8.0 * (variables + n_states + n_invariants) + 64 + trajectory;
   const double file_bytes = runs * file_per_run, memory_bytes = runs * memory_per_run;
@@ -167,61 +183,126 @@ void check_design_fits(const EnsembleOptions& o, int n_states, int n_invariants,
                                   (keep_trajectories ? " or keep fewer outputs (--outputs)" : ""));
 }
 
+/// The settings every run shares: --t-end, --rtol, --atol, --outputs (default 100; a sampled
+/// controller's rows are its samples), in the command line's words located at the scene.
+app::RunRequest run_request(const EnsembleOptions& o, const Scene& scene) {
+  app::RunRequest request;
+  request.t_end = o.t_end;
+  request.rtol = o.rtol;
+  request.atol = o.atol;
+  if (o.outputs) request.outputs = *o.outputs;
+  else if (!scene.controller.present) request.outputs = 100;
+  return request;
+}
+
+app::FieldNames field_names(const EnsembleOptions& o) {
+  app::FieldNames names = app::command_line_names();
+  names.at = o.scene_path;
+  return names;
+}
+
+/// The scene of the runs from its text, with the --initial values (every rank: the same text).
+std::unique_ptr<Scene> members_scene(const std::string& text, const EnsembleOptions& o) {
+  auto scene = std::make_unique<Scene>(parse_scene(text, o.scene_path));
+  apply_initial_flags(*scene, o.initial);
+  return scene;
+}
+
+/// The design variable as the run sets it: a parameter of the scene (as --set), or an initial
+/// value x'(0) (as --initial). Refused, at the flag: a parameter that places the runs in time or
+/// sets their accuracy (the runs share their output times and tolerances), one nothing reads.
+Target design_target(const Scene& scene, const runtime::Model& model, const std::string& name,
+                     const std::string& flag) {
+  std::vector<std::string> parameters;
+  for (int k = 0; k < model.n_parameters(); ++k) parameters.push_back(model.table().parameter_names[k]);
+  if (!scene.jet->parameter_index(name)) return resolve_initial_target(model, parameters, name, flag);
+  if (const std::vector<std::string> numbers = app::run_grid_numbers_using(scene, name); !numbers.empty())
+    bad_flag(flag, "the scene's " + numbers.front() + " is written through '" + name +
+                       "', which the runs of nhc ensemble share (they are compared on the same output times, "
+                       "at the same tolerances): run nhc simulate --set " +
+                       name + "=… for each value");
+  // Read by the equations, by [initial] (each run's start moves), by an event, a contact or the
+  // controller (each run evaluates them at its values): else varying it would change nothing.
+  const std::vector<double> slopes = app::initial_slopes(scene, model, name);
+  const bool moves_start = std::any_of(slopes.begin(), slopes.end(), [](double s) { return s != 0; });
+  if (!moves_start && app::run_places_reading(scene, name).empty())
+    app::refuse_unread_parameter(scene, model, name, flag, "varying it would change nothing");
+  Target target;
+  target.kind = Target::Kind::parameter;
+  target.name = name;
+  return target;
+}
+
+/// One run's values as --set and --initial give them.
+app::RunValues run_values(const RunSpec& spec, const double* values) {
+  app::RunValues v;
+  for (std::size_t k = 0; k < spec.targets.size(); ++k) {
+    const Target& t = spec.targets[k];
+    if (t.kind == Target::Kind::parameter) v.parameters.emplace_back(t.name, values[k]);
+    else
+      v.initial.push_back(
+          {base::primed_name(t.variable, t.order), values[k], base::primed_name(t.variable, t.order) + "(0)"});
+  }
+  return v;
+}
+
 Prepared prepare(const EnsembleOptions& o, int ranks, int threads) {
   const auto start = base::Clock::now();
   check_flags(o);
   for (const std::string& v : o.vary) parse_vary(v);  // a malformed flag first, before any estimate
   // Before the design's values are made: at least one state per run.
-  check_design_fits(o, 1, 0, o.keep == "trajectories");
+  const int outputs = o.outputs.value_or(100);
+  check_design_fits(o, outputs, 1, 0, o.keep == "trajectories");
   Design design = make_design(o);
-  Scene scene = load_scene(o.scene_path);
-  app::refuse_scene_controller(scene, "nhc ensemble");
-  app::refuse_scene_events_and_contacts(scene, "nhc ensemble");
-  apply_initial_flags(scene, o.initial);
+  Prepared p;
+  p.members.scene = std::make_unique<Scene>(load_scene(o.scene_path));
+  apply_initial_flags(*p.members.scene, o.initial);
+  const Scene& scene = *p.members.scene;
+  app::refuse_many_runs_of_mpc(scene, "nhc ensemble");
   const ModelKind kind = model_or_default(scene, o.model);
   app::require_model_inputs(scene, kind);
+  // The rules of a run (app/run_request.hpp) and the engine's refusals (app/run_engine.hpp), as
+  // nhc simulate's: the runs are nhc simulate's runs.
+  const app::RunRequest request = run_request(o, scene);
+  const app::FieldNames fields = field_names(o);
+  app::check_run_request(request, scene, kind, fields);
+  app::RunFeatures features;
+  features.controller = scene.controller.present;
+  features.controller_name = "the scene's [controller]";
+  features.controller_where = scene.controller.where.str();
+  features.outputs = o.outputs.has_value();
+  app::check_run_features(scene, features, fields);
   const double t0 = scene.initial.t0, t_end = app::run_t_end(scene, o.t_end, "--t-end");
-  flag_rules::output_times(t0, t_end, o.outputs, "--t-end/--outputs");  // they must not collapse
+  if (!scene.controller.present)
+    flag_rules::output_times(t0, t_end, outputs, "--t-end/--outputs");  // they must not collapse
   check_output_file(o.output, {o.scene_path});
   check_writable(o.output);
 
-  Prepared p;
   p.built = std::make_unique<jit::LoadedModel>(jit::build(scene, kind));
   const runtime::Model& model = p.built->model();
-  check_design_fits(o, model.n_states(), model.n_invariants(), o.keep == "trajectories");
+  // A contact that slides: its sliding model, one for every run (a mu written through the
+  // parameters is read at run time).
+  if (const SceneContact* slide = app::sliding_contact(scene))
+    p.sliding = std::make_unique<jit::LoadedModel>(app::build_sliding_model(scene, *slide, kind, {}));
+  p.members.runs =
+      std::make_unique<app::SceneRuns>(scene, model, p.sliding ? &p.sliding->model() : nullptr, request, fields);
+  const std::vector<double>& times = p.members.runs->times();
+  check_design_fits(o, static_cast<int>(times.size()) - 1, model.n_states(), model.n_invariants(),
+                    o.keep == "trajectories");
   RunSpec& spec = p.spec;
   spec.shared_object = p.built->library().path.string();
-  spec.parameters = model.default_parameters();
-  spec.initial = scene.initial.values;
+  if (p.sliding) spec.sliding_object = p.sliding->library().path.string();
+  spec.scene_text = scene.source_text();
   spec.t0 = t0;
   spec.t_end = t_end;
-  spec.outputs = o.outputs;
+  spec.outputs = static_cast<std::int32_t>(times.size()) - 1;
+  spec.period = scene.controller.present ? scene.controller.period : 0.0;
   spec.rtol = o.rtol.value_or(scene.simulate.rtol);
   spec.atol = o.atol.value_or(scene.simulate.atol);
   spec.keep_trajectories = o.keep == "trajectories";
-  spec.initial_expressions = scene.initial.expressions;  // [initial] written through parameters
-  spec.scene_parameters = scene.parameter_values_by_name();
-  for (const VariableSpec& v : design.variables) {
-    const std::string flag = (o.vary.empty() ? "--sample " : "--vary ") + v.text;
-    // The runs share one t0, t_end and tolerances and locate no contact's slip or controller sample.
-    if (const std::vector<std::string> numbers = app::experiment_numbers_using(scene, v.name); !numbers.empty())
-      bad_flag(flag, "the scene's " + numbers.front() + " is written through '" + v.name +
-                         "', which the runs of nhc ensemble share and do not re-evaluate: run nhc simulate --set " +
-                         v.name + "=… for each value");
-    // A parameter [initial] is written through moves each run's start (only that, when the
-    // equations do not read it).
-    const std::vector<double> slopes = app::initial_slopes(scene, model, v.name);
-    const bool moves_start = std::any_of(slopes.begin(), slopes.end(), [](double s) { return s != 0; });
-    Target target;
-    if (moves_start && model.parameter_index(v.name) < 0) {
-      target.parameter = -1;
-    } else {
-      app::refuse_unread_parameter(scene, model, v.name, flag, "varying it would change nothing");
-      target = resolve_target(model, v.name, flag);
-    }
-    if (moves_start) target.scene_parameter = v.name;
-    spec.targets.push_back(target);
-  }
+  if (spec.times() != times) throw std::logic_error("nhc ensemble: the runs' times differ from the file's");
+  for (const VariableSpec& v : design.variables)
+    spec.targets.push_back(design_target(scene, model, v.name, (o.vary.empty() ? "--sample " : "--vary ") + v.text));
 
   EnsembleInfo& info = p.results.info;
   info.scene = scene.name;
@@ -237,7 +318,8 @@ Prepared prepare(const EnsembleOptions& o, int ranks, int threads) {
   info.atol = spec.atol;
   info.t0 = t0;
   info.t_end = t_end;
-  info.outputs = o.outputs;
+  info.outputs = spec.outputs;
+  info.period = spec.period;
   info.keep_trajectories = spec.keep_trajectories;
   for (int i = 0; i < model.n_states(); ++i) info.state_names.push_back(model.state_name(i));
   for (int k = 0; k < model.n_invariants(); ++k) info.invariant_names.push_back(model.table().invariant_names[k]);
@@ -259,7 +341,27 @@ Prepared prepare(const EnsembleOptions& o, int ranks, int threads) {
   return p;
 }
 
-/// The exit code of the exception in flight, after printing it as main() does.
+/// The symbolic lock of the worker threads (nhc/long_work.hpp): GiNaC's reference counts are not
+/// synchronised, so one thread at a time makes or releases expressions. Recursive: an expression
+/// a run evaluates with GiNaC takes it again inside the engine's own section.
+class ThreadSymbolicLock final : public SymbolicLock {
+ public:
+  void lock() override { mutex_.lock(); }
+  void unlock() override { mutex_.unlock(); }
+
+ private:
+  std::recursive_mutex mutex_;
+};
+
+/// Installs a symbolic lock while it lives (none after).
+class InstalledSymbolicLock {
+ public:
+  explicit InstalledSymbolicLock(SymbolicLock& lock) { set_symbolic_lock(&lock); }
+  ~InstalledSymbolicLock() { set_symbolic_lock(nullptr); }
+  InstalledSymbolicLock(const InstalledSymbolicLock&) = delete;
+  InstalledSymbolicLock& operator=(const InstalledSymbolicLock&) = delete;
+};
+
 /// Keeps FILE.h5 current while the ensemble runs: a checkpoint every `interval` seconds, or
 /// rarer when writing takes long (at most 5 % of the time goes to checkpoints).
 class Checkpoints {
@@ -310,7 +412,7 @@ class TimeEstimate {
 
 void print_summary(const EnsembleResults& r, const Prepared& p, long ran, double run_seconds, int workers,
                    const std::string& output) {
-  long count[4] = {0, 0, 0, 0};
+  long count[5] = {0, 0, 0, 0, 0};
   for (const RunRecord& rec : r.records) ++count[static_cast<int>(rec.outcome)];
   double integration = 0;  // of the runs made now (not those resumed from the file)
   for (std::int64_t i : p.todo) integration += r.records[static_cast<std::size_t>(i)].seconds;
@@ -318,7 +420,8 @@ void print_summary(const EnsembleResults& r, const Prepared& p, long ran, double
   std::cout << "nhc ensemble: " << i.scene << ", model " << i.model << ", " << i.design.runs << " runs ("
             << (i.design.kind == Design::Kind::grid ? "grid" : "sample") << " of " << i.design.variables.size()
             << " variable" << (i.design.variables.size() == 1 ? "" : "s") << "), t from " << i.t0 << " to " << i.t_end
-            << "\n  " << count[1] << " ok, " << count[2] << " stopped at a singular point, " << count[3] << " failed";
+            << "\n  " << count[1] << " ok, " << count[4] << " ended by an event, " << count[2]
+            << " stopped at a singular point, " << count[3] << " failed";
   if (count[0] > 0) std::cout << ", " << count[0] << " not run";
   std::cout << "\n  ran " << ran << " (" << (i.design.runs - ran) << " finished before) on " << i.ranks << " rank"
             << (i.ranks == 1 ? "" : "s") << " x " << i.threads << " thread" << (i.threads == 1 ? "" : "s") << "; build "
@@ -360,12 +463,34 @@ int run_ensemble(const EnsembleOptions& o) {
   status = session.broadcast(status);
   if (status != kExitOk) return status;
 
-  // Every rank integrates the same shared object; only rank 0 derived and compiled it.
+  // Every rank integrates the same shared objects; only rank 0 derived and compiled them. The
+  // workers read the scene from the text rank 0 read.
   std::vector<char> bytes;
   if (session.is_root()) bytes = encode(p.spec);
   session.broadcast(bytes);
   const RunSpec spec = session.is_root() ? p.spec : decode_spec(bytes);
-  const runtime::Model model = session.is_root() ? p.built->model() : runtime::Model::load(spec.shared_object);
+  Members& members = p.members;
+  if (!session.is_root()) {
+    try {
+      members.scene = members_scene(spec.scene_text, o);
+      members.model = std::make_unique<runtime::Model>(runtime::Model::load(spec.shared_object));
+      if (!spec.sliding_object.empty())
+        members.sliding = std::make_unique<runtime::Model>(runtime::Model::load(spec.sliding_object));
+      members.runs = std::make_unique<app::SceneRuns>(*members.scene, *members.model, members.sliding.get(),
+                                                      run_request(o, *members.scene), field_names(o));
+      if (members.runs->times() != spec.times())
+        throw std::logic_error("nhc ensemble: a worker's run times differ from rank 0's");
+    } catch (...) {
+      const int code = report_failure(std::current_exception());
+      session.abort(code);  // rank 0 would wait for this worker for ever
+      return code;
+    }
+  }
+  const runtime::Model& model = session.is_root() ? p.built->model() : *members.model;
+  // The worker threads do symbolic work (each run's scene, events, contact and controller laws):
+  // one at a time (nhc/long_work.hpp).
+  ThreadSymbolicLock symbolic_lock;
+  const InstalledSymbolicLock installed(symbolic_lock);
 
   EnsembleResults& results = p.results;
   Checkpoints checkpoints(o.output, results, o.checkpoint_seconds);
@@ -382,8 +507,13 @@ int run_ensemble(const EnsembleOptions& o) {
   };
   schedule_options.on_idle = [&] { checkpoints.maybe_write(); };
   const auto start = base::Clock::now();
-  const RunFunction run = [&model, &spec](std::int64_t index, const double* values) {
-    return run_one(model, spec, index, values);
+  // Each run is nhc simulate's run at its values, through the one run engine (app::SceneRuns).
+  const MemberFunction member = [&members, &spec](const double* values) {
+    app::SceneRun made = members.runs->run(run_values(spec, values));
+    return MemberRun{std::move(made.outcome.run), std::move(made.outcome.drift_samples), std::move(made.p)};
+  };
+  const RunFunction run = [&model, &spec, &member](std::int64_t index, const double* values) {
+    return run_one(model, spec, index, values, member);
   };
   try {
     schedule(session, p.todo, run, schedule_options);

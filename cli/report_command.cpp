@@ -22,6 +22,7 @@
 #include <map>
 #include <sstream>
 
+#include "nhc/app/run_engine.hpp"
 #include "nhc/app/run_request.hpp"
 #include "nhc/app/sampled_run.hpp"
 #include "commands.hpp"
@@ -100,8 +101,9 @@ struct PreparedReport {
 
 PreparedReport prepare(const ReportOptions& o) {
   PreparedReport r{load_scene(o.scene_path), ModelKind::chetaev, {}};
+  // The runs go through the run engine (work_precision.cpp): events and contacts compose; a
+  // controller's rows would be its samples, not the report's output times.
   app::refuse_scene_controller(r.scene, "nhc report");
-  app::refuse_scene_events_and_contacts(r.scene, "nhc report");
   apply_initial_flags(r.scene, o.initial);
   // The scene's [reference] solves the motion from its own [initial]: from other values the error
   // is measured against a reference run.
@@ -133,6 +135,11 @@ PreparedReport prepare(const ReportOptions& o) {
     }
   if (uses("variational")) {
     require_variational_scene(r.scene, r.kind);
+    app::RunFeatures features;  // the engine's refusals: the fixed-step integrator locates no events
+    features.variational = true;
+    app::FieldNames names = app::command_line_names();
+    names.variational = "--integrators variational";
+    app::check_run_features(r.scene, features, names);
     s.configurations.push_back({"dense", false, true});
     const double interval = (s.t_end - r.scene.initial.t0) / s.outputs;
     for (int j = 0; j <= kVariationalStepHalvings; ++j) s.steps.push_back(interval / std::pow(2.0, j));

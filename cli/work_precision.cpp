@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -16,6 +17,10 @@
 #include "nhc/io/atomic_file.hpp"
 #include "nhc/io/temporary_files.hpp"
 #include "nhc/app/parameter_overrides.hpp"
+#include "nhc/app/parameter_values.hpp"
+#include "nhc/app/run_request.hpp"
+#include "nhc/app/scene_runs.hpp"
+#include "nhc/app/switched_run.hpp"
 #include "nhc/jit.hpp"
 #include "nhc/tools/gnuplot.hpp"
 #include "nhc/base/number_text.hpp"
@@ -98,12 +103,34 @@ WorkPrecision measure_work_precision(const Scene& scene, ModelKind kind, const W
     app::refuse_unread_parameter(scene, dense, settings.sweep_parameter, "--sweep", "sweeping it would change nothing");
   }
 
+  // Every IDA run through the one run engine (app::SceneRuns::run_at): the scene's events and
+  // contacts (stop and slide) as nhc simulate --set runs them, the --set values on the scene the
+  // runs start from (its [initial] values, a contact's mu written through them follow).
+  Scene runs_scene = scene;
+  for (const auto& [name, value] : settings.parameter_overrides)
+    app::check_parameter_value(scene, name, value, "--set", name + "=" + base::number_text(value, 17));
+  app::set_parameter_values(runs_scene, settings.parameter_overrides);
+  std::optional<jit::LoadedModel> sliding;
+  if (const SceneContact* slide = app::sliding_contact(runs_scene)) {
+    sliding.emplace(app::build_sliding_model(runs_scene, *slide, kind, {}));
+    wp.derive_seconds += sliding->timings().derive + sliding->timings().generate + sliding->timings().scene_cache;
+    wp.compile_seconds += sliding->timings().compile + sliding->timings().load;
+  }
+  app::FieldNames names = app::command_line_names();
+  names.at = scene_file;
+  const app::SceneRuns runs(runs_scene, dense, sliding ? &sliding->model() : nullptr, {}, names);
+  read.runner = [&runs](const runtime::Model& model, const std::vector<double>& p, const runtime::InitialState& initial,
+                        const std::vector<double>& times, const runtime::IntegratorOptions& options) {
+    app::SceneRun made = runs.run_at(model, p, initial, times, options);
+    return runtime::WorkPrecisionRun{std::move(made.outcome.run), std::move(made.outcome.drift_samples)};
+  };
+
   runtime::WorkPrecisionModels models;
   models.dense = &dense;
   if (built.count("sparse")) models.sparse = &built.at("sparse").model();
   if (built.count("variational")) models.variational = &built.at("variational").model();
   static_cast<runtime::WorkPrecision&>(wp) =
-      runtime::measure_work_precision(models, scene.initial.t0, scene.initial.values, read, progress);
+      runtime::measure_work_precision(models, runs_scene.initial.t0, runs_scene.initial.values, read, progress);
   return wp;
 }
 

@@ -409,21 +409,3 @@ def test_animate_goes_through_the_engine(tmp_path):
     assert "violate hidden constraint f1 at t0 = 0" in done.stderr
     assert done.stderr.splitlines()[0] == simulated.stderr.splitlines()[0]
     assert not (tmp_path / "refused").exists()
-
-
-@pytest.mark.parametrize("feature,words", [("events", 'locates no event, so the scene\'s [events] ("mark")'),
-                                           ("contact stop", 'locates no slip or lift-off, so the scene\'s contact "floor"')])
-@pytest.mark.parametrize("command", ["ensemble", "report"])
-def test_commands_that_integrate_straight_to_t_end_refuse_events_and_contacts(feature, words, command, tmp_path):
-    """nhc ensemble and nhc report integrate each run to t_end: a scene with [events] or a contact
-    is refused at its table (exit 2, file:line:column), not run without them."""
-    path = tmp_path / "hybrid.toml"
-    path.write_text(scene_text({feature}))
-    extra = ["--vary", "k=1:2:2"] if command == "ensemble" else ["--tolerances", "1e-6"]
-    done = subprocess.run([nhc_command(), command, str(path), *extra, "-o", str(tmp_path / "out")],
-                          capture_output=True, text=True, timeout=300)
-    assert done.returncode == 2, done.stdout + done.stderr
-    line = done.stderr.strip()
-    assert "\n" not in line and re.match(re.escape(str(path)) + r":\d+:\d+: error: nhc " + command, line), line
-    assert words in line and "nhc simulate does" in line
-    assert not (tmp_path / "out").exists()

@@ -104,7 +104,11 @@ void for_each_experiment_number(const Scene& scene,
                                       const NumberExpression& source, ValueProblem) { f(what, source); });
 }
 
-std::vector<std::string> experiment_numbers_using(const Scene& scene, const std::string& name) {
+namespace {
+
+/// experiment_numbers_using() of the numbers whose key `take` accepts.
+std::vector<std::string> numbers_using(const Scene& scene, const std::string& name,
+                                       const std::function<bool(const std::string&)>& take) {
   std::vector<std::string> found;
   const std::optional<int> k = scene.jet->parameter_index(name);
   if (!k) return found;
@@ -113,8 +117,9 @@ std::vector<std::string> experiment_numbers_using(const Scene& scene, const std:
   value += 1e-3 * std::max(1.0, std::abs(value));
   const std::map<std::string, double> here = scene.parameter_values_by_name(), there = moved.parameter_values_by_name();
   // Written through the parameter, directly or through parameters computed from it: its value moves.
-  for_each_experiment_number(scene, [&](const std::string& what, const NumberExpression& number) {
-    if (number.empty()) return;
+  visit_experiment_numbers(scene, [&](const std::string& what, const std::string& key, const double*,
+                                      const NumberExpression& number, ValueProblem) {
+    if (number.empty() || !take(key)) return;
     const auto at = [&](const std::map<std::string, double>& names) -> std::optional<double> {
       try {
         return evaluate_constant_expression(number.text, names);
@@ -125,6 +130,17 @@ std::vector<std::string> experiment_numbers_using(const Scene& scene, const std:
     if (at(here) != at(there)) found.push_back(what + " (" + number.where.str() + ")");
   });
   return found;
+}
+
+}  // namespace
+
+std::vector<std::string> experiment_numbers_using(const Scene& scene, const std::string& name) {
+  return numbers_using(scene, name, [](const std::string&) { return true; });
+}
+
+std::vector<std::string> run_grid_numbers_using(const Scene& scene, const std::string& name) {
+  return numbers_using(scene, name,
+                       [](const std::string& key) { return key != "mu" && key.rfind("controller state ", 0) != 0; });
 }
 
 void set_parameter_values(Scene& scene, const std::vector<std::pair<std::string, double>>& values) {

@@ -40,6 +40,12 @@ void for_each_experiment_number(const Scene& scene,
 /// or through a parameter computed from it), each as "WHAT (FILE:LINE:COLUMN)".
 std::vector<std::string> experiment_numbers_using(const Scene& scene, const std::string& name);
 
+/// Those of experiment_numbers_using() that place the run in time and set its accuracy: [initial]
+/// t0, the controller's period and [simulate]'s numbers (t_end, tolerances, steps), which runs
+/// compared on the same output times share (nhc ensemble); not a contact's mu or a controller
+/// state's start value, which each run evaluates at its own parameters.
+std::vector<std::string> run_grid_numbers_using(const Scene& scene, const std::string& name);
+
 /// ∂y_i(0)/∂θ of the states `model` takes from `scene`'s [initial] for the parameter `name`:
 /// central differences of the [initial] values written through parameters, re-evaluated (with the
 /// parameters computed from it) at θ ± 1e-6 max(1, |θ|); the values are constant expressions, so

@@ -12,6 +12,7 @@
 #include "nhc/errors.hpp"
 #include "nhc/io/output_path.hpp"
 #include "nhc/base/number_text.hpp"
+#include "nhc/long_work.hpp"
 
 namespace nhc::app {
 
@@ -36,6 +37,15 @@ void add_statistics(runtime::Statistics& total, const runtime::Statistics& phase
   total.linear_solver = phase.linear_solver;
   total.jacobian = phase.jacobian;
 }
+
+/// Takes the symbolic lock `section` again when destroyed, unless it is held: declared after the
+/// run's symbolic objects, it is destroyed before them, also when an exception passes.
+struct Relock {
+  std::optional<SymbolicSection>& section;
+  ~Relock() {
+    if (!section) section.emplace();
+  }
+};
 
 }  // namespace
 
@@ -95,12 +105,21 @@ void check_run_features(const Scene& scene, const RunFeatures& f, const FieldNam
 }
 
 RunOutcome simulate(const RunPlan& plan) {
+  // The symbolic work of the run (its events' and contact's expressions made and lowered, the
+  // [inputs] laws evaluated on the rows, all of them released) holds the symbolic lock
+  // (nhc/long_work.hpp); the integration runs without it, so that front ends may run engines on
+  // several threads at once (nhc ensemble's workers, Python's threads). Declared first: destroyed
+  // last, after the run's symbolic objects, which are released under it.
+  std::optional<SymbolicSection> symbolic;
+  symbolic.emplace();
   RunOutcome out;
   const Scene& scene = *plan.scene;
   const runtime::Model& rolling = *plan.model;
   const std::vector<double>& p = plan.p;
   if (plan.request.variational) {  // check_run_features refused events, contacts and a controller
+    symbolic.reset();
     IntegratedRun run = integrate(plan.request, rolling, p, plan.initial, plan.times, plan.options, {}, plan.inputs);
+    symbolic.emplace();
     out.run = std::move(run.run);
     out.max_discrete_constraint = run.max_discrete_constraint;
     record_law_inputs(scene, rolling, p, out.run.samples);
@@ -137,6 +156,8 @@ RunOutcome simulate(const RunPlan& plan) {
   std::set<std::string> stops;
   for (const SceneEvent& e : plan.events)
     if (e.action == EventAction::stop) stops.insert(e.name);
+  symbolic.reset();  // the run: numeric work (an expression GiNaC must evaluate takes the lock itself)
+  const Relock relock{symbolic};
 
   // The inputs: those from outside (or the default signals), the controller's held ones over them.
   const int n_inputs = rolling.n_inputs();
@@ -381,6 +402,7 @@ RunOutcome simulate(const RunPlan& plan) {
     out.sliding.push_back(span);
   }
 
+  symbolic.emplace();
   record_law_inputs(scene, rolling, p, out.run.samples);  // what the [inputs] laws applied
   if (out.sliding.empty()) {
     out.drift_samples = out.run.samples;

@@ -53,18 +53,6 @@ void refuse_scene_controller(const Scene& scene, const std::string& command) {
                        "nhc simulate and Python's Model.simulate do; without the table it runs open loop");
 }
 
-void refuse_scene_events_and_contacts(const Scene& scene, const std::string& command) {
-  const std::string why = command + " integrates each run straight to t_end and locates no ";
-  const std::string instead = ": nhc simulate does (with --set for each value), or remove the table for this command";
-  if (!scene.events.empty())
-    throw InputError(scene.events.front().where, why + "event, so the scene's [events] (\"" +
-                                                     scene.events.front().name + "\") would be skipped" + instead);
-  if (!scene.contacts.empty())
-    throw InputError(scene.contacts.front().where, why + "slip or lift-off, so the scene's contact \"" +
-                                                       scene.contacts.front().name +
-                                                       "\" would be held whatever its friction" + instead);
-}
-
 ControllerLaws::ControllerLaws(const Scene& scene, const runtime::Model& model, const std::vector<double>& p)
     : scene_(&scene), model_(&model), p_(p), expressions_(scene, model, p, [&scene] {
         std::vector<GiNaC::ex> symbols;

@@ -36,14 +36,9 @@ std::vector<double> sample_times(double t0, double t_end, double period, const S
 /// field, in `names`' words); the sample times from t0 to the request's t_end, else [simulate]'s.
 std::vector<double> scene_controller_samples(const RunRequest& request, const Scene& scene, const FieldNames& names);
 
-/// Commands that do not run a sampled controller (animate, report, compare, ensemble) refuse a
+/// Commands that do not run a sampled controller (report, compare) refuse a
 /// scene with one rather than run it open loop: InputError at the [controller] table.
 void refuse_scene_controller(const Scene& scene, const std::string& command);
-
-/// Commands whose runs integrate straight to t_end (report, ensemble) refuse a scene with
-/// [events] or [contacts] rather than run it without them (an event that ends the run, a
-/// contact's slip or lift-off): InputError at the first such entry.
-void refuse_scene_events_and_contacts(const Scene& scene, const std::string& command);
 
 /// The scene's [controller] on a model: its input laws and updates evaluated at the samples.
 /// Inputs it does not set follow their default signals.

@@ -86,8 +86,12 @@ Scene sliding_scene(const Scene& scene, const SceneContact& contact) {
     }
     if (q.is_zero()) continue;
     const std::string size = "sqrt(" + printed(squares) + " + 1e-14)";
+    // mu written through the parameters stays their expression: the sliding model reads them at run
+    // time (ContactSwitch's parameters), so one build serves every value (--set, an ensemble).
+    const std::string mu =
+        contact.mu_expression.empty() ? base::number_text(contact.mu, 17) : contact.mu_expression.text;
     forces[jet.coordinates()[static_cast<std::size_t>(i)]] =
-        "-(" + base::number_text(contact.mu, 17) + ")*(" + contact.normal_text + ")*(" + printed(q) + ")/" + size;
+        "-(" + mu + ")*(" + contact.normal_text + ")*(" + printed(q) + ")/" + size;
   }
   const std::set<int> removed(contact.rolling.begin(), contact.rolling.end());
   return parse_scene(switched_source(scene.source_text(), removed, forces), scene.source_path);

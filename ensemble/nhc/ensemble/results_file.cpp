@@ -93,7 +93,7 @@ Handle string_type(std::size_t length) {
 
 Handle outcome_type() {
   Handle type(H5Tenum_create(H5T_NATIVE_INT8), H5Tclose, "make the outcome type");
-  for (Outcome o : {Outcome::pending, Outcome::ok, Outcome::singular, Outcome::failed}) {
+  for (Outcome o : {Outcome::pending, Outcome::ok, Outcome::singular, Outcome::failed, Outcome::stopped}) {
     const auto v = static_cast<std::int8_t>(o);
     check(H5Tenum_insert(type, to_string(o), &v), "name an outcome");
   }
@@ -154,6 +154,7 @@ void write_attributes(hid_t file, const EnsembleResults& results) {
   attribute(file, "t0", i.t0);
   attribute(file, "t_end", i.t_end);
   attribute(file, "outputs", static_cast<long long>(i.outputs));
+  attribute(file, "period", i.period);
   attribute(file, "keep", std::string(i.keep_trajectories ? "trajectories" : "final"));
   attribute(file, "design", std::string(i.design.kind == Design::Kind::grid ? "grid" : "sample"));
   attribute(file, "seed", static_cast<long long>(i.design.seed));
@@ -208,6 +209,7 @@ void write_runs(hid_t file, const EnsembleResults& results) {
   const auto t_stop = column<double>(rs, [](const RunRecord& r) { return r.t_stop; });
   dataset(g, "t_stop", H5T_NATIVE_DOUBLE, {runs}, t_stop.data());
   strings(g, "message", column<std::string>(rs, [](const RunRecord& r) { return r.message; }));
+  strings(g, "events", column<std::string>(rs, [](const RunRecord& r) { return r.events; }));
   strings(g, "state_names", results.info.state_names);
   dataset(g, "final_state", H5T_NATIVE_DOUBLE, {runs, n_states},
           matrix(rs, n_states, [](const RunRecord& r) -> const std::vector<double>& { return r.final_state; }).data());
@@ -231,6 +233,7 @@ void write_trajectories(hid_t file, const EnsembleResults& results) {
   spec.t0 = i.t0;
   spec.t_end = i.t_end;
   spec.outputs = i.outputs;
+  spec.period = i.period;
   const std::vector<double> times = spec.times();
   dataset(g, "t", H5T_NATIVE_DOUBLE, {times.size()}, times.data());
   const std::size_t width = times.size() * i.state_names.size();
@@ -266,6 +269,8 @@ struct Reader {
     check(H5Aread(a, H5T_NATIVE_LLONG, &v), std::string("read attribute ") + name);
     return v;
   }
+  /// The number of an attribute that older files lack: 0 when absent.
+  double optional_number(const char* name) const { return H5Aexists(file, name) > 0 ? number(name) : 0.0; }
   /// The text of an attribute that older files lack: "" when absent.
   std::string optional_text(const char* name) const { return H5Aexists(file, name) > 0 ? text(name) : std::string(); }
 
@@ -331,6 +336,7 @@ EnsembleInfo read_info(const Reader& in) {
   i.t0 = in.number("t0");
   i.t_end = in.number("t_end");
   i.outputs = static_cast<int>(in.integer("outputs"));
+  i.period = in.optional_number("period");
   i.keep_trajectories = in.text("keep") == "trajectories";
   i.ranks = static_cast<int>(in.integer("ranks"));
   i.threads = static_cast<int>(in.integer("threads"));
@@ -364,6 +370,9 @@ std::vector<RunRecord> read_runs(const Reader& in, const EnsembleInfo& i) {
   const auto outcome = in.numbers<std::int8_t>("/runs/outcome", H5T_NATIVE_INT8, {runs});
   const auto t_stop = in.numbers<double>("/runs/t_stop", H5T_NATIVE_DOUBLE, {runs});
   const auto message = in.strings("/runs/message");
+  // Older files have no events column: no event was located then.
+  const auto events =
+      H5Lexists(in.file, "/runs/events", H5P_DEFAULT) > 0 ? in.strings("/runs/events") : std::vector<std::string>(runs);
   const auto final_state = in.numbers<double>("/runs/final_state", H5T_NATIVE_DOUBLE, {runs, ns});
   const auto drift = in.numbers<double>("/runs/invariant_drift", H5T_NATIVE_DOUBLE, {runs, ni});
   const auto hidden = in.numbers<double>("/runs/hidden_drift", H5T_NATIVE_DOUBLE, {runs});
@@ -371,6 +380,7 @@ std::vector<RunRecord> read_runs(const Reader& in, const EnsembleInfo& i) {
   const auto seconds = in.numbers<double>("/runs/seconds", H5T_NATIVE_DOUBLE, {runs});
   const auto rank = in.numbers<int>("/runs/rank", H5T_NATIVE_INT, {runs});
   if (message.size() != runs) in.bad("/runs/message has the wrong length");
+  if (events.size() != runs) in.bad("/runs/events has the wrong length");
   std::vector<double> trajectories;
   const std::size_t width = (static_cast<std::size_t>(i.outputs) + 1) * ns;
   if (i.keep_trajectories)
@@ -380,10 +390,11 @@ std::vector<RunRecord> read_runs(const Reader& in, const EnsembleInfo& i) {
   for (std::size_t k = 0; k < runs; ++k) {
     RunRecord& r = records[k];
     r.index = static_cast<std::int64_t>(k);
-    if (outcome[k] < 0 || outcome[k] > 3) in.bad("an outcome is out of range");
+    if (outcome[k] < 0 || outcome[k] > static_cast<std::int8_t>(Outcome::stopped)) in.bad("an outcome is out of range");
     r.outcome = static_cast<Outcome>(outcome[k]);
     r.t_stop = t_stop[k];
     r.message = message[k];
+    r.events = events[k];
     r.final_state.assign(final_state.begin() + static_cast<long>(k * ns),
                          final_state.begin() + static_cast<long>((k + 1) * ns));
     r.invariant_drift.assign(drift.begin() + static_cast<long>(k * ni),
@@ -475,7 +486,8 @@ std::string resume_mismatch(const EnsembleInfo& s, const EnsembleInfo& w) {
            s.scene_digest.substr(0, 12) + "… there, " + w.scene_digest.substr(0, 12) + "… now)";
   if (s.model != w.model) return differ("the model", s.model, w.model);
   if (s.rtol != w.rtol || s.atol != w.atol) return "the tolerances differ";
-  if (s.t0 != w.t0 || s.t_end != w.t_end || s.outputs != w.outputs) return "t0, t_end or --outputs differ";
+  if (s.t0 != w.t0 || s.t_end != w.t_end || s.outputs != w.outputs || s.period != w.period)
+    return "t0, t_end, --outputs or the controller's period differ";
   if (s.keep_trajectories != w.keep_trajectories) return "--keep differs";
   if (s.state_names != w.state_names || s.invariant_names != w.invariant_names) return "the model's states differ";
   const Design &a = s.design, &b = w.design;

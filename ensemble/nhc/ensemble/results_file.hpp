@@ -4,13 +4,14 @@
 /// one record per run, the settings as attributes. Layout (docs/ensemble.md):
 ///
 ///   /                 attributes: format, scene, scene_file, model, nhc_version, rtol, atol, t0,
-///                     t_end, outputs, keep, design, seed, runs, finished; timings: ranks,
+///                     t_end, outputs, period, keep, design, seed, runs, finished; timings: ranks,
 ///                     threads, wall_seconds
 ///   /design/names     string[v]              /design/specs  string[v] (the flags' arguments)
 ///   /design/values    double[runs][v]        /design/grid_shape int64[v] (grids)
-///   /runs/outcome     enum int8 {pending, ok, singular, failed}[runs]
+///   /runs/outcome     enum int8 {pending, ok, singular, failed, stopped}[runs]
 ///   /runs/t_stop, /runs/hidden_drift, /runs/seconds  double[runs]
 ///   /runs/message     string[runs]           /runs/steps int64[runs]   /runs/rank int32[runs]
+///   /runs/events      string[runs] (the events met: a line "NAME,T" each)
 ///   /runs/final_state double[runs][states]   /runs/state_names string[states]
 ///   /runs/invariant_drift double[runs][invariants]  /runs/invariant_names string[invariants]
 ///   /trajectories/t   double[outputs+1]      /trajectories/y double[runs][outputs+1][states]
@@ -35,6 +36,7 @@ struct EnsembleInfo {
   std::string scene_digest;
   double rtol = 0, atol = 0, t0 = 0, t_end = 0;
   int outputs = 0;
+  double period = 0;  ///< a sampled controller's: the output times are its samples (RunSpec::times)
   bool keep_trajectories = false;
   std::vector<std::string> state_names, invariant_names;
   Design design;

@@ -32,19 +32,32 @@ std::vector<int> coordinate_states(const Model& model) {
 }
 
 /// max |q − q_ref| over the coordinates at the output times both runs reached.
-double error_against_run(const Model& model, const std::vector<Sample>& run, const std::vector<Sample>& reference) {
+double error_against_run(const Model& model, const std::vector<Sample>& run, const std::vector<Sample>& reference,
+                         const std::vector<double>& times) {
   const std::vector<int> coords = coordinate_states(model);
   double worst = 0;
   size_t compared = 0;
-  const size_t n = std::min(run.size(), reference.size());
-  for (size_t k = 0; k < n; ++k) {
-    const double t = run[k].t, tr = reference[k].t;
-    if (std::abs(t - tr) > 1e-12 * std::max(1.0, std::abs(tr))) break;  // a stop between output times
-    for (int i : coords) {
-      const double e = std::abs(run[k].y[i] - reference[k].y[i]);
-      worst = std::isfinite(e) ? std::max(worst, e) : INFINITY;
+  // The rows at the output times, where both runs have one (within 1e-12 relative); a row between
+  // them (where an event ended a run, a contact switched) is the run's own.
+  const auto output_index = [&](const Sample& s) -> long {
+    const auto at = std::lower_bound(times.begin(), times.end(), s.t - 1e-12 * std::max(1.0, std::abs(s.t)));
+    if (at == times.end() || std::abs(*at - s.t) > 1e-12 * std::max(1.0, std::abs(s.t))) return -1;
+    return at - times.begin();
+  };
+  size_t k = 0, j = 0;
+  while (k < run.size() && j < reference.size()) {
+    const long a = output_index(run[k]), b = output_index(reference[j]);
+    if (a < 0 || (b >= 0 && a < b)) {
+      ++k;
+    } else if (b < 0 || b < a) {
+      ++j;
+    } else {
+      for (int i : coords) {
+        const double e = std::abs(run[k].y[i] - reference[j].y[i]);
+        worst = std::isfinite(e) ? std::max(worst, e) : INFINITY;
+      }
+      ++compared, ++k, ++j;
     }
-    ++compared;
   }
   // Only the initial point in common: nothing measured.
   return compared > 1 ? worst : NAN;
@@ -112,7 +125,8 @@ std::vector<InvariantHistory> long_runs(const WorkPrecisionModels& models, doubl
   io.atol = settings.long_run_rtol * settings.atol_scale;
   io.max_steps = std::numeric_limits<long>::max();
   auto start = std::chrono::steady_clock::now();
-  const RunResult ida = simulate(model, p, initial, times, io);
+  const RunResult ida =
+      settings.runner ? settings.runner(model, p, initial, times, io).run : simulate(model, p, initial, times, io);
   out.push_back(invariant_history(model, p, ida, k,
                                   std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()));
   out.back().integrator = "IDA, rtol " + base::number_text(io.rtol, 3);
@@ -201,7 +215,9 @@ WorkPrecision measure_work_precision(const WorkPrecisionModels& models, double t
         io.rtol = rtol;
         io.atol = rtol * settings.atol_scale;
         io.linear_solver = LinearSolverKind::dense;
-        const RunResult ref = simulate(dense, p, initial_state_from(dense, t0, initial_values), times, io);
+        const InitialState start = initial_state_from(dense, t0, initial_values);
+        const RunResult ref =
+            settings.runner ? settings.runner(dense, p, start, times, io).run : simulate(dense, p, start, times, io);
         if (progress)
           progress("reference run" + at + ": rtol " + base::number_text(io.rtol, 3) + ", " +
                    std::to_string(ref.statistics.steps) + " steps" +
@@ -229,16 +245,18 @@ WorkPrecision measure_work_precision(const WorkPrecisionModels& models, double t
         io.projection = config.projection ? ProjectionMethod::in_place : ProjectionMethod::none;
         const VariationalOptions vo = variational_options(setting, std::numeric_limits<long>::max(), io);
         const auto run_once = [&]() {
-          return config.variational ? simulate_variational(model, p, initial, times, vo).run
-                                    : simulate(model, p, initial, times, io);
+          if (config.variational) return WorkPrecisionRun{simulate_variational(model, p, initial, times, vo).run, {}};
+          if (settings.runner) return settings.runner(model, p, initial, times, io);
+          return WorkPrecisionRun{simulate(model, p, initial, times, io), {}};
         };
 
         std::vector<double> seconds;
-        RunResult run;
+        WorkPrecisionRun made;
+        RunResult& run = made.run;
         double total_seconds = 0;
         do {
           const auto start = std::chrono::steady_clock::now();
-          run = run_once();
+          made = run_once();
           seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
           total_seconds += seconds.back();
         } while (static_cast<int>(seconds.size()) < settings.max_repeats && total_seconds < settings.repeat_seconds);
@@ -252,11 +270,11 @@ WorkPrecision measure_work_precision(const WorkPrecisionModels& models, double t
         m.seconds = median(seconds);
         m.repeats = static_cast<int>(seconds.size());
         m.statistics = run.statistics;
-        const DriftReport drift = measure_drift(model, p, run.samples);
+        const DriftReport drift = measure_drift(model, p, settings.runner ? made.drift_samples : run.samples);
         m.max_hidden = drift.max_hidden;
         m.max_invariant_relative = drift.max_invariant_relative;
         m.error = wp.source.exact ? (run.samples.empty() ? NAN : drift.max_error)
-                                  : error_against_run(model, run.samples, reference);
+                                  : error_against_run(model, run.samples, reference, times);
         m.t_reached = run.samples.empty() ? t0 : run.samples.back().t;
         if (run.failure) {
           m.failure = run.failure->kind();

@@ -17,6 +17,7 @@
 #include "nhc/base/errors.hpp"
 #include "nhc/runtime/integrator.hpp"
 #include "nhc/runtime/model.hpp"
+#include "nhc/runtime/trajectory.hpp"
 
 namespace nhc::runtime {
 
@@ -29,6 +30,21 @@ struct WorkPrecisionConfiguration {
   bool variational = false;
   std::string label() const;  ///< "dense", "sparse + projection", "variational"
 };
+
+/// One IDA run of a measurement: its rows (at the output times, and where it ended), statistics
+/// and failure, and the rows its drift is measured over (those where the model's constraints
+/// hold: a sliding contact's rows are not).
+struct WorkPrecisionRun {
+  RunResult run;
+  std::vector<Sample> drift_samples;
+};
+
+/// Makes one IDA run of `model` (a Jacobian flavour of the measured model) with parameters `p`
+/// from `initial`, its rows at `times`, with `options`: what a front end's run engine does (the
+/// scene's events and contacts). Empty: runtime::simulate, the drift over every row.
+using WorkPrecisionRunner =
+    std::function<WorkPrecisionRun(const Model& model, const std::vector<double>& p, const InitialState& initial,
+                                   const std::vector<double>& times, const IntegratorOptions& options)>;
 
 struct WorkPrecisionSettings {
   std::vector<double> rtols;  ///< loosest first
@@ -51,6 +67,8 @@ struct WorkPrecisionSettings {
   double long_run_rtol = 1e-8;
   double long_run_step = 0;
   int long_run_outputs = 2000;
+  /// The IDA runs (the reference run and every tolerance's), and the long run's IDA run.
+  WorkPrecisionRunner runner;
 };
 
 /// One run.
