@@ -66,6 +66,20 @@ def test_a_failure_is_a_math_error_at_its_time(source):
     assert caught.value.run.t[-1] <= caught.value.t
 
 
+def test_a_failure_at_a_singularity_of_euler_angles_names_the_angle(source):
+    # z-x-z angles, th = 0.5 + 2t reaches pi at t = (pi - 0.5)/2 (tests/cli/scenes/euler_angles_tumbling.toml).
+    scene = nhc.Scene.load(source / "tests" / "cli" / "scenes" / "euler_angles_tumbling.toml")
+    with pytest.raises(nhc.MathError) as caught:
+        scene.build().simulate()
+    words = str(caught.value)
+    assert words.startswith("the z-x-z Euler angles psi, th, ph are singular at t = ")
+    assert "write the attitude with quat(q0, q1, q2, q3)" in words
+    assert caught.value.t == pytest.approx((math.pi - 0.5) / 2, abs=5e-3)
+    # Short of pi, the same scene runs and says nothing of them.
+    run = scene.build().simulate(t_end=1.2)
+    assert run.t[-1] == pytest.approx(1.2)
+
+
 def test_linearize_gives_the_benchmark_eigenvalues_and_b(source):
     # Meijaard et al. (2007), Table 2 at 5 m/s; B's lean and steer rows are S M^-1 S (docs/linearize.md).
     lin = nhc.Scene.load(source / "examples" / "whipple" / "whipple_bicycle.toml").linearize(at={"phi'": 0.0})

@@ -176,6 +176,19 @@ std::vector<SingularQuantity> singular_quantities(const Index1System& system) {
   return out;
 }
 
+std::vector<SingularQuantity> euler_angle_monitors(const Scene& scene, const Index1System& system) {
+  std::vector<SingularQuantity> out;
+  for (const EulerChain& chain : scene.euler_chains) {
+    const GiNaC::ex determinant = system.in_states(chain.determinant);
+    if (!system.jet->jet_coordinates_in(determinant).empty()) continue;  // an angle that is not a state
+    std::string name = "Euler angles ";
+    for (std::size_t k = 0; k < chain.angles.size(); ++k) name += (k ? ", " : "") + chain.angles[k];
+    name += " (" + chain.axes + "), singular at " + chain.angles[1] + " = " + chain.zeros;
+    out.push_back({name, determinant});
+  }
+  return out;
+}
+
 namespace {
 
 /// The scene's parameters occurring in `expressions` (through named intermediates), by index
@@ -540,6 +553,7 @@ PreparedModel prepare_model(const Scene& scene, const Index1System& system, Jaco
   const bool dense = jacobian == JacobianKind::dense, sparse = jacobian == JacobianKind::sparse;
   if (dense || sparse) m.symbolic_jacobian = index1_jacobian(system);
   m.singular = singular_quantities(system);
+  for (SingularQuantity& q : euler_angle_monitors(scene, system)) m.singular.push_back(std::move(q));
   m.n_singular = static_cast<int>(m.singular.size());
   // The Jacobians and singular quantities are derivatives and parts of these: they read no more.
   std::vector<GiNaC::ex> read(system.residuals.begin(), system.residuals.end());
