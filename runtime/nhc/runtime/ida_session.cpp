@@ -113,7 +113,7 @@ std::optional<base::SolverError> euler_angles_failure(const Model& model, double
   const std::string& angle = m.angles[1];
   std::ostringstream os;
   os << "the " << m.axes << " Euler angles " << m.angles[0] << ", " << angle << ", " << m.angles[2]
-     << " are singular at t = " << base::number_text(t, 15) << ": ";
+     << " are close to their singularity at t = " << base::number_text(t, 15) << ": ";
   if (m.state >= 0) os << angle << " = " << base::number_text(y[m.state], 6);
   else os << angle << " is at " << m.zeros;
   os << " (" << m.axes << " angles are singular at " << angle << " = " << m.zeros
