@@ -107,9 +107,8 @@ TEST_CASE("a run through a singularity of Tait-Bryan angles names the middle ang
   for (const std::string backend : {"compiled", "interpreted"}) {
     INFO(backend);
     const std::string csv_path = dir + "/" + backend + ".csv";
-    const Run r = nhc_run("simulate tests/cli/scenes/ball_turntable_zyx.toml --backend " + backend + " -o '" +
-                              csv_path + "'",
-                          dir);
+    const Run r = nhc_run(
+        "simulate tests/cli/scenes/ball_turntable_zyx.toml --backend " + backend + " -o '" + csv_path + "'", dir);
     CHECK(r.exit_code == 3);
     std::smatch m;
     REQUIRE(std::regex_search(r.err, m,

@@ -601,8 +601,7 @@ PreparedModel prepare_model(const Scene& scene, const Index1System& system, Jaco
   }
   if (m.n_invariants > 0) m.functions.push_back(invariants_function(m.invariants, m.dag));
   if (m.n_reference > 0) m.functions.push_back(reference_function(m.reference, system, m.dag));
-  if (m.n_singular > 0)
-    m.functions.push_back(singular_quantities_function(m.singular, !euler_angles.empty(), m.dag));
+  if (m.n_singular > 0) m.functions.push_back(singular_quantities_function(m.singular, !euler_angles.empty(), m.dag));
   if (m.n_inputs > 0) m.functions.push_back(default_inputs_function(scene.inputs, m.dag));
   // Sensitivity additions (docs/generated-code.md): only when asked for and the scene has parameters.
   m.sensitivities = sensitivities && m.n_parameters > 0;
