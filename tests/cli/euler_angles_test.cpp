@@ -146,3 +146,24 @@ TEST_CASE("a run with Euler angles that does not reach their singularity says no
   CHECK(elsewhere.err.find("Euler") == std::string::npos);
   CHECK(elsewhere.err.find("quat(") == std::string::npos);
 }
+
+TEST_CASE("a start at a singularity of Euler angles names it in analyze and simulate", "[cli]") {
+  const std::string dir = nhc::test::scratch_dir("euler_angles_start");
+  // The z-x-z ball started at th = 0 (x', y' from the constraints: w = th' (cos psi, sin psi, 0)).
+  std::string text = read_file(std::string(NHC_SOURCE_DIR) + "/tests/cli/scenes/ball_turntable_zxz.toml");
+  text = std::regex_replace(text, std::regex(R"(\nx = \[.*\])"), "\nx = [1.0, 0.14776010333066977]");
+  text = std::regex_replace(text, std::regex(R"(\ny = \[.*\])"), "\ny = [0.0, 0.522331755437197]");
+  text = std::regex_replace(text, std::regex(R"(\nth = \[.*\])"), "\nth = [0.0, 1.0]");
+  const std::string scene = dir + "/upright.toml";
+  std::ofstream(scene) << text;
+  const Run analyze = nhc_run("analyze '" + scene + "' -m chetaev", dir);
+  CHECK(analyze.exit_code == 3);
+  CHECK_THAT(analyze.err, Contains("nhc: error: the system Jacobian of the chetaev model is singular at t0 = 0"));
+  CHECK_THAT(analyze.err, Contains("; the z-x-z Euler angles psi, th, ph are singular there (th = 0), at th = 0, pi, "
+                                   "where the angular velocity does not determine the rates: write the attitude "
+                                   "with quat(q0, q1, q2, q3)"));
+  const Run simulate = nhc_run("simulate '" + scene + "' -o '" + dir + "/upright.csv'", dir);
+  CHECK(simulate.exit_code == 3);
+  CHECK_THAT(simulate.err, Contains("nhc: error: the z-x-z Euler angles psi, th, ph are close to their singularity "
+                                    "at t = "));
+}
