@@ -100,6 +100,12 @@ TEST_CASE("a run through a singularity of z-x-z Euler angles names the angle and
     // The motion up to the failure against the closed form of the centre.
     check_centre_velocity(read_file(csv_path));
   }
+  // The run with sensitivities says the same.
+  const Run sensitivities = nhc_run(
+      "simulate tests/cli/scenes/ball_turntable_zxz.toml --sensitivity W -o '" + dir + "/sensitivities.csv'", dir);
+  CHECK(sensitivities.exit_code == 3);
+  CHECK_THAT(sensitivities.err,
+             Contains("nhc: error: the z-x-z Euler angles psi, th, ph are close to their singularity at t = "));
 }
 
 TEST_CASE("a run through a singularity of Tait-Bryan angles names the middle angle at pi/2", "[cli]") {
