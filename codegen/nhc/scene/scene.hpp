@@ -254,9 +254,9 @@ struct SceneSystemFields {
   std::vector<SceneInput> inputs;
   std::vector<SceneQuantity> invariants;  ///< [invariants]: I(t, q, q', …, λ), computed by the model
   SceneReference reference;               ///< [reference]: computed by the model
-  /// The Euler angles the equations' omega() and omega_body() met (value.hpp), each once, in the
-  /// order met: the model monitors where they are singular, to name the angle when a run fails
-  /// there (docs/quaternions.md).
+  /// The Euler angles the scene's omega() and omega_body() met, in any of its expressions
+  /// (value.hpp), each once, in the order met: the model monitors where they are singular, to name
+  /// the angle when a run fails near there (docs/quaternions.md).
   std::vector<EulerChain> euler_chains;
 };
 
