@@ -16,11 +16,11 @@
 //   hidden_constraints               924     112
 //   hidden_constraints_jacobian     8138     322
 //   invariants                       451     107
-//   singular_quantities               25      18
+//   singular_quantities               26      18
 //   velocities                      2770     111
 //   mass_matrix                    10225     252
 //   forcing                        41411     626
-//   total                         190529    4495
+//   total                         190530    4495
 
 #pragma once
 
@@ -112,7 +112,7 @@ inline constexpr int n_multipliers = 2;
 inline constexpr int n_hidden = 2;
 inline constexpr int n_invariants = 2;
 inline constexpr int n_reference = 0;
-inline constexpr int n_singular = 1;
+inline constexpr int n_singular = 2;
 /// p holds n_parameters parameters, then n_inputs inputs.
 inline constexpr int n_inputs = 0;
 /// The independent speeds u of M_r u' = f_r (0: no multiplier-free form).
@@ -134,7 +134,7 @@ inline constexpr const char* hidden_names[n_hidden] = {"f1", "f2"};
 inline constexpr const char* invariant_names[n_invariants] = {"energy", "spin"};
 /// u[k] = q'[speed_coordinate[k]].
 inline constexpr int speed_coordinate[n_speeds] = {2, 3, 4};
-inline constexpr const char* singular_names[n_singular] = {"a * a * (std::sin(ph) * std::sin(ph)) * (std::cos(th) * std::cos(th)) + c * c * (std::cos(th) * std::cos(th)) * (std::cos(ph) * std::cos(ph)) + std::sin(th) * std::sin(th) * (b * b)"};
+inline constexpr const char* singular_names[n_singular] = {"a * a * (std::sin(ph) * std::sin(ph)) * (std::cos(th) * std::cos(th)) + c * c * (std::cos(th) * std::cos(th)) * (std::cos(ph) * std::cos(ph)) + std::sin(th) * std::sin(th) * (b * b)", "Euler angles psi, th, ph (z-x-y), singular at th = -pi/2, pi/2"};
 
 /// F(t, y, y') = 0, IDA form; r has n_states entries.
 inline void residual(double /*t*/, const double* y, const double* yp, const double* p, double* r) noexcept {
@@ -1007,6 +1007,8 @@ inline void invariants(double /*t*/, const double* y, const double* /*yp*/, cons
 
 /// Quantities that vanish where the equations are singular (bases of square roots,
 /// of negative powers and arguments of logarithms), in singular_names order.
+/// The "Euler angles" ones: sin or cos of the middle angle, zero where the angular
+/// velocity does not determine the angle rates (watched only to explain a failure).
 inline void singular_quantities(double /*t*/, const double* y, const double* p, double* s) noexcept {
   const double w0 = std::sin(y[8]);
   const double w1 = std::cos(y[6]);
@@ -1014,6 +1016,7 @@ inline void singular_quantities(double /*t*/, const double* y, const double* p, 
   const double w3 = std::cos(y[8]);
   const double w4 = std::sin(y[6]);
   s[0] = p[4] * p[4] * (w0 * w0) * w2 + w2 * (w3 * w3 * (p[6] * p[6])) + p[5] * p[5] * (w4 * w4);
+  s[1] = w1;
 }
 
 /// q'(t, q, u): the independent speeds u and the dependent ones from them, n_coordinates.

@@ -17,10 +17,11 @@
 //   hidden_constraints_jacobian       41      19
 //   invariants                        34      28
 //   reference                          0       0
+//   singular_quantities                1       1
 //   velocities                        17      13
 //   mass_matrix                       14       9
 //   forcing                           53      37
-//   total                            529     296
+//   total                            530     297
 
 #pragma once
 
@@ -112,7 +113,7 @@ inline constexpr int n_multipliers = 2;
 inline constexpr int n_hidden = 2;
 inline constexpr int n_invariants = 4;
 inline constexpr int n_reference = 2;
-inline constexpr int n_singular = 0;
+inline constexpr int n_singular = 1;
 /// p holds n_parameters parameters, then n_inputs inputs.
 inline constexpr int n_inputs = 0;
 /// The independent speeds u of M_r u' = f_r (0: no multiplier-free form).
@@ -135,6 +136,7 @@ inline constexpr const char* invariant_names[n_invariants] = {"energy", "spin_x"
 inline constexpr int reference_coordinate[n_reference] = {0, 1};
 /// u[k] = q'[speed_coordinate[k]].
 inline constexpr int speed_coordinate[n_speeds] = {2, 3, 4};
+inline constexpr const char* singular_names[n_singular] = {"Euler angles psi, th, ph (z-x-z), singular at th = 0, pi"};
 
 /// F(t, y, y') = 0, IDA form; r has n_states entries.
 inline void residual(double /*t*/, const double* y, const double* yp, const double* p, double* r) noexcept {
@@ -287,6 +289,14 @@ inline void reference(double t, const double* /*p*/, double* q) noexcept {
   q[1] = t;  // y
 }
 
+/// Quantities that vanish where the equations are singular (bases of square roots,
+/// of negative powers and arguments of logarithms), in singular_names order.
+/// The "Euler angles" ones: sin or cos of the middle angle, zero where the angular
+/// velocity does not determine the angle rates (watched only to explain a failure).
+inline void singular_quantities(double /*t*/, const double* y, const double* /*p*/, double* s) noexcept {
+  s[0] = std::sin(y[6]);
+}
+
 /// q'(t, q, u): the independent speeds u and the dependent ones from them, n_coordinates.
 inline void velocities(double /*t*/, const double* q, const double* u, const double* p, double* qp) noexcept {
   const double w0 = std::sin(q[2]);
@@ -350,6 +360,7 @@ inline nhc_model_table make_model_table() noexcept {
   t.reference_coordinate = reference_coordinate;
   t.residual_names = residual_names;
   t.n_singular = n_singular;
+  t.singular_names = singular_names;
   t.n_inputs = n_inputs;
   t.n_speeds = n_speeds;
   t.speed_coordinate = speed_coordinate;
@@ -359,6 +370,7 @@ inline nhc_model_table make_model_table() noexcept {
   t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
   t.invariants = &invariants;
   t.reference = &reference;
+  t.singular_quantities = &singular_quantities;
   t.velocities = &velocities;
   t.mass_matrix = &mass_matrix;
   t.forcing = &forcing;

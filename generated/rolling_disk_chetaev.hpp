@@ -16,10 +16,11 @@
 //   hidden_constraints                 8       8
 //   hidden_constraints_jacobian       13       9
 //   invariants                        54      46
+//   singular_quantities                1       1
 //   velocities                         6       5
 //   mass_matrix                       27      10
 //   forcing                           35      29
-//   total                            805     408
+//   total                            806     409
 
 #pragma once
 
@@ -111,7 +112,7 @@ inline constexpr int n_multipliers = 2;
 inline constexpr int n_hidden = 2;
 inline constexpr int n_invariants = 4;
 inline constexpr int n_reference = 0;
-inline constexpr int n_singular = 0;
+inline constexpr int n_singular = 1;
 /// p holds n_parameters parameters, then n_inputs inputs.
 inline constexpr int n_inputs = 0;
 /// The independent speeds u of M_r u' = f_r (0: no multiplier-free form).
@@ -133,6 +134,7 @@ inline constexpr const char* hidden_names[n_hidden] = {"f1", "f2"};
 inline constexpr const char* invariant_names[n_invariants] = {"energy", "lean", "yaw_rate", "spin_rate"};
 /// u[k] = q'[speed_coordinate[k]].
 inline constexpr int speed_coordinate[n_speeds] = {2, 3, 4};
+inline constexpr const char* singular_names[n_singular] = {"Euler angles psi, phi, ph (z-x-y), singular at phi = -pi/2, pi/2"};
 
 /// F(t, y, y') = 0, IDA form; r has n_states entries.
 inline void residual(double /*t*/, const double* y, const double* yp, const double* p, double* r) noexcept {
@@ -303,6 +305,14 @@ inline void invariants(double /*t*/, const double* y, const double* /*yp*/, cons
   out[3] = y[9];  // spin_rate
 }
 
+/// Quantities that vanish where the equations are singular (bases of square roots,
+/// of negative powers and arguments of logarithms), in singular_names order.
+/// The "Euler angles" ones: sin or cos of the middle angle, zero where the angular
+/// velocity does not determine the angle rates (watched only to explain a failure).
+inline void singular_quantities(double /*t*/, const double* y, const double* /*p*/, double* s) noexcept {
+  s[0] = std::cos(y[6]);
+}
+
 /// q'(t, q, u): the independent speeds u and the dependent ones from them, n_coordinates.
 inline void velocities(double /*t*/, const double* q, const double* u, const double* p, double* qp) noexcept {
   const double w0 = u[2] * p[2];
@@ -361,6 +371,7 @@ inline nhc_model_table make_model_table() noexcept {
   t.invariant_names = invariant_names;
   t.residual_names = residual_names;
   t.n_singular = n_singular;
+  t.singular_names = singular_names;
   t.n_inputs = n_inputs;
   t.n_speeds = n_speeds;
   t.speed_coordinate = speed_coordinate;
@@ -369,6 +380,7 @@ inline nhc_model_table make_model_table() noexcept {
   t.hidden_constraints = &hidden_constraints;
   t.hidden_constraints_jacobian = &hidden_constraints_jacobian;
   t.invariants = &invariants;
+  t.singular_quantities = &singular_quantities;
   t.velocities = &velocities;
   t.mass_matrix = &mass_matrix;
   t.forcing = &forcing;

@@ -66,6 +66,24 @@ def test_a_failure_is_a_math_error_at_its_time(source):
     assert caught.value.run.t[-1] <= caught.value.t
 
 
+def test_a_failure_at_a_singularity_of_euler_angles_names_the_angle(source):
+    # A ball rolling on a turntable in z-x-z angles; th reaches pi near t = 0.31
+    # (tests/cli/scenes/ball_turntable_zxz.toml, and tests/cli/euler_angles_test.cpp).
+    scene = nhc.Scene.load(source / "tests" / "cli" / "scenes" / "ball_turntable_zxz.toml")
+    model = scene.build()
+    with pytest.raises(nhc.MathError) as caught:
+        model.simulate()
+    words = str(caught.value)
+    assert words.startswith("the z-x-z Euler angles psi, th, ph are close to their singularity at t = ")
+    assert "(z-x-z angles are singular at th = 0, pi: " in words
+    assert "write the attitude with quat(q0, q1, q2, q3)" in words
+    assert 0.25 < caught.value.t < 0.35
+    assert abs(math.sin(caught.value.run["th"][-1])) < 0.1
+    # Short of it, the same scene runs.
+    run = model.simulate(t_end=0.2)
+    assert run.t[-1] == pytest.approx(0.2)
+
+
 def test_linearize_gives_the_benchmark_eigenvalues_and_b(source):
     # Meijaard et al. (2007), Table 2 at 5 m/s; B's lean and steer rows are S M^-1 S (docs/linearize.md).
     lin = nhc.Scene.load(source / "examples" / "whipple" / "whipple_bicycle.toml").linearize(at={"phi'": 0.0})

@@ -5,7 +5,9 @@
 #include <ginac/ginac.h>
 
 #include <chrono>
+#include <cmath>
 #include <string>
+#include <vector>
 
 #include "nhc/derive/models.hpp"
 #include "nhc/errors.hpp"
@@ -159,6 +161,68 @@ TEST_CASE("quat(q0, q1, q2, q3) is the rotation of a unit quaternion with its an
     }
   CHECK_THROWS_AS(parse_expression("quat(x, y, z)[1, 1]", jet), nhc::ExpressionSyntaxError);
   CHECK_THROWS_AS(parse_expression("quat(x, y, z, [x, y])[1, 1]", jet), nhc::ExpressionSyntaxError);
+}
+
+TEST_CASE("omega() of three elementary rotations about coordinates keeps their Euler angles",
+          "[scene][definitions][euler]") {
+  struct Case {
+    std::string rotation, axes;
+    std::vector<std::string> angles;
+    bool proper;  // sin of the middle angle (proper Euler angles), else cos (Tait-Bryan)
+  };
+  const std::vector<Case> recognised = {
+      {"rotz(x)*rotx(y)*rotz(th)", "z-x-z", {"x", "y", "th"}, true},
+      {"rotx(x)*roty(y)*rotx(th)", "x-y-x", {"x", "y", "th"}, true},
+      {"rotz(x)*roty(y)*rotx(th)", "z-y-x", {"x", "y", "th"}, false},
+      {"rotx(th)*rotz(x)*roty(y)", "x-z-y", {"th", "x", "y"}, false},
+      // A transpose reverses the chain (angles negated); rotations by no coordinate before or after
+      // it do not change the rank of the rates' map.
+      {"transpose(rotz(x)*rotx(y)*rotz(th))", "z-x-z", {"th", "y", "x"}, true},
+      {"rotx(1/3)*rotz(x)*rotx(y)*roty(th)*rotz(m*t)", "z-x-y", {"x", "y", "th"}, false},
+  };
+  for (const Case& c : recognised) {
+    INFO(c.rotation);
+    const nhc::Scene s = scene_with(
+        "[parameters]\nm = 1.0\n[definitions]\nR = \"" + c.rotation + "\"\nw = \"omega(R)\"\n", "dot(w, w)/2");
+    REQUIRE(s.euler_chains.size() == 1);
+    const nhc::EulerChain& chain = s.euler_chains[0];
+    CHECK(chain.axes == c.axes);
+    CHECK(chain.angles == c.angles);
+    CHECK(chain.zeros == (c.proper ? "0, pi" : "-pi/2, pi/2"));
+    // The determinant of the rates' map, differentiated here from omega()'s ω (checked against
+    // R' R^T above), is ± the recorded one at sample points.
+    const JetSpace& jet = *s.jet;
+    const nhc::Value w = parse_value("omega(" + c.rotation + ")", jet);
+    GiNaC::matrix a(3, 3);
+    for (unsigned i = 0; i < 3; ++i)
+      for (unsigned j = 0; j < 3; ++j)
+        a(i, j) = w.entries[i].diff(GiNaC::ex_to<GiNaC::symbol>(jet.q(*jet.coordinate_index(chain.angles[j]), 1)));
+    const ex determinant = a.determinant();
+    for (const double at : {0.3, 1.1, 2.6}) {
+      GiNaC::exmap point;
+      for (int i = 0; i < 3; ++i) point[jet.q(i, 0)] = at + 0.4 * i;
+      point[jet.time()] = 0.7;
+      point[jet.parameter(0)] = 1.0;
+      const double expected = GiNaC::ex_to<GiNaC::numeric>(GiNaC::evalf(chain.determinant.subs(point))).to_double();
+      const double got = GiNaC::ex_to<GiNaC::numeric>(GiNaC::evalf(determinant.subs(point))).to_double();
+      CHECK(std::abs(std::abs(got) - std::abs(expected)) < 1e-12);
+      CHECK(std::abs(expected) > 1e-3);
+    }
+  }
+  // Not Euler angles: two rotations, an axis repeated next to itself, a coordinate twice, an angle
+  // that is not a coordinate, a constant rotation inside the chain, a quaternion.
+  for (const std::string rotation :
+       {"rotz(x)*rotx(y)", "rotz(x)*rotz(y)*rotx(th)", "rotz(x)*rotx(y)*rotz(x)", "rotz(x)*rotx(y + th)*rotz(th)",
+        "rotz(x)*rotx(y)*roty(1/3)*rotz(th)", "quat(cos(x), sin(x), 0, 0)*rotx(y)*rotz(th)"}) {
+    INFO(rotation);
+    CHECK(scene_with("[definitions]\nR = \"" + rotation + "\"\nw = \"omega_body(R)\"\n", "dot(w, w)/2")
+              .euler_chains.empty());
+  }
+  // omega and omega_body of one chain: one record.
+  const nhc::Scene twice =
+      scene_with("[definitions]\nR = \"rotz(x)*rotx(y)*rotz(th)\"\nw = \"omega(R)\"\nW = \"omega_body(R)\"\n",
+                 "dot(w, w)/2 + dot(W, W)/2");
+  CHECK(twice.euler_chains.size() == 1);
 }
 
 TEST_CASE("definitions: any order, derivatives by D, unused ones reported", "[scene][definitions]") {

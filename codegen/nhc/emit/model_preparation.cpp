@@ -176,6 +176,19 @@ std::vector<SingularQuantity> singular_quantities(const Index1System& system) {
   return out;
 }
 
+std::vector<SingularQuantity> euler_angle_monitors(const Scene& scene, const Index1System& system) {
+  std::vector<SingularQuantity> out;
+  for (const EulerChain& chain : scene.euler_chains) {
+    const GiNaC::ex determinant = system.in_states(chain.determinant);
+    if (!system.jet->jet_coordinates_in(determinant).empty()) continue;  // an angle that is not a state
+    std::string name = "Euler angles ";
+    for (std::size_t k = 0; k < chain.angles.size(); ++k) name += (k ? ", " : "") + chain.angles[k];
+    name += " (" + chain.axes + "), singular at " + chain.angles[1] + " = " + chain.zeros;
+    out.push_back({name, determinant});
+  }
+  return out;
+}
+
 namespace {
 
 /// The scene's parameters occurring in `expressions` (through named intermediates), by index
@@ -361,12 +374,17 @@ FunctionPlan default_inputs_function(const std::vector<SceneInput>& inputs, Expr
 
 /// Singular-set monitors (runtime additions): quantities whose zeros make the residual or the
 /// hidden constraints non-smooth; the runtime watches them as root functions.
-FunctionPlan singular_quantities_function(const std::vector<SingularQuantity>& singular, ExpressionDag& dag) {
+FunctionPlan singular_quantities_function(const std::vector<SingularQuantity>& singular, bool euler_angles,
+                                          ExpressionDag& dag) {
   FunctionPlan f;
   f.name = "singular_quantities";
   f.doc =
       "/// Quantities that vanish where the equations are singular (bases of square roots,\n"
       "/// of negative powers and arguments of logarithms), in singular_names order.\n";
+  if (euler_angles)
+    f.doc +=
+        "/// The \"Euler angles\" ones: sin or cos of the middle angle, zero where the angular\n"
+        "/// velocity does not determine the angle rates (watched only to explain a failure).\n";
   f.parameters = {{"double", "t"}, {"const double*", "y"}, {"const double*", "p"}, {"double*", "s"}};
   for (size_t i = 0; i < singular.size(); ++i)
     f.assignments.push_back({"s[" + std::to_string(i) + "]", dag.add(singular[i].expression), ""});
@@ -540,6 +558,8 @@ PreparedModel prepare_model(const Scene& scene, const Index1System& system, Jaco
   const bool dense = jacobian == JacobianKind::dense, sparse = jacobian == JacobianKind::sparse;
   if (dense || sparse) m.symbolic_jacobian = index1_jacobian(system);
   m.singular = singular_quantities(system);
+  std::vector<SingularQuantity> euler_angles = euler_angle_monitors(scene, system);
+  for (SingularQuantity& q : euler_angles) m.singular.push_back(std::move(q));
   m.n_singular = static_cast<int>(m.singular.size());
   // The Jacobians and singular quantities are derivatives and parts of these: they read no more.
   std::vector<GiNaC::ex> read(system.residuals.begin(), system.residuals.end());
@@ -581,7 +601,7 @@ PreparedModel prepare_model(const Scene& scene, const Index1System& system, Jaco
   }
   if (m.n_invariants > 0) m.functions.push_back(invariants_function(m.invariants, m.dag));
   if (m.n_reference > 0) m.functions.push_back(reference_function(m.reference, system, m.dag));
-  if (m.n_singular > 0) m.functions.push_back(singular_quantities_function(m.singular, m.dag));
+  if (m.n_singular > 0) m.functions.push_back(singular_quantities_function(m.singular, !euler_angles.empty(), m.dag));
   if (m.n_inputs > 0) m.functions.push_back(default_inputs_function(scene.inputs, m.dag));
   // Sensitivity additions (docs/generated-code.md): only when asked for and the scene has parameters.
   m.sensitivities = sensitivities && m.n_parameters > 0;

@@ -60,6 +60,13 @@ struct SingularQuantity {
 };
 std::vector<SingularQuantity> singular_quantities(const Index1System& system);
 
+/// A monitor of each of the scene's Euler angles (Scene::euler_chains) whose angles are states:
+/// sin or cos of the middle angle, named `Euler angles psi, th, ph (z-x-z), singular at th = 0, pi`
+/// (the form docs/generated-code.md gives, which the runtime reads). They follow
+/// singular_quantities() in the model's monitors; the runtime does not stop at their zeros (a
+/// scene may determine the rates otherwise) but names the angle when a run fails near one.
+std::vector<SingularQuantity> euler_angle_monitors(const Scene& scene, const Index1System& system);
+
 /// Each expression in C++ syntax with scene names (`0.5 * m * (x' * x' + y' * y')`), the same in
 /// every run (GiNaC's own printing follows its term order, which changes from run to run).
 std::vector<std::string> scene_notation(const std::vector<GiNaC::ex>& expressions, const JetSpace& jet);

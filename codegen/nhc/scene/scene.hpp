@@ -254,6 +254,10 @@ struct SceneSystemFields {
   std::vector<SceneInput> inputs;
   std::vector<SceneQuantity> invariants;  ///< [invariants]: I(t, q, q', …, λ), computed by the model
   SceneReference reference;               ///< [reference]: computed by the model
+  /// The Euler angles the scene's omega() and omega_body() met, in any of its expressions
+  /// (value.hpp), each once, in the order met: the model monitors where they are singular, to name
+  /// the angle when a run fails near there (docs/quaternions.md).
+  std::vector<EulerChain> euler_chains;
 };
 
 /// The system with the text it was read from. The text stands for the system only as read:

@@ -146,6 +146,7 @@ Scene SceneReader::read() {
   ExpressionRules plain;  // t, parameters, coordinates; no multipliers
   plain.definition = [this, &jet](const std::string& n) { return derived_parameter(n, jet); };
   plain.rotation_check.point = &initial_point;
+  plain.rotation_check.euler_chains = &scene.euler_chains;  // singular where they are (value.hpp)
   plain.node_budget = std::make_shared<std::size_t>(kMaxSceneNodes);
   // A feedback law is written in place of its input's name. The laws may use the definitions,
   // so they are read after them; while they are read every input stays a symbol, so that a law

@@ -72,6 +72,10 @@ class SystemWalk {
     add(static_cast<int>(v.size()));
     for (const T& x : v) add(x);
   }
+  void add(const EulerChain& c) {
+    const auto& [axes, angles, determinant, zeros] = c;
+    add(axes), add(angles), add(determinant), add(zeros);
+  }
   void add(const SceneReference& r) {
     const auto& [all, per_model] = r;
     add(all), add(per_model);
@@ -82,13 +86,13 @@ class SystemWalk {
   void add(const SceneSystemFields& system) {
     const auto& [name, source_path, keep_definitions, jet, derived_parameters, lagrangian, lagrangian_where,
                  constraints, constraint_texts, dependent, models, models_where, constraints_where, forces, inputs,
-                 invariants, reference] = system;
+                 invariants, reference, euler_chains] = system;
     add(name), add(source_path), add(keep_definitions);
     if (!recorded_) fields.jet = jet;
     else if (recorded_->jet != jet) differs = true;
     add(derived_parameters), add(lagrangian), add(lagrangian_where), add(constraints), add(constraint_texts);
     add(dependent), add(models), add(models_where), add(constraints_where), add(forces), add(inputs), add(invariants),
-        add(reference);
+        add(reference), add(euler_chains);
     fields.values = out_.str();
     if (recorded_ && (count_ != recorded_->expressions.size() || fields.values != recorded_->values)) differs = true;
   }

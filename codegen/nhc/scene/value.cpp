@@ -1,5 +1,6 @@
 #include "nhc/scene/value.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "nhc/expr/jet_space.hpp"
@@ -19,7 +20,7 @@ std::string shape_text(unsigned rows, unsigned cols) {
 }
 
 Value with_shape(unsigned rows, unsigned cols, std::vector<ex> entries) {
-  return {rows, cols, std::move(entries), std::nullopt, std::nullopt};
+  return {rows, cols, std::move(entries), std::nullopt, std::nullopt, {}};
 }
 
 Value entrywise(const Value& a, const Value& b, int sign, const char* what) {
@@ -74,7 +75,50 @@ Value elementary_rotation(int axis, const ex& angle, const JetSpace& jet) {
   w[static_cast<unsigned>(axis)] = jet.total_derivative(angle);
   r.angular_velocity = w;
   r.body_angular_velocity = std::move(w);
+  r.factors = {{axis, angle}};
   return r;
+}
+
+/// The Euler angles r is a product of (value.hpp), if it is: its factors without the leading and
+/// trailing ones that turn by no coordinate (a constant rotation before the chain turns ω, one
+/// after it leaves ω alone: neither changes the rank of the rates' map), when three remain, each
+/// about a different coordinate q or −q, consecutive axes different.
+std::optional<EulerChain> euler_chain(const Value& r, const JetSpace& jet) {
+  const auto& f = r.factors;
+  const auto turns = [&](std::size_t k) { return jet.highest_coordinate_order(f[k].second) >= 0; };
+  std::size_t begin = 0, end = f.size();
+  while (begin < end && !turns(begin)) ++begin;
+  while (end > begin && !turns(end - 1)) --end;
+  if (end - begin != 3) return std::nullopt;
+  EulerChain chain;
+  std::vector<int> axes, coordinates;
+  for (std::size_t k = begin; k < end; ++k) {
+    std::optional<JetCoordinate> c = jet.classify(f[k].second);
+    if (!c) c = jet.classify(-f[k].second);
+    if (!c || c->kind != VariableKind::coordinate || c->order != 0) return std::nullopt;
+    if (std::find(coordinates.begin(), coordinates.end(), c->index) != coordinates.end()) return std::nullopt;
+    coordinates.push_back(c->index);
+    axes.push_back(f[k].first);
+    chain.angles.push_back(jet.coordinates()[static_cast<std::size_t>(c->index)]);
+  }
+  if (axes[0] == axes[1] || axes[1] == axes[2]) return std::nullopt;
+  const char* const axis_names = "xyz";
+  for (std::size_t k = 0; k < 3; ++k) chain.axes += std::string(k ? "-" : "") + axis_names[axes[k]];
+  // det[e_a, e_b, R_b(q2) e_c]: R_b(q2) e_a = cos q2 e_a ± sin q2 (e_b × e_a) gives ± sin q2;
+  // R_b(q2) e_c with c the third axis, cos q2 e_c ± sin q2 e_a, gives ± cos q2.
+  const ex middle = jet.q(coordinates[1], 0);
+  const bool proper = axes[0] == axes[2];
+  chain.determinant = proper ? GiNaC::sin(middle) : GiNaC::cos(middle);
+  chain.zeros = proper ? "0, pi" : "-pi/2, pi/2";
+  return chain;
+}
+
+/// Adds the Euler angles r is made of, if any, to check's list (once).
+void note_euler_chain(const Value& r, const JetSpace& jet, const RotationCheck& check) {
+  if (!check.euler_chains) return;
+  if (std::optional<EulerChain> chain = euler_chain(r, jet))
+    if (std::find(check.euler_chains->begin(), check.euler_chains->end(), *chain) == check.euler_chains->end())
+      check.euler_chains->push_back(std::move(*chain));
 }
 
 }  // namespace
@@ -134,6 +178,10 @@ Value multiply(const Value& a, const Value& b) {
     std::vector<ex> body(3);
     for (unsigned k = 0; k < 3; ++k) body[k] = turned.entries[k] + (*b.body_angular_velocity)[k];
     product.body_angular_velocity = std::move(body);
+    if (!a.factors.empty() && !b.factors.empty()) {
+      product.factors = a.factors;
+      product.factors.insert(product.factors.end(), b.factors.begin(), b.factors.end());
+    }
   }
   return product;
 }
@@ -147,6 +195,8 @@ Value transpose(const Value& a) {
     // ω(Rᵀ) = −Ω(R), Ω(Rᵀ) = −ω(R)
     t.angular_velocity = (-Value::vector(*a.body_angular_velocity)).entries;
     t.body_angular_velocity = (-Value::vector(*a.angular_velocity)).entries;
+    // (R₁R₂)ᵀ = R₂ᵀR₁ᵀ, R_a(θ)ᵀ = R_a(−θ)
+    for (auto it = a.factors.rbegin(); it != a.factors.rend(); ++it) t.factors.emplace_back(it->first, -it->second);
   }
   return t;
 }
@@ -231,6 +281,7 @@ Value rotation_of_quaternion(const std::vector<ex>& q, const JetSpace& jet) {
 }
 
 Value spatial_angular_velocity(const Value& r, const JetSpace& jet, const RotationCheck& check) {
+  note_euler_chain(r, jet, check);
   if (r.angular_velocity) return Value::vector(*r.angular_velocity);
   require_rotation(r, check, "omega");
   // Ṙ Rᵀ = [ω]×: ω from its skew-symmetric part, ω_x = (W₃₂ − W₂₃)/2 and cyclically.
@@ -239,6 +290,7 @@ Value spatial_angular_velocity(const Value& r, const JetSpace& jet, const Rotati
 }
 
 Value body_angular_velocity(const Value& r, const JetSpace& jet, const RotationCheck& check) {
+  note_euler_chain(r, jet, check);
   if (r.body_angular_velocity) return Value::vector(*r.body_angular_velocity);
   require_rotation(r, check, "omega_body");
   // Ω = Rᵀ ω (Rᵀ Ṙ = Rᵀ [ω]× R = [Rᵀ ω]×)

@@ -13,17 +13,37 @@
 ///   Ω(rotx(θ)) = θ' e_x,   Ω(R₁R₂) = R₂ᵀ Ω(R₁) + Ω(R₂),   Ω(Rᵀ) = −ω(R).
 /// omega(R) and omega_body(R) then return them without differentiating R entry by entry: the result has no
 /// sin² + cos² left for the derivation to carry (Goldstein, Classical Mechanics, §4.8).
+///
+/// Such a matrix also keeps its factors (axis, angle) in order, so that omega() recognises Euler
+/// angles: three elementary rotations R = R_a(q1) R_b(q2) R_c(q3) about coordinates, a ≠ b ≠ c. With
+/// ω = q1' e_a + q2' R_a e_b + q3' R_a R_b e_c, det ∂ω/∂(q1', q2', q3') = det[e_a, e_b, R_b(q2) e_c],
+/// which is ± sin q2 for proper Euler angles (c = a: z-x-z) and ± cos q2 for Tait–Bryan angles
+/// (a, b, c distinct: z-y-x): where it vanishes ω no longer determines the rates (docs/quaternions.md).
 
 #include <ginac/ginac.h>
 
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace nhc {
 
 class JetSpace;
+
+/// Euler angles that omega() or omega_body() met: a chain of three elementary rotations about
+/// coordinates (value.hpp's header comment). The angular velocity stops determining the angle
+/// rates where `determinant` (sin or cos of the middle angle) vanishes.
+struct EulerChain {
+  std::string axes;                 ///< "z-x-z"
+  std::vector<std::string> angles;  ///< the three coordinates, in the chain's order
+  GiNaC::ex determinant;            ///< sin(q2) (proper Euler angles) or cos(q2) (Tait–Bryan), in jet symbols
+  std::string zeros;                ///< where the middle angle makes it vanish: "0, pi" or "-pi/2, pi/2"
+  bool operator==(const EulerChain& o) const {
+    return axes == o.axes && angles == o.angles && zeros == o.zeros && determinant.is_equal(o.determinant);
+  }
+};
 
 /// A shape or domain error of the scene language ("dot of a 3-vector and a 2-vector").
 class ValueError : public std::runtime_error {
@@ -38,8 +58,11 @@ struct Value {
   /// Spatial angular velocity (3 entries) when the value is a rotation composed of rotx/roty/rotz.
   std::optional<std::vector<GiNaC::ex>> angular_velocity;
   std::optional<std::vector<GiNaC::ex>> body_angular_velocity;  ///< Ω, with angular_velocity
+  /// The elementary rotations (axis 0 x, 1 y, 2 z; angle) whose product the value is, in order;
+  /// empty unless it is one (a transpose reverses them and negates the angles).
+  std::vector<std::pair<int, GiNaC::ex>> factors;
 
-  static Value scalar(const GiNaC::ex& e) { return {1, 1, {e}, std::nullopt, std::nullopt}; }
+  static Value scalar(const GiNaC::ex& e) { return {1, 1, {e}, std::nullopt, std::nullopt, {}}; }
   static Value vector(std::vector<GiNaC::ex> entries);
   static Value matrix(unsigned rows, unsigned cols, std::vector<GiNaC::ex> entries);
 
@@ -83,6 +106,8 @@ Value rotation_of_quaternion(const std::vector<GiNaC::ex>& q, const JetSpace& je
 /// values; symbols it does not cover take fixed values in [0.25, 1.25)).
 struct RotationCheck {
   const GiNaC::exmap* point = nullptr;
+  /// Where omega() and omega_body() add the Euler angles they meet (each chain once); null: nowhere.
+  std::vector<EulerChain>* euler_chains = nullptr;
 };
 /// ValueError in words unless r is a 3×3 rotation: R Rᵀ = I symbolically where the expansion
 /// shows it, else at check.point. `what` names the user of r in the message ("omega").

@@ -6,6 +6,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
+
+#include "nhc/base/number_text.hpp"
+#include "nhc/base/primed_name.hpp"
 
 namespace nhc::runtime::ida_session {
 
@@ -81,6 +85,44 @@ Statistics counters(void* ida, bool roots) {
   IDAGetNumNonlinSolvConvFails(ida, &st.nonlinear_failures);
   if (roots) IDAGetNumGEvals(ida, &st.root_evaluations);
   return st;
+}
+
+std::vector<int> root_monitors(const Model& model) {
+  std::vector<int> roots;
+  for (int k = 0; k < model.n_singular(); ++k)
+    if (!model.euler_angles(k)) roots.push_back(k);
+  return roots;
+}
+
+std::optional<base::SolverError> euler_angles_failure(const Model& model, double t, const double* y, const double* p,
+                                                      const std::string& cause) {
+  const int ns = model.n_singular();
+  if (ns == 0 || !y) return std::nullopt;
+  std::vector<double> s(static_cast<std::size_t>(ns));
+  model.table().singular_quantities(t, y, p, s.data());
+  std::optional<EulerAnglesMonitor> closest;
+  double smallest = kEulerAnglesNear;
+  for (int k = 0; k < ns; ++k) {
+    std::optional<EulerAnglesMonitor> m = model.euler_angles(k);
+    if (!m || !(std::abs(s[static_cast<std::size_t>(k)]) < smallest)) continue;
+    smallest = std::abs(s[static_cast<std::size_t>(k)]);
+    closest = std::move(m);
+  }
+  if (!closest) return std::nullopt;
+  const EulerAnglesMonitor& m = *closest;
+  const std::string& angle = m.angles[1];
+  std::ostringstream os;
+  os << "the " << m.axes << " Euler angles " << m.angles[0] << ", " << angle << ", " << m.angles[2]
+     << " are close to their singularity at t = " << base::number_text(t, 15) << ": ";
+  if (m.state >= 0) os << angle << " = " << base::number_text(y[m.state], 6);
+  else os << angle << " is at " << m.zeros;
+  os << " (" << m.axes << " angles are singular at " << angle << " = " << m.zeros
+     << ": there the angular velocity does not determine the rates " << base::primed_name(m.angles[0], 1) << ", "
+     << base::primed_name(angle, 1) << ", " << base::primed_name(m.angles[2], 1)
+     << "); write the attitude with quat(q0, q1, q2, q3) and the constraint q0^2 + q1^2 + q2^2 + q3^2 = 1 "
+        "instead (docs/quaternions.md). The solver: "
+     << cause;
+  return base::SolverError(base::FailureKind::singular_iteration_matrix, t, os.str());
 }
 
 }  // namespace nhc::runtime::ida_session

@@ -9,7 +9,9 @@
 
 #include <chrono>
 #include <functional>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "nhc/runtime/integrator.hpp"
 #include "nhc/runtime/model.hpp"
@@ -40,6 +42,24 @@ LinearSystem attach_linear_solver(void* ida, const Model& model, LinearSolverKin
 /// finite (into the values, or column-major for dense), or -1.
 long fill_jacobian(const Model& model, bool sparse, double t, const double* y, const double* yp, double cj,
                    const double* p, SUNMatrix J);
+
+/// The monitors IDA watches as root functions (Model::n_singular's indices): all but the Euler
+/// angles' (Model::euler_angles), whose zeros a scene may pass through; they only explain a failure.
+std::vector<int> root_monitors(const Model& model);
+
+/// An Euler-angle monitor (sin or cos of the middle angle, the middle angle within about 5.7° of
+/// where they are singular) below this at the last accepted point of a failed run names the angle
+/// as the cause. Near there the outer angles' rates grow as 1/monitor and their accelerations as
+/// its square; the runs that fail there stop with it between 0.002 and 0.035 (balls on a
+/// turntable, docs/quaternions.md), so a tighter bound would miss some.
+inline constexpr double kEulerAnglesNear = 0.1;
+
+/// When a run that failed (at its start or later; `cause` in the solver's words) was, at its last
+/// accepted point (t, y; parameters and inputs p), within kEulerAnglesNear of a singularity of its
+/// Euler angles: the error that names the angle and its value and points to quat()
+/// (docs/quaternions.md), the closest such monitor's. Else nothing.
+std::optional<base::SolverError> euler_angles_failure(const Model& model, double t, const double* y, const double* p,
+                                                      const std::string& cause);
 
 /// IDA's counters since its last (re)initialization; the root evaluations when `roots`.
 Statistics counters(void* ida, bool roots);

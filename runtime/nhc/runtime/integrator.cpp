@@ -150,6 +150,7 @@ struct Integrator::Impl {
 
   std::vector<double> singular_scale;  // |s_k(t0)|
   std::vector<double> singular_values_scratch;
+  std::vector<int> root_monitors;  // IDA's root functions (ida_session::root_monitors)
 
   NonFinite nonfinite;
   std::string last_message;  // from IDA's error handler
@@ -193,11 +194,15 @@ struct Integrator::Impl {
   Impl(Model m, std::vector<double> params, IntegratorOptions opts)
       : model(std::move(m)),
         inputs(model, params.empty() ? model.default_parameters() : std::move(params)),
-        options(opts) {}
+        options(opts),
+        root_monitors(ida_session::root_monitors(model)) {
+    singular_values_scratch.assign(static_cast<std::size_t>(model.n_singular()), 0.0);
+  }
 
   int n() const { return model.n_states(); }
-  /// IDA's root functions: the singular-set monitors (the user events are found by scan_events).
-  int n_roots() const { return model.n_singular(); }
+  /// IDA's root functions: the singular-set monitors but the Euler angles' (the user events are
+  /// found by scan_events).
+  int n_roots() const { return static_cast<int>(root_monitors.size()); }
 
   // ---- callbacks -------------------------------------------------------------------------
 
@@ -237,11 +242,12 @@ struct Integrator::Impl {
   static int root_cb(sunrealtype tt, N_Vector yy, N_Vector, sunrealtype* gout, void* data) {
     auto* self = static_cast<Impl*>(data);
     const double* yv = N_VGetArrayPointer(yy);
-    const int ns = self->model.n_singular();
-    self->model.table().singular_quantities(tt, yv, self->inputs.at(tt, yv), gout);
-    for (int k = 0; k < ns; ++k) {
-      gout[k] = std::abs(gout[k]) - self->options.singularity_threshold * self->singular_scale[k];
-      if (!std::isfinite(gout[k])) gout[k] = -1.0;  // a monitor that is no longer finite has crossed
+    double* s = self->singular_values_scratch.data();
+    self->model.table().singular_quantities(tt, yv, self->inputs.at(tt, yv), s);
+    for (int r = 0; r < self->n_roots(); ++r) {
+      const int k = self->root_monitors[static_cast<std::size_t>(r)];
+      gout[r] = std::abs(s[k]) - self->options.singularity_threshold * self->singular_scale[k];
+      if (!std::isfinite(gout[r])) gout[r] = -1.0;  // a monitor that is no longer finite has crossed
     }
     return 0;
   }
@@ -540,7 +546,7 @@ struct Integrator::Impl {
     model.table().singular_quantities(tt, yy, inputs.at(tt, yy), s.data());
     int best = -1;
     double best_ratio = ratio;
-    for (int k = 0; k < ns; ++k) {
+    for (int k : root_monitors) {
       const double scale = k < static_cast<int>(singular_scale.size()) ? singular_scale[k] : 0.0;  // unset before t0
       const double r = scale > 0 ? std::abs(s[k]) / scale : std::abs(s[k]);
       if (!std::isfinite(s[k]) || r < best_ratio) best = k, best_ratio = std::isfinite(s[k]) ? r : 0;
@@ -580,6 +586,11 @@ struct Integrator::Impl {
                                     ? std::string("the step size collapsed below 1e-12 |t| for ") +
                                           std::to_string(kCollapseSteps) + " steps in a row"
                                     : sd::describe_ida_flag(flag);
+    if (!y_last.empty())
+      if (auto error = ida_session::euler_angles_failure(
+              model, t, y_last.data(), inputs.at(t, y_last.data()),
+              std::string(what) + " failed at t = " + base::number_text(tt, 15) + ": " + symptom))
+        throw *error;
 
     if (nonfinite.seen && accepted_steps - nonfinite.step <= 2 * kCollapseSteps) {
       const std::string entry = nonfinite_constraint_gradient(nonfinite.t, nonfinite.y.data());
@@ -933,10 +944,9 @@ Sample Integrator::initialize(const InitialState& state, double t_next) {
     s.singular_scale.assign(ns, 0.0);
     s.model.table().singular_quantities(state.t0, s.y.data(), s.inputs.at(state.t0, s.y.data()),
                                         s.singular_scale.data());
-    for (int k = 0; k < ns; ++k) {
-      s.singular_scale[k] = std::abs(s.singular_scale[k]);
+    for (int k = 0; k < ns; ++k) s.singular_scale[k] = std::abs(s.singular_scale[k]);
+    for (int k : s.root_monitors)
       if (!(s.singular_scale[k] > 0)) s.throw_singular_gradient(state.t0, k, "");
-    }
   }
   if (s.n_roots() > 0) {
     s.check(IDARootInit(s.ida, s.n_roots(), &Impl::root_cb), "initialising the event functions");
@@ -1110,10 +1120,10 @@ void Integrator::integrate(const std::vector<double>& times, const std::function
       if (flag == IDA_ROOT_RETURN) {
         std::vector<int> found(s.n_roots(), 0);
         s.check(IDAGetRootInfo(s.ida, found.data()), "reading the singular-set monitors");
-        for (int k = 0; k < s.n_roots(); ++k)
-          if (found[k] != 0) {
+        for (int r = 0; r < s.n_roots(); ++r)
+          if (found[r] != 0) {
             if (!s.have_last_output || s.last_output_t < tret) emit_current(tret);
-            s.throw_singular_gradient(tret, k, "");
+            s.throw_singular_gradient(tret, s.root_monitors[static_cast<std::size_t>(r)], "");
           }
       } else if (flag == IDA_TSTOP_RETURN) {
         if (next < times.size() && (!s.have_last_output || s.last_output_t < tret)) emit_current(tret);

@@ -143,6 +143,34 @@ std::string Model::singular_name(int i) const {
   return "singular-set monitor " + std::to_string(i + 1);
 }
 
+std::optional<EulerAnglesMonitor> Model::euler_angles(int i) const {
+  // "Euler angles psi, th, ph (z-x-z), singular at th = 0, pi"
+  static const std::string prefix = "Euler angles ", at = "), singular at ";
+  const std::string name = singular_name(i);
+  if (name.compare(0, prefix.size(), prefix) != 0) return std::nullopt;
+  const std::size_t open = name.find(" (", prefix.size()), close = name.find(at, open);
+  if (open == std::string::npos || close == std::string::npos) return std::nullopt;
+  const std::size_t equals = name.find(" = ", close + at.size());
+  if (equals == std::string::npos) return std::nullopt;
+  EulerAnglesMonitor m;
+  for (std::size_t from = prefix.size();;) {
+    const std::size_t comma = name.find(", ", from);
+    if (comma == std::string::npos || comma > open) {
+      m.angles.push_back(name.substr(from, open - from));
+      break;
+    }
+    m.angles.push_back(name.substr(from, comma - from));
+    from = comma + 2;
+  }
+  if (m.angles.size() != 3 || name.substr(close + at.size(), equals - close - at.size()) != m.angles[1])
+    return std::nullopt;
+  m.axes = name.substr(open + 2, close - open - 2);
+  m.zeros = name.substr(equals + 3);
+  for (int k = 0; k < n_states(); ++k)
+    if (table_->state_order[k] == 0 && m.angles[1] == table_->state_names[k]) m.state = k;
+  return m;
+}
+
 std::vector<double> Model::default_parameters() const {
   return std::vector<double>(table_->default_parameters, table_->default_parameters + n_parameters());
 }

@@ -4,6 +4,7 @@
 /// into the application (from a generated namespace, no dlopen) or loaded from a shared object.
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,16 @@ namespace nhc::runtime {
 
 /// A cheap-to-copy handle on a generated model. Copies share the loaded library (if any),
 /// which is closed with the last copy.
+/// A singular-set monitor of Euler angles, read from its name `Euler angles psi, th, ph (z-x-z),
+/// singular at th = 0, pi` (docs/generated-code.md, "Runtime additions"): it is sin or cos of the
+/// middle angle, zero where the angular velocity does not determine the angle rates.
+struct EulerAnglesMonitor {
+  std::vector<std::string> angles;  ///< the three, in the chain's order
+  std::string axes;                 ///< "z-x-z"
+  std::string zeros;                ///< of the middle angle: "0, pi"
+  int state = -1;                   ///< the state of the middle angle, -1 when none is
+};
+
 class Model {
  public:
   /// A table compiled into this program, e.g. `Model::from_table(nhc_gen::appell_hamel_chetaev::model_table())`
@@ -72,6 +83,9 @@ class Model {
   std::string residual_name(int i) const;
   std::string hidden_name(int i) const;
   std::string singular_name(int i) const;
+  /// Monitor i as Euler angles, or nullopt for a monitor of the equations' own singular set
+  /// (which a run stops at).
+  std::optional<EulerAnglesMonitor> euler_angles(int i) const;
   std::vector<double> default_parameters() const;
   int parameter_index(const std::string& name) const noexcept;
   /// The scene's inputs (Input additions, abi_version >= 4; else 0): the generated functions read

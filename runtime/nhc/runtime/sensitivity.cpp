@@ -157,6 +157,8 @@ struct SensitivityIntegrator::Impl {
   bool initialized = false;
   double init_seconds = 0, integrate_seconds = 0;
   std::vector<double> singular_scale;
+  std::vector<double> singular_values;  // every monitor at the root function's point
+  std::vector<int> root_monitors;       // the monitors IDA watches: all but the Euler angles'
 
   // The sensitivity residual's matrices dF/dy, dF/dy' at the last (t, y, y') (the staggered
   // corrector calls it repeatedly at the same point) and dF/dp.
@@ -299,11 +301,12 @@ struct SensitivityIntegrator::Impl {
 
   static int root_cb(sunrealtype tt, N_Vector yy, N_Vector, sunrealtype* gout, void* data) {
     auto* self = static_cast<Impl*>(data);
-    const int count = self->model.n_singular();
-    self->model.table().singular_quantities(tt, N_VGetArrayPointer(yy), self->pu(tt, N_VGetArrayPointer(yy)), gout);
-    for (int k = 0; k < count; ++k) {
-      gout[k] = std::abs(gout[k]) - self->options.singularity_threshold * self->singular_scale[k];
-      if (!std::isfinite(gout[k])) gout[k] = -1.0;
+    std::vector<double>& s = self->singular_values;
+    self->model.table().singular_quantities(tt, N_VGetArrayPointer(yy), self->pu(tt, N_VGetArrayPointer(yy)), s.data());
+    for (std::size_t r = 0; r < self->root_monitors.size(); ++r) {
+      const auto k = static_cast<std::size_t>(self->root_monitors[r]);
+      gout[r] = std::abs(s[k]) - self->options.singularity_threshold * self->singular_scale[k];
+      if (!std::isfinite(gout[r])) gout[r] = -1.0;
     }
     return 0;
   }
@@ -327,9 +330,10 @@ struct SensitivityIntegrator::Impl {
     if (stop_seen)
       throw base::SolverError(base::FailureKind::stopped, tcur,
                               "the run was stopped at t = " + base::number_text(tcur, 15));
-    throw base::SolverError(sd::classify_ida_flag(flag), tcur,
-                            std::string(what) + " failed at t = " + base::number_text(tcur, 15) + ": " +
-                                sd::describe_ida_flag(flag) + (last_message.empty() ? "" : " (" + last_message + ")"));
+    const std::string cause = std::string(what) + " failed at t = " + base::number_text(tcur, 15) + ": " +
+                              sd::describe_ida_flag(flag) + (last_message.empty() ? "" : " (" + last_message + ")");
+    if (auto error = ida_session::euler_angles_failure(model, t, y.data(), pu(t, y.data()), cause)) throw *error;
+    throw base::SolverError(sd::classify_ida_flag(flag), tcur, cause);
   }
 
   void create_linear_solver() {
@@ -402,7 +406,7 @@ struct SensitivityIntegrator::Impl {
   }
 
   Statistics counters() const {
-    Statistics st = ida_session::counters(ida, model.n_singular() > 0);
+    Statistics st = ida_session::counters(ida, !root_monitors.empty());
     st.initialization_seconds = init_seconds;
     st.integration_seconds = integrate_seconds;
     st.linear_solver = sparse ? "KLU" : "dense";
@@ -490,9 +494,11 @@ SensitivitySample SensitivityIntegrator::initialize(const InitialState& state, d
   s.check(IDAGetConsistentIC(s.ida, s.y, s.yp), "reading the consistent initial values");
   s.check(IDAGetSensConsistentIC(s.ida, s.yS.get(), s.ypS.get()), "reading the consistent initial sensitivities");
 
-  const int count = s.model.n_singular();
+  s.root_monitors = ida_session::root_monitors(s.model);
+  const int count = static_cast<int>(s.root_monitors.size());
   if (count > 0) {
-    s.singular_scale.assign(static_cast<size_t>(count), 0.0);
+    s.singular_values.assign(static_cast<size_t>(s.model.n_singular()), 0.0);
+    s.singular_scale.assign(static_cast<size_t>(s.model.n_singular()), 0.0);
     s.model.table().singular_quantities(state.t0, s.y.data(), s.pu(state.t0, s.y.data()), s.singular_scale.data());
     for (double& v : s.singular_scale) v = std::abs(v);
     s.check(IDARootInit(s.ida, count, &Impl::root_cb), "initialising the singular-set monitors");
@@ -528,13 +534,13 @@ void SensitivityIntegrator::integrate(const std::vector<double>& times,
       throw base::SolverError(base::FailureKind::stopped, tret,
                               "the run was stopped at t = " + base::number_text(tret, 15));
     if (flag == IDA_ROOT_RETURN) {
-      std::vector<int> found(static_cast<size_t>(s.model.n_singular()), 0);
+      std::vector<int> found(s.root_monitors.size(), 0);
       s.check(IDAGetRootInfo(s.ida, found.data()), "reading the monitors");
-      for (int k = 0; k < s.model.n_singular(); ++k)
-        if (found[static_cast<size_t>(k)] != 0)
+      for (std::size_t r = 0; r < found.size(); ++r)
+        if (found[r] != 0)
           throw base::SolverError(base::FailureKind::singular_constraint_gradient, tret,
                                   "the constraint gradient is singular at t = " + base::number_text(tret, 15) + ": " +
-                                      s.model.singular_name(k) +
+                                      s.model.singular_name(s.root_monitors[r]) +
                                       " reaches 0. The motion cannot be continued past this point.");
     }
   }
