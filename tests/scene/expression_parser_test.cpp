@@ -292,3 +292,13 @@ TEST_CASE("0 to a non-numeric power is refused where it is written", "[scene][pa
   CHECK(error_offset("0^(-1)", jet) == 1);
   CHECK(parse_expression("0^2 + x", jet).is_equal(jet.q(0, 0)));
 }
+
+TEST_CASE("a symbol of q()'s result is the jet space's own, alive as long as the space", "[scene]") {
+  // A reference into q()'s ex outlives the ex: the sliding model of a contact differentiated
+  // by such a reference, and read freed memory when q() handed out a copy of its own.
+  const JetSpace jet = make_jet();
+  const GiNaC::symbol& v = GiNaC::ex_to<GiNaC::symbol>(jet.q(2, 1));
+  REQUIRE(&v == &jet.symbol({nhc::VariableKind::coordinate, 2, 1}));
+  CHECK((jet.q(0, 1) - jet.parameter(0) * jet.q(2, 1)).diff(v).is_equal(-jet.parameter(0)));
+  CHECK(&GiNaC::ex_to<GiNaC::symbol>(jet.lambda(1, 0)) == &jet.symbol({nhc::VariableKind::multiplier, 1, 0}));
+}

@@ -79,7 +79,7 @@ Scene sliding_scene(const Scene& scene, const SceneContact& contact) {
   std::map<std::string, std::string> forces;
   for (int i = 0; i < jet.coordinate_count(); ++i) {
     GiNaC::ex q = 0;
-    const GiNaC::symbol& v = GiNaC::ex_to<GiNaC::symbol>(jet.q(i, 1));
+    const GiNaC::symbol& v = jet.symbol({VariableKind::coordinate, i, 1});  // the jet's own, not a temporary's
     for (int k : contact.rolling) {
       const GiNaC::ex f = expand_intermediates(scene.constraints[static_cast<std::size_t>(k)]);
       q += f * f.diff(v);

@@ -165,7 +165,8 @@ std::vector<SingularQuantity> singular_quantities(const Index1System& system) {
     for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it) {
       const GiNaC::ex& sub = *it;
       if (GiNaC::is_exactly_a<GiNaC::power>(sub) && GiNaC::is_exactly_a<GiNaC::numeric>(sub.op(1))) {
-        const auto& exponent = GiNaC::ex_to<GiNaC::numeric>(sub.op(1));
+        const GiNaC::ex power_of = sub.op(1);  // held: ex_to gives a reference into it
+        const auto& exponent = GiNaC::ex_to<GiNaC::numeric>(power_of);
         if (exponent.is_negative() || !exponent.is_integer()) consider(sub.op(0));
       } else if (GiNaC::is_a<GiNaC::function>(sub) && GiNaC::ex_to<GiNaC::function>(sub).get_name() == "log") {
         consider(sub.op(0));

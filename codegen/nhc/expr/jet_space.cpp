@@ -141,16 +141,17 @@ std::optional<int> JetSpace::parameter_index(const std::string& name) const {
 
 const GiNaC::realsymbol& JetSpace::symbol(const JetCoordinate& c) const {
   auto it = jet_.find(c);
-  if (it != jet_.end()) return it->second;
+  if (it != jet_.end()) return GiNaC::ex_to<GiNaC::realsymbol>(it->second);
   const int count = c.kind == VariableKind::coordinate ? coordinate_count() : multiplier_count_;
   if (c.index < 0 || c.index >= count || c.order < 0) throw std::out_of_range("jet coordinate out of range");
   const std::string variable = variable_name(c.kind, c.index);
-  const GiNaC::realsymbol s =
-      stable_symbol(jet_symbol_name(variable, c.order), jet_symbol_latex(variable, c.kind, c.order));
+  // Held as an ex: the symbol lives once, on the heap, as long as the space, and every ex made of
+  // it (q(), lambda(), ex(symbol(c))) shares that object instead of owning a copy.
+  const GiNaC::ex s = stable_symbol(jet_symbol_name(variable, c.order), jet_symbol_latex(variable, c.kind, c.order));
   jet_.emplace(c, s);
   by_symbol_.emplace(s, c);
   creation_order_.push_back(c);
-  return jet_.at(c);
+  return GiNaC::ex_to<GiNaC::realsymbol>(jet_.at(c));
 }
 
 std::optional<JetCoordinate> JetSpace::classify(const GiNaC::ex& s) const {
@@ -207,7 +208,7 @@ int JetSpace::highest_coordinate_order(const GiNaC::ex& e) const {
 
 std::vector<std::pair<JetCoordinate, GiNaC::realsymbol>> JetSpace::symbols() const {
   std::vector<std::pair<JetCoordinate, GiNaC::realsymbol>> out;
-  for (const auto& c : creation_order_) out.emplace_back(c, jet_.at(c));
+  for (const auto& c : creation_order_) out.emplace_back(c, GiNaC::ex_to<GiNaC::realsymbol>(jet_.at(c)));
   return out;
 }
 

@@ -74,7 +74,8 @@ class JetSpace {
   /// Where the scene defines input k: the place D's refusal to differentiate it names.
   void set_input_location(int k, SourceLocation where);
 
-  /// q_i^(k) and λ_α^(k); created on first use.
+  /// q_i^(k) and λ_α^(k); created on first use. The ex shares the space's one symbol object, so
+  /// a reference into it (ex_to<symbol>(q(i, k))) stays valid as long as the space.
   GiNaC::ex q(int i, int order) const { return symbol({VariableKind::coordinate, i, order}); }
   GiNaC::ex lambda(int alpha, int order) const { return symbol({VariableKind::multiplier, alpha, order}); }
   const GiNaC::realsymbol& symbol(const JetCoordinate& c) const;
@@ -106,7 +107,8 @@ class JetSpace {
   std::vector<std::string> input_names_;
   std::vector<GiNaC::realsymbol> inputs_;
   std::vector<SourceLocation> input_locations_;
-  mutable std::map<JetCoordinate, GiNaC::realsymbol> jet_;
+  /// Each jet symbol once, on the heap (symbol()): q() and lambda() share it, never copy it.
+  mutable std::map<JetCoordinate, GiNaC::ex> jet_;
   mutable std::map<GiNaC::ex, JetCoordinate, GiNaC::ex_is_less> by_symbol_;
   mutable std::vector<JetCoordinate> creation_order_;
 };
