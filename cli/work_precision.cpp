@@ -163,15 +163,15 @@ namespace {
 /// Errors below this are drawn at it (a log axis has no zero).
 constexpr double kPlotFloor = 1e-16;
 
-struct Curve {
+struct WorkCurve {
   std::string title;
   std::vector<std::pair<double, double>> points;
   bool markers = true;  ///< a mark at every point (a dense history is drawn as a line)
 };
 
-void write_data(const fs::path& path, const std::vector<Curve>& curves) {
+void write_data(const fs::path& path, const std::vector<WorkCurve>& curves) {
   write_file_atomically(path.string(), [&](std::ostream& out) {
-    for (const Curve& c : curves) {
+    for (const WorkCurve& c : curves) {
       out << tools::gnuplot_comment(c.title);
       for (const auto& [x, y] : c.points) out << base::shortest_text(x) << ' ' << base::shortest_text(y) << '\n';
       out << "\n\n";
@@ -181,7 +181,7 @@ void write_data(const fs::path& path, const std::vector<Curve>& curves) {
 
 /// The gnuplot commands for one log-log plot of `data` into `stem`.svg/.png (temporary names).
 std::string plot_script(const std::string& stem, const std::string& title, const std::string& xlabel,
-                        const std::string& ylabel, bool log_y, const std::vector<Curve>& curves,
+                        const std::string& ylabel, bool log_y, const std::vector<WorkCurve>& curves,
                         const std::string& suffix) {
   std::ostringstream g;
   g << "set terminal svg size 900,560 dynamic enhanced font 'sans,12' background rgb 'white'\n"
@@ -216,7 +216,7 @@ std::vector<std::string> plot_work_precision(const std::string& directory, const
   const std::string suffix = ".tmp" + std::to_string(getpid());
 
   // Error against time: one curve per configuration (and sweep value).
-  std::vector<Curve> curves;
+  std::vector<WorkCurve> curves;
   std::map<std::string, size_t> curve_of;
   for (const Measurement& m : wp.measurements) {
     if (!std::isfinite(m.error)) continue;
@@ -241,7 +241,7 @@ std::vector<std::string> plot_work_precision(const std::string& directory, const
 
   // Steps against the swept parameter: one curve per configuration and tolerance.
   if (!wp.settings.sweep_parameter.empty()) {
-    std::vector<Curve> steps;
+    std::vector<WorkCurve> steps;
     std::map<std::string, size_t> steps_of;
     for (const Measurement& m : wp.measurements) {
       const std::string title = m.configuration.label() + ", rtol " + base::number_text(m.rtol, 3);
@@ -261,9 +261,9 @@ std::vector<std::string> plot_work_precision(const std::string& directory, const
 
   // The long run: the energy error against t, both integrators on the same axes.
   if (!wp.long_runs.empty()) {
-    std::vector<Curve> histories;
+    std::vector<WorkCurve> histories;
     for (const runtime::InvariantHistory& h : wp.long_runs) {
-      Curve c{h.integrator, {}, false};
+      WorkCurve c{h.integrator, {}, false};
       for (std::size_t k = 1; k < h.t.size(); ++k)  // t0 itself has no error to draw
         c.points.emplace_back(h.t[k], std::max(h.error[k], kPlotFloor));
       histories.push_back(std::move(c));

@@ -62,8 +62,11 @@ fi
 cmake --build "$replay_build" --target nhc_derive_replay -j "$jobs" > "$build/replay-build.log" 2>&1 ||
   { tail -n 30 "$build/replay-build.log" >&2; exit 1; }
 echo "fuzz: every corpus input through derive and generate, at most ${NHC_REPLAY_SECONDS:-10} s of processor time each"
+phase_start=$SECONDS
 tests/fuzz/replay_derive.sh "$replay_build/tests/faults/nhc_derive_replay" "$build/replay" "${NHC_REPLAY_SECONDS:-10}" ||
   status=1
+echo "fuzz.sh: the derive replay took $((SECONDS - phase_start)) s" >&2
+phase_start=$SECONDS
 for target in scene expression; do
   log=$build/${target}-replay.log
   echo "fuzz: nhc_${target}_fuzzer: every corpus input once, at most ${replay_timeout} s each"
@@ -74,8 +77,10 @@ for target in scene expression; do
     status=1
   fi
 done
+echo "fuzz.sh: the fuzzers' corpus replay took $((SECONDS - phase_start)) s" >&2
 [ $status = 0 ] || exit $status
 
+phase_start=$SECONDS
 pids=()
 for target in scene expression; do
   echo "fuzz: nhc_${target}_fuzzer: the corpus, then mutations from seed $seed, $(runs_of "$target") inputs in all"
@@ -86,6 +91,7 @@ for target in scene expression; do
   fi
 done
 for pid in "${pids[@]}"; do wait "$pid" || status=1; done
+echo "fuzz.sh: the mutations took $((SECONDS - phase_start)) s" >&2
 for target in scene expression; do
   log=$build/${target}.log
   if grep -qE "^==[0-9]+==ERROR|runtime error:|ALARM: working on the last Unit|SUMMARY: libFuzzer" "$log"; then

@@ -53,7 +53,9 @@ fi
 # grep reads the whole list (-q would stop at the first match, and under pipefail the listing's
 # SIGPIPE would make the test false).
 if cmake --build "$build" --target help | grep -w _nhc >/dev/null; then targets+=(_nhc nhc_python); fi
+build_start=$SECONDS
 cmake --build "$build" -j "$jobs" --target "${targets[@]}"
+echo "sanitize.sh: the build took $((SECONDS - build_start)) s" >&2
 
 # ctest names: <executable>:<test case> (catch_discover_tests) and cli:simulate_* (add_test).
 cli_selected='nhc_tests_cli:(malformed|bad|a |JSON)'
@@ -70,10 +72,12 @@ run_selected() {
   fi
 }
 ctest_args=("$@")
+tests_start=$SECONDS
 if [ "$cli_tests_from_release" = 1 ]; then
   run_selected "$build" "$selected"
   run_selected "$release" "^$cli_selected" NHC_TEST_EXECUTABLE="$PWD/$build/cli/nhc"
 else
   run_selected "$build" "^(${selected#^}|$cli_selected)"
 fi
+echo "sanitize.sh: the tests took $((SECONDS - tests_start)) s" >&2
 exit "$status"

@@ -47,5 +47,7 @@ for p in "${optional[@]}"; do
 done
 
 jobs=$(nproc 2>/dev/null || echo 2)
+build_start=$SECONDS
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j "$jobs"
+echo "setup.sh: the build took $((SECONDS - build_start)) s" >&2

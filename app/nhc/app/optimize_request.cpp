@@ -7,17 +7,17 @@ namespace nhc::app {
 
 namespace {
 
-[[noreturn]] void refuse(const std::string& field, const std::string& message) {
+[[noreturn]] void refuse_optimize(const std::string& field, const std::string& message) {
   throw InputError({field, 0, 0}, message);
 }
 
 void check_count(const std::string& field, long long value, long long low, long long high) {
   if (const std::string why = count_problem(value, low, high); !why.empty())
-    refuse(field, field + ": " + std::to_string(value) + " " + why);
+    refuse_optimize(field, field + ": " + std::to_string(value) + " " + why);
 }
 
 void check_choice(const std::string& field, const std::string& value, const std::string& a, const std::string& b) {
-  if (value != a && value != b) refuse(field, field + ": '" + value + "' is neither " + a + " nor " + b);
+  if (value != a && value != b) refuse_optimize(field, field + ": '" + value + "' is neither " + a + " nor " + b);
 }
 
 }  // namespace
@@ -38,9 +38,9 @@ void check_optimize_request(const OptimizeRequest& r, const OptimizeFieldNames& 
   if (r.intervals) check_count(names.intervals, *r.intervals, 1, kMaxIntervals);
   check_count(names.max_iterations, r.max_iterations, 1, kMaxIterations);
   if (const std::string why = positive_problem(r.tolerance); !why.empty())
-    refuse(names.tolerance, names.tolerance + ": " + std::to_string(r.tolerance) + " " + why);
+    refuse_optimize(names.tolerance, names.tolerance + ": " + std::to_string(r.tolerance) + " " + why);
   if (const std::string why = positive_problem(r.path_tolerance); !why.empty())
-    refuse(names.path_tolerance, names.path_tolerance + ": " + std::to_string(r.path_tolerance) + " " + why);
+    refuse_optimize(names.path_tolerance, names.path_tolerance + ": " + std::to_string(r.path_tolerance) + " " + why);
   check_choice(names.jacobian, r.jacobian, "exact", "finite-differences");
   check_choice(names.hessian, r.hessian, "exact", "limited-memory");
 }

@@ -17,7 +17,7 @@ std::string pad(const std::string& s, std::size_t width) {
   return s.size() >= width ? s : std::string(width - s.size(), ' ') + s;
 }
 
-std::string number(double v) { return base::number_text(v, 10); }
+std::string ten_digits(double v) { return base::number_text(v, 10); }
 
 /// Above this many unknowns σ is listed by rows (finite entries only) instead of as a table,
 /// whose size would grow as n².
@@ -107,18 +107,18 @@ void write_one(std::ostream& out, const Scene& scene, const ModelAnalysis& m) {
     }
   }
   if (m.initial) {
-    out << "  consistent initial point at t0 = " << number(m.initial->t0) << ":\n";
+    out << "  consistent initial point at t0 = " << ten_digits(m.initial->t0) << ":\n";
     for (const InitialValue& v : m.initial->values)
-      out << "    " << v.name << " = " << number(v.value) << " (" << to_string(v.source) << ")\n";
+      out << "    " << v.name << " = " << ten_digits(v.value) << " (" << to_string(v.source) << ")\n";
     std::vector<std::string> leading;
-    for (const InitialValue& v : m.initial->leading) leading.push_back(v.name + " = " + number(v.value));
+    for (const InitialValue& v : m.initial->leading) leading.push_back(v.name + " = " + ten_digits(v.value));
     out << "    leading derivatives " << (m.initial->leading_solved ? "" : "(not solved) ") << join_names(leading)
         << "\n";
     for (const auto& n : m.initial->notes) out << "  note: " << n << "\n";
   }
   if (m.jacobian) {
     out << "  system Jacobian at t0: condition number "
-        << (std::isfinite(m.jacobian_condition) ? number(m.jacobian_condition) : std::string("infinite"))
+        << (std::isfinite(m.jacobian_condition) ? ten_digits(m.jacobian_condition) : std::string("infinite"))
         << (m.jacobian_condition_estimated ? " (1-norm estimate: above " + std::to_string(kExactConditionLimit) +
                                                  " unknowns the exact 2-norm one is not computed)"
                                            : std::string())

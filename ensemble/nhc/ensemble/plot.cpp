@@ -25,9 +25,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kMissing = std::numeric_limits<double>::quiet_NaN();
 
-std::string joined(const std::vector<std::string>& names) {
+std::string joined_names(const std::vector<std::string>& names) {
   std::string s;
   for (const std::string& n : names) s += (s.empty() ? "" : ", ") + n;
   return s;
@@ -68,13 +68,13 @@ std::vector<double> outcome_values(const EnsembleResults& results, const std::st
     value = [k](const RunRecord& r) { return r.invariant_drift.at(k); };
   } else {
     throw InputError({flag + " " + printable(outcome), 0, 0},
-                     "unknown outcome; this ensemble has " + printable(joined(outcome_names(info))));
+                     "unknown outcome; this ensemble has " + printable(joined_names(outcome_names(info))));
   }
   std::vector<double> out;
   for (const RunRecord& r : results.records) {
     const bool has = r.outcome == Outcome::ok || r.outcome == Outcome::singular ||
                      (r.outcome == Outcome::failed && outcome == "t_stop");
-    out.push_back(has ? value(r) : kNaN);
+    out.push_back(has ? value(r) : kMissing);
   }
   return out;
 }
@@ -101,14 +101,14 @@ std::vector<std::string> plot_outcome(const EnsembleResults& results, const std:
 
   const bool heat_map = nv == 2 && d.kind == Design::Kind::grid;
   write_file_atomically(stem + ".dat", [&](std::ostream& out) {
-    out << tools::gnuplot_comment(joined(d.names()) + " " + outcome + " (" + results.info.scene + ", " +
+    out << tools::gnuplot_comment(joined_names(d.names()) + " " + outcome + " (" + results.info.scene + ", " +
                                   results.info.model + ")");
     for (long run = 0; run < d.runs; ++run) {
       // A heat map's rows are separated by blank lines (gnuplot's grid format).
       if (heat_map && run > 0 && run % d.grid_shape[1] == 0) out << "\n";
       for (std::size_t j = 0; j < nv; ++j) out << base::shortest_text(d.row(run)[j]) << ' ';
       const double value = z[static_cast<std::size_t>(run)];
-      out << base::shortest_text(std::isfinite(value) ? value : kNaN) << "\n";
+      out << base::shortest_text(std::isfinite(value) ? value : kMissing) << "\n";
     }
   });
 

@@ -15,28 +15,31 @@ namespace nhc {
 
 namespace {
 
-[[noreturn]] void bad(const std::string& flag, const std::string& message) { throw InputError({flag, 0, 0}, message); }
+[[noreturn]] void bad_sweep(const std::string& flag, const std::string& message) {
+  throw InputError({flag, 0, 0}, message);
+}
 
 double parse_number(const std::string& text, const std::string& flag, const std::string& whole) {
   char* end = nullptr;
   const double v = std::strtod(text.c_str(), &end);
   if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v))
-    bad(flag, flag + " " + whole + ": '" + text + "' is not a finite number");
+    bad_sweep(flag, flag + " " + whole + ": '" + text + "' is not a finite number");
   return v;
 }
 
-std::string number(double v) { return base::number_text(v, 17); }
+std::string full_digits(double v) { return base::number_text(v, 17); }
 
 }  // namespace
 
 SweepRange parse_sweep_range(const std::string& text, const std::string& flag) {
   const std::size_t eq = text.find('=');
-  if (eq == std::string::npos || eq == 0) bad(flag, flag + " " + text + ": expected NAME=a:b:n (e.g. ps'=1:10:19)");
+  if (eq == std::string::npos || eq == 0)
+    bad_sweep(flag, flag + " " + text + ": expected NAME=a:b:n (e.g. ps'=1:10:19)");
   const std::string spec = text.substr(eq + 1);
   const std::size_t c1 = spec.find(':');
   const std::size_t c2 = c1 == std::string::npos ? c1 : spec.find(':', c1 + 1);
   if (c2 == std::string::npos || spec.find(':', c2 + 1) != std::string::npos)
-    bad(flag, flag + " " + text + ": expected NAME=a:b:n (three fields after '=')");
+    bad_sweep(flag, flag + " " + text + ": expected NAME=a:b:n (three fields after '=')");
   SweepRange r;
   r.name = text.substr(0, eq);
   r.first = parse_number(spec.substr(0, c1), flag, text);
@@ -45,10 +48,10 @@ SweepRange parse_sweep_range(const std::string& text, const std::string& flag) {
   char* end = nullptr;
   const long n = std::strtol(count.c_str(), &end, 10);
   if (count.empty() || end != count.c_str() + count.size())
-    bad(flag, flag + " " + text + ": n = '" + count + "' is not an integer");
-  if (n < 2) bad(flag, flag + " " + text + ": n must be at least 2 (a and b are both included)");
-  if (n > 100000) bad(flag, flag + " " + text + ": n must be at most 100000");
-  if (!(r.first < r.last)) bad(flag, flag + " " + text + ": a must be less than b");
+    bad_sweep(flag, flag + " " + text + ": n = '" + count + "' is not an integer");
+  if (n < 2) bad_sweep(flag, flag + " " + text + ": n must be at least 2 (a and b are both included)");
+  if (n > 100000) bad_sweep(flag, flag + " " + text + ": n must be at most 100000");
+  if (!(r.first < r.last)) bad_sweep(flag, flag + " " + text + ": a must be less than b");
   r.count = static_cast<int>(n);
   return r;
 }
@@ -101,7 +104,7 @@ SweepResult sweep(const Linearizer& linearizer, const std::vector<PointOverride>
     try {
       return linearizer.at(all);
     } catch (const MathError& e) {
-      throw MathError("at " + range.name + " = " + number(value) + ": " + e.what());
+      throw MathError("at " + range.name + " = " + full_digits(value) + ": " + e.what());
     }
   };
   for (int k = 0; k < range.count; ++k) {

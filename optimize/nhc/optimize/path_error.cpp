@@ -19,7 +19,7 @@ namespace nhc::optimize {
 
 namespace {
 
-constexpr int kFirstPathRow = 2;  // PathFunctions: the integrand, the final cost, then the path rows
+constexpr int kPathRowOffset = 2;  // PathFunctions: the integrand, the final cost, then the path rows
 constexpr double kReplayTolerance = 1e-10;
 constexpr long kMaxSteps = 200000;
 
@@ -90,7 +90,7 @@ PathError residual_error(HermiteSimpson& p, const std::vector<double>& zv) {
       std::string what;
       for (std::size_t r = 0; r < problem.path.size(); ++r) {
         const PointRow& row = problem.path[r];
-        const double g = p.functions().value(kFirstPathRow + static_cast<int>(r)).value;
+        const double g = p.functions().value(kPathRowOffset + static_cast<int>(r)).value;
         const double outside =
             std::isfinite(g) ? std::max({row.low - g, g - row.high, 0.0}) : std::numeric_limits<double>::infinity();
         if (!(outside * h / common <= e)) {
@@ -149,7 +149,7 @@ int replay_residual(sunrealtype t, N_Vector y, N_Vector yp, N_Vector res, void* 
   r.p->functions().evaluate_values(t, r.point.data());
   double* out = N_VGetArrayPointer(res);
   for (int row = 0; row < r.p->point_problem().dynamics_rows; ++row) {
-    out[row] = r.p->functions().value(kFirstPathRow + row).value;
+    out[row] = r.p->functions().value(kPathRowOffset + row).value;
     if (!std::isfinite(out[row])) {
       r.failure = fmt::format("{} is not finite at t = {:.6g}",
                               r.p->point_problem().path[static_cast<std::size_t>(row)].name, t);
@@ -167,8 +167,8 @@ int replay_jacobian(sunrealtype t, sunrealtype cj, N_Vector y, N_Vector yp, N_Ve
   r.p->functions().evaluate(t, r.point.data());
   SUNMatZero(J);
   for (int row = 0; row < r.p->point_problem().dynamics_rows; ++row) {
-    const ValueGradient& f = r.p->functions().value(kFirstPathRow + row);
-    const std::vector<int>& slots = r.p->functions().slots(kFirstPathRow + row);
+    const ValueGradient& f = r.p->functions().value(kPathRowOffset + row);
+    const std::vector<int>& slots = r.p->functions().slots(kPathRowOffset + row);
     for (std::size_t e = 0; e < slots.size(); ++e) {
       const int s = slots[e];
       if (!std::isfinite(f.d[e])) return 1;
