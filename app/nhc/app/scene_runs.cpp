@@ -15,6 +15,24 @@
 
 namespace nhc::app {
 
+namespace {
+
+/// The engine's run of `plan` without the symbolic lock `held` (the engine takes it for its own
+/// symbolic work), which is held again when the run returns or throws. The outcome's sliding
+/// scene is dropped: it belongs to the run's scene copy, which the caller releases.
+RunOutcome simulate_without(std::optional<SymbolicSection>& held, const RunPlan& plan) {
+  held.reset();
+  struct Relock {
+    std::optional<SymbolicSection>& section;
+    ~Relock() { section.emplace(); }
+  } relock{held};
+  RunOutcome outcome = simulate(plan);
+  outcome.slide = nullptr;
+  return outcome;
+}
+
+}  // namespace
+
 SceneRuns::SceneRuns(const Scene& scene, const runtime::Model& model, const runtime::Model* sliding, RunRequest request,
                      FieldNames names)
     : scene_(&scene), model_(&model), sliding_(sliding), request_(std::move(request)), names_(std::move(names)) {
@@ -67,15 +85,7 @@ SceneRun SceneRuns::run(const RunValues& values) const {
     auto laws = std::make_shared<ControllerLaws>(*scene, model, out.p);
     plan.control = RunControl{sample_law(laws), laws->held(), times_, scene->controller.period, laws, {}};
   }
-  symbolic.reset();
-  try {
-    out.outcome = simulate(plan);
-  } catch (...) {
-    symbolic.emplace();
-    throw;
-  }
-  symbolic.emplace();
-  out.outcome.slide = nullptr;
+  out.outcome = simulate_without(symbolic, plan);
   return out;
 }
 
@@ -116,15 +126,7 @@ SceneRun SceneRuns::run_at(const runtime::Model& model, const std::vector<double
   plan.events = run_events(request_, *scene, names_);
   plan.request = request_;
   plan.sliding_model = sliding_;
-  symbolic.reset();
-  try {
-    out.outcome = simulate(plan);
-  } catch (...) {
-    symbolic.emplace();
-    throw;
-  }
-  symbolic.emplace();
-  out.outcome.slide = nullptr;
+  out.outcome = simulate_without(symbolic, plan);
   return out;
 }
 
